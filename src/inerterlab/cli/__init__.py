@@ -1,0 +1,114 @@
+"""The ``inerterlab`` command line: a thin layer over the public functions.
+
+Each command lives in its own module of this package and registers itself on the
+shared Typer ``app`` through a ``register(app)`` function listed in ``_COMMANDS``.
+User errors print one line on standard error and exit with status 2; unexpected
+errors exit with status 1 and a hint to rerun with ``--debug`` for the traceback.
+"""
+
+from __future__ import annotations
+
+import importlib
+import sys
+
+import typer
+
+try:  # typer >= 0.20 vendors its own copy of click
+    from typer._click import exceptions as _cx
+except ImportError:  # pragma: no cover - older typer on plain click
+    from click import exceptions as _cx
+
+from ..errors import InerterlabError
+
+app = typer.Typer(
+    name="inerterlab",
+    help="Adaptive-flywheel inerters and the suspensions that use them. "
+    "SI units throughout; frequencies in Hz where the option name says so.",
+    no_args_is_help=True,
+    add_completion=False,
+    pretty_exceptions_enable=False,
+    rich_markup_mode=None,
+)
+
+
+@app.callback()
+def _root() -> None:
+    """Adaptive-flywheel inerters and the suspensions that use them."""
+
+
+# modules of this package that define ``register(app)``; one line per command group
+_COMMANDS = [
+    "flywheel",
+]
+
+for _name in _COMMANDS:
+    importlib.import_module(f"{__name__}.{_name}").register(app)
+
+
+def _usage_message(e: Exception) -> str:
+    msg = e.format_message()
+    param = getattr(e, "param", None)
+    if isinstance(e, _cx.BadParameter) and param is not None:
+        opts = "/".join(getattr(param, "opts", []) or [str(param.name)])
+        value = None
+        cause = e.__cause__
+        errors = getattr(cause, "errors", None)
+        if callable(errors):
+            try:
+                value = errors()[0].get("input")
+            except Exception:  # noqa: BLE001
+                value = None
+        got = f" got {value!r};" if value is not None else ""
+        return f"invalid value for {opts}:{got} {msg}"
+    return msg
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Entry point of the ``inerterlab`` script; returns the exit status."""
+    args = list(sys.argv[1:] if argv is None else argv)
+    debug = "--debug" in args
+    if debug:
+        args.remove("--debug")
+    try:
+        app(args=args, prog_name="inerterlab", standalone_mode=False)
+    except typer.Exit as e:
+        return int(getattr(e, "exit_code", 0) or 0)
+    except _cx.NoArgsIsHelpError as e:
+        e.show() if hasattr(e, "show") else print(e.format_message())
+        return 0
+    except typer.Abort:
+        print("inerterlab: interrupted; partial results already written are kept", file=sys.stderr)
+        return 130
+    except _cx.UsageError as e:
+        cmd = (
+            f" {e.ctx.command_path.split(' ', 1)[1]}" if e.ctx and " " in e.ctx.command_path else ""
+        )
+        print(
+            f"inerterlab: error: {_usage_message(e)} (see 'inerterlab{cmd} --help')",
+            file=sys.stderr,
+        )
+        return 2
+    except _cx.ClickException as e:
+        print(f"inerterlab: error: {e.format_message()}", file=sys.stderr)
+        return 2
+    except InerterlabError as e:
+        if debug:
+            raise
+        print(f"inerterlab: error: {e}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("inerterlab: interrupted; partial results already written are kept", file=sys.stderr)
+        return 130
+    except Exception as e:  # noqa: BLE001 - last-resort guard for the command line
+        if debug:
+            raise
+        print(
+            f"inerterlab: internal error: {type(e).__name__}: {e} (rerun with --debug for the traceback)",
+            file=sys.stderr,
+        )
+        return 1
+    return 0
+
+
+def _run() -> None:  # pragma: no cover - console script shim
+    sys.exit(main())

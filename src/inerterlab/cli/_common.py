@@ -1,0 +1,91 @@
+"""Helpers shared by the command modules: JSON output, tables, atomic files."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import InerterlabError, ParameterError
+
+
+def _clean(obj: Any) -> Any:
+    if isinstance(obj, dict):
+        return {str(k): _clean(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_clean(v) for v in obj]
+    if isinstance(obj, np.ndarray):
+        return _clean(obj.tolist())
+    if isinstance(obj, np.generic):
+        return _clean(obj.item())
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise InerterlabError("a result is not a finite number; nothing was printed")
+    return obj
+
+
+def emit_json(obj: Any) -> None:
+    """Print ``obj`` as one JSON object; refuses NaN and infinities."""
+    sys.stdout.write(json.dumps(_clean(obj), allow_nan=False) + "\n")
+
+
+def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
+    """Write ``text`` to ``path`` through a temporary file and a rename."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, p)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return p
+
+
+def atomic_savefig(fig: Any, path: str | os.PathLike) -> Path:
+    """Save a matplotlib figure atomically (format from the suffix)."""
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    suffix = p.suffix.lstrip(".") or "png"
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix="." + suffix)
+    os.close(fd)
+    try:
+        fig.savefig(tmp, format=suffix, dpi=120, bbox_inches="tight")
+        os.replace(tmp, p)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return p
+
+
+def print_table(title: str, rows: list[tuple[str, str]]) -> None:
+    """Readable two-column table on standard output."""
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    t.add_column("quantity")
+    t.add_column("value", justify="right")
+    for k, v in rows:
+        t.add_row(k, v)
+    Console().print(t)
+
+
+def parse_float(name: str, text: str) -> float:
+    """Parse a CLI number, raising a ParameterError naming the option."""
+    try:
+        x = float(text)
+    except (TypeError, ValueError):
+        raise ParameterError(name, text, "a finite number") from None
+    if not math.isfinite(x):
+        raise ParameterError(name, text, "a finite number")
+    return x
