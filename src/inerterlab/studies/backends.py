@@ -1,0 +1,248 @@
+"""Execution backends for sweeps: serial, local processes and Dask distributed.
+
+Every backend meets one contract: :meth:`Backend.run` takes a picklable module-level
+function and an iterable of picklable tasks and yields ``(task, result)`` pairs as the
+tasks finish, in any order. A backend never evaluates a task twice and never drops one;
+if a task raises, the exception propagates out of :meth:`run` (point-level failures are
+caught inside the task, so this only happens for infrastructure errors). The number of
+tasks in flight is bounded so memory stays flat and an interrupt loses little work.
+Backends are context managers; leaving the ``with`` block releases workers.
+"""
+
+from __future__ import annotations
+
+import abc
+import multiprocessing
+import os
+from collections.abc import Callable, Iterable, Iterator
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from typing import Any
+
+from ..errors import ParameterError
+
+__all__ = ["Backend", "SerialBackend", "ProcessBackend", "DaskBackend", "make_backend", "BACKENDS"]
+
+BACKENDS = ("serial", "processes", "dask")
+
+
+def _noop() -> None:
+    return None
+
+
+class Backend(abc.ABC):
+    """Base class: runs tasks and yields ``(task, result)`` as they complete."""
+
+    name = "base"
+    workers = 1
+
+    def __enter__(self) -> Backend:
+        self.start()
+        return self
+
+    def __exit__(self, *exc: Any) -> None:
+        self.close(cancel=exc[0] is not None)
+
+    def start(self) -> None:
+        """Acquire workers (called by ``__enter__``); nothing to do by default."""
+        return None
+
+    def close(self, cancel: bool = False) -> None:
+        """Release workers; ``cancel`` drops queued tasks (after an interrupt)."""
+        return None
+
+    @abc.abstractmethod
+    def run(self, fn: Callable[[Any], Any], tasks: Iterable[Any]) -> Iterator[tuple[Any, Any]]:
+        """Evaluate ``fn(task)`` for every task; yield ``(task, result)`` as each finishes."""
+
+    def describe(self) -> str:
+        return f"{self.name} ({self.workers} worker{'s' if self.workers != 1 else ''})"
+
+
+class SerialBackend(Backend):
+    """Runs every task in this process, in order. The reference for the others."""
+
+    name = "serial"
+
+    def run(self, fn, tasks):
+        for task in tasks:
+            yield task, fn(task)
+
+
+def _windowed(submit, tasks: Iterable[Any], window: int, wait_any):
+    """Keep at most ``window`` futures in flight; yield (task, future) as they finish."""
+    it = iter(tasks)
+    pending: dict[Any, Any] = {}
+    for task in it:
+        pending[submit(task)] = task
+        if len(pending) >= window:
+            break
+    while pending:
+        for fut in wait_any(list(pending)):
+            task = pending.pop(fut)
+            nxt = next(it, None)
+            if nxt is not None:
+                pending[submit(nxt)] = nxt
+            yield task, fut
+
+
+class ProcessBackend(Backend):
+    """Local worker processes (``concurrent.futures.ProcessPoolExecutor``).
+
+    Workers are started once and reused for every task; on Linux they are forked from
+    the calling process, so compiled kernels and imported modules are inherited.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Number of processes (default: the number of CPUs).
+    initializer : callable, optional
+        Module-level function run once in each worker (e.g. to compile kernels).
+    """
+
+    name = "processes"
+
+    def __init__(self, workers: int | None = None, *, initializer: Callable | None = None):
+        n = (os.cpu_count() or 1) if workers is None else workers
+        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
+            raise ParameterError("workers", workers, "an integer >= 1")
+        self.workers = n
+        self.initializer = initializer
+        self._pool: ProcessPoolExecutor | None = None
+
+    def start(self) -> None:
+        methods = multiprocessing.get_all_start_methods()
+        ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
+        self._pool = ProcessPoolExecutor(
+            max_workers=self.workers, mp_context=ctx, initializer=self.initializer
+        )
+        # start every worker now (before any progress-bar thread exists in this process)
+        for f in [self._pool.submit(_noop) for _ in range(self.workers)]:
+            f.result()
+
+    def close(self, cancel: bool = False) -> None:
+        if self._pool is not None:
+            self._pool.shutdown(wait=not cancel, cancel_futures=True)
+            self._pool = None
+
+    def run(self, fn, tasks):
+        if self._pool is None:
+            self.start()
+        pool = self._pool
+
+        def wait_any(futs):
+            done, _ = wait(futs, return_when=FIRST_COMPLETED)
+            return done
+
+        for task, fut in _windowed(lambda t: pool.submit(fn, t), tasks, 3 * self.workers, wait_any):
+            yield task, fut.result()
+
+
+class DaskBackend(Backend):
+    """Dask distributed: an existing cluster (``scheduler``) or a local one (``workers``).
+
+    Parameters
+    ----------
+    scheduler : str, optional
+        Address of a running scheduler, e.g. ``tcp://10.0.0.5:8786``.
+    workers : int, optional
+        Start a ``LocalCluster`` on 127.0.0.1 with this many single-threaded workers.
+    processes : bool
+        Local cluster with worker processes (True) or threads in this process (False).
+    """
+
+    name = "dask"
+
+    def __init__(
+        self, scheduler: str | None = None, workers: int | None = None, *, processes: bool = True
+    ):
+        if scheduler is not None and workers is not None:
+            raise ParameterError(
+                "workers", workers, "no value when --scheduler is given (the cluster has its own)"
+            )
+        if workers is not None and (
+            isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
+        ):
+            raise ParameterError("workers", workers, "an integer >= 1")
+        self.scheduler = scheduler
+        self.workers = workers or 0
+        self.processes = processes
+        self._client = None
+        self._cluster = None
+
+    def start(self) -> None:
+        from distributed import Client, LocalCluster
+
+        if self.scheduler is not None:
+            try:
+                self._client = Client(self.scheduler, timeout="10s")
+            except (OSError, TimeoutError) as exc:
+                raise ParameterError(
+                    "scheduler", self.scheduler, f"the address of a running Dask scheduler ({exc})"
+                ) from None
+            self.workers = max(1, len(self._client.scheduler_info().get("workers", {})))
+        else:
+            self.workers = self.workers or (os.cpu_count() or 1)
+            self._cluster = LocalCluster(
+                n_workers=self.workers,
+                threads_per_worker=1,
+                processes=self.processes,
+                host="127.0.0.1",
+                dashboard_address=None,
+                silence_logs=40,
+            )
+            self._client = Client(self._cluster)
+
+    def close(self, cancel: bool = False) -> None:
+        if self._client is not None:
+            self._client.close()
+            self._client = None
+        if self._cluster is not None:
+            self._cluster.close()
+            self._cluster = None
+
+    def run(self, fn, tasks):
+        from distributed import wait as dwait
+
+        if self._client is None:
+            self.start()
+        client = self._client
+
+        def wait_any(futs):
+            return dwait(futs, return_when="FIRST_COMPLETED").done
+
+        def submit(task):
+            return client.submit(fn, task, pure=False)
+
+        for task, fut in _windowed(submit, tasks, 3 * max(1, self.workers), wait_any):
+            yield task, fut.result()
+            fut.release()
+
+    def describe(self) -> str:
+        where = self.scheduler or "local cluster on 127.0.0.1"
+        return f"dask ({where}, {self.workers} workers)"
+
+
+def make_backend(
+    backend: str | Backend | None = None,
+    *,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    initializer: Callable | None = None,
+) -> Backend:
+    """A backend from a name: ``serial``, ``processes`` (default) or ``dask``.
+
+    ``scheduler`` implies ``dask``. ``workers`` is the number of local workers.
+    """
+    if isinstance(backend, Backend):
+        return backend
+    if backend is None:
+        backend = "dask" if scheduler is not None else "processes"
+    if backend not in BACKENDS:
+        raise ParameterError("backend", backend, "one of " + ", ".join(map(repr, BACKENDS)))
+    if scheduler is not None and backend != "dask":
+        raise ParameterError("backend", backend, "'dask' when a scheduler address is given")
+    if backend == "serial":
+        return SerialBackend()
+    if backend == "processes":
+        return ProcessBackend(workers, initializer=initializer)
+    return DaskBackend(scheduler, workers)

@@ -1,0 +1,481 @@
+"""Run a sweep on any backend, with incremental, resumable storage in a Zarr store.
+
+The grid of a :class:`~inerterlab.studies.spec.SweepSpec` is numbered in C order over
+its dimensions and cut into chunks of consecutive points. A chunk is one task for the
+backend and one chunk of every array in the store, so a finished task is written with
+one atomic file write per array, and the ``status`` array is written last: a point
+whose status is set has all its metrics on disk. Rerunning the same sweep into the same
+store computes only the points whose status is still *missing*.
+
+Store layout (Zarr v3 group): one float64 array of length N per metric, ``status``
+(int8: 0 missing, 1 ok, 2 failed), ``reason`` (N x 160 UTF-8 bytes, the failure
+message), and the attributes ``config`` (the sweep description), ``config_hash``,
+``chunk_size`` and ``metrics``. :func:`load_sweep` turns it into an
+:class:`xarray.Dataset` with one dimension per swept parameter.
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import time
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from ..errors import DataFileError
+from .backends import Backend, make_backend
+from .points import PointFunction
+from .spec import SweepSpec, sweep_spec
+
+__all__ = [
+    "sweep",
+    "load_sweep",
+    "save_netcdf",
+    "SweepInterrupted",
+    "STATUS_MISSING",
+    "STATUS_OK",
+    "STATUS_FAILED",
+    "evaluate_chunk",
+]
+
+STATUS_MISSING, STATUS_OK, STATUS_FAILED = 0, 1, 2
+_STATUS_MEANINGS = "missing ok failed"
+REASON_BYTES = 160
+_FORMAT = "inerterlab-sweep-1"
+
+
+class SweepInterrupted(KeyboardInterrupt):
+    """The sweep was interrupted; every finished chunk is already in the store."""
+
+    def __init__(self, done: int, total: int, store: str | None):
+        self.done, self.total, self.store = done, total, store
+        where = (
+            f"{done} of {total} points are stored in {store}; rerun the same command to resume"
+            if store
+            else f"{done} of {total} points were computed (no store given, nothing kept)"
+        )
+        super().__init__(f"sweep interrupted: {where}")
+
+
+# --- tasks ----------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class ChunkTask:
+    """One task: the points ``indices`` (flat, sorted) of chunk ``chunk``."""
+
+    point: PointFunction
+    names: tuple[str, ...]
+    values: tuple[tuple, ...]
+    fixed: tuple[tuple[str, Any], ...]
+    indices: tuple[int, ...]
+    chunk: int
+
+    def params(self, index: int) -> dict:
+        out = dict(self.fixed)
+        shape = tuple(len(v) for v in self.values)
+        for name, vals, i in zip(
+            self.names, self.values, np.unravel_index(index, shape), strict=True
+        ):
+            out[name] = vals[int(i)]
+        return out
+
+
+@dataclass(frozen=True)
+class ChunkResult:
+    values: np.ndarray  # (n_points, n_metrics) float64, NaN where not ok
+    status: np.ndarray  # (n_points,) int8
+    reasons: tuple[str, ...]
+
+
+def evaluate_chunk(task: ChunkTask) -> ChunkResult:
+    """Evaluate every point of ``task``; a point that raises or returns a non-finite
+    or missing metric is marked failed with the reason, never given a number."""
+    metrics = task.point.metrics
+    n = len(task.indices)
+    values = np.full((n, len(metrics)), np.nan)
+    status = np.full(n, STATUS_OK, dtype=np.int8)
+    reasons = [""] * n
+    fn = task.point.function
+    for k, index in enumerate(task.indices):
+        try:
+            out = fn(task.params(index))
+            row = [float(out[m]) for m in metrics]
+            bad = [m for m, v in zip(metrics, row, strict=True) if not math.isfinite(v)]
+            if bad:
+                raise ArithmeticError(f"non-finite {', '.join(bad)}")
+            values[k] = row
+        except KeyError as exc:
+            status[k] = STATUS_FAILED
+            reasons[k] = f"point function returned no metric {exc}"
+        except Exception as exc:  # noqa: BLE001 - recorded as the point's failure reason
+            status[k] = STATUS_FAILED
+            reasons[k] = f"{type(exc).__name__}: {exc}"
+    return ChunkResult(values, status, tuple(reasons))
+
+
+# --- storage --------------------------------------------------------------------------
+
+
+def _encode_reasons(reasons) -> np.ndarray:
+    out = np.zeros((len(reasons), REASON_BYTES), dtype=np.uint8)
+    for k, r in enumerate(reasons):
+        b = r.encode("utf-8")[:REASON_BYTES]
+        out[k, : len(b)] = np.frombuffer(b, dtype=np.uint8)
+    return out
+
+
+def _decode_reasons(arr: np.ndarray) -> np.ndarray:
+    return np.array(
+        [bytes(row).rstrip(b"\0").decode("utf-8", errors="replace") for row in arr], dtype=object
+    )
+
+
+class _MemoryStore:
+    def __init__(self, spec: SweepSpec):
+        n, m = spec.size, len(spec.point_function.metrics)
+        self.values = np.full((n, m), np.nan)
+        self.status_arr = np.zeros(n, dtype=np.int8)
+        self.reasons = np.zeros((n, REASON_BYTES), dtype=np.uint8)
+        self.path = None
+
+    def status(self) -> np.ndarray:
+        return self.status_arr
+
+    def write(self, idx: np.ndarray, res: ChunkResult) -> None:
+        self.values[idx] = res.values
+        self.reasons[idx] = _encode_reasons(res.reasons)
+        self.status_arr[idx] = res.status
+
+    def read(self):
+        return self.values, self.status_arr, _decode_reasons(self.reasons)
+
+
+class _ZarrStore:
+    def __init__(self, path: Path, spec: SweepSpec, chunk_size: int):
+        import zarr
+
+        self.path = str(path)
+        self.metrics = spec.point_function.metrics
+        config_hash = spec.config_hash()
+        if path.exists():
+            try:
+                group = zarr.open_group(str(path), mode="r+")
+                attrs = dict(group.attrs)
+            except Exception:  # noqa: BLE001 - anything unreadable is not our store
+                raise DataFileError(
+                    path, "exists and is not a sweep store; choose another --out"
+                ) from None
+            if attrs.get("format") != _FORMAT:
+                raise DataFileError(path, "exists and is not a sweep store; choose another --out")
+            if attrs.get("config_hash") != config_hash:
+                diff = _describe_difference(attrs.get("config", {}), spec.to_dict())
+                raise DataFileError(
+                    path,
+                    "was made from a different sweep configuration "
+                    f"({diff}); refusing to resume into it. Use a new --out, or delete the "
+                    "store to start over",
+                )
+            self.group = group
+            self.chunk_size = int(attrs["chunk_size"])
+        else:
+            group = zarr.open_group(str(path), mode="w-")
+            n = spec.size
+            for name in self.metrics:
+                group.create_array(
+                    name,
+                    shape=(n,),
+                    chunks=(chunk_size,),
+                    dtype="float64",
+                    fill_value=np.nan,
+                    dimension_names=["point"],
+                )
+            group.create_array(
+                "reason",
+                shape=(n, REASON_BYTES),
+                chunks=(chunk_size, REASON_BYTES),
+                dtype="uint8",
+                fill_value=0,
+                dimension_names=["point", "reason_byte"],
+            )
+            group.create_array(
+                "status",
+                shape=(n,),
+                chunks=(chunk_size,),
+                dtype="int8",
+                fill_value=STATUS_MISSING,
+                dimension_names=["point"],
+                attributes={"flag_values": [0, 1, 2], "flag_meanings": _STATUS_MEANINGS},
+            )
+            group.attrs.update(
+                {
+                    "format": _FORMAT,
+                    "config": spec.to_dict(),
+                    "config_hash": config_hash,
+                    "chunk_size": int(chunk_size),
+                    "metrics": list(self.metrics),
+                    "dims": list(spec.dims),
+                    "shape": list(spec.shape),
+                    "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
+                }
+            )
+            self.group = group
+            self.chunk_size = chunk_size
+
+    def status(self) -> np.ndarray:
+        return np.asarray(self.group["status"][:])
+
+    def write(self, idx: np.ndarray, res: ChunkResult) -> None:
+        contiguous = idx[-1] - idx[0] + 1 == len(idx)
+        sel = slice(int(idx[0]), int(idx[-1]) + 1) if contiguous else idx
+
+        def put(name, data):
+            arr = self.group[name]
+            if contiguous:
+                arr[sel] = data
+            else:
+                arr.oindex[sel] = data
+
+        for j, name in enumerate(self.metrics):
+            put(name, res.values[:, j])
+        put("reason", _encode_reasons(res.reasons))
+        put("status", res.status)  # last: marks the points as done
+
+    def read(self):
+        values = np.stack([np.asarray(self.group[m][:]) for m in self.metrics], axis=1)
+        return values, self.status(), _decode_reasons(np.asarray(self.group["reason"][:]))
+
+
+def _describe_difference(old: dict, new: dict) -> str:
+    diffs = []
+    for key in ("point", "settings", "weights"):
+        if old.get(key) != new.get(key):
+            diffs.append(f"{key}: stored {old.get(key)!r}, now {new.get(key)!r}")
+    op, np_ = old.get("parameters", {}), new.get("parameters", {})
+    for name in sorted(set(op) | set(np_)):
+        if op.get(name) != np_.get(name):
+            diffs.append(f"parameters.{name}: stored {op.get(name)!r}, now {np_.get(name)!r}")
+    if list(op) != list(np_) and not diffs:
+        diffs.append(f"parameter order: stored {list(op)}, now {list(np_)}")
+    return "; ".join(diffs) or "hash differs"
+
+
+# --- the driver -------------------------------------------------------------------------
+
+
+def _auto_chunk_size(n: int, workers: int) -> int:
+    return int(max(1, min(256, math.ceil(n / (8 * max(1, workers))))))
+
+
+def _progress_bar(total: int, done: int, label: str):
+    from rich.console import Console
+    from rich.progress import (
+        BarColumn,
+        MofNCompleteColumn,
+        Progress,
+        TaskProgressColumn,
+        TextColumn,
+        TimeElapsedColumn,
+        TimeRemainingColumn,
+    )
+
+    class _Rate(TextColumn):
+        def __init__(self):
+            super().__init__("")
+
+        def render(self, task):
+            from rich.text import Text
+
+            speed = task.finished_speed or task.speed
+            return Text("" if not speed else f"{speed:,.0f} points/s")
+
+    prog = Progress(
+        TextColumn("[bold]{task.description}"),
+        BarColumn(),
+        MofNCompleteColumn(),
+        TaskProgressColumn(),
+        _Rate(),
+        TimeElapsedColumn(),
+        TextColumn("ETA"),
+        TimeRemainingColumn(),
+        console=Console(stderr=True),
+        transient=False,
+    )
+    task = prog.add_task(label, total=total, completed=done)
+    return prog, task
+
+
+def sweep(
+    spec: SweepSpec | dict,
+    *,
+    store: str | os.PathLike | None = None,
+    backend: str | Backend | None = None,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    progress: bool | Callable[[int, int], None] = False,
+):
+    """Evaluate the point function over the grid of ``spec``.
+
+    Parameters
+    ----------
+    spec : SweepSpec or dict
+        The sweep (a dict is passed to :func:`~inerterlab.studies.spec.sweep_spec`).
+    store : path, optional
+        Zarr store written chunk by chunk. If it exists and was made from the same
+        description, only the missing points are computed (resume); if it was made
+        from a different one, :class:`~inerterlab.errors.DataFileError` is raised before
+        any work.
+    backend : {"serial", "processes", "dask"} or Backend, optional
+        Default ``processes`` (``dask`` if ``scheduler`` is given).
+    workers : int, optional
+        Number of local workers (processes, or a local Dask cluster).
+    scheduler : str, optional
+        Address of a running Dask scheduler.
+    progress : bool or callable
+        Show a progress bar on standard error, or call ``progress(done, total)``.
+
+    Returns
+    -------
+    xarray.Dataset
+        One dimension per swept parameter, one variable per metric (NaN where the
+        point failed), ``status`` and ``reason``, the settings in the attributes.
+
+    Raises
+    ------
+    SweepInterrupted
+        On Ctrl-C; the store keeps every finished chunk.
+
+    Examples
+    --------
+    >>> ds = sweep({"point": "synthetic", "parameters": {"changing_ratio": [0.1, 0.2]}},
+    ...            backend="serial")
+    >>> ds.rms_body_acc.dims, int((ds.status == 1).sum())
+    (('changing_ratio',), 2)
+    """
+    if isinstance(spec, dict):
+        spec = sweep_spec(**spec)
+    n = spec.size
+    point = spec.point_function
+    be = make_backend(backend, workers=workers, scheduler=scheduler)
+    chunk_size = spec.chunk_size or _auto_chunk_size(
+        n, be.workers if be.name != "dask" else max(1, workers or 2)
+    )
+    target = _ZarrStore(Path(store), spec, chunk_size) if store is not None else _MemoryStore(spec)
+    if store is not None:
+        chunk_size = target.chunk_size
+    status = target.status()
+    missing = np.flatnonzero(status == STATUS_MISSING)
+    done = n - len(missing)
+    fixed = tuple(sorted(spec.fixed().items()))
+    names, values = spec.dims, tuple(v for _, v in spec.parameters)
+    chunk_of = missing // chunk_size
+    tasks = [
+        ChunkTask(
+            point, names, values, fixed, tuple(int(i) for i in missing[chunk_of == c]), int(c)
+        )
+        for c in np.unique(chunk_of)
+    ]
+    if tasks:
+        bar = None
+        try:
+            with be:
+                if progress is True:
+                    bar, bar_task = _progress_bar(n, done, f"sweep ({be.describe()})")
+                    bar.start()
+                for task, res in be.run(evaluate_chunk, tasks):
+                    target.write(np.asarray(task.indices, dtype=np.int64), res)
+                    done += len(task.indices)
+                    if bar is not None:
+                        bar.update(bar_task, completed=done)
+                    elif callable(progress):
+                        progress(done, n)
+        except KeyboardInterrupt:
+            raise SweepInterrupted(done, n, target.path) from None
+        finally:
+            if bar is not None:
+                bar.stop()
+    vals, stat, reasons = target.read()
+    return _to_dataset(spec, vals, stat, reasons, store=target.path, backend=be.describe())
+
+
+def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend=""):
+    import xarray as xr
+
+    shape = spec.shape
+    coords = {name: np.asarray(v) for name, v in spec.parameters}
+    data = {}
+    metrics = spec.point_function.metrics
+    for j, name in enumerate(metrics):
+        data[name] = (spec.dims, vals[:, j].reshape(shape))
+    data["status"] = (
+        spec.dims,
+        np.asarray(stat, dtype=np.int8).reshape(shape),
+        {"flag_values": np.array([0, 1, 2], dtype=np.int8), "flag_meanings": _STATUS_MEANINGS},
+    )
+    data["reason"] = (spec.dims, np.asarray(reasons, dtype=str).reshape(shape))
+    attrs = {
+        "point_function": spec.point,
+        "config": json.dumps(spec.to_dict(), sort_keys=True),
+        "config_hash": spec.config_hash(),
+        "points": spec.size,
+        "points_ok": int(np.sum(stat == STATUS_OK)),
+        "points_failed": int(np.sum(stat == STATUS_FAILED)),
+        "points_missing": int(np.sum(stat == STATUS_MISSING)),
+    }
+    for key, value in spec.fixed().items():
+        if key in spec.dims:
+            continue
+        attrs[f"setting_{key}"] = value
+    if spec.weights is not None:
+        attrs["weights"] = json.dumps(spec.weights.to_dict())
+    if store:
+        attrs["store"] = str(store)
+    if backend:
+        attrs["backend"] = backend
+    return xr.Dataset(data, coords=coords, attrs=attrs)
+
+
+def load_sweep(store: str | os.PathLike):
+    """Read a sweep store (complete or partial) as an :class:`xarray.Dataset`."""
+    import zarr
+
+    path = Path(store)
+    try:
+        group = zarr.open_group(str(path), mode="r")
+        attrs = dict(group.attrs)
+    except Exception:  # noqa: BLE001
+        raise DataFileError(path, "is not a readable sweep store") from None
+    if attrs.get("format") != _FORMAT:
+        raise DataFileError(path, "is not a sweep store (no inerterlab sweep attributes)")
+    cfg = attrs["config"]
+    spec = sweep_spec(
+        cfg["point"], parameters=cfg["parameters"], settings=cfg["settings"], weights=cfg["weights"]
+    )
+    metrics = attrs["metrics"]
+    vals = np.stack([np.asarray(group[m][:]) for m in metrics], axis=1)
+    stat = np.asarray(group["status"][:])
+    reasons = _decode_reasons(np.asarray(group["reason"][:]))
+    return _to_dataset(spec, vals, stat, reasons, store=str(path))
+
+
+def save_netcdf(ds, path: str | os.PathLike) -> Path:
+    """Write ``ds`` to a netCDF file atomically (temporary file and rename)."""
+    import tempfile
+
+    p = Path(path)
+    p.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".nc")
+    os.close(fd)
+    try:
+        ds.to_netcdf(tmp, engine="h5netcdf")
+        os.replace(tmp, p)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+    return p
