@@ -39,6 +39,7 @@ def _root() -> None:
 # modules of this package that define ``register(app)``; one line per command group
 _COMMANDS = [
     "flywheel",
+    "reproduce",
 ]
 
 for _name in _COMMANDS:
@@ -70,9 +71,12 @@ def main(argv: list[str] | None = None) -> int:
     if debug:
         args.remove("--debug")
     try:
-        app(args=args, prog_name="inerterlab", standalone_mode=False)
+        rc = app(args=args, prog_name="inerterlab", standalone_mode=False)
+        if isinstance(rc, int) and not isinstance(rc, bool):
+            return rc
     except typer.Exit as e:
-        return int(getattr(e, "exit_code", 0) or 0)
+        code = getattr(e, "exit_code", None)
+        return int(code if code is not None else (e.args[0] if e.args else 0))
     except _cx.NoArgsIsHelpError as e:
         e.show() if hasattr(e, "show") else print(e.format_message())
         return 0

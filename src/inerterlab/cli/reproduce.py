@@ -1,0 +1,73 @@
+"""``inerterlab reproduce``: the thesis reproduction report."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+
+def reproduce_command(
+    out: Annotated[
+        Path, typer.Option(help="Report directory (replaced atomically at the end).")
+    ] = Path("reproduction"),
+    tables: Annotated[
+        str | None,
+        typer.Option(
+            help="Only these thesis tables, e.g. 4.1-4.9,6.1-6.9 (CSV + HTML, no figures)."
+        ),
+    ] = None,
+    quick: Annotated[
+        bool, typer.Option("--quick", help="Reduced grids and horizons (seconds, for smoke tests).")
+    ] = False,
+    workers: Annotated[int, typer.Option(min=1, help="Worker processes for sweeps.")] = 1,
+    json_out: Annotated[bool, typer.Option("--json", help="Print the manifest as JSON.")] = False,
+) -> None:
+    """Regenerate every thesis table and figure beside the thesis's numbers.
+
+    Writes OUT/index.html (self-contained), OUT/tables/*.csv, OUT/figures/*.png,
+    OUT/data/*.csv and OUT/manifest.json. An interrupted run resumes from OUT.work/.
+
+    Example: inerterlab reproduce --out reproduction
+    """
+    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
+
+    from ..report.build import _load_chapters, count_items, parse_table_selection, reproduce
+    from ..report.registry import ReproduceSettings
+    from ._common import emit_json
+
+    settings = ReproduceSettings(quick=quick, workers=workers)
+    ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables else None
+    total = count_items(ids, ids is None)
+    with Progress(
+        TextColumn("[bold]reproduce"),
+        BarColumn(),
+        TextColumn("{task.completed}/{task.total}"),
+        TimeElapsedColumn(),
+        TextColumn("{task.description}"),
+        transient=True,
+    ) as bar:
+        task = bar.add_task("starting", total=total)
+
+        def step(msg: str) -> None:
+            bar.update(task, advance=1, description=msg)
+
+        manifest = reproduce(out, settings=settings, tables=tables, progress=step)
+    failed = [i for i in manifest["items"] if not i["ok"]]
+    if json_out:
+        emit_json(manifest)
+    else:
+        n = len(manifest["items"])
+        typer.echo(
+            f"report written to {out / 'index.html'}: {n - len(failed)} of {n} items done "
+            f"in {manifest['run_seconds']:.1f} s"
+        )
+        for i in failed:
+            typer.echo(f"  failed: {i['kind']} {i['id']}: {i['error']}", err=True)
+    if failed:
+        raise typer.Exit(1)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("reproduce")(reproduce_command)

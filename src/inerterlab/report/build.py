@@ -1,0 +1,432 @@
+"""Run the reproduction and write the report directory atomically, with resume.
+
+Layout of a finished report directory::
+
+    index.html            self-contained page (figures embedded as PNG data URIs)
+    tables/<id>.csv       every table, with a commented settings header
+    figures/<id>.png      every figure
+    data/<id>.csv         the data behind every figure
+    manifest.json         versions, settings, run time, what failed and why
+
+While it runs, finished items are kept in ``<out>.work/`` (one pickle per item keyed by
+the settings); a rerun of the same command after a crash or Ctrl-C reuses them. The
+final directory is built beside ``<out>`` and swapped in with renames, so a crashed
+run leaves the previous report intact.
+"""
+
+from __future__ import annotations
+
+import base64
+import hashlib
+import html
+import importlib
+import io
+import json
+import os
+import pickle
+import platform
+import re
+import shutil
+import tempfile
+import time
+import traceback
+from collections.abc import Callable
+from dataclasses import asdict
+from pathlib import Path
+
+from ..errors import ParameterError
+from .registry import FigureResult, ReproduceSettings, TableResult
+
+CHAPTERS = ("ch3", "ch4_6", "studies", "ch5", "ch7")
+
+
+def _missing_chapter(name: str, error: str) -> Callable:
+    def fail(settings: ReproduceSettings):
+        raise RuntimeError(f"chapter module {name!r} could not be loaded: {error}")
+
+    return fail
+
+
+def _load_chapters() -> tuple[dict[str, Callable], dict[str, Callable]]:
+    """All chapter tables and figures; a chapter that fails to import becomes a failed item."""
+    tables: dict[str, Callable] = {}
+    figures: dict[str, Callable] = {}
+    for name in CHAPTERS:
+        try:
+            mod = importlib.import_module(f"{__package__}.{name}")
+        except Exception as e:  # noqa: BLE001 - reported in the report, never hidden
+            figures[f"chapter {name}"] = _missing_chapter(name, f"{type(e).__name__}: {e}")
+            continue
+        tables.update(getattr(mod, "TABLES", {}))
+        figures.update(getattr(mod, "FIGURES", {}))
+    return tables, figures
+
+
+def _table_key(tid: str) -> tuple:
+    parts = re.split(r"[.\s]", tid)
+    return tuple((0, int(p)) if p.isdigit() else (1, p) for p in parts)
+
+
+def parse_table_selection(spec: str, available: list[str]) -> list[str]:
+    """Expand "4.1-4.9,6.1-6.9,7.2" into table ids; every id must exist.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``--tables`` and the available ids if a token is malformed or unknown.
+    """
+    out: list[str] = []
+    valid = "a comma list of table ids or ranges like 4.1-4.9; available: " + ", ".join(
+        sorted(available, key=_table_key)
+    )
+    for token in [t.strip() for t in spec.split(",") if t.strip()]:
+        m = re.fullmatch(r"(\d+)\.(\d+)\s*-\s*(\d+)\.(\d+)", token)
+        if m:
+            c1, a, c2, b = (int(g) for g in m.groups())
+            if c1 != c2 or a > b:
+                raise ParameterError("--tables", token, valid)
+            ids = [f"{c1}.{i}" for i in range(a, b + 1)]
+        else:
+            ids = [token]
+        for i in ids:
+            if i not in available:
+                raise ParameterError("--tables", i, valid)
+            if i not in out:
+                out.append(i)
+    if not out:
+        raise ParameterError("--tables", spec, valid)
+    return out
+
+
+def _fig_png(fig) -> bytes:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=110, bbox_inches="tight")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    return buf.getvalue()
+
+
+def _slug(s: str) -> str:
+    return re.sub(r"[^A-Za-z0-9._-]+", "_", s).strip("_")
+
+
+def _settings_hash(settings: ReproduceSettings) -> str:
+    return hashlib.sha256(json.dumps(asdict(settings), sort_keys=True).encode()).hexdigest()[:12]
+
+
+def _csv_with_header(frame, header: dict) -> str:
+    lines = [f"# {k}: {v}" for k, v in header.items()]
+    return "\n".join(lines) + "\n" + frame.to_csv(index=False)
+
+
+def _atomic_bytes(path: Path, data: bytes) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
+    with os.fdopen(fd, "wb") as fh:
+        fh.write(data)
+    os.replace(tmp, path)
+
+
+def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
+    """Number of items :func:`run_items` will process (for progress bars)."""
+    tables, figures = _load_chapters()
+    n = len(table_ids) if table_ids is not None else len(tables)
+    return n + (len(figures) if include_figures else 0)
+
+
+def run_items(
+    settings: ReproduceSettings,
+    table_ids: list[str] | None,
+    include_figures: bool,
+    work_dir: Path,
+    progress: Callable[[str], None] | None = None,
+) -> list[dict]:
+    """Compute (or reuse from ``work_dir``) every selected item; returns item records."""
+    tables, figures = _load_chapters()
+    chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
+    items = [("table", t, tables[t]) for t in chosen_tables]
+    if include_figures:
+        items += [("figure", f, figures[f]) for f in figures]
+    work_dir.mkdir(parents=True, exist_ok=True)
+    tag = _settings_hash(settings)
+    records = []
+    for kind, ident, fn in items:
+        cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.pkl"
+        if cache.exists():
+            with open(cache, "rb") as fh:
+                records.append(pickle.load(fh))
+            if progress:
+                progress(f"{kind} {ident} (reused)")
+            continue
+        t0 = time.perf_counter()
+        try:
+            res = fn(settings)
+            rec = {"kind": kind, "id": ident, "ok": True, "seconds": time.perf_counter() - t0}
+            if isinstance(res, TableResult):
+                rec.update(
+                    title=res.title,
+                    frame=res.frame,
+                    claim=res.claim,
+                    claim_holds=res.claim_holds,
+                    reason=res.reason,
+                    settings=res.settings,
+                )
+            elif isinstance(res, FigureResult):
+                rec.update(
+                    title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
+                )
+            else:  # a chapter function returned something unexpected: record, do not guess
+                rec.update(ok=False, error=f"returned {type(res).__name__}")
+        except KeyboardInterrupt:
+            raise
+        except Exception as e:  # noqa: BLE001 - recorded as a failed item, run goes on
+            rec = {
+                "kind": kind,
+                "id": ident,
+                "ok": False,
+                "error": f"{type(e).__name__}: {e}",
+                "traceback": traceback.format_exc(),
+                "seconds": time.perf_counter() - t0,
+            }
+        if rec["ok"]:
+            _atomic_bytes(cache, pickle.dumps(rec))
+        records.append(rec)
+        if progress:
+            progress(f"{kind} {ident}")
+    return records
+
+
+_CSS = """
+body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1200px;margin:2em auto;
+padding:0 1em;color:#222;line-height:1.45}
+h1{border-bottom:2px solid #345}h2{margin-top:2em;border-bottom:1px solid #ccc}
+table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0 1em}
+th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#eef}
+td:first-child,th:first-child{text-align:left}
+.ok{color:#1a7f37;font-weight:bold}.no{color:#b42318;font-weight:bold}.na{color:#777}
+.claim{background:#f6f8fa;border-left:4px solid #345;padding:0.4em 0.8em;margin:0.5em 0}
+img{max-width:100%;border:1px solid #ddd}nav a{margin-right:0.8em}
+.failed{background:#fff0f0;border-left:4px solid #b42318;padding:0.4em 0.8em}
+code,pre{background:#f6f8fa}
+"""
+
+
+def _verdict(v) -> str:
+    if v is True:
+        return '<span class="ok">holds</span>'
+    if v is False:
+        return '<span class="no">does not hold</span>'
+    return '<span class="na">not judged</span>'
+
+
+def _markdown_to_html(text: str) -> str:
+    """Tiny Markdown subset (headings, bullets, paragraphs, code spans) for the errata."""
+    out, in_list = [], False
+    for raw in text.splitlines():
+        line = html.escape(raw.rstrip())
+        line = re.sub(r"`([^`]+)`", r"<code>\1</code>", line)
+        line = re.sub(r"\*\*([^*]+)\*\*", r"<b>\1</b>", line)
+        if line.startswith("- "):
+            if not in_list:
+                out.append("<ul>")
+                in_list = True
+            out.append(f"<li>{line[2:]}</li>")
+            continue
+        if line.startswith("  ") and in_list and out:
+            out[-1] = out[-1][:-5] + " " + line.strip() + "</li>"
+            continue
+        if in_list:
+            out.append("</ul>")
+            in_list = False
+        if line.startswith("#"):
+            level = min(len(line) - len(line.lstrip("#")) + 2, 6)
+            out.append(f"<h{level}>{line.lstrip('#').strip()}</h{level}>")
+        elif line.strip():
+            out.append(f"<p>{line}</p>")
+    if in_list:
+        out.append("</ul>")
+    return "\n".join(out)
+
+
+def _versions() -> dict:
+    import importlib.metadata as md
+
+    out = {"python": platform.python_version(), "platform": platform.platform()}
+    for pkg in ("inerterlab", "numpy", "scipy", "numba", "pandas", "xarray", "matplotlib"):
+        try:
+            out[pkg] = md.version(pkg)
+        except md.PackageNotFoundError:
+            out[pkg] = "not installed"
+    return out
+
+
+def render(records: list[dict], settings: ReproduceSettings, elapsed: float, errata: str) -> dict:
+    """Build the files of the report in memory: {relative path: bytes}."""
+    files: dict[str, bytes] = {}
+    versions = _versions()
+    tables = [r for r in records if r["kind"] == "table"]
+    figures = [r for r in records if r["kind"] == "figure"]
+    failed = [r for r in records if not r["ok"]]
+    parts = [
+        "<!doctype html><html lang='en'><head><meta charset='utf-8'>",
+        "<title>inerterlab: thesis reproduction report</title>",
+        f"<style>{_CSS}</style></head><body>",
+        "<h1>Thesis reproduction report</h1>",
+        "<p>Every thesis table and figure that carries information, regenerated by inerterlab "
+        "beside the thesis's own numbers. Differences are expected: the thesis's MATLAB code "
+        "never adapts the flywheel and leaves several settings unstated (see the errata). "
+        "No model was tuned to match a thesis value; for each table the report says whether "
+        "the thesis's qualitative claim holds in our physics.</p>",
+        "<nav><a href='#summary'>Summary</a><a href='#tables'>Tables</a>"
+        "<a href='#figures'>Figures</a><a href='#errata'>Errata</a><a href='#settings'>Settings</a></nav>",
+        "<h2 id='summary'>Summary</h2><table><tr><th>item</th><th>title</th><th>thesis claim</th>"
+        "<th>verdict</th></tr>",
+    ]
+    for r in tables:
+        if r["ok"]:
+            parts.append(
+                f"<tr><td><a href='#t-{_slug(r['id'])}'>Table {html.escape(r['id'])}</a></td>"
+                f"<td>{html.escape(r['title'])}</td><td>{html.escape(r['claim'])}</td>"
+                f"<td>{_verdict(r['claim_holds'])}</td></tr>"
+            )
+        else:
+            parts.append(
+                f"<tr><td>Table {html.escape(r['id'])}</td><td colspan='2'>failed: "
+                f"{html.escape(r['error'])}</td><td class='no'>failed</td></tr>"
+            )
+    parts.append("</table>")
+    if failed:
+        parts.append(
+            f"<p class='failed'>{len(failed)} item(s) failed; they are listed with their reason "
+            "and no number is shown for them.</p>"
+        )
+    parts.append("<h2 id='tables'>Tables</h2>")
+    for r in tables:
+        sid = _slug(r["id"])
+        parts.append(f"<h3 id='t-{sid}'>Table {html.escape(r['id'])}</h3>")
+        if not r["ok"]:
+            parts.append(f"<div class='failed'>failed: {html.escape(r['error'])}</div>")
+            continue
+        parts.append(f"<p>{html.escape(r['title'])}</p>")
+        parts.append(
+            f"<div class='claim'><b>Thesis claim:</b> {html.escape(r['claim'])}<br>"
+            f"<b>In our physics:</b> {_verdict(r['claim_holds'])}. {html.escape(r['reason'])}</div>"
+        )
+        frame = r["frame"]
+        parts.append(frame.to_html(index=False, float_format=lambda x: f"{x:.5g}", na_rep="—"))
+        if r.get("settings"):
+            s = "; ".join(f"{k} = {v}" for k, v in r["settings"].items())
+            parts.append(
+                f"<p><small>Settings: {html.escape(s)}. CSV: "
+                f"<a href='tables/{sid}.csv'>tables/{sid}.csv</a></small></p>"
+            )
+        header = {"table": r["id"], "title": r["title"], **{k: v for k, v in r["settings"].items()}}
+        files[f"tables/{sid}.csv"] = _csv_with_header(frame, header).encode()
+    parts.append("<h2 id='figures'>Figures</h2>")
+    for r in figures:
+        sid = _slug(r["id"])
+        parts.append(
+            f"<h3 id='f-{sid}'>{html.escape(r['id'])}: {html.escape(r.get('title', ''))}</h3>"
+        )
+        if not r["ok"]:
+            parts.append(f"<div class='failed'>failed: {html.escape(r['error'])}</div>")
+            continue
+        b64 = base64.b64encode(r["png"]).decode()
+        parts.append(f"<img alt='{html.escape(r['id'])}' src='data:image/png;base64,{b64}'>")
+        parts.append(
+            f"<p>{html.escape(r['caption'])} Data: <a href='data/{sid}.csv'>data/{sid}.csv</a></p>"
+        )
+        files[f"figures/{sid}.png"] = r["png"]
+        files[f"data/{sid}.csv"] = r["data"].to_csv(index=False).encode()
+    parts.append("<h2 id='errata'>Errata</h2>")
+    parts.append(_markdown_to_html(errata))
+    parts.append("<h2 id='settings'>Settings and versions</h2><table>")
+    for k, v in {**asdict(settings), **versions, "run time [s]": f"{elapsed:.1f}"}.items():
+        parts.append(f"<tr><td>{html.escape(str(k))}</td><td>{html.escape(str(v))}</td></tr>")
+    parts.append("</table></body></html>")
+    files["index.html"] = "\n".join(parts).encode()
+    manifest = {
+        "settings": asdict(settings),
+        "versions": versions,
+        "run_seconds": elapsed,
+        "items": [
+            {k: r[k] for k in ("kind", "id", "ok", "seconds") if k in r}
+            | ({"error": r["error"]} if not r["ok"] else {})
+            | ({"claim_holds": r["claim_holds"]} if r["ok"] and r["kind"] == "table" else {})
+            for r in records
+        ],
+    }
+    files["manifest.json"] = json.dumps(manifest, indent=2).encode()
+    return files
+
+
+def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:
+    """Write ``files`` into a fresh directory and swap it in place of ``out``."""
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
+    try:
+        for rel, data in files.items():
+            p = tmp / rel
+            p.parent.mkdir(parents=True, exist_ok=True)
+            p.write_bytes(data)
+        old = None
+        if out.exists():
+            old = out.parent / f".{out.name}.old-{os.getpid()}"
+            os.replace(out, old)
+        os.replace(tmp, out)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return out
+
+
+def reproduce(
+    out: str | os.PathLike,
+    *,
+    settings: ReproduceSettings | None = None,
+    tables: str | None = None,
+    figures: bool = True,
+    progress: Callable[[str], None] | None = None,
+    errata_path: str | os.PathLike | None = None,
+) -> dict:
+    """Run the reproduction and write the report to ``out``; returns the manifest.
+
+    Parameters
+    ----------
+    out : path
+        Report directory (replaced atomically when the run completes).
+    settings : ReproduceSettings
+        ``quick=True`` for the reduced run.
+    tables : str, optional
+        Selection such as "4.1-4.9,6.1-6.9"; with a selection, figures are skipped
+        unless ``figures`` is True and no selection is given.
+    """
+    settings = settings or ReproduceSettings()
+    out = Path(out)
+    t0 = time.perf_counter()
+    all_tables, _ = _load_chapters()
+    ids = parse_table_selection(tables, list(all_tables)) if tables else None
+    work = out.parent / f"{out.name}.work"
+    records = run_items(settings, ids, figures and ids is None, work, progress)
+    errata = ""
+    candidates = [Path(errata_path)] if errata_path else []
+    candidates += [Path(__file__).resolve().parents[3] / "docs" / "errata.md"]
+    for c in candidates:
+        if c.is_file():
+            errata = c.read_text()
+            break
+    if not errata:
+        from importlib import resources
+
+        try:
+            errata = resources.files("inerterlab.data").joinpath("errata.md").read_text()
+        except (FileNotFoundError, ModuleNotFoundError):
+            errata = "(errata not found in this installation)"
+    files = render(records, settings, time.perf_counter() - t0, errata)
+    write_report_atomically(out, files)
+    shutil.rmtree(work, ignore_errors=True)
+    return json.loads(files["manifest.json"])
