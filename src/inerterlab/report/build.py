@@ -207,6 +207,7 @@ td:first-child,th:first-child{text-align:left}
 .ok{color:#1a7f37;font-weight:bold}.no{color:#b42318;font-weight:bold}.na{color:#777}
 .claim{background:#f6f8fa;border-left:4px solid #345;padding:0.4em 0.8em;margin:0.5em 0}
 img{max-width:100%;border:1px solid #ddd}nav a{margin-right:0.8em}
+table.summary td,table.summary th{text-align:left}
 .failed{background:#fff0f0;border-left:4px solid #b42318;padding:0.4em 0.8em}
 code,pre{background:#f6f8fa}
 """
@@ -280,7 +281,7 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
         "the thesis's qualitative claim holds in our physics.</p>",
         "<nav><a href='#summary'>Summary</a><a href='#tables'>Tables</a>"
         "<a href='#figures'>Figures</a><a href='#errata'>Errata</a><a href='#settings'>Settings</a></nav>",
-        "<h2 id='summary'>Summary</h2><table><tr><th>item</th><th>title</th><th>thesis claim</th>"
+        "<h2 id='summary'>Summary</h2><table class='summary'><tr><th>item</th><th>title</th><th>thesis claim</th>"
         "<th>verdict</th></tr>",
     ]
     for r in tables:
