@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ParameterError, check_choice, check_in_range, check_positive
+from .errors import ParameterError, check_choice, check_finite, check_in_range, check_positive
 
 __all__ = [
     "AdaptiveFlywheel",
@@ -105,8 +105,7 @@ class AdaptiveFlywheel:
             raise ParameterError("n_sliders", self.n_sliders, "an integer >= 1")
         if self.power not in (1, 2):
             raise ParameterError("power", self.power, "1 (thesis-literal) or 2 (physical)")
-        if not math.isfinite(float(self.rest_inertia)):
-            raise ParameterError("rest_inertia", self.rest_inertia, "a finite number [kg m^2]")
+        check_finite("rest_inertia", self.rest_inertia)
         if self.inertia_min <= 0:
             raise ParameterError(
                 "rest_inertia", self.rest_inertia, "a value giving a positive minimum inertia"
