@@ -28,6 +28,7 @@ def reproduce_command(
 
     Writes OUT/index.html (self-contained), OUT/tables/*.csv, OUT/figures/*.png,
     OUT/data/*.csv and OUT/manifest.json. An interrupted run resumes from OUT.work/.
+    Values are in SI units unless a column name says otherwise.
 
     Example: inerterlab reproduce --out reproduction
     """
