@@ -40,6 +40,7 @@ def _root() -> None:
 _COMMANDS = [
     "flywheel",
     "reproduce",
+    "studies",
 ]
 
 for _name in _COMMANDS:

@@ -187,7 +187,8 @@ class DaskBackend(Backend):
                 threads_per_worker=1,
                 processes=self.processes,
                 host="127.0.0.1",
-                dashboard_address=None,
+                protocol="tcp",  # loopback TCP also for threads (inproc rejects a host)
+                dashboard_address=":0",
                 silence_logs=40,
             )
             self._client = Client(self._cluster)

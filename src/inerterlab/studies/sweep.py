@@ -251,6 +251,12 @@ class _ZarrStore:
         return values, self.status(), _decode_reasons(np.asarray(self.group["reason"][:]))
 
 
+def _short(v: Any) -> str:
+    if isinstance(v, list) and len(v) > 6:
+        return f"{len(v)} values {v[0]!r}..{v[-1]!r}"
+    return repr(v)
+
+
 def _describe_difference(old: dict, new: dict) -> str:
     diffs = []
     for key in ("point", "settings", "weights"):
@@ -259,7 +265,9 @@ def _describe_difference(old: dict, new: dict) -> str:
     op, np_ = old.get("parameters", {}), new.get("parameters", {})
     for name in sorted(set(op) | set(np_)):
         if op.get(name) != np_.get(name):
-            diffs.append(f"parameters.{name}: stored {op.get(name)!r}, now {np_.get(name)!r}")
+            diffs.append(
+                f"parameters.{name}: stored {_short(op.get(name))}, now {_short(np_.get(name))}"
+            )
     if list(op) != list(np_) and not diffs:
         diffs.append(f"parameter order: stored {list(op)}, now {list(np_)}")
     return "; ".join(diffs) or "hash differs"
@@ -371,6 +379,7 @@ def sweep(
     status = target.status()
     missing = np.flatnonzero(status == STATUS_MISSING)
     done = n - len(missing)
+    already = done
     fixed = tuple(sorted(spec.fixed().items()))
     names, values = spec.dims, tuple(v for _, v in spec.parameters)
     chunk_of = missing // chunk_size
@@ -400,7 +409,9 @@ def sweep(
             if bar is not None:
                 bar.stop()
     vals, stat, reasons = target.read()
-    return _to_dataset(spec, vals, stat, reasons, store=target.path, backend=be.describe())
+    ds = _to_dataset(spec, vals, stat, reasons, store=target.path, backend=be.describe())
+    ds.attrs["points_computed"] = done - already
+    return ds
 
 
 def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend=""):
@@ -464,7 +475,10 @@ def load_sweep(store: str | os.PathLike):
 
 
 def save_netcdf(ds, path: str | os.PathLike) -> Path:
-    """Write ``ds`` to a netCDF file atomically (temporary file and rename)."""
+    """Write ``ds`` to a netCDF file atomically (temporary file and rename).
+
+    netCDF-4 through h5netcdf when h5py is installed, else classic netCDF through scipy.
+    """
     import tempfile
 
     p = Path(path)
@@ -472,7 +486,10 @@ def save_netcdf(ds, path: str | os.PathLike) -> Path:
     fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".nc")
     os.close(fd)
     try:
-        ds.to_netcdf(tmp, engine="h5netcdf")
+        try:
+            ds.to_netcdf(tmp, engine="h5netcdf")
+        except ImportError:  # h5netcdf without h5py: classic netCDF through scipy
+            ds.to_netcdf(tmp, engine="scipy")
         os.replace(tmp, p)
     except BaseException:
         if os.path.exists(tmp):
