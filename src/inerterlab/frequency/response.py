@@ -1,0 +1,493 @@
+"""``frequency_response``: steady-state amplitude against forcing frequency.
+
+One driver over five methods (SPEC §7, thesis ch. 7):
+
+``brute``
+    Time integration to a detected steady state at each frequency (see
+    :mod:`inerterlab.frequency.brute`); the reference.
+``shb``
+    Single harmonic balance (7.8)-(7.14): one harmonic (plus the constant term, which
+    vanishes for the symmetric systems of ch. 7), each point solved from rest.
+``mhb``
+    Multi-harmonic balance (7.17)-(7.22): H harmonics and the constant term, each point
+    solved independently from rest.
+``sihb``
+    The scanning iterative multi-harmonic method (7.23)-(7.32): residual in time,
+    coefficients by FFT, Newton steps that decrease the residual norm (7.31)-(7.32),
+    scanning from f_max down to f_min and back up, each point started from the last.
+``continuation``
+    Pseudo-arclength continuation through folds with step adaptation.
+
+Every harmonic-balance point carries its residual, a converged flag and, by Hill's
+method, its stability. A point that fails is marked (``converged`` False,
+``failure_reason``) and its amplitude is masked, never a number.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError, check_choice, check_positive
+from . import _kernels
+from .brute import steady_state
+from .continuation import continue_branch
+from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
+
+__all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
+
+METHODS = ("brute", "shb", "mhb", "sihb", "continuation")
+DIRECTIONS = ("down", "up", "both")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class FrequencyResponse:
+    """Steady-state response against forcing frequency.
+
+    Attributes
+    ----------
+    freq_hz : ndarray
+        Forcing frequency f [Hz] (Omega = 2 pi f [rad/s]).
+    amplitude_m : numpy.ma.MaskedArray
+        Half peak-to-peak of the response degree of freedom [m] (X1 for ch. 7),
+        masked where the point did not converge.
+    coefficients : ndarray
+        Shape (points, n_dof, 2H+1): [a0, a1, b1, ..., aH, bH] of
+        x = a0 + sum a_h cos(h Omega t) + b_h sin(h Omega t) [m]. For ``brute``, the
+        real-FFT coefficients of the last integrated period.
+    residual : ndarray
+        ||R(X)|| / ||R(0)||: harmonic-balance residual relative to the residual of the
+        zero response; for ``brute`` the estimated relative distance to the periodic
+        orbit.
+    converged : ndarray of bool
+    stable : numpy.ma.MaskedArray of bool
+        Hill stability (masked where not converged or not computed); ``brute`` points
+        are attractors, hence stable.
+    max_multiplier : numpy.ma.MaskedArray
+        Largest Floquet multiplier modulus exp(max Re(lambda) T) from Hill's method.
+    failure_reason : tuple of str
+        Empty string for converged points.
+    direction : ndarray of str
+        ``down`` or ``up`` (scan direction), for every point.
+    iterations : ndarray of int
+        Newton iterations (``brute``: integrated periods).
+    method : str
+    settings : dict
+        Every setting used.
+    """
+
+    freq_hz: np.ndarray
+    amplitude_m: np.ma.MaskedArray
+    coefficients: np.ndarray
+    residual: np.ndarray
+    converged: np.ndarray
+    stable: np.ma.MaskedArray
+    max_multiplier: np.ma.MaskedArray
+    failure_reason: tuple
+    direction: np.ndarray
+    iterations: np.ndarray
+    method: str
+    settings: dict = field(default_factory=dict)
+
+    @property
+    def omega(self) -> np.ndarray:
+        """Forcing frequency [rad/s]."""
+        return 2.0 * np.pi * self.freq_hz
+
+    @property
+    def harmonics(self) -> int:
+        return (self.coefficients.shape[-1] - 1) // 2
+
+    def __len__(self) -> int:
+        return len(self.freq_hz)
+
+    def branch(self, direction: str) -> FrequencyResponse:
+        """The points of one scan direction (``down`` or ``up``)."""
+        check_choice("direction", direction, ("down", "up"))
+        return self._subset(self.direction == direction)
+
+    def _subset(self, mask) -> FrequencyResponse:
+        idx = np.flatnonzero(mask)
+        return FrequencyResponse(
+            freq_hz=self.freq_hz[idx],
+            amplitude_m=self.amplitude_m[idx],
+            coefficients=self.coefficients[idx],
+            residual=self.residual[idx],
+            converged=self.converged[idx],
+            stable=self.stable[idx],
+            max_multiplier=self.max_multiplier[idx],
+            failure_reason=tuple(self.failure_reason[i] for i in idx),
+            direction=self.direction[idx],
+            iterations=self.iterations[idx],
+            method=self.method,
+            settings=dict(self.settings),
+        )
+
+    def first_harmonic(self, dof: int = 0) -> np.ma.MaskedArray:
+        """|X1| = sqrt(a1^2 + b1^2) [m], the amplitude of the fundamental."""
+        c = self.coefficients[:, dof]
+        return np.ma.masked_array(np.hypot(c[:, 1], c[:, 2]), mask=~self.converged)
+
+    def resonance(self, direction: str | None = None) -> dict:
+        """Frequency [Hz] and amplitude [m] of the largest converged amplitude (Table 7.1).
+
+        The maximum on the grid is refined by a parabola through it and its two
+        neighbours when they are converged and on a uniform grid.
+        """
+        r = self if direction is None else self.branch(direction)
+        ok = np.flatnonzero(r.converged)
+        if ok.size == 0:
+            raise ParameterError("direction", direction, "a direction with converged points")
+        i = ok[np.argmax(r.amplitude_m.data[ok])]
+        f, a = float(r.freq_hz[i]), float(r.amplitude_m.data[i])
+        if 0 < i < len(r) - 1 and r.converged[i - 1] and r.converged[i + 1]:
+            f0, f1, f2 = r.freq_hz[i - 1 : i + 2]
+            a0, a1, a2 = r.amplitude_m.data[i - 1 : i + 2]
+            if abs((f1 - f0) - (f2 - f1)) < 1e-9 * abs(f1) and a1 >= max(a0, a2):
+                den = a0 - 2 * a1 + a2
+                if den < 0:
+                    d = 0.5 * (a0 - a2) / den
+                    f = float(f1 + d * (f1 - f0))
+                    a = float(a1 - 0.25 * (a0 - a2) * d)
+        return {"freq_hz": f, "amplitude_m": a, "grid_freq_hz": float(r.freq_hz[i])}
+
+    def to_dict(self) -> dict:
+        """Plain lists (failed points: null amplitude, ``converged`` False); for JSON."""
+        amp = [
+            None if m else float(v)
+            for v, m in zip(self.amplitude_m.data, self._mask(), strict=True)
+        ]
+        st = [
+            None if m else bool(v)
+            for v, m in zip(self.stable.data, np.ma.getmaskarray(self.stable), strict=True)
+        ]
+        return {
+            "method": self.method,
+            "freq_hz": [float(f) for f in self.freq_hz],
+            "amplitude_m": amp,
+            "stable": st,
+            "residual": [float(r) for r in self.residual],
+            "converged": [bool(c) for c in self.converged],
+            "direction": [str(d) for d in self.direction],
+            "failure_reason": list(self.failure_reason),
+        }
+
+    def _mask(self):
+        return np.ma.getmaskarray(self.amplitude_m)
+
+    def to_pandas(self):
+        """A DataFrame, one row per point (nullable dtypes: failed points are <NA>)."""
+        import pandas as pd
+
+        d = self.to_dict()
+        df = pd.DataFrame(
+            {
+                "freq_hz": d["freq_hz"],
+                "amplitude_m": pd.array(d["amplitude_m"], dtype="Float64"),
+                "stable": pd.array(d["stable"], dtype="boolean"),
+                "residual": d["residual"],
+                "converged": d["converged"],
+                "direction": d["direction"],
+                "iterations": self.iterations,
+                "failure_reason": d["failure_reason"],
+            }
+        )
+        df.attrs["method"] = self.method
+        df.attrs["settings"] = dict(self.settings)
+        return df
+
+    def plot(self, ax=None, **kwargs):
+        """Amplitude against frequency, both directions, unstable points marked."""
+        from ._plot import plot_frequency_response
+
+        return plot_frequency_response(self, ax=ax, **kwargs)
+
+
+def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
+    """fmin, fmin + df, ... up to fmax [Hz] (fmax included when on the grid).
+
+    Examples
+    --------
+    >>> frequency_grid(0.1, 0.5, 0.1).round(3).tolist()
+    [0.1, 0.2, 0.3, 0.4, 0.5]
+    """
+    fmin = check_positive("fmin", fmin, "Hz")
+    fmax = check_positive("fmax", fmax, "Hz")
+    df = check_positive("df", df, "Hz")
+    if not fmin < fmax:
+        raise ParameterError("fmin", fmin, f"a frequency < fmax={fmax} Hz")
+    n = int(math.floor((fmax - fmin) / df + 1e-9))
+    return fmin + df * np.arange(n + 1)
+
+
+def _amplitudes(C) -> np.ndarray:
+    return _kernels.half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
+
+
+def frequency_response(
+    system,
+    method: str = "sihb",
+    *,
+    freq_hz=None,
+    fmin: float | None = None,
+    fmax: float | None = None,
+    df: float | None = None,
+    harmonics: int | None = None,
+    n_samples: int | None = None,
+    direction: str | None = None,
+    stability: bool = True,
+    rtol: float = 1e-10,
+    max_iter: int = 30,
+    backend: str = "numba",
+    steps_per_period: int = 2000,
+    brute_rtol: float = 1e-9,
+    brute_start: str = "rest",
+    max_periods: int = 5000,
+    step: float = 0.02,
+) -> FrequencyResponse:
+    """Steady-state frequency response of a periodically forced system.
+
+    Parameters
+    ----------
+    system
+        :class:`InerterSuspension` (e.g. ``chapter7_system(0.03)``),
+        :class:`DuffingOscillator` or :class:`UserSystem`.
+    method : {"brute", "shb", "mhb", "sihb", "continuation"}
+    freq_hz : array, optional
+        Frequencies [Hz]; otherwise ``fmin``, ``fmax`` and ``df`` [Hz] give the grid.
+        For ``continuation`` only the end points are used.
+    harmonics : int, optional
+        H (default 1 for ``shb``, 15 for ``sihb``, 7 otherwise; ``brute`` uses it for
+        the stored coefficients only).
+    n_samples : int, optional
+        Time samples per period N (default: smallest power of two >= 2 d H + 1).
+    direction : {"down", "up", "both"}, optional
+        Scan order (default ``both`` for ``sihb``, ``up`` otherwise). Only ``sihb`` and
+        ``brute`` with ``brute_start="previous"`` depend on it.
+    stability : bool
+        Hill stability of each harmonic-balance point.
+    rtol : float
+        Newton tolerance on the update, relative to ||X|| + scale.
+    max_iter : int
+        Newton iterations per point.
+    backend, steps_per_period, brute_rtol, max_periods
+        Brute-force settings (see :func:`inerterlab.frequency.brute.steady_state`).
+    brute_start : {"rest", "previous"}
+        Brute force from rest (thesis (7.5)) or from the last point's end state.
+    step : float
+        Initial continuation step (scaled arclength).
+
+    Returns
+    -------
+    FrequencyResponse
+
+    Examples
+    --------
+    >>> from inerterlab.frequency import chapter7_system
+    >>> fr = frequency_response(chapter7_system(0.01), "sihb", fmin=0.5, fmax=2.0, df=0.1,
+    ...                         harmonics=7)
+    >>> bool(fr.converged.all()), len(fr), sorted(set(fr.direction.tolist()))
+    (True, 32, ['down', 'up'])
+    >>> round(fr.resonance("down")["freq_hz"], 1)
+    1.2
+    """
+    check_choice("method", method, METHODS)
+    if harmonics is None:
+        harmonics = {"shb": 1, "sihb": 15}.get(method, 7)
+    if isinstance(harmonics, bool) or not isinstance(harmonics, int | np.integer) or harmonics < 1:
+        raise ParameterError("harmonics", harmonics, "an integer >= 1")
+    if method == "shb" and harmonics != 1:
+        raise ParameterError("harmonics", harmonics, "1 for method 'shb' (use 'mhb' for more)")
+    if direction is None:
+        direction = "both" if method == "sihb" else "up"
+    check_choice("direction", direction, DIRECTIONS)
+    check_choice("brute_start", brute_start, ("rest", "previous"))
+    if freq_hz is None:
+        if fmin is None or fmax is None or (df is None and method != "continuation"):
+            raise ParameterError("freq_hz", None, "an array of frequencies, or fmin, fmax and df")
+        freqs = frequency_grid(fmin, fmax, df if df is not None else (fmax - fmin))
+    else:
+        freqs = np.atleast_1d(np.asarray(freq_hz, dtype=float))
+        if freqs.size == 0 or not np.all(np.isfinite(freqs)) or np.any(freqs <= 0):
+            raise ParameterError("freq_hz", freq_hz, "finite frequencies > 0 Hz")
+        freqs = np.unique(freqs)
+    scale = float(getattr(system, "displacement_scale", 1.0))
+    settings = {
+        "method": method,
+        "harmonics": int(harmonics),
+        "direction": direction,
+        "rtol": rtol,
+        "system": repr(system),
+    }
+    orders = {"down": [("down", freqs[::-1])], "up": [("up", freqs)]}
+    orders["both"] = orders["down"] + orders["up"]
+    if method == "brute":
+        settings.update(
+            backend=backend, steps_per_period=steps_per_period, brute_rtol=brute_rtol,
+            brute_start=brute_start, max_periods=max_periods,
+        )  # fmt: skip
+        passes = orders[direction] if brute_start == "previous" else orders[direction][:1]
+        return _brute(system, passes, harmonics, settings)
+    engine = make_engine(system, int(harmonics), n_samples)
+    settings["n_samples"] = engine.basis.n_samples
+    settings["engine"] = type(engine).__name__
+    m = engine.basis.size * engine.n_dof
+    if method == "continuation":
+        settings["step"] = step
+        w0, w1 = 2 * np.pi * freqs[0], 2 * np.pi * freqs[-1]
+        if direction == "down":
+            w0, w1 = w1, w0
+        path = continue_branch(
+            engine, np.zeros(m), w0, w1, step=step, rtol=rtol, max_iter=max_iter, scale=scale
+        )
+        settings["continuation_message"] = path.message
+        n = len(path.omega)
+        ok = np.ones(n, dtype=bool)
+        codes = np.zeros(n, dtype=np.int64)
+        return _assemble(
+            engine, system, path.omega, path.coefficients, ok, path.iterations, codes,
+            np.array(["down" if direction == "down" else "up"] * n), method, settings,
+            stability,
+        )  # fmt: skip
+    warm = method == "sihb"
+    passes = orders[direction]
+    omegas, coeffs, oks, its, codes, dirs = [], [], [], [], [], []
+    X_start = np.zeros(m)
+    for name, fr in passes:
+        w = 2 * np.pi * fr
+        out, ok, it, res, code = engine.sweep(w, X_start, rtol, max_iter, scale, warm)
+        if warm and ok.any():
+            X_start = out[np.flatnonzero(ok)[-1]].copy()
+        omegas.append(w)
+        coeffs.append(out)
+        oks.append(ok)
+        its.append(it)
+        codes.append(code)
+        dirs += [name] * len(w)
+    return _assemble(
+        engine, system, np.concatenate(omegas), np.concatenate(coeffs), np.concatenate(oks),
+        np.concatenate(its), np.concatenate(codes), np.array(dirs), method, settings, stability,
+    )  # fmt: skip
+
+
+def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, settings, stability):
+    n = len(omegas)
+    nd, size = engine.n_dof, engine.basis.size
+    dof = int(getattr(system, "response_dof", 0))
+    C = coeffs.reshape(n, nd, size)
+    amp = _amplitudes(C[:, dof, :]) if n else np.zeros(0)
+    res = engine.relative_residuals(omegas, coeffs) if n else np.zeros(0)
+    stable = np.zeros(n, dtype=bool)
+    mult = np.zeros(n)
+    known = np.zeros(n, dtype=bool)
+    if stability:
+        for i in np.flatnonzero(ok):
+            lam = hill_exponents(engine, coeffs[i], omegas[i])
+            if np.all(np.isfinite(lam)):
+                stable[i] = is_stable(lam, omegas[i])
+                mult[i] = math.exp(float(np.max(lam.real)) * 2 * np.pi / omegas[i])
+                known[i] = True
+    reasons = tuple(
+        "" if o else FAILURE_REASONS.get(int(c), "failed") for o, c in zip(ok, codes, strict=True)
+    )
+    return FrequencyResponse(
+        freq_hz=omegas / (2 * np.pi),
+        amplitude_m=np.ma.masked_array(amp, mask=~ok),
+        coefficients=C,
+        residual=res,
+        converged=ok.astype(bool),
+        stable=np.ma.masked_array(stable, mask=~known),
+        max_multiplier=np.ma.masked_array(mult, mask=~known),
+        failure_reason=reasons,
+        direction=dirs,
+        iterations=np.asarray(its, dtype=np.int64),
+        method=method,
+        settings=settings,
+    )
+
+
+def _brute(system, passes, harmonics, settings):
+    nd = int(system.n_dof)
+    dof = int(getattr(system, "response_dof", 0))
+    freqs, amps, oks, res, its, dirs, coeffs, reasons = [], [], [], [], [], [], [], []
+    for name, fr in passes:
+        y = None
+        for f in fr:
+            w = 2 * np.pi * f
+            start = y if settings["brute_start"] == "previous" else None
+            s = steady_state(
+                system, w, initial_state=start, backend=settings["backend"],
+                steps_per_period=settings["steps_per_period"], rtol=settings["brute_rtol"],
+                max_periods=settings["max_periods"],
+            )  # fmt: skip
+            y = s.state
+            c = np.zeros((nd, 2 * harmonics + 1))
+            c[dof] = coefficients_by_fft(s.samples, harmonics)
+            freqs.append(f)
+            amps.append(s.amplitude)
+            oks.append(s.settled)
+            res.append(s.distance)
+            its.append(s.periods)
+            dirs.append(name)
+            coeffs.append(c)
+            reasons.append("" if s.settled else "no steady state within max_periods periods")
+    ok = np.array(oks, dtype=bool)
+    return FrequencyResponse(
+        freq_hz=np.array(freqs),
+        amplitude_m=np.ma.masked_array(np.array(amps), mask=~ok),
+        coefficients=np.array(coeffs),
+        residual=np.where(np.isfinite(res), res, 1.0),
+        converged=ok,
+        stable=np.ma.masked_array(ok.copy(), mask=~ok),
+        max_multiplier=np.ma.masked_array(np.zeros(len(ok)), mask=np.ones(len(ok), dtype=bool)),
+        failure_reason=tuple(reasons),
+        direction=np.array(dirs),
+        iterations=np.array(its, dtype=np.int64),
+        method="brute",
+        settings=settings,
+    )
+
+
+def nrmse(
+    result: FrequencyResponse,
+    reference: FrequencyResponse,
+    *,
+    direction: str | None = "down",
+    normalise_by: str = "method",
+) -> float:
+    """Normalised RMS error (7.16) of ``result`` against ``reference`` on common frequencies.
+
+    E = sqrt(sum (A_ref - A)^2 / sum A^2) with A the method's amplitudes, as printed in
+    (7.16) (``normalise_by="reference"`` divides by the reference instead). Only
+    frequencies present (to 1e-9 Hz) and converged in both enter. ``direction`` picks
+    one scan branch of each result when it has several.
+    """
+    check_choice("normalise_by", normalise_by, ("method", "reference"))
+    a = _single(result, direction)
+    b = _single(reference, direction)
+    ka = {
+        round(f, 9): v
+        for f, v, ok in zip(a.freq_hz, a.amplitude_m.data, a.converged, strict=True)
+        if ok
+    }
+    kb = {
+        round(f, 9): v
+        for f, v, ok in zip(b.freq_hz, b.amplitude_m.data, b.converged, strict=True)
+        if ok
+    }
+    common = sorted(set(ka) & set(kb))
+    if not common:
+        raise ParameterError("reference", "no common converged frequencies", "overlapping grids")
+    x = np.array([ka[k] for k in common])
+    y = np.array([kb[k] for k in common])
+    den = x if normalise_by == "method" else y
+    return float(np.sqrt(np.sum((y - x) ** 2) / np.sum(den**2)))
+
+
+def _single(r: FrequencyResponse, direction):
+    dirs = set(r.direction.tolist())
+    if len(dirs) > 1 and direction is not None:
+        return r.branch(direction) if direction in dirs else r
+    return r

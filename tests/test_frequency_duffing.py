@@ -1,0 +1,143 @@
+"""Harmonic balance on the Duffing oscillator against published reference values.
+
+NLvib example 01 (SPEC §10): mu x'' + zeta x' + kappa x + gamma x^3 = P cos(Omega t),
+mu=1, zeta=0.05, kappa=1, gamma=0.1, P=0.18 (NLvib uses zeta as the damping
+coefficient; see docs/errata.md). These numbers come from an independent code.
+"""
+
+import numpy as np
+import pytest
+
+from inerterlab.errors import ParameterError
+from inerterlab.frequency import (
+    DuffingOscillator,
+    UserSystem,
+    continue_branch,
+    floquet_multipliers,
+    frequency_response,
+    hill_exponents,
+    make_engine,
+    steady_state,
+)
+from inerterlab.frequency.harmonic import is_stable
+
+DUFFING = DuffingOscillator.nlvib_example()
+
+
+def _peak(path):
+    a = np.hypot(path.coefficients[:, 1], path.coefficients[:, 2])
+    i = int(np.argmax(a))
+    # parabola through the three points around the maximum, in the path index
+    s = np.arange(i - 1, i + 2)
+    ca = np.polyfit(s, a[s], 2)
+    cw = np.polyfit(s, path.omega[s], 2)
+    s_star = -ca[1] / (2 * ca[0])
+    return np.polyval(ca, s_star), np.polyval(cw, s_star)
+
+
+@pytest.fixture(scope="module")
+def path7():
+    eng = make_engine(DUFFING, 7)
+    return eng, continue_branch(eng, np.zeros(15), 0.8, 1.6, step=0.01, max_step=0.02)
+
+
+def test_one_harmonic_peak():
+    eng = make_engine(DUFFING, 1)
+    path = continue_branch(eng, np.zeros(3), 0.8, 1.6, step=0.01, max_step=0.01)
+    assert path.completed
+    a, w = _peak(path)
+    assert a == pytest.approx(2.8416, rel=1e-3)
+    assert w == pytest.approx(1.2666, rel=1e-3)
+
+
+def test_seven_harmonics_peak(path7):
+    _, path = path7
+    assert path.completed
+    a, w = _peak(path)
+    assert a == pytest.approx(2.8302, rel=1e-3)
+    assert w == pytest.approx(1.2687, rel=1e-3)
+
+
+def _solutions_at(eng, path, omega):
+    sols = []
+    w = path.omega
+    for i in np.flatnonzero(np.diff(np.sign(w - omega)) != 0):
+        X, ok, *_ = eng.newton(path.coefficients[i], omega, 1e-12, 50, 1.0)
+        assert ok
+        sols.append(X)
+    return sorted(sols, key=lambda X: -np.hypot(X[1], X[2]))
+
+
+def test_three_solutions_and_stability(path7):
+    eng, path = path7
+    sols = _solutions_at(eng, path, 1.2)
+    amps = [np.hypot(X[1], X[2]) for X in sols]
+    np.testing.assert_allclose(amps, [2.5092, 2.2605, 0.4175], rtol=1e-3)
+    period = 2 * np.pi / 1.2
+    for X, expect_stable in zip(sols, [True, False, True], strict=True):
+        lam = hill_exponents(eng, X, 1.2)
+        assert is_stable(lam, 1.2) == expect_stable
+        # Floquet multipliers from the time-domain monodromy matrix agree with Hill
+        b = eng.basis
+        state0 = [X @ b.E[0], 1.2 * (X @ b.E1[0])]
+        mu = floquet_multipliers(DUFFING, 1.2, state0)
+        assert (np.max(np.abs(mu)) > 1.0) == (not expect_stable)
+        hill_mu = np.sort(np.abs(np.exp(lam * period)))
+        np.testing.assert_allclose(np.sort(np.abs(mu)), hill_mu, rtol=1e-4)
+
+
+def test_time_integration_lands_on_outer_branches(path7):
+    eng, path = path7
+    sols = _solutions_at(eng, path, 1.2)
+    low = steady_state(DUFFING, 1.2, rtol=1e-9)
+    assert low.settled
+    assert low.amplitude == pytest.approx(0.4175, rel=2e-3)  # half peak-to-peak ~ |X1| here
+    b = eng.basis
+    top = sols[0]
+    high = steady_state(DUFFING, 1.2, initial_state=[top @ b.E[0], 1.2 * (top @ b.E1[0])])
+    assert high.settled
+    hb_amp = 0.5 * (np.max(b.E @ top) - np.min(b.E @ top))
+    assert high.amplitude == pytest.approx(hb_amp, rel=1e-4)
+    assert high.amplitude > 2.4
+
+
+def test_analytic_jacobian_matches_finite_differences():
+    eng = make_engine(DUFFING, 5)
+    rng = np.random.default_rng(1)
+    X = rng.normal(size=11)
+    _, J = eng.residual_jacobian(X, 1.1)
+    h = 1e-6
+    fd = np.column_stack(
+        [
+            (eng.residual(X + h * e, 1.1) - eng.residual(X - h * e, 1.1)) / (2 * h)
+            for e in np.eye(11)
+        ]
+    )
+    np.testing.assert_allclose(J, fd, atol=1e-7 * np.abs(J).max())
+
+
+def test_user_system_equals_builtin():
+    def duffing(tau, omega, x, xd, xdd):
+        return xdd + 0.05 * xd + x + 0.1 * x**3 - 0.18 * np.cos(tau)
+
+    user = UserSystem(residual=duffing)
+    a = frequency_response(user, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
+    b = frequency_response(DUFFING, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
+    assert a.settings["engine"] == "NumpyEngine" and b.settings["engine"] == "NumbaEngine"
+    # the same points converge (one jump point past the lower fold may fail in both)
+    np.testing.assert_array_equal(a.converged, b.converged)
+    assert a.converged.sum() >= len(a) - 1
+    ok = a.converged
+    np.testing.assert_allclose(a.amplitude_m.data[ok], b.amplitude_m.data[ok], rtol=1e-9)
+    np.testing.assert_array_equal(a.stable.data[ok], b.stable.data[ok])
+    # both scans cover the hysteresis: the up scan climbs the upper branch
+    assert b.amplitude_m.max() > 2.8
+
+
+def test_sample_count_is_checked():
+    with pytest.raises(ParameterError, match="n_samples"):
+        make_engine(DUFFING, 7, 14)
+    with pytest.warns(RuntimeWarning, match="alias"):
+        make_engine(DUFFING, 7, 20)
+    with pytest.raises(ParameterError, match="harmonics"):
+        make_engine(DUFFING, 0)
