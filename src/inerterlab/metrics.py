@@ -1,0 +1,299 @@
+"""Ride metrics: RMS values, ISO 2631-1 Wk weighting, VDV, crest factor, H2 indices.
+
+Pure functions of arrays and models; the simulation backends compute the same
+quantities on the fly (as extra ODE states) and :func:`series_metrics` recomputes
+them from sampled output for cross-checks.
+
+ISO 2631-1 Wk (SPEC §9, parameters of ISO 8041-1), with w_i = 2 pi f_i:
+
+    Hh = 1/(1 + sqrt2 w1/s + (w1/s)^2)              high pass, f1 = 0.4 Hz
+    Hl = 1/(1 + sqrt2 s/w2 + (s/w2)^2)              low pass, f2 = 100 Hz
+    Ht = (1 + s/w3)/(1 + s/(Q4 w4) + (s/w4)^2)      f3 = f4 = 12.5 Hz, Q4 = 0.63
+    Hs = (w5/w6)^2 (1 + s/(Q5 w5) + (s/w5)^2)/(1 + s/(Q6 w6) + (s/w6)^2)
+                                                    f5 = 2.37, f6 = 3.35 Hz, Q = 0.91
+    Wk = Hh Hl Ht Hs
+
+The (w5/w6)^2 factor is kept and the peak is not normalised to 1.
+
+H2 indices (thesis (4.12), (4.17), (4.22); SPEC §9): for a linear quarter car driven by
+unit white road velocity, ||H||_2^2 = C P C^T with A P + P A^T + B B^T = 0. On an
+ISO 8608 road of class Gd(n0) at speed V, rms = pi n0 sqrt(2 Gd(n0) V) ||H||_2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .errors import ParameterError, check_choice, check_positive
+
+__all__ = [
+    "WK_PARAMETERS",
+    "wk_weighting",
+    "wk_state_space",
+    "weighted_acceleration",
+    "rms",
+    "vibration_dose_value",
+    "crest_factor",
+    "series_metrics",
+    "H2Norms",
+    "h2_norms",
+    "METRIC_KEYS",
+]
+
+#: Wk parameters [Hz] and quality factors (ISO 8041-1, SPEC §9)
+WK_PARAMETERS = {
+    "f1": 0.4,
+    "f2": 100.0,
+    "f3": 12.5,
+    "f4": 12.5,
+    "Q4": 0.63,
+    "f5": 2.37,
+    "Q5": 0.91,
+    "f6": 3.35,
+    "Q6": 0.91,
+}
+
+METRIC_KEYS = (
+    "rms_body_acc",
+    "rms_tyre_grip",
+    "rms_deflection",
+    "rms_body_acc_wk",
+    "vdv",
+    "crest_factor",
+    "peak_body_acc",
+    "peak_body_acc_wk",
+    "peak_deflection",
+    "min_tyre_force",
+    "tyre_lift_off",
+)
+
+
+def wk_weighting(freq_hz):
+    """Complex Wk weighting at frequency ``freq_hz`` [Hz].
+
+    Examples
+    --------
+    >>> [round(abs(wk_weighting(f)), 3) for f in (0.5, 1.0)]
+    [0.418, 0.482]
+    """
+    p = WK_PARAMETERS
+    s = 2j * math.pi * np.asarray(freq_hz, dtype=float)
+    w = {k: 2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6")}
+    hh = 1.0 / (1.0 + math.sqrt(2) * w["f1"] / s + (w["f1"] / s) ** 2)
+    hl = 1.0 / (1.0 + math.sqrt(2) * s / w["f2"] + (s / w["f2"]) ** 2)
+    ht = (1.0 + s / w["f3"]) / (1.0 + s / (p["Q4"] * w["f4"]) + (s / w["f4"]) ** 2)
+    hs = (
+        (1.0 + s / (p["Q5"] * w["f5"]) + (s / w["f5"]) ** 2)
+        / (1.0 + s / (p["Q6"] * w["f6"]) + (s / w["f6"]) ** 2)
+        * (w["f5"] / w["f6"]) ** 2
+    )
+    return hh * hl * ht * hs
+
+
+def _biquad(b2: float, b1: float, b0: float, w0: float, a1: float):
+    """(A, B, C, D) of (b2 s^2 + b1 s + b0)/(s^2 + a1 s + w0^2) with states of unit DC gain.
+
+    States q1 = w0^2/(den) u and q2 = q1'/w0, so both have the size of the input.
+    """
+    A = np.array([[0.0, w0], [-w0, -a1]])
+    B = np.array([0.0, w0])
+    beta1, beta0 = b1 - b2 * a1, b0 - b2 * w0 * w0
+    C = np.array([beta0 / w0**2, beta1 / w0])
+    return A, B, C, b2
+
+
+def _series(s1, s2):
+    A1, B1, C1, D1 = s1
+    A2, B2, C2, D2 = s2
+    n1, n2 = A1.shape[0], A2.shape[0]
+    A = np.zeros((n1 + n2, n1 + n2))
+    A[:n1, :n1] = A1
+    A[n1:, :n1] = np.outer(B2, C1)
+    A[n1:, n1:] = A2
+    B = np.concatenate([B1, B2 * D1])
+    C = np.concatenate([D2 * C1, C2])
+    return A, B, C, D2 * D1
+
+
+def wk_state_space():
+    """Wk as x' = A x + B a, a_w = C x + D a (8 states, D = 0), a cascade of 4 sections.
+
+    Order: high pass, step (Hs), transition (Ht), low pass. Each section's states
+    are scaled to the size of its input, which keeps absolute tolerances meaningful.
+    """
+    p = WK_PARAMETERS
+    w1, w2, w3, w4, w5, w6 = (2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6"))
+    r2 = math.sqrt(2.0)
+    hh = _biquad(1.0, 0.0, 0.0, w1, r2 * w1)
+    hs = _biquad(1.0, w5 / p["Q5"], w5 * w5, w6, w6 / p["Q6"])  # (w5/w6)^2 factor folded in
+    ht = _biquad(0.0, w4 * w4 / w3, w4 * w4, w4, w4 / p["Q4"])
+    hl = _biquad(0.0, 0.0, w2 * w2, w2, r2 * w2)
+    sys = _series(_series(_series(hh, hs), ht), hl)
+    A, B, C, D = sys
+    return A, B, C, float(D)
+
+
+def weighted_acceleration(time, acceleration):
+    """Wk-weighted acceleration a_w [m/s^2] of a sampled signal (filter at rest at t0).
+
+    Uses the exact discretisation of the state space for a signal linear between
+    samples (first-order hold), so it converges to the continuous filter.
+    """
+    from scipy.signal import StateSpace, lsim
+
+    t = np.asarray(time, float)
+    a = np.asarray(acceleration, float)
+    A, B, C, D = wk_state_space()
+    _, y, _ = lsim(StateSpace(A, B[:, None], C[None, :], np.array([[D]])), a, t, interp=True)
+    return np.asarray(y)
+
+
+def _trapz(y, t):
+    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
+
+
+def rms(time, signal) -> float:
+    """sqrt(1/T int_0^T x^2 dt) by the trapezoidal rule ((4.15), (4.21), (4.26))."""
+    t = np.asarray(time, float)
+    x = np.asarray(signal, float)
+    return math.sqrt(_trapz(x * x, t) / (t[-1] - t[0]))
+
+
+def vibration_dose_value(time, weighted_acc) -> float:
+    """VDV = (int a_w^4 dt)^(1/4) [m/s^1.75] (ISO 2631-1)."""
+    a = np.asarray(weighted_acc, float)
+    return _trapz(a**4, np.asarray(time, float)) ** 0.25
+
+
+def crest_factor(weighted_acc, rms_value: float | None = None, time=None) -> float:
+    """max |a_w| / rms(a_w) [-] (ISO 2631-1)."""
+    a = np.asarray(weighted_acc, float)
+    r = rms_value if rms_value is not None else rms(time, a)
+    return float(np.max(np.abs(a)) / r) if r > 0 else 0.0
+
+
+def series_metrics(
+    time, body_acc, tyre_grip, deflection, tyre_force=None, weighted_acc=None
+) -> dict:
+    """The metrics of :data:`METRIC_KEYS` from sampled series (trapezoidal rule).
+
+    Less accurate than the on-the-fly integrals of the simulation (sampling error);
+    meant for user data and cross-checks.
+    """
+    aw = weighted_acceleration(time, body_acc) if weighted_acc is None else np.asarray(weighted_acc)
+    out = {
+        "rms_body_acc": rms(time, body_acc),
+        "rms_tyre_grip": rms(time, tyre_grip),
+        "rms_deflection": rms(time, deflection),
+        "rms_body_acc_wk": rms(time, aw),
+        "vdv": vibration_dose_value(time, aw),
+        "peak_body_acc": float(np.max(np.abs(body_acc))),
+        "peak_body_acc_wk": float(np.max(np.abs(aw))),
+        "peak_deflection": float(np.max(np.abs(deflection))),
+    }
+    out["crest_factor"] = (
+        out["peak_body_acc_wk"] / out["rms_body_acc_wk"] if out["rms_body_acc_wk"] > 0 else 0.0
+    )
+    if tyre_force is not None:
+        out["min_tyre_force"] = float(np.min(tyre_force))
+        out["tyre_lift_off"] = bool(out["min_tyre_force"] <= 0.0)
+    return out
+
+
+# -- H2 indices ------------------------------------------------------------------------
+H2_OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection", "tyre_grip", "body_acc_wk")
+
+
+@dataclass(frozen=True, kw_only=True)
+class H2Norms:
+    """H2 norms from unit white road velocity (two-sided unit spectral density).
+
+    Attributes
+    ----------
+    norms : dict
+        Output name -> ||H||_2, or ``None`` where the norm is infinite.
+    infinite : dict
+        Output name -> why the norm is infinite (direct feed-through from the road
+        velocity).
+    """
+
+    norms: dict
+    infinite: dict = field(default_factory=dict)
+
+    def __getitem__(self, key: str):
+        return self.norms[key]
+
+    def ride_indices(self, road_class: str = "C", speed: float = 20.0) -> dict:
+        """RMS values on an ISO 8608 road: pi n0 sqrt(2 Gd(n0) V) ||H||_2 (SPEC §9).
+
+        Outputs with an infinite norm map to ``None``.
+        """
+        from .excitation import ISO8608_CLASSES, ISO8608_N0
+
+        check_choice("road_class", road_class, tuple(ISO8608_CLASSES))
+        v = check_positive("speed", speed, "m/s")
+        scale = math.pi * ISO8608_N0 * math.sqrt(2.0 * ISO8608_CLASSES[road_class] * v)
+        return {k: (None if n is None else scale * n) for k, n in self.norms.items()}
+
+    def to_dict(self) -> dict:
+        """Norms as a dict; infinite ones as None plus an ``infinite`` entry saying why."""
+        out = dict(self.norms)
+        if self.infinite:
+            out["infinite"] = dict(self.infinite)
+        return out
+
+
+def h2_norms(model) -> H2Norms:
+    """H2 norms of a linear quarter car (``traditional`` or ``cfw``) by Lyapunov equations.
+
+    Outputs: ``body_acc`` [m/s^2], ``tyre_deflection`` and ``suspension_deflection``
+    [m], ``tyre_grip`` [-] and ``body_acc_wk`` (Wk-weighted acceleration) per unit
+    white road velocity. Where the road velocity feeds straight through to an output
+    (body acceleration of ``cfw`` with tyre damping: the impulse C_t w reaches the body
+    through the inerter) the norm is infinite: ``None`` in ``norms`` and the reason in
+    ``infinite``.
+
+    Examples
+    --------
+    >>> from inerterlab.suspension import quarter_car
+    >>> car = quarter_car("traditional", sprung_mass=250, unsprung_mass=35,
+    ...                   tyre_stiffness=150e3, tyre_damping=0.0)
+    >>> n = h2_norms(car)
+    >>> round(n["suspension_deflection"] ** 2, 6) == round((250 + 35) / (2 * 5000), 6)
+    True
+    """
+    from scipy.linalg import solve_continuous_lyapunov
+
+    from .suspension.linear import linear_quarter_car
+
+    lin = linear_quarter_car(model)
+    A, B = lin.A, lin.B
+    # augment with the Wk filter driven by the body acceleration
+    wa, wb, wc, _ = wk_state_space()
+    n, m = A.shape[0], wa.shape[0]
+    Aa = np.zeros((n + m, n + m))
+    Aa[:n, :n] = A
+    Aa[n:, :n] = np.outer(wb, lin.C["body_acc"])
+    Aa[n:, n:] = wa
+    Ba = np.concatenate([B, wb * lin.D["body_acc"]])
+    P = solve_continuous_lyapunov(Aa, -np.outer(Ba, Ba))
+    norms, infinite = {}, {}
+    outputs = {k: (np.concatenate([c, np.zeros(m)]), lin.D[k]) for k, c in lin.C.items()}
+    outputs["body_acc_wk"] = (np.concatenate([np.zeros(n), wc]), 0.0)
+    for k in H2_OUTPUTS:
+        c, d = outputs[k]
+        if abs(d) > 1e-12 * (1.0 + float(np.max(np.abs(c)))):
+            norms[k] = None
+            infinite[k] = (
+                f"infinite: the road velocity feeds straight through to {k} "
+                f"(gain {d:.4g}; tyre damping acting through the inertance)"
+            )
+            continue
+        val = float(c @ P @ c)
+        if val < 0:
+            raise ParameterError("model", model.suspension, "an asymptotically stable quarter car")
+        norms[k] = math.sqrt(val)
+    return H2Norms(norms=norms, infinite=infinite)

@@ -1,0 +1,10 @@
+"""Quarter-car models built from a device (thesis ch. 4 and 6, SPEC §5)."""
+
+from .linear import LinearQuarterCar as LinearQuarterCar
+from .linear import linear_quarter_car as linear_quarter_car
+from .model import LAWS as LAWS
+from .model import SUSPENSIONS as SUSPENSIONS
+from .model import QuarterCar as QuarterCar
+from .model import quarter_car as quarter_car
+from .parameters import HydraulicDeviceParameters as HydraulicDeviceParameters
+from .parameters import QuarterCarParameters as QuarterCarParameters

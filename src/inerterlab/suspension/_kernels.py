@@ -1,0 +1,610 @@
+"""Compiled quarter-car kernels: right-hand side, road-jump impulse, Dormand-Prince 5(4).
+
+Everything here is a numba function of plain floats and arrays, laid out by the
+``P_*`` indices of :mod:`.model`. The integrator is an adaptive explicit Runge-Kutta
+pair of Dormand and Prince (order 5 with an embedded order-4 error estimate, FSAL),
+the step-size control of Hairer, Norsett and Wanner (Solving ODEs I, II.4, the PI
+controller of DOPRI5 with beta = 0.04) and DOPRI5's order-4 continuous extension for
+sampled output and peak refinement. Why this is hand-written and not taken from a
+library: docs/decisions.md, "Quarter-car simulation backend".
+
+The metric integrals (int a^2, int grip^2, int z^2, int a_w^2, int a_w^4) and the
+8 states of the Wk filter are ODE states, so no dense output is needed for the RMS
+values, the VDV or the weighted acceleration. Peaks of a3, a_w, z and the tyre force
+are taken at every step end and at the step midpoint, and where a parabola through
+those three values puts a larger maximum inside the step it is located by successive
+parabolic interpolation on the continuous extension.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ..slider_dynamics import slider_state_derivative
+from .model import (
+    P_BAH,
+    P_C,
+    P_CC,
+    P_CS,
+    P_CT,
+    P_FFH,
+    P_GRIP,
+    P_ICOEF,
+    P_IREST,
+    P_K,
+    P_KC,
+    P_KH,
+    P_KIND,
+    P_KS,
+    P_KT,
+    P_LAW,
+    P_LIFT,
+    P_LMAX,
+    P_LMIN,
+    P_M,
+    P_MS,
+    P_MT,
+    P_NPHYS,
+    P_NSL,
+    P_POW,
+    P_R,
+    P_VEPS,
+    P_W,
+    P_WSAT,
+)
+
+N_PEAKS = 7  # a3, -a3, a_w, -a_w, z, -z, tyre force K_t (X2-X1) + C_t (V2-X1')
+
+# Dormand-Prince 5(4) tableau
+C2, C3, C4, C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = (
+    9017.0 / 3168.0,
+    -355.0 / 33.0,
+    46732.0 / 5247.0,
+    49.0 / 176.0,
+    -5103.0 / 18656.0,
+)
+B1, B3, B4, B5, B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+E1, E3, E4, E5, E6, E7 = (
+    71.0 / 57600.0,
+    -71.0 / 16695.0,
+    71.0 / 1920.0,
+    -17253.0 / 339200.0,
+    22.0 / 525.0,
+    -1.0 / 40.0,
+)
+D1, D3, D4, D5, D6, D7 = (
+    -12715105075.0 / 11282082432.0,
+    87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0,
+    701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0,
+    69997945.0 / 29380423.0,
+)
+
+# status codes of integrate()
+OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE = 0, 1, 2, 3
+
+
+@nb.njit(cache=True)
+def road(seg, t):
+    """X1 [m] and X1' [m/s] on segment ``seg`` at time t."""
+    if seg[2] == 0.0:
+        return seg[3] + seg[4] * (t - seg[0]), seg[4]
+    arg = seg[6] * t + seg[7]
+    return seg[3] + seg[5] * math.sin(arg), seg[5] * seg[6] * math.cos(arg)
+
+
+@nb.njit(cache=True)
+def _slider_radius(p, w):
+    w = abs(w)
+    if w < p[P_WSAT]:
+        return p[P_KS] * p[P_LMIN] / (p[P_KS] - p[P_MS] * w * w)
+    return p[P_LMAX]
+
+
+@nb.njit(cache=True)
+def inertia(p, w):
+    """I(|w|) [kg m^2] of the packed flywheel."""
+    l = _slider_radius(p, w)
+    if p[P_POW] == 2.0:
+        return p[P_IREST] + p[P_ICOEF] * l * l
+    return p[P_IREST] + p[P_ICOEF] * l
+
+
+@nb.njit(cache=True)
+def momentum_inertia(p, w):
+    """I + |w| dI/d|w| [kg m^2]."""
+    w = abs(w)
+    if w >= p[P_WSAT]:
+        return inertia(p, w)
+    k, m, a = p[P_KS], p[P_MS], p[P_LMIN]
+    d = k - m * w * w
+    l = k * a / d
+    dl = 2.0 * k * a * m * w / (d * d)
+    if p[P_POW] == 2.0:
+        di = p[P_ICOEF] * 2.0 * l * dl
+    else:
+        di = p[P_ICOEF] * dl
+    return inertia(p, w) + w * di
+
+
+@nb.njit(cache=True)
+def _slider_primitive(p, a):
+    """int_0^a l(s)^power ds for 0 <= a <= w_sat (closed form of (3.9))."""
+    k, m, lmin = p[P_KS], p[P_MS], p[P_LMIN]
+    al2 = k / m
+    al = math.sqrt(al2)
+    c = k * lmin / m
+    lg = math.log((al + a) / (al - a))
+    if p[P_POW] == 2.0:
+        return c * c * (a / (2.0 * al2 * (al2 - a * a)) + lg / (4.0 * al2 * al))
+    return c * lg / (2.0 * al)
+
+
+@nb.njit(cache=True)
+def inertia_integral(p, w):
+    """H(w) = int_0^w I(|s|) ds [kg m^2 rad/s], odd in w."""
+    a = abs(w)
+    ws = p[P_WSAT]
+    if a <= ws:
+        h = p[P_IREST] * a + p[P_ICOEF] * _slider_primitive(p, a)
+    else:
+        h = p[P_IREST] * ws + p[P_ICOEF] * _slider_primitive(p, ws) + inertia(p, ws) * (a - ws)
+    return h if w >= 0.0 else -h
+
+
+@nb.njit(cache=True)
+def _inertance(p, v, y, j0):
+    """(m_e [kg], extra force g [N]) of the inertia law at branch velocity v [m/s]."""
+    r = p[P_R]
+    law = p[P_LAW]
+    if law == 0.0:
+        return r * r * inertia(p, r * v), 0.0
+    if law == 1.0:
+        return r * r * momentum_inertia(p, r * v), 0.0
+    if law == 2.0:
+        l, ld = y[j0], y[j0 + 1]
+        return r * r * (p[P_IREST] + p[P_ICOEF] * l * l), 2.0 * p[P_ICOEF] * r * r * l * ld * v
+    return r * r * p[P_IREST], 0.0
+
+
+@nb.njit(cache=True)
+def branch_velocity(force, b, ff, eps):
+    """u solving b u + F tanh(u/eps) = force (safeguarded Newton, to round-off)."""
+    lo = (force - ff) / b
+    hi = (force + ff) / b
+    u = force / (b + ff / eps)
+    if u < lo or u > hi:
+        u = 0.5 * (lo + hi)
+    for _ in range(200):
+        th = math.tanh(u / eps)
+        g = b * u + ff * th - force
+        if g > 0.0:
+            hi = u
+        elif g < 0.0:
+            lo = u
+        else:
+            return u
+        dg = b + ff / eps * (1.0 - th * th)
+        un = u - g / dg
+        if not (lo <= un <= hi):
+            un = 0.5 * (lo + hi)
+        if abs(un - u) <= 2e-16 * abs(un) + 1e-300 or hi - lo <= 4e-16 * abs(u):
+            return un
+        u = un
+    return u
+
+
+@nb.njit(cache=True)
+def rhs(t, y, dy, p, seg, wa, wb, wc, wd):
+    """Write f(t, y) into dy; return the body acceleration a3 [m/s^2]."""
+    n = int(p[P_NPHYS])
+    kind = p[P_KIND]
+    x1, v1 = road(seg, t)
+    x2, v2, x3, v3 = y[0], y[1], y[2], y[3]
+    z = x3 - x2
+    v = v3 - v2
+    fs = p[P_K] * z + p[P_C] * v
+    ft = p[P_KT] * (x2 - x1) + p[P_CT] * (v2 - v1)
+    if p[P_LIFT] != 0.0 and ft > p[P_W]:
+        ft = p[P_W]
+    M, Mt = p[P_M], p[P_MT]
+    if kind == 0.0:
+        a3 = -fs / M
+        a2 = (fs - ft) / Mt
+    elif kind == 1.0:
+        me, g = _inertance(p, v, y, 4)
+        mu = 1.0 / M + 1.0 / Mt
+        arel = (ft / Mt - (fs + g) * mu) / (1.0 + me * mu)
+        fin = me * arel + g
+        a3 = -(fs + fin) / M
+        a2 = (fs + fin - ft) / Mt
+        if p[P_LAW] == 2.0:
+            ldd, _ = slider_state_derivative(
+                y[4], y[5], p[P_R] * v, p[P_NSL], p[P_MS], p[P_KS], p[P_LMIN], p[P_LMAX],
+                p[P_CS], p[P_KC], p[P_CC],
+            )  # fmt: skip
+            dy[4] = y[5]
+            dy[5] = ldd
+    elif kind == 2.0:
+        fd = p[P_KH] * y[4]
+        u = branch_velocity(fd, p[P_BAH], p[P_FFH], p[P_VEPS])
+        dy[4] = v - u
+        a3 = -(fs + fd) / M
+        a2 = (fs + fd - ft) / Mt
+    else:
+        fd = p[P_KH] * y[4]
+        u = y[5]
+        me, g = _inertance(p, u, y, 6)
+        dy[4] = v - u
+        dy[5] = (fd - p[P_BAH] * u - p[P_FFH] * math.tanh(u / p[P_VEPS]) - g) / me
+        if p[P_LAW] == 2.0:
+            ldd, _ = slider_state_derivative(
+                y[6], y[7], p[P_R] * u, p[P_NSL], p[P_MS], p[P_KS], p[P_LMIN], p[P_LMAX],
+                p[P_CS], p[P_KC], p[P_CC],
+            )  # fmt: skip
+            dy[6] = y[7]
+            dy[7] = ldd
+        a3 = -(fs + fd) / M
+        a2 = (fs + fd - ft) / Mt
+    dy[0] = v2
+    dy[1] = a2
+    dy[2] = v3
+    dy[3] = a3
+    grip = p[P_GRIP] * (x2 - x1)
+    aw = wd * a3
+    for i in range(8):
+        aw += wc[i] * y[n + 3 + i]
+    dy[n] = a3 * a3
+    dy[n + 1] = grip * grip
+    dy[n + 2] = z * z
+    for i in range(8):
+        s = wb[i] * a3
+        for j in range(8):
+            s += wa[i, j] * y[n + 3 + j]
+        dy[n + 3 + i] = s
+    aw2 = aw * aw
+    dy[n + 11] = aw2
+    dy[n + 12] = aw2 * aw2
+    return a3
+
+
+@nb.njit(cache=True)
+def apply_jump(p, y, jump):
+    """Apply in place the tyre-damper impulse C_t * jump of a road step [m]."""
+    imp = p[P_CT] * jump
+    if imp == 0.0 or (p[P_LIFT] != 0.0 and imp < 0.0):
+        return
+    M, Mt = p[P_M], p[P_MT]
+    if p[P_KIND] != 1.0:
+        y[1] += imp / Mt
+        return
+    v0 = y[3] - y[1]
+    mu = 1.0 / M + 1.0 / Mt
+    law = p[P_LAW]
+    r = p[P_R]
+    if law == 2.0 or law == 3.0:
+        me, _ = _inertance(p, v0, y, 4)
+        dv = -(imp / Mt) / (1.0 + mu * me)
+        P = me * dv
+    else:
+        lo = min(v0, v0 - imp / Mt)
+        hi = max(v0, v0 - imp / Mt)
+        v1 = v0 - (imp / Mt) / (1.0 + mu * r * r * inertia(p, r * v0))
+        P = 0.0
+        for _ in range(200):
+            if law == 0.0:
+                P = r * (inertia_integral(p, r * v1) - inertia_integral(p, r * v0))
+                dP = r * r * inertia(p, r * v1)
+            else:
+                P = r * r * (inertia(p, r * v1) * v1 - inertia(p, r * v0) * v0)
+                dP = r * r * momentum_inertia(p, r * v1)
+            g = v1 - v0 + imp / Mt + mu * P
+            if g > 0.0:
+                hi = v1
+            elif g < 0.0:
+                lo = v1
+            else:
+                break
+            vn = v1 - g / (1.0 + mu * dP)
+            if not (lo <= vn <= hi):
+                vn = 0.5 * (lo + hi)
+            if abs(vn - v1) <= 2e-16 * abs(vn) + 1e-300:
+                v1 = vn
+                break
+            v1 = vn
+        if law == 0.0:
+            P = r * (inertia_integral(p, r * v1) - inertia_integral(p, r * v0))
+        else:
+            P = r * r * (inertia(p, r * v1) * v1 - inertia(p, r * v0) * v0)
+    y[3] -= P / M
+    y[1] += (imp + P) / Mt
+
+
+@nb.njit(cache=True)
+def _quantities(t, y, p, seg, wc, wd, a3, q):
+    n = int(p[P_NPHYS])
+    aw = wd * a3
+    for i in range(8):
+        aw += wc[i] * y[n + 3 + i]
+    z = y[2] - y[0]
+    x1, v1 = road(seg, t)
+    q[0] = a3
+    q[1] = -a3
+    q[2] = aw
+    q[3] = -aw
+    q[4] = z
+    q[5] = -z
+    q[6] = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1)
+
+
+@nb.njit(cache=True)
+def _dense_coefficients(y, ynew, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5):
+    for i in range(y.size):
+        yd = ynew[i] - y[i]
+        bs = h * k1[i] - yd
+        r2[i] = yd
+        r3[i] = bs
+        r4[i] = yd - h * k7[i] - bs
+        r5[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i])
+
+
+@nb.njit(cache=True)
+def _dense(y, r2, r3, r4, r5, th, out):
+    th1 = 1.0 - th
+    for i in range(y.size):
+        out[i] = y[i] + th * (r2[i] + th1 * (r3[i] + th * (r4[i] + th1 * r5[i])))
+
+
+@nb.njit(cache=True)
+def _err_norm(y, ynew, k1, k3, k4, k5, k6, k7, h, rtol, atol):
+    s = 0.0
+    for i in range(y.size):
+        e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
+        sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
+        s += (e / sc) ** 2
+    return math.sqrt(s / y.size)
+
+
+@nb.njit(cache=True)
+def _initial_step(t, y, f0, p, seg, wa, wb, wc, wd, rtol, atol, span, ytmp, f1):
+    d0 = 0.0
+    d1 = 0.0
+    for i in range(y.size):
+        sc = atol[i] + rtol * abs(y[i])
+        d0 += (y[i] / sc) ** 2
+        d1 += (f0[i] / sc) ** 2
+    d0 = math.sqrt(d0 / y.size)
+    d1 = math.sqrt(d1 / y.size)
+    h0 = 1e-6 if (d0 < 1e-5 or d1 < 1e-5) else 0.01 * d0 / d1
+    h0 = min(h0, span)
+    for i in range(y.size):
+        ytmp[i] = y[i] + h0 * f0[i]
+    rhs(t + h0, ytmp, f1, p, seg, wa, wb, wc, wd)
+    d2 = 0.0
+    for i in range(y.size):
+        sc = atol[i] + rtol * abs(y[i])
+        d2 += ((f1[i] - f0[i]) / sc) ** 2
+    d2 = math.sqrt(d2 / y.size) / h0
+    dm = max(d1, d2)
+    h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** 0.2
+    return min(100.0 * h0, h1, span)
+
+
+@nb.njit(cache=True)
+def integrate(
+    p, segs, y0, x1_initial, t_end, rtol, atol, wa, wb, wc, wd, sample_times, out_y, out_a3,
+    peaks, stats, refine_peaks, max_steps,
+):  # fmt: skip
+    """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
+
+    ``y0`` (physical + metric states) is overwritten with the final state. Samples
+    at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
+    see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls].
+    A sample on a segment edge gets the value after the edge.
+    """
+    n = y0.size
+    y = y0
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    k3 = np.empty(n)
+    k4 = np.empty(n)
+    k5 = np.empty(n)
+    k6 = np.empty(n)
+    k7 = np.empty(n)
+    ks = np.empty(n)
+    yt = np.empty(n)
+    yn = np.empty(n)
+    yd = np.empty(n)
+    r2 = np.empty(n)
+    r3 = np.empty(n)
+    r4 = np.empty(n)
+    r5 = np.empty(n)
+    qa = np.empty(N_PEAKS)
+    qb = np.empty(N_PEAKS)
+    qm = np.empty(N_PEAKS)
+    qt = np.empty(N_PEAKS)
+    for j in range(N_PEAKS):
+        peaks[j] = -np.inf
+    ns = sample_times.size
+    isamp = 0
+    nsteps = 0
+    nrej = 0
+    nfev = 0
+    h = 0.0
+    facold = 1e-4
+    x_prev = x1_initial
+    beta = 0.04
+    expo1 = 0.2 - 0.75 * beta
+    status = OK
+    for iseg in range(segs.shape[0]):
+        seg = segs[iseg]
+        t0 = seg[0]
+        t1 = min(seg[1], t_end)
+        xs, _ = road(seg, t0)
+        jump = xs - x_prev
+        if jump != 0.0:
+            apply_jump(p, y, jump)
+        x_prev, _ = road(seg, t1)
+        if t1 <= t0:
+            continue
+        t = t0
+        a3a = rhs(t, y, k1, p, seg, wa, wb, wc, wd)
+        nfev += 1
+        _quantities(t, y, p, seg, wc, wd, a3a, qa)
+        for j in range(N_PEAKS):
+            if qa[j] > peaks[j]:
+                peaks[j] = qa[j]
+        while isamp < ns and sample_times[isamp] <= t0:
+            for i in range(n):
+                out_y[isamp, i] = y[i]
+            out_a3[isamp] = a3a
+            isamp += 1
+        if h == 0.0:
+            h = _initial_step(t, y, k1, p, seg, wa, wb, wc, wd, rtol, atol, t1 - t0, yt, k2)
+            nfev += 1
+        final = t1 >= t_end
+        while t < t1:
+            h_prop = h
+            last = False
+            if t + h >= t1 - 1e-13 * max(1.0, abs(t1)):
+                h = t1 - t
+                last = True
+            for i in range(n):
+                yt[i] = y[i] + h * A21 * k1[i]
+            rhs(t + C2 * h, yt, k2, p, seg, wa, wb, wc, wd)
+            for i in range(n):
+                yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+            rhs(t + C3 * h, yt, k3, p, seg, wa, wb, wc, wd)
+            for i in range(n):
+                yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+            rhs(t + C4 * h, yt, k4, p, seg, wa, wb, wc, wd)
+            for i in range(n):
+                yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+            rhs(t + C5 * h, yt, k5, p, seg, wa, wb, wc, wd)
+            for i in range(n):
+                yt[i] = y[i] + h * (
+                    A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+                )
+            tn = t1 if last else t + h
+            rhs(tn, yt, k6, p, seg, wa, wb, wc, wd)
+            for i in range(n):
+                yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
+            a3b = rhs(tn, yn, k7, p, seg, wa, wb, wc, wd)
+            nfev += 6
+            err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
+            if not math.isfinite(err):
+                if h < 1e-14 * max(1.0, t):
+                    status = NOT_FINITE
+                    break
+                h *= 0.1
+                nrej += 1
+                continue
+            fac11 = err**expo1 if err > 0.0 else 0.0
+            if err <= 1.0:
+                nsteps += 1
+                # dense output for samples and peak refinement
+                need_samples = isamp < ns and (
+                    sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
+                )
+                if need_samples or refine_peaks:
+                    _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
+                while isamp < ns and (
+                    sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
+                ):
+                    th = (sample_times[isamp] - t) / h
+                    _dense(y, r2, r3, r4, r5, th, yd)
+                    a3s = rhs(sample_times[isamp], yd, ks, p, seg, wa, wb, wc, wd)
+                    nfev += 1
+                    for i in range(n):
+                        out_y[isamp, i] = yd[i]
+                    out_a3[isamp] = a3s
+                    isamp += 1
+                _quantities(tn, yn, p, seg, wc, wd, a3b, qb)
+                if refine_peaks:
+                    _dense(y, r2, r3, r4, r5, 0.5, yd)
+                    a3m = rhs(t + 0.5 * h, yd, ks, p, seg, wa, wb, wc, wd)
+                    nfev += 1
+                    _quantities(t + 0.5 * h, yd, p, seg, wc, wd, a3m, qm)
+                    for j in range(N_PEAKS):
+                        fa, fm, fb = qa[j], qm[j], qb[j]
+                        best = max(fa, max(fm, fb))
+                        if best > peaks[j]:
+                            peaks[j] = best
+                        c2 = 2.0 * fa - 4.0 * fm + 2.0 * fb
+                        c1 = -3.0 * fa + 4.0 * fm - fb
+                        if c2 >= 0.0:
+                            continue
+                        thv = -c1 / (2.0 * c2)
+                        if thv <= 0.0 or thv >= 1.0 or fa + c1 * thv + c2 * thv * thv <= peaks[j]:
+                            continue
+                        # successive parabolic interpolation on the continuous extension
+                        x_1, x_2, x_3 = 0.0, 0.5, 1.0
+                        f_1, f_2, f_3 = fa, fm, fb
+                        for _ in range(30):
+                            den = (x_2 - x_1) * (f_2 - f_3) - (x_2 - x_3) * (f_2 - f_1)
+                            if den == 0.0:
+                                break
+                            num = (x_2 - x_1) ** 2 * (f_2 - f_3) - (x_2 - x_3) ** 2 * (f_2 - f_1)
+                            xv = x_2 - 0.5 * num / den
+                            if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9:
+                                break
+                            _dense(y, r2, r3, r4, r5, xv, yd)
+                            a3v = rhs(t + xv * h, yd, ks, p, seg, wa, wb, wc, wd)
+                            nfev += 1
+                            _quantities(t + xv * h, yd, p, seg, wc, wd, a3v, qt)
+                            fv = qt[j]
+                            if fv > peaks[j]:
+                                peaks[j] = fv
+                            if xv < x_2:
+                                if fv >= f_2:
+                                    x_3, f_3 = x_2, f_2
+                                    x_2, f_2 = xv, fv
+                                else:
+                                    x_1, f_1 = xv, fv
+                            else:
+                                if fv >= f_2:
+                                    x_1, f_1 = x_2, f_2
+                                    x_2, f_2 = xv, fv
+                                else:
+                                    x_3, f_3 = xv, fv
+                else:
+                    for j in range(N_PEAKS):
+                        if qb[j] > peaks[j]:
+                            peaks[j] = qb[j]
+                fac = fac11 / facold**beta
+                fac = max(0.1, min(5.0, fac / 0.9))
+                hnew = h / fac
+                facold = max(err, 1e-4)
+                for i in range(n):
+                    y[i] = yn[i]
+                    k1[i] = k7[i]
+                for j in range(N_PEAKS):
+                    qa[j] = qb[j]
+                t = tn
+                h = max(hnew, h_prop) if last else hnew
+                if nsteps >= max_steps:
+                    status = TOO_MANY_STEPS
+                    break
+            else:
+                nrej += 1
+                h = h / min(5.0, fac11 / 0.9)
+                if h < 1e-14 * max(1.0, abs(t)):
+                    status = STEP_TOO_SMALL
+                    break
+        if status != OK:
+            break
+        if t1 >= t_end:
+            break
+    stats[0] = nsteps
+    stats[1] = nrej
+    stats[2] = nfev
+    return status
