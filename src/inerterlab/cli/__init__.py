@@ -38,9 +38,11 @@ def _root() -> None:
 
 # modules of this package that define ``register(app)``; one line per command group
 _COMMANDS = [
+    "frequency",
     "flywheel",
     "reproduce",
     "studies",
+    "devices",
 ]
 
 for _name in _COMMANDS:

@@ -219,7 +219,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     if not fmin < fmax:
         raise ParameterError("fmin", fmin, f"a frequency < fmax={fmax} Hz")
     n = int(math.floor((fmax - fmin) / df + 1e-9))
-    return fmin + df * np.arange(n + 1)
+    return np.round(fmin + df * np.arange(n + 1), 12)
 
 
 def _amplitudes(C) -> np.ndarray:
