@@ -1,0 +1,82 @@
+"""Sweep throughput: the `afw` quarter car (10 s horizon) on the serial backend and on
+2 local worker processes, same grid, same store layout.
+
+Prints points/s for each, their ratio (baseline: the serial backend measured in the same
+run), and the largest difference between the two results (must be 0: the backends
+evaluate the same function on the same points).
+
+    python benchmarks/bench_sweep.py            # 10,000 points
+    python benchmarks/bench_sweep.py --points 200
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import tempfile
+import time
+
+os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+
+import numpy as np  # noqa: E402
+
+from inerterlab.studies import sweep, sweep_spec  # noqa: E402
+from inerterlab.studies.quarter_car import quarter_car_point  # noqa: E402
+
+
+def grid(points: int):
+    n_mass = 10
+    n_ratio = max(1, math.ceil(points / (3 * n_mass)))
+    return sweep_spec(
+        "quarter-car",
+        parameters={
+            "changing_ratio": {"start": 0.05, "stop": 0.55, "num": n_ratio},
+            "sprung_mass": {"start": 340.0, "stop": 400.0, "num": n_mass},
+            "input": ["drop", "bump", "sine"],
+        },
+        settings={"suspension": "afw", "horizon": 10.0},
+    )
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", type=int, default=10_000)
+    ap.add_argument("--workers", type=int, default=2)
+    args = ap.parse_args()
+    spec = grid(args.points)
+    # compile the kernels once in this process (forked workers inherit them)
+    quarter_car_point({**spec.fixed(), **spec.params_at(0)})
+    rates, results = {}, {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for name, kw in (
+            ("serial", {"backend": "serial"}),
+            (f"{args.workers} processes", {"backend": "processes", "workers": args.workers}),
+        ):
+            t0 = time.perf_counter()
+            ds = sweep(spec, store=os.path.join(tmp, name.replace(" ", "_") + ".zarr"), **kw)
+            dt = time.perf_counter() - t0
+            rates[name] = spec.size / dt
+            results[name] = ds
+            print(
+                f"{name:>12}: {spec.size} points in {dt:7.2f} s = {rates[name]:8.1f} points/s "
+                f"(ok {ds.attrs['points_ok']}, failed {ds.attrs['points_failed']})"
+            )
+    a, b = results.values()
+    diff = max(
+        float(np.nanmax(np.abs(a[m].values - b[m].values)))
+        for m in ("rms_body_acc", "rms_tyre_grip")
+    )
+    base, par = rates.values()
+    print(
+        f"speed-up {args.workers} processes / serial: {par / base:.2f}x; "
+        f"largest difference between backends: {diff:g}"
+    )
+    print(
+        f"target >= 300 points/s with 2 workers: {'met' if par >= 300 else 'not met'} "
+        f"({par:.1f} points/s; one 10 s simulation takes {1e3 / base:.1f} ms serially)"
+    )
+
+
+if __name__ == "__main__":
+    main()
