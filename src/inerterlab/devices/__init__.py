@@ -3,7 +3,7 @@
 >>> from inerterlab.devices import device_preset, device_force, Motion
 >>> res = device_force(device_preset("hydraulic"), Motion.square(frequency=0.5,
 ...                    velocity_amplitude=0.01), duration=2.0, sample_rate=200)
->>> 270 < res.force[50] < 275   # b_ah q + F_fh on the plateau (5.1): 81 + 190
+>>> bool(270 < res.force[50] < 275)   # b_ah q + F_fh on the plateau (5.1): 81 + 190
 True
 """
 
