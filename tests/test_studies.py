@@ -273,3 +273,31 @@ def test_optimum_independent_of_sweep_grid_interpolated_and_on_demand():
     # objectives equal lambda (a crossing) or the optimum sits on the cost jump
     g = on_demand.goal
     assert max(g.normalised) == pytest.approx(on_demand.lam)
+
+
+# --- report module (quick settings, on the synthetic stand-in) ----------------------------
+
+
+def test_report_tables_and_figures_quick(monkeypatch):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import inerterlab.report.studies as rs
+    from inerterlab.report.registry import ReproduceSettings
+
+    monkeypatch.setattr(rs, "POINT", "synthetic")
+    for cache in (rs._ratio_sweep, rs._optimum, rs._on_demand):
+        cache.cache_clear()
+    expected = [f"{c}.{n}" for c in (4, 6) for n in range(10, 16)]
+    assert list(rs.TABLES) == expected
+    st = ReproduceSettings(quick=True)
+    t = rs.TABLES["4.10"](st)
+    assert t.settings["quick"] is True and t.claim_holds is True
+    assert t.frame.rms_body_acc_thesis.iloc[0] == 0.4288  # traditional row of Table 4.10
+    t14 = rs.TABLES["6.14"](st)
+    assert list(t14.frame.optimal_ratio_thesis) == [0.418, 0.337, 0.293, 0.261, 0.243]
+    assert t14.frame.optimal_ratio_ours.between(0.05, 0.55).all()
+    fig = rs.FIGURES["Pareto"](st)
+    assert set(fig.data.device) == {"ideal", "hydraulic"}
+    for cache in (rs._ratio_sweep, rs._optimum, rs._on_demand):
+        cache.cache_clear()
