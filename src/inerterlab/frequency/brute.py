@@ -13,7 +13,8 @@ Two backends:
     Classical Runge-Kutta (RK4) with a fixed step, ``steps_per_period`` per period and
     at least 400 steps per period of the fastest linear mode (h |s|_max <= 0.016).
     Built-in systems only. Against ``scipy`` at rtol 1e-10 the amplitudes agree to
-    about 1e-8 relative on the chapter-7 system (tests/test_frequency_brute.py).
+    about 1e-6 relative on the chapter-7 system (tests/test_frequency_ch7.py,
+    benchmarks/bench_frequency.py).
 ``scipy``
     ``solve_ivp`` with DOP853 at rtol 1e-10, atol 1e-12 x scale; any system; about
     one second per frequency point on the chapter-7 system.
