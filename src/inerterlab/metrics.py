@@ -33,6 +33,7 @@ __all__ = [
     "WK_PARAMETERS",
     "wk_weighting",
     "wk_state_space",
+    "wk_sections",
     "weighted_acceleration",
     "rms",
     "vibration_dose_value",
@@ -118,20 +119,40 @@ def _series(s1, s2):
     return A, B, C, D2 * D1
 
 
+def _wk_biquads():
+    """(b2, b1, b0, w0, a1) of the four Wk sections: high pass, Hs, Ht, low pass."""
+    p = WK_PARAMETERS
+    w1, w2, w3, w4, w5, w6 = (2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6"))
+    r2 = math.sqrt(2.0)
+    return (
+        (1.0, 0.0, 0.0, w1, r2 * w1),
+        (1.0, w5 / p["Q5"], w5 * w5, w6, w6 / p["Q6"]),  # (w5/w6)^2 factor folded in
+        (0.0, w4 * w4 / w3, w4 * w4, w4, w4 / p["Q4"]),
+        (0.0, 0.0, w2 * w2, w2, r2 * w2),
+    )
+
+
+def wk_sections() -> np.ndarray:
+    """Wk as four cascaded sections, rows (w0, a1, c1, c2, d) [rad/s, rad/s, -, -, -].
+
+    Section states q1' = w0 q2, q2' = w0 (u - q1) - a1 q2; output d u + c1 q1 + c2 q2,
+    which feeds the next section. Used by the compiled backend.
+    """
+    rows = []
+    for b2, b1, b0, w0, a1 in _wk_biquads():
+        _, _, C, D = _biquad(b2, b1, b0, w0, a1)
+        rows.append([w0, a1, C[0], C[1], D])
+    return np.array(rows)
+
+
 def wk_state_space():
     """Wk as x' = A x + B a, a_w = C x + D a (8 states, D = 0), a cascade of 4 sections.
 
     Order: high pass, step (Hs), transition (Ht), low pass. Each section's states
     are scaled to the size of its input, which keeps absolute tolerances meaningful.
     """
-    p = WK_PARAMETERS
-    w1, w2, w3, w4, w5, w6 = (2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6"))
-    r2 = math.sqrt(2.0)
-    hh = _biquad(1.0, 0.0, 0.0, w1, r2 * w1)
-    hs = _biquad(1.0, w5 / p["Q5"], w5 * w5, w6, w6 / p["Q6"])  # (w5/w6)^2 factor folded in
-    ht = _biquad(0.0, w4 * w4 / w3, w4 * w4, w4, w4 / p["Q4"])
-    hl = _biquad(0.0, 0.0, w2 * w2, w2, r2 * w2)
-    sys = _series(_series(_series(hh, hs), ht), hl)
+    secs = [_biquad(*b) for b in _wk_biquads()]
+    sys = _series(_series(_series(secs[0], secs[1]), secs[2]), secs[3])
     A, B, C, D = sys
     return A, B, C, float(D)
 

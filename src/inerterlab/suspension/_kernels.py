@@ -204,7 +204,7 @@ def branch_velocity(force, b, ff, eps):
 
 
 @nb.njit(cache=True)
-def rhs(t, y, dy, p, seg, wa, wb, wc, wd):
+def rhs(t, y, dy, p, seg, wk):
     """Write f(t, y) into dy; return the body acceleration a3 [m/s^2]."""
     n = int(p[P_NPHYS])
     kind = p[P_KIND]
@@ -260,18 +260,20 @@ def rhs(t, y, dy, p, seg, wa, wb, wc, wd):
     dy[2] = v3
     dy[3] = a3
     grip = p[P_GRIP] * (x2 - x1)
-    aw = wd * a3
-    for i in range(8):
-        aw += wc[i] * y[n + 3 + i]
+    # Wk filter: cascade of four second-order sections (metrics.wk_sections)
+    u = a3
+    for s in range(4):
+        i = n + 3 + 2 * s
+        w0 = wk[s, 0]
+        q1 = y[i]
+        q2 = y[i + 1]
+        dy[i] = w0 * q2
+        dy[i + 1] = w0 * (u - q1) - wk[s, 1] * q2
+        u = wk[s, 4] * u + wk[s, 2] * q1 + wk[s, 3] * q2
     dy[n] = a3 * a3
     dy[n + 1] = grip * grip
     dy[n + 2] = z * z
-    for i in range(8):
-        s = wb[i] * a3
-        for j in range(8):
-            s += wa[i, j] * y[n + 3 + j]
-        dy[n + 3 + i] = s
-    aw2 = aw * aw
+    aw2 = u * u
     dy[n + 11] = aw2
     dy[n + 12] = aw2 * aw2
     return a3
@@ -330,11 +332,12 @@ def apply_jump(p, y, jump):
 
 
 @nb.njit(cache=True)
-def _quantities(t, y, p, seg, wc, wd, a3, q):
+def _quantities(t, y, p, seg, wk, a3, q):
     n = int(p[P_NPHYS])
-    aw = wd * a3
-    for i in range(8):
-        aw += wc[i] * y[n + 3 + i]
+    aw = a3
+    for s in range(4):
+        i = n + 3 + 2 * s
+        aw = wk[s, 4] * aw + wk[s, 2] * y[i] + wk[s, 3] * y[i + 1]
     z = y[2] - y[0]
     x1, v1 = road(seg, t)
     q[0] = a3
@@ -344,6 +347,18 @@ def _quantities(t, y, p, seg, wc, wd, a3, q):
     q[4] = z
     q[5] = -z
     q[6] = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1)
+
+
+@nb.njit(cache=True)
+def _switching(p, y, t, seg, sw_a, sw_b, v_sat):
+    """Switching functions: |v| - v_sat (inertia law) and tyre force - static load."""
+    g1 = 0.0
+    if sw_a >= 0:
+        v = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
+        g1 = abs(v) - v_sat
+    x1, v1 = road(seg, t)
+    g2 = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1) - p[P_W]
+    return g1, g2
 
 
 @nb.njit(cache=True)
@@ -375,7 +390,7 @@ def _err_norm(y, ynew, k1, k3, k4, k5, k6, k7, h, rtol, atol):
 
 
 @nb.njit(cache=True)
-def _initial_step(t, y, f0, p, seg, wa, wb, wc, wd, rtol, atol, span, ytmp, f1):
+def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1):
     d0 = 0.0
     d1 = 0.0
     for i in range(y.size):
@@ -388,7 +403,7 @@ def _initial_step(t, y, f0, p, seg, wa, wb, wc, wd, rtol, atol, span, ytmp, f1):
     h0 = min(h0, span)
     for i in range(y.size):
         ytmp[i] = y[i] + h0 * f0[i]
-    rhs(t + h0, ytmp, f1, p, seg, wa, wb, wc, wd)
+    rhs(t + h0, ytmp, f1, p, seg, wk)
     d2 = 0.0
     for i in range(y.size):
         sc = atol[i] + rtol * abs(y[i])
@@ -401,14 +416,14 @@ def _initial_step(t, y, f0, p, seg, wa, wb, wc, wd, rtol, atol, span, ytmp, f1):
 
 @nb.njit(cache=True)
 def integrate(
-    p, segs, y0, x1_initial, t_end, rtol, atol, wa, wb, wc, wd, sample_times, out_y, out_a3,
+    p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
     peaks, stats, refine_peaks, max_steps,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
     ``y0`` (physical + metric states) is overwritten with the final state. Samples
     at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
-    see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls].
+    see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls, steps redone to end on a kink].
     A sample on a segment edge gets the value after the edge.
     """
     n = y0.size
@@ -439,12 +454,24 @@ def integrate(
     nsteps = 0
     nrej = 0
     nfev = 0
+    nevents_redo = 0
     h = 0.0
     facold = 1e-4
     x_prev = x1_initial
     beta = 0.04
     expo1 = 0.2 - 0.75 * beta
     status = OK
+    # switching surface of the inertia law: |r v| = w_sat, where dI/dw jumps. Steps
+    # are shortened to end on it, so no step integrates across the kink.
+    sw_a, sw_b = -1, -1
+    if p[P_LAW] == 0.0 or p[P_LAW] == 1.0:
+        if p[P_KIND] == 1.0:
+            sw_a, sw_b = 3, 1
+        elif p[P_KIND] == 3.0:
+            sw_a, sw_b = 5, -1
+    v_sat = p[P_WSAT] / p[P_R] if sw_a >= 0 else 0.0
+    lift = p[P_LIFT] != 0.0  # the tyre force capped at the static load: another kink
+    h_event = 0.0
     for iseg in range(segs.shape[0]):
         seg = segs[iseg]
         t0 = seg[0]
@@ -457,9 +484,9 @@ def integrate(
         if t1 <= t0:
             continue
         t = t0
-        a3a = rhs(t, y, k1, p, seg, wa, wb, wc, wd)
+        a3a = rhs(t, y, k1, p, seg, wk)
         nfev += 1
-        _quantities(t, y, p, seg, wc, wd, a3a, qa)
+        _quantities(t, y, p, seg, wk, a3a, qa)
         for j in range(N_PEAKS):
             if qa[j] > peaks[j]:
                 peaks[j] = qa[j]
@@ -469,36 +496,39 @@ def integrate(
             out_a3[isamp] = a3a
             isamp += 1
         if h == 0.0:
-            h = _initial_step(t, y, k1, p, seg, wa, wb, wc, wd, rtol, atol, t1 - t0, yt, k2)
+            h = _initial_step(t, y, k1, p, seg, wk, rtol, atol, t1 - t0, yt, k2)
             nfev += 1
         final = t1 >= t_end
         while t < t1:
             h_prop = h
             last = False
-            if t + h >= t1 - 1e-13 * max(1.0, abs(t1)):
+            if h_event > 0.0:
+                h = h_event
+                h_event = 0.0
+            elif t + h >= t1 - 1e-13 * max(1.0, abs(t1)):
                 h = t1 - t
                 last = True
             for i in range(n):
                 yt[i] = y[i] + h * A21 * k1[i]
-            rhs(t + C2 * h, yt, k2, p, seg, wa, wb, wc, wd)
+            rhs(t + C2 * h, yt, k2, p, seg, wk)
             for i in range(n):
                 yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-            rhs(t + C3 * h, yt, k3, p, seg, wa, wb, wc, wd)
+            rhs(t + C3 * h, yt, k3, p, seg, wk)
             for i in range(n):
                 yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-            rhs(t + C4 * h, yt, k4, p, seg, wa, wb, wc, wd)
+            rhs(t + C4 * h, yt, k4, p, seg, wk)
             for i in range(n):
                 yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-            rhs(t + C5 * h, yt, k5, p, seg, wa, wb, wc, wd)
+            rhs(t + C5 * h, yt, k5, p, seg, wk)
             for i in range(n):
                 yt[i] = y[i] + h * (
                     A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
                 )
             tn = t1 if last else t + h
-            rhs(tn, yt, k6, p, seg, wa, wb, wc, wd)
+            rhs(tn, yt, k6, p, seg, wk)
             for i in range(n):
                 yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-            a3b = rhs(tn, yn, k7, p, seg, wa, wb, wc, wd)
+            a3b = rhs(tn, yn, k7, p, seg, wk)
             nfev += 6
             err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
             if not math.isfinite(err):
@@ -509,31 +539,70 @@ def integrate(
                 nrej += 1
                 continue
             fac11 = err**expo1 if err > 0.0 else 0.0
+            if err <= 1.0 and (sw_a >= 0 or lift):
+                ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
+                gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
+                c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
+                c2 = lift and (ga2 > 0.0) != (gb2 > 0.0)
+                if c1 or c2:
+                    _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
+                    best = 1.0
+                    for which in range(2):
+                        if (which == 0 and not c1) or (which == 1 and not c2):
+                            continue
+                        lo, hi = 0.0, 1.0
+                        glo = ga1 if which == 0 else ga2
+                        for _ in range(60):
+                            mid = 0.5 * (lo + hi)
+                            _dense(y, r2, r3, r4, r5, mid, yd)
+                            gm1, gm2 = _switching(p, yd, t + mid * h, seg, sw_a, sw_b, v_sat)
+                            gm = gm1 if which == 0 else gm2
+                            if (gm > 0.0) == (glo > 0.0):
+                                lo, glo = mid, gm
+                            else:
+                                hi = mid
+                            if hi - lo < 1e-12:
+                                break
+                        best = min(best, hi)
+                    if best * h > 1e-9 * max(1.0, abs(t)) and best < 1.0 - 1e-9:
+                        # redo the step ending just past the first crossing
+                        h_event = best * h
+                        h = h_prop
+                        nevents_redo += 1
+                        continue
             if err <= 1.0:
                 nsteps += 1
                 # dense output for samples and peak refinement
                 need_samples = isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
                 )
-                if need_samples or refine_peaks:
+                _quantities(tn, yn, p, seg, wk, a3b, qb)
+                near = False
+                if refine_peaks:
+                    # an interior maximum exceeds the larger end value by about
+                    # (h w)^2/8 of the amplitude: far below 1 % at the steps taken
+                    for j in range(N_PEAKS):
+                        if max(qa[j], qb[j]) >= peaks[j] - 0.01 * abs(peaks[j]):
+                            near = True
+                            break
+                if need_samples or near:
                     _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
                 while isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
                 ):
                     th = (sample_times[isamp] - t) / h
                     _dense(y, r2, r3, r4, r5, th, yd)
-                    a3s = rhs(sample_times[isamp], yd, ks, p, seg, wa, wb, wc, wd)
+                    a3s = rhs(sample_times[isamp], yd, ks, p, seg, wk)
                     nfev += 1
                     for i in range(n):
                         out_y[isamp, i] = yd[i]
                     out_a3[isamp] = a3s
                     isamp += 1
-                _quantities(tn, yn, p, seg, wc, wd, a3b, qb)
-                if refine_peaks:
+                if near:
                     _dense(y, r2, r3, r4, r5, 0.5, yd)
-                    a3m = rhs(t + 0.5 * h, yd, ks, p, seg, wa, wb, wc, wd)
+                    a3m = rhs(t + 0.5 * h, yd, ks, p, seg, wk)
                     nfev += 1
-                    _quantities(t + 0.5 * h, yd, p, seg, wc, wd, a3m, qm)
+                    _quantities(t + 0.5 * h, yd, p, seg, wk, a3m, qm)
                     for j in range(N_PEAKS):
                         fa, fm, fb = qa[j], qm[j], qb[j]
                         best = max(fa, max(fm, fb))
@@ -555,12 +624,40 @@ def integrate(
                                 break
                             num = (x_2 - x_1) ** 2 * (f_2 - f_3) - (x_2 - x_3) ** 2 * (f_2 - f_1)
                             xv = x_2 - 0.5 * num / den
-                            if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9:
+                            if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9 or x_3 - x_1 <= 1e-9:
                                 break
                             _dense(y, r2, r3, r4, r5, xv, yd)
-                            a3v = rhs(t + xv * h, yd, ks, p, seg, wa, wb, wc, wd)
+                            a3v = rhs(t + xv * h, yd, ks, p, seg, wk)
                             nfev += 1
-                            _quantities(t + xv * h, yd, p, seg, wc, wd, a3v, qt)
+                            _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
+                            fv = qt[j]
+                            if fv > peaks[j]:
+                                peaks[j] = fv
+                            if xv < x_2:
+                                if fv >= f_2:
+                                    x_3, f_3 = x_2, f_2
+                                    x_2, f_2 = xv, fv
+                                else:
+                                    x_1, f_1 = xv, fv
+                            else:
+                                if fv >= f_2:
+                                    x_1, f_1 = x_2, f_2
+                                    x_2, f_2 = xv, fv
+                                else:
+                                    x_3, f_3 = xv, fv
+                        # golden-section steps finish corners (tyre lift-off) where the
+                        # parabolas converge slowly
+                        for _ in range(60):
+                            if x_3 - x_1 <= 1e-9:
+                                break
+                            if x_2 - x_1 > x_3 - x_2:
+                                xv = x_2 - 0.381966 * (x_2 - x_1)
+                            else:
+                                xv = x_2 + 0.381966 * (x_3 - x_2)
+                            _dense(y, r2, r3, r4, r5, xv, yd)
+                            a3v = rhs(t + xv * h, yd, ks, p, seg, wk)
+                            nfev += 1
+                            _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
                             fv = qt[j]
                             if fv > peaks[j]:
                                 peaks[j] = fv
@@ -607,4 +704,5 @@ def integrate(
     stats[0] = nsteps
     stats[1] = nrej
     stats[2] = nfev
+    stats[3] = nevents_redo
     return status

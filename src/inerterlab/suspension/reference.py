@@ -127,7 +127,7 @@ class ReferenceRHS:
         lo, hi = (force - ff) / b - 1e-12, (force + ff) / b + 1e-12
         if g(lo) == 0.0:
             return lo
-        return brentq(g, lo, hi, xtol=1e-300, rtol=4e-16, maxiter=400)
+        return brentq(g, lo, hi, xtol=1e-300, rtol=1e-15, maxiter=400)
 
     # -- road ---------------------------------------------------------------------------
     @staticmethod
@@ -238,7 +238,7 @@ class ReferenceRHS:
         mu = 1.0 / self.M + 1.0 / self.Mt
         g = lambda v1: v1 - v0 + imp / self.Mt + mu * self._inerter_impulse(v0, v1, y)  # noqa: E731
         a, b = sorted((v0, v0 - imp / self.Mt))
-        v1 = brentq(g, a, b, xtol=1e-300, rtol=4e-16, maxiter=400)
+        v1 = brentq(g, a, b, xtol=1e-300, rtol=1e-15, maxiter=400)
         p = self._inerter_impulse(v0, v1, y)
         y[3] += -p / self.M
         y[1] += (imp + p) / self.Mt

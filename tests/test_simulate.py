@@ -1,0 +1,176 @@
+"""Quarter-car simulation: compiled backend against the scipy reference, inputs, results."""
+
+import math
+
+import numpy as np
+import pytest
+
+from inerterlab.errors import ParameterError
+from inerterlab.excitation import bump, drop, iso8608, road_series, sine
+from inerterlab.metrics import h2_norms, series_metrics
+from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics
+from inerterlab.suspension import quarter_car
+
+REF = SimulationOptions(backend="scipy", rtol=1e-10)
+FAST = SimulationOptions()  # numba, default rtol 1e-8
+
+INPUTS = {
+    "drop": drop(),
+    "bump": bump(),
+    "bump-1cos": bump(shape="1-cos", duration=0.05),
+    "sine": sine(),
+    "series": road_series([0.0, 0.05, 0.1, 0.2], [0.0, 0.01, -0.005, 0.0]),
+}
+SUSPENSIONS = ["traditional", "cfw", "afw", "device", "device-afw"]
+NUMERIC_KEYS = [
+    "rms_body_acc",
+    "rms_tyre_grip",
+    "rms_deflection",
+    "rms_body_acc_wk",
+    "vdv",
+    "crest_factor",
+    "peak_body_acc",
+    "peak_body_acc_wk",
+    "peak_deflection",
+    "min_tyre_force",
+]
+
+
+def _assert_close(fast, ref, rtol):
+    for k in NUMERIC_KEYS:
+        assert fast[k] == pytest.approx(ref[k], rel=rtol, abs=1e-12), k
+    assert fast["tyre_lift_off"] == ref["tyre_lift_off"]
+
+
+@pytest.mark.parametrize("suspension", SUSPENSIONS)
+@pytest.mark.parametrize("name", list(INPUTS))
+def test_fast_backend_matches_scipy_reference(suspension, name):
+    car = quarter_car(suspension)
+    ex = INPUTS[name]
+    horizon = 0.25
+    ref = simulate_metrics(car, ex, horizon, options=REF)
+    fast = simulate_metrics(car, ex, horizon, options=FAST)
+    _assert_close(fast, ref, 1e-6)
+
+
+@pytest.mark.parametrize("law", ["momentum", "slider-dynamics"])
+@pytest.mark.parametrize("suspension", ["afw", "device-afw"])
+def test_other_inertia_laws_match_reference(suspension, law):
+    car = quarter_car(suspension, law=law, changing_ratio=0.4)
+    for ex in (bump(), sine()):
+        ref = simulate_metrics(car, ex, 0.2, options=REF)
+        fast = simulate_metrics(car, ex, 0.2, options=FAST)
+        _assert_close(fast, ref, 1e-6)
+
+
+def test_lift_off_model_matches_reference_and_sets_flag():
+    car = quarter_car("afw", tyre_lift_off=True)
+    ref = simulate_metrics(car, drop(), 0.3, options=REF)
+    fast = simulate_metrics(car, drop(), 0.3, options=FAST)
+    _assert_close(fast, ref, 1e-6)
+    # 0.05 m up stretches the tyre by more than the static load: the wheel leaves the road
+    assert fast["tyre_lift_off"] and fast["min_tyre_force"] < 0
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("suspension", SUSPENSIONS)
+@pytest.mark.parametrize("name", ["drop", "bump", "sine"])
+def test_fast_backend_matches_reference_full_horizon(suspension, name):
+    car = quarter_car(suspension, sprung_mass=340)
+    ref = simulate_metrics(car, INPUTS[name], 3.0, options=REF)
+    fast = simulate_metrics(car, INPUTS[name], 3.0, options=FAST)
+    _assert_close(fast, ref, 1e-6)
+
+
+def test_sampled_series_reproduce_the_integrated_metrics():
+    car = quarter_car("afw")
+    res = simulate(car, sine(), 2.0, options=SimulationOptions(sample_rate=20000.0))
+    m = res.metrics()
+    s = series_metrics(
+        res.time, res.body_acc, res.tyre_grip, res.deflection, res.tyre_force, res.body_acc_wk
+    )
+    for k in ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "vdv"):
+        assert s[k] == pytest.approx(m[k], rel=1e-5), k
+    # sampled maxima cannot exceed the located peaks, and come close at 20 kHz
+    assert s["peak_body_acc"] <= m["peak_body_acc"] * (1 + 1e-9)
+    assert s["peak_body_acc"] == pytest.approx(m["peak_body_acc"], rel=1e-4)
+    # the Wk filter run on the sampled signal (scipy lsim) agrees with the states
+    s2 = series_metrics(res.time, res.body_acc, res.tyre_grip, res.deflection)
+    assert s2["rms_body_acc_wk"] == pytest.approx(m["rms_body_acc_wk"], rel=1e-4)
+
+
+def test_series_backends_agree_on_samples():
+    car = quarter_car("device-afw")
+    a = simulate(car, bump(), 0.2, options=SimulationOptions(rtol=1e-10))
+    b = simulate(car, bump(), 0.2, options=REF)
+    assert a.time.size == 201 and a.time[-1] == pytest.approx(0.2)
+    np.testing.assert_allclose(a.states, b.states, rtol=1e-6, atol=1e-9)
+    np.testing.assert_allclose(a.body_acc, b.body_acc, rtol=1e-6, atol=1e-6)
+
+
+def test_bump_edge_passes_tyre_damper_impulse():
+    # traditional car: the unsprung mass jumps by C_t h / M_t at the road step
+    car = quarter_car("traditional")
+    res = simulate(car, bump(duration=0.5), 0.1, options=SimulationOptions(sample_rate=1e4))
+    q = car.parameters
+    assert res.states[0, 1] == pytest.approx(q.tyre_damping * 0.05 / q.unsprung_mass, rel=1e-12)
+
+
+def test_inerter_shares_the_impulse_and_conserves_momentum():
+    for law in ("thesis", "momentum"):
+        car = quarter_car("afw", law=law)
+        res = simulate(car, bump(duration=0.5), 0.01, options=SimulationOptions(sample_rate=1e4))
+        q = car.parameters
+        v2, v3 = res.states[0, 1], res.states[0, 3]
+        assert q.unsprung_mass * v2 + q.sprung_mass * v3 == pytest.approx(
+            q.tyre_damping * 0.05, rel=1e-12
+        )
+        assert 0 < v3 < v2
+
+
+def test_linear_metrics_scale_with_amplitude():
+    car = quarter_car("cfw")
+    a = simulate_metrics(car, sine(0.01), 1.0)
+    b = simulate_metrics(car, sine(0.03), 1.0)
+    for k in ("rms_body_acc", "rms_deflection", "rms_body_acc_wk", "peak_deflection"):
+        assert b[k] == pytest.approx(3 * a[k], rel=1e-6)
+
+
+@pytest.mark.slow
+def test_iso8608_time_rms_matches_h2_index():
+    # linear car without tyre damping (finite body-acceleration norm), class C at 20 m/s
+    car = quarter_car("traditional", tyre_damping=0.0)
+    h2 = h2_norms(car).ride_indices("C", 20.0)
+    vals = {k: [] for k in ("rms_deflection", "rms_tyre_grip", "rms_body_acc")}
+    for seed in range(4):
+        road = iso8608("C", 20.0, seed=seed, length=2400.0)
+        m = simulate_metrics(car, road, 120.0)
+        for k in vals:
+            vals[k].append(m[k])
+    for key, h2key in (
+        ("rms_deflection", "suspension_deflection"),
+        ("rms_tyre_grip", "tyre_grip"),
+        ("rms_body_acc", "body_acc"),
+    ):
+        ms = np.sqrt(np.mean(np.square(vals[key])))
+        # 4 x 120 s of a response with ~1 Hz bandwidth: a few per cent statistical error;
+        # the road band (0.01-10 cycle/m) and linear interpolation add a little more
+        assert ms == pytest.approx(h2[h2key], rel=0.08), key
+
+
+def test_result_to_pandas_and_errors():
+    res = simulate(quarter_car("traditional"), drop(), 0.1)
+    df = res.to_pandas()
+    assert {"body_acc", "deflection", "tyre_force", "tyre_grip", "road"} <= set(df.columns)
+    assert df.index.name == "time" and len(df) == 101
+    assert math.isclose(df["deflection"].iloc[0], 0.0)
+    m = simulate(quarter_car("traditional"), drop(), 0.1, output="metrics")
+    assert m.time is None
+    with pytest.raises(ParameterError, match="output"):
+        m.to_pandas()
+    with pytest.raises(ParameterError, match="horizon"):
+        simulate(quarter_car("traditional"), drop(), -1.0)
+    with pytest.raises(ParameterError, match="backend"):
+        SimulationOptions(backend="julia")
+    with pytest.raises(ParameterError, match="excitation"):
+        simulate(quarter_car("traditional"), "drop", 1.0)
