@@ -1,0 +1,93 @@
+"""ISO 2631-1 Wk weighting, RMS helpers and H2 indices (SPEC §9, §10)."""
+
+import math
+
+import numpy as np
+import pytest
+
+from inerterlab.errors import ParameterError
+from inerterlab.metrics import (
+    h2_norms,
+    rms,
+    vibration_dose_value,
+    wk_sections,
+    wk_state_space,
+    wk_weighting,
+)
+from inerterlab.suspension import quarter_car
+
+
+def test_wk_tabulated_factors():
+    assert abs(wk_weighting(0.5)) == pytest.approx(0.418, abs=5e-4)
+    assert abs(wk_weighting(1.0)) == pytest.approx(0.482, abs=5e-4)
+    f = np.linspace(2.0, 20.0, 20001)
+    g = np.abs(wk_weighting(f))
+    assert g.max() == pytest.approx(1.054, abs=1e-3)
+    assert f[np.argmax(g)] == pytest.approx(6.2, abs=0.1)
+
+
+def test_wk_state_space_and_sections_equal_the_transfer_function():
+    A, B, C, D = wk_state_space()
+    assert D == 0.0
+    secs = wk_sections()
+    for f in (0.1, 0.5, 2.0, 6.2, 30.0, 150.0):
+        s = 2j * math.pi * f
+        h_ss = C @ np.linalg.solve(s * np.eye(8) - A, B) + D
+        h_sec = 1.0
+        for w0, a1, c1, c2, d in secs:
+            den = s * s + a1 * s + w0 * w0
+            h_sec *= d + c1 * w0 * w0 / den + c2 * w0 * s / den
+        assert h_ss == pytest.approx(complex(wk_weighting(f)), rel=1e-12)
+        assert h_sec == pytest.approx(complex(wk_weighting(f)), rel=1e-12)
+
+
+def test_rms_and_vdv_of_a_sine():
+    t = np.linspace(0.0, 10.0, 200001)
+    x = 2.0 * np.sin(2 * np.pi * 3.0 * t)
+    assert rms(t, x) == pytest.approx(2.0 / math.sqrt(2.0), rel=1e-8)
+    # int sin^4 over whole periods = 3/8 T
+    assert vibration_dose_value(t, x) == pytest.approx((16 * 3 / 8 * 10.0) ** 0.25, rel=1e-8)
+
+
+SMITH_WANG = dict(sprung_mass=250.0, unsprung_mass=35.0, tyre_stiffness=150e3, tyre_damping=0.0)
+
+
+@pytest.mark.parametrize("k", [20e3, 60e3, 120e3])
+@pytest.mark.parametrize("c", [1000.0, 4000.0])
+@pytest.mark.parametrize("b", [None, 50.0, 400.0])
+def test_h2_closed_forms_of_spec_10(k, c, b):
+    kind = "traditional" if b is None else "cfw"
+    extra = {} if b is None else {"inertance": b}
+    car = quarter_car(kind, stiffness=k, damping=c, **SMITH_WANG, **extra)
+    n = h2_norms(car)
+    ms, mu = SMITH_WANG["sprung_mass"], SMITH_WANG["unsprung_mass"]
+    assert n["suspension_deflection"] ** 2 == pytest.approx((ms + mu) / (2 * c), rel=1e-9)
+    if b is None:
+        kt = SMITH_WANG["tyre_stiffness"]
+        assert n["body_acc"] ** 2 == pytest.approx(
+            (kt * c**2 + (ms + mu) * k**2) / (2 * c * ms**2), rel=1e-9
+        )
+
+
+def test_h2_body_acc_is_infinite_with_tyre_damping_and_inerter():
+    n = h2_norms(quarter_car("cfw"))
+    assert n["body_acc"] is None
+    assert "infinite" in n.infinite["body_acc"]
+    assert n["body_acc_wk"] is not None and n["body_acc_wk"] > 0
+    assert h2_norms(quarter_car("traditional"))["body_acc"] is not None
+    d = n.to_dict()
+    assert d["body_acc"] is None and "body_acc" in d["infinite"]
+
+
+def test_iso_scaling_of_h2_indices():
+    n = h2_norms(quarter_car("traditional"))
+    r = n.ride_indices("C", 20.0)
+    scale = math.pi * 0.1 * math.sqrt(2 * 256e-6 * 20.0)
+    assert r["suspension_deflection"] == pytest.approx(scale * n["suspension_deflection"])
+    # one class up is four times Gd(n0): twice the rms
+    assert n.ride_indices("D", 20.0)["tyre_grip"] == pytest.approx(2 * r["tyre_grip"])
+
+
+def test_h2_refuses_nonlinear_suspensions():
+    with pytest.raises(ParameterError, match="linear suspension"):
+        h2_norms(quarter_car("afw"))
