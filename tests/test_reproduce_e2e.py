@@ -91,3 +91,47 @@ def test_report_renders_in_headless_chromium(quick_report, tmp_path):
         if i["kind"] == "table":
             assert f"Table {i['id']}" in headings
     assert shot.stat().st_size > 10_000
+
+
+@pytest.mark.slow
+def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
+    """SIGKILL part way, rerun: finished items are reused and the report equals an
+    uninterrupted run's (tables and figure data byte for byte)."""
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    _, ref, _ = quick_report
+    out = tmp_path / "reproduction"
+    work = tmp_path / "reproduction.work"
+    cmd = [sys.executable, "-m", "inerterlab", "reproduce", "--quick", "--out", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and len(list(work.glob("*.pkl"))) < 4:
+        if proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    done_before = {p.name for p in work.glob("*.pkl")}
+    assert len(done_before) >= 4
+    assert not out.exists()  # no half-written report
+    mtimes = {p.name: p.stat().st_mtime_ns for p in work.glob("*.pkl")}
+
+    r = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr[-2000:]
+    # the items finished before the kill were not recomputed
+    assert not work.exists()
+    manifest = json.loads((out / "manifest.json").read_text())
+    assert all(i["ok"] for i in manifest["items"])
+    reused = [i for i in manifest["items"] if i["reused"]]
+    assert len(reused) == len(done_before) == len(mtimes)
+    for sub in ("tables", "data"):
+        names = sorted(p.name for p in (ref / sub).iterdir())
+        assert names == sorted(p.name for p in (out / sub).iterdir())
+        for n in names:
+            assert (out / sub / n).read_bytes() == (ref / sub / n).read_bytes(), (
+                f"{sub}/{n} differs"
+            )

@@ -155,7 +155,7 @@ def run_items(
         cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.pkl"
         if cache.exists():
             with open(cache, "rb") as fh:
-                records.append(pickle.load(fh))
+                records.append({**pickle.load(fh), "reused": True})
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
@@ -353,6 +353,7 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
         "run_seconds": elapsed,
         "items": [
             {k: r[k] for k in ("kind", "id", "ok", "seconds") if k in r}
+            | {"reused": bool(r.get("reused", False))}
             | ({"error": r["error"]} if not r["ok"] else {})
             | ({"claim_holds": r["claim_holds"]} if r["ok"] and r["kind"] == "table" else {})
             for r in records
