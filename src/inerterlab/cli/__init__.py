@@ -43,6 +43,7 @@ _COMMANDS = [
     "reproduce",
     "studies",
     "devices",
+    "simulate",
 ]
 
 for _name in _COMMANDS:

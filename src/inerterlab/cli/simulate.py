@@ -1,0 +1,208 @@
+"""``inerterlab simulate`` and ``inerterlab h2``: quarter-car ride metrics."""
+
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
+
+_CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
+_JSON_KEYS = (
+    "rms_body_acc",
+    "rms_tyre_grip",
+    "rms_deflection",
+    "rms_body_acc_wk",
+    "vdv",
+    "crest_factor",
+    "peak_body_acc",
+    "peak_body_acc_wk",
+    "peak_deflection",
+    "min_tyre_force",
+    "tyre_lift_off",
+)
+
+
+def _car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping):
+    return dict(
+        sprung_mass=sprung_mass,
+        unsprung_mass=unsprung_mass,
+        stiffness=stiffness,
+        damping=damping,
+        tyre_stiffness=tyre_stiffness,
+        tyre_damping=tyre_damping,
+    )
+
+
+def _save_series(result, path: Path) -> None:
+    from ..errors import ParameterError
+
+    suffix = path.suffix.lower()
+    if suffix == ".csv":
+        df = result.to_pandas()
+        header = "".join(f"# {k}: {v}\n" for k, v in result.settings().items())
+        atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
+    elif suffix == ".nc":
+        ds = result.to_xarray()
+        path.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".nc")
+        os.close(fd)
+        try:
+            ds.to_netcdf(tmp, engine="h5netcdf")
+            os.replace(tmp, path)
+        except BaseException:
+            if os.path.exists(tmp):
+                os.unlink(tmp)
+            raise
+    else:
+        raise ParameterError("save", str(path), "a file name ending in .csv or .nc")
+
+
+def simulate_command(
+    suspension: Annotated[
+        str, typer.Option(help="traditional, cfw, afw, device (system A) or device-afw (system B).")
+    ] = "afw",
+    input_: Annotated[
+        str,
+        typer.Option(
+            "--input", help="drop, bump, sine, iso8608 or a CSV file (time s, displacement m)."
+        ),
+    ] = "sine",
+    sprung_mass: Annotated[
+        float, typer.Option("--sprung-mass", "--body-mass", help="Sprung mass M_v [kg].")
+    ] = 370.0,
+    unsprung_mass: Annotated[float, typer.Option(help="Unsprung mass M_t [kg].")] = 25.0,
+    stiffness: Annotated[float, typer.Option(help="Suspension stiffness K [N/m].")] = 90_000.0,
+    damping: Annotated[float, typer.Option(help="Suspension damping C [N s/m].")] = 5000.0,
+    tyre_stiffness: Annotated[float, typer.Option(help="Tyre stiffness K_t [N/m].")] = 120_000.0,
+    tyre_damping: Annotated[float, typer.Option(help="Tyre damping C_t [N s/m].")] = 1300.0,
+    changing_ratio: Annotated[
+        float | None, typer.Option(help="Changing ratio x in (0, 1) of the adaptive flywheel.")
+    ] = None,
+    law: Annotated[
+        str, typer.Option(help="Inertia law: thesis, momentum, slider-dynamics.")
+    ] = "thesis",
+    amplitude: Annotated[
+        float, typer.Option(help="Height of drop/bump or sine amplitude [m].")
+    ] = 0.05,
+    freq: Annotated[float, typer.Option(help="Sine frequency [Hz].")] = 5.0,
+    duration: Annotated[float, typer.Option(help="Bump duration [s].")] = 0.01,
+    shape: Annotated[str, typer.Option(help="Bump shape: rectangular or 1-cos.")] = "rectangular",
+    horizon: Annotated[float, typer.Option(help="Simulated time T [s].")] = 10.0,
+    road_class: Annotated[str, typer.Option("--class", help="ISO 8608 road class A-H.")] = "C",
+    speed: Annotated[float, typer.Option(help="Vehicle speed on the ISO 8608 road [m/s].")] = 20.0,
+    seed: Annotated[int, typer.Option(help="Seed of the ISO 8608 road.")] = 0,
+    lift_off: Annotated[
+        bool, typer.Option("--lift-off", help="Let the tyre leave the road.")
+    ] = False,
+    backend: Annotated[str, typer.Option(help="numba (fast) or scipy (reference).")] = "numba",
+    rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
+    json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    save: Annotated[Path | None, typer.Option(help="Write the time series (.csv or .nc).")] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="Figure of acceleration, deflection, tyre force.")
+    ] = None,
+) -> None:
+    """Simulate a quarter car on a road input and print its ride metrics.
+
+    Example: inerterlab simulate --suspension afw --input sine --json
+    """
+    from ..excitation import bump, drop, iso8608, read_road_csv, sine
+    from ..simulate import SimulationOptions, simulate
+    from ..suspension import quarter_car
+
+    car = quarter_car(
+        suspension,
+        changing_ratio=changing_ratio,
+        law=law,
+        tyre_lift_off=lift_off,
+        **_car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping),
+    )
+    if input_ == "drop":
+        ex = drop(amplitude)
+    elif input_ == "bump":
+        ex = bump(amplitude, duration=duration, shape=shape)
+    elif input_ == "sine":
+        ex = sine(amplitude, freq)
+    elif input_ == "iso8608":
+        ex = iso8608(road_class, speed, seed=seed)
+    else:
+        ex = read_road_csv(input_)
+    want_series = save is not None or plot is not None
+    opts = SimulationOptions(backend=backend, rtol=rtol)
+    res = simulate(car, ex, horizon, options=opts, output="series" if want_series else "metrics")
+    m = res.metrics()
+    if save is not None:
+        _save_series(res, save)
+    if plot is not None:
+        atomic_savefig(res.plot(), plot)
+    if json_out:
+        out = {k: m[k] for k in _JSON_KEYS}
+        out.update(suspension=suspension, input=ex.name, horizon=horizon, law=car.effective_law)
+        if save is not None:
+            out["saved"] = str(save)
+        if plot is not None:
+            out["plot"] = str(plot)
+        emit_json(out)
+        return
+    rows = [(k, f"{m[k]:.6g}" if not isinstance(m[k], bool) else str(m[k])) for k in _JSON_KEYS]
+    print_table(f"{suspension} on {ex.name}, T = {horizon:g} s", rows)
+
+
+def h2_command(
+    suspension: Annotated[
+        str, typer.Option(help="traditional or cfw (linear suspensions).")
+    ] = "traditional",
+    inertance: Annotated[
+        float | None, typer.Option(help="cfw only: inertance b [kg] (default r^2 x 2.231e-4).")
+    ] = None,
+    sprung_mass: Annotated[
+        float, typer.Option("--sprung-mass", "--body-mass", help="Sprung mass [kg].")
+    ] = 370.0,
+    unsprung_mass: Annotated[float, typer.Option(help="Unsprung mass [kg].")] = 25.0,
+    stiffness: Annotated[float, typer.Option(help="Suspension stiffness [N/m].")] = 90_000.0,
+    damping: Annotated[float, typer.Option(help="Suspension damping [N s/m].")] = 5000.0,
+    tyre_stiffness: Annotated[float, typer.Option(help="Tyre stiffness [N/m].")] = 120_000.0,
+    tyre_damping: Annotated[float, typer.Option(help="Tyre damping [N s/m].")] = 1300.0,
+    json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+) -> None:
+    """H2 norms from unit white road velocity (Lyapunov equation, no time stepping).
+
+    Infinite norms (direct feed-through) are printed as null with the reason under
+    "infinite". Example: inerterlab h2 --suspension cfw --tyre-damping 0 --json
+    """
+    from ..errors import ParameterError
+    from ..metrics import h2_norms
+    from ..suspension import quarter_car
+
+    if suspension not in ("traditional", "cfw"):
+        raise ParameterError(
+            "suspension", suspension, "'traditional' or 'cfw' (linear suspensions)"
+        )
+    extra = {"inertance": inertance} if inertance is not None else {}
+    car = quarter_car(
+        suspension,
+        **_car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping),
+        **extra,
+    )
+    n = h2_norms(car)
+    out = {k: n.norms[k] for k in ("body_acc", "tyre_deflection", "suspension_deflection")}
+    out.update(tyre_grip=n.norms["tyre_grip"], body_acc_wk=n.norms["body_acc_wk"])
+    if n.infinite:
+        out["infinite"] = dict(n.infinite)
+    if json_out:
+        emit_json(out)
+        return
+    rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k != "infinite"]
+    print_table(f"H2 norms, {suspension}, unit white road velocity", rows)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("simulate", help=_CAR_HELP + " " + (simulate_command.__doc__ or ""))(
+        simulate_command
+    )
+    app.command("h2")(h2_command)
