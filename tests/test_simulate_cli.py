@@ -47,7 +47,7 @@ def test_simulate_json_and_files(capsys, tmp_path):
     )
     import xarray as xr
 
-    ds = xr.open_dataset(tmp_path / "s.nc", engine="h5netcdf")
+    ds = xr.open_dataset(tmp_path / "s.nc", engine="scipy")
     assert ds["body_acc"].attrs["units"] == "m/s^2"
     ds.close()
 

@@ -52,7 +52,7 @@ def _save_series(result, path: Path) -> None:
         fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".nc")
         os.close(fd)
         try:
-            ds.to_netcdf(tmp, engine="h5netcdf")
+            ds.to_netcdf(tmp, engine="scipy")  # netCDF3 via scipy: no HDF5 library needed
             os.replace(tmp, path)
         except BaseException:
             if os.path.exists(tmp):
