@@ -43,6 +43,7 @@ _COMMANDS = [
     "reproduce",
     "studies",
     "devices",
+    "identify",
     "simulate",
 ]
 
