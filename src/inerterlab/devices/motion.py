@@ -23,7 +23,10 @@ displacement equals the ideal triangle; inside, it is the matching parabola.
 ``samples``
     A measured record (t_i, x_i, v_i), interpolated by the cubic Hermite polynomial
     through the displacements with the velocities as slopes, so v(t) = dx/dt exactly and
-    x, v pass through every sample.
+    x, v pass through every sample. The acceleration is taken at the samples from the
+    fourth-order formula a_i = 2 (x_{i+1} - 2 x_i + x_{i-1}) / h^2 - (v_{i+1} - v_{i-1}) / (2 h)
+    (exact for quartics; the Hermite's own second derivative is only second order and
+    discontinuous at the samples) and interpolated linearly in between.
 """
 
 from __future__ import annotations
@@ -147,6 +150,7 @@ class Motion:
         )
         if kind == 2:
             tn, xn, vn = (np.ascontiguousarray(a, dtype=float) for a in self.samples)
+            vn = np.concatenate([vn, _node_acceleration(tn, xn, vn)])
         else:
             tn = xn = vn = np.zeros(1)
         return kind, par, tn, xn, vn
@@ -190,6 +194,18 @@ class Motion:
             idx = np.nonzero(s[1:] * s[:-1] < 0)[0]
             t = 0.5 * (ts[idx] + ts[idx + 1])
         return t[(t >= 0) & (t <= duration)]
+
+
+def _node_acceleration(t, x, v):
+    """Acceleration [m/s^2] at the samples, fourth order on uniform spacing."""
+    a = np.empty_like(x)
+    if t.size < 3:
+        a[:] = (v[-1] - v[0]) / (t[-1] - t[0])
+        return a
+    h = 0.5 * (t[2:] - t[:-2])
+    a[1:-1] = 2.0 * (x[2:] - 2.0 * x[1:-1] + x[:-2]) / h**2 - (v[2:] - v[:-2]) / (2.0 * h)
+    a[0], a[-1] = 2.0 * a[1] - a[2], 2.0 * a[-2] - a[-3]  # linear extrapolation
+    return a
 
 
 def _amplitude(amplitude, velocity_amplitude, factor) -> float:
@@ -259,12 +275,12 @@ def motion_at(t, kind, par, tn, xn, vn):
                 x = s_before * amp - s_before * vel * (0.25 * tau + du * du / tau)
                 acc = -2.0 * s_before * vel / tau
         return x, v, acc
-    # sampled: cubic Hermite through (t_i, x_i) with slopes v_i
+    # sampled: cubic Hermite through (t_i, x_i) with slopes v_i (vn holds v_i, then a_i)
     n = tn.shape[0]
     if t <= tn[0]:
-        return xn[0] + vn[0] * (t - tn[0]), vn[0], 0.0
+        return xn[0] + vn[0] * (t - tn[0]), vn[0], vn[n]
     if t >= tn[n - 1]:
-        return xn[n - 1] + vn[n - 1] * (t - tn[n - 1]), vn[n - 1], 0.0
+        return xn[n - 1] + vn[n - 1] * (t - tn[n - 1]), vn[n - 1], vn[2 * n - 1]
     i = np.searchsorted(tn, t) - 1
     if i < 0:
         i = 0
@@ -284,8 +300,8 @@ def motion_at(t, kind, par, tn, xn, vn):
         + (-6 * s2 + 6 * s) * x1
         + (3 * s2 - 2 * s) * m1
     )
-    ddx = (12 * s - 6) * x0 + (6 * s - 4) * m0 + (-12 * s + 6) * x1 + (6 * s - 2) * m1
-    return x, dx / h, ddx / (h * h)
+    acc = (1.0 - s) * vn[n + i] + s * vn[n + i + 1]
+    return x, dx / h, acc
 
 
 @nb.njit(cache=True)

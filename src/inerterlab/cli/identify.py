@@ -1,0 +1,165 @@
+"""``inerterlab rig-simulate`` and ``inerterlab identify``: rig data and identification."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ._common import atomic_savefig, atomic_write_text, emit_json, parse_float, print_table
+
+
+def rig_simulate_command(
+    device: Annotated[
+        str, typer.Option(help="hydraulic, screw or rectifier (thesis identified values).")
+    ] = "hydraulic",
+    flywheel: Annotated[
+        str | None, typer.Option(help="Flywheel preset (default by device).")
+    ] = None,
+    law: Annotated[str, typer.Option(help="Force law of the simulated device.")] = "thesis",
+    matrix: Annotated[
+        str, typer.Option(help="Test matrix: appendix-a1 or appendix-a2.")
+    ] = "appendix-a1",
+    sample_rate: Annotated[str, typer.Option(help="Samples per second [Hz].")] = "500",
+    noise: Annotated[str, typer.Option(help="Force sensor noise, standard deviation [N].")] = "5",
+    spikes: Annotated[str, typer.Option(help="Direction-reversal force spikes: on or off.")] = "on",
+    spike_size: Annotated[str, typer.Option(help="Spike size [N].")] = "300",
+    spike_width: Annotated[str, typer.Option(help="Spike width [s].")] = "0.02",
+    seed: Annotated[int, typer.Option(help="Random seed.")] = 0,
+    max_duration: Annotated[
+        str | None, typer.Option(help="Cut each record to this length [s].")
+    ] = None,
+    columns: Annotated[
+        str, typer.Option(help="Motion columns: both, displacement or velocity.")
+    ] = "both",
+    out: Annotated[
+        Path, typer.Option(help="Output directory (test CSV files + manifest.csv).")
+    ] = Path("rig-data"),
+    json_out: Annotated[bool, typer.Option("--json", help="Print a JSON summary.")] = False,
+) -> None:
+    """Simulate a rig campaign (thesis Appendix A) on a device model and write it to --out.
+
+    Example: inerterlab rig-simulate --device hydraulic --flywheel metal --matrix appendix-a1
+    --noise 5 --spikes on --seed 1 --out DIR
+    """
+    from ..devices import device_preset
+    from ..errors import ParameterError, check_choice
+    from ..identify import simulate_rig, write_rig_data
+
+    check_choice("spikes", spikes, ("on", "off"))
+    fs = parse_float("sample-rate", sample_rate)
+    md = parse_float("max-duration", max_duration) if max_duration is not None else None
+    if md is not None and md <= 0:
+        raise ParameterError("max-duration", max_duration, "a finite number > 0 s")
+    dev = device_preset(device, flywheel_preset=flywheel, law=law)
+    ds = simulate_rig(
+        dev,
+        matrix=matrix,
+        sample_rate=fs,
+        noise=parse_float("noise", noise),
+        spikes=spikes == "on",
+        spike_size=parse_float("spike-size", spike_size),
+        spike_width=parse_float("spike-width", spike_width),
+        seed=seed,
+        max_duration=md,
+        columns=columns,
+    )
+    header = (
+        "simulated rig data (inerterlab rig-simulate); not a measurement\n"
+        + ", ".join(f"{k}={v}" for k, v in ds.meta.items())
+        + f", matrix={matrix}"
+    )
+    write_rig_data(ds, out, header=header)
+    summary = {
+        "out": str(out),
+        "tests": len(ds.tests),
+        "identification": len(ds.select("identification")),
+        "validation": len(ds.select("validation")),
+        "samples": int(sum(t.t.size for t in ds.tests)),
+        **ds.meta,
+    }
+    if json_out:
+        emit_json(summary)
+        return
+    print_table(f"rig-simulate -> {out}", [(k, str(v)) for k, v in summary.items()])
+
+
+def identify_command(
+    device: Annotated[
+        str, typer.Option(help="Model structure: hydraulic, screw or rectifier.")
+    ] = "hydraulic",
+    flywheel: Annotated[
+        str | None, typer.Option(help="Flywheel preset (default by device).")
+    ] = None,
+    law: Annotated[str, typer.Option(help="Force law of the model.")] = "thesis",
+    data: Annotated[
+        Path, typer.Option(help="Directory with manifest.csv/.toml and test CSV files.")
+    ] = Path("rig-data"),
+    method: Annotated[str, typer.Option(help="thesis (staged, ch. 5) or joint.")] = "joint",
+    loss: Annotated[
+        str, typer.Option(help="linear, soft_l1, huber or cauchy (robust to spikes).")
+    ] = "cauchy",
+    fix: Annotated[
+        list[str] | None, typer.Option(help="Keep a parameter at its preset value (repeatable).")
+    ] = None,
+    bootstrap: Annotated[
+        int, typer.Option(help="Bootstrap refits over the identification tests.")
+    ] = 0,
+    report: Annotated[
+        Path | None, typer.Option(help="Write plots and tables to this directory.")
+    ] = None,
+    json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+) -> None:
+    """Identify stiffness [N/m], damping [N s/m] and friction [N] from rig data.
+
+    Starts from the thesis's identified values of the device.
+    Example: inerterlab identify --device hydraulic --flywheel metal --data DIR --json
+    """
+    from ..devices import device_preset
+    from ..errors import ParameterError
+    from ..identify import identify, load_rig_data
+
+    if bootstrap < 0:
+        raise ParameterError("bootstrap", bootstrap, "an integer >= 0")
+    dev = device_preset(device, flywheel_preset=flywheel, law=law)
+    ds = load_rig_data(data)
+    fit = identify(ds, dev, method=method, loss=loss, fixed=tuple(fix or ()), bootstrap=bootstrap)
+    out = fit.to_dict()
+    if report is not None:
+        report.mkdir(parents=True, exist_ok=True)
+        atomic_write_text(report / "parameters.csv", fit.to_pandas().to_csv(index=False))
+        atomic_write_text(report / "validation.csv", fit.validation_frame().to_csv(index=False))
+        ident = [i for i, tv in enumerate(fit.tests) if tv.purpose == "identification"][:3]
+        valid = [i for i, tv in enumerate(fit.tests) if tv.purpose == "validation"][:6]
+        import matplotlib.pyplot as plt
+
+        for i in ident + valid:
+            fig = fit.plot(i)
+            atomic_savefig(fig, report / f"fit_{Path(fit.tests[i].name).stem}.png")
+            plt.close(fig)
+        out["report"] = str(report)
+    if json_out:
+        emit_json(out)
+        return
+    rows = []
+    for name, p in fit.parameters.items():
+        rows.append(
+            (
+                f"{name} [{p.unit}]",
+                f"{p.value:.6g}  (95 %: {p.ci95[0]:.6g} .. {p.ci95[1]:.6g})"
+                + (" fixed" if p.fixed else ""),
+            )
+        )
+    v = fit.validation()
+    rows.append(
+        (f"RMS force error, {v['tests']} {v['purpose']} tests [N]", f"{v['rms_force_error']:.4g}")
+    )
+    rows.append(("NRMSE", f"{v['nrmse']:.4%}"))
+    rows.append(("noise estimate [N]", f"{fit.noise_estimate:.4g}"))
+    print_table(f"identify: {device}, {method} method, {loss} loss", rows)
+
+
+def register(app: typer.Typer) -> None:
+    app.command("rig-simulate")(rig_simulate_command)
+    app.command("identify")(identify_command)

@@ -1,0 +1,16 @@
+"""Identification of device parameters from rig data (thesis ch. 5, SPEC §4)."""
+
+from .data import RigDataSet as RigDataSet
+from .data import RigTest as RigTest
+from .data import load_rig_data as load_rig_data
+from .data import read_rig_test as read_rig_test
+from .data import write_rig_data as write_rig_data
+from .filters import displacement_from_velocity as displacement_from_velocity
+from .filters import velocity_from_displacement as velocity_from_displacement
+from .fit import FitResult as FitResult
+from .fit import ParameterEstimate as ParameterEstimate
+from .fit import identify as identify
+from .simulator import MATRICES as MATRICES
+from .simulator import TestSpec as TestSpec
+from .simulator import simulate_rig as simulate_rig
+from .simulator import test_matrix as test_matrix

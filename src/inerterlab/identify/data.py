@@ -1,0 +1,351 @@
+"""Rig data: one CSV file per test plus a manifest, as in thesis Appendix A.
+
+Test file
+---------
+Optional ``#`` comment lines, then a header naming the columns with their units in
+brackets, then one row per sample::
+
+    time [s],displacement [m],velocity [m/s],force [N]
+    0.000,0.0,0.0314,254.3
+
+``time`` and ``force`` are required, ``displacement`` and/or ``velocity`` at least one.
+Accepted units: time s, ms; displacement m, mm; velocity m/s, mm/s; force N, kN. A
+header without units is accepted only when the units are passed to the loader
+(``units={"force": "kN", ...}``); units that disagree with the header are an error.
+
+Manifest
+--------
+``manifest.csv`` (columns ``file,signal,frequency_hz,amplitude_m,purpose``) or
+``manifest.toml`` (an array ``[[test]]`` with keys ``file``, ``signal``,
+``frequency_hz``, ``amplitude_m``, ``purpose``). ``signal`` is ``sine``, ``square``,
+``triangle`` or ``other``; ``purpose`` is ``identification`` or ``validation``.
+
+Every problem raises :class:`~inerterlab.errors.DataFileError` naming the file and the
+line; a data set with one bad file is refused as a whole.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+import os
+import re
+import tempfile
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import DataFileError
+
+__all__ = ["RigTest", "RigDataSet", "load_rig_data", "read_rig_test", "write_rig_data"]
+
+_UNITS = {
+    "time": {"s": 1.0, "ms": 1e-3},
+    "displacement": {"m": 1.0, "mm": 1e-3},
+    "velocity": {"m/s": 1.0, "mm/s": 1e-3},
+    "force": {"n": 1.0, "kn": 1e3},
+}
+_SI = {"time": "s", "displacement": "m", "velocity": "m/s", "force": "N"}
+SIGNAL_TYPES = ("sine", "square", "triangle", "other")
+PURPOSES = ("identification", "validation")
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class RigTest:
+    """One rig test in SI units.
+
+    Attributes
+    ----------
+    name : str
+        File name of the test.
+    signal : str
+        sine, square, triangle or other.
+    frequency : float
+        Nominal frequency [Hz] (NaN if not given).
+    amplitude : float
+        Nominal displacement amplitude [m] (NaN if not given).
+    purpose : str
+        identification or validation.
+    t, force : ndarray
+        Time [s] and measured force [N].
+    displacement, velocity : ndarray or None
+        Measured x [m] and v [m/s]; either may be missing.
+    """
+
+    name: str
+    signal: str
+    frequency: float
+    amplitude: float
+    purpose: str
+    t: np.ndarray
+    force: np.ndarray
+    displacement: np.ndarray | None = None
+    velocity: np.ndarray | None = None
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class RigDataSet:
+    """The tests of one rig campaign."""
+
+    tests: tuple[RigTest, ...]
+    source: str = ""
+    meta: dict = field(default_factory=dict)
+
+    def select(self, purpose: str | None = None, signals: tuple[str, ...] | None = None):
+        """Tests with this purpose and signal type."""
+        return [
+            t
+            for t in self.tests
+            if (purpose is None or t.purpose == purpose)
+            and (signals is None or t.signal in signals)
+        ]
+
+
+_HEAD = re.compile(r"^\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\])?\s*$")
+
+
+def read_rig_test(path, *, units: dict | None = None, meta: dict | None = None) -> RigTest:
+    """Read one test file (see the module docstring)."""
+    p = Path(path)
+    meta = meta or {}
+    units = {k.lower(): v for k, v in (units or {}).items()}
+    try:
+        text = p.read_text()
+    except OSError as e:
+        raise DataFileError(p, f"cannot be read ({e.strerror or e})") from None
+    lines = text.splitlines()
+    hline = None
+    for i, ln in enumerate(lines):
+        if ln.strip() and not ln.lstrip().startswith("#"):
+            hline = i
+            break
+    if hline is None:
+        raise DataFileError(p, "empty file: no header and no data", 1)
+    names = []
+    scale = {}
+    for cell in next(csv.reader([lines[hline]])):
+        m = _HEAD.match(cell)
+        if not m:
+            raise DataFileError(p, f"cannot read column header {cell!r}", hline + 1)
+        name, unit = m.group(1).lower(), m.group(2)
+        if name not in _UNITS:
+            raise DataFileError(
+                p,
+                f"unknown column {name!r} (expected time, displacement, velocity, force)",
+                hline + 1,
+            )
+        flag = units.get(name)
+        if unit is None:
+            unit = flag
+        elif flag is not None and flag.lower() != unit.lower():
+            raise DataFileError(
+                p, f"column {name!r} is in [{unit}] but units={flag!r} was given", hline + 1
+            )
+        if unit is None:
+            raise DataFileError(
+                p,
+                f"column {name!r} has no unit; write '{name} [{_SI[name]}]' or pass units",
+                hline + 1,
+            )
+        if unit.lower() not in _UNITS[name]:
+            raise DataFileError(
+                p,
+                f"wrong unit [{unit}] for {name}; expected one of "
+                + ", ".join(_UNITS[name] if name != "force" else ("N", "kN")),
+                hline + 1,
+            )
+        names.append(name)
+        scale[name] = _UNITS[name][unit.lower()]
+    for req in ("time", "force"):
+        if req not in names:
+            raise DataFileError(p, f"missing column {req!r}", hline + 1)
+    if "displacement" not in names and "velocity" not in names:
+        raise DataFileError(p, "missing column: need displacement and/or velocity", hline + 1)
+    arr = _fast_parse(lines, hline, len(names))
+    if arr is not None:
+        rows = None
+        col = {n: arr[:, j] * scale[n] for j, n in enumerate(names)}
+        if arr.shape[0] >= 3 and np.all(np.diff(col["time"]) > 0):
+            return _make_test(p, meta, col)
+    rows = []
+    for i in range(hline + 1, len(lines)):
+        ln = lines[i]
+        if not ln.strip() or ln.lstrip().startswith("#"):
+            continue
+        cells = next(csv.reader(io.StringIO(ln)))
+        if len(cells) != len(names):
+            raise DataFileError(p, f"expected {len(names)} values, found {len(cells)}", i + 1)
+        vals = []
+        for name, c in zip(names, cells, strict=True):
+            try:
+                x = float(c)
+            except ValueError:
+                raise DataFileError(
+                    p, f"{name} value {c.strip()!r} is not a number", i + 1
+                ) from None
+            if not math.isfinite(x):
+                raise DataFileError(p, f"{name} value {c.strip()!r} is not finite", i + 1)
+            vals.append(x)
+        rows.append((i + 1, vals))
+    if len(rows) < 3:
+        raise DataFileError(p, f"empty file: {len(rows)} data rows (need at least 3)", hline + 1)
+    arr = np.array([r[1] for r in rows])
+    col = {n: arr[:, j] * scale[n] for j, n in enumerate(names)}
+    dt = np.diff(col["time"])
+    bad = np.nonzero(dt <= 0)[0]
+    if bad.size:
+        ln = rows[bad[0] + 1][0]
+        raise DataFileError(p, "time is not strictly increasing", ln)
+    return _make_test(p, meta, col)
+
+
+def _fast_parse(lines, hline, ncol):
+    """All data rows as floats, or None if anything needs the careful line-by-line pass."""
+    import pandas as pd
+
+    try:
+        df = pd.read_csv(
+            io.StringIO("\n".join(lines[hline + 1 :])),
+            header=None,
+            comment="#",
+            skip_blank_lines=True,
+            dtype=float,
+            engine="c",
+        )
+    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
+        return None
+    arr = df.to_numpy()
+    if arr.ndim != 2 or arr.shape[1] != ncol or not np.all(np.isfinite(arr)):
+        return None
+    return arr
+
+
+def _make_test(p, meta, col):
+    return RigTest(
+        name=p.name,
+        signal=meta.get("signal", "other"),
+        frequency=float(meta.get("frequency_hz", math.nan)),
+        amplitude=float(meta.get("amplitude_m", math.nan)),
+        purpose=meta.get("purpose", "identification"),
+        t=col["time"],
+        force=col["force"],
+        displacement=col.get("displacement"),
+        velocity=col.get("velocity"),
+    )
+
+
+def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
+    csvp, tomlp = directory / "manifest.csv", directory / "manifest.toml"
+    if csvp.exists():
+        lines = csvp.read_text().splitlines()
+        body = [(i + 1, ln) for i, ln in enumerate(lines) if ln.strip() and not ln.startswith("#")]
+        if not body:
+            raise DataFileError(csvp, "empty manifest", 1)
+        header = [h.strip() for h in next(csv.reader([body[0][1]]))]
+        for req in ("file", "purpose"):
+            if req not in header:
+                raise DataFileError(csvp, f"missing column {req!r}", body[0][0])
+        out = []
+        for ln, text in body[1:]:
+            cells = [c.strip() for c in next(csv.reader([text]))]
+            if len(cells) != len(header):
+                raise DataFileError(csvp, f"expected {len(header)} values, found {len(cells)}", ln)
+            out.append((ln, dict(zip(header, cells, strict=True))))
+        return csvp, out
+    if tomlp.exists():
+        try:
+            doc = tomllib.loads(tomlp.read_text())
+        except tomllib.TOMLDecodeError as e:
+            raise DataFileError(tomlp, f"not valid TOML ({e})") from None
+        tests = doc.get("test")
+        if not isinstance(tests, list) or not tests:
+            raise DataFileError(tomlp, "needs an array of [[test]] tables")
+        return tomlp, [(None, {k: str(v) for k, v in t.items()}) for t in tests]
+    raise DataFileError(directory, "no manifest.csv or manifest.toml in this directory")
+
+
+def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
+    """Load every test listed in the manifest of ``directory``.
+
+    Parameters
+    ----------
+    directory : path
+        Folder with ``manifest.csv`` or ``manifest.toml`` and the test files.
+    units : dict, optional
+        Units of columns whose header does not state them, e.g. ``{"force": "kN"}``.
+
+    Raises
+    ------
+    DataFileError
+        Naming the file and line of the first problem; nothing is returned from a
+        partly bad data set.
+    """
+    d = Path(directory)
+    if not d.is_dir():
+        raise DataFileError(d, "is not a directory")
+    mpath, entries = _manifest(d)
+    tests = []
+    for ln, e in entries:
+        if "file" not in e or not e["file"]:
+            raise DataFileError(mpath, "test without a file name", ln)
+        sig = e.get("signal", "other") or "other"
+        if sig not in SIGNAL_TYPES:
+            raise DataFileError(
+                mpath, f"signal {sig!r} is not one of {', '.join(SIGNAL_TYPES)}", ln
+            )
+        purpose = e.get("purpose", "")
+        if purpose not in PURPOSES:
+            raise DataFileError(
+                mpath, f"purpose {purpose!r} is not identification or validation", ln
+            )
+        meta = {"signal": sig, "purpose": purpose}
+        for key in ("frequency_hz", "amplitude_m"):
+            if e.get(key, "") not in ("", None):
+                try:
+                    meta[key] = float(e[key])
+                except ValueError:
+                    raise DataFileError(mpath, f"{key} {e[key]!r} is not a number", ln) from None
+        tests.append(read_rig_test(d / e["file"], units=units, meta=meta))
+    return RigDataSet(tests=tuple(tests), source=str(d))
+
+
+def _atomic_write_text(path: Path, text: str) -> None:
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w") as fh:
+            fh.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        if os.path.exists(tmp):
+            os.unlink(tmp)
+        raise
+
+
+def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
+    """Write ``dataset`` as test CSV files plus ``manifest.csv`` (each file atomically)."""
+    d = Path(directory)
+    d.mkdir(parents=True, exist_ok=True)
+    rows = ["file,signal,frequency_hz,amplitude_m,purpose"]
+    for test in dataset.tests:
+        cols = [("time [s]", test.t)]
+        if test.displacement is not None:
+            cols.append(("displacement [m]", test.displacement))
+        if test.velocity is not None:
+            cols.append(("velocity [m/s]", test.velocity))
+        cols.append(("force [N]", test.force))
+        arr = np.column_stack([c[1] for c in cols])
+        buf = io.StringIO()
+        if header:
+            for hl in header.splitlines():
+                buf.write(f"# {hl}\n")
+        buf.write(",".join(c[0] for c in cols) + "\n")
+        np.savetxt(buf, arr, delimiter=",", fmt="%.10g")
+        _atomic_write_text(d / test.name, buf.getvalue())
+        rows.append(
+            f"{test.name},{test.signal},{test.frequency:g},{test.amplitude:g},{test.purpose}"
+        )
+    _atomic_write_text(d / "manifest.csv", "\n".join(rows) + "\n")
+    return d

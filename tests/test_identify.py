@@ -1,0 +1,252 @@
+"""Identification from rig data (SPEC §4, §10): exact linear case, round trips, robustness."""
+
+import dataclasses
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from inerterlab import constant_flywheel
+from inerterlab.devices import ScrewDevice, device_preset
+from inerterlab.identify import (
+    RigDataSet,
+    RigTest,
+    TestSpec,
+    identify,
+    load_rig_data,
+    simulate_rig,
+    write_rig_data,
+)
+
+TRUE = {
+    "hydraulic": (7.76e5, 8100.0, 190.0),  # (5.4), (5.8)
+    "screw": (1.97e6, 7600.0, 80.0),  # (5.11)
+    "rectifier": (9.89e5, 8100.0, 240.0),  # (5.14)
+}
+
+
+def _linear_dataset():
+    # SPEC §10: x = 0.01 sin(2 pi 2 t) at 1 kHz for 5 s, F = 2000 v + 150 sgn(v) + 10000 x
+    t = np.arange(5001) / 1000.0
+    w = 2 * np.pi * 2.0
+    x = 0.01 * np.sin(w * t)
+    v = 0.01 * w * np.cos(w * t)
+    v[np.abs(v) < 1e-12] = 0.0  # the exact zeros of cos, lost to rounding of pi
+    force = 2000 * v + 150 * np.sign(v) + 10000 * x
+    test = RigTest(
+        name="linear.csv",
+        signal="sine",
+        frequency=2.0,
+        amplitude=0.01,
+        purpose="identification",
+        t=t,
+        force=force,
+        displacement=x,
+        velocity=v,
+    )
+    return RigDataSet(tests=(test,))
+
+
+def test_linear_case_recovered_exactly():
+    # a screw model whose inertance is negligible (I = 1e-12 kg m^2 -> m_e = 2.5e-7 kg) is
+    # F = k x + c v + f tanh(v / v_eps); with v_eps = 1e-6 m/s tanh equals sgn at every sample
+    start = ScrewDevice(
+        stiffness=5000.0,
+        damping=1000.0,
+        friction=50.0,
+        flywheel=constant_flywheel(1e-12),
+        friction_velocity=1e-6,
+    )
+    fit = identify(_linear_dataset(), start, loss="linear")
+    p = fit.parameters
+    assert p["stiffness"].value == pytest.approx(10000.0, rel=1e-6)
+    assert p["damping"].value == pytest.approx(2000.0, rel=1e-6)
+    assert p["friction"].value == pytest.approx(150.0, rel=1e-6)
+    assert fit.cost < 1e-3
+
+
+def _round_trip(name, *, max_duration, method="joint", loss="cauchy", columns="both", seed=1):
+    dev = device_preset(name)
+    matrix = "appendix-a1" if name == "hydraulic" else "appendix-a2"
+    data = simulate_rig(
+        dev,
+        matrix=matrix,
+        seed=seed,
+        max_duration=max_duration,
+        sample_rate=200,
+        noise=5.0,
+        spikes=True,
+        columns=columns,
+        displacement_noise=1e-7,
+        velocity_noise=1e-6,
+    )
+    start = dataclasses.replace(
+        dev, stiffness=dev.stiffness * 1.3, damping=dev.damping * 0.8, friction=dev.friction * 1.2
+    )
+    # spikes: the robust loss removes the peaks; their tails are left out of the objective
+    # for 0.1 s (5 spike widths) after each velocity reversal, as the thesis set them aside
+    return identify(data, start, method=method, loss=loss, reversal_window=0.1), TRUE[name]
+
+
+def _assert_recovered(fit, truth):
+    for (name, p), true in zip(fit.parameters.items(), truth, strict=True):
+        assert p.ci95[0] <= true <= p.ci95[1], (name, p.value, p.ci95, true)
+        assert p.value == pytest.approx(true, rel=0.02), name
+
+
+@pytest.mark.slow
+def test_round_trip_hydraulic_joint():
+    fit, truth = _round_trip("hydraulic", max_duration=2.0)
+    _assert_recovered(fit, truth)
+    v = fit.validation()
+    assert v["purpose"] == "validation" and v["tests"] == 36
+
+
+def test_round_trip_screw():
+    fit, truth = _round_trip("screw", max_duration=1.0)
+    _assert_recovered(fit, truth)
+
+
+@pytest.mark.slow
+def test_round_trip_rectifier():
+    """Within 2 %, but NOT inside the 95 % intervals: with the heavy nylon-large flywheel
+    (m_e ~ 3000-4300 kg) the model driven by the sampled motion and started from the
+    measured force differs from the analytic truth by ~1e-4 of the force, a bias the
+    noise-driven intervals (+-3e-6 relative on the stiffness) do not cover. The test pins
+    the size of that bias so a change is seen."""
+    fit, truth = _round_trip("rectifier", max_duration=2.0)
+    for (_, p), true in zip(fit.parameters.items(), truth, strict=True):
+        assert p.value == pytest.approx(true, rel=0.02)
+        assert abs(p.value / true - 1) < 5e-3
+
+
+@pytest.mark.slow
+def test_round_trip_hydraulic_thesis_procedure():
+    fit, truth = _round_trip("hydraulic", max_duration=20.0, method="thesis")
+    assert len(fit.stages) == 2
+    for (_, p), true in zip(fit.parameters.items(), truth, strict=True):
+        assert p.value == pytest.approx(true, rel=0.02)
+
+
+def test_spikes_bias_plain_least_squares_and_robust_fit_removes_it():
+    dev = device_preset("hydraulic")
+    tests = [
+        TestSpec(
+            number=i, signal=s, frequency=f, amplitude=a, duration=4.0, purpose="identification"
+        )
+        for i, (s, f, a) in enumerate(
+            [
+                ("triangle", 0.25, 0.02),
+                ("triangle", 0.5, 0.02),
+                ("sine", 1.0, 0.01),
+                ("sine", 2.0, 0.01),
+            ]
+        )
+    ]
+    kw = dict(matrix=tests, sample_rate=200, noise=5.0, seed=3)
+    spiky = simulate_rig(dev, spikes=True, spike_size=1000.0, **kw)
+    truth = np.array(TRUE["hydraulic"])
+    err = {}
+    for loss in ("linear", "cauchy"):
+        fit = identify(spiky, dev, loss=loss)
+        err[loss] = np.abs(np.array([p.value for p in fit.parameters.values()]) / truth - 1)
+    assert err["linear"][2] > 0.01  # plain least squares: friction off by more than 1 %
+    assert np.all(err["linear"] > 0.001)  # and every parameter visibly biased
+    assert np.all(err["cauchy"] < 0.25 * err["linear"])  # the robust fit removes most of it
+
+
+@pytest.mark.parametrize("columns", ["displacement", "velocity"])
+def test_one_motion_column_is_enough(columns):
+    dev = device_preset("screw")
+    tests = [
+        TestSpec(
+            number=i, signal="sine", frequency=f, amplitude=a, duration=d, purpose="identification"
+        )
+        for i, (f, a, d) in enumerate([(0.5, 0.01, 4.0), (1.0, 0.01, 2.0), (2.0, 0.005, 2.0)])
+    ]
+    data = simulate_rig(
+        dev, matrix=tests, sample_rate=500, noise=5.0, spikes=False, seed=2, columns=columns
+    )
+    assert all(
+        getattr(t, "velocity" if columns == "displacement" else "displacement") is None
+        for t in data.tests
+    )
+    start = dataclasses.replace(dev, stiffness=1.5e6, damping=6000.0, friction=100.0)
+    fit = identify(data, start)
+    for name, true in zip(("stiffness", "damping", "friction"), TRUE["screw"], strict=True):
+        assert fit.parameters[name].value == pytest.approx(true, rel=0.02), name
+
+
+def test_files_round_trip_and_bootstrap(tmp_path):
+    data = _linear_dataset()
+    # two identification tests so the bootstrap has something to resample
+    t2 = dataclasses.replace(data.tests[0], name="linear2.csv")
+    write_rig_data(RigDataSet(tests=(data.tests[0], t2)), tmp_path)
+    back = load_rig_data(tmp_path)
+    assert [t.name for t in back.tests] == ["linear.csv", "linear2.csv"]
+    np.testing.assert_allclose(back.tests[0].force, data.tests[0].force, rtol=1e-9)
+    start = ScrewDevice(
+        flywheel=constant_flywheel(1e-12),
+        friction_velocity=1e-6,
+        stiffness=9000.0,
+        damping=1800.0,
+        friction=100.0,
+    )
+    fit = identify(back, start, bootstrap=3, loss="linear")
+    lo, hi = fit.parameters["damping"].ci95_bootstrap
+    assert lo <= 2000.0 + 1e-3 and hi >= 2000.0 - 1e-3
+    df = fit.to_pandas()
+    assert list(df["parameter"]) == ["stiffness", "damping", "friction"]
+
+
+def test_cli_rig_simulate_and_identify(tmp_path):
+    run = lambda *a: subprocess.run(  # noqa: E731
+        [sys.executable, "-c", "import sys; from inerterlab.cli import main; sys.exit(main())", *a],
+        capture_output=True,
+        text=True,
+    )
+    out = run(
+        "rig-simulate",
+        "--device",
+        "screw",
+        "--matrix",
+        "appendix-a2",
+        "--max-duration",
+        "0.5",
+        "--sample-rate",
+        "100",
+        "--noise",
+        "5",
+        "--spikes",
+        "on",
+        "--seed",
+        "1",
+        "--out",
+        str(tmp_path / "d"),
+        "--json",
+    )
+    assert out.returncode == 0, out.stderr
+    assert json.loads(out.stdout)["tests"] == 72
+    out = run(
+        "identify",
+        "--device",
+        "screw",
+        "--data",
+        str(tmp_path / "d"),
+        "--json",
+        "--report",
+        str(tmp_path / "r"),
+    )
+    assert out.returncode == 0, out.stderr
+    res = json.loads(out.stdout)
+    for name, true in zip(("stiffness", "damping", "friction"), TRUE["screw"], strict=True):
+        p = res["parameters"][name]
+        assert p["ci95"][0] < p["value"] < p["ci95"][1]
+        assert p["value"] == pytest.approx(true, rel=0.05)
+    assert res["parameters"]["stiffness"]["unit"] == "N/m"
+    assert res["validation"]["rms_force_error"] > 0
+    assert (tmp_path / "r" / "parameters.csv").exists()
+    bad = run("identify", "--device", "screw", "--data", str(tmp_path / "nothing"))
+    assert bad.returncode == 2 and "nothing" in bad.stderr
