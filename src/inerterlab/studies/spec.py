@@ -364,9 +364,13 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     """
     p = Path(path)
     try:
-        text = p.read_text()
+        text = p.read_text(encoding="utf-8")
     except OSError as exc:
         raise DataFileError(p, f"cannot read the sweep file: {exc.strerror}") from None
+    except UnicodeDecodeError as exc:
+        raise DataFileError(
+            p, f"not a UTF-8 text file (byte {exc.start}); a sweep file is TOML text"
+        ) from None
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
