@@ -16,3 +16,16 @@ def test_estimate_and_refusal():
 
 def test_available_memory_positive():
     assert available_memory() > 0
+
+
+def test_huge_sweep_refused_before_any_work():
+    from inerterlab.studies.spec import sweep_spec
+
+    with pytest.raises(ParameterError, match="sweep result grid"):
+        sweep_spec(
+            "synthetic",
+            parameters={
+                "changing_ratio": {"start": 0.01, "stop": 0.99, "num": 100000},
+                "sprung_mass": {"start": 300, "stop": 400, "num": 100000},
+            },
+        )

@@ -40,6 +40,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import DataFileError, ParameterError
+from ..resources import check_memory
 from .points import PointFunction, point_function
 
 __all__ = ["SweepSpec", "sweep_spec", "load_sweep_config", "PerformanceWeights", "expand_range"]
@@ -326,6 +327,16 @@ def sweep_spec(
         isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1
     ):
         fail("chunk_size", ParameterError("chunk_size", chunk_size, "an integer >= 1"))
+    n_points = 1
+    for _, values in swept:
+        n_points *= len(values)
+    try:
+        # every point keeps one float per metric plus a status; refuse grids that cannot fit
+        check_memory(
+            float(n_points) * (len(pf.metrics) + 2), what="sweep result grid", parameter="parameters"
+        )
+    except ParameterError as exc:
+        fail("parameters", exc)
     return SweepSpec(
         point=point,
         parameters=tuple(swept),
