@@ -255,18 +255,40 @@ def _prepare(test: RigTest, *, window: float, detrend: str, reversal_window: flo
     return _Prepared(test, test.t, x, v, test.force, motion_from_samples(test.t, x, v), mask)
 
 
-def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
-    """Model force [N] at the samples of a prepared test."""
-    # series devices start from the measured force at t0 (quadratic least-squares fit
-    # through the first 9 samples, evaluated at t0): the internal spring deflection of a
-    # real record is unknown, and a wrong guess rings for seconds with the heavy
-    # flywheels of ch. 5
+def _initial_force_guess(prep: _Prepared) -> float:
     n0 = min(9, prep.t.size)
     tt = prep.t[:n0] - prep.t[0]
-    f0 = float(np.polyval(np.polyfit(tt, prep.force[:n0], min(2, n0 - 1)), 0.0))
-    return device_force(
+    return float(np.polyval(np.polyfit(tt, prep.force[:n0], min(2, n0 - 1)), 0.0))
+
+
+def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
+    """Model force [N] at the samples of a prepared test.
+
+    The initial state of a series device (the force its spring carries at the first
+    sample) is not measured. It is estimated from the record itself: the model is run
+    from the measured force at t0 (quadratic fit through the first 9 samples) and from
+    that force plus a probe; the difference is the free transient h(t) of the spring
+    branch, and the multiple of h that best fits the measured force over the samples
+    used in the objective is added (a projection of the nuisance parameter, which keeps
+    a wrong start from ringing through the fit).
+    """
+    f0 = _initial_force_guess(prep)
+    base = device_force(
         device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0
     ).force
+    if not device.series:
+        return base
+    probe = max(1.0, 1e-3 * float(np.abs(prep.force).max()))
+    moved = device_force(
+        device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0 + probe
+    ).force
+    h = (moved - base) / probe
+    m = prep.mask
+    hh = float(h[m] @ h[m])
+    if hh <= 0:
+        return base
+    delta = float(h[m] @ (prep.force[m] - base[m])) / hh
+    return base + delta * h
 
 
 def _residuals(device, names, preps, rtol):
