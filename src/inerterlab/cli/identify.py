@@ -106,6 +106,9 @@ def identify_command(
     bootstrap: Annotated[
         int, typer.Option(help="Bootstrap refits over the identification tests.")
     ] = 0,
+    reversal_window: Annotated[
+        str, typer.Option(help="Leave out this time [s] after each velocity reversal (spikes).")
+    ] = "0",
     report: Annotated[
         Path | None, typer.Option(help="Write plots and tables to this directory.")
     ] = None,
@@ -124,7 +127,15 @@ def identify_command(
         raise ParameterError("bootstrap", bootstrap, "an integer >= 0")
     dev = device_preset(device, flywheel_preset=flywheel, law=law)
     ds = load_rig_data(data)
-    fit = identify(ds, dev, method=method, loss=loss, fixed=tuple(fix or ()), bootstrap=bootstrap)
+    fit = identify(
+        ds,
+        dev,
+        method=method,
+        loss=loss,
+        fixed=tuple(fix or ()),
+        bootstrap=bootstrap,
+        reversal_window=parse_float("reversal-window", reversal_window),
+    )
     out = fit.to_dict()
     if report is not None:
         report.mkdir(parents=True, exist_ok=True)
