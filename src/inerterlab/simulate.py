@@ -281,10 +281,10 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     y, x1 = _initial_state(model, excitation, horizon)
     segs = np.ascontiguousarray(excitation.segments(horizon), dtype=float)
     # the Wk filter states get a 1e4x looser absolute tolerance (decisions.md): the
-    # filter is linear and stable, its 100 Hz section would otherwise set the step size,
-    # and the integrals of a_w^2 and a_w^4 it feeds stay under full control. 1e4 keeps
-    # every metric within 4e-7 of the rtol 1e-10 reference on the suspension x input
-    # matrix; 1e5 lets the Wk value drift by 6e-6 once the car settles after a bump
+    # filter is linear and stable and would otherwise set the step size. Its 100 Hz
+    # section and the a_w integrals are advanced exactly by the kernel, outside the
+    # error norm. 1e4 keeps every metric within 3e-7 of the rtol 1e-10 reference on the
+    # suspension x input x law matrix
     scales = model.state_scales.copy()
     n = model.n_states
     scales[n + 3 : n + 11] *= WK_TOLERANCE_FACTOR

@@ -9,8 +9,14 @@ sampled output and peak refinement. Why this is hand-written and not taken from 
 library: docs/decisions.md, "Quarter-car simulation backend".
 
 The metric integrals (int a^2, int grip^2, int z^2, int a_w^2, int a_w^4) and the
-8 states of the Wk filter are ODE states, so no dense output is needed for the RMS
-values, the VDV or the weighted acceleration. Peaks of a3, a_w, z and the tyre force
+8 states of the Wk filter are carried in the state vector, so no dense output is needed
+for the RMS values, the VDV or the weighted acceleration. The last Wk section, the
+100 Hz low pass (poles at 628 rad/s), would set the step size (accuracy under a sine,
+the explicit stability limit h ~ 5 ms once the car settles): it is taken out of the
+Runge-Kutta stages and advanced exactly after each accepted step, driven by the
+continuous extension of its input (a quartic in theta): polynomial particular solution
+plus the 2x2 matrix exponential, with int a_w^2 and int a_w^4 by 5-point Gauss-Legendre
+quadrature. Kinks (saturation speed, tyre lift-off) end steps, see :func:`integrate`. Peaks of a3, a_w, z and the tyre force
 are taken at every step end and at the step midpoint, and where a parabola through
 those three values puts a larger maximum inside the step it is located by successive
 parabolic interpolation on the continuous extension.
@@ -206,6 +212,14 @@ def branch_velocity(force, b, ff, eps):
 @nb.njit(cache=True)
 def rhs(t, y, dy, p, seg, wk):
     """Write f(t, y) into dy; return the body acceleration a3 [m/s^2]."""
+    return _rhs(t, y, dy, p, seg, wk, True)
+
+
+@nb.njit(cache=True)
+def _rhs(t, y, dy, p, seg, wk, low_pass):
+    """f(t, y); with ``low_pass=False`` the last Wk section (the 100 Hz low pass) and the
+    integrals of a_w^2, a_w^4 get zero derivatives: :func:`integrate` advances them
+    exactly after each step (:func:`_lp_setup`)."""
     n = int(p[P_NPHYS])
     kind = p[P_KIND]
     x1, v1 = road(seg, t)
@@ -262,7 +276,8 @@ def rhs(t, y, dy, p, seg, wk):
     grip = p[P_GRIP] * (x2 - x1)
     # Wk filter: cascade of four second-order sections (metrics.wk_sections)
     u = a3
-    for s in range(4):
+    nsec = 4 if low_pass else 3
+    for s in range(nsec):
         i = n + 3 + 2 * s
         w0 = wk[s, 0]
         q1 = y[i]
@@ -273,9 +288,15 @@ def rhs(t, y, dy, p, seg, wk):
     dy[n] = a3 * a3
     dy[n + 1] = grip * grip
     dy[n + 2] = z * z
-    aw2 = u * u
-    dy[n + 11] = aw2
-    dy[n + 12] = aw2 * aw2
+    if low_pass:
+        aw2 = u * u
+        dy[n + 11] = aw2
+        dy[n + 12] = aw2 * aw2
+    else:
+        dy[n + 9] = 0.0
+        dy[n + 10] = 0.0
+        dy[n + 11] = 0.0
+        dy[n + 12] = 0.0
     return a3
 
 
@@ -356,8 +377,10 @@ def _switching(p, y, t, seg, sw_a, sw_b, v_sat):
     if sw_a >= 0:
         v = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
         g1 = abs(v) - v_sat
-    x1, v1 = road(seg, t)
-    g2 = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1) - p[P_W]
+    g2 = 0.0
+    if p[P_LIFT] != 0.0:
+        x1, v1 = road(seg, t)
+        g2 = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1) - p[P_W]
     return g1, g2
 
 
@@ -403,7 +426,7 @@ def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1):
     h0 = min(h0, span)
     for i in range(y.size):
         ytmp[i] = y[i] + h0 * f0[i]
-    rhs(t + h0, ytmp, f1, p, seg, wk)
+    _rhs(t + h0, ytmp, f1, p, seg, wk, False)
     d2 = 0.0
     for i in range(y.size):
         sc = atol[i] + rtol * abs(y[i])
@@ -412,6 +435,195 @@ def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1):
     dm = max(d1, d2)
     h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** 0.2
     return min(100.0 * h0, h1, span)
+
+
+# 5-point Gauss-Legendre rule on [0, 1]
+GL_X = np.array(
+    [
+        0.5 - 0.5 * 0.9061798459386640,
+        0.5 - 0.5 * 0.5384693101056831,
+        0.5,
+        0.5 + 0.5 * 0.5384693101056831,
+        0.5 + 0.5 * 0.9061798459386640,
+    ]
+)
+GL_W = 0.5 * np.array(
+    [0.2369268850561891, 0.4786286704993665, 0.5688888888888889, 0.4786286704993665,
+     0.2369268850561891]
+)  # fmt: skip
+# below this h * w0 the polynomial particular solution loses digits (1/(h w0)^4):
+# such short steps advance the low pass with the Dormand-Prince stages instead
+LP_EXACT_MIN = 0.05
+
+
+@nb.njit(cache=True)
+def _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n, lpw):
+    """Input u(theta) of the low pass over the step as a quartic in theta -> lpw[1:6].
+
+    u = c1 q1 + c2 q2 of the third Wk section (strictly proper), whose states follow
+    the Dormand-Prince continuous extension y + th r2 + th (1-th) r3 + th^2 (1-th) r4
+    + th^2 (1-th)^2 r5 (the same interpolant as :func:`_dense`).
+    """
+    for k in range(5):
+        lpw[1 + k] = 0.0
+    for j in range(2):
+        i = n + 7 + j
+        c = wk[2, 2 + j]
+        r2 = yn[i] - y[i]
+        r3 = h * k1[i] - r2
+        r4 = r2 - h * k7[i] - r3
+        r5 = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i])
+        lpw[1] += c * y[i]
+        lpw[2] += c * (r2 + r3)
+        lpw[3] += c * (-r3 + r4 + r5)
+        lpw[4] += c * (-r4 - 2.0 * r5)
+        lpw[5] += c * r5
+
+
+@nb.njit(cache=True)
+def _lp_u(lpw, th):
+    return lpw[1] + th * (lpw[2] + th * (lpw[3] + th * (lpw[4] + th * lpw[5])))
+
+
+@nb.njit(cache=True)
+def _lp_setup(x1, x2, h, wk, lpw):
+    """Advance the 100 Hz low pass q1' = w0 q2, q2' = w0 (u - q1) - a1 q2 over one step.
+
+    With the input a quartic in theta (lpw[1:6]) the solution is exact: a polynomial
+    particular solution P(theta) plus exp(theta h A) (x0 - P(0)). Very short steps
+    (h w0 < LP_EXACT_MIN) use the Dormand-Prince stages on the two states instead.
+    Returns (q1, q2, int a_w^2 dt, int a_w^4 dt) over the step; lpw keeps what
+    :func:`_lp_at` needs for values inside the step.
+    """
+    w0, a1 = wk[3, 0], wk[3, 1]
+    c1, c2, d = wk[3, 2], wk[3, 3], wk[3, 4]
+    if h * w0 >= LP_EXACT_MIN:
+        lpw[0] = 1.0
+        # P_4 = (U_4, 0); P_k = A^-1 (k+1) P_{k+1} / h + (U_k, 0), A^-1 b = (-1, 0)
+        px = lpw[5]
+        py = 0.0
+        lpw[10] = px
+        lpw[15] = py
+        for k in range(3, -1, -1):
+            qx = (k + 1) * px / h
+            qy = (k + 1) * py / h
+            px = (-a1 * qx - w0 * qy) / (w0 * w0) + lpw[1 + k]
+            py = qx / w0
+            lpw[6 + k] = px
+            lpw[11 + k] = py
+        dx = x1 - lpw[6]
+        dy = x2 - lpw[11]
+        lpw[16] = dx
+        lpw[17] = dy
+        lpw[18] = h
+        # exp(tau A) = exp(sig tau) (cos(wd tau) I + sin(wd tau)/wd (A - sig I)) at the
+        # nodes: three evaluations, the others by the addition theorems
+        sig = -0.5 * a1
+        wd = math.sqrt(w0 * w0 - sig * sig)
+        ev = lpw[20:26]
+        cv = lpw[26:32]
+        sv = lpw[32:38]
+        for j in range(3):
+            tau = GL_X[j] * h
+            ev[j] = math.exp(sig * tau)
+            cv[j] = math.cos(wd * tau)
+            sv[j] = math.sin(wd * tau)
+        e1 = ev[2] * ev[2]
+        co1 = 2.0 * cv[2] * cv[2] - 1.0
+        si1 = 2.0 * sv[2] * cv[2]
+        for j in range(2):
+            ev[4 - j] = e1 / ev[j]
+            cv[4 - j] = co1 * cv[j] + si1 * sv[j]
+            sv[4 - j] = si1 * cv[j] - co1 * sv[j]
+        ev[5], cv[5], sv[5] = e1, co1, si1
+        s2 = 0.0
+        s4 = 0.0
+        q1 = q2 = 0.0
+        for j in range(6):
+            th = GL_X[j] if j < 5 else 1.0
+            sn = sv[j] / wd
+            px = lpw[6] + th * (lpw[7] + th * (lpw[8] + th * (lpw[9] + th * lpw[10])))
+            py = lpw[11] + th * (lpw[12] + th * (lpw[13] + th * (lpw[14] + th * lpw[15])))
+            q1 = px + ev[j] * (cv[j] * dx + sn * (-sig * dx + w0 * dy))
+            q2 = py + ev[j] * (cv[j] * dy + sn * (-w0 * dx + (-a1 - sig) * dy))
+            if j < 5:
+                aw = c1 * q1 + c2 * q2 + d * _lp_u(lpw, th)
+                aw2 = aw * aw
+                s2 += GL_W[j] * aw2
+                s4 += GL_W[j] * aw2 * aw2
+        return q1, q2, h * s2, h * s4
+    # Dormand-Prince stages (the tableau of integrate) on the two states
+    lpw[0] = 0.0
+    lpw[18] = h
+    cs = (0.0, C2, C3, C4, C5, 1.0)
+    sx = lpw[20:26]
+    sy = lpw[26:32]
+    g2 = lpw[32:38]
+    for st in range(6):
+        xs, ys = x1, x2
+        if st == 1:
+            xs += h * A21 * sx[0]
+            ys += h * A21 * sy[0]
+        elif st == 2:
+            xs += h * (A31 * sx[0] + A32 * sx[1])
+            ys += h * (A31 * sy[0] + A32 * sy[1])
+        elif st == 3:
+            xs += h * (A41 * sx[0] + A42 * sx[1] + A43 * sx[2])
+            ys += h * (A41 * sy[0] + A42 * sy[1] + A43 * sy[2])
+        elif st == 4:
+            xs += h * (A51 * sx[0] + A52 * sx[1] + A53 * sx[2] + A54 * sx[3])
+            ys += h * (A51 * sy[0] + A52 * sy[1] + A53 * sy[2] + A54 * sy[3])
+        elif st == 5:
+            xs += h * (A61 * sx[0] + A62 * sx[1] + A63 * sx[2] + A64 * sx[3] + A65 * sx[4])
+            ys += h * (A61 * sy[0] + A62 * sy[1] + A63 * sy[2] + A64 * sy[3] + A65 * sy[4])
+        u = _lp_u(lpw, cs[st])
+        sx[st] = w0 * ys
+        sy[st] = w0 * (u - xs) - a1 * ys
+        aw = c1 * xs + c2 * ys + d * u
+        g2[st] = aw * aw
+    xn = x1 + h * (B1 * sx[0] + B3 * sx[2] + B4 * sx[3] + B5 * sx[4] + B6 * sx[5])
+    yn = x2 + h * (B1 * sy[0] + B3 * sy[2] + B4 * sy[3] + B5 * sy[4] + B6 * sy[5])
+    i2 = h * (B1 * g2[0] + B3 * g2[2] + B4 * g2[3] + B5 * g2[4] + B6 * g2[5])
+    i4 = h * (
+        B1 * g2[0] ** 2 + B3 * g2[2] ** 2 + B4 * g2[3] ** 2 + B5 * g2[4] ** 2 + B6 * g2[5] ** 2
+    )
+    # cubic Hermite data for values inside the step
+    lpw[6], lpw[7] = x1, x2
+    lpw[8], lpw[9] = h * sx[0], h * sy[0]
+    lpw[10], lpw[11] = xn, yn
+    lpw[12] = h * w0 * yn
+    lpw[13] = h * (w0 * (_lp_u(lpw, 1.0) - xn) - a1 * yn)
+    return xn, yn, i2, i4
+
+
+@nb.njit(cache=True)
+def _lp_at(lpw, th, wk):
+    """Low-pass states (q1, q2) at theta in [0, 1] of the step set up by _lp_setup."""
+    if lpw[0] == 0.0:
+        t2 = th * th
+        t3 = t2 * th
+        h00 = 2.0 * t3 - 3.0 * t2 + 1.0
+        h10 = t3 - 2.0 * t2 + th
+        h01 = -2.0 * t3 + 3.0 * t2
+        h11 = t3 - t2
+        return (
+            h00 * lpw[6] + h10 * lpw[8] + h01 * lpw[10] + h11 * lpw[12],
+            h00 * lpw[7] + h10 * lpw[9] + h01 * lpw[11] + h11 * lpw[13],
+        )
+    w0, a1 = wk[3, 0], wk[3, 1]
+    sig = -0.5 * a1
+    wd = math.sqrt(w0 * w0 - sig * sig)
+    tau = th * lpw[18]
+    e = math.exp(sig * tau)
+    c = math.cos(wd * tau)
+    sn = math.sin(wd * tau) / wd
+    dx, dy = lpw[16], lpw[17]
+    px = lpw[6] + th * (lpw[7] + th * (lpw[8] + th * (lpw[9] + th * lpw[10])))
+    py = lpw[11] + th * (lpw[12] + th * (lpw[13] + th * (lpw[14] + th * lpw[15])))
+    return (
+        px + e * (c * dx + sn * (-sig * dx + w0 * dy)),
+        py + e * (c * dy + sn * (-w0 * dx + (-a1 - sig) * dy)),
+    )
 
 
 @nb.njit(cache=True)
@@ -447,6 +659,8 @@ def integrate(
     qb = np.empty(N_PEAKS)
     qm = np.empty(N_PEAKS)
     qt = np.empty(N_PEAKS)
+    lpw = np.zeros(52)
+    i_lp = y0.size - 4  # low-pass states, then int a_w^2, int a_w^4
     for j in range(N_PEAKS):
         peaks[j] = -np.inf
     ns = sample_times.size
@@ -485,7 +699,7 @@ def integrate(
         if t1 <= t0:
             continue
         t = t0
-        a3a = rhs(t, y, k1, p, seg, wk)
+        a3a = _rhs(t, y, k1, p, seg, wk, False)
         nfev += 1
         _quantities(t, y, p, seg, wk, a3a, qa)
         for j in range(N_PEAKS):
@@ -513,25 +727,25 @@ def integrate(
                 last = True
             for i in range(n):
                 yt[i] = y[i] + h * A21 * k1[i]
-            rhs(t + C2 * h, yt, k2, p, seg, wk)
+            _rhs(t + C2 * h, yt, k2, p, seg, wk, False)
             for i in range(n):
                 yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-            rhs(t + C3 * h, yt, k3, p, seg, wk)
+            _rhs(t + C3 * h, yt, k3, p, seg, wk, False)
             for i in range(n):
                 yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-            rhs(t + C4 * h, yt, k4, p, seg, wk)
+            _rhs(t + C4 * h, yt, k4, p, seg, wk, False)
             for i in range(n):
                 yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-            rhs(t + C5 * h, yt, k5, p, seg, wk)
+            _rhs(t + C5 * h, yt, k5, p, seg, wk, False)
             for i in range(n):
                 yt[i] = y[i] + h * (
                     A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
                 )
             tn = t1 if last else t + h
-            rhs(tn, yt, k6, p, seg, wk)
+            _rhs(tn, yt, k6, p, seg, wk, False)
             for i in range(n):
                 yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-            a3b = rhs(tn, yn, k7, p, seg, wk)
+            a3b = _rhs(tn, yn, k7, p, seg, wk, False)
             nfev += 6
             err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
             if not math.isfinite(err):
@@ -591,6 +805,13 @@ def integrate(
                         continue
             if err <= 1.0:
                 nsteps += 1
+                # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
+                _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
+                q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
+                yn[i_lp] = q1n
+                yn[i_lp + 1] = q2n
+                yn[i_lp + 2] = y[i_lp + 2] + i2
+                yn[i_lp + 3] = y[i_lp + 3] + i4
                 # dense output for samples and peak refinement
                 need_samples = isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
@@ -611,7 +832,8 @@ def integrate(
                 ):
                     th = (sample_times[isamp] - t) / h
                     _dense(y, r2, r3, r4, r5, th, yd)
-                    a3s = rhs(sample_times[isamp], yd, ks, p, seg, wk)
+                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, th, wk)
+                    a3s = _rhs(sample_times[isamp], yd, ks, p, seg, wk, False)
                     nfev += 1
                     for i in range(n):
                         out_y[isamp, i] = yd[i]
@@ -619,7 +841,8 @@ def integrate(
                     isamp += 1
                 if near:
                     _dense(y, r2, r3, r4, r5, 0.5, yd)
-                    a3m = rhs(t + 0.5 * h, yd, ks, p, seg, wk)
+                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, 0.5, wk)
+                    a3m = _rhs(t + 0.5 * h, yd, ks, p, seg, wk, False)
                     nfev += 1
                     _quantities(t + 0.5 * h, yd, p, seg, wk, a3m, qm)
                     for j in range(N_PEAKS):
@@ -646,7 +869,8 @@ def integrate(
                             if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9 or x_3 - x_1 <= 1e-9:
                                 break
                             _dense(y, r2, r3, r4, r5, xv, yd)
-                            a3v = rhs(t + xv * h, yd, ks, p, seg, wk)
+                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
+                            a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
                             nfev += 1
                             _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
                             fv = qt[j]
@@ -674,7 +898,8 @@ def integrate(
                             else:
                                 xv = x_2 + 0.381966 * (x_3 - x_2)
                             _dense(y, r2, r3, r4, r5, xv, yd)
-                            a3v = rhs(t + xv * h, yd, ks, p, seg, wk)
+                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
+                            a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
                             nfev += 1
                             _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
                             fv = qt[j]
