@@ -77,7 +77,7 @@ def wk_weighting(freq_hz):
 
     Examples
     --------
-    >>> [round(abs(wk_weighting(f)), 3) for f in (0.5, 1.0)]
+    >>> [round(float(abs(wk_weighting(f))), 3) for f in (0.5, 1.0)]
     [0.418, 0.482]
     """
     p = WK_PARAMETERS

@@ -66,7 +66,7 @@ def cost_thesis(x: float) -> float:
 
     Examples
     --------
-    >>> cost_thesis(0.2), round(cost_thesis(0.2 + 1e-12), 6)
+    >>> round(cost_thesis(0.2), 6), round(cost_thesis(0.2 + 1e-12), 6)
     (1.16, 2.16)
     """
     return 1.0 + 0.8 * x if x <= 0.2 else 1.16 + (x + 0.8) ** 2
@@ -80,7 +80,7 @@ def cost_continuous(x: float) -> float:
 
     Examples
     --------
-    >>> cost_continuous(0.2), round(cost_continuous(0.2 + 1e-12), 6)
+    >>> round(cost_continuous(0.2), 6), round(cost_continuous(0.2 + 1e-12), 6)
     (1.16, 1.16)
     """
     return 1.0 + 0.8 * x if x <= 0.2 else 0.16 + (x + 0.8) ** 2

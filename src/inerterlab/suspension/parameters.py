@@ -41,8 +41,8 @@ class QuarterCarParameters:
     Examples
     --------
     >>> p = QuarterCarParameters(sprung_mass=340)
-    >>> round(p.static_tyre_load, 1)
-    3580.6
+    >>> round(p.static_tyre_load, 2)  # (340 + 25) kg x 9.81 m/s^2
+    3580.65
     """
 
     sprung_mass: float = 370.0
