@@ -343,3 +343,13 @@ def flywheel_energy(y, mode, law, r, P):
     if law == 1:
         return quasi_static_energy(w, P)
     return 0.5 * inertia(w, P) * w * w
+
+
+@nb.njit(cache=True)
+def flywheel_energies(ys, modes, law, r, P):
+    """:func:`flywheel_energy` of every row of ``ys`` [J] (one compiled loop)."""
+    n = ys.shape[0]
+    out = np.empty(n)
+    for i in range(n):
+        out[i] = flywheel_energy(ys[i], modes[i], law, r, P)
+    return out

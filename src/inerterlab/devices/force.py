@@ -285,7 +285,7 @@ def device_force(
     x, v, a = motion.evaluate(t_out)
     law = _LAW[device.law]
     r = device.transmission.ratio
-    e_fw = np.array([K.flywheel_energy(ys[i], int(modes[i]), law, r, P) for i in range(len(t_out))])
+    e_fw = K.flywheel_energies(ys, modes, law, r, P)
     spring = 0.5 * device.stiffness * ys[:, 0] ** 2  # x_k, or x for the screw
     stored = spring + e_fw
     free = modes == 1
