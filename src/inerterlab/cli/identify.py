@@ -108,7 +108,7 @@ def identify_command(
     ] = 0,
     reversal_window: Annotated[
         str, typer.Option(help="Leave out this time [s] after each velocity reversal (spikes).")
-    ] = "0",
+    ] = "0.1",
     report: Annotated[
         Path | None, typer.Option(help="Write plots and tables to this directory.")
     ] = None,

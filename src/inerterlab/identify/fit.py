@@ -38,6 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.optimize import least_squares
+from scipy.stats import t as student_t
 
 from ..devices import PARAMETER_UNITS, device_force, motion_from_samples
 from ..errors import (
@@ -67,6 +68,7 @@ class ParameterEstimate:
     fixed: bool = False
     std_error: float = 0.0
     ci95_bootstrap: tuple[float, float] | None = None
+    interval: str = ""
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -129,6 +131,8 @@ class FitResult:
     stages: list = field(default_factory=list)
     bootstrap: np.ndarray | None = None
     nfev: int = 0
+    f_scale: float = 0.0
+    reversal_window: float = 0.0
 
     def validation(self) -> dict:
         """Pooled RMS [N] and NRMSE of the validation tests (identification if none)."""
@@ -147,7 +151,13 @@ class FitResult:
         """Plain dict in the layout of ``inerterlab identify --json``."""
         params = {}
         for name, p in self.parameters.items():
-            d = {"value": p.value, "ci95": list(p.ci95), "unit": p.unit, "fixed": p.fixed}
+            d = {
+                "value": p.value,
+                "ci95": list(p.ci95),
+                "unit": p.unit,
+                "fixed": p.fixed,
+                "interval": p.interval,
+            }
             if p.ci95_bootstrap is not None:
                 d["ci95_bootstrap"] = list(p.ci95_bootstrap)
             params[name] = d
@@ -158,6 +168,8 @@ class FitResult:
             "loss": self.loss,
             "rms_identification": self.cost,
             "noise_estimate": self.noise_estimate,
+            "robust_scale": self.f_scale,
+            "reversal_window": self.reversal_window,
         }
 
     def to_pandas(self):
@@ -261,6 +273,32 @@ def _initial_force_guess(prep: _Prepared) -> float:
     return float(np.polyval(np.polyfit(tt, prep.force[:n0], min(2, n0 - 1)), 0.0))
 
 
+def _is_affine(device) -> bool:
+    """True when the force is affine in (stiffness, damping, friction): the parallel
+    screw without backlash, F = k x + c v + f tanh(v / v_eps) + inertial force (3.38)."""
+    return (not device.series) and device.backlash == 0.0
+
+
+def _affine_terms(device, prep: _Prepared):
+    """(Phi, F_inertial) of an affine device: F = Phi @ (k, c, f) + F_inertial at the samples.
+
+    Phi's columns are x, v and tanh(v / v_eps) at the samples, which the sampled motion
+    passes through exactly; the inertial force (any law) depends on the motion only and
+    is read off one model run.
+    """
+    phi = np.column_stack([prep.x, prep.v, np.tanh(prep.v / device.friction_velocity)])
+    theta = np.array([getattr(device, n) for n in PARAMETERS], dtype=float)
+    base = device_force(device, prep.motion, t=prep.t, rtol=1e-8, h_max=0.01).force
+    return phi, base - phi @ theta
+
+
+def _transient_horizon(device) -> float:
+    """Time [s] after which a spring-branch transient has decayed by e^-12: twelve
+    decay times 2 m_e,max / b of the series branch (friction only adds damping)."""
+    m = device.transmission.ratio**2 * device.flywheel.inertia_max
+    return 12.0 * 2.0 * m / max(device.damping, 1e-9 * m)
+
+
 def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     """Model force [N] at the samples of a prepared test.
 
@@ -270,7 +308,9 @@ def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     that force plus a probe; the difference is the free transient h(t) of the spring
     branch, and the multiple of h that best fits the measured force over the samples
     used in the objective is added (a projection of the nuisance parameter, which keeps
-    a wrong start from ringing through the fit).
+    a wrong start from ringing through the fit). The probe run covers only the time in
+    which the transient decays (:func:`_transient_horizon`), or the whole record if it
+    has not died out by then.
     """
     f0 = _initial_force_guess(prep)
     base = device_force(
@@ -279,10 +319,16 @@ def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     if not device.series:
         return base
     probe = max(1.0, 1e-3 * float(np.abs(prep.force).max()))
-    moved = device_force(
-        device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0 + probe
-    ).force
-    h = (moved - base) / probe
+    n = int(np.searchsorted(prep.t, prep.t[0] + _transient_horizon(device))) + 1
+    h = np.zeros_like(base)
+    for m in (min(n, prep.t.size), prep.t.size):
+        moved = device_force(
+            device, prep.motion, t=prep.t[:m], rtol=rtol, h_max=0.01, initial_force=f0 + probe
+        ).force
+        h[:m] = (moved - base[:m]) / probe
+        tail = np.abs(h[m - max(1, m // 10) : m]).max()
+        if m == prep.t.size or tail <= 1e-6 * np.abs(h[:m]).max():
+            break
     m = prep.mask
     hh = float(h[m] @ h[m])
     if hh <= 0:
@@ -291,12 +337,28 @@ def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     return base + delta * h
 
 
-def _residuals(device, names, preps, rtol):
+def _residuals(device, names, preps, rtol, affine=None):
+    """Residual function (model - measured over the masked samples) and its Jacobian
+    (exact for an affine device, else None: finite differences)."""
+    if affine is not None:
+        cols = [PARAMETERS.index(n) for n in names]
+        phi = np.concatenate([affine[id(p)][0][p.mask] for p in preps])
+        rest = np.concatenate([(affine[id(p)][1] - p.force)[p.mask] for p in preps])
+        theta = np.array([getattr(device, n) for n in PARAMETERS], dtype=float)
+        keep = [j for j in range(len(PARAMETERS)) if j not in cols]
+        rest = rest + phi[:, keep] @ theta[keep]
+        jac_free = np.ascontiguousarray(phi[:, cols])
+
+        def fun_affine(th):
+            return jac_free @ th + rest
+
+        return fun_affine, lambda th: jac_free
+
     def fun(theta):
         dev = dataclasses.replace(device, **dict(zip(names, theta, strict=True)))
         return np.concatenate([(predict_test(dev, p, rtol=rtol) - p.force)[p.mask] for p in preps])
 
-    return fun
+    return fun, None
 
 
 def _robust_weights(r, loss, f_scale):
@@ -325,38 +387,76 @@ def _bandwidth(u: np.ndarray) -> int:
     return int(below[0]) if below.size else n // 4
 
 
-def _sandwich(J, r, w, sizes=None):
-    """Standard errors from the robust sandwich; with ``sizes`` (samples per test) the
-    middle matrix is the Newey-West (Bartlett) sum over lags within each test, with the
-    bandwidth where the residual autocorrelation dies out, so slowly varying model
-    mismatch (a start-up transient, a sampled input) widens the interval instead of
-    passing for independent noise."""
+MIN_CLUSTERS = 8  # tests needed for the cluster-robust interval
+
+
+@dataclass(frozen=True)
+class _Spread:
+    """Standard errors, the 97.5 % quantile that turns them into a 95 % interval, and
+    the name of the estimator."""
+
+    se: np.ndarray
+    quantile: float
+    interval: str
+
+
+def _sandwich(J, r, w, sizes=None) -> _Spread:
+    """Robust sandwich covariance cov = H^-1 M H^-1, H = J^T diag(w) J, from the scores
+    g = w r J of the samples.
+
+    With at least ``MIN_CLUSTERS`` tests (``sizes``: samples per test) M is the sum over
+    tests of the outer products of each test's summed score (cluster-robust, CR1 scaling
+    G / (G - 1), Student-t quantile with G - 1 degrees of freedom). It assumes only that
+    tests are independent: any error that persists within a test (noise correlated in
+    time, a model mismatch that repeats every cycle, a start-up transient) is measured
+    by how much the tests disagree, not assumed away. With fewer tests, M is the
+    Newey-West (Bartlett) sum over lags within each test, with the bandwidth where the
+    residual autocorrelation dies out; without ``sizes``, the plain sandwich.
+    """
     H = J.T @ (w[:, None] * J)
     G = (w * r)[:, None] * J
-    M = G.T @ G
-    if sizes is not None:
-        start = 0
-        for n in sizes:
-            g = G[start : start + n]
-            L = _bandwidth((w * r)[start : start + n])
-            for lag in range(1, L + 1):
-                c = g[lag:].T @ g[:-lag]
-                M += (1.0 - lag / (L + 1.0)) * (c + c.T)
-            start += n
     try:
         Hi = np.linalg.inv(H)
     except np.linalg.LinAlgError:
         Hi = np.linalg.pinv(H)
+    bounds = np.cumsum([0, *sizes]) if sizes is not None else None
+    groups = 0 if sizes is None else sum(1 for n in sizes if n > 0)
+    if groups >= MIN_CLUSTERS:
+        S = np.array(
+            [G[i:j].sum(axis=0) for i, j in zip(bounds[:-1], bounds[1:], strict=True) if j > i]
+        )
+        M = S.T @ S * groups / (groups - 1.0)
+        q = float(student_t.ppf(0.975, groups - 1))
+        how = f"cluster-robust sandwich over {groups} tests, t({groups - 1})"
+    else:
+        M = G.T @ G
+        if sizes is not None:
+            for i, j in zip(bounds[:-1], bounds[1:], strict=True):
+                g = G[i:j]
+                L = _bandwidth((w * r)[i:j])
+                for lag in range(1, L + 1):
+                    c = g[lag:].T @ g[:-lag]
+                    M += (1.0 - lag / (L + 1.0)) * (c + c.T)
+            how = "Newey-West sandwich within tests"
+        else:
+            how = "sandwich"
+        q = 1.959963984540054
     cov = Hi @ M @ Hi
-    return np.sqrt(np.maximum(np.diag(cov), 0.0))
+    return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, how)
 
 
-def _solve(fun, x0, lb, ub, loss, f_scale, max_nfev):
+def _residual_scale(r) -> float:
+    """Robust standard deviation of residuals [N]: 1.4826 x median absolute deviation."""
+    return float(1.482602218505602 * np.median(np.abs(r - np.median(r))))
+
+
+def _solve(fun, x0, lb, ub, loss, f_scale, max_nfev, jac=None):
     scale = np.maximum(np.abs(x0), 1e-6)
     try:
         sol = least_squares(
             fun,
             x0,
+            jac="2-point" if jac is None else jac,
             bounds=(lb, ub),
             loss=loss,
             f_scale=f_scale,
@@ -370,22 +470,50 @@ def _solve(fun, x0, lb, ub, loss, f_scale, max_nfev):
     return sol
 
 
-def _fit_stage(device, names, preps, *, loss, f_scale, lower, upper, rtol, max_nfev):
+def _fit_stage(
+    device,
+    names,
+    preps,
+    *,
+    loss,
+    f_scale,
+    lower,
+    upper,
+    rtol,
+    max_nfev,
+    affine=None,
+    adapt_scale=True,
+):
     x0 = np.array([getattr(device, n) for n in names], dtype=float)
     lb = np.array([lower.get(n, 0.0) for n in names])
     ub = np.array([upper.get(n, np.inf) for n in names])
     x0 = np.clip(x0, lb + 1e-12 * np.maximum(1.0, np.abs(lb)), ub)
-    fun = _residuals(device, names, preps, rtol)
-    sol = _solve(fun, x0, lb, ub, loss, f_scale, max_nfev)
+    if affine is not None:
+        for p in preps:
+            if id(p) not in affine:
+                affine[id(p)] = _affine_terms(device, p)
+    fun, jac = _residuals(device, names, preps, rtol, affine)
+    sol = _solve(fun, x0, lb, ub, loss, f_scale, max_nfev, jac)
+    nfev = sol.nfev
+    if adapt_scale and loss != "linear":
+        # the robust scale must match the residuals, not just the force sensor: noise
+        # of the measured motion reaches the residual through the model (the screw's
+        # inertance multiplies a twice-differentiated displacement), and a Cauchy scale
+        # far below the residual spread biases the fit
+        scale = 3.0 * _residual_scale(sol.fun)
+        if scale > 0 and abs(scale / f_scale - 1.0) > 0.25:
+            f_scale = scale
+            sol = _solve(fun, sol.x, lb, ub, loss, f_scale, max_nfev, jac)
+            nfev += sol.nfev
     w = _robust_weights(sol.fun, loss, f_scale)
-    se = _sandwich(sol.jac, sol.fun, w, [int(p.mask.sum()) for p in preps])
+    spread = _sandwich(sol.jac, sol.fun, w, [int(p.mask.sum()) for p in preps])
     dev = dataclasses.replace(device, **dict(zip(names, sol.x, strict=True)))
-    return dev, sol, se
+    return dev, sol, spread, f_scale, nfev
 
 
 def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
     """(5.1): F = b q + F_f sgn(q) on settled velocity plateaus of square-velocity tests."""
-    vs, fs = [], []
+    vs, fs, sizes = [], [], []
     for p in preps:
         half = 0.5 / p.test.frequency
         # time since the last reversal of the measured velocity
@@ -401,6 +529,7 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
         settled &= np.isfinite(last) & p.mask
         vs.append(p.v[settled])
         fs.append(p.force[settled])
+        sizes.append(int(settled.sum()))
     v = np.concatenate(vs)
     F = np.concatenate(fs)
     if v.size < 10:
@@ -417,8 +546,8 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
     x0 = np.array([device.damping, device.friction], dtype=float)
     sol = _solve(fun, np.maximum(x0, 1e-6), [0.0, 0.0], [np.inf, np.inf], loss, f_scale, 200)
     w = _robust_weights(sol.fun, loss, f_scale)
-    se = _sandwich(sol.jac, sol.fun, w)
-    return dataclasses.replace(device, damping=sol.x[0], friction=sol.x[1]), sol, se, v.size
+    spread = _sandwich(sol.jac, sol.fun, w, sizes)
+    return dataclasses.replace(device, damping=sol.x[0], friction=sol.x[1]), sol, spread, v.size
 
 
 def identify(
@@ -434,7 +563,7 @@ def identify(
     bootstrap: int = 0,
     seed: int = 0,
     settle_time: float | None = None,
-    reversal_window: float = 0.0,
+    reversal_window: float = 0.1,
     derivative_window: float = 0.02,
     detrend: str = "constant",
     rtol: float = 1e-8,
@@ -496,31 +625,26 @@ def identify(
         for t in dataset.tests
     }
     ip = [preps[id(t)] for t in ident]
+    affine = {} if _is_affine(device) else None
     sigma = _noise_estimate(ident)
+    adapt = f_scale is None
     if f_scale is None:
         f_scale = max(3.0 * sigma, 1e-9 * max(float(np.abs(t.force).max()) for t in ident))
     free = [n for n in PARAMETERS if n not in fixed]
-    se_all = dict.fromkeys(PARAMETERS, 0.0)
+    spreads = {}
     stages = []
     nfev = 0
     dev = device
+    stage = dict(lower=lower, upper=upper, rtol=rtol, max_nfev=max_nfev, affine=affine)
     if method == "joint" or device.kind != "hydraulic":
         sig = ("sine",) if method == "thesis" else None
         use = [p for p in ip if sig is None or p.test.signal in sig] or ip
         if free:
-            dev, sol, se = _fit_stage(
-                dev,
-                free,
-                use,
-                loss=loss,
-                f_scale=f_scale,
-                lower=lower,
-                upper=upper,
-                rtol=rtol,
-                max_nfev=max_nfev,
+            dev, sol, spread, f_scale, n_ev = _fit_stage(
+                dev, free, use, loss=loss, f_scale=f_scale, adapt_scale=adapt, **stage
             )
-            se_all.update(zip(free, se, strict=True))
-            nfev += sol.nfev
+            spreads.update({n: (spread, j) for j, n in enumerate(free)})
+            nfev += n_ev
         stages.append(f"{', '.join(free) or 'nothing'} jointly over {len(use)} tests")
         cost_preps = use
     else:
@@ -537,29 +661,18 @@ def identify(
             settle_time = 5.0 * 2.0 * r * r * fw.inertia_max / max(dev.damping, 1.0)
         first = [n for n in ("damping", "friction") if n not in fixed]
         if first:
-            dev2, sol, se, n_used = _plateau_stage(
+            dev2, sol, spread, n_used = _plateau_stage(
                 dev, squares, loss=loss, f_scale=f_scale, settle_time=settle_time
             )
-            upd = {n: getattr(dev2, n) for n in first}
-            dev = dataclasses.replace(dev, **upd)
-            se_all.update(
-                {n: s for n, s in zip(("damping", "friction"), se, strict=True) if n in first}
-            )
+            dev = dataclasses.replace(dev, **{n: getattr(dev2, n) for n in first})
+            spreads.update({n: (spread, j) for j, n in enumerate(("damping", "friction"))})
             stages.append(f"damping, friction from {n_used} settled plateau samples (5.1)")
         if "stiffness" not in fixed:
-            dev, sol, se = _fit_stage(
-                dev,
-                ["stiffness"],
-                sines,
-                loss=loss,
-                f_scale=f_scale,
-                lower=lower,
-                upper=upper,
-                rtol=rtol,
-                max_nfev=max_nfev,
+            dev, sol, spread, f_scale, n_ev = _fit_stage(
+                dev, ["stiffness"], sines, loss=loss, f_scale=f_scale, adapt_scale=adapt, **stage
             )
-            se_all["stiffness"] = float(se[0])
-            nfev += sol.nfev
+            spreads["stiffness"] = (spread, 0)
+            nfev += n_ev
             stages.append(f"stiffness from {len(sines)} sinusoidal tests (5.7)")
         cost_preps = sines
     boot = None
@@ -569,34 +682,35 @@ def identify(
         for _ in range(int(bootstrap)):
             pick = rng.integers(0, len(cost_preps), len(cost_preps))
             sample = [cost_preps[i] for i in pick]
-            d_b, _, _ = _fit_stage(
-                dev,
-                free,
-                sample,
-                loss=loss,
-                f_scale=f_scale,
-                lower=lower,
-                upper=upper,
-                rtol=rtol,
-                max_nfev=max_nfev,
+            d_b, *_ = _fit_stage(
+                dev, free, sample, loss=loss, f_scale=f_scale, adapt_scale=False, **stage
             )
             rows.append([getattr(d_b, n) for n in PARAMETERS])
         boot = np.array(rows)
     params = {}
     for j, n in enumerate(PARAMETERS):
         val = float(getattr(dev, n))
-        s = float(se_all[n])
         bci = None
         if boot is not None and n in free:
             bci = (float(np.percentile(boot[:, j], 2.5)), float(np.percentile(boot[:, j], 97.5)))
+        if n in spreads:
+            spread, k = spreads[n]
+            s, half, how = (
+                float(spread.se[k]),
+                float(spread.quantile * spread.se[k]),
+                spread.interval,
+            )
+        else:
+            s, half, how = 0.0, 0.0, "fixed"
         params[n] = ParameterEstimate(
             name=n,
             value=val,
-            ci95=(val - 1.96 * s, val + 1.96 * s),
+            ci95=(val - half, val + half),
             unit=PARAMETER_UNITS[n],
             fixed=n in fixed,
             std_error=s,
             ci95_bootstrap=bci,
+            interval=how,
         )
     tests = []
     for t in dataset.tests:
@@ -626,4 +740,6 @@ def identify(
         stages=stages,
         bootstrap=boot,
         nfev=nfev,
+        f_scale=float(f_scale),
+        reversal_window=float(reversal_window),
     )
