@@ -135,3 +135,28 @@ def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
             assert (out / sub / n).read_bytes() == (ref / sub / n).read_bytes(), (
                 f"{sub}/{n} differs"
             )
+
+
+@pytest.mark.slow
+def test_ctrl_c_keeps_finished_items_and_says_so(tmp_path):
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    out = tmp_path / "reproduction"
+    work = tmp_path / "reproduction.work"
+    cmd = [sys.executable, "-m", "inerterlab", "reproduce", "--quick", "--out", str(out)]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 300
+    while time.monotonic() < deadline and len(list(work.glob("*.pkl"))) < 2:
+        if proc.poll() is not None:
+            break
+        time.sleep(0.05)
+    assert proc.poll() is None, "the run ended before it could be interrupted"
+    proc.send_signal(signal.SIGINT)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err[-2000:]
+    assert "interrupted" in err and "Traceback" not in err
+    assert len(list(work.glob("*.pkl"))) >= 2  # finished items kept for the rerun
+    assert not out.exists()

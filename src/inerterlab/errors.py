@@ -15,6 +15,7 @@ __all__ = [
     "ParameterError",
     "DataFileError",
     "ConvergenceError",
+    "Interrupted",
     "check_positive",
     "check_nonnegative",
     "check_finite",
@@ -59,6 +60,10 @@ class DataFileError(InerterlabError, ValueError):
 
 class ConvergenceError(InerterlabError, RuntimeError):
     """A numerical method did not converge; the message says which and why."""
+
+
+class Interrupted(InerterlabError):
+    """The user interrupted a long run; the message says what was kept."""
 
 
 def _as_float(name: str, value: Any, valid: str) -> float:

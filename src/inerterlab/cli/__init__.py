@@ -18,7 +18,7 @@ try:  # typer >= 0.20 vendors its own copy of click
 except ImportError:  # pragma: no cover - older typer on plain click
     from click import exceptions as _cx
 
-from ..errors import InerterlabError
+from ..errors import InerterlabError, Interrupted
 
 app = typer.Typer(
     name="inerterlab",
@@ -51,6 +51,12 @@ for _name in _COMMANDS:
     importlib.import_module(f"{__name__}.{_name}").register(app)
 
 
+_INTERRUPTED = (
+    "inerterlab: interrupted; results already written are kept "
+    "(rerun the same command to resume where it applies)"
+)
+
+
 def _usage_message(e: Exception) -> str:
     msg = e.format_message()
     param = getattr(e, "param", None)
@@ -78,6 +84,8 @@ def main(argv: list[str] | None = None) -> int:
     try:
         rc = app(args=args, prog_name="inerterlab", standalone_mode=False)
         if isinstance(rc, int) and not isinstance(rc, bool):
+            if rc == 130:  # typer turns Ctrl-C into this exit code without a word
+                print(_INTERRUPTED, file=sys.stderr)
             return rc
     except typer.Exit as e:
         code = getattr(e, "exit_code", None)
@@ -86,7 +94,7 @@ def main(argv: list[str] | None = None) -> int:
         e.show() if hasattr(e, "show") else print(e.format_message())
         return 0
     except typer.Abort:
-        print("inerterlab: interrupted; partial results already written are kept", file=sys.stderr)
+        print(_INTERRUPTED, file=sys.stderr)
         return 130
     except _cx.UsageError as e:
         cmd = (
@@ -100,13 +108,16 @@ def main(argv: list[str] | None = None) -> int:
     except _cx.ClickException as e:
         print(f"inerterlab: error: {e.format_message()}", file=sys.stderr)
         return 2
+    except Interrupted as e:
+        print(f"inerterlab: {e}", file=sys.stderr)
+        return 130
     except InerterlabError as e:
         if debug:
             raise
         print(f"inerterlab: error: {e}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
-        print("inerterlab: interrupted; partial results already written are kept", file=sys.stderr)
+        print(_INTERRUPTED, file=sys.stderr)
         return 130
     except Exception as e:  # noqa: BLE001 - last-resort guard for the command line
         if debug:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 from typing import Annotated
@@ -49,6 +48,7 @@ def sweep_command(
 
     Example: inerterlab sweep examples/sweep_example.toml --out ratio.zarr --workers 2
     """
+    from ..errors import Interrupted
     from ..studies import SweepInterrupted, load_sweep_config, save_netcdf, sweep
 
     spec = load_sweep_config(config)
@@ -65,8 +65,7 @@ def sweep_command(
             progress=not quiet and not json_out,
         )
     except SweepInterrupted as exc:
-        print(f"inerterlab: {exc}", file=sys.stderr)
-        raise typer.Exit(130) from None
+        raise Interrupted(str(exc)) from None
     elapsed = time.perf_counter() - t0
     done = int(ds.attrs["points_ok"] + ds.attrs["points_failed"])
     computed = int(ds.attrs["points_computed"])
