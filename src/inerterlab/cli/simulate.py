@@ -9,22 +9,11 @@ from typing import Annotated
 
 import typer
 
+from ..metrics import METRIC_KEYS
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 _CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
-_JSON_KEYS = (
-    "rms_body_acc",
-    "rms_tyre_grip",
-    "rms_deflection",
-    "rms_body_acc_wk",
-    "vdv",
-    "crest_factor",
-    "peak_body_acc",
-    "peak_body_acc_wk",
-    "peak_deflection",
-    "min_tyre_force",
-    "tyre_lift_off",
-)
+_JSON_KEYS = METRIC_KEYS
 
 
 def _car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping):
