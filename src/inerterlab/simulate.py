@@ -47,6 +47,7 @@ __all__ = [
 ]
 
 BACKENDS = ("numba", "scipy")
+SCHEMES = ("dp54", "dop853")  # Runge-Kutta pairs of the numba backend
 WK_TOLERANCE_FACTOR = 1e4  # absolute tolerance of the Wk filter states / the others'
 OUTPUTS = ("series", "metrics")
 
@@ -65,6 +66,10 @@ class SimulationOptions:
         DOP853 run at 1e-10 to better than 1e-6 (tests/test_simulate.py).
     method : str
         scipy method (``DOP853``, ``RK45``, ``Radau``, ...); ignored by ``numba``.
+    scheme : {"dp54", "dop853"}
+        Runge-Kutta pair of the ``numba`` backend: Dormand-Prince 5(4) or Hairer's
+        DOP853 (the 8(5,3) pair of scipy's ``DOP853``, same coefficients, error norm and
+        step-size factors); ignored by ``scipy``.
     sample_rate : float
         Output sampling rate [Hz] of the time series (>= 1000 recommended).
     refine_peaks : bool
@@ -77,6 +82,7 @@ class SimulationOptions:
     backend: str = "numba"
     rtol: float = 1e-8
     method: str = "DOP853"
+    scheme: str = "dp54"
     sample_rate: float = 1000.0
     refine_peaks: bool = True
     max_steps: int = 10_000_000
@@ -87,6 +93,7 @@ class SimulationOptions:
         if not 1e-14 <= r <= 1e-2:
             raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-14, 1e-2]")
         check_choice("method", self.method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
+        check_choice("scheme", self.scheme, SCHEMES)
         check_positive("sample_rate", self.sample_rate, "Hz")
         if not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise ParameterError("max_steps", self.max_steps, "an integer >= 1")
@@ -298,7 +305,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
         wk, ts, out_y, out_a3, peaks, stats, bool(options.refine_peaks),
-        int(options.max_steps),
+        int(options.max_steps), K.DOP853 if options.scheme == "dop853" else K.DP54,
     )  # fmt: skip
     if status != K.OK:
         why = {

@@ -24,6 +24,7 @@ parabolic interpolation on the continuous extension.
 
 from __future__ import annotations
 
+import cmath
 import math
 
 import numba as nb
@@ -94,6 +95,22 @@ D1, D3, D4, D5, D6, D7 = (
     -1453857185.0 / 822651844.0,
     69997945.0 / 29380423.0,
 )
+
+# Hairer's DOP853: 8th-order solution, 5th- and 3rd-order error estimators, 7th-order
+# dense output from 3 extra stages. The table is read from scipy's own module (the one
+# solve_ivp's DOP853 uses), so both integrators run the same method
+from scipy.integrate._ivp import dop853_coefficients as _dop853  # noqa: E402
+
+D8_NS = int(_dop853.N_STAGES)  # 12 stages; row 12 of the stage array is f(t + h, y_new)
+D8_A = np.ascontiguousarray(_dop853.A, dtype=np.float64)  # 16 x 16
+D8_B = np.ascontiguousarray(_dop853.B, dtype=np.float64)  # 12
+D8_C = np.ascontiguousarray(_dop853.C, dtype=np.float64)  # 16
+D8_E3 = np.ascontiguousarray(_dop853.E3, dtype=np.float64)  # 13
+D8_E5 = np.ascontiguousarray(_dop853.E5, dtype=np.float64)  # 13
+D8_D = np.ascontiguousarray(_dop853.D, dtype=np.float64)  # 4 x 16
+
+# integration schemes of integrate()
+DP54, DOP853 = 0, 1
 
 # status codes of integrate()
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE = 0, 1, 2, 3
@@ -413,7 +430,9 @@ def _err_norm(y, ynew, k1, k3, k4, k5, k6, k7, h, rtol, atol):
 
 
 @nb.njit(cache=True)
-def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1):
+def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1, order, low_pass):
+    """Initial step of Hairer, Norsett and Wanner (II.4), as scipy's select_initial_step;
+    ``order`` is the order of the error estimator."""
     d0 = 0.0
     d1 = 0.0
     for i in range(y.size):
@@ -426,15 +445,98 @@ def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1):
     h0 = min(h0, span)
     for i in range(y.size):
         ytmp[i] = y[i] + h0 * f0[i]
-    _rhs(t + h0, ytmp, f1, p, seg, wk, False)
+    _rhs(t + h0, ytmp, f1, p, seg, wk, low_pass)
     d2 = 0.0
     for i in range(y.size):
         sc = atol[i] + rtol * abs(y[i])
         d2 += ((f1[i] - f0[i]) / sc) ** 2
     d2 = math.sqrt(d2 / y.size) / h0
     dm = max(d1, d2)
-    h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** 0.2
+    h1 = max(1e-6, h0 * 1e-3) if dm <= 1e-15 else (0.01 / dm) ** (1.0 / (order + 1.0))
     return min(100.0 * h0, h1, span)
+
+
+@nb.njit(cache=True)
+def _dop853_stages(t, y, K, h, tn, p, seg, wk, yt, yn):
+    """Stages 2-12 of DOP853 into K[1:12], y_new into yn, f(tn, y_new) into K[12];
+    K[0] holds f(t, y). Returns a3 at the step end."""
+    n = y.size
+    for s in range(1, D8_NS):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += D8_A[s, j] * K[j, i]
+            yt[i] = y[i] + h * acc
+        ts = tn if D8_C[s] == 1.0 else t + D8_C[s] * h
+        _rhs(ts, yt, K[s], p, seg, wk, False)
+    for i in range(n):
+        acc = 0.0
+        for j in range(D8_NS):
+            acc += D8_B[j] * K[j, i]
+        yn[i] = y[i] + h * acc
+    return _rhs(tn, yn, K[D8_NS], p, seg, wk, False)
+
+
+@nb.njit(cache=True)
+def _dop853_err_norm(y, yn, K, h, rtol, atol):
+    """scipy's DOP853 error norm: |h| E5^2 / sqrt(n (E5^2 + 0.01 E3^2)) (RMS norms)."""
+    e5 = 0.0
+    e3 = 0.0
+    for i in range(y.size):
+        sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
+        a5 = 0.0
+        a3 = 0.0
+        for j in range(D8_NS + 1):
+            a5 += D8_E5[j] * K[j, i]
+            a3 += D8_E3[j] * K[j, i]
+        e5 += (a5 / sc) ** 2
+        e3 += (a3 / sc) ** 2
+    if e5 == 0.0 and e3 == 0.0:
+        return 0.0
+    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * y.size)
+
+
+@nb.njit(cache=True)
+def _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R):
+    """The 3 extra stages (K[13:16]) and the 7 rows of DOP853's dense output into R."""
+    n = y.size
+    for s in range(D8_NS + 1, D8_A.shape[0]):
+        for i in range(n):
+            acc = 0.0
+            for j in range(s):
+                acc += D8_A[s, j] * K[j, i]
+            yt[i] = y[i] + h * acc
+        _rhs(t + D8_C[s] * h, yt, K[s], p, seg, wk, False)
+    for i in range(n):
+        dlt = yn[i] - y[i]
+        R[0, i] = dlt
+        R[1, i] = h * K[0, i] - dlt
+        R[2, i] = 2.0 * dlt - h * (K[D8_NS, i] + K[0, i])
+        for r in range(4):
+            acc = 0.0
+            for j in range(D8_A.shape[0]):
+                acc += D8_D[r, j] * K[j, i]
+            R[3 + r, i] = h * acc
+
+
+@nb.njit(cache=True)
+def _dense_eval(scheme, y, R, th, out):
+    """Continuous extension at theta: DOPRI5's quartic (rows r2..r5 of R) or DOP853's
+    degree-7 polynomial (rows F0..F6, nested in theta and 1 - theta as in scipy)."""
+    th1 = 1.0 - th
+    if scheme == DP54:
+        for i in range(y.size):
+            out[i] = y[i] + th * (R[0, i] + th1 * (R[1, i] + th * (R[2, i] + th1 * R[3, i])))
+        return
+    for i in range(y.size):
+        v = R[6, i] * th
+        v = (v + R[5, i]) * th1
+        v = (v + R[4, i]) * th
+        v = (v + R[3, i]) * th1
+        v = (v + R[2, i]) * th
+        v = (v + R[1, i]) * th1
+        v = (v + R[0, i]) * th
+        out[i] = y[i] + v
 
 
 # 5-point Gauss-Legendre rule on [0, 1]
@@ -626,10 +728,272 @@ def _lp_at(lpw, th, wk):
     )
 
 
+# DOP853 path: the same exact low pass, driven by the degree-7 dense output of the third
+# Wk section. x(tau) = exp(tau A) x0 + sum_k U_k theta^k k! tau phi_{k+1}(tau A) b with
+# the phi functions of the 2x2 section (complex eigenvalue pair), which stay accurate for
+# any h w0 (no particular-solution cancellation, so no short-step fallback)
+_GL8_X, _GL8_W = np.polynomial.legendre.leggauss(8)
+GL8_X = np.ascontiguousarray(0.5 * (_GL8_X + 1.0))  # 8-point Gauss-Legendre on [0, 1]
+GL8_W = np.ascontiguousarray(0.5 * _GL8_W)
+FACT = np.array([float(math.factorial(k)) for k in range(9)])
+
+
+@nb.njit(cache=True)
+def _phis(z, ph):
+    """phi_0(z) .. phi_8(z) into ph (complex): Taylor + downward recurrence for
+    |z| < 1, upward recurrence phi_{k+1} = (phi_k - 1/k!)/z from exp(z) otherwise."""
+    if abs(z) < 1.0:
+        term = 1.0 / FACT[8] + 0.0j
+        acc = term
+        for j in range(1, 40):
+            term = term * z * (1.0 / (j + 8.0))
+            acc += term
+            if abs(term) < 1e-18 * abs(acc):
+                break
+        ph[8] = acc
+        for k in range(7, -1, -1):
+            ph[k] = z * ph[k + 1] + 1.0 / FACT[k]
+        return
+    ph[0] = cmath.exp(z)
+    zi = 1.0 / z
+    for k in range(8):
+        ph[k + 1] = (ph[k] - 1.0 / FACT[k]) * zi
+
+
+@nb.njit(cache=True)
+def _lp8_input(y, R, wk, n, U, pc):
+    """Monomial coefficients U[0:8] in theta of the low-pass input c1 q1 + c2 q2 of the
+    third Wk section along DOP853's dense output (rows of R, nested in theta, 1-theta)."""
+    for k in range(8):
+        U[k] = 0.0
+    for j in range(2):
+        i = n + 7 + j
+        c = wk[2, 2 + j]
+        for k in range(9):
+            pc[k] = 0.0
+        pc[0] = R[6, i]
+        deg = 0
+        for r in range(5, -2, -1):
+            # multiply by theta (even count) or (1 - theta)
+            if (5 - r) % 2 == 0:
+                for k in range(deg + 1, 0, -1):
+                    pc[k] = pc[k - 1]
+                pc[0] = 0.0
+            else:
+                pc[deg + 1] = 0.0
+                for k in range(deg + 1, 0, -1):
+                    pc[k] -= pc[k - 1]
+            deg += 1
+            if r >= 0:
+                pc[0] += R[r, i]
+        U[0] += c * y[i]
+        for k in range(8):
+            U[k] += c * pc[k]
+
+
+@nb.njit(cache=True)
+def _lp8_state(x1, x2, U, h, th, wk, ph):
+    """Low-pass states at theta of a DOP853 step from (x1, x2) at its start."""
+    tau = th * h
+    if tau == 0.0:
+        return x1, x2
+    w0, a1 = wk[3, 0], wk[3, 1]
+    sig = -0.5 * a1
+    wd = math.sqrt(w0 * w0 - sig * sig)
+    _phis(complex(sig * tau, wd * tau), ph)
+    # f(A) = Re f(lam) I + Im f(lam)/wd (A - sig I) for the eigenvalue lam = sig + i wd
+    er = ph[0].real
+    ei = ph[0].imag / wd
+    q1 = er * x1 + ei * (-sig * x1 + w0 * x2)
+    q2 = er * x2 + ei * (-w0 * x1 + (-a1 - sig) * x2)
+    g = 0.0j
+    thk = 1.0
+    for k in range(8):
+        g += (U[k] * thk * FACT[k]) * ph[k + 1]
+        thk *= th
+    gr = tau * g.real
+    gi = tau * g.imag / wd
+    # b = (0, w0): (A - sig I) b = (w0^2, (-a1 - sig) w0)
+    q1 += gi * w0 * w0
+    q2 += gr * w0 + gi * (-a1 - sig) * w0
+    return q1, q2
+
+
+@nb.njit(cache=True)
+def _lp8_step(x1, x2, U, h, wk, ph):
+    """(q1, q2) at the end of a DOP853 step and int a_w^2, int a_w^4 over it (8-point
+    Gauss-Legendre on the exact low-pass response)."""
+    c1, c2, d = wk[3, 2], wk[3, 3], wk[3, 4]
+    s2 = 0.0
+    s4 = 0.0
+    for j in range(GL8_X.size):
+        th = GL8_X[j]
+        q1, q2 = _lp8_state(x1, x2, U, h, th, wk, ph)
+        u = U[7]
+        for k in range(6, -1, -1):
+            u = u * th + U[k]
+        aw = c1 * q1 + c2 * q2 + d * u
+        aw2 = aw * aw
+        s2 += GL8_W[j] * aw2
+        s4 += GL8_W[j] * aw2 * aw2
+    q1, q2 = _lp8_state(x1, x2, U, h, 1.0, wk, ph)
+    return q1, q2, h * s2, h * s4
+
+
+# sub-intervals of a DOP853 step searched for kinks: its steps are long enough for |v|
+# to leave the saturation speed and come back (through v = 0) inside one step, which
+# the end values alone do not show
+KINK_PROBES = 8
+
+
+@nb.njit(cache=True)
+def _dense853_at(y, R, i, th):
+    """Component i of DOP853's dense output at theta."""
+    th1 = 1.0 - th
+    v = R[6, i] * th
+    v = (v + R[5, i]) * th1
+    v = (v + R[4, i]) * th
+    v = (v + R[3, i]) * th1
+    v = (v + R[2, i]) * th
+    v = (v + R[1, i]) * th1
+    v = (v + R[0, i]) * th
+    return y[i] + v
+
+
+@nb.njit(cache=True)
+def _switching853(p, y, R, th, t, seg, sw_a, sw_b, v_sat):
+    """(_switching on the dense output at theta, velocity |v| refers to); only the
+    components the switching functions read are evaluated."""
+    g1 = 0.0
+    v = 0.0
+    if sw_a >= 0:
+        v = _dense853_at(y, R, sw_a, th)
+        if sw_b >= 0:
+            v -= _dense853_at(y, R, sw_b, th)
+        g1 = abs(v) - v_sat
+    g2 = 0.0
+    if p[P_LIFT] != 0.0:
+        x1, v1 = road(seg, t)
+        g2 = (
+            p[P_KT] * (_dense853_at(y, R, 0, th) - x1)
+            + p[P_CT] * (_dense853_at(y, R, 1, th) - v1)
+            - p[P_W]
+        )
+    return g1, g2, v
+
+
+@nb.njit(cache=True)
+def _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, which, lo, hi, glo, yd):
+    """First theta in (lo, hi] past the sign change of switching function ``which``."""
+    for _ in range(60):
+        mid = 0.5 * (lo + hi)
+        gm1, gm2, _ = _switching853(p, y, R, mid, t + mid * h, seg, sw_a, sw_b, v_sat)
+        gm = gm1 if which == 0 else gm2
+        if (gm > 0.0) == (glo > 0.0):
+            lo, glo = mid, gm
+        else:
+            hi = mid
+        if hi - lo < 1e-12:
+            break
+    return hi
+
+
+@nb.njit(cache=True)
+def _sat_velocity(y, sw_a, sw_b):
+    return y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
+
+
+@nb.njit(cache=True)
+def _dop853_first_kink(p, y, yn, R, t, h, tn, seg, sw_a, sw_b, v_sat, lift, yd):
+    """(crossed, theta just past the first kink) of a DOP853 step, from the switching
+    functions at KINK_PROBES points of the dense output; a saturated |v| at both ends of
+    a probe interval over which v changes sign has dipped below v_sat in between."""
+    ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
+    va = _sat_velocity(y, sw_a, sw_b) if sw_a >= 0 else 0.0
+    tha = 0.0
+    for m in range(1, KINK_PROBES + 1):
+        thb = m / KINK_PROBES
+        if m == KINK_PROBES:
+            gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
+            vb = _sat_velocity(yn, sw_a, sw_b) if sw_a >= 0 else 0.0
+        else:
+            gb1, gb2, vb = _switching853(p, y, R, thb, t + thb * h, seg, sw_a, sw_b, v_sat)
+        c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
+        c2 = lift and (ga2 > 0.0) != (gb2 > 0.0)
+        best = 2.0
+        if c1:
+            best = _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, 0, tha, thb, ga1, yd)
+        elif sw_a >= 0 and ga1 > 0.0 and (va > 0.0) != (vb > 0.0):
+            # both ends saturated, v changes sign: find a point below saturation
+            lo, hi = tha, thb
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                gm1, _, vm = _switching853(p, y, R, mid, t + mid * h, seg, sw_a, sw_b, v_sat)
+                if gm1 <= 0.0:
+                    best = _bisect_switch(
+                        p, y, R, t, h, seg, sw_a, sw_b, v_sat, 0, tha, mid, ga1, yd
+                    )
+                    break
+                if (vm > 0.0) == (va > 0.0):
+                    lo = mid
+                else:
+                    hi = mid
+                if hi - lo < 1e-12:
+                    break
+        if c2:
+            best = min(
+                best, _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, 1, tha, thb, ga2, yd)
+            )
+        if best <= 1.0:
+            return True, best
+        tha, ga1, ga2, va = thb, gb1, gb2, vb
+    return False, 1.0
+
+
+GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
+
+
+@nb.njit(cache=True)
+def _q853(y, R, th, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j):
+    """Peak quantity j at theta of a DOP853 step (dense output, exact low pass)."""
+    _dense_eval(DOP853, y, R, th, yd)
+    yd[i_lp], yd[i_lp + 1] = _lp8_state(y[i_lp], y[i_lp + 1], U8, h, th, wk, ph)
+    a3 = _rhs(t + th * h, yd, ks, p, seg, wk, False)
+    _quantities(t + th * h, yd, p, seg, wk, a3, qt)
+    return qt[j]
+
+
+@nb.njit(cache=True)
+def _golden853(y, R, lo, hi, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j):
+    """(largest value found, evaluations) of a golden-section search for the maximum of
+    peak quantity j over theta in [lo, hi] of a DOP853 step."""
+    xa = hi - GOLD * (hi - lo)
+    xb = lo + GOLD * (hi - lo)
+    fa = _q853(y, R, xa, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
+    fb = _q853(y, R, xb, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
+    best = max(fa, fb)
+    nev = 2
+    for _ in range(60):
+        if hi - lo <= 1e-9:
+            break
+        if fa >= fb:
+            hi, xb, fb = xb, xa, fa
+            xa = hi - GOLD * (hi - lo)
+            fa = _q853(y, R, xa, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
+            best = max(best, fa)
+        else:
+            lo, xa, fa = xa, xb, fb
+            xb = lo + GOLD * (hi - lo)
+            fb = _q853(y, R, xb, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
+            best = max(best, fb)
+        nev += 1
+    return best, nev
+
+
 @nb.njit(cache=True)
 def integrate(
     p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
-    peaks, stats, refine_peaks, max_steps,
+    peaks, stats, refine_peaks, max_steps, scheme,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
@@ -637,28 +1001,39 @@ def integrate(
     at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
     see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls, steps redone to end on a kink].
     A sample on a segment edge gets the value after the edge.
+
+    ``scheme`` is ``DP54`` (Dormand-Prince 5(4)) or ``DOP853`` (Hairer's 8(5,3) pair
+    with scipy's error norm and step-size factors, its degree-7 dense output for kinks,
+    samples, peaks and the exact 100 Hz low pass).
     """
     n = y0.size
     y = y0
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
-    k5 = np.empty(n)
-    k6 = np.empty(n)
-    k7 = np.empty(n)
+    dop = scheme == DOP853
+    K = np.empty((16, n))
+    k1 = K[0]
+    k2 = K[1]
+    k3 = K[2]
+    k4 = K[3]
+    k5 = K[4]
+    k6 = K[5]
+    k7 = K[6]
+    R = np.empty((7, n))
+    U8 = np.empty(8)
+    pc = np.empty(9)
+    ph = np.empty(9, dtype=np.complex128)
     ks = np.empty(n)
     yt = np.empty(n)
     yn = np.empty(n)
     yd = np.empty(n)
-    r2 = np.empty(n)
-    r3 = np.empty(n)
-    r4 = np.empty(n)
-    r5 = np.empty(n)
+    r2 = R[0]
+    r3 = R[1]
+    r4 = R[2]
+    r5 = R[3]
     qa = np.empty(N_PEAKS)
     qb = np.empty(N_PEAKS)
     qm = np.empty(N_PEAKS)
     qt = np.empty(N_PEAKS)
+    qp = np.empty((N_PEAKS, 9))
     lpw = np.zeros(52)
     i_lp = y0.size - 4  # low-pass states, then int a_w^2, int a_w^4
     for j in range(N_PEAKS):
@@ -674,6 +1049,7 @@ def integrate(
     x_prev = x1_initial
     beta = 0.04
     expo1 = 0.2 - 0.75 * beta
+    rejected_here = False  # DOP853: a rejection in this step caps the next growth at 1
     status = OK
     # switching surface of the inertia law: |r v| = w_sat, where dI/dw jumps. Steps
     # are shortened to end on it, so no step integrates across the kink.
@@ -711,7 +1087,9 @@ def integrate(
             out_a3[isamp] = a3a
             isamp += 1
         if h == 0.0:
-            h = _initial_step(t, y, k1, p, seg, wk, rtol, atol, t1 - t0, yt, k2)
+            h = _initial_step(
+                t, y, k1, p, seg, wk, rtol, atol, t1 - t0, yt, k2, 7.0 if dop else 4.0, False
+            )
             nfev += 1
         final = t1 >= t_end
         while t < t1:
@@ -725,44 +1103,73 @@ def integrate(
             elif t + h >= t1 - 1e-13 * max(1.0, abs(t1)):
                 h = t1 - t
                 last = True
-            for i in range(n):
-                yt[i] = y[i] + h * A21 * k1[i]
-            _rhs(t + C2 * h, yt, k2, p, seg, wk, False)
-            for i in range(n):
-                yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-            _rhs(t + C3 * h, yt, k3, p, seg, wk, False)
-            for i in range(n):
-                yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-            _rhs(t + C4 * h, yt, k4, p, seg, wk, False)
-            for i in range(n):
-                yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-            _rhs(t + C5 * h, yt, k5, p, seg, wk, False)
-            for i in range(n):
-                yt[i] = y[i] + h * (
-                    A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
-                )
-            tn = t1 if last else t + h
-            _rhs(tn, yt, k6, p, seg, wk, False)
-            for i in range(n):
-                yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-            a3b = _rhs(tn, yn, k7, p, seg, wk, False)
-            nfev += 6
-            err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
+            if dop:
+                tn = t1 if last else t + h
+                a3b = _dop853_stages(t, y, K, h, tn, p, seg, wk, yt, yn)
+                nfev += 12
+                err = _dop853_err_norm(y, yn, K, h, rtol, atol)
+            else:
+                for i in range(n):
+                    yt[i] = y[i] + h * A21 * k1[i]
+                _rhs(t + C2 * h, yt, k2, p, seg, wk, False)
+                for i in range(n):
+                    yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+                _rhs(t + C3 * h, yt, k3, p, seg, wk, False)
+                for i in range(n):
+                    yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+                _rhs(t + C4 * h, yt, k4, p, seg, wk, False)
+                for i in range(n):
+                    yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+                _rhs(t + C5 * h, yt, k5, p, seg, wk, False)
+                for i in range(n):
+                    yt[i] = y[i] + h * (
+                        A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+                    )
+                tn = t1 if last else t + h
+                _rhs(tn, yt, k6, p, seg, wk, False)
+                for i in range(n):
+                    yn[i] = y[i] + h * (
+                        B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]
+                    )
+                a3b = _rhs(tn, yn, k7, p, seg, wk, False)
+                nfev += 6
+                err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
             if not math.isfinite(err):
                 if h < 1e-14 * max(1.0, t):
                     status = NOT_FINITE
                     break
                 h *= 0.1
                 nrej += 1
+                rejected_here = True
                 continue
             fac11 = err**expo1 if err > 0.0 else 0.0
+            fac8 = 10.0 if err == 0.0 else min(10.0, 0.9 * err ** (-1.0 / 8.0))
             # a kink inside the step is looked for in every attempt, accepted or not: a
             # step across a kink fails the error test by orders of magnitude, and
             # shrinking it by the controller costs several rejections per kink, while
             # the continuous extension of the failed step already places the crossing
             # well enough to end the next attempt on it
             crossed = False
-            if sw_a >= 0 or lift:
+            have_dense = False
+            if dop and (sw_a >= 0 or lift):
+                _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R)
+                nfev += 3
+                have_dense = True
+                crossed, best = _dop853_first_kink(
+                    p, y, yn, R, t, h, tn, seg, sw_a, sw_b, v_sat, lift, yd
+                )
+                if (
+                    crossed
+                    and best * h > 1e-9 * max(1.0, abs(t))
+                    and best < 1.0 - 1e-9
+                    and event_tries < 3
+                ):
+                    h_event = best * h
+                    h = h_prop
+                    nevents_redo += 1
+                    event_tries += 1
+                    continue
+            elif sw_a >= 0 or lift:
                 ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
                 gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
                 c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
@@ -778,7 +1185,7 @@ def integrate(
                         glo = ga1 if which == 0 else ga2
                         for _ in range(60):
                             mid = 0.5 * (lo + hi)
-                            _dense(y, r2, r3, r4, r5, mid, yd)
+                            _dense_eval(scheme, y, R, mid, yd)
                             gm1, gm2 = _switching(p, yd, t + mid * h, seg, sw_a, sw_b, v_sat)
                             gm = gm1 if which == 0 else gm2
                             if (gm > 0.0) == (glo > 0.0):
@@ -805,13 +1212,26 @@ def integrate(
                         continue
             if err <= 1.0:
                 nsteps += 1
-                # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
-                _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
-                q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
-                yn[i_lp] = q1n
-                yn[i_lp + 1] = q2n
-                yn[i_lp + 2] = y[i_lp + 2] + i2
-                yn[i_lp + 3] = y[i_lp + 3] + i4
+                if dop:
+                    # the same exact low pass, driven by the degree-7 dense output (whose
+                    # extra stages the samples and the peak search then reuse)
+                    if not have_dense:
+                        _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R)
+                        nfev += 3
+                    _lp8_input(y, R, wk, n - 13, U8, pc)
+                    q1n, q2n, i2, i4 = _lp8_step(y[i_lp], y[i_lp + 1], U8, h, wk, ph)
+                    yn[i_lp] = q1n
+                    yn[i_lp + 1] = q2n
+                    yn[i_lp + 2] = y[i_lp + 2] + i2
+                    yn[i_lp + 3] = y[i_lp + 3] + i4
+                else:
+                    # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
+                    _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
+                    q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
+                    yn[i_lp] = q1n
+                    yn[i_lp + 1] = q2n
+                    yn[i_lp + 2] = y[i_lp + 2] + i2
+                    yn[i_lp + 3] = y[i_lp + 3] + i4
                 # dense output for samples and peak refinement
                 need_samples = isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
@@ -820,19 +1240,24 @@ def integrate(
                 near = False
                 if refine_peaks:
                     # an interior maximum exceeds the larger end value by about
-                    # (h w)^2/8 of the amplitude: far below 1 % at the steps taken
+                    # (h w)^2/8 of the amplitude: far below 1 % at the DP54 steps taken;
+                    # DOP853's steps are several times longer: look within 20 %
+                    near_frac = 0.2 if dop else 0.01
                     for j in range(N_PEAKS):
-                        if max(qa[j], qb[j]) >= peaks[j] - 0.01 * abs(peaks[j]):
+                        if max(qa[j], qb[j]) >= peaks[j] - near_frac * abs(peaks[j]):
                             near = True
                             break
-                if need_samples or near:
+                if (need_samples or near) and not dop:
                     _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
                 while isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
                 ):
                     th = (sample_times[isamp] - t) / h
-                    _dense(y, r2, r3, r4, r5, th, yd)
-                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, th, wk)
+                    _dense_eval(scheme, y, R, th, yd)
+                    if dop:
+                        yd[i_lp], yd[i_lp + 1] = _lp8_state(y[i_lp], y[i_lp + 1], U8, h, th, wk, ph)
+                    else:
+                        yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, th, wk)
                     a3s = _rhs(sample_times[isamp], yd, ks, p, seg, wk, False)
                     nfev += 1
                     for i in range(n):
@@ -840,26 +1265,75 @@ def integrate(
                     out_a3[isamp] = a3s
                     isamp += 1
                 if near:
-                    _dense(y, r2, r3, r4, r5, 0.5, yd)
-                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, 0.5, wk)
-                    a3m = _rhs(t + 0.5 * h, yd, ks, p, seg, wk, False)
-                    nfev += 1
-                    _quantities(t + 0.5 * h, yd, p, seg, wk, a3m, qm)
+                    # probes inside the step: the midpoint (DP54), or 7 points (DOP853,
+                    # whose longer steps can hold a maximum the midpoint parabola misses)
+                    nprobe = 7 if dop else 1
+                    for m in range(nprobe):
+                        thp = (m + 1.0) / (nprobe + 1.0)
+                        _dense_eval(scheme, y, R, thp, yd)
+                        if dop:
+                            yd[i_lp], yd[i_lp + 1] = _lp8_state(
+                                y[i_lp], y[i_lp + 1], U8, h, thp, wk, ph
+                            )
+                        else:
+                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, thp, wk)
+                        a3m = _rhs(t + thp * h, yd, ks, p, seg, wk, False)
+                        nfev += 1
+                        _quantities(t + thp * h, yd, p, seg, wk, a3m, qm)
+                        for j in range(N_PEAKS):
+                            qp[j, m + 1] = qm[j]
                     for j in range(N_PEAKS):
-                        fa, fm, fb = qa[j], qm[j], qb[j]
-                        best = max(fa, max(fm, fb))
-                        if best > peaks[j]:
-                            peaks[j] = best
-                        c2 = 2.0 * fa - 4.0 * fm + 2.0 * fb
-                        c1 = -3.0 * fa + 4.0 * fm - fb
-                        if c2 >= 0.0:
-                            continue
-                        thv = -c1 / (2.0 * c2)
-                        if thv <= 0.0 or thv >= 1.0 or fa + c1 * thv + c2 * thv * thv <= peaks[j]:
-                            continue
+                        qp[j, 0] = qa[j]
+                        qp[j, nprobe + 1] = qb[j]
+                    for j in range(N_PEAKS):
+                        kb = 0
+                        for m in range(1, nprobe + 2):
+                            if qp[j, m] > qp[j, kb]:
+                                kb = m
+                        if qp[j, kb] > peaks[j]:
+                            peaks[j] = qp[j, kb]
+                        if dop:
+                            if kb == 0 or kb == nprobe + 1:
+                                # the largest value is at an end of the step: the maximum
+                                # may lie between it and the nearest probe. Look there
+                                # only if the quantity rises into the step from that end
+                                if qp[j, kb] < peaks[j]:
+                                    continue
+                                dx = 1.0 / (nprobe + 1.0)
+                                th_in = 1e-7 if kb == 0 else 1.0 - 1e-7
+                                f_in = _q853(
+                                    y, R, th_in, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j
+                                )
+                                nfev += 1
+                                if f_in <= qp[j, kb]:
+                                    continue
+                                lo_ = 0.0 if kb == 0 else 1.0 - dx
+                                fbest, nev = _golden853(
+                                    y, R, lo_, lo_ + dx, t, h, yd, ks, p, seg, wk, U8, ph,
+                                    i_lp, qt, j,
+                                )  # fmt: skip
+                                nfev += nev
+                                peaks[j] = max(peaks[j], fbest, f_in)
+                                continue
+                            dx = 1.0 / (nprobe + 1.0)
+                            x_1, x_2, x_3 = (kb - 1) * dx, kb * dx, (kb + 1) * dx
+                            f_1, f_2, f_3 = qp[j, kb - 1], qp[j, kb], qp[j, kb + 1]
+                        else:
+                            fa, fm, fb = qa[j], qp[j, 1], qb[j]
+                            c2 = 2.0 * fa - 4.0 * fm + 2.0 * fb
+                            c1 = -3.0 * fa + 4.0 * fm - fb
+                            if c2 >= 0.0:
+                                continue
+                            thv = -c1 / (2.0 * c2)
+                            if (
+                                thv <= 0.0
+                                or thv >= 1.0
+                                or fa + c1 * thv + c2 * thv * thv <= peaks[j]
+                            ):
+                                continue
+                            x_1, x_2, x_3 = 0.0, 0.5, 1.0
+                            f_1, f_2, f_3 = fa, fm, fb
                         # successive parabolic interpolation on the continuous extension
-                        x_1, x_2, x_3 = 0.0, 0.5, 1.0
-                        f_1, f_2, f_3 = fa, fm, fb
                         for _ in range(30):
                             den = (x_2 - x_1) * (f_2 - f_3) - (x_2 - x_3) * (f_2 - f_1)
                             if den == 0.0:
@@ -868,8 +1342,13 @@ def integrate(
                             xv = x_2 - 0.5 * num / den
                             if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9 or x_3 - x_1 <= 1e-9:
                                 break
-                            _dense(y, r2, r3, r4, r5, xv, yd)
-                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
+                            _dense_eval(scheme, y, R, xv, yd)
+                            if dop:
+                                yd[i_lp], yd[i_lp + 1] = _lp8_state(
+                                    y[i_lp], y[i_lp + 1], U8, h, xv, wk, ph
+                                )
+                            else:
+                                yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
                             a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
                             nfev += 1
                             _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
@@ -897,8 +1376,13 @@ def integrate(
                                 xv = x_2 - 0.381966 * (x_2 - x_1)
                             else:
                                 xv = x_2 + 0.381966 * (x_3 - x_2)
-                            _dense(y, r2, r3, r4, r5, xv, yd)
-                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
+                            _dense_eval(scheme, y, R, xv, yd)
+                            if dop:
+                                yd[i_lp], yd[i_lp + 1] = _lp8_state(
+                                    y[i_lp], y[i_lp + 1], U8, h, xv, wk, ph
+                                )
+                            else:
+                                yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
                             a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
                             nfev += 1
                             _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
@@ -930,14 +1414,20 @@ def integrate(
                     # would carry that error while the embedded estimate (weight E1 on k1,
                     # 70x below B1) barely sees it (a jump in the momentum law)
                     hnew = h_prop
+                elif dop:
+                    # scipy's DOP853 factors: 0.9 err^(-1/8) within [0.2, 10], no growth
+                    # right after a rejection
+                    hnew = h * (min(1.0, fac8) if rejected_here else fac8)
                 else:
                     fac = fac11 / facold**beta
                     fac = max(0.1, min(5.0, fac / 0.9))
                     hnew = h / fac
                     facold = max(err, 1e-4)
+                rejected_here = False
+                kl = K[D8_NS] if dop else k7
                 for i in range(n):
                     y[i] = yn[i]
-                    k1[i] = k7[i]
+                    k1[i] = kl[i]
                 for j in range(N_PEAKS):
                     qa[j] = qb[j]
                 t = tn
@@ -947,7 +1437,11 @@ def integrate(
                     break
             else:
                 nrej += 1
-                h = h / min(5.0, fac11 / 0.9)
+                rejected_here = True
+                if dop:
+                    h = h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
+                else:
+                    h = h / min(5.0, fac11 / 0.9)
                 if h < 1e-14 * max(1.0, abs(t)):
                     status = STEP_TOO_SMALL
                     break
