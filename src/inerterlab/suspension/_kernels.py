@@ -7,6 +7,10 @@ the step-size control of Hairer, Norsett and Wanner (Solving ODEs I, II.4, the P
 controller of DOPRI5 with beta = 0.04) and DOPRI5's order-4 continuous extension for
 sampled output and peak refinement. Why this is hand-written and not taken from a
 library: docs/decisions.md, "Quarter-car simulation backend".
+A second pair, Hairer's DOP853 (8(5,3), coefficient table read from scipy, scipy's
+error norm and step-size factors, 7th-order dense output) is selectable with the
+``scheme`` argument of :func:`integrate`; it is correct but slower here (decisions.md,
+"Quarter-car simulation speed").
 
 The metric integrals (int a^2, int grip^2, int z^2, int a_w^2, int a_w^4) and the
 8 states of the Wk filter are carried in the state vector, so no dense output is needed
@@ -821,21 +825,30 @@ def _lp8_state(x1, x2, U, h, th, wk, ph):
 
 @nb.njit(cache=True)
 def _lp8_step(x1, x2, U, h, wk, ph):
-    """(q1, q2) at the end of a DOP853 step and int a_w^2, int a_w^4 over it (8-point
-    Gauss-Legendre on the exact low-pass response)."""
+    """(q1, q2) at the end of a DOP853 step and int a_w^2, int a_w^4 over it: 8-point
+    Gauss-Legendre on the exact low-pass response, on panels that grow geometrically
+    from the step start (the section's transient decays at |sig| = 444 1/s, within
+    milliseconds of a step that may last a large part of a second once the car settles)."""
     c1, c2, d = wk[3, 2], wk[3, 3], wk[3, 4]
+    tau0 = 2.0 / (0.5 * wk[3, 1])  # two decay times of the section
     s2 = 0.0
     s4 = 0.0
-    for j in range(GL8_X.size):
-        th = GL8_X[j]
-        q1, q2 = _lp8_state(x1, x2, U, h, th, wk, ph)
-        u = U[7]
-        for k in range(6, -1, -1):
-            u = u * th + U[k]
-        aw = c1 * q1 + c2 * q2 + d * u
-        aw2 = aw * aw
-        s2 += GL8_W[j] * aw2
-        s4 += GL8_W[j] * aw2 * aw2
+    a = 0.0
+    width = min(1.0, tau0 / h)
+    while a < 1.0:
+        b = min(1.0, a + width)
+        for j in range(GL8_X.size):
+            th = a + (b - a) * GL8_X[j]
+            q1, q2 = _lp8_state(x1, x2, U, h, th, wk, ph)
+            u = U[7]
+            for k in range(6, -1, -1):
+                u = u * th + U[k]
+            aw = c1 * q1 + c2 * q2 + d * u
+            aw2 = aw * aw
+            s2 += (b - a) * GL8_W[j] * aw2
+            s4 += (b - a) * GL8_W[j] * aw2 * aw2
+        a = b
+        width *= 2.0
     q1, q2 = _lp8_state(x1, x2, U, h, 1.0, wk, ph)
     return q1, q2, h * s2, h * s4
 
