@@ -333,7 +333,9 @@ def sweep_spec(
     try:
         # every point keeps one float per metric plus a status; refuse grids that cannot fit
         check_memory(
-            float(n_points) * (len(pf.metrics) + 2), what="sweep result grid", parameter="parameters"
+            float(n_points) * (len(pf.metrics) + 2),
+            what="sweep result grid",
+            parameter="parameters",
         )
     except ParameterError as exc:
         fail("parameters", exc)
