@@ -29,3 +29,17 @@ def test_huge_sweep_refused_before_any_work():
                 "sprung_mass": {"start": 300, "stop": 400, "num": 100000},
             },
         )
+
+
+def test_huge_saved_series_refused_up_front():
+    from inerterlab.excitation import sine
+    from inerterlab.simulate import SimulationOptions, simulate
+    from inerterlab.suspension import quarter_car
+
+    with pytest.raises(ParameterError, match="sampled time series"):
+        simulate(
+            quarter_car("traditional"),
+            sine(0.05, 5.0),
+            1e6,
+            options=SimulationOptions(sample_rate=1e6),
+        )

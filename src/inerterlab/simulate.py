@@ -39,6 +39,7 @@ import numpy as np
 from .errors import ConvergenceError, ParameterError, check_choice, check_positive
 from .excitation import Excitation, road_displacement
 from .metrics import wk_sections, wk_state_space
+from .resources import check_memory
 from .suspension.model import N_METRIC_STATES, QuarterCar
 
 __all__ = [
@@ -268,7 +269,19 @@ def _initial_state(model: QuarterCar, excitation: Excitation, horizon: float):
     return np.concatenate([phys, np.zeros(N_METRIC_STATES)]), x1
 
 
+#: arrays of this many floats per output sample are kept for a time series (states,
+#: accelerations, road, forces and the derived columns of ``to_pandas``), generously
+_SERIES_VALUES_PER_SAMPLE = 64
+
+
 def _sample_times(horizon: float, rate: float) -> np.ndarray:
+    n_samples = horizon * rate + 1.0
+    # refuse up front a series that cannot fit, with the estimate, instead of failing late
+    check_memory(
+        n_samples * _SERIES_VALUES_PER_SAMPLE,
+        what="sampled time series (horizon x sample_rate)",
+        parameter="horizon",
+    )
     n = int(math.floor(horizon * rate + 1e-9))
     return np.arange(n + 1) / rate
 
