@@ -487,6 +487,11 @@ def _solve(fun, x0, lb, ub, loss, f_scale, max_nfev, jac=None):
         )
     except ValueError as e:
         raise ConvergenceError(f"identify: least squares failed ({e})") from None
+    if sol.status == 0:
+        raise ConvergenceError(
+            f"identify: the fit did not converge within max_nfev={max_nfev} model evaluations "
+            f"(last cost {float(sol.cost):.6g}); raise max_nfev, start closer, or fix a parameter"
+        )
     return sol
 
 
