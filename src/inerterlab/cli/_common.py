@@ -6,13 +6,14 @@ import json
 import math
 import os
 import sys
-import tempfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from ..errors import InerterlabError, ParameterError
+from ..io import atomic_path
+from ..io import atomic_write_text as atomic_write_text
 
 
 def _clean(obj: Any) -> Any:
@@ -34,37 +35,12 @@ def emit_json(obj: Any) -> None:
     sys.stdout.write(json.dumps(_clean(obj), allow_nan=False) + "\n")
 
 
-def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` through a temporary file and a rename."""
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, p)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return p
-
-
 def atomic_savefig(fig: Any, path: str | os.PathLike) -> Path:
     """Save a matplotlib figure atomically (format from the suffix)."""
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    suffix = p.suffix.lstrip(".") or "png"
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix="." + suffix)
-    os.close(fd)
-    try:
+    suffix = Path(path).suffix.lstrip(".") or "png"
+    with atomic_path(path, suffix="." + suffix) as tmp:
         fig.savefig(tmp, format=suffix, dpi=120, bbox_inches="tight")
-        os.replace(tmp, p)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return p
+    return Path(path)
 
 
 def print_table(title: str, rows: list[tuple[str, str]]) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import signal
 from pathlib import Path
 from typing import Annotated
 
@@ -54,7 +55,30 @@ def reproduce_command(
         def step(msg: str) -> None:
             bar.update(task, advance=1, description=msg)
 
-        manifest = reproduce(out, settings=settings, tables=tables, progress=step)
+        # first Ctrl-C: finish the current item, keep everything, stop; second: stop now.
+        # Raising inside the handler could land in a native callback (numba compiling)
+        # that swallows it, so the first one only sets a flag polled between items.
+        stop = {"requested": False}
+
+        def on_sigint(signum, frame):
+            if stop["requested"]:
+                raise KeyboardInterrupt
+            stop["requested"] = True
+            bar.console.print(
+                "[yellow]Ctrl-C: stopping after the current item (press again to stop now)"
+            )
+
+        previous = signal.signal(signal.SIGINT, on_sigint)
+        try:
+            manifest = reproduce(
+                out,
+                settings=settings,
+                tables=tables,
+                progress=step,
+                should_stop=lambda: stop["requested"],
+            )
+        finally:
+            signal.signal(signal.SIGINT, previous)
     failed = [i for i in manifest["items"] if not i["ok"]]
     if json_out:
         emit_json(manifest)

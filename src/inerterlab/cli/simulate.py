@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import os
-import tempfile
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
+from ..io import atomic_path
 from ..metrics import METRIC_KEYS
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
@@ -37,16 +36,8 @@ def _save_series(result, path: Path) -> None:
         atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
     elif suffix == ".nc":
         ds = result.to_xarray()
-        path.parent.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".nc")
-        os.close(fd)
-        try:
+        with atomic_path(path, suffix=".nc") as tmp:
             ds.to_netcdf(tmp, engine="scipy")  # netCDF3 via scipy: no HDF5 library needed
-            os.replace(tmp, path)
-        except BaseException:
-            if os.path.exists(tmp):
-                os.unlink(tmp)
-            raise
     else:
         raise ParameterError("save", str(path), "a file name ending in .csv or .nc")
 

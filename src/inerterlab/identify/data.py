@@ -29,9 +29,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-import os
 import re
-import tempfile
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -39,6 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import DataFileError
+from ..io import atomic_write_text
 
 __all__ = ["RigTest", "RigDataSet", "load_rig_data", "read_rig_test", "write_rig_data"]
 
@@ -312,18 +311,6 @@ def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
     return RigDataSet(tests=tuple(tests), source=str(d))
 
 
-def _atomic_write_text(path: Path, text: str) -> None:
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w") as fh:
-            fh.write(text)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-
-
 def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
     """Write ``dataset`` as test CSV files plus ``manifest.csv`` (each file atomically)."""
     d = Path(directory)
@@ -343,9 +330,9 @@ def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
                 buf.write(f"# {hl}\n")
         buf.write(",".join(c[0] for c in cols) + "\n")
         np.savetxt(buf, arr, delimiter=",", fmt="%.10g")
-        _atomic_write_text(d / test.name, buf.getvalue())
+        atomic_write_text(d / test.name, buf.getvalue())
         rows.append(
             f"{test.name},{test.signal},{test.frequency:g},{test.amplitude:g},{test.purpose}"
         )
-    _atomic_write_text(d / "manifest.csv", "\n".join(rows) + "\n")
+    atomic_write_text(d / "manifest.csv", "\n".join(rows) + "\n")
     return d

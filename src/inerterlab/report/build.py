@@ -35,6 +35,7 @@ from dataclasses import asdict
 from pathlib import Path
 
 from ..errors import ParameterError
+from ..io import atomic_write_bytes
 from .registry import FigureResult, ReproduceSettings, TableResult
 
 CHAPTERS = ("ch3", "ch4_6", "studies", "ch5", "ch7")
@@ -120,14 +121,6 @@ def _csv_with_header(frame, header: dict) -> str:
     return "\n".join(lines) + "\n" + frame.to_csv(index=False)
 
 
-def _atomic_bytes(path: Path, data: bytes) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.")
-    with os.fdopen(fd, "wb") as fh:
-        fh.write(data)
-    os.replace(tmp, path)
-
-
 def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
     """Number of items :func:`run_items` will process (for progress bars)."""
     tables, figures = _load_chapters()
@@ -141,8 +134,13 @@ def run_items(
     include_figures: bool,
     work_dir: Path,
     progress: Callable[[str], None] | None = None,
+    should_stop: Callable[[], bool] | None = None,
 ) -> list[dict]:
-    """Compute (or reuse from ``work_dir``) every selected item; returns item records."""
+    """Compute (or reuse from ``work_dir``) every selected item; returns item records.
+
+    ``should_stop`` is polled before each item; when it returns True the run stops
+    with ``KeyboardInterrupt``, every finished item being already in ``work_dir``.
+    """
     tables, figures = _load_chapters()
     chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
     items = [("table", t, tables[t]) for t in chosen_tables]
@@ -152,6 +150,8 @@ def run_items(
     tag = _settings_hash(settings)
     records = []
     for kind, ident, fn in items:
+        if should_stop is not None and should_stop():
+            raise KeyboardInterrupt
         cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.pkl"
         if cache.exists():
             with open(cache, "rb") as fh:
@@ -190,7 +190,7 @@ def run_items(
                 "seconds": time.perf_counter() - t0,
             }
         if rec["ok"]:
-            _atomic_bytes(cache, pickle.dumps(rec))
+            atomic_write_bytes(cache, pickle.dumps(rec))
         records.append(rec)
         if progress:
             progress(f"{kind} {ident}")
@@ -394,6 +394,7 @@ def reproduce(
     figures: bool = True,
     progress: Callable[[str], None] | None = None,
     errata_path: str | os.PathLike | None = None,
+    should_stop: Callable[[], bool] | None = None,
 ) -> dict:
     """Run the reproduction and write the report to ``out``; returns the manifest.
 
@@ -413,7 +414,7 @@ def reproduce(
     all_tables, _ = _load_chapters()
     ids = parse_table_selection(tables, list(all_tables)) if tables else None
     work = out.parent / f"{out.name}.work"
-    records = run_items(settings, ids, figures and ids is None, work, progress)
+    records = run_items(settings, ids, figures and ids is None, work, progress, should_stop)
     errata = ""
     candidates = [Path(errata_path)] if errata_path else []
     candidates += [Path(__file__).resolve().parents[3] / "docs" / "errata.md"]

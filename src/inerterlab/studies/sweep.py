@@ -479,20 +479,11 @@ def save_netcdf(ds, path: str | os.PathLike) -> Path:
 
     netCDF-4 through h5netcdf when h5py is installed, else classic netCDF through scipy.
     """
-    import tempfile
+    from ..io import atomic_path
 
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=".nc")
-    os.close(fd)
-    try:
+    with atomic_path(path, suffix=".nc") as tmp:
         try:
             ds.to_netcdf(tmp, engine="h5netcdf")
         except ImportError:  # h5netcdf without h5py: classic netCDF through scipy
             ds.to_netcdf(tmp, engine="scipy")
-        os.replace(tmp, p)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
-    return p
+    return Path(path)
