@@ -12,8 +12,6 @@ Case (issue 3): ``afw`` quarter car (nylon flywheel, thesis law, M = 370 kg) und
   the same tolerances; median of a few runs;
 * accuracy: both against a scipy DOP853 run at rtol 1e-10 (worst relative error over
   the metrics);
-* the numba backend's other Runge-Kutta pair, ``scheme="dop853"`` (Hairer's 8(5,3),
-  scipy's coefficients and step control), at the same two tolerances, with its counts.
 
 The last line is ``ratio: N`` = median baseline time / median fast time.
 
@@ -125,15 +123,6 @@ def main() -> None:
         f"fast at rtol {loose_rtol:g} {worst(m_loose, m_ref):.2e}, scipy {worst(m_slow, m_ref):.2e}"
     )
     print(f"fast vs scipy at the same tolerance: {worst(m_fast, m_slow):.2e}")
-    for rt in (args.rtol, loose_rtol):
-        o = SimulationOptions(backend="numba", rtol=rt, scheme="dop853")
-        st = simulate(car, ex, T, options=o, output="metrics").stats
-        t8, c8, m8 = timed_cpu(lambda o=o: simulate_metrics(car, ex, T, options=o), args.fast_runs)
-        print(
-            f"numba DOP853, rtol {rt:g}: median {1e3 * t8:.2f} ms (CPU {1e3 * c8:.2f} ms), "
-            f"{t8 / t_fast:.2f}x the Dormand-Prince 5(4) time at rtol {args.rtol:g}; "
-            f"worst error vs rtol 1e-10 {worst(m8, m_ref):.2e}; steps {st}"
-        )
     print(f"simulations per second per worker (fast): {1.0 / t_fast:.0f}")
     print(f"ratio: {t_slow / t_fast:.0f}")
 

@@ -6,9 +6,6 @@ Backends (SPEC §5, issue "quarter-car simulation"):
     Compiled adaptive Dormand-Prince 5(4) (:mod:`inerterlab.suspension._kernels`)
     with the metric integrals and the Wk filter as extra states; dense output only
     for the sampled time series and the peaks.
-    ``SimulationOptions(scheme="dop853")`` selects Hairer's 8(5,3) pair instead
-    (scipy's coefficients and step control): fewer steps, more work per step, slower
-    on the quarter car (docs/decisions.md, "Quarter-car simulation speed").
 ``scipy``
     :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on the plain-Python
     right-hand side :class:`inerterlab.suspension.reference.ReferenceRHS`: the
@@ -51,11 +48,7 @@ __all__ = [
 ]
 
 BACKENDS = ("numba", "scipy")
-SCHEMES = ("dp54", "dop853")  # Runge-Kutta pairs of the numba backend
 WK_TOLERANCE_FACTOR = 1e4  # absolute tolerance of the Wk filter states / the others'
-# DOP853's long steps let the loosely controlled Wk states drift: 1e4 cost 8e-6 in the Wk
-# value of the afw car on the road series over 10 s, 1e2 keeps 2e-9 for 4 % more steps
-WK_TOLERANCE_FACTOR_DOP853 = 1e2
 OUTPUTS = ("series", "metrics")
 
 
@@ -73,10 +66,6 @@ class SimulationOptions:
         DOP853 run at 1e-10 to better than 1e-6 (tests/test_simulate.py).
     method : str
         scipy method (``DOP853``, ``RK45``, ``Radau``, ...); ignored by ``numba``.
-    scheme : {"dp54", "dop853"}
-        Runge-Kutta pair of the ``numba`` backend: Dormand-Prince 5(4) or Hairer's
-        DOP853 (the 8(5,3) pair of scipy's ``DOP853``, same coefficients, error norm and
-        step-size factors); ignored by ``scipy``.
     sample_rate : float
         Output sampling rate [Hz] of the time series (>= 1000 recommended).
     refine_peaks : bool
@@ -89,7 +78,6 @@ class SimulationOptions:
     backend: str = "numba"
     rtol: float = 1e-8
     method: str = "DOP853"
-    scheme: str = "dp54"
     sample_rate: float = 1000.0
     refine_peaks: bool = True
     max_steps: int = 10_000_000
@@ -100,7 +88,6 @@ class SimulationOptions:
         if not 1e-14 <= r <= 1e-2:
             raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-14, 1e-2]")
         check_choice("method", self.method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
-        check_choice("scheme", self.scheme, SCHEMES)
         check_positive("sample_rate", self.sample_rate, "Hz")
         if not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise ParameterError("max_steps", self.max_steps, "an integer >= 1")
@@ -313,9 +300,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     # suspension x input x law matrix
     scales = model.state_scales.copy()
     n = model.n_states
-    scales[n + 3 : n + 11] *= (
-        WK_TOLERANCE_FACTOR_DOP853 if options.scheme == "dop853" else WK_TOLERANCE_FACTOR
-    )
+    scales[n + 3 : n + 11] *= WK_TOLERANCE_FACTOR
     atol = options.rtol * scales
     wk = _wk_sections()
     ts = _sample_times(horizon, options.sample_rate) if want_series else np.empty(0)
@@ -326,7 +311,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
         wk, ts, out_y, out_a3, peaks, stats, bool(options.refine_peaks),
-        int(options.max_steps), K.DOP853 if options.scheme == "dop853" else K.DP54,
+        int(options.max_steps),
     )  # fmt: skip
     if status != K.OK:
         why = {

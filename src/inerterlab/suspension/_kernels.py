@@ -7,10 +7,6 @@ the step-size control of Hairer, Norsett and Wanner (Solving ODEs I, II.4, the P
 controller of DOPRI5 with beta = 0.04) and DOPRI5's order-4 continuous extension for
 sampled output and peak refinement. Why this is hand-written and not taken from a
 library: docs/decisions.md, "Quarter-car simulation backend".
-A second pair, Hairer's DOP853 (8(5,3), coefficient table read from scipy, scipy's
-error norm and step-size factors, 7th-order dense output) is selectable with the
-``scheme`` argument of :func:`integrate`; it is correct but slower here (decisions.md,
-"Quarter-car simulation speed").
 
 The metric integrals (int a^2, int grip^2, int z^2, int a_w^2, int a_w^4) and the
 8 states of the Wk filter are carried in the state vector, so no dense output is needed
@@ -28,7 +24,6 @@ parabolic interpolation on the continuous extension.
 
 from __future__ import annotations
 
-import cmath
 import math
 
 import numba as nb
@@ -44,12 +39,15 @@ from .model import (
     P_FFH,
     P_GRIP,
     P_ICOEF,
+    P_IM,
+    P_IMT,
     P_IREST,
     P_K,
     P_KC,
     P_KH,
     P_KIND,
     P_KS,
+    P_KSLMIN,
     P_KT,
     P_LAW,
     P_LIFT,
@@ -58,14 +56,22 @@ from .model import (
     P_M,
     P_MS,
     P_MT,
+    P_MU,
     P_NPHYS,
     P_NSL,
     P_POW,
     P_R,
+    P_R2,
     P_VEPS,
     P_W,
     P_WSAT,
 )
+
+# Every helper below works in place on arrays it is handed and allocates nothing, so
+# it is compiled without numba's reference counting: with it, each call from the
+# integrator paid an atomic increment and decrement per array argument, about 40 ns
+# per call of the right-hand side (decisions.md, "Quarter-car simulation speed")
+leaf = nb.njit(cache=True, _nrt=False)
 
 N_PEAKS = 7  # a3, -a3, a_w, -a_w, z, -z, tyre force K_t (X2-X1) + C_t (V2-X1')
 
@@ -100,27 +106,11 @@ D1, D3, D4, D5, D6, D7 = (
     69997945.0 / 29380423.0,
 )
 
-# Hairer's DOP853: 8th-order solution, 5th- and 3rd-order error estimators, 7th-order
-# dense output from 3 extra stages. The table is read from scipy's own module (the one
-# solve_ivp's DOP853 uses), so both integrators run the same method
-from scipy.integrate._ivp import dop853_coefficients as _dop853  # noqa: E402
-
-D8_NS = int(_dop853.N_STAGES)  # 12 stages; row 12 of the stage array is f(t + h, y_new)
-D8_A = np.ascontiguousarray(_dop853.A, dtype=np.float64)  # 16 x 16
-D8_B = np.ascontiguousarray(_dop853.B, dtype=np.float64)  # 12
-D8_C = np.ascontiguousarray(_dop853.C, dtype=np.float64)  # 16
-D8_E3 = np.ascontiguousarray(_dop853.E3, dtype=np.float64)  # 13
-D8_E5 = np.ascontiguousarray(_dop853.E5, dtype=np.float64)  # 13
-D8_D = np.ascontiguousarray(_dop853.D, dtype=np.float64)  # 4 x 16
-
-# integration schemes of integrate()
-DP54, DOP853 = 0, 1
-
 # status codes of integrate()
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE = 0, 1, 2, 3
 
 
-@nb.njit(cache=True)
+@leaf
 def road(seg, t):
     """X1 [m] and X1' [m/s] on segment ``seg`` at time t."""
     if seg[2] == 0.0:
@@ -129,7 +119,7 @@ def road(seg, t):
     return seg[3] + seg[5] * math.sin(arg), seg[5] * seg[6] * math.cos(arg)
 
 
-@nb.njit(cache=True)
+@leaf
 def _slider_radius(p, w):
     w = abs(w)
     if w < p[P_WSAT]:
@@ -137,7 +127,7 @@ def _slider_radius(p, w):
     return p[P_LMAX]
 
 
-@nb.njit(cache=True)
+@leaf
 def inertia(p, w):
     """I(|w|) [kg m^2] of the packed flywheel."""
     l = _slider_radius(p, w)
@@ -146,7 +136,7 @@ def inertia(p, w):
     return p[P_IREST] + p[P_ICOEF] * l
 
 
-@nb.njit(cache=True)
+@leaf
 def momentum_inertia(p, w):
     """I + |w| dI/d|w| [kg m^2]."""
     w = abs(w)
@@ -163,7 +153,7 @@ def momentum_inertia(p, w):
     return inertia(p, w) + w * di
 
 
-@nb.njit(cache=True)
+@leaf
 def _slider_primitive(p, a):
     """int_0^a l(s)^power ds for 0 <= a <= w_sat (closed form of (3.9))."""
     k, m, lmin = p[P_KS], p[P_MS], p[P_LMIN]
@@ -176,7 +166,7 @@ def _slider_primitive(p, a):
     return c * lg / (2.0 * al)
 
 
-@nb.njit(cache=True)
+@leaf
 def inertia_integral(p, w):
     """H(w) = int_0^w I(|s|) ds [kg m^2 rad/s], odd in w."""
     a = abs(w)
@@ -188,7 +178,7 @@ def inertia_integral(p, w):
     return h if w >= 0.0 else -h
 
 
-@nb.njit(cache=True)
+@leaf
 def _inertance(p, v, y, j0):
     """(m_e [kg], extra force g [N]) of the inertia law at branch velocity v [m/s]."""
     r = p[P_R]
@@ -203,7 +193,7 @@ def _inertance(p, v, y, j0):
     return r * r * p[P_IREST], 0.0
 
 
-@nb.njit(cache=True)
+@leaf
 def branch_velocity(force, b, ff, eps):
     """u solving b u + F tanh(u/eps) = force (safeguarded Newton, to round-off)."""
     lo = (force - ff) / b
@@ -230,13 +220,13 @@ def branch_velocity(force, b, ff, eps):
     return u
 
 
-@nb.njit(cache=True)
+@leaf
 def rhs(t, y, dy, p, seg, wk):
     """Write f(t, y) into dy; return the body acceleration a3 [m/s^2]."""
     return _rhs(t, y, dy, p, seg, wk, True)
 
 
-@nb.njit(cache=True)
+@leaf
 def _rhs(t, y, dy, p, seg, wk, low_pass):
     """f(t, y); with ``low_pass=False`` the last Wk section (the 100 Hz low pass) and the
     integrals of a_w^2, a_w^4 get zero derivatives: :func:`integrate` advances them
@@ -251,18 +241,34 @@ def _rhs(t, y, dy, p, seg, wk, low_pass):
     ft = p[P_KT] * (x2 - x1) + p[P_CT] * (v2 - v1)
     if p[P_LIFT] != 0.0 and ft > p[P_W]:
         ft = p[P_W]
-    M, Mt = p[P_M], p[P_MT]
+    im, imt = p[P_IM], p[P_IMT]
     if kind == 0.0:
-        a3 = -fs / M
-        a2 = (fs - ft) / Mt
+        a3 = -fs * im
+        a2 = (fs - ft) * imt
     elif kind == 1.0:
-        me, g = _inertance(p, v, y, 4)
-        mu = 1.0 / M + 1.0 / Mt
-        arel = (ft / Mt - (fs + g) * mu) / (1.0 + me * mu)
+        law = p[P_LAW]
+        if law == 0.0:
+            # the thesis law inline (the common case): m_e = r^2 I(r|v|)
+            w = abs(p[P_R] * v)
+            if w < p[P_WSAT]:
+                l = p[P_KSLMIN] / (p[P_KS] - p[P_MS] * w * w)
+            else:
+                l = p[P_LMAX]
+            if p[P_POW] == 2.0:
+                l = l * l
+            me = p[P_R2] * (p[P_IREST] + p[P_ICOEF] * l)
+            g = 0.0
+        elif law == 3.0:
+            me = p[P_R2] * p[P_IREST]
+            g = 0.0
+        else:
+            me, g = _inertance(p, v, y, 4)
+        mu = p[P_MU]
+        arel = (ft * imt - (fs + g) * mu) / (1.0 + me * mu)
         fin = me * arel + g
-        a3 = -(fs + fin) / M
-        a2 = (fs + fin - ft) / Mt
-        if p[P_LAW] == 2.0:
+        a3 = -(fs + fin) * im
+        a2 = (fs + fin - ft) * imt
+        if law == 2.0:
             ldd, _ = slider_state_derivative(
                 y[4], y[5], p[P_R] * v, p[P_NSL], p[P_MS], p[P_KS], p[P_LMIN], p[P_LMAX],
                 p[P_CS], p[P_KC], p[P_CC],
@@ -273,8 +279,8 @@ def _rhs(t, y, dy, p, seg, wk, low_pass):
         fd = p[P_KH] * y[4]
         u = branch_velocity(fd, p[P_BAH], p[P_FFH], p[P_VEPS])
         dy[4] = v - u
-        a3 = -(fs + fd) / M
-        a2 = (fs + fd - ft) / Mt
+        a3 = -(fs + fd) * im
+        a2 = (fs + fd - ft) * imt
     else:
         fd = p[P_KH] * y[4]
         u = y[5]
@@ -288,8 +294,8 @@ def _rhs(t, y, dy, p, seg, wk, low_pass):
             )  # fmt: skip
             dy[6] = y[7]
             dy[7] = ldd
-        a3 = -(fs + fd) / M
-        a2 = (fs + fd - ft) / Mt
+        a3 = -(fs + fd) * im
+        a2 = (fs + fd - ft) * imt
     dy[0] = v2
     dy[1] = a2
     dy[2] = v3
@@ -321,7 +327,7 @@ def _rhs(t, y, dy, p, seg, wk, low_pass):
     return a3
 
 
-@nb.njit(cache=True)
+@leaf
 def apply_jump(p, y, jump):
     """Apply in place the tyre-damper impulse C_t * jump of a road step [m]."""
     imp = p[P_CT] * jump
@@ -373,7 +379,7 @@ def apply_jump(p, y, jump):
     y[1] += (imp + P) / Mt
 
 
-@nb.njit(cache=True)
+@leaf
 def _quantities(t, y, p, seg, wk, a3, q):
     n = int(p[P_NPHYS])
     aw = a3
@@ -391,7 +397,7 @@ def _quantities(t, y, p, seg, wk, a3, q):
     q[6] = p[P_KT] * (y[0] - x1) + p[P_CT] * (y[1] - v1)
 
 
-@nb.njit(cache=True)
+@leaf
 def _switching(p, y, t, seg, sw_a, sw_b, v_sat):
     """Switching functions: |v| - v_sat (inertia law) and tyre force - static load."""
     g1 = 0.0
@@ -405,7 +411,29 @@ def _switching(p, y, t, seg, sw_a, sw_b, v_sat):
     return g1, g2
 
 
-@nb.njit(cache=True)
+@leaf
+def _dense_at(y, r2, r3, r4, r5, th, i):
+    """Component i of the Dormand-Prince continuous extension at theta (see _dense)."""
+    return y[i] + th * (r2[i] + (1.0 - th) * (r3[i] + th * (r4[i] + (1.0 - th) * r5[i])))
+
+
+@leaf
+def _switching_dense(p, y, r2, r3, r4, r5, th, t, seg, sw_a, sw_b, v_sat, which):
+    """One switching function of :func:`_switching` on the continuous extension at
+    theta, evaluating only the components it needs (the kink search calls it ~40
+    times per crossing)."""
+    if which == 0:
+        v = _dense_at(y, r2, r3, r4, r5, th, sw_a)
+        if sw_b >= 0:
+            v -= _dense_at(y, r2, r3, r4, r5, th, sw_b)
+        return abs(v) - v_sat
+    x1, v1 = road(seg, t)
+    x2 = _dense_at(y, r2, r3, r4, r5, th, 0)
+    v2 = _dense_at(y, r2, r3, r4, r5, th, 1)
+    return p[P_KT] * (x2 - x1) + p[P_CT] * (v2 - v1) - p[P_W]
+
+
+@leaf
 def _dense_coefficients(y, ynew, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5):
     for i in range(y.size):
         yd = ynew[i] - y[i]
@@ -416,24 +444,26 @@ def _dense_coefficients(y, ynew, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5):
         r5[i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i])
 
 
-@nb.njit(cache=True)
+@leaf
 def _dense(y, r2, r3, r4, r5, th, out):
     th1 = 1.0 - th
     for i in range(y.size):
         out[i] = y[i] + th * (r2[i] + th1 * (r3[i] + th * (r4[i] + th1 * r5[i])))
 
 
-@nb.njit(cache=True)
-def _err_norm(y, ynew, k1, k3, k4, k5, k6, k7, h, rtol, atol):
+@leaf
+def _err_norm(y, ynew, k1, k3, k4, k5, k6, k7, h, rtol, atol, nrk):
+    """RMS over all y.size states of the scaled error; only the first ``nrk`` can be
+    nonzero (the exact low pass and the a_w integrals are advanced outside the stages)."""
     s = 0.0
-    for i in range(y.size):
+    for i in range(nrk):
         e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
         sc = atol[i] + rtol * max(abs(y[i]), abs(ynew[i]))
         s += (e / sc) ** 2
     return math.sqrt(s / y.size)
 
 
-@nb.njit(cache=True)
+@leaf
 def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1, order, low_pass):
     """Initial step of Hairer, Norsett and Wanner (II.4), as scipy's select_initial_step;
     ``order`` is the order of the error estimator."""
@@ -460,89 +490,6 @@ def _initial_step(t, y, f0, p, seg, wk, rtol, atol, span, ytmp, f1, order, low_p
     return min(100.0 * h0, h1, span)
 
 
-@nb.njit(cache=True)
-def _dop853_stages(t, y, K, h, tn, p, seg, wk, yt, yn):
-    """Stages 2-12 of DOP853 into K[1:12], y_new into yn, f(tn, y_new) into K[12];
-    K[0] holds f(t, y). Returns a3 at the step end."""
-    n = y.size
-    for s in range(1, D8_NS):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += D8_A[s, j] * K[j, i]
-            yt[i] = y[i] + h * acc
-        ts = tn if D8_C[s] == 1.0 else t + D8_C[s] * h
-        _rhs(ts, yt, K[s], p, seg, wk, False)
-    for i in range(n):
-        acc = 0.0
-        for j in range(D8_NS):
-            acc += D8_B[j] * K[j, i]
-        yn[i] = y[i] + h * acc
-    return _rhs(tn, yn, K[D8_NS], p, seg, wk, False)
-
-
-@nb.njit(cache=True)
-def _dop853_err_norm(y, yn, K, h, rtol, atol):
-    """scipy's DOP853 error norm: |h| E5^2 / sqrt(n (E5^2 + 0.01 E3^2)) (RMS norms)."""
-    e5 = 0.0
-    e3 = 0.0
-    for i in range(y.size):
-        sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
-        a5 = 0.0
-        a3 = 0.0
-        for j in range(D8_NS + 1):
-            a5 += D8_E5[j] * K[j, i]
-            a3 += D8_E3[j] * K[j, i]
-        e5 += (a5 / sc) ** 2
-        e3 += (a3 / sc) ** 2
-    if e5 == 0.0 and e3 == 0.0:
-        return 0.0
-    return abs(h) * e5 / math.sqrt((e5 + 0.01 * e3) * y.size)
-
-
-@nb.njit(cache=True)
-def _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R):
-    """The 3 extra stages (K[13:16]) and the 7 rows of DOP853's dense output into R."""
-    n = y.size
-    for s in range(D8_NS + 1, D8_A.shape[0]):
-        for i in range(n):
-            acc = 0.0
-            for j in range(s):
-                acc += D8_A[s, j] * K[j, i]
-            yt[i] = y[i] + h * acc
-        _rhs(t + D8_C[s] * h, yt, K[s], p, seg, wk, False)
-    for i in range(n):
-        dlt = yn[i] - y[i]
-        R[0, i] = dlt
-        R[1, i] = h * K[0, i] - dlt
-        R[2, i] = 2.0 * dlt - h * (K[D8_NS, i] + K[0, i])
-        for r in range(4):
-            acc = 0.0
-            for j in range(D8_A.shape[0]):
-                acc += D8_D[r, j] * K[j, i]
-            R[3 + r, i] = h * acc
-
-
-@nb.njit(cache=True)
-def _dense_eval(scheme, y, R, th, out):
-    """Continuous extension at theta: DOPRI5's quartic (rows r2..r5 of R) or DOP853's
-    degree-7 polynomial (rows F0..F6, nested in theta and 1 - theta as in scipy)."""
-    th1 = 1.0 - th
-    if scheme == DP54:
-        for i in range(y.size):
-            out[i] = y[i] + th * (R[0, i] + th1 * (R[1, i] + th * (R[2, i] + th1 * R[3, i])))
-        return
-    for i in range(y.size):
-        v = R[6, i] * th
-        v = (v + R[5, i]) * th1
-        v = (v + R[4, i]) * th
-        v = (v + R[3, i]) * th1
-        v = (v + R[2, i]) * th
-        v = (v + R[1, i]) * th1
-        v = (v + R[0, i]) * th
-        out[i] = y[i] + v
-
-
 # 5-point Gauss-Legendre rule on [0, 1]
 GL_X = np.array(
     [
@@ -562,7 +509,7 @@ GL_W = 0.5 * np.array(
 LP_EXACT_MIN = 0.05
 
 
-@nb.njit(cache=True)
+@leaf
 def _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n, lpw):
     """Input u(theta) of the low pass over the step as a quartic in theta -> lpw[1:6].
 
@@ -586,12 +533,12 @@ def _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n, lpw):
         lpw[5] += c * r5
 
 
-@nb.njit(cache=True)
+@leaf
 def _lp_u(lpw, th):
     return lpw[1] + th * (lpw[2] + th * (lpw[3] + th * (lpw[4] + th * lpw[5])))
 
 
-@nb.njit(cache=True)
+@leaf
 def _lp_setup(x1, x2, h, wk, lpw):
     """Advance the 100 Hz low pass q1' = w0 q2, q2' = w0 (u - q1) - a1 q2 over one step.
 
@@ -702,7 +649,7 @@ def _lp_setup(x1, x2, h, wk, lpw):
     return xn, yn, i2, i4
 
 
-@nb.njit(cache=True)
+@leaf
 def _lp_at(lpw, th, wk):
     """Low-pass states (q1, q2) at theta in [0, 1] of the step set up by _lp_setup."""
     if lpw[0] == 0.0:
@@ -732,297 +679,154 @@ def _lp_at(lpw, th, wk):
     )
 
 
-# DOP853 path: the same exact low pass, driven by the degree-7 dense output of the third
-# Wk section. x(tau) = exp(tau A) x0 + sum_k U_k theta^k k! tau phi_{k+1}(tau A) b with
-# the phi functions of the 2x2 section (complex eigenvalue pair), which stay accurate for
-# any h w0 (no particular-solution cancellation, so no short-step fallback)
-_GL8_X, _GL8_W = np.polynomial.legendre.leggauss(8)
-GL8_X = np.ascontiguousarray(0.5 * (_GL8_X + 1.0))  # 8-point Gauss-Legendre on [0, 1]
-GL8_W = np.ascontiguousarray(0.5 * _GL8_W)
-FACT = np.array([float(math.factorial(k)) for k in range(9)])
-
-
-@nb.njit(cache=True)
-def _phis(z, ph):
-    """phi_0(z) .. phi_8(z) into ph (complex): Taylor + downward recurrence for
-    |z| < 1, upward recurrence phi_{k+1} = (phi_k - 1/k!)/z from exp(z) otherwise."""
-    if abs(z) < 1.0:
-        term = 1.0 / FACT[8] + 0.0j
-        acc = term
-        for j in range(1, 40):
-            term = term * z * (1.0 / (j + 8.0))
-            acc += term
-            if abs(term) < 1e-18 * abs(acc):
-                break
-        ph[8] = acc
-        for k in range(7, -1, -1):
-            ph[k] = z * ph[k + 1] + 1.0 / FACT[k]
-        return
-    ph[0] = cmath.exp(z)
-    zi = 1.0 / z
-    for k in range(8):
-        ph[k + 1] = (ph[k] - 1.0 / FACT[k]) * zi
-
-
-@nb.njit(cache=True)
-def _lp8_input(y, R, wk, n, U, pc):
-    """Monomial coefficients U[0:8] in theta of the low-pass input c1 q1 + c2 q2 of the
-    third Wk section along DOP853's dense output (rows of R, nested in theta, 1-theta)."""
-    for k in range(8):
-        U[k] = 0.0
-    for j in range(2):
-        i = n + 7 + j
-        c = wk[2, 2 + j]
-        for k in range(9):
-            pc[k] = 0.0
-        pc[0] = R[6, i]
-        deg = 0
-        for r in range(5, -2, -1):
-            # multiply by theta (even count) or (1 - theta)
-            if (5 - r) % 2 == 0:
-                for k in range(deg + 1, 0, -1):
-                    pc[k] = pc[k - 1]
-                pc[0] = 0.0
-            else:
-                pc[deg + 1] = 0.0
-                for k in range(deg + 1, 0, -1):
-                    pc[k] -= pc[k - 1]
-            deg += 1
-            if r >= 0:
-                pc[0] += R[r, i]
-        U[0] += c * y[i]
-        for k in range(8):
-            U[k] += c * pc[k]
-
-
-@nb.njit(cache=True)
-def _lp8_state(x1, x2, U, h, th, wk, ph):
-    """Low-pass states at theta of a DOP853 step from (x1, x2) at its start."""
-    tau = th * h
-    if tau == 0.0:
-        return x1, x2
-    w0, a1 = wk[3, 0], wk[3, 1]
-    sig = -0.5 * a1
-    wd = math.sqrt(w0 * w0 - sig * sig)
-    _phis(complex(sig * tau, wd * tau), ph)
-    # f(A) = Re f(lam) I + Im f(lam)/wd (A - sig I) for the eigenvalue lam = sig + i wd
-    er = ph[0].real
-    ei = ph[0].imag / wd
-    q1 = er * x1 + ei * (-sig * x1 + w0 * x2)
-    q2 = er * x2 + ei * (-w0 * x1 + (-a1 - sig) * x2)
-    g = 0.0j
-    thk = 1.0
-    for k in range(8):
-        g += (U[k] * thk * FACT[k]) * ph[k + 1]
-        thk *= th
-    gr = tau * g.real
-    gi = tau * g.imag / wd
-    # b = (0, w0): (A - sig I) b = (w0^2, (-a1 - sig) w0)
-    q1 += gi * w0 * w0
-    q2 += gr * w0 + gi * (-a1 - sig) * w0
-    return q1, q2
-
-
-@nb.njit(cache=True)
-def _lp8_step(x1, x2, U, h, wk, ph):
-    """(q1, q2) at the end of a DOP853 step and int a_w^2, int a_w^4 over it: 8-point
-    Gauss-Legendre on the exact low-pass response, on panels that grow geometrically
-    from the step start (the section's transient decays at |sig| = 444 1/s, within
-    milliseconds of a step that may last a large part of a second once the car settles)."""
-    c1, c2, d = wk[3, 2], wk[3, 3], wk[3, 4]
-    tau0 = 2.0 / (0.5 * wk[3, 1])  # two decay times of the section
-    s2 = 0.0
-    s4 = 0.0
-    a = 0.0
-    width = min(1.0, tau0 / h)
-    while a < 1.0:
-        b = min(1.0, a + width)
-        for j in range(GL8_X.size):
-            th = a + (b - a) * GL8_X[j]
-            q1, q2 = _lp8_state(x1, x2, U, h, th, wk, ph)
-            u = U[7]
-            for k in range(6, -1, -1):
-                u = u * th + U[k]
-            aw = c1 * q1 + c2 * q2 + d * u
-            aw2 = aw * aw
-            s2 += (b - a) * GL8_W[j] * aw2
-            s4 += (b - a) * GL8_W[j] * aw2 * aw2
-        a = b
-        width *= 2.0
-    q1, q2 = _lp8_state(x1, x2, U, h, 1.0, wk, ph)
-    return q1, q2, h * s2, h * s4
-
-
-# sub-intervals of a DOP853 step searched for kinks: its steps are long enough for |v|
-# to leave the saturation speed and come back (through v = 0) inside one step, which
-# the end values alone do not show
-KINK_PROBES = 8
-
-
-@nb.njit(cache=True)
-def _dense853_at(y, R, i, th):
-    """Component i of DOP853's dense output at theta."""
-    th1 = 1.0 - th
-    v = R[6, i] * th
-    v = (v + R[5, i]) * th1
-    v = (v + R[4, i]) * th
-    v = (v + R[3, i]) * th1
-    v = (v + R[2, i]) * th
-    v = (v + R[1, i]) * th1
-    v = (v + R[0, i]) * th
-    return y[i] + v
-
-
-@nb.njit(cache=True)
-def _switching853(p, y, R, th, t, seg, sw_a, sw_b, v_sat):
-    """(_switching on the dense output at theta, velocity |v| refers to); only the
-    components the switching functions read are evaluated."""
-    g1 = 0.0
-    v = 0.0
-    if sw_a >= 0:
-        v = _dense853_at(y, R, sw_a, th)
-        if sw_b >= 0:
-            v -= _dense853_at(y, R, sw_b, th)
-        g1 = abs(v) - v_sat
-    g2 = 0.0
-    if p[P_LIFT] != 0.0:
-        x1, v1 = road(seg, t)
-        g2 = (
-            p[P_KT] * (_dense853_at(y, R, 0, th) - x1)
-            + p[P_CT] * (_dense853_at(y, R, 1, th) - v1)
-            - p[P_W]
-        )
-    return g1, g2, v
-
-
-@nb.njit(cache=True)
-def _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, which, lo, hi, glo, yd):
-    """First theta in (lo, hi] past the sign change of switching function ``which``."""
-    for _ in range(60):
-        mid = 0.5 * (lo + hi)
-        gm1, gm2, _ = _switching853(p, y, R, mid, t + mid * h, seg, sw_a, sw_b, v_sat)
-        gm = gm1 if which == 0 else gm2
-        if (gm > 0.0) == (glo > 0.0):
-            lo, glo = mid, gm
-        else:
-            hi = mid
-        if hi - lo < 1e-12:
-            break
-    return hi
-
-
-@nb.njit(cache=True)
-def _sat_velocity(y, sw_a, sw_b):
-    return y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
-
-
-@nb.njit(cache=True)
-def _dop853_first_kink(p, y, yn, R, t, h, tn, seg, sw_a, sw_b, v_sat, lift, yd):
-    """(crossed, theta just past the first kink) of a DOP853 step, from the switching
-    functions at KINK_PROBES points of the dense output; a saturated |v| at both ends of
-    a probe interval over which v changes sign has dipped below v_sat in between."""
-    ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
-    va = _sat_velocity(y, sw_a, sw_b) if sw_a >= 0 else 0.0
-    tha = 0.0
-    for m in range(1, KINK_PROBES + 1):
-        thb = m / KINK_PROBES
-        if m == KINK_PROBES:
-            gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
-            vb = _sat_velocity(yn, sw_a, sw_b) if sw_a >= 0 else 0.0
-        else:
-            gb1, gb2, vb = _switching853(p, y, R, thb, t + thb * h, seg, sw_a, sw_b, v_sat)
-        c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
-        c2 = lift and (ga2 > 0.0) != (gb2 > 0.0)
-        best = 2.0
-        if c1:
-            best = _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, 0, tha, thb, ga1, yd)
-        elif sw_a >= 0 and ga1 > 0.0 and (va > 0.0) != (vb > 0.0):
-            # both ends saturated, v changes sign: find a point below saturation
-            lo, hi = tha, thb
-            for _ in range(60):
-                mid = 0.5 * (lo + hi)
-                gm1, _, vm = _switching853(p, y, R, mid, t + mid * h, seg, sw_a, sw_b, v_sat)
-                if gm1 <= 0.0:
-                    best = _bisect_switch(
-                        p, y, R, t, h, seg, sw_a, sw_b, v_sat, 0, tha, mid, ga1, yd
-                    )
-                    break
-                if (vm > 0.0) == (va > 0.0):
-                    lo = mid
-                else:
-                    hi = mid
-                if hi - lo < 1e-12:
-                    break
-        if c2:
-            best = min(
-                best, _bisect_switch(p, y, R, t, h, seg, sw_a, sw_b, v_sat, 1, tha, thb, ga2, yd)
-            )
-        if best <= 1.0:
-            return True, best
-        tha, ga1, ga2, va = thb, gb1, gb2, vb
-    return False, 1.0
-
-
-GOLD = 0.5 * (math.sqrt(5.0) - 1.0)
-
-
-@nb.njit(cache=True)
-def _q853(y, R, th, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j):
-    """Peak quantity j at theta of a DOP853 step (dense output, exact low pass)."""
-    _dense_eval(DOP853, y, R, th, yd)
-    yd[i_lp], yd[i_lp + 1] = _lp8_state(y[i_lp], y[i_lp + 1], U8, h, th, wk, ph)
-    a3 = _rhs(t + th * h, yd, ks, p, seg, wk, False)
-    _quantities(t + th * h, yd, p, seg, wk, a3, qt)
+@leaf
+def _peak_probe(y, r2, r3, r4, r5, lpw, t, h, xv, yd, ks, p, seg, wk, i_lp, qt, j):
+    """Quantity j of :func:`_quantities` at theta = xv on the continuous extension."""
+    _dense(y, r2, r3, r4, r5, xv, yd)
+    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
+    a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
+    _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
     return qt[j]
 
 
-@nb.njit(cache=True)
-def _golden853(y, R, lo, hi, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j):
-    """(largest value found, evaluations) of a golden-section search for the maximum of
-    peak quantity j over theta in [lo, hi] of a DOP853 step."""
-    xa = hi - GOLD * (hi - lo)
-    xb = lo + GOLD * (hi - lo)
-    fa = _q853(y, R, xa, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
-    fb = _q853(y, R, xb, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
-    best = max(fa, fb)
-    nev = 2
-    for _ in range(60):
-        if hi - lo <= 1e-9:
+@leaf
+def _shrink_bracket(x_1, f_1, x_2, f_2, x_3, f_3, xv, fv):
+    """The bracket x_1 < x_2 < x_3 of a maximum (f_2 largest) after a probe at xv."""
+    if xv < x_2:
+        if fv >= f_2:
+            return x_1, f_1, xv, fv, x_2, f_2
+        return xv, fv, x_2, f_2, x_3, f_3
+    if fv >= f_2:
+        return x_2, f_2, xv, fv, x_3, f_3
+    return x_1, f_1, x_2, f_2, xv, fv
+
+
+@leaf
+def _refine_peak(
+    y, r2, r3, r4, r5, lpw, t, h, yd, ks, p, seg, wk, i_lp, qt, j, fa, fm, fb, peaks,
+):  # fmt: skip
+    """Raise peaks[j] to the maximum of quantity j inside the step, bracketed by the
+    values fa, fm, fb at theta = 0, 1/2, 1: successive parabolic interpolation, then
+    golden-section steps, which finish corners (tyre lift-off) where the parabolas
+    converge slowly. Returns the number of right-hand side calls."""
+    x_1, x_2, x_3 = 0.0, 0.5, 1.0
+    f_1, f_2, f_3 = fa, fm, fb
+    nev = 0
+    for _ in range(30):
+        den = (x_2 - x_1) * (f_2 - f_3) - (x_2 - x_3) * (f_2 - f_1)
+        if den == 0.0:
             break
-        if fa >= fb:
-            hi, xb, fb = xb, xa, fa
-            xa = hi - GOLD * (hi - lo)
-            fa = _q853(y, R, xa, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
-            best = max(best, fa)
-        else:
-            lo, xa, fa = xa, xb, fb
-            xb = lo + GOLD * (hi - lo)
-            fb = _q853(y, R, xb, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j)
-            best = max(best, fb)
+        num = (x_2 - x_1) ** 2 * (f_2 - f_3) - (x_2 - x_3) ** 2 * (f_2 - f_1)
+        xv = x_2 - 0.5 * num / den
+        if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9 or x_3 - x_1 <= 1e-9:
+            break
+        fv = _peak_probe(y, r2, r3, r4, r5, lpw, t, h, xv, yd, ks, p, seg, wk, i_lp, qt, j)
         nev += 1
-    return best, nev
+        if fv > peaks[j]:
+            peaks[j] = fv
+        x_1, f_1, x_2, f_2, x_3, f_3 = _shrink_bracket(x_1, f_1, x_2, f_2, x_3, f_3, xv, fv)
+    for _ in range(60):
+        if x_3 - x_1 <= 1e-9:
+            break
+        if x_2 - x_1 > x_3 - x_2:
+            xv = x_2 - 0.381966 * (x_2 - x_1)
+        else:
+            xv = x_2 + 0.381966 * (x_3 - x_2)
+        fv = _peak_probe(y, r2, r3, r4, r5, lpw, t, h, xv, yd, ks, p, seg, wk, i_lp, qt, j)
+        nev += 1
+        if fv > peaks[j]:
+            peaks[j] = fv
+        x_1, f_1, x_2, f_2, x_3, f_3 = _shrink_bracket(x_1, f_1, x_2, f_2, x_3, f_3, xv, fv)
+    return nev
+
+
+@leaf
+def _first_kink(p, y, yn, r2, r3, r4, r5, t, h, tn, seg, sw_a, sw_b, v_sat, lift):
+    """(crossed, theta just past the first kink) of an attempted step.
+
+    The switching functions are compared at the two ends; for the inertia law also the
+    sign of the velocity: both ends saturated with v changing sign means |v| dipped
+    below the saturation speed in between (a reversal inside one step). Crossings are
+    then located by bisection on the continuous extension (coefficients r2..r5 set by
+    the caller when this returns crossed)."""
+    ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
+    gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
+    c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
+    rev = False
+    if sw_a >= 0 and not c1 and ga1 > 0.0:
+        va = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
+        vb = yn[sw_a] - (yn[sw_b] if sw_b >= 0 else 0.0)
+        rev = (va > 0.0) != (vb > 0.0)
+    c2 = lift and (ga2 > 0.0) != (gb2 > 0.0)
+    return c1, rev, c2, ga1, ga2
+
+
+@leaf
+def _locate_kinks(p, y, r2, r3, r4, r5, t, h, seg, sw_a, sw_b, v_sat, c1, rev, c2, ga1, ga2):
+    """Theta just past the first crossing found by :func:`_first_kink` (1.0 if none)."""
+    best = 1.0
+    hi1 = 1.0
+    if rev:
+        # the velocity's zero inside the step is below saturation: the first crossing
+        # lies between the step start and it
+        lo, hi = 0.0, 1.0
+        va = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            vm = _dense_at(y, r2, r3, r4, r5, mid, sw_a)
+            if sw_b >= 0:
+                vm -= _dense_at(y, r2, r3, r4, r5, mid, sw_b)
+            if abs(vm) <= v_sat:
+                hi = mid
+                break
+            if (vm > 0.0) == (va > 0.0):
+                lo = mid
+            else:
+                hi = mid
+            if hi - lo < 1e-12:
+                break
+        hi1 = hi
+        c1 = True
+    for which in range(2):
+        if (which == 0 and not c1) or (which == 1 and not c2):
+            continue
+        lo = 0.0
+        hi = hi1 if which == 0 else 1.0
+        glo = ga1 if which == 0 else ga2
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            gm = _switching_dense(
+                p, y, r2, r3, r4, r5, mid, t + mid * h, seg, sw_a, sw_b, v_sat, which
+            )
+            if (gm > 0.0) == (glo > 0.0):
+                lo, glo = mid, gm
+            else:
+                hi = mid
+            if hi - lo < 1e-12:
+                break
+        best = min(best, hi)
+    return best
 
 
 @nb.njit(cache=True)
 def integrate(
     p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
-    peaks, stats, refine_peaks, max_steps, scheme,
+    peaks, stats, refine_peaks, max_steps,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
     ``y0`` (physical + metric states) is overwritten with the final state. Samples
     at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
-    see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls, steps redone to end on a kink].
-    A sample on a segment edge gets the value after the edge.
-
-    ``scheme`` is ``DP54`` (Dormand-Prince 5(4)) or ``DOP853`` (Hairer's 8(5,3) pair
-    with scipy's error norm and step-size factors, its degree-7 dense output for kinks,
-    samples, peaks and the exact 100 Hz low pass).
+    see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls,
+    steps redone to end on a kink]. A sample on a segment edge gets the value after
+    the edge.
     """
     n = y0.size
     y = y0
-    dop = scheme == DOP853
-    K = np.empty((16, n))
+    # the stages skip the last four states (100 Hz low pass, int a_w^2, int a_w^4):
+    # their derivatives are zero there and they are set after each accepted step
+    nrk = n - 4
+    K = np.empty((7, n))
     k1 = K[0]
     k2 = K[1]
     k3 = K[2]
@@ -1030,23 +834,19 @@ def integrate(
     k5 = K[4]
     k6 = K[5]
     k7 = K[6]
-    R = np.empty((7, n))
-    U8 = np.empty(8)
-    pc = np.empty(9)
-    ph = np.empty(9, dtype=np.complex128)
-    ks = np.empty(n)
-    yt = np.empty(n)
-    yn = np.empty(n)
-    yd = np.empty(n)
+    R = np.empty((4, n))
     r2 = R[0]
     r3 = R[1]
     r4 = R[2]
     r5 = R[3]
+    ks = np.empty(n)
+    yt = np.empty(n)
+    yn = np.empty(n)
+    yd = np.empty(n)
     qa = np.empty(N_PEAKS)
     qb = np.empty(N_PEAKS)
     qm = np.empty(N_PEAKS)
     qt = np.empty(N_PEAKS)
-    qp = np.empty((N_PEAKS, 9))
     lpw = np.zeros(52)
     i_lp = y0.size - 4  # low-pass states, then int a_w^2, int a_w^4
     for j in range(N_PEAKS):
@@ -1062,7 +862,6 @@ def integrate(
     x_prev = x1_initial
     beta = 0.04
     expo1 = 0.2 - 0.75 * beta
-    rejected_here = False  # DOP853: a rejection in this step caps the next growth at 1
     status = OK
     # switching surface of the inertia law: |r v| = w_sat, where dI/dw jumps. Steps
     # are shortened to end on it, so no step integrates across the kink.
@@ -1100,9 +899,7 @@ def integrate(
             out_a3[isamp] = a3a
             isamp += 1
         if h == 0.0:
-            h = _initial_step(
-                t, y, k1, p, seg, wk, rtol, atol, t1 - t0, yt, k2, 7.0 if dop else 4.0, False
-            )
+            h = _initial_step(t, y, k1, p, seg, wk, rtol, atol, t1 - t0, yt, k2, 4.0, False)
             nfev += 1
         final = t1 >= t_end
         while t < t1:
@@ -1116,107 +913,57 @@ def integrate(
             elif t + h >= t1 - 1e-13 * max(1.0, abs(t1)):
                 h = t1 - t
                 last = True
-            if dop:
-                tn = t1 if last else t + h
-                a3b = _dop853_stages(t, y, K, h, tn, p, seg, wk, yt, yn)
-                nfev += 12
-                err = _dop853_err_norm(y, yn, K, h, rtol, atol)
-            else:
-                for i in range(n):
-                    yt[i] = y[i] + h * A21 * k1[i]
-                _rhs(t + C2 * h, yt, k2, p, seg, wk, False)
-                for i in range(n):
-                    yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-                _rhs(t + C3 * h, yt, k3, p, seg, wk, False)
-                for i in range(n):
-                    yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-                _rhs(t + C4 * h, yt, k4, p, seg, wk, False)
-                for i in range(n):
-                    yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-                _rhs(t + C5 * h, yt, k5, p, seg, wk, False)
-                for i in range(n):
-                    yt[i] = y[i] + h * (
-                        A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
-                    )
-                tn = t1 if last else t + h
-                _rhs(tn, yt, k6, p, seg, wk, False)
-                for i in range(n):
-                    yn[i] = y[i] + h * (
-                        B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i]
-                    )
-                a3b = _rhs(tn, yn, k7, p, seg, wk, False)
-                nfev += 6
-                err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol)
+            for i in range(nrk):
+                yt[i] = y[i] + h * A21 * k1[i]
+            _rhs(t + C2 * h, yt, k2, p, seg, wk, False)
+            for i in range(nrk):
+                yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+            _rhs(t + C3 * h, yt, k3, p, seg, wk, False)
+            for i in range(nrk):
+                yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+            _rhs(t + C4 * h, yt, k4, p, seg, wk, False)
+            for i in range(nrk):
+                yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+            _rhs(t + C5 * h, yt, k5, p, seg, wk, False)
+            for i in range(nrk):
+                yt[i] = y[i] + h * (
+                    A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+                )
+            tn = t1 if last else t + h
+            _rhs(tn, yt, k6, p, seg, wk, False)
+            for i in range(nrk):
+                yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
+            a3b = _rhs(tn, yn, k7, p, seg, wk, False)
+            nfev += 6
+            err = _err_norm(y, yn, k1, k3, k4, k5, k6, k7, h, rtol, atol, nrk)
             if not math.isfinite(err):
                 if h < 1e-14 * max(1.0, t):
                     status = NOT_FINITE
                     break
                 h *= 0.1
                 nrej += 1
-                rejected_here = True
                 continue
             fac11 = err**expo1 if err > 0.0 else 0.0
-            fac8 = 10.0 if err == 0.0 else min(10.0, 0.9 * err ** (-1.0 / 8.0))
             # a kink inside the step is looked for in every attempt, accepted or not: a
             # step across a kink fails the error test by orders of magnitude, and
             # shrinking it by the controller costs several rejections per kink, while
             # the continuous extension of the failed step already places the crossing
             # well enough to end the next attempt on it
             crossed = False
-            have_dense = False
-            if dop and (sw_a >= 0 or lift):
-                _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R)
-                nfev += 3
-                have_dense = True
-                crossed, best = _dop853_first_kink(
-                    p, y, yn, R, t, h, tn, seg, sw_a, sw_b, v_sat, lift, yd
+            if sw_a >= 0 or lift:
+                c1, rev, c2, ga1, ga2 = _first_kink(
+                    p, y, yn, r2, r3, r4, r5, t, h, tn, seg, sw_a, sw_b, v_sat, lift
                 )
-                if (
-                    crossed
-                    and best * h > 1e-9 * max(1.0, abs(t))
-                    and best < 1.0 - 1e-9
-                    and event_tries < 3
-                ):
-                    h_event = best * h
-                    h = h_prop
-                    nevents_redo += 1
-                    event_tries += 1
-                    continue
-            elif sw_a >= 0 or lift:
-                ga1, ga2 = _switching(p, y, t, seg, sw_a, sw_b, v_sat)
-                gb1, gb2 = _switching(p, yn, tn, seg, sw_a, sw_b, v_sat)
-                c1 = sw_a >= 0 and (ga1 > 0.0) != (gb1 > 0.0)
-                c2 = lift and (ga2 > 0.0) != (gb2 > 0.0)
-                crossed = c1 or c2
+                crossed = c1 or rev or c2
                 if crossed:
                     _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
-                    best = 1.0
-                    for which in range(2):
-                        if (which == 0 and not c1) or (which == 1 and not c2):
-                            continue
-                        lo, hi = 0.0, 1.0
-                        glo = ga1 if which == 0 else ga2
-                        for _ in range(60):
-                            mid = 0.5 * (lo + hi)
-                            _dense_eval(scheme, y, R, mid, yd)
-                            gm1, gm2 = _switching(p, yd, t + mid * h, seg, sw_a, sw_b, v_sat)
-                            gm = gm1 if which == 0 else gm2
-                            if (gm > 0.0) == (glo > 0.0):
-                                lo, glo = mid, gm
-                            else:
-                                hi = mid
-                            if hi - lo < 1e-12:
-                                break
-                        best = min(best, hi)
+                    best = _locate_kinks(
+                        p, y, r2, r3, r4, r5, t, h, seg, sw_a, sw_b, v_sat, c1, rev, c2, ga1, ga2
+                    )
                     # an attempt that was itself cut at a crossing may end a little past
                     # it (crossing placed on a less accurate extension): accept a kink in
-                    # its last 1e-6 of the step, redo at most twice more
-                    end_tol = 1e-9
-                    if (
-                        best * h > 1e-9 * max(1.0, abs(t))
-                        and best < 1.0 - end_tol
-                        and event_tries < 3
-                    ):
+                    # its last 1e-9 of the step, redo at most twice more
+                    if best * h > 1e-9 * max(1.0, abs(t)) and best < 1.0 - 1e-9 and event_tries < 3:
                         # redo the step ending just past the first crossing
                         h_event = best * h
                         h = h_prop
@@ -1225,26 +972,13 @@ def integrate(
                         continue
             if err <= 1.0:
                 nsteps += 1
-                if dop:
-                    # the same exact low pass, driven by the degree-7 dense output (whose
-                    # extra stages the samples and the peak search then reuse)
-                    if not have_dense:
-                        _dop853_dense_coefficients(t, y, yn, K, h, p, seg, wk, yt, R)
-                        nfev += 3
-                    _lp8_input(y, R, wk, n - 13, U8, pc)
-                    q1n, q2n, i2, i4 = _lp8_step(y[i_lp], y[i_lp + 1], U8, h, wk, ph)
-                    yn[i_lp] = q1n
-                    yn[i_lp + 1] = q2n
-                    yn[i_lp + 2] = y[i_lp + 2] + i2
-                    yn[i_lp + 3] = y[i_lp + 3] + i4
-                else:
-                    # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
-                    _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
-                    q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
-                    yn[i_lp] = q1n
-                    yn[i_lp + 1] = q2n
-                    yn[i_lp + 2] = y[i_lp + 2] + i2
-                    yn[i_lp + 3] = y[i_lp + 3] + i4
+                # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
+                _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
+                q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
+                yn[i_lp] = q1n
+                yn[i_lp + 1] = q2n
+                yn[i_lp + 2] = y[i_lp + 2] + i2
+                yn[i_lp + 3] = y[i_lp + 3] + i4
                 # dense output for samples and peak refinement
                 need_samples = isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
@@ -1253,24 +987,21 @@ def integrate(
                 near = False
                 if refine_peaks:
                     # an interior maximum exceeds the larger end value by about
-                    # (h w)^2/8 of the amplitude: far below 1 % at the DP54 steps taken;
-                    # DOP853's steps are several times longer: look within 20 %
-                    near_frac = 0.2 if dop else 0.01
+                    # (h w)^2/8 of the amplitude: far below 1 % at the steps taken
                     for j in range(N_PEAKS):
-                        if max(qa[j], qb[j]) >= peaks[j] - near_frac * abs(peaks[j]):
+                        if max(qa[j], qb[j]) >= peaks[j] - 0.01 * abs(peaks[j]):
                             near = True
                             break
-                if (need_samples or near) and not dop:
+                if need_samples or near:
+                    # (again when a kink search set them: the last four states of yn
+                    # were only set now)
                     _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
                 while isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
                 ):
                     th = (sample_times[isamp] - t) / h
-                    _dense_eval(scheme, y, R, th, yd)
-                    if dop:
-                        yd[i_lp], yd[i_lp + 1] = _lp8_state(y[i_lp], y[i_lp + 1], U8, h, th, wk, ph)
-                    else:
-                        yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, th, wk)
+                    _dense(y, r2, r3, r4, r5, th, yd)
+                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, th, wk)
                     a3s = _rhs(sample_times[isamp], yd, ks, p, seg, wk, False)
                     nfev += 1
                     for i in range(n):
@@ -1278,142 +1009,29 @@ def integrate(
                     out_a3[isamp] = a3s
                     isamp += 1
                 if near:
-                    # probes inside the step: the midpoint (DP54), or 7 points (DOP853,
-                    # whose longer steps can hold a maximum the midpoint parabola misses)
-                    nprobe = 7 if dop else 1
-                    for m in range(nprobe):
-                        thp = (m + 1.0) / (nprobe + 1.0)
-                        _dense_eval(scheme, y, R, thp, yd)
-                        if dop:
-                            yd[i_lp], yd[i_lp + 1] = _lp8_state(
-                                y[i_lp], y[i_lp + 1], U8, h, thp, wk, ph
-                            )
-                        else:
-                            yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, thp, wk)
-                        a3m = _rhs(t + thp * h, yd, ks, p, seg, wk, False)
-                        nfev += 1
-                        _quantities(t + thp * h, yd, p, seg, wk, a3m, qm)
-                        for j in range(N_PEAKS):
-                            qp[j, m + 1] = qm[j]
+                    # the step midpoint, and where a parabola through the three values
+                    # puts a larger maximum inside the step, successive parabolic
+                    # interpolation on the continuous extension
+                    _dense(y, r2, r3, r4, r5, 0.5, yd)
+                    yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, 0.5, wk)
+                    a3m = _rhs(t + 0.5 * h, yd, ks, p, seg, wk, False)
+                    nfev += 1
+                    _quantities(t + 0.5 * h, yd, p, seg, wk, a3m, qm)
                     for j in range(N_PEAKS):
-                        qp[j, 0] = qa[j]
-                        qp[j, nprobe + 1] = qb[j]
-                    for j in range(N_PEAKS):
-                        kb = 0
-                        for m in range(1, nprobe + 2):
-                            if qp[j, m] > qp[j, kb]:
-                                kb = m
-                        if qp[j, kb] > peaks[j]:
-                            peaks[j] = qp[j, kb]
-                        if dop:
-                            if kb == 0 or kb == nprobe + 1:
-                                # the largest value is at an end of the step: the maximum
-                                # may lie between it and the nearest probe. Look there
-                                # only if the quantity rises into the step from that end
-                                if qp[j, kb] < peaks[j]:
-                                    continue
-                                dx = 1.0 / (nprobe + 1.0)
-                                th_in = 1e-7 if kb == 0 else 1.0 - 1e-7
-                                f_in = _q853(
-                                    y, R, th_in, t, h, yd, ks, p, seg, wk, U8, ph, i_lp, qt, j
-                                )
-                                nfev += 1
-                                if f_in <= qp[j, kb]:
-                                    continue
-                                lo_ = 0.0 if kb == 0 else 1.0 - dx
-                                fbest, nev = _golden853(
-                                    y, R, lo_, lo_ + dx, t, h, yd, ks, p, seg, wk, U8, ph,
-                                    i_lp, qt, j,
-                                )  # fmt: skip
-                                nfev += nev
-                                peaks[j] = max(peaks[j], fbest, f_in)
-                                continue
-                            dx = 1.0 / (nprobe + 1.0)
-                            x_1, x_2, x_3 = (kb - 1) * dx, kb * dx, (kb + 1) * dx
-                            f_1, f_2, f_3 = qp[j, kb - 1], qp[j, kb], qp[j, kb + 1]
-                        else:
-                            fa, fm, fb = qa[j], qp[j, 1], qb[j]
-                            c2 = 2.0 * fa - 4.0 * fm + 2.0 * fb
-                            c1 = -3.0 * fa + 4.0 * fm - fb
-                            if c2 >= 0.0:
-                                continue
-                            thv = -c1 / (2.0 * c2)
-                            if (
-                                thv <= 0.0
-                                or thv >= 1.0
-                                or fa + c1 * thv + c2 * thv * thv <= peaks[j]
-                            ):
-                                continue
-                            x_1, x_2, x_3 = 0.0, 0.5, 1.0
-                            f_1, f_2, f_3 = fa, fm, fb
-                        # successive parabolic interpolation on the continuous extension
-                        for _ in range(30):
-                            den = (x_2 - x_1) * (f_2 - f_3) - (x_2 - x_3) * (f_2 - f_1)
-                            if den == 0.0:
-                                break
-                            num = (x_2 - x_1) ** 2 * (f_2 - f_3) - (x_2 - x_3) ** 2 * (f_2 - f_1)
-                            xv = x_2 - 0.5 * num / den
-                            if not (x_1 < xv < x_3) or abs(xv - x_2) < 1e-9 or x_3 - x_1 <= 1e-9:
-                                break
-                            _dense_eval(scheme, y, R, xv, yd)
-                            if dop:
-                                yd[i_lp], yd[i_lp + 1] = _lp8_state(
-                                    y[i_lp], y[i_lp + 1], U8, h, xv, wk, ph
-                                )
-                            else:
-                                yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
-                            a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
-                            nfev += 1
-                            _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
-                            fv = qt[j]
-                            if fv > peaks[j]:
-                                peaks[j] = fv
-                            if xv < x_2:
-                                if fv >= f_2:
-                                    x_3, f_3 = x_2, f_2
-                                    x_2, f_2 = xv, fv
-                                else:
-                                    x_1, f_1 = xv, fv
-                            else:
-                                if fv >= f_2:
-                                    x_1, f_1 = x_2, f_2
-                                    x_2, f_2 = xv, fv
-                                else:
-                                    x_3, f_3 = xv, fv
-                        # golden-section steps finish corners (tyre lift-off) where the
-                        # parabolas converge slowly
-                        for _ in range(60):
-                            if x_3 - x_1 <= 1e-9:
-                                break
-                            if x_2 - x_1 > x_3 - x_2:
-                                xv = x_2 - 0.381966 * (x_2 - x_1)
-                            else:
-                                xv = x_2 + 0.381966 * (x_3 - x_2)
-                            _dense_eval(scheme, y, R, xv, yd)
-                            if dop:
-                                yd[i_lp], yd[i_lp + 1] = _lp8_state(
-                                    y[i_lp], y[i_lp + 1], U8, h, xv, wk, ph
-                                )
-                            else:
-                                yd[i_lp], yd[i_lp + 1] = _lp_at(lpw, xv, wk)
-                            a3v = _rhs(t + xv * h, yd, ks, p, seg, wk, False)
-                            nfev += 1
-                            _quantities(t + xv * h, yd, p, seg, wk, a3v, qt)
-                            fv = qt[j]
-                            if fv > peaks[j]:
-                                peaks[j] = fv
-                            if xv < x_2:
-                                if fv >= f_2:
-                                    x_3, f_3 = x_2, f_2
-                                    x_2, f_2 = xv, fv
-                                else:
-                                    x_1, f_1 = xv, fv
-                            else:
-                                if fv >= f_2:
-                                    x_1, f_1 = x_2, f_2
-                                    x_2, f_2 = xv, fv
-                                else:
-                                    x_3, f_3 = xv, fv
+                        fa, fm, fb = qa[j], qm[j], qb[j]
+                        if max(fa, fm, fb) > peaks[j]:
+                            peaks[j] = max(fa, fm, fb)
+                        c2p = 2.0 * fa - 4.0 * fm + 2.0 * fb
+                        c1p = -3.0 * fa + 4.0 * fm - fb
+                        if c2p >= 0.0:
+                            continue
+                        thv = -c1p / (2.0 * c2p)
+                        if thv <= 0.0 or thv >= 1.0 or fa + c1p * thv + c2p * thv * thv <= peaks[j]:
+                            continue
+                        nfev += _refine_peak(
+                            y, r2, r3, r4, r5, lpw, t, h, yd, ks, p, seg, wk, i_lp, qt, j,
+                            fa, fm, fb, peaks,
+                        )  # fmt: skip
                 else:
                     for j in range(N_PEAKS):
                         if qb[j] > peaks[j]:
@@ -1427,20 +1045,14 @@ def integrate(
                     # would carry that error while the embedded estimate (weight E1 on k1,
                     # 70x below B1) barely sees it (a jump in the momentum law)
                     hnew = h_prop
-                elif dop:
-                    # scipy's DOP853 factors: 0.9 err^(-1/8) within [0.2, 10], no growth
-                    # right after a rejection
-                    hnew = h * (min(1.0, fac8) if rejected_here else fac8)
                 else:
                     fac = fac11 / facold**beta
                     fac = max(0.1, min(5.0, fac / 0.9))
                     hnew = h / fac
                     facold = max(err, 1e-4)
-                rejected_here = False
-                kl = K[D8_NS] if dop else k7
                 for i in range(n):
                     y[i] = yn[i]
-                    k1[i] = kl[i]
+                    k1[i] = k7[i]
                 for j in range(N_PEAKS):
                     qa[j] = qb[j]
                 t = tn
@@ -1450,11 +1062,7 @@ def integrate(
                     break
             else:
                 nrej += 1
-                rejected_here = True
-                if dop:
-                    h = h * max(0.2, 0.9 * err ** (-1.0 / 8.0))
-                else:
-                    h = h / min(5.0, fac11 / 0.9)
+                h = h / min(5.0, fac11 / 0.9)
                 if h < 1e-14 * max(1.0, abs(t)):
                     status = STEP_TOO_SMALL
                     break

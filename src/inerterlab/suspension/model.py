@@ -99,8 +99,13 @@ _LAW = {"thesis": 0, "momentum": 1, "slider-dynamics": 2}
     P_LAW,
     P_NPHYS,
     P_GRIP,
-) = range(29)
-N_PARAMS = 29
+    P_IM,
+    P_IMT,
+    P_MU,
+    P_R2,
+    P_KSLMIN,
+) = range(34)
+N_PARAMS = 34  # the last five are derived (reciprocal masses, r^2, k_s l_min)
 N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw^2, int aw^4
 
 
@@ -266,6 +271,11 @@ class QuarterCar:
                 d.friction_velocity,
             )
         p[P_NPHYS] = self.n_states
+        # derived once here so the right-hand side multiplies instead of dividing
+        p[P_IM], p[P_IMT] = 1.0 / q.sprung_mass, 1.0 / q.unsprung_mass
+        p[P_MU] = p[P_IM] + p[P_IMT]
+        p[P_R2] = p[P_R] * p[P_R]
+        p[P_KSLMIN] = p[P_KS] * p[P_LMIN]
         p.setflags(write=False)
         return p
 
