@@ -29,18 +29,24 @@ motion reaches the residual through the model (the screw's inertance multiplies 
 twice-differentiated displacement) and a Cauchy scale far below the residual spread
 biases the estimate.
 
-Confidence intervals (95 %): sandwich covariance cov = H^-1 M H^-1 from the Jacobian at
-the optimum, H = J^T diag(w) J with the robust weights w (w = 1 for the plain loss).
-With at least eight identification tests the covariance is the jackknife over tests
-(CR3) of the one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1 s_g,
-s_g the summed score of test g, scaled (G-1)/G, with a Student-t quantile with G-1
-degrees of freedom. It assumes only that tests are independent, so noise correlated in
-time and any model mismatch that persists within a test widen the interval by as much
-as the tests disagree, and it does not understate the spread when a few tests carry
-most of the information about a parameter. With fewer tests, M is the Newey-West sum
-over lags within each test. Optionally also a percentile interval from a bootstrap over the identification
-tests (tests drawn with replacement and refitted). Each parameter states which
-interval it carries (``ParameterEstimate.interval``).
+Confidence intervals (95 %): sandwich covariance of the M-estimator, cov = H^-1 M H^-1,
+from the Jacobian J of the residuals at the optimum (the derivative of the residuals
+themselves: the Jacobian ``least_squares`` returns for a robust loss is already scaled by
+the loss), with the scores psi(r) J and H = J^T diag(psi'(r)) J (psi' = 1 for the plain
+loss). With at least eight identification tests the covariance is the jackknife over
+tests (CR3) of the one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1
+s_g, s_g the summed score of test g, scaled (G-1)/G. It assumes only that tests are
+independent, so noise correlated in time and any model mismatch that persists within a
+test widen the interval by as much as the tests disagree, and it does not understate
+the spread when a few tests carry most of the information about a parameter. The
+quantile is Student's t with the Satterthwaite degrees of freedom of that jackknife
+(Bell and McCaffrey 2002, Imbens and Kolesar 2016), per parameter: G - 1 when every
+test carries its share, near 1 when one test carries most of the information, because
+the jackknife spread is then itself estimated from about one test. With fewer tests, M
+is the Newey-West sum over lags within each test and the quantile normal. Optionally
+also a percentile interval from a bootstrap over the identification tests (tests drawn
+with replacement and refitted). Each parameter states which interval it carries
+(``ParameterEstimate.interval``).
 """
 
 from __future__ import annotations
@@ -269,13 +275,22 @@ class _Prepared:
     mask: np.ndarray  # samples used in the objective
 
 
+def _reversal_times(t: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Times [s] of the last sample before each change of sign of the velocity.
+
+    Samples with v = 0 exactly are skipped, so a reversal that falls on a sample (the
+    noise-free square velocity crosses zero on the grid) is still found.
+    """
+    nz = np.nonzero(v != 0.0)[0]
+    s = np.sign(v[nz])
+    return t[nz[:-1][s[1:] != s[:-1]]]
+
+
 def _prepare(test: RigTest, *, window: float, detrend: str, reversal_window: float) -> _Prepared:
     x, v = complete_motion(test, window=window, detrend=detrend)
     mask = np.ones(test.t.size, dtype=bool)
     if reversal_window > 0:
-        s = np.sign(v)
-        idx = np.nonzero(s[1:] * s[:-1] < 0)[0]
-        for tr in test.t[idx]:
+        for tr in _reversal_times(test.t, v):
             mask &= ~((test.t >= tr) & (test.t < tr + reversal_window))
     return _Prepared(test, test.t, x, v, test.force, motion_from_samples(test.t, x, v), mask)
 
@@ -375,6 +390,7 @@ def _residuals(device, names, preps, rtol, affine=None):
 
 
 def _robust_weights(r, loss, f_scale):
+    """w = psi(r) / r of the loss: the score of a sample is w r J."""
     z = (r / f_scale) ** 2
     if loss == "linear":
         return np.ones_like(r)
@@ -383,6 +399,20 @@ def _robust_weights(r, loss, f_scale):
     if loss == "huber":
         return np.where(z <= 1.0, 1.0, 1.0 / np.sqrt(np.maximum(z, 1e-300)))
     return 1.0 / (1.0 + z)  # cauchy
+
+
+def _robust_slopes(r, loss, f_scale):
+    """psi'(r) of the loss, the weight of a sample in the Hessian of the M-estimator
+    (Huber 1967): cauchy (1 - z) / (1 + z)^2, soft_l1 (1 + z)^-3/2, huber 1 inside the
+    scale and 0 beyond, z = (r / f_scale)^2."""
+    z = (r / f_scale) ** 2
+    if loss == "linear":
+        return np.ones_like(r)
+    if loss == "soft_l1":
+        return (1.0 + z) ** -1.5
+    if loss == "huber":
+        return np.where(z <= 1.0, 1.0, 0.0)
+    return (1.0 - z) / (1.0 + z) ** 2  # cauchy
 
 
 def _bandwidth(u: np.ndarray) -> int:
@@ -405,29 +435,66 @@ MIN_CLUSTERS = 8  # tests needed for the cluster-robust interval
 
 @dataclass(frozen=True)
 class _Spread:
-    """Standard errors, the 97.5 % quantile that turns them into a 95 % interval, and
-    the name of the estimator."""
+    """Standard errors, the 97.5 % quantiles that turn them into 95 % intervals, and the
+    name of the estimator, one per parameter."""
 
     se: np.ndarray
-    quantile: float
-    interval: str
+    quantile: np.ndarray
+    interval: tuple
 
 
-def _sandwich(J, r, w, sizes=None) -> _Spread:
-    """Robust sandwich covariance from the scores g = w r J of the samples, H = J^T diag(w) J.
+def _satterthwaite_dof(B, Hg, Ng, H, N) -> np.ndarray:
+    """Degrees of freedom of the jackknife variance of each parameter (Bell and
+    McCaffrey 2002; Imbens and Kolesar 2016): v = (tr S)^2 / tr(S^2), S the G x G
+    covariance of the centred leave-one-test-out deltas under a working model of
+    independent scores of equal variance.
+
+    With u the sample scores psi(r) and the one-step fit, the fitted scores are
+    (I - D J H^-1 J^T) u (D = diag psi'), so delta_g = B_g J_g^T [(I - D J H^-1 J^T) u]_g
+    with B_g = (H - H_g)^-1, and Cov(delta . e_k) follows from the per-test matrices
+    H_g = J_g^T D_g J_g and N_g = J_g^T J_g alone. When one or two tests carry a
+    parameter, v falls towards 1, which is what the spread of the jackknife then is.
+    """
+    G = len(B)
+    Hi = np.linalg.pinv(H)
+    P = np.eye(G) - 1.0 / G
+    dof = np.empty(H.shape[0])
+    for k in range(H.shape[0]):
+        b = [Bg[:, k] for Bg in B]
+        X = np.array([h @ bk for h, bk in zip(Hg, b, strict=True)])
+        Y = np.array([n @ bk for n, bk in zip(Ng, b, strict=True)])
+        C = np.diag([bk @ n @ bk for n, bk in zip(Ng, b, strict=True)])
+        C = C - X @ Hi @ Y.T - Y @ Hi @ X.T + X @ Hi @ N @ Hi @ X.T
+        S = P @ C @ P
+        tr2 = float(np.trace(S @ S))
+        dof[k] = float(np.trace(S)) ** 2 / tr2 if tr2 > 0 else G - 1.0
+    return np.clip(dof, 1.0, G - 1.0)
+
+
+def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
+    """Robust sandwich covariance of the M-estimator from the raw Jacobian ``J`` of the
+    residuals ``r``: scores psi(r) J, Hessian H = J^T diag(psi'(r)) J.
+
+    ``J`` must be the derivative of the residuals themselves, not the Jacobian that
+    ``scipy.optimize.least_squares`` returns for a robust loss (that one is already
+    scaled by sqrt(psi')).
 
     With at least ``MIN_CLUSTERS`` tests (``sizes``: samples per test): the jackknife
     over tests (CR3) of the one-step estimate, see the module docstring, with a
-    Student-t quantile with G - 1 degrees of freedom. With fewer tests H^-1 M H^-1 with
-    M the Newey-West (Bartlett) sum over lags within each test, with the bandwidth where
-    the residual autocorrelation dies out; without ``sizes``, the plain sandwich.
+    Student-t quantile whose degrees of freedom follow from the information each test
+    carries (:func:`_satterthwaite_dof`). With fewer tests H^-1 M H^-1 with M the
+    Newey-West (Bartlett) sum over lags within each test, with the bandwidth where the
+    residual autocorrelation dies out; without ``sizes``, the plain sandwich.
     """
-    H = J.T @ (w[:, None] * J)
+    w = _robust_weights(r, loss, f_scale)
+    d = _robust_slopes(r, loss, f_scale)
+    H = J.T @ (d[:, None] * J)
     G = (w * r)[:, None] * J
     try:
         Hi = np.linalg.inv(H)
     except np.linalg.LinAlgError:
         Hi = np.linalg.pinv(H)
+    p = J.shape[1]
     bounds = np.cumsum([0, *sizes]) if sizes is not None else None
     groups = 0 if sizes is None else sum(1 for n in sizes if n > 0)
     if groups >= MIN_CLUSTERS:
@@ -435,34 +502,57 @@ def _sandwich(J, r, w, sizes=None) -> _Spread:
         # -(H - H_g)^-1 s_g. Unlike the plain cluster sum it stays honest when a few
         # tests carry most of the information about a parameter (the rectifier's
         # stiffness sits in its few 2 Hz tests), because leaving such a test out moves
-        # the estimate by as much as that test's share of the information
-        wJ = w[:, None] * J
-        deltas = []
+        # the estimate by as much as that test's share of the information; the
+        # Satterthwaite degrees of freedom then widen the quantile
+        dJ = d[:, None] * J
+        deltas, Bs, Hs, Ns = [], [], [], []
         for i, j in zip(bounds[:-1], bounds[1:], strict=True):
             if j > i:
-                Hg = J[i:j].T @ wJ[i:j]
-                deltas.append(np.linalg.lstsq(H - Hg, G[i:j].sum(axis=0), rcond=None)[0])
+                Hg = J[i:j].T @ dJ[i:j]
+                B = np.linalg.pinv(H - Hg)
+                deltas.append(B @ G[i:j].sum(axis=0))
+                Bs.append(B)
+                Hs.append(Hg)
+                Ns.append(J[i:j].T @ J[i:j])
         D = np.array(deltas)
         D -= D.mean(axis=0)
         cov = D.T @ D * (groups - 1.0) / groups
-        q = float(student_t.ppf(0.975, groups - 1))
-        how = f"jackknife (CR3) sandwich over {groups} tests, t({groups - 1})"
-        return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, how)
+        dof = _satterthwaite_dof(Bs, Hs, Ns, H, J.T @ J)
+        q = student_t.ppf(0.975, dof)
+        how = tuple(
+            f"jackknife (CR3) sandwich over {groups} tests, t({v:.1f}) (Satterthwaite)" for v in dof
+        )
+        return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), np.asarray(q), how)
+    M = G.T @ G
+    if sizes is not None:
+        for i, j in zip(bounds[:-1], bounds[1:], strict=True):
+            g = G[i:j]
+            L = _bandwidth((w * r)[i:j])
+            for lag in range(1, L + 1):
+                c = g[lag:].T @ g[:-lag]
+                M += (1.0 - lag / (L + 1.0)) * (c + c.T)
+        how = "Newey-West sandwich within tests"
     else:
-        M = G.T @ G
-        if sizes is not None:
-            for i, j in zip(bounds[:-1], bounds[1:], strict=True):
-                g = G[i:j]
-                L = _bandwidth((w * r)[i:j])
-                for lag in range(1, L + 1):
-                    c = g[lag:].T @ g[:-lag]
-                    M += (1.0 - lag / (L + 1.0)) * (c + c.T)
-            how = "Newey-West sandwich within tests"
-        else:
-            how = "sandwich"
-        q = 1.959963984540054
+        how = "sandwich"
     cov = Hi @ M @ Hi
-    return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, how)
+    q = np.full(p, 1.959963984540054)
+    return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, (how,) * p)
+
+
+def _raw_jacobian(fun, x, f0, lb, ub, jac=None) -> np.ndarray:
+    """Jacobian of the residuals at ``x``: exact when ``jac`` is given, else forward
+    differences with the step of the fit (1e-3 relative), stepping inwards at a bound."""
+    if jac is not None:
+        return np.asarray(jac(x), dtype=float)
+    cols = []
+    for k in range(x.size):
+        h = 1e-3 * max(1.0, abs(x[k]))
+        if x[k] + h > ub[k]:
+            h = -h
+        e = x.copy()
+        e[k] = min(max(x[k] + h, lb[k]), ub[k])
+        cols.append((fun(e) - f0) / (e[k] - x[k]))
+    return np.column_stack(cols)
 
 
 def _residual_scale(r) -> float:
@@ -530,8 +620,10 @@ def _fit_stage(
             f_scale = scale
             sol = _solve(fun, sol.x, lb, ub, loss, f_scale, max_nfev, jac)
             nfev += sol.nfev
-    w = _robust_weights(sol.fun, loss, f_scale)
-    spread = _sandwich(sol.jac, sol.fun, w, [int(p.mask.sum()) for p in preps])
+    # the Jacobian least_squares returns is scaled by the robust loss; the sandwich
+    # needs the derivative of the residuals themselves
+    J = _raw_jacobian(fun, sol.x, sol.fun, lb, ub, jac)
+    spread = _sandwich(J, sol.fun, loss, f_scale, [int(p.mask.sum()) for p in preps])
     dev = dataclasses.replace(device, **dict(zip(names, sol.x, strict=True)))
     return dev, sol, spread, f_scale, nfev
 
@@ -542,9 +634,7 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
     for p in preps:
         half = 0.5 / p.test.frequency
         # time since the last reversal of the measured velocity
-        s = np.sign(p.v)
-        idx = np.nonzero(s[1:] * s[:-1] < 0)[0]
-        rev = p.t[idx]
+        rev = _reversal_times(p.t, p.v)
         last = np.full(p.t.size, -np.inf)
         if rev.size:
             pos = np.searchsorted(rev, p.t, side="right") - 1
@@ -570,8 +660,8 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
 
     x0 = np.array([device.damping, device.friction], dtype=float)
     sol = _solve(fun, np.maximum(x0, 1e-6), [0.0, 0.0], [np.inf, np.inf], loss, f_scale, 200)
-    w = _robust_weights(sol.fun, loss, f_scale)
-    spread = _sandwich(sol.jac, sol.fun, w, sizes)
+    J = np.column_stack([v, np.tanh(v / eps)])  # exact: the model is linear in (b, F_f)
+    spread = _sandwich(J, sol.fun, loss, f_scale, sizes)
     return dataclasses.replace(device, damping=sol.x[0], friction=sol.x[1]), sol, spread, v.size
 
 
@@ -725,8 +815,8 @@ def identify(
             spread, k = spreads[n]
             s, half, how = (
                 float(spread.se[k]),
-                float(spread.quantile * spread.se[k]),
-                spread.interval,
+                float(spread.quantile[k] * spread.se[k]),
+                spread.interval[k],
             )
         else:
             s, half, how = 0.0, 0.0, "fixed"
