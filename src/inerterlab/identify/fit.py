@@ -66,6 +66,7 @@ from ..errors import (
     ParameterError,
     check_choice,
     check_nonnegative,
+    check_positive,
 )
 from .data import RigDataSet, RigTest
 from .filters import complete_motion
@@ -92,7 +93,8 @@ class ParameterEstimate:
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class TestValidation:
-    """Measured and predicted force of one test."""
+    """Measured and predicted force of one test, with the times [s] of the reversals of
+    the measured velocity and the sign of the velocity after each."""
 
     name: str
     purpose: str
@@ -102,6 +104,8 @@ class TestValidation:
     t: np.ndarray
     measured: np.ndarray
     predicted: np.ndarray
+    reversals: np.ndarray = field(default_factory=lambda: np.empty(0))
+    reversal_signs: np.ndarray = field(default_factory=lambda: np.empty(0))
 
     __test__ = False
 
@@ -228,6 +232,55 @@ class FitResult:
                 for t in self.tests
             ]
         )
+
+    def reversal_profile(self, *, bin_width: float = 0.01, horizon: float = 0.3):
+        """Mean residual after a velocity reversal, to check the reversal window.
+
+        For every reversal of the identification tests, the residual (measured minus
+        model force) times the sign of the new velocity, averaged in bins of
+        ``bin_width`` [s] of the time since the reversal up to ``horizon`` [s] (or the
+        next reversal); then the mean over reversals of each bin and its standard error
+        (spread of the per-reversal means / sqrt(count)). A spike shows as a mean many
+        standard errors from zero; the reversal window should end where the means stop
+        being significant. Samples inside the window are included (they were left out
+        of the fit, not of the prediction).
+
+        Returns
+        -------
+        pandas.DataFrame
+            ``time_since_reversal_s`` (bin start), ``mean_residual_n``,
+            ``std_error_n``, ``reversals``.
+        """
+        import pandas as pd
+
+        check_positive("bin_width", bin_width, "s")
+        check_positive("horizon", horizon, "s")
+        nbin = max(1, int(math.ceil(horizon / bin_width - 1e-9)))
+        rows = [[] for _ in range(nbin)]
+        for tv in self.tests:
+            if tv.purpose != "identification":
+                continue
+            res = tv.residual
+            ends = np.append(tv.reversals[1:], np.inf)
+            for tr, sg, end in zip(tv.reversals, tv.reversal_signs, ends, strict=True):
+                lo, hi = np.searchsorted(tv.t, [tr, min(tr + horizon, end)])
+                tau = tv.t[lo:hi] - tr
+                k = np.minimum((tau / bin_width).astype(int), nbin - 1)
+                for b in np.unique(k):
+                    rows[b].append(sg * float(res[lo:hi][k == b].mean()))
+        out = []
+        for b, vals in enumerate(rows):
+            v = np.asarray(vals)
+            n = v.size
+            out.append(
+                {
+                    "time_since_reversal_s": b * bin_width,
+                    "mean_residual_n": float(v.mean()) if n else math.nan,
+                    "std_error_n": float(v.std(ddof=1) / math.sqrt(n)) if n > 1 else math.nan,
+                    "reversals": n,
+                }
+            )
+        return pd.DataFrame(out)
 
     def plot(self, test: str | int | None = None):
         """Measured vs predicted force and the residual of one test (default: the first
@@ -834,6 +887,7 @@ def identify(
     for t in dataset.tests:
         p = preps[id(t)]
         pred = predict_test(dev, p, rtol=rtol)
+        rev = _reversal_times(p.t, p.v)
         tests.append(
             TestValidation(
                 name=t.name,
@@ -844,6 +898,8 @@ def identify(
                 t=t.t,
                 measured=t.force,
                 predicted=pred,
+                reversals=rev,
+                reversal_signs=-np.sign(np.interp(rev, p.t, p.v)),  # the new direction
             )
         )
     res_id = np.concatenate([tv.residual for tv in tests if tv.purpose == "identification"])
