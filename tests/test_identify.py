@@ -144,24 +144,29 @@ def test_reversal_found_when_velocity_is_zero_on_a_sample():
     assert np.abs(spike[prep.mask]).max() < 300.0 * np.exp(-5.0)
 
 
+def _four_tests(*, duration, triangle_frequencies):
+    """Two triangle tests (0.02 m) and 1 Hz, 2 Hz sine tests (0.01 m), identification."""
+    signals = [("triangle", f, 0.02) for f in triangle_frequencies]
+    signals += [("sine", 1.0, 0.01), ("sine", 2.0, 0.01)]
+    return [
+        TestSpec(
+            number=i,
+            signal=s,
+            frequency=f,
+            amplitude=a,
+            duration=duration,
+            purpose="identification",
+        )
+        for i, (s, f, a) in enumerate(signals)
+    ]
+
+
 def test_reversal_profile_shows_spike_tails_beyond_the_window():
     # the simulated spike 300 N e^(-tau/w) sin(pi tau/w), w = 20 ms, runs for 0.16 s:
     # at the end of the default 0.1 s window it is still ~1 N, which the profile shows
     # over 72 reversals (|z| 3.3-7 for seeds 1-5); after 0.16 s it averages to zero
     dev = device_preset("hydraulic")
-    tests = [
-        TestSpec(
-            number=i, signal=s, frequency=f, amplitude=a, duration=8.0, purpose="identification"
-        )
-        for i, (s, f, a) in enumerate(
-            [
-                ("triangle", 0.5, 0.02),
-                ("triangle", 1.0, 0.02),
-                ("sine", 1.0, 0.01),
-                ("sine", 2.0, 0.01),
-            ]
-        )
-    ]
+    tests = _four_tests(duration=8.0, triangle_frequencies=(0.5, 1.0))
     fit = identify(simulate_rig(dev, matrix=tests, seed=3), dev)
     prof = fit.reversal_profile(bin_width=0.02, horizon=0.3)
     z = (prof["mean_residual_n"] / prof["std_error_n"]).to_numpy()
@@ -236,19 +241,7 @@ def test_reversal_window_removes_spike_bias():
 
 def test_spikes_bias_plain_least_squares_and_robust_fit_removes_it():
     dev = device_preset("hydraulic")
-    tests = [
-        TestSpec(
-            number=i, signal=s, frequency=f, amplitude=a, duration=4.0, purpose="identification"
-        )
-        for i, (s, f, a) in enumerate(
-            [
-                ("triangle", 0.25, 0.02),
-                ("triangle", 0.5, 0.02),
-                ("sine", 1.0, 0.01),
-                ("sine", 2.0, 0.01),
-            ]
-        )
-    ]
+    tests = _four_tests(duration=4.0, triangle_frequencies=(0.25, 0.5))
     kw = dict(matrix=tests, sample_rate=200, noise=5.0, seed=3)
     spiky = simulate_rig(dev, spikes=True, spike_size=1000.0, **kw)
     truth = np.array(TRUE["hydraulic"])
