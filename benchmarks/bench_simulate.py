@@ -1,6 +1,6 @@
 """Quarter-car simulation speed: compiled Dormand-Prince against scipy solve_ivp.
 
-Case (issue 3): ``afw`` quarter car (nylon flywheel, thesis law, M = 370 kg) under
+Case (the speed goal of the simulator): ``afw`` quarter car (nylon flywheel, thesis law, M = 370 kg) under
 ``sine`` 0.05 m at 5 Hz, horizon 10 s, all metrics.
 
 * fast: ``simulate_metrics`` on the numba backend (adaptive Dormand-Prince 5(4), metric
