@@ -30,8 +30,10 @@ import numba as nb
 import numpy as np
 
 from ..slider_dynamics import slider_state_derivative
+from . import _exact as X
 from .model import (
     P_BAH,
+    P_BRANCH,
     P_C,
     P_CC,
     P_CS,
@@ -179,14 +181,44 @@ def inertia_integral(p, w):
 
 
 @leaf
+def _law_inertia(p, w, momentum):
+    """I(|w|) or, with ``momentum``, I + |w| dI/d|w| [kg m^2] on the side of the
+    saturation kink chosen by p[P_BRANCH] (0 below, 1 above, -1 where |w| is). Below,
+    the slider formula is continued past w_sat (its pole kept away), so that a step
+    that crosses the kink integrates a smooth right-hand side and its continuous
+    extension places the crossing accurately."""
+    w = abs(w)
+    br = p[P_BRANCH]
+    if br == 1.0 or (br < 0.0 and w >= p[P_WSAT]):
+        return inertia(p, p[P_WSAT])
+    k, m, a = p[P_KS], p[P_MS], p[P_LMIN]
+    d = k - m * w * w
+    if w >= p[P_WSAT] and d < 0.1 * k:
+        d = 0.1 * k
+    l = k * a / d
+    if p[P_POW] == 2.0:
+        i = p[P_IREST] + p[P_ICOEF] * l * l
+    else:
+        i = p[P_IREST] + p[P_ICOEF] * l
+    if not momentum:
+        return i
+    dl = 2.0 * k * a * m * w / (d * d)
+    if p[P_POW] == 2.0:
+        di = p[P_ICOEF] * 2.0 * l * dl
+    else:
+        di = p[P_ICOEF] * dl
+    return i + w * di
+
+
+@leaf
 def _inertance(p, v, y, j0):
     """(m_e [kg], extra force g [N]) of the inertia law at branch velocity v [m/s]."""
     r = p[P_R]
     law = p[P_LAW]
     if law == 0.0:
-        return r * r * inertia(p, r * v), 0.0
+        return r * r * _law_inertia(p, r * v, False), 0.0
     if law == 1.0:
-        return r * r * momentum_inertia(p, r * v), 0.0
+        return r * r * _law_inertia(p, r * v, True), 0.0
     if law == 2.0:
         l, ld = y[j0], y[j0 + 1]
         return r * r * (p[P_IREST] + p[P_ICOEF] * l * l), 2.0 * p[P_ICOEF] * r * r * l * ld * v
@@ -250,8 +282,12 @@ def _rhs(t, y, dy, p, seg, wk, low_pass):
         if law == 0.0:
             # the thesis law inline (the common case): m_e = r^2 I(r|v|)
             w = abs(p[P_R] * v)
-            if w < p[P_WSAT]:
-                l = p[P_KSLMIN] / (p[P_KS] - p[P_MS] * w * w)
+            br = p[P_BRANCH]
+            if br == 0.0 or (br < 0.0 and w < p[P_WSAT]):
+                d = p[P_KS] - p[P_MS] * w * w
+                if w >= p[P_WSAT] and d < 0.1 * p[P_KS]:
+                    d = 0.1 * p[P_KS]  # the continuation past w_sat, see _law_inertia
+                l = p[P_KSLMIN] / d
             else:
                 l = p[P_LMAX]
             if p[P_POW] == 2.0:
@@ -808,10 +844,63 @@ def _locate_kinks(p, y, r2, r3, r4, r5, t, h, seg, sw_a, sw_b, v_sat, c1, rev, c
     return best
 
 
+@leaf
+def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
+    """Metric integrals and peaks over one exact step of length h at level ``lev``
+    from the outputs at its points."""
+    s_a = 0.0
+    s_g = 0.0
+    s_z = 0.0
+    s_w2 = 0.0
+    s_w4 = 0.0
+    npt = X.NPTS[lev]
+    for j in range(1, npt - 1):
+        w = X.WQ[lev, j]
+        c = j * X.NO
+        a = F[c + X.O_A3]
+        g = F[c + X.O_GRIP]
+        z = F[c + X.O_Z]
+        aw2 = F[c + X.O_AW] * F[c + X.O_AW]
+        s_a += w * a * a
+        s_g += w * g * g
+        s_z += w * z * z
+        s_w2 += w * aw2
+        s_w4 += w * aw2 * aw2
+    y[n] += h * s_a
+    y[n + 1] += h * s_g
+    y[n + 2] += h * s_z
+    y[n + 11] += h * s_w2
+    y[n + 12] += h * s_w4
+    for q in range(4):
+        o = X.O_A3 if q == 0 else (X.O_AW if q == 1 else (X.O_Z if q == 2 else X.O_FT))
+        jmax = 0
+        jmin = 0
+        fmax = F[o]
+        fmin = fmax
+        for j in range(1, npt):
+            f = F[j * X.NO + o]
+            if f > fmax:
+                fmax, jmax = f, j
+            elif f < fmin:
+                fmin, jmin = f, j
+        for side in range(1 if q == 3 else 2):
+            k = 2 * q + side  # peaks: a3, -a3, a_w, -a_w, z, -z, tyre force
+            fb = fmax if side == 0 else -fmin
+            jb = jmax if side == 0 else jmin
+            if fb > peaks[k]:
+                peaks[k] = fb
+            # a maximum between points exceeds the largest point value by about
+            # (w delta)^2 / 8 of the amplitude: far below 1 %
+            if refine_peaks and fb >= peaks[k] - 0.01 * abs(peaks[k]):
+                f = X.refine(F, o, 1.0 if side == 0 else -1.0, lev, jb, peaks[k])
+                if f > peaks[k]:
+                    peaks[k] = f
+
+
 @nb.njit(cache=True)
 def integrate(
     p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
-    peaks, stats, refine_peaks, max_steps,
+    peaks, stats, refine_peaks, max_steps, exact,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
@@ -823,6 +912,9 @@ def integrate(
     """
     n = y0.size
     y = y0
+    # a private copy: the integrator sets the inertia law's branch, P_BRANCH
+    p = p.copy()
+    p[P_BRANCH] = -1.0
     # the stages skip the last four states (100 Hz low pass, int a_w^2, int a_w^4):
     # their derivatives are zero there and they are set after each accepted step
     nrk = n - 4
@@ -873,14 +965,41 @@ def integrate(
             sw_a, sw_b = 5, -1
     v_sat = p[P_WSAT] / p[P_R] if sw_a >= 0 else 0.0
     lift = p[P_LIFT] != 0.0  # the tyre force capped at the static load: another kink
+    # exact steps through the linear phases (_exact): no inerter, a constant one, or a
+    # saturated flywheel under the thesis or momentum law; not with tyre lift-off
+    exact_on = exact and not lift and (
+        p[P_KIND] == 0.0 or (p[P_KIND] == 1.0 and (p[P_LAW] == 0.0 or p[P_LAW] == 1.0 or p[P_LAW] == 3.0))
+    )
+    me_lin = 0.0
+    if p[P_KIND] == 1.0:
+        me_lin = p[P_R2] * (p[P_IREST] if p[P_LAW] == 3.0 else inertia(p, p[P_WSAT]))
+    Mx = np.empty((X.NZ, X.NZ))
+    rows_x = np.empty((X.NO, X.NZ))
+    E_x = np.empty((X.N_LEVELS, X.NZ, X.NZ))
+    R_x = np.empty((X.N_LEVELS, X.NZ, X.N_POINTS_MAX * X.NO))
+    P_x = np.empty((2 ** (X.N_LEVELS - 1) + 1, X.NZ, X.NZ))
+    T_x = np.empty((X.N_TAYLOR, X.NO, X.NZ))
+    w1_x = np.empty((X.NZ, X.NZ))
+    w2_x = np.empty((X.NO, X.NZ))
+    z_x = np.empty(X.NZ)
+    zn_x = np.empty(X.NZ)
+    F_x = np.empty(X.N_POINTS_MAX * X.NO)
+    key_alpha, key_omega = -1.0, -1.0
+    need_k1 = False
+    nexact = 0
+    i_wk = n - 13 + 3
+    n_phys = n - 13
     h_event = 0.0
     event_tries = 0
+    h_side = np.zeros(2)  # last step-size proposal below / above the saturation speed
+    natural_next = False
     for iseg in range(segs.shape[0]):
         seg = segs[iseg]
         t0 = seg[0]
         t1 = min(seg[1], t_end)
         xs, _ = road(seg, t0)
         jump = xs - x_prev
+        p[P_BRANCH] = -1.0
         if jump != 0.0:
             apply_jump(p, y, jump)
         x_prev, _ = road(seg, t1)
@@ -889,6 +1008,7 @@ def integrate(
         t = t0
         a3a = _rhs(t, y, k1, p, seg, wk, False)
         nfev += 1
+        need_k1 = False
         _quantities(t, y, p, seg, wk, a3a, qa)
         for j in range(N_PEAKS):
             if qa[j] > peaks[j]:
@@ -903,6 +1023,82 @@ def integrate(
             nfev += 1
         final = t1 >= t_end
         while t < t1:
+            if exact_on and (sw_a < 0 or abs(y[3] - y[1]) >= X.SAT_MARGIN * v_sat):
+                # the longest step that ends before the segment end and the next sample
+                t_lim = t1 - 1e-12 * max(1.0, abs(t1))
+                if isamp < ns:
+                    t_lim = min(t_lim, sample_times[isamp] - 1e-12 * max(1.0, abs(t1)))
+                lev = 0
+                while lev < X.N_LEVELS and t + X.H_EXACT / 2.0**lev > t_lim:
+                    lev += 1
+            else:
+                lev = X.N_LEVELS
+            if lev < X.N_LEVELS:
+                alpha = 1.0 if seg[2] == 0.0 else 0.0
+                omega = 0.0 if seg[2] == 0.0 else seg[6]
+                if alpha != key_alpha or omega != key_omega:
+                    X.setup(p, wk, me_lin, alpha, omega, Mx, rows_x, E_x, P_x, R_x, T_x, w2_x, w1_x)
+                    key_alpha, key_omega = alpha, omega
+                for i in range(4):
+                    z_x[i] = y[i]
+                for i in range(8):
+                    z_x[4 + i] = y[i_wk + i]
+                if seg[2] == 0.0:
+                    z_x[X.IG] = seg[3] + seg[4] * (t - seg[0])
+                    z_x[X.IG + 1] = 0.0
+                    z_x[X.IG + 2] = seg[4]
+                else:
+                    arg = seg[6] * t + seg[7]
+                    z_x[X.IG] = seg[3]
+                    z_x[X.IG + 1] = seg[5] * math.sin(arg)
+                    z_x[X.IG + 2] = seg[5] * seg[6] * math.cos(arg)
+                # the longest step that stays saturated throughout
+                while lev < X.N_LEVELS:
+                    X.outputs(R_x, lev, z_x, F_x)
+                    if sw_a < 0 or X.saturated(F_x, lev, v_sat):
+                        break
+                    lev += 1
+                if lev < X.N_LEVELS:
+                    h_lev = X.H_EXACT / 2.0**lev
+                    _exact_metrics(F_x, lev, h_lev, y, n_phys, peaks, refine_peaks)
+                    X.propagate(E_x, lev, z_x, zn_x)
+                    for i in range(4):
+                        y[i] = zn_x[i]
+                    for i in range(8):
+                        y[i_wk + i] = zn_x[4 + i]
+                    t = t + h_lev
+                    nsteps += 1
+                    nexact += 1
+                    need_k1 = True
+                    je = X.NPTS[lev] - 1
+                    qa[0] = F_x[je * X.NO + X.O_A3]
+                    qa[1] = -qa[0]
+                    qa[2] = F_x[je * X.NO + X.O_AW]
+                    qa[3] = -qa[2]
+                    qa[4] = F_x[je * X.NO + X.O_Z]
+                    qa[5] = -qa[4]
+                    qa[6] = F_x[je * X.NO + X.O_FT]
+                    if nsteps >= max_steps:
+                        status = TOO_MANY_STEPS
+                        break
+                    continue
+            if sw_a >= 0:
+                # each attempt follows the inertia law on the side of the kink it starts
+                # on, continued smoothly past it: a step that crosses then has a smooth
+                # right-hand side, an honest error estimate and a continuous extension
+                # that places the crossing (redone to end on it, below)
+                vv = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
+                brn = 1.0 if abs(vv) > v_sat else 0.0
+                if natural_next:
+                    brn = -1.0
+                    natural_next = False
+                if brn != p[P_BRANCH]:
+                    p[P_BRANCH] = brn
+                    need_k1 = True
+            if need_k1:
+                _rhs(t, y, k1, p, seg, wk, False)
+                nfev += 1
+                need_k1 = False
             h_prop = h
             last = False
             event_step = False
@@ -969,6 +1165,13 @@ def integrate(
                         h = h_prop
                         nevents_redo += 1
                         event_tries += 1
+                        continue
+                    if (c1 or rev) and p[P_BRANCH] >= 0.0 and best < 1.0 - 1e-9:
+                        # a saturation crossing this attempt would keep (at its very
+                        # start, or after three redos): the continued branch is wrong
+                        # past it, so redo it on the law itself, as if without branches
+                        natural_next = True
+                        nevents_redo += 1
                         continue
             if err <= 1.0:
                 nsteps += 1
@@ -1037,19 +1240,40 @@ def integrate(
                         if qb[j] > peaks[j]:
                             peaks[j] = qb[j]
                 event_tries = 0
+                reg_b = 0
+                if sw_a >= 0:
+                    vb = yn[sw_a] - (yn[sw_b] if sw_b >= 0 else 0.0)
+                    reg_b = 1 if abs(vb) >= v_sat else 0
                 if event_step and crossed:
                     # a step cut short just past a kink says nothing about the step size
                     # the smooth solution allows: carry on with the proposal made before
-                    # it. Only if the step did end past the kink: one ending just short of
+                    # it, or with the last one made on this side of the saturation kink.
+                    # Only if the step did end past the kink: one ending just short of
                     # it leaves the FSAL derivative on the old side, and a long next step
                     # would carry that error while the embedded estimate (weight E1 on k1,
                     # 70x below B1) barely sees it (a jump in the momentum law)
                     hnew = h_prop
+                    if sw_a >= 0 and h_side[reg_b] > 0.0:
+                        hnew = h_side[reg_b]
                 else:
                     fac = fac11 / facold**beta
                     fac = max(0.1, min(5.0, fac / 0.9))
                     hnew = h / fac
                     facold = max(err, 1e-4)
+                    if sw_a >= 0:
+                        h_side[reg_b] = hnew
+                    if event_step and sw_a >= 0 and not lift:
+                        # ended just short of the saturation kink (located on the
+                        # continuous extension of a failed attempt): step onto it by
+                        # linear extrapolation of |v| - v_sat, then go on as above
+                        ab = k7[sw_a] - (k7[sw_b] if sw_b >= 0 else 0.0)
+                        g = abs(vb) - v_sat
+                        gd = ab if vb > 0.0 else -ab
+                        if g * gd < 0.0:
+                            dt = -g / gd * (1.0 + 1e-6) + 1e-13 * max(1.0, abs(tn))
+                            if dt < h and tn + dt < t1:
+                                h_event = dt
+                                hnew = h_prop
                 for i in range(n):
                     y[i] = yn[i]
                     k1[i] = k7[i]
@@ -1074,4 +1298,5 @@ def integrate(
     stats[1] = nrej
     stats[2] = nfev
     stats[3] = nevents_redo
+    stats[4] = nexact
     return status

@@ -104,8 +104,12 @@ _LAW = {"thesis": 0, "momentum": 1, "slider-dynamics": 2}
     P_MU,
     P_R2,
     P_KSLMIN,
-) = range(34)
-N_PARAMS = 34  # the last five are derived (reciprocal masses, r^2, k_s l_min)
+    P_BRANCH,
+) = range(35)
+#: the last six are derived (reciprocal masses, r^2, k_s l_min) or set by the
+#: integrator (P_BRANCH: which side of the saturation kink the inertia law follows,
+#: -1 = the side the speed is on)
+N_PARAMS = 35
 N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw^2, int aw^4
 
 
@@ -276,6 +280,7 @@ class QuarterCar:
         p[P_MU] = p[P_IM] + p[P_IMT]
         p[P_R2] = p[P_R] * p[P_R]
         p[P_KSLMIN] = p[P_KS] * p[P_LMIN]
+        p[P_BRANCH] = -1.0
         p.setflags(write=False)
         return p
 
