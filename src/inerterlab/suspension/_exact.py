@@ -28,8 +28,6 @@ docs/decisions.md, "Exact steps through the linear phases".
 
 from __future__ import annotations
 
-import math
-
 import numba as nb
 import numpy as np
 

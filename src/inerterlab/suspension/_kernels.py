@@ -967,8 +967,13 @@ def integrate(
     lift = p[P_LIFT] != 0.0  # the tyre force capped at the static load: another kink
     # exact steps through the linear phases (_exact): no inerter, a constant one, or a
     # saturated flywheel under the thesis or momentum law; not with tyre lift-off
-    exact_on = exact and not lift and (
-        p[P_KIND] == 0.0 or (p[P_KIND] == 1.0 and (p[P_LAW] == 0.0 or p[P_LAW] == 1.0 or p[P_LAW] == 3.0))
+    exact_on = (
+        exact
+        and not lift
+        and (
+            p[P_KIND] == 0.0
+            or (p[P_KIND] == 1.0 and (p[P_LAW] == 0.0 or p[P_LAW] == 1.0 or p[P_LAW] == 3.0))
+        )
     )
     me_lin = 0.0
     if p[P_KIND] == 1.0:
