@@ -49,8 +49,9 @@ N_LEVELS = 4
 #: Gauss-Legendre nodes per level (10, 5, 2.5, 1.25 ms)
 N_GAUSS = (16, 10, 8, 8)
 N_POINTS_MAX = max(N_GAUSS) + 2
-#: terms of the Taylor series of a row times exp(M r), |r| <= 0.625 ms
-N_TAYLOR = 20
+#: terms of the Taylor series of a row times exp(M r), |r| <= 0.625 ms (14 already
+#: reach the round-off of the matrix exponential)
+N_TAYLOR = 16
 #: the relative velocity must exceed the saturation speed by this factor at every
 #: point of an exact step
 SAT_MARGIN = 1.1

@@ -829,15 +829,30 @@ def _locate_kinks(p, y, r2, r3, r4, r5, t, h, seg, sw_a, sw_b, v_sat, c1, rev, c
         lo = 0.0
         hi = hi1 if which == 0 else 1.0
         glo = ga1 if which == 0 else ga2
+        ghi = _switching_dense(p, y, r2, r3, r4, r5, hi, t + hi * h, seg, sw_a, sw_b, v_sat, which)
+        if (ghi > 0.0) == (glo > 0.0):
+            # no sign change on the extension (a crossing seen only at the step ends)
+            best = min(best, hi)
+            continue
+        # Illinois (modified regula falsi): superlinear, the bracket kept
+        side = 0
         for _ in range(60):
-            mid = 0.5 * (lo + hi)
+            mid = hi - ghi * (hi - lo) / (ghi - glo)
+            if not (lo < mid < hi):
+                mid = 0.5 * (lo + hi)
             gm = _switching_dense(
                 p, y, r2, r3, r4, r5, mid, t + mid * h, seg, sw_a, sw_b, v_sat, which
             )
             if (gm > 0.0) == (glo > 0.0):
                 lo, glo = mid, gm
+                if side == -1:
+                    ghi *= 0.5
+                side = -1
             else:
-                hi = mid
+                hi, ghi = mid, gm
+                if side == 1:
+                    glo *= 0.5
+                side = 1
             if hi - lo < 1e-12:
                 break
         best = min(best, hi)
@@ -1163,21 +1178,23 @@ def integrate(
                     )
                     # an attempt that was itself cut at a crossing may end a little past
                     # it (crossing placed on a less accurate extension): accept a kink in
-                    # its last 1e-9 of the step, redo at most twice more
-                    if best * h > 1e-9 * max(1.0, abs(t)) and best < 1.0 - 1e-9 and event_tries < 3:
-                        # redo the step ending just past the first crossing
-                        h_event = best * h
-                        h = h_prop
-                        nevents_redo += 1
-                        event_tries += 1
-                        continue
-                    if (c1 or rev) and p[P_BRANCH] >= 0.0 and best < 1.0 - 1e-9:
-                        # a saturation crossing this attempt would keep (at its very
-                        # start, or after three redos): the continued branch is wrong
-                        # past it, so redo it on the law itself, as if without branches
-                        natural_next = True
-                        nevents_redo += 1
-                        continue
+                    # its last 1e-9 of the step (or last 1e-12 s), redo at most twice more
+                    past = (1.0 - best) * h
+                    if best < 1.0 - 1e-9 and past > 1e-12 * max(1.0, abs(t)):
+                        if event_tries < 3:
+                            # redo the step ending just past the first crossing
+                            h_event = max(best * h, 1e-13 * max(1.0, abs(t)))
+                            h = h_prop
+                            nevents_redo += 1
+                            event_tries += 1
+                            continue
+                        if (c1 or rev) and p[P_BRANCH] >= 0.0:
+                            # a saturation crossing this attempt would keep: the continued
+                            # branch is wrong past it, so redo it on the law itself, as if
+                            # without branches
+                            natural_next = True
+                            nevents_redo += 1
+                            continue
             if err <= 1.0:
                 nsteps += 1
                 # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
@@ -1262,7 +1279,10 @@ def integrate(
                         hnew = h_side[reg_b]
                 else:
                     fac = fac11 / facold**beta
-                    fac = max(0.1, min(5.0, fac / 0.9))
+                    # safety factor 0.9, 0.8 below the saturation speed: there the error
+                    # per step grows along the transit (the inertance steepens towards
+                    # w_sat) and 0.9 had a third of the attempts rejected
+                    fac = max(0.1, min(5.0, fac / (0.9 if p[P_BRANCH] != 0.0 else 0.8)))
                     hnew = h / fac
                     facold = max(err, 1e-4)
                     if sw_a >= 0:
@@ -1276,7 +1296,7 @@ def integrate(
                         gd = ab if vb > 0.0 else -ab
                         if g * gd < 0.0:
                             dt = -g / gd * (1.0 + 1e-6) + 1e-13 * max(1.0, abs(tn))
-                            if dt < h and tn + dt < t1:
+                            if dt < h_prop and tn + dt < t1:
                                 h_event = dt
                                 hnew = h_prop
                 for i in range(n):
