@@ -1,4 +1,5 @@
-"""Compiled quarter-car kernels: right-hand side, road-jump impulse, Dormand-Prince 5(4).
+"""Compiled quarter-car kernels: right-hand side, road-jump impulse, Dormand-Prince 5(4),
+exact steps through the linear phases.
 
 Everything here is a numba function of plain floats and arrays, laid out by the
 ``P_*`` indices of :mod:`.model`. The integrator is an adaptive explicit Runge-Kutta
@@ -16,10 +17,17 @@ the explicit stability limit h ~ 5 ms once the car settles): it is taken out of 
 Runge-Kutta stages and advanced exactly after each accepted step, driven by the
 continuous extension of its input (a quartic in theta): polynomial particular solution
 plus the 2x2 matrix exponential, with int a_w^2 and int a_w^4 by 5-point Gauss-Legendre
-quadrature. Kinks (saturation speed, tyre lift-off) end steps, see :func:`integrate`. Peaks of a3, a_w, z and the tyre force
+quadrature. Kinks (saturation speed, tyre lift-off) end steps, see :func:`integrate`;
+an attempt follows the inertia law on the side of the saturation kink it starts on,
+continued smoothly past it, so a crossing attempt has an honest error estimate and a
+continuous extension that places the crossing. Peaks of a3, a_w, z and the tyre force
 are taken at every step end and at the step midpoint, and where a parabola through
 those three values puts a larger maximum inside the step it is located by successive
 parabolic interpolation on the continuous extension.
+
+Where the car is linear (no inerter, a constant one, or a saturated flywheel under the
+thesis or momentum law) the integrator takes exact steps of the matrix exponential
+instead (section "Exact steps through the linear phases" below).
 """
 
 from __future__ import annotations
@@ -30,7 +38,6 @@ import numba as nb
 import numpy as np
 
 from ..slider_dynamics import slider_state_derivative
-from . import _exact as X
 from .model import (
     P_BAH,
     P_BRANCH,
@@ -859,6 +866,376 @@ def _locate_kinks(p, y, r2, r3, r4, r5, t, h, seg, sw_a, sw_b, v_sat, c1, rev, c
     return best
 
 
+# ---------------------------------------------------------------------------------------
+# Exact steps through the linear phases
+#
+# While the flywheel is saturated (``afw`` with the thesis or momentum law and
+# |r v| >= w_sat), and always for ``traditional`` and ``cfw``, the quarter car with its
+# Wk filter is a linear time-invariant system driven by the road, and every road
+# segment (affine or offset sine) is itself the output of a small linear system. The
+# state z = (x2, v2, x3, v3, 8 Wk states, road generator g) then obeys z' = M z exactly,
+# and a step of length ``h`` is the matrix exponential exp(M h) applied to z: no
+# truncation error, no step-size control.
+#
+# The road generator is g = (x_a, x_o, v_r) with road displacement x_a + x_o and road
+# velocity v_r, and g' = (alpha v_r, (1 - alpha) v_r, -omega^2 x_o): alpha = 1, omega = 0
+# for an affine segment and alpha = 0 for a sine of angular frequency omega. M thus
+# depends on the segment only through (alpha, omega), and is set up once per distinct pair.
+#
+# Steps come in four lengths, 10, 5, 2.5 and 1.25 ms (levels 0-3). The outputs (relative
+# velocity, body acceleration, Wk-weighted acceleration, deflection, grip, tyre force)
+# at the start, the Gauss-Legendre nodes and the end of a step are rows r exp(M s)
+# applied to z, precomputed once; the metric integrals are the Gauss-Legendre sums
+# (12, 8, 8, 6 nodes: at most 1.3e-7 relative error on the fastest transient of the Wk
+# filter, its 100 Hz section, raised to the fourth power, alone; 1e-11 on the metrics
+# after a bump), the peaks the largest of those values, refined on the polynomial
+# through them. A step is taken only when the relative velocity stays above the
+# saturation speed (with a margin) at every point, so it never crosses the kink of the
+# inertia law; the longest such step is taken, and if none is, the Dormand-Prince
+# integrator below goes on. See docs/decisions.md, "Quarter-car simulation speed:
+# exact steps through the linear phases".
+#
+# (In this file, not a module of its own: numba's cache of integrate() is keyed to this
+# file only and would keep stale copies of helpers changed elsewhere.)
+# ---------------------------------------------------------------------------------------
+
+# dot products and matrix products may be reassociated (vectorised): round-off only
+vleaf = nb.njit(cache=True, _nrt=False, fastmath={"reassoc", "contract"})
+
+X_NZ = 15  # x2, v2, x3, v3, 8 Wk states, road generator (x_a, x_o, v_r)
+X_NCAR = 4
+X_IG = 12  # first generator index
+# outputs
+X_O_V, X_O_A3, X_O_AW, X_O_Z, X_O_GRIP, X_O_FT = 0, 1, 2, 3, 4, 5
+X_NO = 6
+#: the longest exact step [s] and the number of levels (halvings)
+X_H_EXACT = 0.01
+X_N_LEVELS = 4
+#: Gauss-Legendre nodes per level (10, 5, 2.5, 1.25 ms)
+X_N_GAUSS = (12, 8, 8, 6)
+X_N_POINTS_MAX = max(X_N_GAUSS) + 2
+#: terms of the Taylor series of a row times exp(M r), |r| <= 0.625 ms (14 already
+#: reach the round-off of the matrix exponential)
+X_N_TAYLOR = 16
+#: the relative velocity must exceed the saturation speed by this factor at every
+#: point of an exact step
+X_SAT_MARGIN = 1.1
+
+
+def x_level_tables():
+    """Per level: point positions in [0, 1] (start, Gauss nodes, end), quadrature
+    weights (zero at start and end) and barycentric interpolation weights."""
+    xs = np.zeros((X_N_LEVELS, X_N_POINTS_MAX))
+    wq = np.zeros((X_N_LEVELS, X_N_POINTS_MAX))
+    bw = np.zeros((X_N_LEVELS, X_N_POINTS_MAX))
+    npts = np.zeros(X_N_LEVELS, dtype=np.int64)
+    for lev, ng in enumerate(X_N_GAUSS):
+        x, w = np.polynomial.legendre.leggauss(ng)
+        pts = np.r_[0.0, 0.5 * (x + 1.0), 1.0]
+        n = pts.size
+        xs[lev, :n] = pts
+        wq[lev, 1 : n - 1] = 0.5 * w
+        for i in range(n):
+            bw[lev, i] = 1.0 / np.prod(pts[i] - np.delete(pts, i))
+        bw[lev, :n] /= np.max(np.abs(bw[lev, :n]))
+        npts[lev] = n
+    return xs, wq, bw, npts
+
+
+X_XS, X_WQ, X_BW, X_NPTS = x_level_tables()
+
+
+@leaf
+def x_build_matrix(p, wk, me, alpha, omega, M, rows):
+    """Fill M (X_NZ x X_NZ) and the output rows (X_NO x X_NZ) of the linear phase with
+    effective inertance ``me`` [kg] (unused without an inerter)."""
+    for i in range(X_NZ):
+        for j in range(X_NZ):
+            M[i, j] = 0.0
+    for o in range(X_NO):
+        for j in range(X_NZ):
+            rows[o, j] = 0.0
+    im, imt, mu = p[P_IM], p[P_IMT], p[P_MU]
+    d = me / (1.0 + me * mu) if p[P_KIND] == 1.0 else 0.0
+    cf = 1.0 - d * mu  # coefficient of fs in fs + f_inerter
+    ct = d * imt  # coefficient of ft in fs + f_inerter
+    # fs = K (x3 - x2) + C (v3 - v2); ft = KT (x2 - x_a - x_o) + CT (v2 - v_r)
+    fs = rows[X_O_Z]  # scratch, set to the deflection row below
+    ft = rows[X_O_FT]
+    fs[0] = -p[P_K]
+    fs[2] = p[P_K]
+    fs[1] = -p[P_C]
+    fs[3] = p[P_C]
+    ft[0] = p[P_KT]
+    ft[X_IG] = -p[P_KT]
+    ft[X_IG + 1] = -p[P_KT]
+    ft[1] = p[P_CT]
+    ft[X_IG + 2] = -p[P_CT]
+    for j in range(X_NZ):
+        s = cf * fs[j] + ct * ft[j]
+        M[3, j] = -im * s
+        M[1, j] = imt * (s - ft[j])
+        rows[X_O_A3, j] = M[3, j]
+    M[0, 1] = 1.0
+    M[2, 3] = 1.0
+    # Wk: four second-order sections in cascade, input a3 (metrics.wk_sections)
+    u = rows[X_O_AW]
+    for j in range(X_NZ):
+        u[j] = rows[X_O_A3, j]
+    for s in range(4):
+        i = X_NCAR + 2 * s
+        w0 = wk[s, 0]
+        M[i, i + 1] = w0
+        for j in range(X_NZ):
+            M[i + 1, j] = w0 * u[j]
+        M[i + 1, i] -= w0
+        M[i + 1, i + 1] -= wk[s, 1]
+        for j in range(X_NZ):
+            u[j] = wk[s, 4] * u[j]
+        u[i] += wk[s, 2]
+        u[i + 1] += wk[s, 3]
+    # road generator
+    M[X_IG, X_IG + 2] = alpha
+    M[X_IG + 1, X_IG + 2] = 1.0 - alpha
+    M[X_IG + 2, X_IG + 1] = -omega * omega
+    # the remaining outputs
+    for j in range(X_NZ):
+        fs[j] = 0.0
+    fs[0] = -1.0
+    fs[2] = 1.0
+    rows[X_O_V, 1] = -1.0
+    rows[X_O_V, 3] = 1.0
+    g = p[P_GRIP]
+    rows[X_O_GRIP, 0] = g
+    rows[X_O_GRIP, X_IG] = -g
+    rows[X_O_GRIP, X_IG + 1] = -g
+
+
+@vleaf
+def x_matmul(a, b, out):
+    n = a.shape[0]
+    for i in range(n):
+        for j in range(n):
+            out[i, j] = 0.0
+        for k in range(n):
+            aik = a[i, k]
+            for j in range(n):
+                out[i, j] += aik * b[k, j]
+
+
+@vleaf
+def x_rowmul(r, b, out):
+    """out = r b (row vector times square matrix)."""
+    n = b.shape[0]
+    for j in range(n):
+        out[j] = 0.0
+    for k in range(n):
+        rk = r[k]
+        for j in range(n):
+            out[j] += rk * b[k, j]
+
+
+@leaf
+def x_expm(A, h, out, w1):
+    """out = exp(A h) by scaling and squaring of a Taylor series (A, out, w1 square)."""
+    n = A.shape[0]
+    norm = 0.0
+    for i in range(n):
+        s = 0.0
+        for j in range(n):
+            s += abs(A[i, j])
+        norm = max(norm, s)
+    norm *= h
+    sq = 0
+    while norm > 0.25:
+        norm *= 0.5
+        sq += 1
+    hs = h / 2.0**sq
+    # Horner: I + As (I + As/2 (I + ... (I + As/K))), truncation below 0.25^15/15!
+    for i in range(n):
+        for j in range(n):
+            out[i, j] = 1.0 if i == j else 0.0
+    for k in range(14, 0, -1):
+        c = hs / k
+        x_matmul(A, out, w1)
+        for i in range(n):
+            for j in range(n):
+                out[i, j] = c * w1[i, j] + (1.0 if i == j else 0.0)
+    for _ in range(sq):
+        x_matmul(out, out, w1)
+        for i in range(n):
+            for j in range(n):
+                out[i, j] = w1[i, j]
+
+
+@vleaf
+def x_setup(p, wk, me, alpha, omega, M, rows, E, P, RT, T, W, w1):
+    """Build M and the rows; E[lev] = exp(M h_lev); RT[lev, k, i X_NO + o] = component k
+    of rows[o] exp(M s_i) at the points s_i of each level. P (9 x X_NZ x X_NZ: exp(M k
+    sigma)), T (X_N_TAYLOR x X_NO x X_NZ), W (X_NO x X_NZ) and w1 are work space."""
+    x_build_matrix(p, wk, me, alpha, omega, M, rows)
+    nb_ = 2 ** (X_N_LEVELS - 1)
+    sig = X_H_EXACT / nb_  # the shortest step
+    x_expm(M, sig, E[X_N_LEVELS - 1], w1)
+    for lev in range(X_N_LEVELS - 2, -1, -1):
+        x_matmul(E[lev + 1], E[lev + 1], E[lev])
+    # P[k] = exp(M k sigma), k = 0..8
+    for i in range(X_NZ):
+        for j in range(X_NZ):
+            P[0, i, j] = 1.0 if i == j else 0.0
+            P[1, i, j] = E[X_N_LEVELS - 1, i, j]
+    for k in range(2, nb_ + 1):
+        x_matmul(P[k - 1], P[1], P[k])
+    # Taylor coefficients rows[o] M^k / k!
+    for o in range(X_NO):
+        for j in range(X_NZ):
+            T[0, o, j] = rows[o, j]
+    for k in range(1, X_N_TAYLOR):
+        for o in range(X_NO):
+            for j in range(X_NZ):
+                T[k, o, j] = 0.0
+            for i in range(X_NZ):
+                ti = T[k - 1, o, i] / k
+                for j in range(X_NZ):
+                    T[k, o, j] += ti * M[i, j]
+    for lev in range(X_N_LEVELS):
+        h = X_H_EXACT / 2.0**lev
+        for ip in range(X_NPTS[lev]):
+            s_pt = X_XS[lev, ip] * h
+            # nearest multiple of sigma, then the Taylor series over |r| <= sigma / 2
+            kk = int(s_pt / sig + 0.5)
+            kk = min(max(kk, 0), nb_)
+            r = s_pt - kk * sig
+            for o in range(X_NO):
+                for j in range(X_NZ):
+                    W[o, j] = T[X_N_TAYLOR - 1, o, j]
+            for k in range(X_N_TAYLOR - 2, -1, -1):
+                for o in range(X_NO):
+                    for j in range(X_NZ):
+                        W[o, j] = T[k, o, j] + r * W[o, j]
+            for o in range(X_NO):
+                c = ip * X_NO + o
+                for j in range(X_NZ):
+                    RT[lev, j, c] = 0.0
+                for i in range(X_NZ):
+                    wi = W[o, i]
+                    for j in range(X_NZ):
+                        RT[lev, j, c] += wi * P[kk, i, j]
+
+
+@vleaf
+def x_outputs(RT, lev, z, F):
+    """F[i X_NO + o] = output o at point i of the level: RT[lev, :, i X_NO + o] . z."""
+    nr = X_NPTS[lev] * X_NO
+    for c in range(nr):
+        F[c] = 0.0
+    for k in range(X_NZ):
+        zk = z[k]
+        for c in range(nr):
+            F[c] += RT[lev, k, c] * zk
+
+
+@leaf
+def x_saturated(F, lev, v_sat):
+    """True when |v| >= X_SAT_MARGIN v_sat with one sign at every point of the step."""
+    lim = X_SAT_MARGIN * v_sat
+    pos = F[X_O_V] > 0.0
+    for ip in range(X_NPTS[lev]):
+        v = F[ip * X_NO + X_O_V]
+        if (v > 0.0) != pos or abs(v) < lim:
+            return False
+    return True
+
+
+@vleaf
+def x_propagate(E, lev, z, zn):
+    """zn = E[lev] z."""
+    for i in range(X_NZ):
+        s = 0.0
+        for k in range(X_NZ):
+            s += E[lev, i, k] * z[k]
+        zn[i] = s
+
+
+@leaf
+def x_interp(F, o, lev, th):
+    """Polynomial through the step's points of output o, at theta in [0, 1]
+    (barycentric form)."""
+    num = 0.0
+    den = 0.0
+    for ip in range(X_NPTS[lev]):
+        d = th - X_XS[lev, ip]
+        if d == 0.0:
+            return F[ip * X_NO + o]
+        c = X_BW[lev, ip] / d
+        num += c * F[ip * X_NO + o]
+        den += c
+    return num / den
+
+
+@leaf
+def x_refine(F, o, sign, lev, ip, peak):
+    """Largest value of sign * the polynomial of output o next to point ip, where the
+    parabola through ip and its neighbours puts a maximum above ``peak``: successive
+    parabolic interpolation, kept inside the bracket; else the value at ip."""
+    npt = X_NPTS[lev]
+    f_ip = sign * F[ip * X_NO + o]
+    if ip == 0:
+        i1, i2, i3 = 0, 1, 2
+        lo, hi = X_XS[lev, 0], X_XS[lev, 1]
+    elif ip == npt - 1:
+        i1, i2, i3 = npt - 3, npt - 2, npt - 1
+        lo, hi = X_XS[lev, npt - 2], X_XS[lev, npt - 1]
+    else:
+        i1, i2, i3 = ip - 1, ip, ip + 1
+        lo, hi = X_XS[lev, ip - 1], X_XS[lev, ip + 1]
+    x1, x2, x3 = X_XS[lev, i1], X_XS[lev, i2], X_XS[lev, i3]
+    f1 = sign * F[i1 * X_NO + o]
+    f2 = sign * F[i2 * X_NO + o]
+    f3 = sign * F[i3 * X_NO + o]
+    best = f_ip
+    for it in range(12):
+        d1 = x2 - x1
+        d3 = x2 - x3
+        p1 = d1 * (f2 - f3)
+        p3 = d3 * (f2 - f1)
+        den = p1 - p3
+        if den == 0.0:
+            break
+        xv = x2 - 0.5 * (d1 * p1 - d3 * p3) / den
+        if not (lo < xv < hi):
+            break
+        if it == 0:
+            # the parabola's own maximum: nothing to gain unless it exceeds the peak
+            # (the polynomial's maximum differs from it by far less than its height)
+            a = ((f3 - f2) / (x3 - x2) - (f2 - f1) / (x2 - x1)) / (x3 - x1)
+            if a >= 0.0:
+                break
+            bq = (f2 - f1) / (x2 - x1) - a * (x1 + x2)
+            top = f1 + (xv - x1) * ((f2 - f1) / (x2 - x1) + a * (xv - x2))
+            if top <= peak and bq == bq:
+                break
+        fv = sign * x_interp(F, o, lev, xv)
+        if fv > best:
+            best = fv
+        if abs(xv - x2) < 1e-13:
+            break
+        # keep three points around the best one
+        if xv < x2:
+            if fv > f2:
+                x3, f3 = x2, f2
+                x2, f2 = xv, fv
+            else:
+                x1, f1 = xv, fv
+        else:
+            if fv > f2:
+                x1, f1 = x2, f2
+                x2, f2 = xv, fv
+            else:
+                x3, f3 = xv, fv
+    return best
+
+
 @leaf
 def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
     """Metric integrals and peaks over one exact step of length h at level ``lev``
@@ -868,14 +1245,14 @@ def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
     s_z = 0.0
     s_w2 = 0.0
     s_w4 = 0.0
-    npt = X.NPTS[lev]
+    npt = X_NPTS[lev]
     for j in range(1, npt - 1):
-        w = X.WQ[lev, j]
-        c = j * X.NO
-        a = F[c + X.O_A3]
-        g = F[c + X.O_GRIP]
-        z = F[c + X.O_Z]
-        aw2 = F[c + X.O_AW] * F[c + X.O_AW]
+        w = X_WQ[lev, j]
+        c = j * X_NO
+        a = F[c + X_O_A3]
+        g = F[c + X_O_GRIP]
+        z = F[c + X_O_Z]
+        aw2 = F[c + X_O_AW] * F[c + X_O_AW]
         s_a += w * a * a
         s_g += w * g * g
         s_z += w * z * z
@@ -887,13 +1264,13 @@ def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
     y[n + 11] += h * s_w2
     y[n + 12] += h * s_w4
     for q in range(4):
-        o = X.O_A3 if q == 0 else (X.O_AW if q == 1 else (X.O_Z if q == 2 else X.O_FT))
+        o = X_O_A3 if q == 0 else (X_O_AW if q == 1 else (X_O_Z if q == 2 else X_O_FT))
         jmax = 0
         jmin = 0
         fmax = F[o]
         fmin = fmax
         for j in range(1, npt):
-            f = F[j * X.NO + o]
+            f = F[j * X_NO + o]
             if f > fmax:
                 fmax, jmax = f, j
             elif f < fmin:
@@ -907,7 +1284,7 @@ def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
             # a maximum between points exceeds the largest point value by about
             # (w delta)^2 / 8 of the amplitude: far below 1 %
             if refine_peaks and fb >= peaks[k] - 0.01 * abs(peaks[k]):
-                f = X.refine(F, o, 1.0 if side == 0 else -1.0, lev, jb, peaks[k])
+                f = x_refine(F, o, 1.0 if side == 0 else -1.0, lev, jb, peaks[k])
                 if f > peaks[k]:
                     peaks[k] = f
 
@@ -993,17 +1370,17 @@ def integrate(
     me_lin = 0.0
     if p[P_KIND] == 1.0:
         me_lin = p[P_R2] * (p[P_IREST] if p[P_LAW] == 3.0 else inertia(p, p[P_WSAT]))
-    Mx = np.empty((X.NZ, X.NZ))
-    rows_x = np.empty((X.NO, X.NZ))
-    E_x = np.empty((X.N_LEVELS, X.NZ, X.NZ))
-    R_x = np.empty((X.N_LEVELS, X.NZ, X.N_POINTS_MAX * X.NO))
-    P_x = np.empty((2 ** (X.N_LEVELS - 1) + 1, X.NZ, X.NZ))
-    T_x = np.empty((X.N_TAYLOR, X.NO, X.NZ))
-    w1_x = np.empty((X.NZ, X.NZ))
-    w2_x = np.empty((X.NO, X.NZ))
-    z_x = np.empty(X.NZ)
-    zn_x = np.empty(X.NZ)
-    F_x = np.empty(X.N_POINTS_MAX * X.NO)
+    Mx = np.empty((X_NZ, X_NZ))
+    rows_x = np.empty((X_NO, X_NZ))
+    E_x = np.empty((X_N_LEVELS, X_NZ, X_NZ))
+    R_x = np.empty((X_N_LEVELS, X_NZ, X_N_POINTS_MAX * X_NO))
+    P_x = np.empty((2 ** (X_N_LEVELS - 1) + 1, X_NZ, X_NZ))
+    T_x = np.empty((X_N_TAYLOR, X_NO, X_NZ))
+    w1_x = np.empty((X_NZ, X_NZ))
+    w2_x = np.empty((X_NO, X_NZ))
+    z_x = np.empty(X_NZ)
+    zn_x = np.empty(X_NZ)
+    F_x = np.empty(X_N_POINTS_MAX * X_NO)
     key_alpha, key_omega = -1.0, -1.0
     need_k1 = False
     nexact = 0
@@ -1043,45 +1420,45 @@ def integrate(
             nfev += 1
         final = t1 >= t_end
         while t < t1:
-            if exact_on and (sw_a < 0 or abs(y[3] - y[1]) >= X.SAT_MARGIN * v_sat):
+            if exact_on and (sw_a < 0 or abs(y[3] - y[1]) >= X_SAT_MARGIN * v_sat):
                 # the longest step that ends before the segment end and the next sample
                 t_lim = t1 - 1e-12 * max(1.0, abs(t1))
                 if isamp < ns:
                     t_lim = min(t_lim, sample_times[isamp] - 1e-12 * max(1.0, abs(t1)))
                 lev = 0
-                while lev < X.N_LEVELS and t + X.H_EXACT / 2.0**lev > t_lim:
+                while lev < X_N_LEVELS and t + X_H_EXACT / 2.0**lev > t_lim:
                     lev += 1
             else:
-                lev = X.N_LEVELS
-            if lev < X.N_LEVELS:
+                lev = X_N_LEVELS
+            if lev < X_N_LEVELS:
                 alpha = 1.0 if seg[2] == 0.0 else 0.0
                 omega = 0.0 if seg[2] == 0.0 else seg[6]
                 if alpha != key_alpha or omega != key_omega:
-                    X.setup(p, wk, me_lin, alpha, omega, Mx, rows_x, E_x, P_x, R_x, T_x, w2_x, w1_x)
+                    x_setup(p, wk, me_lin, alpha, omega, Mx, rows_x, E_x, P_x, R_x, T_x, w2_x, w1_x)
                     key_alpha, key_omega = alpha, omega
                 for i in range(4):
                     z_x[i] = y[i]
                 for i in range(8):
                     z_x[4 + i] = y[i_wk + i]
                 if seg[2] == 0.0:
-                    z_x[X.IG] = seg[3] + seg[4] * (t - seg[0])
-                    z_x[X.IG + 1] = 0.0
-                    z_x[X.IG + 2] = seg[4]
+                    z_x[X_IG] = seg[3] + seg[4] * (t - seg[0])
+                    z_x[X_IG + 1] = 0.0
+                    z_x[X_IG + 2] = seg[4]
                 else:
                     arg = seg[6] * t + seg[7]
-                    z_x[X.IG] = seg[3]
-                    z_x[X.IG + 1] = seg[5] * math.sin(arg)
-                    z_x[X.IG + 2] = seg[5] * seg[6] * math.cos(arg)
+                    z_x[X_IG] = seg[3]
+                    z_x[X_IG + 1] = seg[5] * math.sin(arg)
+                    z_x[X_IG + 2] = seg[5] * seg[6] * math.cos(arg)
                 # the longest step that stays saturated throughout
-                while lev < X.N_LEVELS:
-                    X.outputs(R_x, lev, z_x, F_x)
-                    if sw_a < 0 or X.saturated(F_x, lev, v_sat):
+                while lev < X_N_LEVELS:
+                    x_outputs(R_x, lev, z_x, F_x)
+                    if sw_a < 0 or x_saturated(F_x, lev, v_sat):
                         break
                     lev += 1
-                if lev < X.N_LEVELS:
-                    h_lev = X.H_EXACT / 2.0**lev
+                if lev < X_N_LEVELS:
+                    h_lev = X_H_EXACT / 2.0**lev
                     _exact_metrics(F_x, lev, h_lev, y, n_phys, peaks, refine_peaks)
-                    X.propagate(E_x, lev, z_x, zn_x)
+                    x_propagate(E_x, lev, z_x, zn_x)
                     for i in range(4):
                         y[i] = zn_x[i]
                     for i in range(8):
@@ -1090,14 +1467,14 @@ def integrate(
                     nsteps += 1
                     nexact += 1
                     need_k1 = True
-                    je = X.NPTS[lev] - 1
-                    qa[0] = F_x[je * X.NO + X.O_A3]
+                    je = X_NPTS[lev] - 1
+                    qa[0] = F_x[je * X_NO + X_O_A3]
                     qa[1] = -qa[0]
-                    qa[2] = F_x[je * X.NO + X.O_AW]
+                    qa[2] = F_x[je * X_NO + X_O_AW]
                     qa[3] = -qa[2]
-                    qa[4] = F_x[je * X.NO + X.O_Z]
+                    qa[4] = F_x[je * X_NO + X_O_Z]
                     qa[5] = -qa[4]
-                    qa[6] = F_x[je * X.NO + X.O_FT]
+                    qa[6] = F_x[je * X_NO + X_O_FT]
                     if nsteps >= max_steps:
                         status = TOO_MANY_STEPS
                         break
