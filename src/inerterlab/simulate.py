@@ -314,7 +314,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     out_y = np.empty((ts.size, y.size))
     out_a3 = np.empty(ts.size)
     peaks = np.empty(K.N_PEAKS)
-    stats = np.zeros(5, dtype=np.int64)
+    stats = np.zeros(6, dtype=np.int64)
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
         wk, ts, out_y, out_a3, peaks, stats, bool(options.refine_peaks),
@@ -335,6 +335,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
         "rhs_calls": int(stats[2]),
         "kink_restarts": int(stats[3]),
         "exact_steps": int(stats[4]),
+        "kink_steps": int(stats[5]),
         "segments": len(segs),
     }
     samples = (ts, out_y, out_a3) if want_series else None

@@ -577,6 +577,45 @@ def _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n, lpw):
 
 
 @leaf
+def _lp_input_r(y, r2, r3, r4, r5, wk, n, lpw):
+    """:func:`_lp_input` from continuous-extension coefficients already at hand (a step
+    cut by :func:`_truncate`)."""
+    for k in range(5):
+        lpw[1 + k] = 0.0
+    for j in range(2):
+        i = n + 7 + j
+        c = wk[2, 2 + j]
+        lpw[1] += c * y[i]
+        lpw[2] += c * (r2[i] + r3[i])
+        lpw[3] += c * (-r3[i] + r4[i] + r5[i])
+        lpw[4] += c * (-r4[i] - 2.0 * r5[i])
+        lpw[5] += c * r5[i]
+
+
+@leaf
+def _truncate(y, yn, r2, r3, r4, r5, th, nrk):
+    """Cut a step at theta = th: yn <- the continuous extension there, and r2..r5 <- the
+    extension over the cut step in its own theta (the quartic y(th phi) written again
+    in the basis phi, phi (1-phi), phi^2 (1-phi), phi^2 (1-phi)^2), first nrk states."""
+    t2 = th * th
+    t3 = t2 * th
+    t4 = t3 * th
+    for i in range(nrk):
+        a1 = (r2[i] + r3[i]) * th
+        a2 = (-r3[i] + r4[i] + r5[i]) * t2
+        a3 = (-r4[i] - 2.0 * r5[i]) * t3
+        a4 = r5[i] * t4
+        n5 = a4
+        n4 = -a3 - 2.0 * a4
+        n3 = n4 + n5 - a2
+        r2[i] = a1 - n3
+        r3[i] = n3
+        r4[i] = n4
+        r5[i] = n5
+        yn[i] = y[i] + a1 + a2 + a3 + a4
+
+
+@leaf
 def _lp_u(lpw, th):
     return lpw[1] + th * (lpw[2] + th * (lpw[3] + th * (lpw[4] + th * lpw[5])))
 
@@ -1299,8 +1338,9 @@ def integrate(
     ``y0`` (physical + metric states) is overwritten with the final state. Samples
     at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
     see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls,
-    steps redone to end on a kink]. A sample on a segment edge gets the value after
-    the edge.
+    attempts redone to end on a kink, exact steps, steps ended on a kink]. A sample on
+    a segment edge gets the value after the edge. ``exact``: take exact steps through
+    the linear phases.
     """
     n = y0.size
     y = y0
@@ -1384,6 +1424,7 @@ def integrate(
     key_alpha, key_omega = -1.0, -1.0
     need_k1 = False
     nexact = 0
+    nkink_steps = 0
     i_wk = n - 13 + 3
     n_phys = n - 13
     h_event = 0.0
@@ -1543,6 +1584,7 @@ def integrate(
             # the continuous extension of the failed step already places the crossing
             # well enough to end the next attempt on it
             crossed = False
+            truncated = False
             if sw_a >= 0 or lift:
                 c1, rev, c2, ga1, ga2 = _first_kink(
                     p, y, yn, r2, r3, r4, r5, t, h, tn, seg, sw_a, sw_b, v_sat, lift
@@ -1558,14 +1600,33 @@ def integrate(
                     # its last 1e-9 of the step (or last 1e-12 s), redo at most twice more
                     past = (1.0 - best) * h
                     if best < 1.0 - 1e-9 and past > 1e-12 * max(1.0, abs(t)):
-                        if event_tries < 3:
+                        if (
+                            (c1 or rev)
+                            and not c2
+                            and p[P_BRANCH] >= 0.0
+                            and err <= 1.0
+                            and best * h > 1e-12 * max(1.0, abs(t))
+                        ):
+                            # a saturation crossing inside an accepted attempt on one
+                            # branch: the solution up to it is the attempt's continuous
+                            # extension, so keep the step up to just past the crossing
+                            # (its state from the extension, as solvers stopping at an
+                            # event do) instead of redoing the attempt
+                            _truncate(y, yn, r2, r3, r4, r5, best, nrk)
+                            h = best * h
+                            tn = t + h
+                            last = False
+                            a3b = _rhs(tn, yn, k7, p, seg, wk, False)
+                            nfev += 1
+                            truncated = True
+                        elif event_tries < 3:
                             # redo the step ending just past the first crossing
                             h_event = max(best * h, 1e-13 * max(1.0, abs(t)))
                             h = h_prop
                             nevents_redo += 1
                             event_tries += 1
                             continue
-                        if (c1 or rev) and p[P_BRANCH] >= 0.0:
+                        elif (c1 or rev) and p[P_BRANCH] >= 0.0:
                             # a saturation crossing this attempt would keep: the continued
                             # branch is wrong past it, so redo it on the law itself, as if
                             # without branches
@@ -1575,12 +1636,24 @@ def integrate(
             if err <= 1.0:
                 nsteps += 1
                 # the 100 Hz low pass of Wk and the a_w integrals, exactly over the step
-                _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
+                if truncated:
+                    _lp_input_r(y, r2, r3, r4, r5, wk, n - 13, lpw)
+                else:
+                    _lp_input(y, yn, k1, k3, k4, k5, k6, k7, h, wk, n - 13, lpw)
                 q1n, q2n, i2, i4 = _lp_setup(y[i_lp], y[i_lp + 1], h, wk, lpw)
                 yn[i_lp] = q1n
                 yn[i_lp + 1] = q2n
                 yn[i_lp + 2] = y[i_lp + 2] + i2
                 yn[i_lp + 3] = y[i_lp + 3] + i4
+                if truncated:
+                    # continuous extension of the last four states as _dense_coefficients
+                    # makes it for states with zero stage derivatives
+                    for i in range(nrk, n):
+                        d = yn[i] - y[i]
+                        r2[i] = d
+                        r3[i] = -d
+                        r4[i] = 2.0 * d
+                        r5[i] = 0.0
                 # dense output for samples and peak refinement
                 need_samples = isamp < ns and (
                     sample_times[isamp] < tn or (final and last and sample_times[isamp] <= tn)
@@ -1594,7 +1667,7 @@ def integrate(
                         if max(qa[j], qb[j]) >= peaks[j] - 0.01 * abs(peaks[j]):
                             near = True
                             break
-                if need_samples or near:
+                if (need_samples or near) and not truncated:
                     # (again when a kink search set them: the last four states of yn
                     # were only set now)
                     _dense_coefficients(y, yn, k1, k3, k4, k5, k6, k7, h, r2, r3, r4, r5)
@@ -1643,7 +1716,8 @@ def integrate(
                 if sw_a >= 0:
                     vb = yn[sw_a] - (yn[sw_b] if sw_b >= 0 else 0.0)
                     reg_b = 1 if abs(vb) >= v_sat else 0
-                if event_step and crossed:
+                if (event_step and crossed) or truncated:
+                    nkink_steps += 1
                     # a step cut short just past a kink says nothing about the step size
                     # the smooth solution allows: carry on with the proposal made before
                     # it, or with the last one made on this side of the saturation kink.
@@ -1662,7 +1736,9 @@ def integrate(
                     fac = max(0.1, min(5.0, fac / (0.9 if p[P_BRANCH] != 0.0 else 0.8)))
                     hnew = h / fac
                     facold = max(err, 1e-4)
-                    if sw_a >= 0:
+                    if sw_a >= 0 and err > 1e-3:
+                        # remembered only from steps the error limits, not from steps
+                        # still growing after a short one
                         h_side[reg_b] = hnew
                     if event_step and sw_a >= 0 and not lift:
                         # ended just short of the saturation kink (located on the
@@ -1701,4 +1777,5 @@ def integrate(
     stats[2] = nfev
     stats[3] = nevents_redo
     stats[4] = nexact
+    stats[5] = nkink_steps
     return status
