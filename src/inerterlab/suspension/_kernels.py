@@ -1050,31 +1050,7 @@ def x_build_matrix(p, wk, me, alpha, omega, M, rows):
     rows[X_O_GRIP, X_IG + 1] = -g
 
 
-@vleaf
-def x_matmul(a, b, out):
-    n = a.shape[0]
-    for i in range(n):
-        for j in range(n):
-            out[i, j] = 0.0
-        for k in range(n):
-            aik = a[i, k]
-            for j in range(n):
-                out[i, j] += aik * b[k, j]
-
-
-@vleaf
-def x_rowmul(r, b, out):
-    """out = r b (row vector times square matrix)."""
-    n = b.shape[0]
-    for j in range(n):
-        out[j] = 0.0
-    for k in range(n):
-        rk = r[k]
-        for j in range(n):
-            out[j] += rk * b[k, j]
-
-
-@leaf
+@nb.njit(cache=True)
 def x_expm(A, h, out, w1):
     """out = exp(A h) by scaling and squaring of a Taylor series (A, out, w1 square)."""
     n = A.shape[0]
@@ -1096,18 +1072,18 @@ def x_expm(A, h, out, w1):
             out[i, j] = 1.0 if i == j else 0.0
     for k in range(14, 0, -1):
         c = hs / k
-        x_matmul(A, out, w1)
+        np.dot(A, out, w1)
         for i in range(n):
             for j in range(n):
                 out[i, j] = c * w1[i, j] + (1.0 if i == j else 0.0)
     for _ in range(sq):
-        x_matmul(out, out, w1)
+        np.dot(out, out, w1)
         for i in range(n):
             for j in range(n):
                 out[i, j] = w1[i, j]
 
 
-@vleaf
+@nb.njit(cache=True)
 def x_setup(p, wk, me, alpha, omega, M, rows, E, P, RT, T, W, w1):
     """Build M and the rows; E[lev] = exp(M h_lev); RT[lev, k, i X_NO + o] = component k
     of rows[o] exp(M s_i) at the points s_i of each level. P (9 x X_NZ x X_NZ: exp(M k
@@ -1117,26 +1093,22 @@ def x_setup(p, wk, me, alpha, omega, M, rows, E, P, RT, T, W, w1):
     sig = X_H_EXACT / nb_  # the shortest step
     x_expm(M, sig, E[X_N_LEVELS - 1], w1)
     for lev in range(X_N_LEVELS - 2, -1, -1):
-        x_matmul(E[lev + 1], E[lev + 1], E[lev])
+        np.dot(E[lev + 1], E[lev + 1], E[lev])
     # P[k] = exp(M k sigma), k = 0..8
     for i in range(X_NZ):
         for j in range(X_NZ):
             P[0, i, j] = 1.0 if i == j else 0.0
             P[1, i, j] = E[X_N_LEVELS - 1, i, j]
     for k in range(2, nb_ + 1):
-        x_matmul(P[k - 1], P[1], P[k])
+        np.dot(P[k - 1], P[1], P[k])
     # Taylor coefficients rows[o] M^k / k!
     for o in range(X_NO):
         for j in range(X_NZ):
             T[0, o, j] = rows[o, j]
     for k in range(1, X_N_TAYLOR):
-        for o in range(X_NO):
-            for j in range(X_NZ):
-                T[k, o, j] = 0.0
-            for i in range(X_NZ):
-                ti = T[k - 1, o, i] / k
-                for j in range(X_NZ):
-                    T[k, o, j] += ti * M[i, j]
+        np.dot(T[k - 1], M, T[k])
+        T[k] /= k
+    W2 = np.empty((X_NO, X_NZ))
     for lev in range(X_N_LEVELS):
         h = X_H_EXACT / 2.0**lev
         for ip in range(X_NPTS[lev]):
@@ -1145,21 +1117,16 @@ def x_setup(p, wk, me, alpha, omega, M, rows, E, P, RT, T, W, w1):
             kk = int(s_pt / sig + 0.5)
             kk = min(max(kk, 0), nb_)
             r = s_pt - kk * sig
-            for o in range(X_NO):
-                for j in range(X_NZ):
-                    W[o, j] = T[X_N_TAYLOR - 1, o, j]
+            W[:] = T[X_N_TAYLOR - 1]
             for k in range(X_N_TAYLOR - 2, -1, -1):
                 for o in range(X_NO):
                     for j in range(X_NZ):
                         W[o, j] = T[k, o, j] + r * W[o, j]
+            np.dot(W, P[kk], W2)
             for o in range(X_NO):
                 c = ip * X_NO + o
                 for j in range(X_NZ):
-                    RT[lev, j, c] = 0.0
-                for i in range(X_NZ):
-                    wi = W[o, i]
-                    for j in range(X_NZ):
-                        RT[lev, j, c] += wi * P[kk, i, j]
+                    RT[lev, j, c] = W2[o, j]
 
 
 @vleaf
