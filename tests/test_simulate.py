@@ -115,6 +115,105 @@ def test_every_saturation_crossing_ends_a_step_even_with_long_steps():
         assert run.stats["kink_steps"] >= crossings, rtol
 
 
+def test_exact_step_tables_match_scipy_expm_and_the_right_hand_side():
+    # the linear model of the exact steps is the compiled right-hand side itself while
+    # the flywheel is saturated, and its tables are matrix exponentials
+    from scipy.linalg import expm
+
+    from inerterlab.simulate import _initial_state, _wk_sections
+    from inerterlab.suspension import _kernels as K
+
+    car = quarter_car("afw")
+    p = car.kernel_parameters
+    ex = sine(0.05, 5.0)
+    seg = np.ascontiguousarray(ex.segments(1.0), dtype=float)[0]
+    wk = _wk_sections()
+    me = p[K.P_R2] * K.inertia(p, p[K.P_WSAT])
+    nz, no, npm = K.X_NZ, K.X_NO, K.X_N_POINTS_MAX
+    M = np.empty((nz, nz))
+    rows = np.empty((no, nz))
+    E = np.empty((K.X_N_LEVELS, nz, nz))
+    P = np.empty((2 ** (K.X_N_LEVELS - 1) + 1, nz, nz))
+    RT = np.empty((K.X_N_LEVELS, nz, npm * no))
+    T = np.empty((K.X_N_TAYLOR, no, nz))
+    K.x_setup(p, wk, me, 0.0, seg[6], M, rows, E, P, RT, T, np.empty((no, nz)), np.empty((nz, nz)))
+    for lev in range(K.X_N_LEVELS):
+        h = K.X_H_EXACT / 2**lev
+        ref = expm(M * h)
+        assert np.abs(E[lev] - ref).max() <= 1e-12 * np.abs(ref).max()
+        for i in range(K.X_NPTS[lev]):
+            r = rows @ expm(M * K.X_XS[lev, i] * h)
+            got = RT[lev][:, i * no : (i + 1) * no].T
+            assert np.abs(got - r).max() <= 1e-11 * np.abs(r).max()
+    # a saturated state: M z against the right-hand side
+    y, _ = _initial_state(car, ex, 1.0)
+    rng = np.random.default_rng(1)
+    y[:4] += 0.01 * rng.standard_normal(4)
+    y[3] = y[1] + 3.0 * p[K.P_WSAT] / p[K.P_R]
+    n = car.n_states
+    y[n + 3 : n + 11] = rng.standard_normal(8)
+    t = 0.123
+    dy = np.empty_like(y)
+    a3 = K.rhs(t, y, dy, p, seg, wk)
+    arg = seg[6] * t + seg[7]
+    z = np.r_[y[:4], y[n + 3 : n + 11], seg[3], seg[5] * np.sin(arg), seg[5] * seg[6] * np.cos(arg)]
+    dz = M @ z
+    np.testing.assert_allclose(dz[:4], dy[:4], rtol=1e-12, atol=1e-12 * np.abs(dy[:4]).max())
+    np.testing.assert_allclose(dz[4:12], dy[n + 3 : n + 11], rtol=1e-12, atol=1e-9)
+    assert rows[K.X_O_A3] @ z == pytest.approx(a3, rel=1e-12)
+    assert dz[12] == 0.0 and dz[13] == pytest.approx(z[14])  # the road generator
+
+
+@pytest.mark.parametrize("suspension", ["traditional", "cfw"])
+@pytest.mark.parametrize("name", ["drop", "bump", "sine"])
+def test_exact_steps_meet_a_tight_reference_on_linear_cars(suspension, name):
+    # no inerter or a constant one: the car is linear and nearly every step is a matrix
+    # exponential, with no truncation error, so the metric integrals meet a reference at
+    # rtol 1e-12 to 1e-10, far closer than the default tolerance would (2e-11 seen)
+    car = quarter_car(suspension)
+    ex = INPUTS[name]
+    run = simulate(car, ex, 0.5, options=_fast(), output="metrics")
+    # Runge-Kutta steps only for the last < 1.25 ms of each road segment
+    assert run.stats["steps"] - run.stats["exact_steps"] <= 5 * run.stats["segments"]
+    ref = simulate_metrics(car, ex, 0.5, options=SimulationOptions(backend="scipy", rtol=1e-12))
+    got = run.metrics()
+    for k in ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "vdv"):
+        assert got[k] == pytest.approx(ref[k], rel=1e-10), k
+    # peaks: located on interpolating polynomials (and by scipy's scalar search)
+    for k in ("peak_body_acc", "peak_body_acc_wk", "peak_deflection", "min_tyre_force"):
+        assert got[k] == pytest.approx(ref[k], rel=1e-8), k
+
+
+@pytest.mark.parametrize("name", ["bump", "sine"])
+def test_exact_steps_agree_with_runge_kutta_throughout(name):
+    car = quarter_car("afw")
+    rk = simulate_metrics(car, INPUTS[name], 2.0, options=SimulationOptions(exact_steps=False))
+    run = simulate(car, INPUTS[name], 2.0, options=_fast(), output="metrics")
+    assert run.stats["exact_steps"] > 0
+    _assert_close(run.metrics(), rk, 1e-7)
+
+
+@pytest.mark.parametrize(
+    ("suspension", "kwargs", "linear_phases"),
+    [
+        ("afw", {}, True),
+        ("afw", {"law": "momentum"}, True),
+        ("afw", {"law": "slider-dynamics"}, False),
+        ("afw", {"tyre_lift_off": True}, False),
+        ("device", {}, False),
+        ("device-afw", {}, False),
+    ],
+)
+def test_exact_steps_only_where_the_car_is_linear(suspension, kwargs, linear_phases):
+    run = simulate(
+        quarter_car(suspension, **kwargs), sine(), 1.0, options=_fast(), output="metrics"
+    )
+    assert (run.stats["exact_steps"] > 0) == linear_phases
+    # a sampled series keeps every sample: steps never jump over one
+    res = simulate(quarter_car(suspension, **kwargs), sine(), 0.3, options=_fast())
+    assert res.time.size == 301
+
+
 def test_sampled_series_reproduce_the_integrated_metrics():
     car = quarter_car("afw")
     res = simulate(car, sine(), 2.0, options=SimulationOptions(sample_rate=20000.0))
