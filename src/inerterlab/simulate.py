@@ -1,11 +1,12 @@
 """One simulation driver over two integration backends -> :class:`SimulationResult`.
 
-Backends (SPEC §5, issue "quarter-car simulation"):
+Backends (SPEC §5):
 
 ``numba`` (default)
-    Compiled adaptive Dormand-Prince 5(4) (:mod:`inerterlab.suspension._kernels`)
-    with the metric integrals and the Wk filter as extra states; dense output only
-    for the sampled time series and the peaks.
+    Compiled kernel (:mod:`inerterlab.suspension._kernels`): exact matrix-exponential
+    steps wherever the car is linear (no inerter, a constant one, a saturated flywheel),
+    adaptive Dormand-Prince 5(4) elsewhere, with the metric integrals and the Wk filter
+    as extra states; dense output only for the sampled time series and the peaks.
 ``scipy``
     :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on the plain-Python
     right-hand side :class:`inerterlab.suspension.reference.ReferenceRHS`: the
@@ -59,7 +60,8 @@ class SimulationOptions:
     Parameters
     ----------
     backend : {"numba", "scipy"}
-        Compiled Dormand-Prince 5(4) or scipy ``solve_ivp`` on a Python right-hand side.
+        Compiled kernel (exact steps and Dormand-Prince 5(4)) or scipy ``solve_ivp`` on
+        a Python right-hand side.
     rtol : float
         Relative tolerance; absolute tolerances are rtol x the typical size of each
         state. At the default 1e-8 the numba backend's metrics agree with a scipy
