@@ -214,6 +214,21 @@ def test_exact_steps_only_where_the_car_is_linear(suspension, kwargs, linear_pha
     assert res.time.size == 301
 
 
+@pytest.mark.parametrize("suspension", ["cfw", "afw"])
+def test_exact_steps_between_sparse_samples(suspension):
+    # at 200 Hz exact steps fit between the samples; the samples themselves come from
+    # Runge-Kutta steps ending past them
+    car = quarter_car(suspension)
+    opts = SimulationOptions(sample_rate=200.0)
+    a = simulate(car, bump(), 0.5, options=opts)
+    assert a.stats["exact_steps"] > 0
+    b = simulate(
+        car, bump(), 0.5, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=200.0)
+    )
+    np.testing.assert_allclose(a.states, b.states, rtol=1e-6, atol=1e-8)
+    np.testing.assert_allclose(a.body_acc_wk, b.body_acc_wk, rtol=1e-6, atol=1e-6)
+
+
 def test_sampled_series_reproduce_the_integrated_metrics():
     car = quarter_car("afw")
     res = simulate(car, sine(), 2.0, options=SimulationOptions(sample_rate=20000.0))
