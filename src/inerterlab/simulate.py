@@ -78,9 +78,9 @@ class SimulationOptions:
     exact_steps : bool
         Numba backend: advance the linear phases (no inerter, a constant one, or a
         saturated flywheel under the thesis or momentum law; not with tyre lift-off)
-        by the matrix exponential in 10 ms steps instead of Runge-Kutta steps, except
-        where an output sample falls inside the step. Exact up to round-off; metric
-        integrals by an 8-panel Newton-Cotes rule.
+        by the matrix exponential in steps of 10, 5, 2.5 or 1.25 ms instead of
+        Runge-Kutta steps, never across an output sample. Exact up to round-off; metric
+        integrals by Gauss-Legendre sums inside each step.
     """
 
     backend: str = "numba"

@@ -148,18 +148,7 @@ def inertia(p, w):
 @leaf
 def momentum_inertia(p, w):
     """I + |w| dI/d|w| [kg m^2]."""
-    w = abs(w)
-    if w >= p[P_WSAT]:
-        return inertia(p, w)
-    k, m, a = p[P_KS], p[P_MS], p[P_LMIN]
-    d = k - m * w * w
-    l = k * a / d
-    dl = 2.0 * k * a * m * w / (d * d)
-    if p[P_POW] == 2.0:
-        di = p[P_ICOEF] * 2.0 * l * dl
-    else:
-        di = p[P_ICOEF] * dl
-    return inertia(p, w) + w * di
+    return _branch_inertia(p, w, True, -1.0)
 
 
 @leaf
@@ -189,13 +178,18 @@ def inertia_integral(p, w):
 
 @leaf
 def _law_inertia(p, w, momentum):
+    """:func:`_branch_inertia` on the side of the kink set in p[P_BRANCH]."""
+    return _branch_inertia(p, w, momentum, p[P_BRANCH])
+
+
+@leaf
+def _branch_inertia(p, w, momentum, br):
     """I(|w|) or, with ``momentum``, I + |w| dI/d|w| [kg m^2] on the side of the
-    saturation kink chosen by p[P_BRANCH] (0 below, 1 above, -1 where |w| is). Below,
-    the slider formula is continued past w_sat (its pole kept away), so that a step
-    that crosses the kink integrates a smooth right-hand side and its continuous
-    extension places the crossing accurately."""
+    saturation kink chosen by ``br`` (0 below, 1 above, -1 where |w| is). Below, the
+    slider formula is continued past w_sat (its pole kept away), so that a step that
+    crosses the kink integrates a smooth right-hand side and its continuous extension
+    places the crossing accurately."""
     w = abs(w)
-    br = p[P_BRANCH]
     if br == 1.0 or (br < 0.0 and w >= p[P_WSAT]):
         return inertia(p, p[P_WSAT])
     k, m, a = p[P_KS], p[P_MS], p[P_LMIN]
@@ -1252,9 +1246,8 @@ def x_refine(F, o, sign, lev, ip, peak):
             a = ((f3 - f2) / (x3 - x2) - (f2 - f1) / (x2 - x1)) / (x3 - x1)
             if a >= 0.0:
                 break
-            bq = (f2 - f1) / (x2 - x1) - a * (x1 + x2)
             top = f1 + (xv - x1) * ((f2 - f1) / (x2 - x1) + a * (xv - x2))
-            if top <= peak and bq == bq:
+            if top <= peak:
                 break
         fv = sign * x_interp(F, o, lev, xv)
         if fv > best:
@@ -1399,8 +1392,8 @@ def integrate(
             sw_a, sw_b = 5, -1
     v_sat = p[P_WSAT] / p[P_R] if sw_a >= 0 else 0.0
     lift = p[P_LIFT] != 0.0  # the tyre force capped at the static load: another kink
-    # exact steps through the linear phases (_exact): no inerter, a constant one, or a
-    # saturated flywheel under the thesis or momentum law; not with tyre lift-off
+    # exact steps through the linear phases (x_* helpers above): no inerter, a constant
+    # one, or a saturated flywheel under the thesis or momentum law; not with lift-off
     exact_on = (
         exact
         and not lift
@@ -1528,7 +1521,7 @@ def integrate(
                 # each attempt follows the inertia law on the side of the kink it starts
                 # on, continued smoothly past it: a step that crosses then has a smooth
                 # right-hand side, an honest error estimate and a continuous extension
-                # that places the crossing (redone to end on it, below)
+                # that places the crossing (the step is then cut there, below)
                 vv = y[sw_a] - (y[sw_b] if sw_b >= 0 else 0.0)
                 brn = 1.0 if abs(vv) > v_sat else 0.0
                 if natural_next:
