@@ -306,3 +306,25 @@ def test_cli_device_force_json_and_errors(tmp_path):
     )
     bad = _cli("device-force", "--amplitude", "0.01", "--freq", "-2")
     assert bad.returncode == 2 and "freq" in bad.stderr
+
+
+def test_rectifier_default_start_includes_bearing_drag():
+    # "as if it had been moving steadily": at t = 0 the spring carries the whole steady
+    # branch force, bearing drag c_d r^2 v0 included, so the branch starts with the
+    # terminals and no start-up transient pulls it away from them
+    dev = device_preset("rectifier", freewheel=True, flywheel_drag=0.002)
+    mot = Motion.sine(frequency=1.0, amplitude=0.02)
+    v0 = 0.02 * 2 * math.pi  # terminal velocity at t = 0, where the acceleration is zero
+    r = dev.transmission.ratio
+    expected = (
+        dev.damping * v0
+        + dev.friction * math.tanh(v0 / dev.friction_velocity)
+        + dev.flywheel_drag * r * r * v0
+    )
+    assert dev.flywheel_drag * r * r * v0 > 100.0  # the term is not negligible here
+    res = device_force(dev, mot, duration=0.02, sample_rate=1000, rtol=1e-10)
+    assert res.force[0] == pytest.approx(expected, rel=1e-12)
+    # the branch follows the terminals closely over the first 5 ms
+    v = res.velocity
+    # (6e-5 with the drag term, 4.5e-4 without it)
+    assert np.abs(res.branch_velocity[:6] - v[:6]).max() < 1e-3 * v0

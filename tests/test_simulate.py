@@ -40,6 +40,9 @@ NUMERIC_KEYS = [k for k in METRIC_KEYS if k != "tyre_lift_off"]
 
 def _assert_close(fast, ref, rtol):
     for k in NUMERIC_KEYS:
+        if ref[k] is None:  # not finite across a road step: both backends must say so
+            assert fast[k] is None, k
+            continue
         assert fast[k] == pytest.approx(ref[k], rel=rtol, abs=1e-12), k
     assert fast["tyre_lift_off"] == ref["tyre_lift_off"]
 
@@ -70,8 +73,9 @@ def test_lift_off_model_matches_reference_and_sets_flag():
     ref = _reference(car, drop(), 0.3, ("lift-off",))
     fast = simulate_metrics(car, drop(), 0.3, options=_fast())
     _assert_close(fast, ref, 1e-6)
-    # 0.05 m up stretches the tyre by more than the static load: the wheel leaves the road
-    assert fast["tyre_lift_off"] and fast["min_tyre_force"] < 0
+    # 0.05 m up stretches the tyre by more than the static load: the wheel leaves the road,
+    # and the contact force, capped at zero, reports zero (not the uncapped negative value)
+    assert fast["tyre_lift_off"] and fast["min_tyre_force"] == 0.0
 
 
 @pytest.mark.slow
@@ -178,9 +182,15 @@ def test_exact_steps_meet_a_tight_reference_on_linear_cars(suspension, name):
     ref = simulate_metrics(car, ex, 0.5, options=SimulationOptions(backend="scipy", rtol=1e-12))
     got = run.metrics()
     for k in ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "vdv"):
+        if ref[k] is None:
+            assert got[k] is None, k
+            continue
         assert got[k] == pytest.approx(ref[k], rel=1e-10), k
     # peaks: located on interpolating polynomials (and by scipy's scalar search)
     for k in ("peak_body_acc", "peak_body_acc_wk", "peak_deflection", "min_tyre_force"):
+        if ref[k] is None:
+            assert got[k] is None, k
+            continue
         assert got[k] == pytest.approx(ref[k], rel=1e-8), k
 
 

@@ -47,12 +47,14 @@ __all__ = [
     "road_series",
     "read_road_csv",
     "road_displacement",
+    "road_steps",
     "ISO8608_CLASSES",
     "iso8608_psd",
     "EXCITATIONS",
 ]
 
 EXCITATIONS = ("drop", "bump", "sine", "iso8608")
+BUMP_EDGES = ("step", "ramp", "half-cosine")
 
 #: Gd(n0) geometric means [m^3] of ISO 8608 road classes (SPEC §9), n0 = 0.1 cycle/m
 ISO8608_CLASSES = {c: 16e-6 * 4**i for i, c in enumerate(("A", "B", "C", "D", "E", "F", "G", "H"))}
@@ -140,12 +142,25 @@ class Bump(Excitation):
         smooth h/2 (1 - cos(2 pi (t - start)/duration)).
     start : float
         Time the pulse begins [s].
+    edge : {"step", "ramp", "half-cosine"}
+        Edges of the rectangular pulse: true steps (the road jumps; with an inerter
+        between wheel and body the body velocity jumps too and the body acceleration
+        holds a Dirac impulse), or smoothed over ``edge_width`` by a straight ramp or a
+        half cosine. The smoothed pulse rises on [start, start + edge_width], holds to
+        start + duration and falls on [start + duration, start + duration + edge_width],
+        so its area is height x duration for every width; as the width goes to zero
+        every finite metric tends to that of the step pulse.
+    edge_width : float
+        Width of each smoothed edge [s], 0 < edge_width <= duration (only with a
+        smoothed ``edge``).
     """
 
     height: float = 0.05
     duration: float = 0.01
     shape: str = "rectangular"
     start: float = 0.0
+    edge: str = "step"
+    edge_width: float = 0.0
     name = "bump"
 
     def __post_init__(self) -> None:
@@ -154,12 +169,43 @@ class Bump(Excitation):
         check_choice("shape", self.shape, ("rectangular", "1-cos"))
         if check_finite("start", self.start) < 0:
             raise ParameterError("start", self.start, "a time >= 0 s")
+        check_choice("edge", self.edge, BUMP_EDGES)
+        w = check_finite("edge_width", self.edge_width)
+        if self.edge == "step":
+            if w != 0.0:
+                raise ParameterError(
+                    "edge_width", self.edge_width, "0 with edge='step' (choose 'ramp' or 'half-cosine')"
+                )
+        else:
+            if self.shape != "rectangular":
+                raise ParameterError("edge", self.edge, "'step' for the smooth 1-cos pulse")
+            if not 0.0 < w <= float(self.duration):
+                raise ParameterError(
+                    "edge_width", self.edge_width, f"a width in (0, duration = {self.duration:g}] s"
+                )
+
+    def _edge_rows(self, ta: float, lo: float, hi: float) -> list[float]:
+        """The road on one smoothed edge [ta, ta + width] going from ``lo`` to ``hi`` [m]."""
+        e = float(self.edge_width)
+        if self.edge == "ramp":
+            return [ta, ta + e, 0.0, lo, (hi - lo) / e, 0.0, 0.0, 0.0]
+        # half cosine: lo + (hi - lo)(1 - cos(pi (t - ta)/e))/2, written as a + A sin(w t + phi)
+        w = math.pi / e
+        return [ta, ta + e, 1.0, 0.5 * (lo + hi), 0.0, -0.5 * (hi - lo), w, 0.5 * math.pi - w * ta]
 
     def segments(self, horizon: float) -> np.ndarray:
         h, d, t0 = float(self.height), float(self.duration), float(self.start)
         rows = []
         if t0 > 0:
             rows.append(_flat(0.0, t0, 0.0))
+        if self.shape == "rectangular" and self.edge != "step":
+            e = float(self.edge_width)
+            rows.append(self._edge_rows(t0, 0.0, h))
+            if d > e:
+                rows.append(_flat(t0 + e, t0 + d, h))
+            rows.append(self._edge_rows(t0 + d, h, 0.0))
+            rows.append(_flat(t0 + d + e, max(horizon, t0 + d + e), 0.0))
+            return _clip(np.array(rows), horizon)
         if self.shape == "rectangular":
             rows.append(_flat(t0, t0 + d, h))
         else:
@@ -321,8 +367,9 @@ class ISO8608Road(Excitation):
     sqrt(2 Gd(n_k) / L) (the periodogram of the profile equals Gd at every n_k), phases
     uniform from ``numpy.random.default_rng(seed)``; summed by an inverse FFT on a grid
     of ``spatial_step``. The car sees X1(t) = z(speed t), linear between samples,
-    which slightly attenuates the top of the band (by sinc^2(pi n dx), 13 % at 10
-    cycle/m with dx = 0.02 m). The profile is periodic with period L.
+    which slightly attenuates the top of the band: linear interpolation multiplies each
+    harmonic's amplitude by sinc^2(pi n dx), so the PSD by sinc^4(pi n dx), 23 % at 10
+    cycle/m with dx = 0.02 m. The profile is periodic with period L.
 
     Parameters
     ----------
@@ -398,6 +445,41 @@ def road_displacement(segments: np.ndarray, t) -> tuple[np.ndarray, np.ndarray]:
     return x, v
 
 
+#: road jumps up to this size relative to the road's largest level are round-off
+#: between segments (a ramp's end, a sampled road), not steps; the integrators use it
+ROAD_JUMP_RTOL = 1e-12
+
+
+def road_scale(segments: np.ndarray) -> float:
+    """A bound on |X1| over the segments [m]: the scale a road jump is measured against."""
+    s = np.asarray(segments, dtype=float)
+    return float(np.max(np.abs(s[:, 3]) + np.abs(s[:, 5]) + np.abs(s[:, 4]) * (s[:, 1] - s[:, 0])))
+
+
+def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> list:
+    """Where the road displacement jumps: ``[(time [s], jump [m]), ...]`` before ``horizon``.
+
+    A jump is the start value of a segment minus the end value of the one before (the
+    first segment against ``initial_road``); differences at round-off level
+    (:data:`ROAD_JUMP_RTOL` of :func:`road_scale`) are not steps.
+
+    >>> road_steps(bump().segments(1.0), 0.0, 1.0)
+    [(0.0, 0.05), (0.01, -0.05)]
+    """
+    segs = np.asarray(segments, dtype=float)
+    tol = ROAD_JUMP_RTOL * road_scale(segs)
+    out = []
+    prev = float(initial_road)
+    for seg in segs:
+        t0, t1 = float(seg[0]), float(seg[1])
+        start, _ = road_displacement(seg[None, :], t0)
+        if t0 < horizon and abs(float(start[0]) - prev) > tol:
+            out.append((t0, float(start[0]) - prev))
+        end, _ = road_displacement(seg[None, :], t1)
+        prev = float(end[0])
+    return out
+
+
 # -- factories ---------------------------------------------------------------------
 def drop(height: float = 0.05, *, displaced: str = "both") -> Drop:
     """Masses released from ``height`` [m] above equilibrium on a flat road (thesis "zero input").
@@ -409,14 +491,27 @@ def drop(height: float = 0.05, *, displaced: str = "both") -> Drop:
 
 
 def bump(
-    height: float = 0.05, *, duration: float = 0.01, shape: str = "rectangular", start: float = 0.0
+    height: float = 0.05,
+    *,
+    duration: float = 0.01,
+    shape: str = "rectangular",
+    start: float = 0.0,
+    edge: str = "step",
+    edge_width: float = 0.0,
 ) -> Bump:
     """Road pulse of ``height`` [m] lasting ``duration`` [s] (thesis "impulse input").
 
+    ``edge`` ("step", "ramp", "half-cosine") and ``edge_width`` [s] smooth the edges of
+    the rectangular pulse (see :class:`Bump`).
+
     >>> bump().segments(1.0)[:, :2].tolist()
     [[0.0, 0.01], [0.01, 1.0]]
+    >>> bump(edge="ramp", edge_width=0.002).segments(1.0)[:, :2].tolist()
+    [[0.0, 0.002], [0.002, 0.01], [0.01, 0.012], [0.012, 1.0]]
     """
-    return Bump(height=height, duration=duration, shape=shape, start=start)
+    return Bump(
+        height=height, duration=duration, shape=shape, start=start, edge=edge, edge_width=edge_width
+    )
 
 
 def sine(amplitude: float = 0.05, frequency: float = 5.0, *, phase: float = 0.0) -> Sine:

@@ -35,7 +35,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_choice, check_positive
-from .excitation import Excitation, road_displacement
+from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale, road_steps
 from .metrics import wk_sections, wk_state_space
 from .resources import check_memory
 from .suspension.model import N_METRIC_STATES, QuarterCar
@@ -140,6 +140,8 @@ class SimulationResult:
     road: np.ndarray | None = None
     road_velocity: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
+    body_velocity_jumps: tuple = ()
+    not_finite: dict = field(default_factory=dict)
 
     def metrics(self) -> dict:
         """Ride metrics over the horizon.
@@ -148,8 +150,15 @@ class SimulationResult:
         ``rms_deflection`` [m] (4.25)-(4.26), ``rms_body_acc_wk`` [m/s^2] (ISO 2631-1
         Wk), ``vdv`` [m/s^1.75], ``crest_factor`` [-] (of the weighted acceleration),
         ``peak_body_acc``, ``peak_body_acc_wk`` [m/s^2], ``peak_deflection`` [m],
-        ``min_tyre_force`` [N] (static load minus the tyre's dynamic force, unclipped),
-        ``tyre_lift_off`` (True if the tyre force reached zero).
+        ``min_tyre_force`` [N] (static load minus the tyre's dynamic force; unclipped
+        without lift-off, so negative where the tyre would pull, and capped at 0 with
+        ``tyre_lift_off=True``), ``tyre_lift_off`` (True if the tyre force reached zero).
+
+        Across a road step with an inerter between wheel and body the body velocity
+        jumps (:attr:`body_velocity_jumps`) and the body acceleration holds a Dirac:
+        ``rms_body_acc`` and ``peak_body_acc`` are then not finite and are ``None``,
+        with the reason in :attr:`not_finite`. The Wk-weighted values, VDV and crest
+        factor include the jump exactly (docs/model.md, "Road steps").
         """
         return dict(self.values)
 
@@ -256,6 +265,7 @@ class _Run:
     peaks: np.ndarray  # a3, -a3, aw, -aw, z, -z, tyre force
     samples: tuple | None  # (time, full state rows, a3)
     stats: dict
+    jumps: tuple = ()  # ((time [s], body velocity jump [m/s]), ...) where not zero
 
 
 def _initial_state(model: QuarterCar, excitation: Excitation, horizon: float):
@@ -317,9 +327,10 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     out_a3 = np.empty(ts.size)
     peaks = np.empty(K.N_PEAKS)
     stats = np.zeros(6, dtype=np.int64)
+    jumps = np.zeros(len(segs))
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
-        wk, ts, out_y, out_a3, peaks, stats, bool(options.refine_peaks),
+        wk, ts, out_y, out_a3, peaks, stats, jumps, bool(options.refine_peaks),
         int(options.max_steps), bool(options.exact_steps),
     )  # fmt: skip
     if status != K.OK:
@@ -341,7 +352,12 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
         "segments": len(segs),
     }
     samples = (ts, out_y, out_a3) if want_series else None
-    return _Run(integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st)
+    jl = tuple(
+        (float(segs[i, 0]), float(jumps[i]))
+        for i in np.flatnonzero(jumps)
+        if segs[i, 0] < horizon
+    )
+    return _Run(integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st, jumps=jl)
 
 
 def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
@@ -360,6 +376,8 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
     out_a3 = np.empty(ts.size)
     isamp = 0
     nsteps = nfev = 0
+    jumps = []
+    tol = ROAD_JUMP_RTOL * road_scale(segs)
 
     def q_of(t, yy):
         a3, aw, z, ft = f.outputs(t, yy)
@@ -369,8 +387,10 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
         t0, t1 = float(seg[0]), float(min(seg[1], horizon))
         f.seg = seg
         xs, _ = f.road(seg, t0)
-        if xs != x_prev:
-            f.apply_jump(y, xs - x_prev)
+        if abs(xs - x_prev) > tol:
+            dv3 = f.apply_jump(y, xs - x_prev)
+            if dv3 != 0.0 and t0 < horizon:
+                jumps.append((t0, float(dv3)))
         x_prev, _ = f.road(seg, t1)
         if t1 <= t0:
             continue
@@ -421,19 +441,55 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
             break
     st = {"steps": nsteps, "rejected": None, "rhs_calls": nfev, "segments": len(segs)}
     samples = (ts, out_y, out_a3) if want_series else None
-    return _Run(integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st)
+    return _Run(
+        integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st, jumps=tuple(jumps)
+    )
 
 
 _BACKEND_FUNCS: dict[str, Callable[..., _Run]] = {"numba": _run_numba, "scipy": _run_scipy}
 
 
-def _metrics(model: QuarterCar, run: _Run, horizon: float) -> dict:
+#: why a metric is not finite across a road step (the body acceleration holds a Dirac)
+_DIRAC_REASON = (
+    "not finite: the body velocity jumps at a road step ({jumps}), so the body "
+    "acceleration holds a Dirac impulse; compare rms_body_acc_wk, vdv, or an "
+    "edge-smoothed pulse (bump(edge=...))"
+)
+
+
+def _listed(items, unit: str) -> str:
+    text = ", ".join(f"{v:+.4g} {unit} at t = {t:g} s" for t, v in items[:4])
+    return text + (f", ... ({len(items)} in all)" if len(items) > 4 else "")
+
+
+def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: float) -> dict:
+    """Metrics that are not finite for this run, with the reason."""
+    out = {}
+    if run.jumps:
+        why = _DIRAC_REASON.format(jumps=_listed(run.jumps, "m/s"))
+        out.update(rms_body_acc=why, peak_body_acc=why)
+    if model.parameters.tyre_damping > 0 and not model.tyre_lift_off:
+        x1 = excitation.initial_road(horizon)
+        down = [(t, j) for t, j in road_steps(excitation.segments(horizon), x1, horizon) if j < 0]
+        if down:
+            out["min_tyre_force"] = (
+                f"not finite: the road steps down ({_listed(down, 'm')}) and the tyre damper "
+                "would pull the wheel with a Dirac impulse C_t x step; use tyre_lift_off=True "
+                "or an edge-smoothed pulse (bump(edge=...))"
+            )
+    return out
+
+
+def _metrics(model: QuarterCar, excitation: Excitation, run: _Run, horizon: float) -> dict:
     I = run.integrals
     pk = run.peaks
     w = model.parameters.static_tyre_load
     rms_wk = math.sqrt(max(I[11], 0.0) / horizon)
     peak_wk = max(pk[2], pk[3])
-    return {
+    min_force = float(w - pk[6])
+    if model.tyre_lift_off:
+        min_force = max(min_force, 0.0)  # the contact force is capped: it cannot pull
+    out = {
         "rms_body_acc": math.sqrt(max(I[0], 0.0) / horizon),
         "rms_tyre_grip": math.sqrt(max(I[1], 0.0) / horizon),
         "rms_deflection": math.sqrt(max(I[2], 0.0) / horizon),
@@ -443,9 +499,14 @@ def _metrics(model: QuarterCar, run: _Run, horizon: float) -> dict:
         "peak_body_acc": float(max(pk[0], pk[1])),
         "peak_body_acc_wk": float(peak_wk),
         "peak_deflection": float(max(pk[4], pk[5])),
-        "min_tyre_force": float(w - pk[6]),
+        "min_tyre_force": min_force,
         "tyre_lift_off": bool(pk[6] >= w),
     }
+    for key in _not_finite(model, excitation, run, horizon):
+        out[key] = None
+        if key == "min_tyre_force":
+            out["tyre_lift_off"] = True  # the contact force demanded goes below zero
+    return out
 
 
 def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, output: str) -> float:
@@ -511,8 +572,10 @@ def simulate(
         excitation=excitation,
         horizon=T,
         options=options,
-        values=_metrics(model, run, T),
+        values=_metrics(model, excitation, run, T),
         stats=run.stats,
+        body_velocity_jumps=run.jumps,
+        not_finite=_not_finite(model, excitation, run, T),
         **kw,
     )
 
@@ -526,4 +589,5 @@ def simulate_metrics(
 ) -> dict:
     """Metrics only (the fast path for sweeps): ``simulate(..., output="metrics").metrics()``."""
     T = _check_inputs(model, excitation, horizon, options, "metrics")
-    return _metrics(model, _BACKEND_FUNCS[options.backend](model, excitation, T, options, False), T)
+    run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, False)
+    return _metrics(model, excitation, run, T)

@@ -72,6 +72,15 @@ def simulate_command(
     freq: Annotated[float, typer.Option(help="Sine frequency [Hz].")] = 5.0,
     duration: Annotated[float, typer.Option(help="Bump duration [s].")] = 0.01,
     shape: Annotated[str, typer.Option(help="Bump shape: rectangular or 1-cos.")] = "rectangular",
+    edge: Annotated[
+        str,
+        typer.Option(
+            help="Edges of the rectangular bump: step (the road jumps), ramp or half-cosine."
+        ),
+    ] = "step",
+    edge_width: Annotated[
+        float, typer.Option(help="Width of each smoothed bump edge [s] (with --edge ramp/half-cosine).")
+    ] = 0.0,
     horizon: Annotated[float, typer.Option(help="Simulated time T [s].")] = 10.0,
     road_class: Annotated[str, typer.Option("--class", help="ISO 8608 road class A-H.")] = "C",
     speed: Annotated[float, typer.Option(help="Vehicle speed on the ISO 8608 road [m/s].")] = 20.0,
@@ -105,7 +114,7 @@ def simulate_command(
     if input_ == "drop":
         ex = drop(amplitude)
     elif input_ == "bump":
-        ex = bump(amplitude, duration=duration, shape=shape)
+        ex = bump(amplitude, duration=duration, shape=shape, edge=edge, edge_width=edge_width)
     elif input_ == "sine":
         ex = sine(amplitude, freq)
     elif input_ == "iso8608":
@@ -123,14 +132,29 @@ def simulate_command(
     if json_out:
         out = {k: m[k] for k in _JSON_KEYS}
         out.update(suspension=suspension, input=ex.name, horizon=horizon, law=car.effective_law)
+        if res.not_finite:
+            out["not_finite"] = dict(res.not_finite)
+        out["body_velocity_jumps"] = [
+            {"time": t, "jump": dv} for t, dv in res.body_velocity_jumps
+        ]
         if save is not None:
             out["saved"] = str(save)
         if plot is not None:
             out["plot"] = str(plot)
         emit_json(out)
         return
-    rows = [(k, f"{m[k]:.6g}" if not isinstance(m[k], bool) else str(m[k])) for k in _JSON_KEYS]
+    def _cell(v):
+        if v is None:
+            return "not finite"
+        return str(v) if isinstance(v, bool) else f"{v:.6g}"
+
+    rows = [(k, _cell(m[k])) for k in _JSON_KEYS]
+    rows += [
+        (f"body velocity jump at {t:g} s (m/s)", f"{dv:+.6g}") for t, dv in res.body_velocity_jumps
+    ]
     print_table(f"{suspension} on {ex.name}, T = {horizon:g} s", rows)
+    for k, why in res.not_finite.items():
+        print(f"{k}: {why}")
 
 
 def h2_command(

@@ -139,12 +139,15 @@ def _initial_state(device: Device, P: np.ndarray, x0: float, v0: float, a0: floa
         y[0], y[1] = x0, v0
         return y
     # steady motion before t0: the branch moves with the terminals and the spring
-    # carries the branch force, damper + friction + inertia at the current acceleration
+    # carries the branch force, damper + friction + bearing drag of the flywheel
+    # (torque c_d omega, a force c_d r^2 v at the terminals) + inertia at the current
+    # acceleration
     if device.law == "momentum":
         m = r * r * float(fw.momentum_inertia(om))
     else:
         m = r * r * (fw.rest_inertia + fw.inertia_coefficient * l0**fw.power)
     fb = device.damping * v0 + device.friction * math.tanh(v0 / device.friction_velocity)
+    fb += P[K.FWDRAG] * r * r * v0
     y[0] = (fb + m * a0) / device.stiffness
     y[1] = v0
     y[6] = abs(om)
@@ -188,7 +191,8 @@ def device_force(
         Series devices: start with the spring carrying this force [N] (e.g. the measured
         force at the first sample). By default the device starts as if it had been
         moving steadily with the terminals: the spring carries damper + friction +
-        inertia force at the initial velocity and acceleration.
+        flywheel bearing drag (c_d r^2 v) + inertia force at the initial velocity and
+        acceleration.
 
     Returns
     -------

@@ -26,7 +26,11 @@ def _excitation(params: Mapping[str, Any]):
         return ex.drop(params["input_height"])
     if name == "bump":
         return ex.bump(
-            params["input_height"], duration=params["bump_duration"], shape=params["bump_shape"]
+            params["input_height"],
+            duration=params["bump_duration"],
+            shape=params["bump_shape"],
+            edge=params.get("bump_edge", "step"),
+            edge_width=params.get("bump_edge_width", 0.0),
         )
     if name == "sine":
         return ex.sine(params["input_height"], params["sine_frequency"])
@@ -62,7 +66,10 @@ def quarter_car_point(params: Mapping[str, Any]) -> dict[str, float]:
         metrics = fast(model, _excitation(params), params["horizon"])
     else:
         metrics = sim.simulate(model, _excitation(params), params["horizon"]).metrics()
-    return {k: float(metrics[k]) for k in QUARTER_CAR_METRICS}
+    # None stays None: not finite across a road step (SimulationResult.not_finite)
+    return {
+        k: (None if metrics[k] is None else float(metrics[k])) for k in QUARTER_CAR_METRICS
+    }
 
 
 QUARTER_CAR = register_point_function(
@@ -100,6 +107,12 @@ QUARTER_CAR = register_point_function(
             "input_height": ParameterSpec(**_POS, high=1.0, unit="m", doc="drop/bump/sine size"),
             "bump_duration": ParameterSpec(**_POS, high=10.0, unit="s"),
             "bump_shape": ParameterSpec(kind="choice", choices=("rectangular", "1-cos")),
+            "bump_edge": ParameterSpec(
+                kind="choice", choices=("step", "ramp", "half-cosine"), doc="bump edge shape"
+            ),
+            "bump_edge_width": ParameterSpec(
+                low=0.0, high=10.0, unit="s", doc="width of each smoothed bump edge"
+            ),
             "sine_frequency": ParameterSpec(**_POS, high=1000.0, unit="Hz"),
             "road_class": ParameterSpec(kind="choice", choices=tuple("ABCDEFGH")),
             "road_speed": ParameterSpec(**_POS, high=100.0, unit="m/s"),
@@ -122,6 +135,8 @@ QUARTER_CAR = register_point_function(
             "input_height": 0.05,
             "bump_duration": 0.01,
             "bump_shape": "rectangular",
+            "bump_edge": "step",
+            "bump_edge_width": 0.0,
             "sine_frequency": 5.0,
             "road_class": "C",
             "road_speed": 20.0,

@@ -20,6 +20,7 @@ splines.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import Any
@@ -41,6 +42,7 @@ __all__ = [
     "cost_thesis",
     "cost_continuous",
     "performance_function",
+    "comfort_metric_for",
     "OnDemandRatioModel",
     "InterpolatedRatioModel",
     "baseline_metrics",
@@ -120,11 +122,37 @@ def performance_function(
         if w == 0.0:
             continue
         m, b = metrics[name], baseline[name]
+        cm = comfort_metric_for(m, b, comfort_metric)
         total += w * (
-            weights.comfort * m[comfort_metric] / b[comfort_metric]
-            + weights.grip * m[grip_metric] / b[grip_metric]
+            weights.comfort * m[cm] / b[cm] + weights.grip * m[grip_metric] / b[grip_metric]
         )
     return float(total)
+
+
+#: the comfort metric used for an input where the chosen one is not finite (the
+#: unweighted body acceleration across a road step with an inerter)
+FINITE_COMFORT_METRIC = "rms_body_acc_wk"
+
+
+def _finite(v) -> bool:
+    return v is not None and math.isfinite(float(v))
+
+
+def comfort_metric_for(metrics: Mapping[str, float], baseline: Mapping[str, float], name: str) -> str:
+    """``name``, or the Wk-weighted RMS where ``name`` is not finite for this input.
+
+    Across a rectangular road step an inerter between wheel and body passes an impulse
+    to the body, so its unweighted RMS acceleration is infinite (reported as ``None`` or
+    NaN). The comfort ratio of that input is then taken on the ISO 2631 Wk-weighted RMS,
+    for the candidate and the traditional baseline alike, so the ratio stays a ratio of
+    like quantities.
+
+    >>> comfort_metric_for({"rms_body_acc": None}, {"rms_body_acc": 1.0}, "rms_body_acc")
+    'rms_body_acc_wk'
+    """
+    if _finite(metrics.get(name)) and _finite(baseline.get(name)):
+        return name
+    return FINITE_COMFORT_METRIC
 
 
 class OnDemandRatioModel:
@@ -158,7 +186,8 @@ class OnDemandRatioModel:
                 params["changing_ratio"] = key
                 self.evaluations += 1
                 res = self.point.function(params)
-                out[name] = {k: float(v) for k, v in res.items()}
+                # None stays None: not finite across a road step
+                out[name] = {k: (None if v is None else float(v)) for k, v in res.items()}
             self._cache[key] = out
         return self._cache[key]
 
@@ -195,11 +224,12 @@ class InterpolatedRatioModel:
         self.bounds = (float(xs.min()), float(xs.max()))
         names = metrics or [v for v in ds.data_vars if v not in ("status", "reason")]
         self.inputs = tuple(str(i) for i in ds.input.values)
-        self._splines = {
-            (i, m): CubicSpline(xs, ds[m].sel(input=i).transpose("changing_ratio").values)
-            for i in self.inputs
-            for m in names
-        }
+        self._splines = {}
+        for i in self.inputs:
+            for m in names:
+                ys = np.asarray(ds[m].sel(input=i).transpose("changing_ratio").values, float)
+                # a metric that is not finite across a road step is NaN at every ratio
+                self._splines[(i, m)] = CubicSpline(xs, ys) if np.all(np.isfinite(ys)) else None
 
     def __call__(self, x: float) -> dict[str, dict[str, float]]:
         lo, hi = self.bounds
@@ -207,7 +237,7 @@ class InterpolatedRatioModel:
             raise ParameterError("changing_ratio", x, f"a ratio in the swept range [{lo}, {hi}]")
         out: dict[str, dict[str, float]] = {i: {} for i in self.inputs}
         for (i, m), s in self._splines.items():
-            out[i][m] = float(s(x))
+            out[i][m] = None if s is None else float(s(x))
         return out
 
 
@@ -219,7 +249,9 @@ def baseline_metrics(
     out = {}
     for name in inputs:
         params = {**pf.defaults, **dict(settings), "input": name, "suspension": "traditional"}
-        out[name] = {k: float(v) for k, v in pf.function(params).items()}
+        out[name] = {
+            k: (None if v is None else float(v)) for k, v in pf.function(params).items()
+        }
     return out
 
 

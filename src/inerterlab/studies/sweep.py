@@ -105,11 +105,21 @@ def evaluate_chunk(task: ChunkTask) -> ChunkResult:
     for k, index in enumerate(task.indices):
         try:
             out = fn(task.params(index))
-            row = [float(out[m]) for m in metrics]
-            bad = [m for m, v in zip(metrics, row, strict=True) if not math.isfinite(v)]
+            # None: a metric the point function reports as not finite by its physics
+            # (unweighted body acceleration across a road step); kept as NaN with the
+            # point still valid and the metric named in its reason
+            absent = [m for m in metrics if out[m] is None]
+            row = [math.nan if out[m] is None else float(out[m]) for m in metrics]
+            bad = [
+                m
+                for m, v in zip(metrics, row, strict=True)
+                if m not in absent and not math.isfinite(v)
+            ]
             if bad:
                 raise ArithmeticError(f"non-finite {', '.join(bad)}")
             values[k] = row
+            if absent:
+                reasons[k] = "not finite across a road step: " + ", ".join(absent)
         except KeyError as exc:
             status[k] = STATUS_FAILED
             reasons[k] = f"point function returned no metric {exc}"

@@ -36,7 +36,12 @@ def plot_simulation(result, *, title: str | None = None):
     axes[0].set_title(
         title
         or f"{result.model.suspension}, input {result.excitation.name}: "
-        f"rms a3 {m['rms_body_acc']:.3g} m/s$^2$, rms z {1e3 * m['rms_deflection']:.3g} mm"
+        + (
+            "rms a3 not finite (road step)"
+            if m["rms_body_acc"] is None
+            else f"rms a3 {m['rms_body_acc']:.3g} m/s$^2$"
+        )
+        + f", rms z {1e3 * m['rms_deflection']:.3g} mm"
     )
     fig.tight_layout()
     return fig

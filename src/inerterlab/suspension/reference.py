@@ -224,14 +224,19 @@ class ReferenceRHS:
         )
         return val
 
-    def apply_jump(self, y, jump: float) -> None:
-        """Apply the tyre-damper impulse C_t * jump of a road step in place."""
+    def apply_jump(self, y, jump: float) -> float:
+        """Apply the tyre-damper impulse C_t * jump of a road step in place.
+
+        Returns the jump of the body velocity V3 [m/s]. Where it is not zero the body
+        acceleration holds a Dirac of that weight, and the Wk filter states
+        (x' = A x + B a3) jump by B times it.
+        """
         imp = self.Ct * jump
         if imp == 0.0 or (self.lift and imp < 0.0):
-            return
+            return 0.0
         if self.kind not in ("cfw", "afw"):
             y[1] += imp / self.Mt
-            return
+            return 0.0
         from scipy.optimize import brentq
 
         v0 = y[3] - y[1]
@@ -240,5 +245,9 @@ class ReferenceRHS:
         a, b = sorted((v0, v0 - imp / self.Mt))
         v1 = brentq(g, a, b, xtol=1e-300, rtol=1e-15, maxiter=400)
         p = self._inerter_impulse(v0, v1, y)
-        y[3] += -p / self.M
+        dv3 = -p / self.M
+        y[3] += dv3
         y[1] += (imp + p) / self.Mt
+        n = self.nphys
+        y[n + 3 : n + 11] += self.wb * dv3
+        return dv3
