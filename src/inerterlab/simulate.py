@@ -453,7 +453,7 @@ _BACKEND_FUNCS: dict[str, Callable[..., _Run]] = {"numba": _run_numba, "scipy": 
 _DIRAC_REASON = (
     "not finite: the body velocity jumps at a road step ({jumps}), so the body "
     "acceleration holds a Dirac impulse; compare rms_body_acc_wk, vdv, or an "
-    "edge-smoothed pulse (bump(edge=...))"
+    "edge-smoothed pulse (bump(edge=...), --edge)"
 )
 
 
@@ -474,8 +474,8 @@ def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: f
         if down:
             out["min_tyre_force"] = (
                 f"not finite: the road steps down ({_listed(down, 'm')}) and the tyre damper "
-                "would pull the wheel with a Dirac impulse C_t x step; use tyre_lift_off=True "
-                "or an edge-smoothed pulse (bump(edge=...))"
+                "would pull the wheel with a Dirac impulse C_t x step; model lift-off "
+                "(tyre_lift_off=True, --lift-off) or smooth the edges (bump(edge=...), --edge)"
             )
     return out
 
