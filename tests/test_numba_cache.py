@@ -1,0 +1,57 @@
+"""The compiled kernels' disk cache cannot go stale after an edit in another module."""
+
+import json
+import os
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import inerterlab
+
+SCRIPT = """
+import json
+from inerterlab.excitation import drop
+from inerterlab.simulate import simulate_metrics
+from inerterlab.suspension import quarter_car
+m = simulate_metrics(quarter_car("traditional"), drop(), 0.3)
+print(json.dumps({k: m[k] for k in ("rms_body_acc", "rms_deflection", "peak_body_acc")}))
+"""
+
+
+def _run(root: Path) -> dict:
+    env = {**os.environ, "PYTHONPATH": str(root)}
+    env.pop("NUMBA_CACHE_DIR", None)
+    out = subprocess.run(
+        [sys.executable, "-c", SCRIPT], env=env, capture_output=True, text=True, check=True
+    )
+    return json.loads(out.stdout.strip().splitlines()[-1])
+
+
+def _index_files(pkg: Path) -> dict:
+    return {p: p.stat().st_mtime_ns for p in (pkg / "suspension" / "__pycache__").glob("*.nbi")}
+
+
+@pytest.mark.slow
+def test_edit_in_a_helper_module_recompiles_the_kernel(tmp_path):
+    # the quarter-car kernel reads its parameters by the P_* slots defined in model.py;
+    # swapping two slots there (and nowhere else) changes the compiled code it needs. A
+    # cache keyed on _kernels.py alone would run the old code on the new packing and
+    # read the stiffness as the damping.
+    src = Path(inerterlab.__file__).resolve().parent
+    pkg = tmp_path / "inerterlab"
+    shutil.copytree(src, pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    first = _run(tmp_path)
+    cached = _index_files(pkg)
+    assert cached, "the kernels were not cached on disk"
+    assert _run(tmp_path) == first  # from the cache
+    assert _index_files(pkg) == cached  # nothing recompiled
+    model = pkg / "suspension" / "model.py"
+    text = model.read_text()
+    assert "    P_K,\n    P_C,\n" in text
+    model.write_text(text.replace("    P_K,\n    P_C,\n", "    P_C,\n    P_K,\n", 1))
+    after = _run(tmp_path)
+    assert after == first  # same physics, compiled afresh for the new slots
+    assert _index_files(pkg) != cached
