@@ -1,7 +1,7 @@
 """Road inputs of the quarter car: drop, bump, sine, ISO 8608 random road, user series.
 
 Every excitation describes the road displacement X1(t) [m] as a list of segments on
-which X1 is smooth (SPEC §5). A segment is a row ``[t0, t1, kind, a, b, A, w, phi]``:
+which X1 is smooth (docs/model.md §5). A segment is a row ``[t0, t1, kind, a, b, A, w, phi]``:
 
 * ``kind = 0``: X1 = a + b (t - t0) (flat or linear piece);
 * ``kind = 1``: X1 = a + A sin(w t + phi) (sine, the 1 - cos bump).
@@ -54,7 +54,7 @@ __all__ = [
 
 EXCITATIONS = ("drop", "bump", "sine", "iso8608")
 
-#: Gd(n0) geometric means [m^3] of ISO 8608 road classes (SPEC §9), n0 = 0.1 cycle/m
+#: Gd(n0) geometric means [m^3] of ISO 8608 road classes (docs/model.md §9), n0 = 0.1 cycle/m
 ISO8608_CLASSES = {c: 16e-6 * 4**i for i, c in enumerate(("A", "B", "C", "D", "E", "F", "G", "H"))}
 ISO8608_N0 = 0.1  # [cycle/m]
 ISO8608_BAND = (0.01, 10.0)  # [cycle/m]
@@ -102,7 +102,7 @@ class Drop(Excitation):
     height : float
         Initial displacement [m] (0.05 in the thesis).
     displaced : {"both", "sprung", "unsprung"}
-        Which masses start displaced; the thesis does not say, SPEC §5 fixes both.
+        Which masses start displaced; the thesis does not say, docs/model.md §5 fixes both.
     """
 
     height: float = 0.05
@@ -278,7 +278,7 @@ def _clip(seg: np.ndarray, horizon: float) -> np.ndarray:
 
 
 def iso8608_psd(n, road_class: str = "C"):
-    """ISO 8608 displacement PSD Gd(n) = Gd(n0) (n/n0)^-2 [m^3] (SPEC §9).
+    """ISO 8608 displacement PSD Gd(n) = Gd(n0) (n/n0)^-2 [m^3] (docs/model.md §9).
 
     Parameters
     ----------
@@ -314,7 +314,7 @@ def _iso_profile(road_class: str, length: float, step: float, seed: int | None):
 
 @dataclass(frozen=True, kw_only=True)
 class ISO8608Road(Excitation):
-    """Random road of ISO 8608 class ``road_class`` driven at ``speed`` (SPEC §9).
+    """Random road of ISO 8608 class ``road_class`` driven at ``speed`` (docs/model.md §9).
 
     Method: random-phase sum of sinusoids on the FFT grid of the road length L,
     spatial frequencies n_k = k/L inside 0.01-10 cycle/m, amplitudes
@@ -432,7 +432,7 @@ def iso8608(
     length: float | None = None,
     spatial_step: float = 0.02,
 ) -> ISO8608Road:
-    """ISO 8608 random road of class ``road_class`` at ``speed`` [m/s] (SPEC §9)."""
+    """ISO 8608 random road of class ``road_class`` at ``speed`` [m/s] (docs/model.md §9)."""
     return ISO8608Road(
         road_class=road_class, speed=speed, seed=seed, length=length, spatial_step=spatial_step
     )

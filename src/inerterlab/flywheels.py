@@ -200,7 +200,7 @@ class AdaptiveFlywheel:
 
     # -- variants ----------------------------------------------------------------
     def with_changing_ratio(self, ratio: float) -> AdaptiveFlywheel:
-        """The variant with changing ratio ``ratio`` (SPEC §1, thesis 4.3 and 6.3).
+        """The variant with changing ratio ``ratio`` (docs/model.md §1, thesis 4.3 and 6.3).
 
         Keeps I_min and the slider law l(omega) and scales the variable part:
         I(omega) = I_min + (I_min/(1-x) - I_min) (l^2 - l_min^2)/(l_max^2 - l_min^2).

@@ -1,6 +1,6 @@
 """One simulation driver over two integration backends -> :class:`SimulationResult`.
 
-Backends (SPEC §5):
+Backends (docs/model.md §5):
 
 ``numba`` (default)
     Compiled kernel (:mod:`inerterlab.suspension._kernels`): exact matrix-exponential
@@ -478,7 +478,7 @@ def simulate(
     excitation : Excitation
         :func:`~inerterlab.excitation.drop`, ``bump``, ``sine``, ``iso8608``, a road series.
     horizon : float
-        T [s], 10 s by default (SPEC §5).
+        T [s], 10 s by default (docs/model.md §5).
     options : SimulationOptions
         Backend, tolerance, sampling rate.
     output : {"series", "metrics"}

@@ -80,7 +80,7 @@ class HydraulicDevice:
     transmission : Transmission
         r = A / h [rad/m] (default Table 3.2: 961.66).
     law : {"thesis", "momentum", "slider-dynamics"}
-        How the speed-dependent inertia makes a force (SPEC §2).
+        How the speed-dependent inertia makes a force (docs/model.md §2).
     friction_velocity : float
         v_eps [m/s] of the smoothed friction tanh(v / v_eps).
     slider_dynamics : SliderDynamics

@@ -1,6 +1,6 @@
 """``frequency_response``: steady-state amplitude against forcing frequency.
 
-One driver over five methods (SPEC §7, thesis ch. 7):
+One driver over five methods (docs/model.md §7, thesis ch. 7):
 
 ``brute``
     Time integration to a detected steady state at each frequency (see
