@@ -458,7 +458,9 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     check_choice("output", output, OUTPUTS)
-    return check_positive("horizon", horizon, "s")
+    T = check_positive("horizon", horizon, "s")
+    excitation.check_horizon(T, stacklevel=3)
+    return T
 
 
 def simulate(
