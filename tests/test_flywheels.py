@@ -33,7 +33,7 @@ def test_nylon_geometry_reproduces_published_constant():
 
 
 def test_metal_geometry_differs_from_published():
-    # (3.1)-(3.5) with Table 3.1 give ~8.03e-4, not the printed 8.83e-4 (docs/errata.md)
+    # (3.1)-(3.5) with Table 3.1 give ~8.03e-4, not the printed 8.83e-4 (inerterlab/data/errata.md)
     geo = flywheel("metal", law="geometry").rest_inertia
     assert geo == pytest.approx(8.028e-4, rel=1e-3)
     assert flywheel("metal").rest_inertia == 8.83e-4

@@ -398,7 +398,7 @@ def flywheel(preset: str = "nylon", *, law: str = "published", changing_ratio: f
     law : {"published", "geometry", "thesis-literal"}
         ``published`` uses the printed laws (3.6) and (3.25); ``geometry`` computes the
         constant from (3.1)-(3.5) or (3.19)-(3.24) (for metal this gives 8.03e-4, not the
-        printed 8.83e-4; see docs/errata.md); ``thesis-literal`` is the published law with
+        printed 8.83e-4; see inerterlab/data/errata.md); ``thesis-literal`` is the published law with
         l in place of l^2, as printed in ch. 7 (7.2)-(7.7). ``nylon-large`` has no
         published law, so ``published`` means ``geometry`` there.
     changing_ratio : float, optional

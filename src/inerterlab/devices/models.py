@@ -20,7 +20,7 @@ Three devices, each a frozen keyword-only dataclass (SI units):
 Coulomb friction sgn(v) is smoothed to tanh(v / v_eps) (``friction_velocity`` v_eps,
 default 1e-3 m/s). The friction force always has the sign of the velocity through
 the friction element (for the screw this is x', where (3.35) prints the sign of the
-displacement; see docs/errata.md).
+displacement; see inerterlab/data/errata.md).
 """
 
 from __future__ import annotations

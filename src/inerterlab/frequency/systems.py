@@ -72,7 +72,7 @@ class DuffingOscillator(_KernelSystem):
     damping : float
         c [N s/m]. NLvib writes the damping coefficient as zeta directly
         (mu x'' + zeta x' + kappa x + gamma x^3 = P cos(Omega t)); its published
-        example values need c = zeta = 0.05 (see docs/errata.md).
+        example values need c = zeta = 0.05 (see inerterlab/data/errata.md).
     stiffness : float
         k [N/m].
     cubic_stiffness : float

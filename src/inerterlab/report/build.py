@@ -386,6 +386,15 @@ def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:
     return out
 
 
+def read_errata(path: str | os.PathLike | None = None) -> str:
+    """The errata text: ``path`` if given, else the copy shipped in the package."""
+    if path is not None:
+        return Path(path).read_text()
+    from importlib import resources
+
+    return resources.files("inerterlab.data").joinpath("errata.md").read_text()
+
+
 def reproduce(
     out: str | os.PathLike,
     *,
@@ -415,20 +424,7 @@ def reproduce(
     ids = parse_table_selection(tables, list(all_tables)) if tables else None
     work = out.parent / f"{out.name}.work"
     records = run_items(settings, ids, figures and ids is None, work, progress, should_stop)
-    errata = ""
-    candidates = [Path(errata_path)] if errata_path else []
-    candidates += [Path(__file__).resolve().parents[3] / "docs" / "errata.md"]
-    for c in candidates:
-        if c.is_file():
-            errata = c.read_text()
-            break
-    if not errata:
-        from importlib import resources
-
-        try:
-            errata = resources.files("inerterlab.data").joinpath("errata.md").read_text()
-        except (FileNotFoundError, ModuleNotFoundError):
-            errata = "(errata not found in this installation)"
+    errata = read_errata(errata_path)
     files = render(records, settings, time.perf_counter() - t0, errata)
     write_report_atomically(out, files)
     shutil.rmtree(work, ignore_errors=True)
