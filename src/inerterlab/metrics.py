@@ -42,6 +42,7 @@ __all__ = [
     "H2Norms",
     "h2_norms",
     "METRIC_KEYS",
+    "METRIC_UNITS",
 ]
 
 #: Wk parameters [Hz] and quality factors (ISO 8041-1, docs/model.md §9)
@@ -70,6 +71,21 @@ METRIC_KEYS = (
     "min_tyre_force",
     "tyre_lift_off",
 )
+
+#: unit of each metric of :data:`METRIC_KEYS` ("1" for a ratio, "" for a flag)
+METRIC_UNITS = {
+    "rms_body_acc": "m/s^2",
+    "rms_tyre_grip": "1",
+    "rms_deflection": "m",
+    "rms_body_acc_wk": "m/s^2",
+    "vdv": "m/s^1.75",
+    "crest_factor": "1",
+    "peak_body_acc": "m/s^2",
+    "peak_body_acc_wk": "m/s^2",
+    "peak_deflection": "m",
+    "min_tyre_force": "N",
+    "tyre_lift_off": "",
+}
 
 
 def wk_weighting(freq_hz):

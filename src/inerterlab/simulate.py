@@ -28,6 +28,8 @@ Examples
 from __future__ import annotations
 
 import math
+import sys
+import types
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -140,6 +142,26 @@ class SimulationResult:
     road: np.ndarray | None = None
     road_velocity: np.ndarray | None = None
     stats: dict = field(default_factory=dict)
+
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        from ._display import fmt
+        from .metrics import METRIC_UNITS
+
+        title = f"{self.model.suspension} on {self.excitation.name}, T = {self.horizon:g} s"
+        rows = [(k, fmt(self.values[k], METRIC_UNITS.get(k, ""))) for k in self.values]
+        rows.append(("samples", str(0 if self.time is None else self.time.size)))
+        return title, rows
+
+    def __repr__(self) -> str:
+        title, rows = self._summary()
+        keys = ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "samples")
+        shown = ", ".join(f"{k}={v}" for k, v in rows if k in keys)
+        return f"<SimulationResult {title}: {shown}>"
+
+    def _repr_html_(self) -> str:
+        from ._display import html_table
+
+        return html_table(*self._summary())
 
     def metrics(self) -> dict:
         """Ride metrics over the horizon.
@@ -529,3 +551,13 @@ def simulate_metrics(
     """Metrics only (the fast path for sweeps): ``simulate(..., output="metrics").metrics()``."""
     T = _check_inputs(model, excitation, horizon, options, "metrics")
     return _metrics(model, _BACKEND_FUNCS[options.backend](model, excitation, T, options, False), T)
+
+
+class _CallableModule(types.ModuleType):
+    """This module; calling it (``inerterlab.simulate(car, road, T)``) calls :func:`simulate`."""
+
+    def __call__(self, *args, **kwargs) -> SimulationResult:
+        return simulate(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule
