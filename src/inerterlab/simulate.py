@@ -106,6 +106,22 @@ class SimulationOptions:
 
 DEFAULT_OPTIONS = SimulationOptions()
 
+#: units of the sampled series of a :class:`SimulationResult` ("1" = dimensionless)
+SERIES_UNITS = {
+    "time": "s",
+    "road": "m",
+    "road_velocity": "m/s",
+    "unsprung_disp": "m",
+    "sprung_disp": "m",
+    "unsprung_vel": "m/s",
+    "sprung_vel": "m/s",
+    "body_acc": "m/s^2",
+    "body_acc_wk": "m/s^2",
+    "deflection": "m",
+    "tyre_force": "N",
+    "tyre_grip": "1",
+}
+
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class SimulationResult:
@@ -204,8 +220,22 @@ class SimulationResult:
         q = self.model.parameters
         return q.tyre_stiffness * (self.states[:, 0] - self.road) / q.static_tyre_load
 
-    def to_pandas(self):
-        """Time series as a pandas DataFrame indexed by time [s] (SI units)."""
+    def series_units(self) -> dict:
+        """Unit of every column of :meth:`to_pandas` (and variable of :meth:`to_xarray`);
+        states of the slider-dynamics law by their name (``_pos`` m, ``_rate`` m/s)."""
+        units = dict(SERIES_UNITS)
+        for name in self.model.state_names:
+            if name not in units:
+                units[name] = "m/s" if name.endswith(("_vel", "_rate", "_velocity")) else "m"
+        return units
+
+    def to_pandas(self, *, units_in_names: bool = False):
+        """Time series as a pandas DataFrame indexed by time [s] (SI units).
+
+        ``units_in_names=True`` writes the unit into each column name
+        (``body_acc [m/s^2]``, ``tyre_grip [-]``, index ``time [s]``), as
+        ``inerterlab simulate --save`` does in its CSV files.
+        """
         import pandas as pd
 
         self._need_series()
@@ -224,6 +254,12 @@ class SimulationResult:
         )
         df = pd.DataFrame(data, index=pd.Index(self.time, name="time"))
         df.attrs.update(self.settings())
+        if units_in_names:
+            u = self.series_units()
+            df = df.rename(
+                columns=lambda c: f"{c} [{'-' if u[c] == '1' else u[c]}]" if c in u else c
+            )
+            df.index.name = "time [s]"
         return df
 
     def to_xarray(self):
@@ -232,20 +268,7 @@ class SimulationResult:
 
         df = self.to_pandas()
         ds = xr.Dataset.from_dataframe(df)
-        units = {
-            "road": "m",
-            "road_velocity": "m/s",
-            "body_acc": "m/s^2",
-            "body_acc_wk": "m/s^2",
-            "deflection": "m",
-            "tyre_force": "N",
-            "tyre_grip": "1",
-            "unsprung_disp": "m",
-            "sprung_disp": "m",
-            "unsprung_vel": "m/s",
-            "sprung_vel": "m/s",
-        }
-        for k, u in units.items():
+        for k, u in self.series_units().items():
             if k in ds:
                 ds[k].attrs["units"] = u
         ds["time"].attrs["units"] = "s"

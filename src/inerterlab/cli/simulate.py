@@ -10,7 +10,7 @@ from typing import Annotated
 import typer
 
 from ..io import atomic_path
-from ..metrics import METRIC_KEYS
+from ..metrics import METRIC_KEYS, METRIC_UNITS
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 _CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
@@ -33,7 +33,7 @@ def _save_series(result, path: Path) -> None:
 
     suffix = path.suffix.lower()
     if suffix == ".csv":
-        df = result.to_pandas()
+        df = result.to_pandas(units_in_names=True)
         header = "".join(f"# {k}: {v}\n" for k, v in result.settings().items())
         atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
     elif suffix == ".nc":
@@ -148,7 +148,14 @@ def simulate_command(
             out["plot"] = str(plot)
         emit_json(out)
         return
-    rows = [(k, f"{m[k]:.6g}" if not isinstance(m[k], bool) else str(m[k])) for k in _JSON_KEYS]
+
+    def label(k: str) -> str:
+        unit = METRIC_UNITS.get(k, "")
+        return f"{k} [{'-' if unit == '1' else unit}]" if unit else k
+
+    rows = [
+        (label(k), f"{m[k]:.6g}" if not isinstance(m[k], bool) else str(m[k])) for k in _JSON_KEYS
+    ]
     print_table(f"{suspension} on {ex.name}, T = {horizon:g} s", rows)
 
 
