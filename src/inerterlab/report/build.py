@@ -135,11 +135,14 @@ def run_items(
     work_dir: Path,
     progress: Callable[[str], None] | None = None,
     should_stop: Callable[[], bool] | None = None,
+    on_start: Callable[[str], None] | None = None,
 ) -> list[dict]:
     """Compute (or reuse from ``work_dir``) every selected item; returns item records.
 
     ``should_stop`` is polled before each item; when it returns True the run stops
     with ``KeyboardInterrupt``, every finished item being already in ``work_dir``.
+    ``on_start`` is called with the name of each item about to be computed,
+    ``progress`` with the name of each item done.
     """
     tables, figures = _load_chapters()
     chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
@@ -159,6 +162,8 @@ def run_items(
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
+        if on_start:
+            on_start(f"{kind} {ident}")
         t0 = time.perf_counter()
         try:
             res = fn(settings)
@@ -404,6 +409,7 @@ def reproduce(
     progress: Callable[[str], None] | None = None,
     errata_path: str | os.PathLike | None = None,
     should_stop: Callable[[], bool] | None = None,
+    on_start: Callable[[str], None] | None = None,
 ) -> dict:
     """Run the reproduction and write the report to ``out``; returns the manifest.
 
@@ -423,7 +429,9 @@ def reproduce(
     all_tables, _ = _load_chapters()
     ids = parse_table_selection(tables, list(all_tables)) if tables else None
     work = out.parent / f"{out.name}.work"
-    records = run_items(settings, ids, figures and ids is None, work, progress, should_stop)
+    records = run_items(
+        settings, ids, figures and ids is None, work, progress, should_stop, on_start
+    )
     errata = read_errata(errata_path)
     files = render(records, settings, time.perf_counter() - t0, errata)
     write_report_atomically(out, files)
