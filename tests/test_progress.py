@@ -44,9 +44,11 @@ def test_estimate_from_computed_items():
     p = RunProgress(10, label="x", stream=io.StringIO())
     assert p.eta() is None
     p.start("a")
-    p.current_since -= 2.0  # the item took 2 s
     p.done("a")
-    assert 17.0 < p.eta() <= 18.1  # 9 items left at 2 s each
+    p.t0 -= 2.0  # the item took 2 s
+    assert 17.9 < p.eta() <= 18.1  # 9 items left at 2 s each
+    p.done("b (reused)")  # reused items do not count as work done
+    assert 15.9 < p.eta() <= 16.2
 
 
 def test_cli_progress_on_stderr_when_not_a_terminal(tmp_path):

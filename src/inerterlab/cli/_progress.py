@@ -54,10 +54,11 @@ class RunProgress:
         self.live = live
         self.completed = 0
         self.computed = 0  # items computed (not reused), for the estimate
-        self.computed_seconds = 0.0
+        self.reused_seconds = 0.0  # time spent on reused items (near zero)
         self.current: str | None = None
         self.current_since = 0.0
         self.t0 = time.perf_counter()
+        self._last_event = self.t0
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread = None
@@ -66,15 +67,13 @@ class RunProgress:
 
     # -- estimate ----------------------------------------------------------------
     def eta(self) -> float | None:
-        """Seconds left: the mean time of the items computed so far times the items
-        left, less the time the running item has already taken (None before the first
-        computed item)."""
+        """Seconds left: the time per item computed so far (reused items not counted)
+        times the items left (None before the first computed item)."""
         if self.computed == 0:
             return None
         left = self.total - self.completed
-        mean = self.computed_seconds / self.computed
-        running = time.perf_counter() - self.current_since if self.current else 0.0
-        return max(0.0, left * mean - min(running, mean))
+        elapsed = time.perf_counter() - self.t0 - self.reused_seconds
+        return max(0.0, left * elapsed / self.computed)
 
     def line(self) -> str:
         """One plain progress line."""
@@ -98,11 +97,14 @@ class RunProgress:
     def done(self, name: str) -> None:
         reused = name.endswith("(reused)")
         with self._lock:
-            if not reused and self.current is not None:
+            if reused:
+                if self.current is None:  # time since the last event went on reading it
+                    self.reused_seconds += time.perf_counter() - self._last_event
+            else:
                 self.computed += 1
-                self.computed_seconds += time.perf_counter() - self.current_since
             self.completed += 1
             self.current = None
+            self._last_event = time.perf_counter()
         if self._bar is not None:
             self._bar.update(self._task, advance=1, description=f"done {name}")
 

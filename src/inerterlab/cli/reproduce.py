@@ -22,7 +22,14 @@ def reproduce_command(
     quick: Annotated[
         bool, typer.Option("--quick", help="Reduced grids and horizons (seconds, for smoke tests).")
     ] = False,
-    workers: Annotated[int, typer.Option(min=1, help="Worker processes for sweeps.")] = 1,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            min=1,
+            help="Worker processes (default: the CPUs this process may use); 1 computes "
+            "everything in this process.",
+        ),
+    ] = None,
     json_out: Annotated[bool, typer.Option("--json", help="Print the manifest as JSON.")] = False,
     progress_interval: Annotated[
         float,
@@ -46,6 +53,10 @@ def reproduce_command(
     from ._common import emit_json
     from ._progress import RunProgress
 
+    if workers is None:
+        from ..report.parallel import default_workers
+
+        workers = default_workers()
     settings = ReproduceSettings(quick=quick, workers=workers)
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables else None
     total = count_items(ids, ids is None)

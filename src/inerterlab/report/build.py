@@ -128,6 +128,41 @@ def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
     return n + (len(figures) if include_figures else 0)
 
 
+def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSettings) -> dict:
+    """Compute one item and return its record (a failure is recorded, not raised)."""
+    t0 = time.perf_counter()
+    try:
+        res = fn(settings)
+        rec = {"kind": kind, "id": ident, "ok": True, "seconds": time.perf_counter() - t0}
+        if isinstance(res, TableResult):
+            rec.update(
+                title=res.title,
+                frame=res.frame,
+                claim=res.claim,
+                claim_holds=res.claim_holds,
+                reason=res.reason,
+                settings=res.settings,
+            )
+        elif isinstance(res, FigureResult):
+            rec.update(
+                title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
+            )
+        else:  # a chapter function returned something unexpected: record, do not guess
+            rec.update(ok=False, error=f"returned {type(res).__name__}")
+    except KeyboardInterrupt:
+        raise
+    except Exception as e:  # noqa: BLE001 - recorded as a failed item, run goes on
+        rec = {
+            "kind": kind,
+            "id": ident,
+            "ok": False,
+            "error": f"{type(e).__name__}: {e}",
+            "traceback": traceback.format_exc(),
+            "seconds": time.perf_counter() - t0,
+        }
+    return rec
+
+
 def run_items(
     settings: ReproduceSettings,
     table_ids: list[str] | None,
@@ -152,6 +187,14 @@ def run_items(
     work_dir.mkdir(parents=True, exist_ok=True)
     tag = _settings_hash(settings)
     records = []
+    pre: dict = {}
+    if settings.workers > 1:  # shared pieces and independent chapters in parallel first
+        from .parallel import run_parallel
+
+        todo = [
+            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()
+        ]
+        pre = run_parallel(settings, todo, settings.workers, note=on_start, done=progress)
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
@@ -162,42 +205,14 @@ def run_items(
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
-        if on_start:
+        from_worker = (kind, ident) in pre  # computed (and reported) by run_parallel
+        if on_start and not from_worker:
             on_start(f"{kind} {ident}")
-        t0 = time.perf_counter()
-        try:
-            res = fn(settings)
-            rec = {"kind": kind, "id": ident, "ok": True, "seconds": time.perf_counter() - t0}
-            if isinstance(res, TableResult):
-                rec.update(
-                    title=res.title,
-                    frame=res.frame,
-                    claim=res.claim,
-                    claim_holds=res.claim_holds,
-                    reason=res.reason,
-                    settings=res.settings,
-                )
-            elif isinstance(res, FigureResult):
-                rec.update(
-                    title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
-                )
-            else:  # a chapter function returned something unexpected: record, do not guess
-                rec.update(ok=False, error=f"returned {type(res).__name__}")
-        except KeyboardInterrupt:
-            raise
-        except Exception as e:  # noqa: BLE001 - recorded as a failed item, run goes on
-            rec = {
-                "kind": kind,
-                "id": ident,
-                "ok": False,
-                "error": f"{type(e).__name__}: {e}",
-                "traceback": traceback.format_exc(),
-                "seconds": time.perf_counter() - t0,
-            }
+        rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
         if rec["ok"]:
             atomic_write_bytes(cache, pickle.dumps(rec))
         records.append(rec)
-        if progress:
+        if progress and not from_worker:
             progress(f"{kind} {ident}")
     return records
 
