@@ -81,7 +81,7 @@ def _curve(amp_cm: int, method: str, quick: bool, law: str = "thesis", preset: s
 
 
 #: rough relative cost of one curve (for scheduling the parallel reproduction)
-_CURVE_COST = {"brute": 10.0, "sihb": 1.5, "shb": 1.0, "mhb": 0.5}
+_CURVE_COST = {"brute": 15.0, "sihb": 1.5, "shb": 1.5, "mhb": 0.5}  # seconds, roughly
 _USES = {  # item -> (method, law, preset) of the curves it reads, for every amplitude
     "7.1": [("sihb", "thesis", "metal"), ("sihb", "thesis-literal", "metal")],
     "7.2": [("brute", "thesis", "metal"), ("shb", "thesis", "metal")],
