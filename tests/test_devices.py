@@ -1,4 +1,4 @@
-"""Real devices (SPEC §3): linear limits, independent references, energy, step independence."""
+"""Real devices (docs/model.md §3): linear limits, independent references, energy, step independence."""
 
 import dataclasses
 import math

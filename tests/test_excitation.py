@@ -37,7 +37,9 @@ def test_csv_road_round_trip_and_errors(tmp_path):
     np.testing.assert_allclose(r.displacement, [0, 0.01, 0])
     bad = tmp_path / "bad.csv"
     bad.write_text("time,displacement\n0,0\n0.1,nan\n")
-    with pytest.raises(DataFileError, match=r"bad.csv, line 3: non-finite"):
+    with pytest.raises(
+        DataFileError, match=r"bad.csv, line 3: displacement value .nan. is not finite"
+    ):
         read_road_csv(bad)
     bad.write_text("0,0\n0.1,abc\n")
     with pytest.raises(DataFileError, match="line 2"):
@@ -45,7 +47,7 @@ def test_csv_road_round_trip_and_errors(tmp_path):
     bad.write_text("0,0\n0.1,0.2\n0.05,0\n")
     with pytest.raises(DataFileError, match="line 3: time"):
         read_road_csv(bad)
-    with pytest.raises(DataFileError, match="cannot read"):
+    with pytest.raises(DataFileError, match="cannot be read"):
         read_road_csv(tmp_path / "missing.csv")
 
 

@@ -1,4 +1,4 @@
-"""Flywheel laws against the SPEC §1 check values and analytic properties."""
+"""Flywheel laws against the docs/model.md §1 check values and analytic properties."""
 
 import math
 
@@ -33,7 +33,7 @@ def test_nylon_geometry_reproduces_published_constant():
 
 
 def test_metal_geometry_differs_from_published():
-    # (3.1)-(3.5) with Table 3.1 give ~8.03e-4, not the printed 8.83e-4 (docs/errata.md)
+    # (3.1)-(3.5) with Table 3.1 give ~8.03e-4, not the printed 8.83e-4 (inerterlab/data/errata.md)
     geo = flywheel("metal", law="geometry").rest_inertia
     assert geo == pytest.approx(8.028e-4, rel=1e-3)
     assert flywheel("metal").rest_inertia == 8.83e-4
@@ -109,7 +109,7 @@ def test_changing_ratio_variant(x):
     assert fw.inertia_min == pytest.approx(base.inertia_min, rel=1e-12)
     w = np.linspace(0, 2 * base.saturation_speed, 30)
     np.testing.assert_allclose(fw.slider_position(w), base.slider_position(w), rtol=1e-12)
-    # the SPEC formula
+    # the formula of docs/model.md §1
     l, lmin, lmax = base.slider_position(w), base.slider_min, base.slider_max
     expect = base.inertia_min + (base.inertia_min / (1 - x) - base.inertia_min) * (
         l**2 - lmin**2

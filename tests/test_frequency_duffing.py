@@ -1,8 +1,8 @@
 """Harmonic balance on the Duffing oscillator against published reference values.
 
-NLvib example 01 (SPEC §10): mu x'' + zeta x' + kappa x + gamma x^3 = P cos(Omega t),
+NLvib example 01 (docs/model.md §10): mu x'' + zeta x' + kappa x + gamma x^3 = P cos(Omega t),
 mu=1, zeta=0.05, kappa=1, gamma=0.1, P=0.18 (NLvib uses zeta as the damping
-coefficient; see docs/errata.md). These numbers come from an independent code.
+coefficient; see inerterlab/data/errata.md). These numbers come from an independent code.
 """
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Identification from rig data (SPEC §4, §10): exact linear case, round trips, robustness."""
+"""Identification from rig data (docs/model.md §4, §10): exact linear case, round trips, robustness."""
 
 import dataclasses
 import json
@@ -29,7 +29,7 @@ TRUE = {
 
 
 def _linear_dataset():
-    # SPEC §10: x = 0.01 sin(2 pi 2 t) at 1 kHz for 5 s, F = 2000 v + 150 sgn(v) + 10000 x
+    # docs/model.md §10: x = 0.01 sin(2 pi 2 t) at 1 kHz for 5 s, F = 2000 v + 150 sgn(v) + 10000 x
     t = np.arange(5001) / 1000.0
     w = 2 * np.pi * 2.0
     x = 0.01 * np.sin(w * t)

@@ -1,4 +1,4 @@
-"""ISO 2631-1 Wk weighting, RMS helpers and H2 indices (SPEC §9, §10)."""
+"""ISO 2631-1 Wk weighting, RMS helpers and H2 indices (docs/model.md §9, §10)."""
 
 import math
 

@@ -24,7 +24,7 @@ def test_quick_reproduction_completes(quick_report):
     assert failed == [], failed
     assert rc == 0
     tables = [i for i in manifest["items"] if i["kind"] == "table"]
-    # every table id the SPEC asks for is present
+    # every table id of docs/model.md §8 is present
     ids = {i["id"] for i in tables}
     expected = (
         {f"4.{i}" for i in range(1, 16)}

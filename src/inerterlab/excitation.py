@@ -1,7 +1,7 @@
 """Road inputs of the quarter car: drop, bump, sine, ISO 8608 random road, user series.
 
 Every excitation describes the road displacement X1(t) [m] as a list of segments on
-which X1 is smooth (SPEC §5). A segment is a row ``[t0, t1, kind, a, b, A, w, phi]``:
+which X1 is smooth (docs/model.md §5). A segment is a row ``[t0, t1, kind, a, b, A, w, phi]``:
 
 * ``kind = 0``: X1 = a + b (t - t0) (flat or linear piece);
 * ``kind = 1``: X1 = a + A sin(w t + phi) (sine, the 1 - cos bump).
@@ -17,14 +17,15 @@ The car starts at rest in static equilibrium on the road level ``initial_road``
 
 from __future__ import annotations
 
-import csv
 import math
+import warnings
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
 
 import numpy as np
 
+from .datafiles import read_columns
 from .errors import (
     DataFileError,
     ParameterError,
@@ -51,15 +52,20 @@ __all__ = [
     "ISO8608_CLASSES",
     "iso8608_psd",
     "EXCITATIONS",
+    "RoadTooShortWarning",
 ]
 
 EXCITATIONS = ("drop", "bump", "sine", "iso8608")
 BUMP_EDGES = ("step", "ramp", "half-cosine")
 
-#: Gd(n0) geometric means [m^3] of ISO 8608 road classes (SPEC §9), n0 = 0.1 cycle/m
+#: Gd(n0) geometric means [m^3] of ISO 8608 road classes (docs/model.md §9), n0 = 0.1 cycle/m
 ISO8608_CLASSES = {c: 16e-6 * 4**i for i, c in enumerate(("A", "B", "C", "D", "E", "F", "G", "H"))}
 ISO8608_N0 = 0.1  # [cycle/m]
 ISO8608_BAND = (0.01, 10.0)  # [cycle/m]
+
+
+class RoadTooShortWarning(UserWarning):
+    """A road input ends before the simulation horizon and is held at its last value."""
 
 
 class Excitation:
@@ -81,6 +87,26 @@ class Excitation:
 
     def segments(self, horizon: float) -> np.ndarray:  # pragma: no cover - abstract
         raise ParameterError("excitation", self, "a concrete excitation")
+
+    def end_time(self) -> float:
+        """Last time [s] the input is defined for (infinite for inputs without an end)."""
+        return math.inf
+
+    def check_horizon(self, horizon: float, *, stacklevel: int = 2) -> bool:
+        """Warn (:class:`RoadTooShortWarning`) if the input ends before ``horizon``.
+
+        Returns True if it covers the horizon.
+        """
+        end = self.end_time()
+        if end >= horizon * (1 - 1e-12):
+            return True
+        warnings.warn(
+            f"the road {self.describe().get('label', self.name)} ends at {end:g} s, before "
+            f"the horizon {horizon:g} s; it is held at its last value from there on",
+            RoadTooShortWarning,
+            stacklevel=stacklevel + 1,
+        )
+        return False
 
     def describe(self) -> dict:
         """Settings of the input as a plain dict."""
@@ -104,7 +130,7 @@ class Drop(Excitation):
     height : float
         Initial displacement [m] (0.05 in the thesis).
     displaced : {"both", "sprung", "unsprung"}
-        Which masses start displaced; the thesis does not say, SPEC §5 fixes both.
+        Which masses start displaced; the thesis does not say, docs/model.md §5 fixes both.
     """
 
     height: float = 0.05
@@ -291,6 +317,9 @@ class RoadSeries(Excitation):
     def initial_road(self, horizon: float) -> float:
         return float(self.displacement[0])
 
+    def end_time(self) -> float:
+        return float(self.time[-1])
+
     def describe(self) -> dict:
         return {
             "input": "series",
@@ -324,7 +353,7 @@ def _clip(seg: np.ndarray, horizon: float) -> np.ndarray:
 
 
 def iso8608_psd(n, road_class: str = "C"):
-    """ISO 8608 displacement PSD Gd(n) = Gd(n0) (n/n0)^-2 [m^3] (SPEC §9).
+    """ISO 8608 displacement PSD Gd(n) = Gd(n0) (n/n0)^-2 [m^3] (docs/model.md §9).
 
     Parameters
     ----------
@@ -360,7 +389,7 @@ def _iso_profile(road_class: str, length: float, step: float, seed: int | None):
 
 @dataclass(frozen=True, kw_only=True)
 class ISO8608Road(Excitation):
-    """Random road of ISO 8608 class ``road_class`` driven at ``speed`` (SPEC §9).
+    """Random road of ISO 8608 class ``road_class`` driven at ``speed`` (docs/model.md §9).
 
     Method: random-phase sum of sinusoids on the FFT grid of the road length L,
     spatial frequencies n_k = k/L inside 0.01-10 cycle/m, amplitudes
@@ -421,6 +450,9 @@ class ISO8608Road(Excitation):
 
     def initial_road(self, horizon: float) -> float:
         return float(self.profile(horizon)[1][0])
+
+    def end_time(self) -> float:
+        return math.inf if self.length is None else float(self.length) / float(self.speed)
 
     def segments(self, horizon: float) -> np.ndarray:
         return self.series(horizon).segments(horizon)
@@ -527,7 +559,7 @@ def iso8608(
     length: float | None = None,
     spatial_step: float = 0.02,
 ) -> ISO8608Road:
-    """ISO 8608 random road of class ``road_class`` at ``speed`` [m/s] (SPEC §9)."""
+    """ISO 8608 random road of class ``road_class`` at ``speed`` [m/s] (docs/model.md §9)."""
     return ISO8608Road(
         road_class=road_class, speed=speed, seed=seed, length=length, spatial_step=spatial_step
     )
@@ -540,48 +572,93 @@ def road_series(time, displacement, *, label: str = "series") -> RoadSeries:
     )
 
 
-def read_road_csv(path) -> RoadSeries:
-    """Read a road file: two columns, time [s] and displacement [m].
+#: header spellings of the road file's columns
+ROAD_COLUMNS = {
+    "time": "time",
+    "t": "time",
+    "distance": "distance",
+    "position": "distance",
+    "x": "distance",
+    "displacement": "displacement",
+    "height": "displacement",
+    "elevation": "displacement",
+    "z": "displacement",
+}
 
-    Lines starting with ``#`` and a header line of names are skipped. Every other
-    line must hold two finite numbers with time strictly increasing; otherwise a
-    :class:`DataFileError` names the file and line.
+
+def read_road_csv(path, *, speed: float | None = None, units: dict | None = None) -> RoadSeries:
+    """Read a road profile file: time or distance, and the road height, with units.
+
+    The header names the columns and their units (``time [s]``, ``distance [m]``,
+    ``displacement [mm]``; also ``name (unit)`` or ``name_unit``; ``height`` and
+    ``elevation`` are read as the displacement). Time in s or ms; distance in m, cm, mm
+    or km, turned into time with the vehicle ``speed`` [m/s] (the car passes the first
+    sample at t = 0); height in m, cm or mm. A column without a unit, and a file
+    without a header (two columns, time and displacement), are read in SI units (s, m).
+
+    An unknown unit or column, a bad row, a non-finite value or a time (distance) that
+    does not increase raises :class:`DataFileError` naming the file and line.
+
+    Parameters
+    ----------
+    path : path-like
+    speed : float, optional
+        Vehicle speed [m/s]; required for a profile over distance, refused for one
+        over time.
+    units : dict, optional
+        Units of columns the header leaves without one, e.g. ``{"displacement": "mm"}``.
     """
     p = Path(path)
-    try:
-        text = p.read_text()
-    except (OSError, UnicodeDecodeError) as e:
-        raise DataFileError(p, f"cannot read the road file ({e.__class__.__name__}: {e})") from None
-    times: list[float] = []
-    values: list[float] = []
-    header_seen = False
-    for lineno, row in enumerate(csv.reader(text.splitlines()), start=1):
-        if not row or not "".join(row).strip() or row[0].lstrip().startswith("#"):
-            continue
-        cells = [c.strip() for c in row if c.strip() != ""]
-        try:
-            nums = [float(c) for c in cells]
-        except ValueError:
-            if not times and not header_seen:
-                header_seen = True
+    tab = read_columns(
+        p,
+        ROAD_COLUMNS,
+        units=units,
+        default_units={"time": "s", "distance": "m", "displacement": "m"},
+        headerless=("time", "displacement"),
+        increasing=("time", "distance"),
+        min_rows=2,
+        what="road",
+    )
+    hl = (tab.header_line or 0) + 1
+    if "displacement" not in tab:
+        raise DataFileError(p, "missing column 'displacement' (the road height)", hl)
+    has_t, has_x = "time" in tab, "distance" in tab
+    if has_t == has_x:
+        raise DataFileError(
+            p, "needs exactly one of the columns 'time' and 'distance'" + (
+                "" if has_t else " (found neither)"), hl
+        )
+    if len(tab.columns) != 2:
+        raise DataFileError(p, "expected two columns: time or distance, and displacement", hl)
+    if has_x:
+        if speed is None:
+            raise DataFileError(
+                p,
+                "the road is given over distance; pass the vehicle speed "
+                "(speed=..., --speed) to turn it into time",
+                hl,
+            )
+        v = check_positive("speed", speed, "m/s")
+        t = (tab["distance"] - tab["distance"][0]) / v
+    else:
+        if speed is not None:
+            raise ParameterError(
+                "speed", speed, "no speed for a road given over time (it has a time column)"
+            )
+        t = tab["time"]
+        if t[0] < 0:
+            raise DataFileError(p, f"negative time {t[0]!r}", _first_data_line(p))
+    return RoadSeries(time=t, displacement=tab["displacement"], label=p.name)
+
+
+def _first_data_line(p: Path) -> int:
+    n = 0
+    for i, ln in enumerate(p.read_text().splitlines(), 1):
+        if ln.strip() and not ln.lstrip().startswith("#"):
+            n += 1
+            try:
+                [float(c) for c in ln.split(",")]
+                return i
+            except ValueError:
                 continue
-            raise DataFileError(
-                p, f"expected two numbers (time s, displacement m), got {row!r}", lineno
-            ) from None
-        if len(nums) != 2:
-            raise DataFileError(
-                p, f"expected two columns (time s, displacement m), got {len(nums)}", lineno
-            )
-        if not all(math.isfinite(v) for v in nums):
-            raise DataFileError(p, f"non-finite value in {row!r}", lineno)
-        if nums[0] < 0:
-            raise DataFileError(p, f"negative time {nums[0]!r}", lineno)
-        if times and nums[0] <= times[-1]:
-            raise DataFileError(
-                p, f"time {nums[0]!r} does not increase (previous {times[-1]!r})", lineno
-            )
-        times.append(nums[0])
-        values.append(nums[1])
-    if len(times) < 2:
-        raise DataFileError(p, "needs at least two rows of (time s, displacement m)")
-    return RoadSeries(time=np.array(times), displacement=np.array(values), label=p.name)
+    return n

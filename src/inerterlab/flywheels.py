@@ -200,7 +200,7 @@ class AdaptiveFlywheel:
 
     # -- variants ----------------------------------------------------------------
     def with_changing_ratio(self, ratio: float) -> AdaptiveFlywheel:
-        """The variant with changing ratio ``ratio`` (SPEC §1, thesis 4.3 and 6.3).
+        """The variant with changing ratio ``ratio`` (docs/model.md §1, thesis 4.3 and 6.3).
 
         Keeps I_min and the slider law l(omega) and scales the variable part:
         I(omega) = I_min + (I_min/(1-x) - I_min) (l^2 - l_min^2)/(l_max^2 - l_min^2).
@@ -398,7 +398,7 @@ def flywheel(preset: str = "nylon", *, law: str = "published", changing_ratio: f
     law : {"published", "geometry", "thesis-literal"}
         ``published`` uses the printed laws (3.6) and (3.25); ``geometry`` computes the
         constant from (3.1)-(3.5) or (3.19)-(3.24) (for metal this gives 8.03e-4, not the
-        printed 8.83e-4; see docs/errata.md); ``thesis-literal`` is the published law with
+        printed 8.83e-4; see inerterlab/data/errata.md); ``thesis-literal`` is the published law with
         l in place of l^2, as printed in ch. 7 (7.2)-(7.7). ``nylon-large`` has no
         published law, so ``published`` means ``geometry`` there.
     changing_ratio : float, optional

@@ -4,7 +4,7 @@ Pure functions of arrays and models; the simulation backends compute the same
 quantities on the fly (as extra ODE states) and :func:`series_metrics` recomputes
 them from sampled output for cross-checks.
 
-ISO 2631-1 Wk (SPEC §9, parameters of ISO 8041-1), with w_i = 2 pi f_i:
+ISO 2631-1 Wk (docs/model.md §9, parameters of ISO 8041-1), with w_i = 2 pi f_i:
 
     Hh = 1/(1 + sqrt2 w1/s + (w1/s)^2)              high pass, f1 = 0.4 Hz
     Hl = 1/(1 + sqrt2 s/w2 + (s/w2)^2)              low pass, f2 = 100 Hz
@@ -15,7 +15,7 @@ ISO 2631-1 Wk (SPEC §9, parameters of ISO 8041-1), with w_i = 2 pi f_i:
 
 The (w5/w6)^2 factor is kept and the peak is not normalised to 1.
 
-H2 indices (thesis (4.12), (4.17), (4.22); SPEC §9): for a linear quarter car driven by
+H2 indices (thesis (4.12), (4.17), (4.22); docs/model.md §9): for a linear quarter car driven by
 unit white road velocity, ||H||_2^2 = C P C^T with A P + P A^T + B B^T = 0. On an
 ISO 8608 road of class Gd(n0) at speed V, rms = pi n0 sqrt(2 Gd(n0) V) ||H||_2.
 """
@@ -42,9 +42,10 @@ __all__ = [
     "H2Norms",
     "h2_norms",
     "METRIC_KEYS",
+    "METRIC_UNITS",
 ]
 
-#: Wk parameters [Hz] and quality factors (ISO 8041-1, SPEC §9)
+#: Wk parameters [Hz] and quality factors (ISO 8041-1, docs/model.md §9)
 WK_PARAMETERS = {
     "f1": 0.4,
     "f2": 100.0,
@@ -70,6 +71,21 @@ METRIC_KEYS = (
     "min_tyre_force",
     "tyre_lift_off",
 )
+
+#: unit of each metric of :data:`METRIC_KEYS` ("1" for a ratio, "" for a flag)
+METRIC_UNITS = {
+    "rms_body_acc": "m/s^2",
+    "rms_tyre_grip": "1",
+    "rms_deflection": "m",
+    "rms_body_acc_wk": "m/s^2",
+    "vdv": "m/s^1.75",
+    "crest_factor": "1",
+    "peak_body_acc": "m/s^2",
+    "peak_body_acc_wk": "m/s^2",
+    "peak_deflection": "m",
+    "min_tyre_force": "N",
+    "tyre_lift_off": "",
+}
 
 
 def wk_weighting(freq_hz):
@@ -248,7 +264,7 @@ class H2Norms:
         return self.norms[key]
 
     def ride_indices(self, road_class: str = "C", speed: float = 20.0) -> dict:
-        """RMS values on an ISO 8608 road: pi n0 sqrt(2 Gd(n0) V) ||H||_2 (SPEC §9).
+        """RMS values on an ISO 8608 road: pi n0 sqrt(2 Gd(n0) V) ||H||_2 (docs/model.md §9).
 
         Outputs with an infinite norm map to ``None``.
         """

@@ -1,6 +1,6 @@
 """One simulation driver over two integration backends -> :class:`SimulationResult`.
 
-Backends (SPEC §5):
+Backends (docs/model.md §5):
 
 ``numba`` (default)
     Compiled kernel (:mod:`inerterlab.suspension._kernels`): exact matrix-exponential
@@ -28,6 +28,8 @@ Examples
 from __future__ import annotations
 
 import math
+import sys
+import types
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
@@ -104,6 +106,22 @@ class SimulationOptions:
 
 DEFAULT_OPTIONS = SimulationOptions()
 
+#: units of the sampled series of a :class:`SimulationResult` ("1" = dimensionless)
+SERIES_UNITS = {
+    "time": "s",
+    "road": "m",
+    "road_velocity": "m/s",
+    "unsprung_disp": "m",
+    "sprung_disp": "m",
+    "unsprung_vel": "m/s",
+    "sprung_vel": "m/s",
+    "body_acc": "m/s^2",
+    "body_acc_wk": "m/s^2",
+    "deflection": "m",
+    "tyre_force": "N",
+    "tyre_grip": "1",
+}
+
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class SimulationResult:
@@ -143,6 +161,26 @@ class SimulationResult:
     body_velocity_jumps: tuple = ()
     not_finite: dict = field(default_factory=dict)
 
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        from ._display import fmt
+        from .metrics import METRIC_UNITS
+
+        title = f"{self.model.suspension} on {self.excitation.name}, T = {self.horizon:g} s"
+        rows = [(k, fmt(self.values[k], METRIC_UNITS.get(k, ""))) for k in self.values]
+        rows.append(("samples", str(0 if self.time is None else self.time.size)))
+        return title, rows
+
+    def __repr__(self) -> str:
+        title, rows = self._summary()
+        keys = ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "samples")
+        shown = ", ".join(f"{k}={v}" for k, v in rows if k in keys)
+        return f"<SimulationResult {title}: {shown}>"
+
+    def _repr_html_(self) -> str:
+        from ._display import html_table
+
+        return html_table(*self._summary())
+
     def metrics(self) -> dict:
         """Ride metrics over the horizon.
 
@@ -158,7 +196,7 @@ class SimulationResult:
         jumps (:attr:`body_velocity_jumps`) and the body acceleration holds a Dirac:
         ``rms_body_acc`` and ``peak_body_acc`` are then not finite and are ``None``,
         with the reason in :attr:`not_finite`. The Wk-weighted values, VDV and crest
-        factor include the jump exactly (docs/model.md, "Road steps").
+        factor include the jump exactly (docs/model.md §5, road steps).
         """
         return dict(self.values)
 
@@ -191,8 +229,22 @@ class SimulationResult:
         q = self.model.parameters
         return q.tyre_stiffness * (self.states[:, 0] - self.road) / q.static_tyre_load
 
-    def to_pandas(self):
-        """Time series as a pandas DataFrame indexed by time [s] (SI units)."""
+    def series_units(self) -> dict:
+        """Unit of every column of :meth:`to_pandas` (and variable of :meth:`to_xarray`);
+        states of the slider-dynamics law by their name (``_pos`` m, ``_rate`` m/s)."""
+        units = dict(SERIES_UNITS)
+        for name in self.model.state_names:
+            if name not in units:
+                units[name] = "m/s" if name.endswith(("_vel", "_rate", "_velocity")) else "m"
+        return units
+
+    def to_pandas(self, *, units_in_names: bool = False):
+        """Time series as a pandas DataFrame indexed by time [s] (SI units).
+
+        ``units_in_names=True`` writes the unit into each column name
+        (``body_acc [m/s^2]``, ``tyre_grip [-]``, index ``time [s]``), as
+        ``inerterlab simulate --save`` does in its CSV files.
+        """
         import pandas as pd
 
         self._need_series()
@@ -211,6 +263,12 @@ class SimulationResult:
         )
         df = pd.DataFrame(data, index=pd.Index(self.time, name="time"))
         df.attrs.update(self.settings())
+        if units_in_names:
+            u = self.series_units()
+            df = df.rename(
+                columns=lambda c: f"{c} [{'-' if u[c] == '1' else u[c]}]" if c in u else c
+            )
+            df.index.name = "time [s]"
         return df
 
     def to_xarray(self):
@@ -219,20 +277,7 @@ class SimulationResult:
 
         df = self.to_pandas()
         ds = xr.Dataset.from_dataframe(df)
-        units = {
-            "road": "m",
-            "road_velocity": "m/s",
-            "body_acc": "m/s^2",
-            "body_acc_wk": "m/s^2",
-            "deflection": "m",
-            "tyre_force": "N",
-            "tyre_grip": "1",
-            "unsprung_disp": "m",
-            "sprung_disp": "m",
-            "unsprung_vel": "m/s",
-            "sprung_vel": "m/s",
-        }
-        for k, u in units.items():
+        for k, u in self.series_units().items():
             if k in ds:
                 ds[k].attrs["units"] = u
         ds["time"].attrs["units"] = "s"
@@ -519,7 +564,9 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     check_choice("output", output, OUTPUTS)
-    return check_positive("horizon", horizon, "s")
+    T = check_positive("horizon", horizon, "s")
+    excitation.check_horizon(T, stacklevel=3)
+    return T
 
 
 def simulate(
@@ -539,7 +586,7 @@ def simulate(
     excitation : Excitation
         :func:`~inerterlab.excitation.drop`, ``bump``, ``sine``, ``iso8608``, a road series.
     horizon : float
-        T [s], 10 s by default (SPEC §5).
+        T [s], 10 s by default (docs/model.md §5).
     options : SimulationOptions
         Backend, tolerance, sampling rate.
     output : {"series", "metrics"}
@@ -591,3 +638,13 @@ def simulate_metrics(
     T = _check_inputs(model, excitation, horizon, options, "metrics")
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, False)
     return _metrics(model, excitation, run, T)
+
+
+class _CallableModule(types.ModuleType):
+    """This module; calling it (``inerterlab.simulate(car, road, T)``) calls :func:`simulate`."""
+
+    def __call__(self, *args, **kwargs) -> SimulationResult:
+        return simulate(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

@@ -3,7 +3,7 @@
 A two-terminal device turns the relative terminal velocity v [m/s] into flywheel speed
 omega = r v [rad/s]; the equivalent mass is m_e = r^2 I ((3.12), (3.29)).
 
-Three ways a speed-dependent inertia can produce a force are offered (SPEC §2):
+Three ways a speed-dependent inertia can produce a force are offered (docs/model.md §2):
 
 ``thesis``
     F = r^2 I(r|v|) dv/dt, what the thesis integrates. It does not conserve energy:

@@ -47,12 +47,14 @@ def print_table(title: str, rows: list[tuple[str, str]]) -> None:
     """Readable two-column table on standard output."""
     from rich.console import Console
     from rich.table import Table
+    from rich.text import Text
 
-    t = Table(title=title)
+    # plain Text, not console markup: "[kg]" and "[m/s^2]" are units, not style tags
+    t = Table(title=Text(title))
     t.add_column("quantity")
     t.add_column("value", justify="right")
     for k, v in rows:
-        t.add_row(k, v)
+        t.add_row(Text(str(k)), Text(str(v)))
     Console().print(t)
 
 

@@ -153,21 +153,7 @@ def identify_command(
     if json_out:
         emit_json(out)
         return
-    rows = []
-    for name, p in fit.parameters.items():
-        rows.append(
-            (
-                f"{name} [{p.unit}]",
-                f"{p.value:.6g}  (95 %: {p.ci95[0]:.6g} .. {p.ci95[1]:.6g})"
-                + (" fixed" if p.fixed else ""),
-            )
-        )
-    v = fit.validation()
-    rows.append(
-        (f"RMS force error, {v['tests']} {v['purpose']} tests [N]", f"{v['rms_force_error']:.4g}")
-    )
-    rows.append(("NRMSE", f"{v['nrmse']:.4%}"))
-    rows.append(("noise estimate [N]", f"{fit.noise_estimate:.4g}"))
+    _, rows = fit._summary()
     print_table(f"identify: {device}, {method} method, {loss} loss", rows)
 
 

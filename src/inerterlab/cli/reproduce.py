@@ -22,8 +22,23 @@ def reproduce_command(
     quick: Annotated[
         bool, typer.Option("--quick", help="Reduced grids and horizons (seconds, for smoke tests).")
     ] = False,
-    workers: Annotated[int, typer.Option(min=1, help="Worker processes for sweeps.")] = 1,
+    workers: Annotated[
+        int | None,
+        typer.Option(
+            min=1,
+            help="Worker processes (default: the CPUs this process may use); 1 computes "
+            "everything in this process.",
+        ),
+    ] = None,
     json_out: Annotated[bool, typer.Option("--json", help="Print the manifest as JSON.")] = False,
+    progress_interval: Annotated[
+        float,
+        typer.Option(
+            min=0.1,
+            help="Seconds between progress lines on standard error when it is not a "
+            "terminal (on a terminal a live bar shows the running item and the time left).",
+        ),
+    ] = 10.0,
 ) -> None:
     """Regenerate every thesis table and figure beside the thesis's numbers.
 
@@ -33,28 +48,19 @@ def reproduce_command(
 
     Example: inerterlab reproduce --out reproduction
     """
-    from rich.progress import BarColumn, Progress, TextColumn, TimeElapsedColumn
-
     from ..report.build import _load_chapters, count_items, parse_table_selection, reproduce
     from ..report.registry import ReproduceSettings
     from ._common import emit_json
+    from ._progress import RunProgress
 
+    if workers is None:
+        from ..report.parallel import default_workers
+
+        workers = default_workers()
     settings = ReproduceSettings(quick=quick, workers=workers)
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables else None
     total = count_items(ids, ids is None)
-    with Progress(
-        TextColumn("[bold]reproduce"),
-        BarColumn(),
-        TextColumn("{task.completed}/{task.total}"),
-        TimeElapsedColumn(),
-        TextColumn("{task.description}"),
-        transient=True,
-    ) as bar:
-        task = bar.add_task("starting", total=total)
-
-        def step(msg: str) -> None:
-            bar.update(task, advance=1, description=msg)
-
+    with RunProgress(total, label="reproduce", interval=progress_interval) as bar:
         # first Ctrl-C: finish the current item, keep everything, stop; second: stop now.
         # Raising inside the handler could land in a native callback (numba compiling)
         # that swallows it, so the first one only sets a flag polled between items.
@@ -64,9 +70,7 @@ def reproduce_command(
             if stop["requested"]:
                 raise KeyboardInterrupt
             stop["requested"] = True
-            bar.console.print(
-                "[yellow]Ctrl-C: stopping after the current item (press again to stop now)"
-            )
+            bar.note("Ctrl-C: stopping after the current item (press again to stop now)")
 
         previous = signal.signal(signal.SIGINT, on_sigint)
         try:
@@ -74,7 +78,8 @@ def reproduce_command(
                 out,
                 settings=settings,
                 tables=tables,
-                progress=step,
+                progress=bar.done,
+                on_start=bar.start,
                 should_stop=lambda: stop["requested"],
             )
         finally:

@@ -2,13 +2,15 @@
 
 from __future__ import annotations
 
+import sys
+import warnings
 from pathlib import Path
 from typing import Annotated
 
 import typer
 
 from ..io import atomic_path
-from ..metrics import METRIC_KEYS
+from ..metrics import METRIC_KEYS, METRIC_UNITS
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 _CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
@@ -31,7 +33,7 @@ def _save_series(result, path: Path) -> None:
 
     suffix = path.suffix.lower()
     if suffix == ".csv":
-        df = result.to_pandas()
+        df = result.to_pandas(units_in_names=True)
         header = "".join(f"# {k}: {v}\n" for k, v in result.settings().items())
         atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
     elif suffix == ".nc":
@@ -49,7 +51,9 @@ def simulate_command(
     input_: Annotated[
         str,
         typer.Option(
-            "--input", help="drop, bump, sine, iso8608 or a CSV file (time s, displacement m)."
+            "--input",
+            help="drop, bump, sine, iso8608 or a road CSV file with units in its header "
+            "(time [s] or distance [m], displacement [m|mm|cm]).",
         ),
     ] = "sine",
     sprung_mass: Annotated[
@@ -83,7 +87,13 @@ def simulate_command(
     ] = 0.0,
     horizon: Annotated[float, typer.Option(help="Simulated time T [s].")] = 10.0,
     road_class: Annotated[str, typer.Option("--class", help="ISO 8608 road class A-H.")] = "C",
-    speed: Annotated[float, typer.Option(help="Vehicle speed on the ISO 8608 road [m/s].")] = 20.0,
+    speed: Annotated[
+        float | None,
+        typer.Option(
+            help="Vehicle speed [m/s] on the ISO 8608 road (default 20) or on a road file "
+            "given over distance."
+        ),
+    ] = None,
     seed: Annotated[int, typer.Option(help="Seed of the ISO 8608 road.")] = 0,
     lift_off: Annotated[
         bool, typer.Option("--lift-off", help="Let the tyre leave the road.")
@@ -100,7 +110,7 @@ def simulate_command(
 
     Example: inerterlab simulate --suspension afw --input sine --json
     """
-    from ..excitation import bump, drop, iso8608, read_road_csv, sine
+    from ..excitation import RoadTooShortWarning, bump, drop, iso8608, read_road_csv, sine
     from ..simulate import SimulationOptions, simulate
     from ..suspension import quarter_car
 
@@ -118,12 +128,21 @@ def simulate_command(
     elif input_ == "sine":
         ex = sine(amplitude, freq)
     elif input_ == "iso8608":
-        ex = iso8608(road_class, speed, seed=seed)
+        ex = iso8608(road_class, 20.0 if speed is None else speed, seed=seed)
     else:
-        ex = read_road_csv(input_)
+        ex = read_road_csv(input_, speed=speed)
     want_series = save is not None or plot is not None
     opts = SimulationOptions(backend=backend, rtol=rtol)
-    res = simulate(car, ex, horizon, options=opts, output="series" if want_series else "metrics")
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RoadTooShortWarning)
+        res = simulate(
+            car, ex, horizon, options=opts, output="series" if want_series else "metrics"
+        )
+    for w in caught:
+        if issubclass(w.category, RoadTooShortWarning):
+            print(f"inerterlab: warning: {w.message}", file=sys.stderr)
+        else:
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     m = res.metrics()
     if save is not None:
         _save_series(res, save)
@@ -143,14 +162,19 @@ def simulate_command(
             out["plot"] = str(plot)
         emit_json(out)
         return
+
+    def label(k: str) -> str:
+        unit = METRIC_UNITS.get(k, "")
+        return f"{k} [{'-' if unit == '1' else unit}]" if unit else k
+
     def _cell(v):
         if v is None:
             return "not finite"
         return str(v) if isinstance(v, bool) else f"{v:.6g}"
 
-    rows = [(k, _cell(m[k])) for k in _JSON_KEYS]
+    rows = [(label(k), _cell(m[k])) for k in _JSON_KEYS]
     rows += [
-        (f"body velocity jump at {t:g} s (m/s)", f"{dv:+.6g}") for t, dv in res.body_velocity_jumps
+        (f"body velocity jump at {t:g} s [m/s]", f"{dv:+.6g}") for t, dv in res.body_velocity_jumps
     ]
     print_table(f"{suspension} on {ex.name}, T = {horizon:g} s", rows)
     for k, why in res.not_finite.items():

@@ -214,9 +214,11 @@ def optimize_ratio_command(
         return
     rows = [
         (
-            "optimal changing ratio x (-)",
+            "optimal changing ratio x (-)"
+            + (f", at the {res.at_bound} bound" if res.at_bound else ""),
             f"{res.optimal_ratio:.4f} (thesis {THESIS_OPTIMUM[device]})",
         ),
+        ("search range (-)", f"{res.bounds[0]:g} .. {res.bounds[1]:g}"),
         ("lambda (4.38) (-)", f"{res.lam:.4f}"),
         ("performance f_p (4.33) (-)", f"{res.performance:.4f}"),
         ("cost f_c (4.34) (-)", f"{res.cost:.4f}"),
@@ -226,6 +228,8 @@ def optimize_ratio_command(
         rows.append((f"{name}: rms tyre grip index (-)", f"{m['rms_tyre_grip']:.4f}"))
         rows.append((f"{name}: rms deflection (m)", f"{m['rms_deflection']:.5f}"))
     print_table(f"optimal changing ratio, {device} device, {cost} cost", rows)
+    if res.at_bound:
+        print(f"note: {res.bound_note()}")
 
 
 def register(app: typer.Typer) -> None:

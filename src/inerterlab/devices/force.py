@@ -71,6 +71,58 @@ class DeviceForceResult:
         """work - stored - dissipated [J]: zero for energy-consistent laws."""
         return self.work - self.stored - self.dissipated
 
+    _UNITS = {
+        "force": "N",
+        "displacement": "m",
+        "velocity": "m/s",
+        "acceleration": "m/s^2",
+        "equivalent_mass": "kg",
+        "spring_deflection": "m",
+        "branch_velocity": "m/s",
+        "slider_position": "m",
+        "slider_rate": "m/s",
+        "flywheel_speed": "rad/s",
+        "work": "J",
+        "dissipated": "J",
+        "stored": "J",
+    }
+
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        from .._display import fmt, span
+
+        rows = [
+            ("samples", str(self.t.size)),
+            ("time", span(self.t[0], self.t[-1], "s")),
+            ("force", span(self.force.min(), self.force.max(), "N")),
+            ("force rms", fmt(float(np.sqrt(np.mean(self.force**2))), "N")),
+            ("equivalent mass", span(self.equivalent_mass.min(), self.equivalent_mass.max(), "kg")),
+            ("work done", fmt(self.work[-1], "J")),
+        ]
+        return "device force", rows
+
+    def __repr__(self) -> str:
+        _, rows = self._summary()
+        d = dict(rows)
+        return (
+            f"<DeviceForceResult {d['samples']} samples over {d['time']}: force {d['force']}, "
+            f"equivalent mass {d['equivalent mass']}>"
+        )
+
+    def _repr_html_(self) -> str:
+        from .._display import html_table
+
+        return html_table(*self._summary())
+
+    def to_xarray(self):
+        """Every series as an xarray Dataset over time, with units."""
+        import xarray as xr
+
+        data = {k: ("t", getattr(self, k), {"units": u}) for k, u in self._UNITS.items()}
+        data["freewheeling"] = ("t", self.freewheeling)
+        ds = xr.Dataset(data, coords={"t": ("t", self.t, {"units": "s"})})
+        ds.attrs["steps"] = int(self.steps)
+        return ds
+
     def to_pandas(self):
         """The time series as a pandas DataFrame (SI units in the column names)."""
         import pandas as pd

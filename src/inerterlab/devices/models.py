@@ -20,7 +20,7 @@ Three devices, each a frozen keyword-only dataclass (SI units):
 Coulomb friction sgn(v) is smoothed to tanh(v / v_eps) (``friction_velocity`` v_eps,
 default 1e-3 m/s). The friction force always has the sign of the velocity through
 the friction element (for the screw this is x', where (3.35) prints the sign of the
-displacement; see docs/errata.md).
+displacement; see inerterlab/data/errata.md).
 """
 
 from __future__ import annotations
@@ -80,7 +80,7 @@ class HydraulicDevice:
     transmission : Transmission
         r = A / h [rad/m] (default Table 3.2: 961.66).
     law : {"thesis", "momentum", "slider-dynamics"}
-        How the speed-dependent inertia makes a force (SPEC §2).
+        How the speed-dependent inertia makes a force (docs/model.md §2).
     friction_velocity : float
         v_eps [m/s] of the smoothed friction tanh(v / v_eps).
     slider_dynamics : SliderDynamics

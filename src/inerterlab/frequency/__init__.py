@@ -1,6 +1,6 @@
 """Steady-state frequency response: brute force, harmonic balance (AFT), continuation.
 
-See docs/guide/frequency.md. Thesis ch. 7; SPEC §7.
+See docs/guide/frequency.md. Thesis ch. 7; docs/model.md §7.
 """
 
 from .brute import SteadyState as SteadyState

@@ -1,6 +1,6 @@
 """``frequency_response``: steady-state amplitude against forcing frequency.
 
-One driver over five methods (SPEC §7, thesis ch. 7):
+One driver over five methods (docs/model.md §7, thesis ch. 7):
 
 ``brute``
     Time integration to a detected steady state at each frequency (see
@@ -197,6 +197,74 @@ class FrequencyResponse:
         df.attrs["method"] = self.method
         df.attrs["settings"] = dict(self.settings)
         return df
+
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        from .._display import fmt, span
+
+        ok = self.converged
+        rows = [
+            ("points", f"{len(self)} ({int(ok.sum())} converged)"),
+            ("frequency", span(self.freq_hz.min(), self.freq_hz.max(), "Hz") if len(self) else "-"),
+            ("harmonics", str(self.harmonics)),
+        ]
+        if ok.any():
+            a = self.amplitude_m.data[ok]
+            rows.append(("amplitude", span(a.min(), a.max(), "m")))
+            r = self.resonance()
+            rows.append(("peak", f"{fmt(r['amplitude_m'], 'm')} at {fmt(r['freq_hz'], 'Hz')}"))
+        dirs = sorted(set(str(d) for d in self.direction))
+        rows.append(("direction", ", ".join(dirs) if dirs else "-"))
+        return f"frequency response, {self.method}", rows
+
+    def __repr__(self) -> str:
+        _, rows = self._summary()
+        d = dict(rows)
+        text = f"{d['points'].replace(' (', ' points (', 1)}, {d['frequency']}, H={d['harmonics']}"
+        if "amplitude" in d:
+            text += f", amplitude {d['amplitude']}, peak {d['peak']}"
+        return f"<FrequencyResponse {self.method}: {text}>"
+
+    def _repr_html_(self) -> str:
+        from .._display import html_table
+
+        return html_table(*self._summary())
+
+    def to_xarray(self):
+        """An xarray Dataset over ``point`` (frequency and direction as coordinates),
+        with units; failed points are NaN in ``amplitude_m``."""
+        import xarray as xr
+
+        amp = np.ma.filled(self.amplitude_m.astype(float), np.nan)
+        stable = np.ma.filled(self.stable.astype(float), np.nan)
+        mult = np.ma.filled(self.max_multiplier.astype(float), np.nan)
+        ds = xr.Dataset(
+            {
+                "amplitude_m": ("point", amp, {"units": "m", "long_name": "half peak-to-peak"}),
+                "coefficients": (
+                    ("point", "dof", "coefficient"),
+                    self.coefficients,
+                    {"units": "m", "long_name": "a0, a1, b1, ..., aH, bH"},
+                ),
+                "residual": ("point", self.residual, {"units": "1"}),
+                "converged": ("point", self.converged),
+                "stable": ("point", stable, {"units": "1", "long_name": "1 stable, 0 unstable"}),
+                "max_multiplier": ("point", mult, {"units": "1"}),
+                "iterations": ("point", self.iterations),
+                "failure_reason": ("point", np.array(self.failure_reason, dtype=str)),
+            },
+            coords={
+                "freq_hz": ("point", self.freq_hz, {"units": "Hz"}),
+                "direction": ("point", self.direction.astype(str)),
+            },
+        )
+        ds.attrs["method"] = self.method
+        ds.attrs.update(
+            {
+                f"settings.{k}": (v if isinstance(v, int | float | str) else str(v))
+                for k, v in self.settings.items()
+            }
+        )
+        return ds
 
     def plot(self, ax=None, **kwargs):
         """Amplitude against frequency, both directions, unstable points marked."""

@@ -72,7 +72,7 @@ class DuffingOscillator(_KernelSystem):
     damping : float
         c [N s/m]. NLvib writes the damping coefficient as zeta directly
         (mu x'' + zeta x' + kappa x + gamma x^3 = P cos(Omega t)); its published
-        example values need c = zeta = 0.05 (see docs/errata.md).
+        example values need c = zeta = 0.05 (see inerterlab/data/errata.md).
     stiffness : float
         k [N/m].
     cubic_stiffness : float
@@ -103,7 +103,7 @@ class DuffingOscillator(_KernelSystem):
 
     @classmethod
     def nlvib_example(cls) -> DuffingOscillator:
-        """NLvib's first example: mu=1, zeta=0.05 (= c), kappa=1, gamma=0.1, P=0.18 (SPEC §10)."""
+        """NLvib's first example: mu=1, zeta=0.05 (= c), kappa=1, gamma=0.1, P=0.18 (docs/model.md §10)."""
         return cls(mass=1.0, damping=0.05, stiffness=1.0, cubic_stiffness=0.1, force=0.18)
 
     @property
@@ -146,7 +146,7 @@ class InerterSuspension(_KernelSystem):
     transmission : Transmission
         Terminal velocity to flywheel speed, w = r v (default hydraulic, r = 961.66 rad/m).
     force_law : {"thesis", "momentum"}
-        How the speed-dependent inertia produces force (SPEC §2).
+        How the speed-dependent inertia produces force (docs/model.md §2).
     """
 
     body_mass: float = 300.0

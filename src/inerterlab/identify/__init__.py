@@ -1,4 +1,4 @@
-"""Identification of device parameters from rig data (thesis ch. 5, SPEC §4)."""
+"""Identification of device parameters from rig data (thesis ch. 5, docs/model.md §4)."""
 
 from .data import RigDataSet as RigDataSet
 from .data import RigTest as RigTest

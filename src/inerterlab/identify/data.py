@@ -9,8 +9,8 @@ brackets, then one row per sample::
     0.000,0.0,0.0314,254.3
 
 ``time`` and ``force`` are required, ``displacement`` and/or ``velocity`` at least one.
-Accepted units: time s, ms; displacement m, mm; velocity m/s, mm/s; force N, kN. A
-header without units is accepted only when the units are passed to the loader
+Accepted units: time s, ms; displacement m, cm, mm; velocity m/s, cm/s, mm/s; force N,
+kN (written ``name [unit]``, ``name (unit)`` or ``name_unit``). A header without units is accepted only when the units are passed to the loader
 (``units={"force": "kN", ...}``); units that disagree with the header are an error.
 
 Manifest
@@ -29,24 +29,18 @@ from __future__ import annotations
 import csv
 import io
 import math
-import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from ..datafiles import read_columns
 from ..errors import DataFileError
 from ..io import atomic_write_text
 
 __all__ = ["RigTest", "RigDataSet", "load_rig_data", "read_rig_test", "write_rig_data"]
 
-_UNITS = {
-    "time": {"s": 1.0, "ms": 1e-3},
-    "displacement": {"m": 1.0, "mm": 1e-3},
-    "velocity": {"m/s": 1.0, "mm/s": 1e-3},
-    "force": {"n": 1.0, "kn": 1e3},
-}
 _SI = {"time": "s", "displacement": "m", "velocity": "m/s", "force": "N"}
 SIGNAL_TYPES = ("sine", "square", "triangle", "other")
 PURPOSES = ("identification", "validation")
@@ -103,123 +97,25 @@ class RigDataSet:
         ]
 
 
-_HEAD = re.compile(r"^\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\])?\s*$")
+_NAMES = {n: n for n in _SI}
 
 
 def read_rig_test(path, *, units: dict | None = None, meta: dict | None = None) -> RigTest:
-    """Read one test file (see the module docstring)."""
+    """Read one test file (see the module docstring; the reader is
+    :func:`inerterlab.datafiles.read_columns`, shared with road files)."""
     p = Path(path)
     meta = meta or {}
-    units = {k.lower(): v for k, v in (units or {}).items()}
-    try:
-        text = p.read_text()
-    except OSError as e:
-        raise DataFileError(p, f"cannot be read ({e.strerror or e})") from None
-    lines = text.splitlines()
-    hline = None
-    for i, ln in enumerate(lines):
-        if ln.strip() and not ln.lstrip().startswith("#"):
-            hline = i
-            break
-    if hline is None:
-        raise DataFileError(p, "empty file: no header and no data", 1)
-    names = []
-    scale = {}
-    for cell in next(csv.reader([lines[hline]])):
-        m = _HEAD.match(cell)
-        if not m:
-            raise DataFileError(p, f"cannot read column header {cell!r}", hline + 1)
-        name, unit = m.group(1).lower(), m.group(2)
-        if name not in _UNITS:
-            raise DataFileError(
-                p,
-                f"unknown column {name!r} (expected time, displacement, velocity, force)",
-                hline + 1,
-            )
-        flag = units.get(name)
-        if unit is None:
-            unit = flag
-        elif flag is not None and flag.lower() != unit.lower():
-            raise DataFileError(
-                p, f"column {name!r} is in [{unit}] but units={flag!r} was given", hline + 1
-            )
-        if unit is None:
-            raise DataFileError(
-                p,
-                f"column {name!r} has no unit; write '{name} [{_SI[name]}]' or pass units",
-                hline + 1,
-            )
-        if unit.lower() not in _UNITS[name]:
-            raise DataFileError(
-                p,
-                f"wrong unit [{unit}] for {name}; expected one of "
-                + ", ".join(_UNITS[name] if name != "force" else ("N", "kN")),
-                hline + 1,
-            )
-        names.append(name)
-        scale[name] = _UNITS[name][unit.lower()]
+    tab = read_columns(
+        p, _NAMES, units=units, increasing="time", min_rows=3, what="rig test"
+    )
+    names = list(tab.columns)
+    hl = (tab.header_line or 0) + 1
     for req in ("time", "force"):
         if req not in names:
-            raise DataFileError(p, f"missing column {req!r}", hline + 1)
+            raise DataFileError(p, f"missing column {req!r}", hl)
     if "displacement" not in names and "velocity" not in names:
-        raise DataFileError(p, "missing column: need displacement and/or velocity", hline + 1)
-    arr = _fast_parse(lines, hline, len(names))
-    if arr is not None:
-        rows = None
-        col = {n: arr[:, j] * scale[n] for j, n in enumerate(names)}
-        if arr.shape[0] >= 3 and np.all(np.diff(col["time"]) > 0):
-            return _make_test(p, meta, col)
-    rows = []
-    for i in range(hline + 1, len(lines)):
-        ln = lines[i]
-        if not ln.strip() or ln.lstrip().startswith("#"):
-            continue
-        cells = next(csv.reader(io.StringIO(ln)))
-        if len(cells) != len(names):
-            raise DataFileError(p, f"expected {len(names)} values, found {len(cells)}", i + 1)
-        vals = []
-        for name, c in zip(names, cells, strict=True):
-            try:
-                x = float(c)
-            except ValueError:
-                raise DataFileError(
-                    p, f"{name} value {c.strip()!r} is not a number", i + 1
-                ) from None
-            if not math.isfinite(x):
-                raise DataFileError(p, f"{name} value {c.strip()!r} is not finite", i + 1)
-            vals.append(x)
-        rows.append((i + 1, vals))
-    if len(rows) < 3:
-        raise DataFileError(p, f"empty file: {len(rows)} data rows (need at least 3)", hline + 1)
-    arr = np.array([r[1] for r in rows])
-    col = {n: arr[:, j] * scale[n] for j, n in enumerate(names)}
-    dt = np.diff(col["time"])
-    bad = np.nonzero(dt <= 0)[0]
-    if bad.size:
-        ln = rows[bad[0] + 1][0]
-        raise DataFileError(p, "time is not strictly increasing", ln)
-    return _make_test(p, meta, col)
-
-
-def _fast_parse(lines, hline, ncol):
-    """All data rows as floats, or None if anything needs the careful line-by-line pass."""
-    import pandas as pd
-
-    try:
-        df = pd.read_csv(
-            io.StringIO("\n".join(lines[hline + 1 :])),
-            header=None,
-            comment="#",
-            skip_blank_lines=True,
-            dtype=float,
-            engine="c",
-        )
-    except (ValueError, pd.errors.ParserError, pd.errors.EmptyDataError):
-        return None
-    arr = df.to_numpy()
-    if arr.ndim != 2 or arr.shape[1] != ncol or not np.all(np.isfinite(arr)):
-        return None
-    return arr
+        raise DataFileError(p, "missing column: need displacement and/or velocity", hl)
+    return _make_test(p, meta, tab.columns)
 
 
 def _make_test(p, meta, col):

@@ -90,6 +90,13 @@ class ParameterEstimate:
     ci95_bootstrap: tuple[float, float] | None = None
     interval: str = ""
 
+    def __str__(self) -> str:
+        """Value, unit and interval with enough digits to tell them apart."""
+        from .._display import distinct
+
+        v, lo, hi = distinct([self.value, *self.ci95], min_digits=6)
+        return f"{v} {self.unit} (95 %: {lo} .. {hi})" + (" fixed" if self.fixed else "")
+
 
 @dataclass(frozen=True, kw_only=True, eq=False)
 class TestValidation:
@@ -156,6 +163,64 @@ class FitResult:
     nfev: int = 0
     f_scale: float = 0.0
     reversal_window: float = 0.0
+
+    def _summary(self) -> tuple[str, list[tuple[str, str]]]:
+        from .._display import fmt
+
+        rows = []
+        for name, p in self.parameters.items():
+            rows.append((f"{name} [{p.unit}]", str(p).replace(f"{p.unit} ", "", 1)))
+        val = self.validation()
+        rows.append(
+            (
+                f"RMS force error, {val['tests']} {val['purpose']} tests",
+                fmt(val["rms_force_error"], "N"),
+            )
+        )
+        rows.append(("NRMSE", f"{val['nrmse']:.4%}"))
+        rows.append(("noise estimate", fmt(self.noise_estimate, "N")))
+        return f"identification, {self.method} method, {self.loss} loss", rows
+
+    def __repr__(self) -> str:
+        from .._display import distinct
+
+        parts = []
+        for name, p in self.parameters.items():
+            v, lo, hi = distinct([p.value, *p.ci95])
+            parts.append(f"{name}={v} {p.unit} [{lo}, {hi}]")
+        rms = self.validation()["rms_force_error"]
+        return (
+            f"<FitResult {self.method}/{self.loss}: {', '.join(parts)}; validation RMS {rms:.4g} N>"
+        )
+
+    def _repr_html_(self) -> str:
+        from .._display import html_table
+
+        return html_table(*self._summary())
+
+    def to_xarray(self):
+        """Parameters (value, interval, unit) and per-test errors as an xarray Dataset."""
+        import xarray as xr
+
+        names = list(self.parameters)
+        ps = list(self.parameters.values())
+        vf = self.validation_frame()
+        ds = xr.Dataset(
+            {
+                "value": ("parameter", [p.value for p in ps]),
+                "ci95_low": ("parameter", [p.ci95[0] for p in ps]),
+                "ci95_high": ("parameter", [p.ci95[1] for p in ps]),
+                "std_error": ("parameter", [p.std_error for p in ps]),
+                "fixed": ("parameter", [p.fixed for p in ps]),
+                "units": ("parameter", [p.unit for p in ps]),
+                "rms_force_error": ("test", vf["rms_force_error"].to_numpy(), {"units": "N"}),
+                "nrmse": ("test", vf["nrmse"].to_numpy(), {"units": "1"}),
+                "purpose": ("test", vf["purpose"].to_numpy().astype(str)),
+            },
+            coords={"parameter": names, "test": vf["test"].to_numpy().astype(str)},
+        )
+        ds.attrs.update(method=self.method, loss=self.loss, noise_estimate_N=self.noise_estimate)
+        return ds
 
     def validation(self) -> dict:
         """Pooled RMS [N] and NRMSE of the validation tests (identification if none)."""

@@ -128,6 +128,41 @@ def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
     return n + (len(figures) if include_figures else 0)
 
 
+def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSettings) -> dict:
+    """Compute one item and return its record (a failure is recorded, not raised)."""
+    t0 = time.perf_counter()
+    try:
+        res = fn(settings)
+        rec = {"kind": kind, "id": ident, "ok": True, "seconds": time.perf_counter() - t0}
+        if isinstance(res, TableResult):
+            rec.update(
+                title=res.title,
+                frame=res.frame,
+                claim=res.claim,
+                claim_holds=res.claim_holds,
+                reason=res.reason,
+                settings=res.settings,
+            )
+        elif isinstance(res, FigureResult):
+            rec.update(
+                title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
+            )
+        else:  # a chapter function returned something unexpected: record, do not guess
+            rec.update(ok=False, error=f"returned {type(res).__name__}")
+    except KeyboardInterrupt:
+        raise
+    except Exception as e:  # noqa: BLE001 - recorded as a failed item, run goes on
+        rec = {
+            "kind": kind,
+            "id": ident,
+            "ok": False,
+            "error": f"{type(e).__name__}: {e}",
+            "traceback": traceback.format_exc(),
+            "seconds": time.perf_counter() - t0,
+        }
+    return rec
+
+
 def run_items(
     settings: ReproduceSettings,
     table_ids: list[str] | None,
@@ -135,11 +170,14 @@ def run_items(
     work_dir: Path,
     progress: Callable[[str], None] | None = None,
     should_stop: Callable[[], bool] | None = None,
+    on_start: Callable[[str], None] | None = None,
 ) -> list[dict]:
     """Compute (or reuse from ``work_dir``) every selected item; returns item records.
 
     ``should_stop`` is polled before each item; when it returns True the run stops
     with ``KeyboardInterrupt``, every finished item being already in ``work_dir``.
+    ``on_start`` is called with the name of each item about to be computed,
+    ``progress`` with the name of each item done.
     """
     tables, figures = _load_chapters()
     chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
@@ -149,6 +187,14 @@ def run_items(
     work_dir.mkdir(parents=True, exist_ok=True)
     tag = _settings_hash(settings)
     records = []
+    pre: dict = {}
+    if settings.workers > 1:  # shared pieces and independent chapters in parallel first
+        from .parallel import run_parallel
+
+        todo = [
+            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()
+        ]
+        pre = run_parallel(settings, todo, settings.workers, note=on_start, done=progress)
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
@@ -159,40 +205,14 @@ def run_items(
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
-        t0 = time.perf_counter()
-        try:
-            res = fn(settings)
-            rec = {"kind": kind, "id": ident, "ok": True, "seconds": time.perf_counter() - t0}
-            if isinstance(res, TableResult):
-                rec.update(
-                    title=res.title,
-                    frame=res.frame,
-                    claim=res.claim,
-                    claim_holds=res.claim_holds,
-                    reason=res.reason,
-                    settings=res.settings,
-                )
-            elif isinstance(res, FigureResult):
-                rec.update(
-                    title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
-                )
-            else:  # a chapter function returned something unexpected: record, do not guess
-                rec.update(ok=False, error=f"returned {type(res).__name__}")
-        except KeyboardInterrupt:
-            raise
-        except Exception as e:  # noqa: BLE001 - recorded as a failed item, run goes on
-            rec = {
-                "kind": kind,
-                "id": ident,
-                "ok": False,
-                "error": f"{type(e).__name__}: {e}",
-                "traceback": traceback.format_exc(),
-                "seconds": time.perf_counter() - t0,
-            }
+        from_worker = (kind, ident) in pre  # computed (and reported) by run_parallel
+        if on_start and not from_worker:
+            on_start(f"{kind} {ident}")
+        rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
         if rec["ok"]:
             atomic_write_bytes(cache, pickle.dumps(rec))
         records.append(rec)
-        if progress:
+        if progress and not from_worker:
             progress(f"{kind} {ident}")
     return records
 
@@ -386,6 +406,15 @@ def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:
     return out
 
 
+def read_errata(path: str | os.PathLike | None = None) -> str:
+    """The errata text: ``path`` if given, else the copy shipped in the package."""
+    if path is not None:
+        return Path(path).read_text()
+    from importlib import resources
+
+    return resources.files("inerterlab.data").joinpath("errata.md").read_text()
+
+
 def reproduce(
     out: str | os.PathLike,
     *,
@@ -395,6 +424,7 @@ def reproduce(
     progress: Callable[[str], None] | None = None,
     errata_path: str | os.PathLike | None = None,
     should_stop: Callable[[], bool] | None = None,
+    on_start: Callable[[str], None] | None = None,
 ) -> dict:
     """Run the reproduction and write the report to ``out``; returns the manifest.
 
@@ -414,21 +444,10 @@ def reproduce(
     all_tables, _ = _load_chapters()
     ids = parse_table_selection(tables, list(all_tables)) if tables else None
     work = out.parent / f"{out.name}.work"
-    records = run_items(settings, ids, figures and ids is None, work, progress, should_stop)
-    errata = ""
-    candidates = [Path(errata_path)] if errata_path else []
-    candidates += [Path(__file__).resolve().parents[3] / "docs" / "errata.md"]
-    for c in candidates:
-        if c.is_file():
-            errata = c.read_text()
-            break
-    if not errata:
-        from importlib import resources
-
-        try:
-            errata = resources.files("inerterlab.data").joinpath("errata.md").read_text()
-        except (FileNotFoundError, ModuleNotFoundError):
-            errata = "(errata not found in this installation)"
+    records = run_items(
+        settings, ids, figures and ids is None, work, progress, should_stop, on_start
+    )
+    errata = read_errata(errata_path)
     files = render(records, settings, time.perf_counter() - t0, errata)
     write_report_atomically(out, files)
     shutil.rmtree(work, ignore_errors=True)

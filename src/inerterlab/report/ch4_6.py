@@ -22,6 +22,7 @@ import numpy as np
 from ..excitation import bump, drop, sine
 from ..simulate import SimulationOptions, simulate, simulate_metrics
 from ..suspension import quarter_car
+from ._memo import Memo, memo
 from .registry import FigureResult, ReproduceSettings, TableResult
 
 MASSES = tuple(range(340, 401, 10))
@@ -98,7 +99,7 @@ def _grid(quick: bool):
     return (QUICK_MASSES, QUICK_HORIZON) if quick else (MASSES, HORIZON)
 
 
-@functools.lru_cache(maxsize=64)
+@memo
 def _metrics(chapter: str, input_name: str, quick: bool) -> dict:
     masses, horizon = _grid(quick)
     ex = SMOOTHED_BUMP if input_name == "bump-smoothed" else INPUTS[input_name]
@@ -134,7 +135,7 @@ def _settings(chapter: str, input_name: str, quick: bool) -> dict:
             " and of systems A and B (their inertance sits behind the device's series spring);"
             " with an inerter straight between wheel and body (CFW, AFW) the body velocity jumps,"
             " the plain RMS acceleration is infinite, and the ISO 2631 Wk-weighted RMS is"
-            " compared instead (docs/model.md, 'Road steps')"
+            " compared instead (docs/model.md §5, road steps)"
             if input_name == "bump"
             else ""
         ),
@@ -350,3 +351,16 @@ TABLES = {f"{c}.{i}": _make_table(f"{c}.{i}") for c in ("4", "6") for i in range
 FIGURES = {_FIGURE_OF[t]: _make_figure(t) for t in TABLES}
 FIGURES["Fig. 4.T"] = _time_history("4")
 FIGURES["Fig. 6.T"] = _time_history("6")
+
+
+def prefetch(settings: ReproduceSettings, ids) -> list[tuple[Memo, tuple, float]]:
+    """The metric grids the items ``ids`` read: (memo, key, cost), for parallel runs."""
+    keys = {}
+    for i in ids:
+        table = i if i in TABLES else next((t for t, f in _FIGURE_OF.items() if f == i), None)
+        if table is None:
+            continue
+        chapter, num = table.split(".")
+        name = _INPUT_OF[(int(num) - 1) % 3 + 1]
+        keys[_metrics.key(chapter, name, settings.quick)] = 3.0 if chapter == "6" else 1.0
+    return [(_metrics, k, c) for k, c in keys.items()]

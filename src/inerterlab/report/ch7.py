@@ -13,6 +13,7 @@ from importlib import resources
 import numpy as np
 
 from ..frequency import chapter7_system, frequency_grid, frequency_response, nrmse
+from ._memo import Memo, memo
 from .registry import FigureResult, ReproduceSettings, TableResult
 
 AMPLITUDES_CM = (1, 2, 3, 5, 7, 10, 20)
@@ -64,8 +65,10 @@ def _amplitudes(quick: bool):
     return QUICK_AMPLITUDES_CM if quick else AMPLITUDES_CM
 
 
-@functools.lru_cache(maxsize=64)
+@memo
 def _curve(amp_cm: int, method: str, quick: bool, law: str = "thesis", preset: str = "metal"):
+    # no Hill stability: no table or figure of the report shows it, and its eigenvalues
+    # were most of the run time (the amplitudes do not depend on it)
     hb, br = _grids(quick)
     sys = chapter7_system(amp_cm / 100.0, preset=preset, law=law)
     if method == "brute":
@@ -73,8 +76,37 @@ def _curve(amp_cm: int, method: str, quick: bool, law: str = "thesis", preset: s
     h = {"shb": 1, "mhb": MHB_HARMONICS, "sihb": SIHB_HARMONICS}[method]
     direction = "both" if method == "sihb" else "up"
     return frequency_response(
-        sys, method, freq_hz=hb, harmonics=h, direction=direction, stability=method == "sihb"
+        sys, method, freq_hz=hb, harmonics=h, direction=direction, stability=False
     )
+
+
+#: rough relative cost of one curve (for scheduling the parallel reproduction)
+_CURVE_COST = {"brute": 15.0, "sihb": 1.5, "shb": 1.5, "mhb": 0.5}  # seconds, roughly
+_USES = {  # item -> (method, law, preset) of the curves it reads, for every amplitude
+    "7.1": [("sihb", "thesis", "metal"), ("sihb", "thesis-literal", "metal")],
+    "7.2": [("brute", "thesis", "metal"), ("shb", "thesis", "metal")],
+    "7.3": [("brute", "thesis", "metal"), ("mhb", "thesis", "metal"), ("sihb", "thesis", "metal")],
+    "7.4": [("brute", "thesis", "metal"), ("sihb", "thesis", "metal"), ("mhb", "thesis", "metal")],
+    "Fig. 7.2": [("shb", "thesis", "metal"), ("brute", "thesis", "metal")],
+    "Fig. 7.4": [("mhb", "thesis", "metal"), ("brute", "thesis", "metal")],
+    "Fig. 7.7": [("sihb", "thesis", "metal"), ("brute", "thesis", "metal")],
+}
+
+
+def prefetch(settings: ReproduceSettings, ids) -> list[tuple[Memo, tuple, float]]:
+    """The curves the items ``ids`` read: (memo, key, cost), for parallel computation."""
+    keys = {}
+    for i in ids:
+        for method, law, preset in _USES.get(i, ()):
+            for a in _amplitudes(settings.quick):
+                keys[_curve.key(a, method, settings.quick, law, preset)] = _CURVE_COST[method]
+        if i == "Fig. 7.9":
+            for a in (1, 20) if settings.quick else (1, 5, 10, 20):
+                for preset in ("metal", "none"):
+                    keys[_curve.key(a, "sihb", settings.quick, "thesis", preset)] = 1.5
+    # brute force costs more at small amplitudes (slower settling)
+    return [(_curve, k, c * (2.0 if k[1] == "brute" and k[0] <= 3 else 1.0))
+            for k, c in keys.items()]  # fmt: skip
 
 
 def table_7_1(settings: ReproduceSettings) -> TableResult:
@@ -283,7 +315,10 @@ def figure_convergence(settings: ReproduceSettings) -> FigureResult:
         r = frequency_response(sys, "mhb", freq_hz=grid, harmonics=h, stability=False)
         rows.append({"study": "harmonics", "harmonics": h, "n_samples": r.settings["n_samples"],
                      "nrmse": nrmse(r, ref)})  # fmt: skip
-    for n in (32, 64, 128, 256, 512):
+    # N from the smallest power of two free of aliasing for the cubic-order terms,
+    # (d+1)H+1 = 61 at H = 15: fewer samples alias (and frequency_response warns)
+    n_min = 4 * 15 + 1
+    for n in (m for m in (32, 64, 128, 256, 512) if m >= n_min):
         r = frequency_response(sys, "mhb", freq_hz=grid, harmonics=15, n_samples=n, stability=False)
         rows.append({"study": "samples", "harmonics": 15, "n_samples": n, "nrmse": nrmse(r, ref)})
     df = pd.DataFrame(rows)
@@ -303,8 +338,8 @@ def figure_convergence(settings: ReproduceSettings) -> FigureResult:
         title="Convergence of harmonic balance in H and in N (B = 3 cm, metal, thesis law)",
         figure=fig,
         data=df,
-        caption="The error falls with H until it meets the brute-force accuracy; N below "
-        "(d+1)H+1 aliases the nonlinear terms (a warning is issued).",
+        caption="The error falls with H until it meets the brute-force accuracy; N starts at "
+        "the first power of two above (d+1)H+1 = 61, below which the nonlinear terms alias.",
     )
 
 

@@ -207,8 +207,9 @@ def _ratio_table(device: str, inp: str):
             "grip index falls, and the deflection hardly changes.",
             claim_holds=bool(holds),
             reason=f"Ours: acceleration {_trend(acc)}, grip index {_trend(grip)}, deflection "
-            f"spread {100 * defl_spread:.1f} % of its mean.{acc_note} Absolute values differ: the thesis "
-            "code does not adapt its flywheel and leaves horizon and pulse shape unstated (SPEC §8).",
+            f"spread {100 * defl_spread:.1f} % of its mean.{acc_note} Absolute values differ: the "
+            "thesis code does not adapt its flywheel and leaves horizon and pulse shape unstated "
+            "(docs/model.md §8).",
             settings=_study_settings(settings, device),
         )
 

@@ -10,7 +10,7 @@ workers.
 Two point functions are registered:
 
 ``quarter-car``
-    The quarter-car simulator (SPEC §5): builds the suspension from the parameters,
+    The quarter-car simulator (docs/model.md §5): builds the suspension from the parameters,
     simulates the input and returns its metrics.
 ``synthetic``
     A cheap closed-form stand-in with the same metric names and trends similar to the

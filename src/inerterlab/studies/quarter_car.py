@@ -80,7 +80,7 @@ QUARTER_CAR = register_point_function(
             "suspension": ParameterSpec(
                 kind="choice",
                 choices=("traditional", "cfw", "afw", "device", "device-afw"),
-                doc="suspension layout (SPEC §5)",
+                doc="suspension layout (docs/model.md §5)",
             ),
             "input": ParameterSpec(
                 kind="choice", choices=("drop", "bump", "sine", "iso8608"), doc="road input"

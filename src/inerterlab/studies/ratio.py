@@ -285,12 +285,76 @@ class RatioOptimum:
     cost_function: str
     goal: GoalProgrammingResult
     settings: dict = field(default_factory=dict)
+    bounds: tuple[float, float] = RATIO_BOUNDS
+
+    @property
+    def at_bound(self) -> str | None:
+        """``"lower"`` or ``"upper"`` if the optimum sits on that end of the search
+        range (within 1e-6 of its width), else None: the range, not the trade-off,
+        then decides the answer."""
+        lo, hi = self.bounds
+        tol = 1e-6 * (hi - lo)
+        if self.optimal_ratio <= lo + tol:
+            return "lower"
+        if self.optimal_ratio >= hi - tol:
+            return "upper"
+        return None
+
+    def bound_note(self) -> str:
+        """One sentence on the optimum's position in the search range ("" if inside)."""
+        side = self.at_bound
+        if side is None:
+            return ""
+        value = self.bounds[0 if side == "lower" else 1]
+        return (
+            f"the optimum is at the {side} bound of the search range "
+            f"{self.bounds[0]:g}-{self.bounds[1]:g} (x = {value:g}): the compromise lies at "
+            f"the edge of the range searched, and a wider range could move it"
+        )
+
+    def __repr__(self) -> str:
+        where = f", at the {self.at_bound} bound" if self.at_bound else ""
+        return (
+            f"<RatioOptimum x={self.optimal_ratio:.4g}{where} (range {self.bounds[0]:g}-"
+            f"{self.bounds[1]:g}), lambda={self.lam:.4g}, performance={self.performance:.4g}, "
+            f"cost={self.cost:.4g} ({self.cost_function})>"
+        )
+
+    def to_xarray(self):
+        """Metrics at the optimum and of the traditional suspension, by input and metric."""
+        import xarray as xr
+
+        from ..metrics import METRIC_UNITS
+
+        inputs = list(self.metrics)
+        names = sorted({k for v in self.metrics.values() for k in v})
+        at = [[self.metrics[i].get(k, np.nan) for k in names] for i in inputs]
+        base = [[self.baseline.get(i, {}).get(k, np.nan) for k in names] for i in inputs]
+        ds = xr.Dataset(
+            {
+                "optimum": (("input", "metric"), np.asarray(at, dtype=float)),
+                "baseline": (("input", "metric"), np.asarray(base, dtype=float)),
+                "units": ("metric", [METRIC_UNITS.get(k, "") for k in names]),
+            },
+            coords={"input": inputs, "metric": names},
+        )
+        ds.attrs.update(
+            optimal_ratio=self.optimal_ratio,
+            at_bound=self.at_bound or "none",
+            lam=self.lam,
+            performance=self.performance,
+            cost=self.cost,
+            cost_function=self.cost_function,
+        )
+        return ds
 
     def to_dict(self) -> dict:
         """JSON-ready summary (the ``optimize-ratio --json`` output)."""
         g = self.goal
         return {
             "optimal_ratio": self.optimal_ratio,
+            "at_bound": self.at_bound,
+            "search_range": list(self.bounds),
             "lambda": self.lam,
             "performance": self.performance,
             "cost": self.cost,
@@ -365,6 +429,7 @@ def optimize_ratio(
         cost_function=cost,
         goal=goal,
         settings=dict(settings or {}),
+        bounds=(float(bounds[0]), float(bounds[1])),
     )
 
 

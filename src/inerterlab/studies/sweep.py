@@ -427,12 +427,20 @@ def sweep(
 def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend=""):
     import xarray as xr
 
+    from ..metrics import METRIC_UNITS
+
     shape = spec.shape
-    coords = {name: np.asarray(v) for name, v in spec.parameters}
+    pspecs = spec.point_function.parameters
+    coords = {}
+    for name, v in spec.parameters:
+        unit = getattr(pspecs.get(name), "unit", "")
+        coords[name] = (name, np.asarray(v), {"units": unit} if unit else {})
     data = {}
     metrics = spec.point_function.metrics
     for j, name in enumerate(metrics):
-        data[name] = (spec.dims, vals[:, j].reshape(shape))
+        unit = METRIC_UNITS.get(name)
+        attrs = {"units": unit} if unit else {}
+        data[name] = (spec.dims, vals[:, j].reshape(shape), attrs)
     data["status"] = (
         spec.dims,
         np.asarray(stat, dtype=np.int8).reshape(shape),

@@ -1,4 +1,4 @@
-"""Quarter-car models built from a device (thesis ch. 4 and 6, SPEC §5)."""
+"""Quarter-car models built from a device (thesis ch. 4 and 6, docs/model.md §5)."""
 
 from .linear import LinearQuarterCar as LinearQuarterCar
 from .linear import linear_quarter_car as linear_quarter_car

@@ -1,6 +1,6 @@
 """Quarter-car models: which suspension, which device, which inertia law.
 
-States (SPEC §5): the road X1 is an input; X2 is the unsprung mass, X3 the sprung
+States (docs/model.md §5): the road X1 is an input; X2 is the unsprung mass, X3 the sprung
 mass, both measured from static equilibrium (gravity only enters the tyre grip index
 and the lift-off test). Every model carries the core states ``[X2, V2, X3, V3]``
 followed by the states of its device:
@@ -28,7 +28,7 @@ Forces (suspension deflection z = X3 - X2, its rate v = V3 - V2):
   F_d = k_h x_k = m_e(u) u' + b_ah u + F_fh tanh(u / v_eps) with u = v - x_k' the
   velocity through the branch ((6.1), (6.2); system A has no inertance). The thesis
   writes the friction of (6.1) with sgn(X3 - X2) and drops the sign in (6.2); both
-  use the sign of the branch velocity u here (SPEC §5);
+  use the sign of the branch velocity u here (docs/model.md §5);
 * tyre, F_t = K_t (X2 - X1) + C_t (V2 - X1'). With ``tyre_lift_off=True`` the tyre
   cannot pull: F_t is capped at the static load (M + M_t) g, where the contact force
   reaches zero.
@@ -115,7 +115,7 @@ N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw
 
 @dataclass(frozen=True, kw_only=True)
 class QuarterCar:
-    """A quarter car with one of the suspensions of SPEC §5.
+    """A quarter car with one of the suspensions of docs/model.md §5.
 
     Build it with :func:`quarter_car`; derive variants with ``dataclasses.replace``.
 
@@ -130,7 +130,7 @@ class QuarterCar:
     transmission : Transmission or None
         Linear-to-rotary ratio r [rad/m] of the device (hydraulic, 961.66 rad/m).
     law : {"thesis", "momentum", "slider-dynamics"}
-        How the speed-dependent inertia makes a force (SPEC §2). Irrelevant for
+        How the speed-dependent inertia makes a force (docs/model.md §2). Irrelevant for
         ``traditional``, ``cfw`` and ``device``.
     device : HydraulicDeviceParameters or None
         Needed by ``device`` and ``device-afw``.
@@ -341,7 +341,7 @@ def quarter_car(
     tyre_lift_off: bool = False,
     parameters: QuarterCarParameters | None = None,
 ) -> QuarterCar:
-    """Build a thesis quarter car (SPEC §5, base values (4.16)).
+    """Build a thesis quarter car (docs/model.md §5, base values (4.16)).
 
     Parameters
     ----------
@@ -358,9 +358,9 @@ def quarter_car(
     flywheel_law : str
         Inertia law of a preset (``published``, ``geometry``, ``thesis-literal``).
     changing_ratio : float, optional
-        Use the variant with this changing ratio x in (0, 1) (SPEC §1).
+        Use the variant with this changing ratio x in (0, 1) (docs/model.md §1).
     law : {"thesis", "momentum", "slider-dynamics"}
-        Force law of a speed-dependent inertia (SPEC §2); ``thesis`` by default.
+        Force law of a speed-dependent inertia (docs/model.md §2); ``thesis`` by default.
     inertia : float, optional
         ``cfw`` only: the constant inertia [kg m^2], default 2.231e-4 (ch. 4.2.1).
     inertance : float, optional

@@ -1,7 +1,7 @@
 """Parameter sets of the quarter car and of the real hydraulic device.
 
 Base values are the thesis's (4.16); the device values are the identified hydraulic
-parameters of ch. 5 used in ch. 6 (SPEC §3).
+parameters of ch. 5 used in ch. 6 (docs/model.md §3).
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Figure of a quarter-car simulation (matplotlib imported only when called)."""
+"""Figure of a quarter-car simulation (matplotlib imported only when called; no backend
+is chosen: see :mod:`inerterlab.plotting`)."""
 
 from __future__ import annotations
 
@@ -13,15 +14,12 @@ def plot_simulation(result, *, title: str | None = None):
     title : str, optional
         Figure title; by default the suspension and input.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    from ..plotting import subplots
 
     t = result.time
     if t is None:
         result._need_series()
-    fig, axes = plt.subplots(3, 1, figsize=(9, 7.5), sharex=True)
+    fig, axes = subplots(3, 1, figsize=(9, 7.5), sharex=True)
     axes[0].plot(t, result.body_acc, lw=0.8, label="a3")
     axes[0].plot(t, result.body_acc_wk, lw=0.8, label="Wk-weighted")
     axes[0].set_ylabel("body acceleration [m/s$^2$]")

@@ -1,0 +1,189 @@
+"""Parallel reproduction: independent work in worker processes.
+
+The report's items share expensive computations through memos (a brute-force curve is
+read by three tables and a figure; one identification by a table and a figure). Run
+item by item in parallel, they would each redo them, so the work is cut in two kinds of
+task for one pool of worker processes:
+
+1. *pieces*: the shared computations of the items to compute (brute-force and
+   harmonic-balance curves, identifications, metric grids; each chapter module's
+   ``prefetch``), longest first;
+2. *item groups*: a chapter's items, split into one group per worker, sent once every
+   piece of that chapter is done, together with the chapter's memo entries. Chapters
+   without pieces (design studies, chapter 3) are sent at once.
+
+Every piece and item is computed by the same function with the same arguments as in a
+serial run, so the numbers do not change (tests/test_reproduce_parallel.py compares
+them); only the order of the work does.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import importlib
+import multiprocessing
+import os
+from collections.abc import Callable
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+
+from ._memo import Memo
+from .registry import ReproduceSettings
+
+#: rough cost of one item of a chapter (after its pieces), for ordering the work
+ITEM_COST = {
+    "inerterlab.report.studies": 4.0,
+    "inerterlab.report.ch3": 1.0,
+    "inerterlab.report.ch4_6": 0.5,
+    "inerterlab.report.ch5": 0.5,
+    "inerterlab.report.ch7": 0.5,
+}
+#: chapters whose items share caches that are not memos: computed in one group
+ONE_GROUP = {"inerterlab.report.studies"}
+#: environment of the workers: one thread each, the processes are the parallelism
+_THREAD_ENV = {
+    "OMP_NUM_THREADS": "1",
+    "OPENBLAS_NUM_THREADS": "1",
+    "MKL_NUM_THREADS": "1",
+    "NUMBA_NUM_THREADS": "1",
+}
+
+
+def default_workers() -> int:
+    """Processes for a parallel reproduction: the CPUs this process may use."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except (AttributeError, OSError):  # pragma: no cover - not Linux
+        return max(1, os.cpu_count() or 1)
+
+
+def _memos(module) -> dict[str, Memo]:
+    return {k: v for k, v in vars(module).items() if isinstance(v, Memo)}
+
+
+def _piece(module: str, memo_name: str, key: tuple):
+    """Worker: one memo entry."""
+    return getattr(importlib.import_module(module), memo_name).fn(*key)
+
+
+def _items(module: str, items: list, settings: ReproduceSettings, seeds: dict) -> list[dict]:
+    """Worker: whole items, with the chapter's memo entries put in first."""
+    from .build import _load_chapters, compute_item
+
+    mod = importlib.import_module(module)
+    for name, entries in seeds.items():
+        memo = getattr(mod, name)
+        for key, value in entries.items():
+            memo.put(key, value)
+    tables, figures = _load_chapters()
+    out = []
+    for kind, ident in items:
+        fn = (tables if kind == "table" else figures)[ident]
+        out.append(compute_item(kind, ident, fn, settings))
+    return out
+
+
+def run_parallel(
+    settings: ReproduceSettings,
+    items: list[tuple[str, str, Callable]],
+    workers: int,
+    *,
+    note: Callable[[str], None] | None = None,
+    done: Callable[[str], None] | None = None,
+) -> dict[tuple[str, str], dict]:
+    """Compute ``items`` (kind, id, function) in ``workers`` processes.
+
+    Returns the records keyed by (kind, id), as :func:`~inerterlab.report.build.
+    compute_item` makes them. ``note`` receives what is running, ``done`` the name of
+    each finished item.
+    """
+    by_module: dict[str, list[tuple[str, str]]] = {}
+    for kind, ident, fn in items:
+        by_module.setdefault(fn.__module__, []).append((kind, ident))
+    inner = dataclasses.replace(settings, workers=1)  # no process pools inside workers
+    pieces = []  # (cost, module, memo name, key)
+    waiting: dict[str, int] = {}  # module -> pieces still to come
+    for name, its in by_module.items():
+        mod = importlib.import_module(name)
+        prefetch = getattr(mod, "prefetch", None)
+        names = {id(m): n for n, m in _memos(mod).items()}
+        for memo, key, cost in prefetch(settings, [i for _, i in its]) if prefetch else ():
+            full = memo.key(*key)
+            if full not in memo.cache:
+                pieces.append((cost, name, names[id(memo)], full))
+        waiting[name] = sum(1 for p in pieces if p[1] == name)
+    records: dict[tuple[str, str], dict] = {}
+    ctx = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    pending: dict = {}
+
+    def submit_items(module: str) -> None:
+        its = by_module[module]
+        mod = importlib.import_module(module)
+        seeds = {n: dict(m.cache) for n, m in _memos(mod).items() if m.cache}
+        n = 1 if module in ONE_GROUP else min(workers, len(its))
+        chunks = [its[i::n] for i in range(n)]
+        for chunk in chunks:
+            fut = pool.submit(_items, module, chunk, inner, seeds)
+            pending[fut] = ("items", module, chunk)
+
+    def describe() -> str:
+        running = [v for v in pending.values()][:workers]
+        text = []
+        for kind, module, what in running:
+            short = module.rsplit(".", 1)[-1]
+            text.append(f"{short} {what[2]}" if kind == "piece" else f"{short} {len(what)} items")
+        return f"{len(pending)} tasks in {workers} processes: " + "; ".join(text)
+
+    # the workers start on demand and read these when they start; the parent has loaded
+    # its libraries already, so it keeps its own settings
+    saved = {k: os.environ.get(k) for k in _THREAD_ENV}
+    os.environ.update(_THREAD_ENV)
+    try:
+        _run(pool, by_module, waiting, pieces, submit_items, pending, records, describe,
+             note, done)  # fmt: skip
+    finally:
+        _restore(saved)
+    return records
+
+
+def _run(pool, by_module, waiting, pieces, submit_items, pending, records, describe, note, done):
+    with pool:
+        # chapters without pieces first (they take long), then the pieces, longest first
+        for name in sorted(by_module, key=lambda m: -ITEM_COST.get(m, 1.0) * len(by_module[m])):
+            if waiting[name] == 0:
+                submit_items(name)
+        for _cost, name, memo_name, key in sorted(pieces, key=lambda p: -p[0]):
+            fut = pool.submit(_piece, name, memo_name, key)
+            pending[fut] = ("piece", name, (memo_name, key, f"{memo_name}{key}"))
+        if note and pending:
+            note(describe())
+        while pending:
+            finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+            for fut in finished:
+                kind, module, what = pending.pop(fut)
+                try:
+                    result = fut.result()
+                except Exception:  # noqa: BLE001 - the caller recomputes and records it
+                    result = None
+                if kind == "items":
+                    for rec in result or ():
+                        records[(rec["kind"], rec["id"])] = rec
+                        if done:
+                            done(f"{rec['kind']} {rec['id']}")
+                    continue
+                memo_name, key, _ = what
+                if result is not None:
+                    getattr(importlib.import_module(module), memo_name).put(key, result)
+                waiting[module] -= 1
+                if waiting[module] == 0:
+                    submit_items(module)
+            if note and pending:
+                note(describe())
+
+
+def _restore(saved: dict) -> None:
+    for k, v in saved.items():
+        if v is None:
+            os.environ.pop(k, None)
+        else:
+            os.environ[k] = v
