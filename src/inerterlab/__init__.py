@@ -47,7 +47,6 @@ import importlib
 
 # first: the compiled kernels' disk cache is keyed on every source file of the package
 from . import _numba_cache as _numba_cache  # noqa: I001
-
 from .errors import ConvergenceError as ConvergenceError
 from .errors import DataFileError as DataFileError
 from .errors import InerterlabError as InerterlabError
