@@ -1,23 +1,97 @@
-"""Atomic file output: write beside the target, then rename over it.
+"""File output: atomic for regular files, streamed for devices, FIFOs and ``-``.
 
-A reader never sees a half-written file, and a failure leaves the previous file (if
-any) untouched and no temporary file behind.
+A regular file is written beside the target and renamed over it: a reader never sees
+a half-written file, and a failure leaves the previous file (if any) untouched and no
+temporary file behind. The new file gets the mode a plain ``open`` would give it (the
+umask applied to 0666) or keeps the mode of the file it replaces.
+
+What is not a regular file is never replaced:
+
+* ``-`` writes to standard output;
+* a character device (``/dev/null``, a terminal), a FIFO or a socket-like special file
+  that already exists is opened and written in place;
+* a symbolic link is followed: the file it points to is written (atomically if it is a
+  regular file) and the link itself stays;
+* a directory is refused with a :class:`~inerterlab.errors.ParameterError`.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
+import stat
+import sys
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text"]
+__all__ = [
+    "atomic_path",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "current_umask",
+    "output_target",
+]
+
+
+def current_umask() -> int:
+    """The process umask, read without changing it where the system allows."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)  # pragma: no cover - systems without /proc
+    os.umask(mask)  # pragma: no cover
+    return mask  # pragma: no cover
+
+
+def output_target(
+    path: str | os.PathLike, option: str = "output", follow_links: bool = True
+) -> tuple[str, Path | None]:
+    """Classify an output path: ``("stdout", None)``, ``("stream", p)`` or ``("file", p)``.
+
+    ``p`` is the path to write with links followed (``follow_links=False``, for the
+    package's own working files, replaces a link instead). Raises ``ParameterError``
+    naming ``option`` for an empty path or a directory.
+    """
+    from .errors import ParameterError
+
+    text = os.fspath(path)
+    if not follow_links:
+        return "file", Path(os.path.abspath(text))
+    if text == "-":
+        return "stdout", None
+    if not str(text).strip():
+        raise ParameterError(option, text, "a file path (it is empty)")
+    p = Path(os.path.realpath(text))
+    try:
+        st = os.stat(p)
+    except FileNotFoundError:
+        return "file", p
+    except OSError as e:
+        raise ParameterError(option, text, f"a usable file path ({e.strerror})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise ParameterError(option, text, "a file path; it is a directory")
+    if stat.S_ISREG(st.st_mode):
+        return "file", p
+    return "stream", p
 
 
 @contextmanager
-def atomic_path(path: str | os.PathLike, suffix: str = ".tmp") -> Iterator[str]:
-    """Yield a temporary path beside ``path``; on success rename it onto ``path``.
+def atomic_path(
+    path: str | os.PathLike,
+    suffix: str = ".tmp",
+    option: str = "output",
+    follow_links: bool = True,
+) -> Iterator[str]:
+    """Yield a temporary path; on success its content goes to ``path``.
+
+    For a regular (or new) file the temporary file sits beside the target and is
+    renamed onto it; for ``-`` and special files it is copied into them and removed.
 
     Examples
     --------
@@ -28,28 +102,49 @@ def atomic_path(path: str | os.PathLike, suffix: str = ".tmp") -> Iterator[str]:
     >>> (d / "a.txt").read_text(), sorted(p.name for p in d.iterdir())
     ('done', ['a.txt'])
     """
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=suffix)
+    kind, p = output_target(path, option, follow_links)
+    if kind == "file":
+        p.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=suffix)
+    else:
+        fd, tmp = tempfile.mkstemp(prefix=".inerterlab-out.", suffix=suffix)
     os.close(fd)
     try:
         yield tmp
-        os.replace(tmp, p)
+        if kind == "file":
+            try:
+                mode = stat.S_IMODE(os.stat(p).st_mode)
+            except FileNotFoundError:
+                mode = 0o666 & ~current_umask()
+            os.chmod(tmp, mode)
+            os.replace(tmp, p)
+        else:
+            with open(tmp, "rb") as src:
+                if kind == "stdout":
+                    sys.stdout.flush()
+                    shutil.copyfileobj(src, sys.stdout.buffer)
+                    sys.stdout.buffer.flush()
+                else:
+                    with open(p, "wb") as dst:
+                        shutil.copyfileobj(src, dst)
+            os.unlink(tmp)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
 
 
-def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically."""
-    with atomic_path(path) as tmp:
+def atomic_write_bytes(
+    path: str | os.PathLike, data: bytes, option: str = "output", follow_links: bool = True
+) -> Path:
+    """Write ``data`` to ``path`` (atomically for a regular file)."""
+    with atomic_path(path, option=option, follow_links=follow_links) as tmp:
         Path(tmp).write_bytes(data)
     return Path(path)
 
 
-def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically."""
-    with atomic_path(path) as tmp:
+def atomic_write_text(path: str | os.PathLike, text: str, option: str = "output") -> Path:
+    """Write ``text`` to ``path`` (atomically for a regular file)."""
+    with atomic_path(path, option=option) as tmp:
         Path(tmp).write_text(text)
     return Path(path)

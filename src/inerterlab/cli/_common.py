@@ -35,10 +35,15 @@ def emit_json(obj: Any) -> None:
     sys.stdout.write(json.dumps(_clean(obj), allow_nan=False) + "\n")
 
 
-def atomic_savefig(fig: Any, path: str | os.PathLike) -> Path:
-    """Save a matplotlib figure atomically (format from the suffix)."""
-    suffix = Path(path).suffix.lstrip(".") or "png"
-    with atomic_path(path, suffix="." + suffix) as tmp:
+def atomic_savefig(fig: Any, path: str | os.PathLike, option: str = "--plot") -> Path:
+    """Save a matplotlib figure atomically (format from the suffix, PNG without one)."""
+    suffix = Path(path).suffix.lstrip(".").lower() or "png"
+    formats = fig.canvas.get_supported_filetypes()
+    if suffix not in formats:
+        raise ParameterError(
+            option, str(path), "a figure file ending in ." + ", .".join(sorted(formats))
+        )
+    with atomic_path(path, suffix="." + suffix, option=option) as tmp:
         fig.savefig(tmp, format=suffix, dpi=120, bbox_inches="tight")
     return Path(path)
 

@@ -40,7 +40,7 @@ def reproduce_command(
     from ._common import emit_json
 
     settings = ReproduceSettings(quick=quick, workers=workers)
-    ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables else None
+    ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
     total = count_items(ids, ids is None)
     with Progress(
         TextColumn("[bold]reproduce"),

@@ -33,10 +33,10 @@ def _save_series(result, path: Path) -> None:
     if suffix == ".csv":
         df = result.to_pandas()
         header = "".join(f"# {k}: {v}\n" for k, v in result.settings().items())
-        atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
+        atomic_write_text(path, header + df.to_csv(float_format="%.10g"), option="--save")
     elif suffix == ".nc":
         ds = result.to_xarray()
-        with atomic_path(path, suffix=".nc") as tmp:
+        with atomic_path(path, suffix=".nc", option="--save") as tmp:
             ds.to_netcdf(tmp, engine="scipy")  # netCDF3 via scipy: no HDF5 library needed
     else:
         raise ParameterError("save", str(path), "a file name ending in .csv or .nc")
