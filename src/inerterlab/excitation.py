@@ -354,9 +354,9 @@ class ISO8608Road(Excitation):
         if s > 0.05:
             raise ParameterError("spatial_step", self.spatial_step, "a step in (0, 0.05] m")
         if self.seed is not None and (
-            not isinstance(self.seed, int) or isinstance(self.seed, bool)
+            not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0
         ):
-            raise ParameterError("seed", self.seed, "an integer or None")
+            raise ParameterError("seed", self.seed, "an integer >= 0 or None")
 
     def profile(self, horizon: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(distance [m], elevation [m]) of the generated road."""

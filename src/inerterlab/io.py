@@ -27,6 +27,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = [
+    "replace_directory",
     "atomic_path",
     "atomic_write_bytes",
     "atomic_write_text",
@@ -148,3 +149,53 @@ def atomic_write_text(path: str | os.PathLike, text: str, option: str = "output"
     with atomic_path(path, option=option) as tmp:
         Path(tmp).write_text(text)
     return Path(path)
+
+
+def clean_stale_siblings(target: Path) -> list[Path]:
+    """Remove ``.<name>.new-*`` / ``.<name>.old-*`` folders an interrupted
+    :func:`replace_directory` left beside ``target``."""
+    import re
+
+    target = Path(target)
+    pat = re.compile(re.escape(f".{target.name}.") + r"(new-[A-Za-z0-9_]+|old-\d+)")
+    removed = []
+    if target.parent.is_dir():
+        for p in target.parent.iterdir():
+            if pat.fullmatch(p.name) and p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+    return removed
+
+
+def replace_directory(target: str | os.PathLike, files: dict[str, bytes | str]) -> Path:
+    """Write ``files`` ({relative path: content}) as a new directory that replaces ``target``.
+
+    The new directory is filled beside ``target`` and swapped in with two renames, so a
+    crash or a full disk leaves either the old directory or the new one, never a mix.
+    The caller decides beforehand that whatever is at ``target`` may be replaced.
+    Leftovers of an interrupted earlier call are removed first.
+    """
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    clean_stale_siblings(target)
+    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.new-"))
+    try:
+        os.chmod(tmp, 0o777 & ~current_umask())
+        for rel, data in files.items():
+            p = tmp / rel
+            p.parent.mkdir(parents=True, exist_ok=True)
+            with open(p, "wb") as fh:
+                fh.write(data.encode() if isinstance(data, str) else data)
+                fh.flush()
+                os.fsync(fh.fileno())
+        old = None
+        if target.exists():
+            old = target.parent / f".{target.name}.old-{os.getpid()}"
+            os.replace(target, old)
+        os.replace(tmp, target)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target

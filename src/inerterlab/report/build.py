@@ -417,6 +417,9 @@ def resolve_report_target(out: str | os.PathLike) -> Path:
     p = Path(os.path.realpath(text))
     if p.name in ("", ".", "..") or p == p.parent:
         raise ParameterError("--out", text, "a directory path with a name (not a root)")
+    cwd = Path.cwd().resolve()
+    if p == cwd or p in cwd.parents:
+        raise ParameterError("--out", text, "a directory other than the current one or above it")
     if p.exists():
         if not p.is_dir():
             raise ParameterError(

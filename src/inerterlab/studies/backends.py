@@ -175,7 +175,7 @@ class DaskBackend(Backend):
         if self.scheduler is not None:
             try:
                 self._client = Client(self.scheduler, timeout="10s")
-            except (OSError, TimeoutError) as exc:
+            except (OSError, TimeoutError, ValueError, TypeError) as exc:
                 raise ParameterError(
                     "scheduler", self.scheduler, f"the address of a running Dask scheduler ({exc})"
                 ) from None
