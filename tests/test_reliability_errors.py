@@ -80,6 +80,15 @@ CASES = [
     (["sweep", "{tmp}/list_point.toml", "--scheduler", "notanaddress"], "list_point"),
     (["identify", "--data", "{tmp}/rig"], "outside the data directory"),
     (["identify", "--data", "{tmp}/binrig"], "not a UTF-8 text file"),
+    (["simulate", "--input", "iso8608", "--speed", "1e6"], "speed"),
+    (["simulate", "--input", "/dev/zero", "--horizon", "1"], "/dev/zero"),
+    (["simulate", "--input", "{tmp}/dir", "--horizon", "1"], "is a directory"),
+    (["optimize-ratio", "--method", "interpolate", "--grid-step", "1e-9"], "--grid-step"),
+    (
+        ["simulate", "--backend", "scipy", "--damping", "1e9", "--horizon", "1"]
+        + ["--time-limit", "2"],
+        "time limit of 2 s",
+    ),
     (["reproduce", "--tables", "", "--out", "{tmp}/r"], "--tables"),
     (["reproduce", "--tables", "4.1-4.99999999", "--out", "{tmp}/r"], "--tables"),
 ]
@@ -188,3 +197,14 @@ def test_reproduce_out_is_not_the_current_directory(tmp_path, capsys, monkeypatc
     rc, _, err = _run(capsys, ["reproduce", "--quick", "--tables", "4.1", "--out", ""])
     assert rc == 2 and "--out" in _one_error_line(err)
     assert list(Path(tmp_path).iterdir()) == []
+
+
+def test_scipy_backend_has_a_step_limit():
+    from inerterlab.errors import ConvergenceError
+    from inerterlab.excitation import sine
+    from inerterlab.simulate import SimulationOptions, simulate
+    from inerterlab.suspension import quarter_car
+
+    opts = SimulationOptions(backend="scipy", max_steps=5)
+    with pytest.raises(ConvergenceError, match="max_steps=5"):
+        simulate(quarter_car("traditional"), sine(0.01, 2.0), 1.0, options=opts)

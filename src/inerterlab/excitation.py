@@ -363,6 +363,15 @@ class ISO8608Road(Excitation):
         length = self.length
         if length is None:
             length = max(100.0, self.speed * (horizon if horizon is not None else 10.0))
+        from .resources import check_memory
+
+        # the profile, its spectrum (complex), phases and the road segments built from it
+        check_memory(
+            float(length) / float(self.spatial_step) * 16,
+            what="ISO 8608 road profile (speed x horizon / spatial_step points)",
+            parameter="speed" if self.length is None else "length",
+            value=self.speed if self.length is None else self.length,
+        )
         return _iso_profile(self.road_class, float(length), float(self.spatial_step), self.seed)
 
     def series(self, horizon: float | None = None) -> RoadSeries:
@@ -452,11 +461,10 @@ def read_road_csv(path) -> RoadSeries:
     line must hold two finite numbers with time strictly increasing; otherwise a
     :class:`DataFileError` names the file and line.
     """
+    from .io import read_text_limited
+
     p = Path(path)
-    try:
-        text = p.read_text()
-    except (OSError, UnicodeDecodeError) as e:
-        raise DataFileError(p, f"cannot read the road file ({e.__class__.__name__}: {e})") from None
+    text = read_text_limited(p, "road file")
     times: list[float] = []
     values: list[float] = []
     header_seen = False

@@ -27,6 +27,7 @@ from contextlib import contextmanager
 from pathlib import Path
 
 __all__ = [
+    "read_text_limited",
     "replace_directory",
     "atomic_path",
     "atomic_write_bytes",
@@ -199,3 +200,45 @@ def replace_directory(target: str | os.PathLike, files: dict[str, bytes | str]) 
         shutil.rmtree(tmp, ignore_errors=True)
         raise
     return target
+
+
+def input_size_limit() -> int:
+    """Largest input file read into memory [bytes]: 1/16 of the memory budget, at most 1 GiB.
+
+    Parsing text into numbers takes several times the file's size.
+    """
+    from .resources import MEMORY_FRACTION, available_memory
+
+    return int(min(1024**3, MEMORY_FRACTION * available_memory() / 16))
+
+
+def read_text_limited(path: str | os.PathLike, what: str, limit: int | None = None) -> str:
+    """Read a UTF-8 text file of at most ``limit`` bytes, or raise ``DataFileError``.
+
+    A regular file is checked by its size before reading; anything else (a FIFO, a
+    device such as ``/dev/zero``) is read only up to the limit. Errors name the file.
+    """
+    from .errors import DataFileError
+
+    p = Path(path)
+    limit = input_size_limit() if limit is None else int(limit)
+    try:
+        st = os.stat(p)
+        if stat.S_ISDIR(st.st_mode):
+            raise DataFileError(p, f"is a directory, not a {what}")
+        if stat.S_ISREG(st.st_mode) and st.st_size > limit:
+            raise DataFileError(
+                p, f"is {st.st_size} bytes; a {what} may have at most {limit} bytes here"
+            )
+        with open(p, "rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as e:
+        raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
+    if len(data) > limit:
+        raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise DataFileError(
+            p, f"not a UTF-8 text file (byte {e.start}); a {what} is text"
+        ) from None

@@ -81,6 +81,10 @@ def simulate_command(
     ] = False,
     backend: Annotated[str, typer.Option(help="numba (fast) or scipy (reference).")] = "numba",
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
+    time_limit: Annotated[
+        float,
+        typer.Option(help="scipy backend: give up after this many seconds of integration."),
+    ] = 300.0,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     save: Annotated[Path | None, typer.Option(help="Write the time series (.csv or .nc).")] = None,
     plot: Annotated[
@@ -113,7 +117,7 @@ def simulate_command(
     else:
         ex = read_road_csv(input_)
     want_series = save is not None or plot is not None
-    opts = SimulationOptions(backend=backend, rtol=rtol)
+    opts = SimulationOptions(backend=backend, rtol=rtol, time_limit=time_limit)
     res = simulate(car, ex, horizon, options=opts, output="series" if want_series else "metrics")
     m = res.metrics()
     if save is not None:

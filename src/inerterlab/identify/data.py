@@ -108,17 +108,12 @@ _HEAD = re.compile(r"^\s*([A-Za-z_]+)\s*(?:\[\s*([^\]]*)\s*\])?\s*$")
 
 def read_rig_test(path, *, units: dict | None = None, meta: dict | None = None) -> RigTest:
     """Read one test file (see the module docstring)."""
+    from ..io import read_text_limited
+
     p = Path(path)
     meta = meta or {}
     units = {k.lower(): v for k, v in (units or {}).items()}
-    try:
-        text = p.read_text()
-    except OSError as e:
-        raise DataFileError(p, f"cannot be read ({e.strerror or e})") from None
-    except UnicodeDecodeError as e:
-        raise DataFileError(
-            p, f"not a UTF-8 text file (byte {e.start}); a rig file is CSV text"
-        ) from None
+    text = read_text_limited(p, "rig test file")
     lines = text.splitlines()
     hline = None
     for i, ln in enumerate(lines):
@@ -242,8 +237,10 @@ def _make_test(p, meta, col):
 
 def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
     csvp, tomlp = directory / "manifest.csv", directory / "manifest.toml"
+    from ..io import read_text_limited
+
     if csvp.exists():
-        lines = csvp.read_text().splitlines()
+        lines = read_text_limited(csvp, "manifest").splitlines()
         body = [(i + 1, ln) for i, ln in enumerate(lines) if ln.strip() and not ln.startswith("#")]
         if not body:
             raise DataFileError(csvp, "empty manifest", 1)
@@ -260,11 +257,13 @@ def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
         return csvp, out
     if tomlp.exists():
         try:
-            doc = tomllib.loads(tomlp.read_text())
+            doc = tomllib.loads(read_text_limited(tomlp, "manifest"))
         except tomllib.TOMLDecodeError as e:
             raise DataFileError(tomlp, f"not valid TOML ({e})") from None
+        except RecursionError:
+            raise DataFileError(tomlp, "not usable TOML: values nested too deeply") from None
         tests = doc.get("test")
-        if not isinstance(tests, list) or not tests:
+        if not isinstance(tests, list) or not tests or not all(isinstance(t, dict) for t in tests):
             raise DataFileError(tomlp, "needs an array of [[test]] tables")
         return tomlp, [(None, {k: str(v) for k, v in t.items()}) for t in tests]
     raise DataFileError(directory, "no manifest.csv or manifest.toml in this directory")
@@ -366,16 +365,7 @@ def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
     """
     from ..io import replace_directory
 
-    text = os.fspath(directory)
-    if not str(text).strip():
-        raise ParameterError("out", text, "a directory path (it is empty)")
-    d = Path(os.path.realpath(text))
-    cwd = Path.cwd().resolve()
-    if d == d.parent or d == cwd or d in cwd.parents:
-        raise ParameterError(
-            "out", text, "a directory path other than the current one, above it or a root"
-        )
-    _replaceable_rig_dir(text, d)
+    d = check_rig_output(directory)
     files: dict[str, str] = {}
     rows = [_MANIFEST_HEADER]
     for test in dataset.tests:
@@ -398,3 +388,18 @@ def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
         )
     files["manifest.csv"] = "\n".join(rows) + "\n"
     return replace_directory(d, files)
+
+
+def check_rig_output(directory) -> Path:
+    """The resolved directory a data set will replace; raises if it is not ours to replace."""
+    text = os.fspath(directory)
+    if not str(text).strip():
+        raise ParameterError("out", text, "a directory path (it is empty)")
+    d = Path(os.path.realpath(text))
+    cwd = Path.cwd().resolve()
+    if d == d.parent or d == cwd or d in cwd.parents:
+        raise ParameterError(
+            "out", text, "a directory path other than the current one, above it or a root"
+        )
+    _replaceable_rig_dir(text, d)
+    return d

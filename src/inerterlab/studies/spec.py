@@ -142,7 +142,10 @@ def expand_range(key: str, value: Any) -> tuple:
                 raise ParameterError(f"{key}.num", num, "an integer >= 1 (empty range)")
             if num > 1 and stop < start:
                 raise ParameterError(key, value, "a range with stop >= start (empty range)")
-            check_memory(num, what="list of swept values", parameter=f"{key}.num")
+            # swept values are kept as Python floats in tuples (about 64 bytes each)
+            check_memory(
+                num, what="list of swept values", parameter=f"{key}.num", bytes_per_value=64
+            )
             out = np.linspace(start, stop, num)
         else:
             step = float(value["step"])
@@ -151,7 +154,9 @@ def expand_range(key: str, value: Any) -> tuple:
             if stop < start:
                 raise ParameterError(key, value, "a range with stop >= start (empty range)")
             count = math.floor((stop - start) / step + 1e-9) + 1
-            check_memory(count, what="list of swept values", parameter=f"{key}.step")
+            check_memory(
+                count, what="list of swept values", parameter=f"{key}.step", bytes_per_value=64
+            )
             n = int(count)
             out = start + step * np.arange(n)
         return tuple(round(float(v), 12) for v in out)
@@ -389,15 +394,10 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     DataFileError
         With the file, the line and the valid values for any problem.
     """
+    from ..io import read_text_limited
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DataFileError(p, f"cannot read the sweep file: {exc.strerror}") from None
-    except UnicodeDecodeError as exc:
-        raise DataFileError(
-            p, f"not a UTF-8 text file (byte {exc.start}); a sweep file is TOML text"
-        ) from None
+    text = read_text_limited(p, "sweep file", limit=16 * 1024**2)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
