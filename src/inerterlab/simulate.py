@@ -337,10 +337,13 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
             K.STEP_TOO_SMALL: "the step size fell below round-off (stiff or discontinuous equations)",
             K.NOT_FINITE: "the solution is not finite (unstable parameters?)",
         }[status]
-        raise ConvergenceError(
-            f"numba backend stopped: {why}; try --backend scipy on the command line "
-            "(in Python: SimulationOptions(backend='scipy', method='Radau') for stiff cases)"
+        hint = (
+            "shorten --horizon (in Python: raise SimulationOptions.max_steps)"
+            if status == K.TOO_MANY_STEPS
+            else "try --backend scipy on the command line (in Python: "
+            "SimulationOptions(backend='scipy', method='Radau') for stiff cases)"
         )
+        raise ConvergenceError(f"numba backend stopped: {why}; {hint}")
     st = {
         "steps": int(stats[0]),
         "rejected": int(stats[1]),
