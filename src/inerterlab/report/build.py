@@ -8,10 +8,12 @@ Layout of a finished report directory::
     data/<id>.csv         the data behind every figure
     manifest.json         versions, settings, run time, what failed and why
 
-While it runs, finished items are kept in ``<out>.work/`` (one pickle per item keyed by
-the settings); a rerun of the same command after a crash or Ctrl-C reuses them. The
-final directory is built beside ``<out>`` and swapped in with renames, so a crashed
-run leaves the previous report intact.
+While it runs, finished items are kept in ``<out>.work/`` (one JSON file per item,
+keyed by the settings, the package version and source; see :mod:`.cache`); a rerun of
+the same command after a crash or Ctrl-C reuses them. The final directory is built
+beside ``<out>`` and swapped in with renames, so a crashed run leaves the previous
+report intact. ``<out>`` must be new, empty or an earlier report of ours: nothing else
+is ever replaced (:func:`resolve_report_target`).
 """
 
 from __future__ import annotations
