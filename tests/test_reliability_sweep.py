@@ -138,3 +138,23 @@ def test_sigkill_right_after_the_store_appears_always_resumes(tmp_path):
         r = subprocess.run(cmd, capture_output=True, text=True, timeout=120)
         assert r.returncode == 0, (k, r.stderr)
         assert int((load_sweep(store).status == 1).sum()) == 40
+
+
+def test_dask_run_without_any_worker_stops_with_a_message(tmp_path):
+    from distributed import LocalCluster
+
+    from inerterlab.studies import DaskBackend
+    from inerterlab.studies.backends import WorkersLost
+
+    with LocalCluster(
+        n_workers=0, processes=False, dashboard_address=":0", host="127.0.0.1", protocol="tcp"
+    ) as cluster:
+        be = DaskBackend(scheduler=cluster.scheduler_address)
+        be.no_worker_timeout = 3.0
+        t0 = time.monotonic()
+        with pytest.raises(WorkersLost, match="every Dask worker has been gone"):
+            sweep(SPEC, store=tmp_path / "s.zarr", backend=be)
+        assert time.monotonic() - t0 < 60
+    # nothing was computed, the store is valid and resumes with a working backend
+    ds = sweep(SPEC, store=tmp_path / "s.zarr", backend="serial")
+    assert int((ds.status == 1).sum()) == 3
