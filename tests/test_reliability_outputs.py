@@ -257,3 +257,36 @@ def test_cli_output_paths_that_cannot_be_written_are_user_errors(tmp_path, capsy
         assert rc == 2, (extra, err)
         assert err.count("\n") == 1 and name in err, err
     assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_dev_stdout_redirected_to_a_file_keeps_everything(tmp_path):
+    """``--csv /dev/stdout > file`` writes through the descriptor: the CSV and the table
+    both end up in the file (reopening the path would truncate it)."""
+    code = "import sys; from inerterlab.cli import main; sys.exit(main())"
+    args = ["device-force", "--amplitude", "0.01", "--duration", "0.002", "--csv", "/dev/stdout"]
+    out = tmp_path / "out.txt"
+    with open(out, "w") as fh:
+        r = subprocess.run([sys.executable, "-c", code, *args], stdout=fh, stderr=subprocess.PIPE,
+                           text=True, timeout=120)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    assert text.startswith("t,force,equivalent_mass\n") and "samples" in text
+
+
+def test_a_reader_that_stops_early_is_not_an_error():
+    code = "import sys; from inerterlab.cli import main; sys.exit(main())"
+    args = [
+        "device-force",
+        "--amplitude",
+        "0.01",
+        "--duration",
+        "5",
+        "--csv",
+        "-",
+    ]  # > a pipe buffer
+    p = subprocess.Popen([sys.executable, "-c", code, *args], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE)  # fmt: skip
+    p.stdout.read(10)
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert p.wait(120) == 0 and "Traceback" not in err, err

@@ -9,7 +9,8 @@ What is not a regular file is never replaced:
 
 * ``-`` writes to standard output;
 * a character device (``/dev/null``, a terminal), a FIFO or a socket-like special file
-  that already exists is opened and written in place;
+  that already exists, and any existing path under ``/dev`` or ``/proc`` (such as
+  ``/dev/stdout``, even when it is redirected to a file), is opened and written in place;
 * a symbolic link is followed: the file it points to is written (atomically if it is a
   regular file) and the link itself stays;
 * a directory is refused with a :class:`~inerterlab.errors.ParameterError`.
@@ -65,22 +66,41 @@ def output_target(
     text = os.fspath(path)
     if not follow_links:
         return "file", Path(os.path.abspath(text))
-    if text == "-":
+    if text == "-" or _descriptor(str(text)) == 1:
         return "stdout", None
     if not str(text).strip():
         raise ParameterError(option, text, "a file path (it is empty)")
-    p = Path(os.path.realpath(text))
     try:
-        st = os.stat(p)
+        st = os.stat(text)  # follows links, also the /proc "magic" ones behind /dev/stdout
     except FileNotFoundError:
-        return "file", p
+        st = None
     except OSError as e:
         raise ParameterError(option, text, f"a usable file path ({e.strerror})") from None
-    if stat.S_ISDIR(st.st_mode):
+    if st is not None and stat.S_ISDIR(st.st_mode):
         raise ParameterError(option, text, "a file path; it is a directory")
-    if stat.S_ISREG(st.st_mode):
-        return "file", p
-    return "stream", p
+    real = os.path.realpath(text)
+    if st is not None and (
+        not stat.S_ISREG(st.st_mode) or _is_system_path(str(text)) or _is_system_path(real)
+    ):
+        # a device, FIFO or socket, or a descriptor such as /dev/stdout (even when it is
+        # redirected to a file): written in place, never replaced
+        return "stream", Path(text)
+    return "file", Path(real)
+
+
+def _is_system_path(path: str) -> bool:
+    return path.startswith(("/dev/", "/proc/"))
+
+
+def _descriptor(path: str) -> int | None:
+    """The descriptor number a path such as /dev/stdout or /dev/fd/3 names, else None."""
+    import re
+
+    named = {"/dev/stdin": 0, "/dev/stdout": 1, "/dev/stderr": 2}
+    if path in named:
+        return named[path]
+    m = re.fullmatch(rf"/(?:dev/fd|proc/self/fd|proc/{os.getpid()}/fd)/(\d+)", path)
+    return int(m.group(1)) if m else None
 
 
 @contextmanager
@@ -126,6 +146,16 @@ def atomic_path(
                     sys.stdout.flush()
                     shutil.copyfileobj(src, sys.stdout.buffer)
                     sys.stdout.buffer.flush()
+                elif _descriptor(str(p)) is not None:
+                    # write through the descriptor itself: reopening /dev/fd/N would
+                    # truncate a file it is redirected to and lose its offset
+                    fd = _descriptor(str(p))
+                    if fd == 2:
+                        sys.stderr.flush()
+                    while chunk := src.read(1 << 16):
+                        view = memoryview(chunk)
+                        while view:
+                            view = view[os.write(fd, view) :]
                 else:
                     with open(p, "wb") as dst:
                         shutil.copyfileobj(src, dst)

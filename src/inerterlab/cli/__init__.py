@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import errno
 import importlib
+import os
 import sys
 import warnings
 
@@ -152,6 +153,19 @@ def _main(args: list[str], debug: bool) -> int:
     except KeyboardInterrupt:
         print(_INTERRUPTED, file=sys.stderr)
         return 130
+    except SystemExit as e:
+        # click turns a broken pipe into exit 1; it is the reader's choice, not an error
+        if isinstance(e.__context__, BrokenPipeError):
+            return 0
+        raise
+    except BrokenPipeError:
+        # the reader of our output went away (``| head``): stop quietly, as Unix tools do
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except OSError:
+            pass
+        return 0
     except OSError as e:  # the system refused: disk full, read-only, permissions, ...
         if debug:
             raise

@@ -553,7 +553,7 @@ def save_netcdf(ds, path: str | os.PathLike) -> Path:
     """
     from ..io import atomic_path
 
-    with atomic_path(path, suffix=".nc") as tmp:
+    with atomic_path(path, suffix=".nc", option="--netcdf") as tmp:
         try:
             ds.to_netcdf(tmp, engine="h5netcdf")
         except ImportError:  # h5netcdf without h5py: classic netCDF through scipy
