@@ -208,3 +208,24 @@ def test_scipy_backend_has_a_step_limit():
     opts = SimulationOptions(backend="scipy", max_steps=5)
     with pytest.raises(ConvergenceError, match="max_steps=5"):
         simulate(quarter_car("traditional"), sine(0.01, 2.0), 1.0, options=opts)
+
+
+def test_identify_size_guard_refuses_hours_and_announces_minutes(capsys):
+    from types import SimpleNamespace
+
+    import numpy as np
+
+    from inerterlab import ParameterError
+    from inerterlab.cli.identify import _check_fit_size
+
+    def data(n):
+        return SimpleNamespace(tests=[SimpleNamespace(t=np.empty(n))])
+
+    _check_fit_size(data(100_000), 0)  # seconds: silent
+    assert capsys.readouterr().err == ""
+    _check_fit_size(data(3_000_000), 0)  # minutes: a note first
+    assert "note: fitting 3000000 samples" in capsys.readouterr().err
+    with pytest.raises(ParameterError, match="--bootstrap"):
+        _check_fit_size(data(1_000_000), 100)  # hours: refused
+    with pytest.raises(ParameterError, match="--data"):
+        _check_fit_size(data(100_000_000), 0)
