@@ -1,6 +1,6 @@
 """Report assembly: table selection, atomic replacement, resume from finished items."""
 
-import pickle
+import json
 
 import pandas as pd
 import pytest
@@ -48,7 +48,8 @@ def test_resume_reuses_finished_items_and_records_failures(tmp_path, monkeypatch
     # a different setting does not reuse the cache
     build.run_items(ReproduceSettings(quick=False), None, False, work, None)
     assert calls.count("t") == 2
-    assert all(pickle.load(open(p, "rb"))["ok"] for p in work.glob("*.pkl"))
+    files = list(work.glob("*.json"))
+    assert files and all(json.loads(p.read_text())["record"]["ok"] for p in files)
 
 
 def test_atomic_replace_keeps_old_report_on_failure(tmp_path, monkeypatch):

@@ -108,17 +108,17 @@ def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
     cmd = [sys.executable, "-m", "inerterlab", "reproduce", "--quick", "--out", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     deadline = time.monotonic() + 300
-    while time.monotonic() < deadline and len(list(work.glob("*.pkl"))) < 4:
+    while time.monotonic() < deadline and len(list(work.glob("*.json"))) < 4:
         if proc.poll() is not None:
             break
         time.sleep(0.05)
     assert proc.poll() is None, "the run ended before it could be interrupted"
     proc.send_signal(signal.SIGKILL)
     proc.wait()
-    done_before = {p.name for p in work.glob("*.pkl")}
+    done_before = {p.name for p in work.glob("*.json")}
     assert len(done_before) >= 4
     assert not out.exists()  # no half-written report
-    mtimes = {p.name: p.stat().st_mtime_ns for p in work.glob("*.pkl")}
+    mtimes = {p.name: p.stat().st_mtime_ns for p in work.glob("*.json")}
 
     r = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     assert r.returncode == 0, r.stderr[-2000:]
@@ -149,7 +149,7 @@ def test_ctrl_c_keeps_finished_items_and_says_so(tmp_path):
     cmd = [sys.executable, "-m", "inerterlab", "reproduce", "--quick", "--out", str(out)]
     proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
     deadline = time.monotonic() + 300
-    while time.monotonic() < deadline and len(list(work.glob("*.pkl"))) < 2:
+    while time.monotonic() < deadline and len(list(work.glob("*.json"))) < 2:
         if proc.poll() is not None:
             break
         time.sleep(0.05)
@@ -158,5 +158,5 @@ def test_ctrl_c_keeps_finished_items_and_says_so(tmp_path):
     _, err = proc.communicate(timeout=120)
     assert proc.returncode == 130, err[-2000:]
     assert "interrupted" in err and "Traceback" not in err
-    assert len(list(work.glob("*.pkl"))) >= 2  # finished items kept for the rerun
+    assert len(list(work.glob("*.json"))) >= 2  # finished items kept for the rerun
     assert not out.exists()

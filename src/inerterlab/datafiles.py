@@ -152,10 +152,10 @@ def read_columns(
     quantities = quantities or {}
     units = {k.lower(): v for k, v in (units or {}).items()}
     default_units = default_units or {}
-    try:
-        text = p.read_text()
-    except (OSError, UnicodeDecodeError) as e:
-        raise DataFileError(p, f"cannot be read ({getattr(e, 'strerror', None) or e})") from None
+    from .io import read_text_limited
+
+    # size-capped, UTF-8 only, devices and FIFOs read up to the cap
+    text = read_text_limited(p, f"{what} file" if what else "data file")
     lines = text.splitlines()
     first = None
     for i, ln in enumerate(lines):

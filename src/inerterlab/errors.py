@@ -16,6 +16,7 @@ __all__ = [
     "DataFileError",
     "ConvergenceError",
     "Interrupted",
+    "LockedError",
     "check_positive",
     "check_nonnegative",
     "check_finite",
@@ -64,6 +65,10 @@ class ConvergenceError(InerterlabError, RuntimeError):
 
 class Interrupted(InerterlabError):
     """The user interrupted a long run; the message says what was kept."""
+
+
+class LockedError(InerterlabError):
+    """Another run is writing the same output; the message names it and what to do."""
 
 
 def _as_float(name: str, value: Any, valid: str) -> float:

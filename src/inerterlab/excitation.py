@@ -430,15 +430,24 @@ class ISO8608Road(Excitation):
         if s > 0.05:
             raise ParameterError("spatial_step", self.spatial_step, "a step in (0, 0.05] m")
         if self.seed is not None and (
-            not isinstance(self.seed, int) or isinstance(self.seed, bool)
+            not isinstance(self.seed, int) or isinstance(self.seed, bool) or self.seed < 0
         ):
-            raise ParameterError("seed", self.seed, "an integer or None")
+            raise ParameterError("seed", self.seed, "an integer >= 0 or None")
 
     def profile(self, horizon: float | None = None) -> tuple[np.ndarray, np.ndarray]:
         """(distance [m], elevation [m]) of the generated road."""
         length = self.length
         if length is None:
             length = max(100.0, self.speed * (horizon if horizon is not None else 10.0))
+        from .resources import check_memory
+
+        # the profile, its spectrum (complex), phases and the road segments built from it
+        check_memory(
+            float(length) / float(self.spatial_step) * 16,
+            what="ISO 8608 road profile (speed x horizon / spatial_step points)",
+            parameter="speed" if self.length is None else "length",
+            value=self.speed if self.length is None else self.length,
+        )
         return _iso_profile(self.road_class, float(length), float(self.spatial_step), self.seed)
 
     def series(self, horizon: float | None = None) -> RoadSeries:
@@ -608,6 +617,7 @@ def read_road_csv(path, *, speed: float | None = None, units: dict | None = None
     units : dict, optional
         Units of columns the header leaves without one, e.g. ``{"displacement": "mm"}``.
     """
+
     p = Path(path)
     tab = read_columns(
         p,

@@ -1,23 +1,119 @@
-"""Atomic file output: write beside the target, then rename over it.
+"""File output: atomic for regular files, streamed for devices, FIFOs and ``-``.
 
-A reader never sees a half-written file, and a failure leaves the previous file (if
-any) untouched and no temporary file behind.
+A regular file is written beside the target and renamed over it: a reader never sees
+a half-written file, and a failure leaves the previous file (if any) untouched and no
+temporary file behind. The new file gets the mode a plain ``open`` would give it (the
+umask applied to 0666) or keeps the mode of the file it replaces.
+
+What is not a regular file is never replaced:
+
+* ``-`` writes to standard output;
+* a character device (``/dev/null``, a terminal), a FIFO or a socket-like special file
+  that already exists, and any existing path under ``/dev`` or ``/proc`` (such as
+  ``/dev/stdout``, even when it is redirected to a file), is opened and written in place;
+* a symbolic link is followed: the file it points to is written (atomically if it is a
+  regular file) and the link itself stays;
+* a directory is refused with a :class:`~inerterlab.errors.ParameterError`.
 """
 
 from __future__ import annotations
 
 import os
+import shutil
+import stat
+import sys
 import tempfile
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
-__all__ = ["atomic_path", "atomic_write_bytes", "atomic_write_text"]
+__all__ = [
+    "read_text_limited",
+    "replace_directory",
+    "atomic_path",
+    "atomic_write_bytes",
+    "atomic_write_text",
+    "current_umask",
+    "output_target",
+]
+
+
+def current_umask() -> int:
+    """The process umask, read without changing it where the system allows."""
+    try:
+        with open("/proc/self/status") as fh:
+            for line in fh:
+                if line.startswith("Umask:"):
+                    return int(line.split()[1], 8)
+    except (OSError, ValueError):
+        pass
+    mask = os.umask(0o022)  # pragma: no cover - systems without /proc
+    os.umask(mask)  # pragma: no cover
+    return mask  # pragma: no cover
+
+
+def output_target(
+    path: str | os.PathLike, option: str = "output", follow_links: bool = True
+) -> tuple[str, Path | None]:
+    """Classify an output path: ``("stdout", None)``, ``("stream", p)`` or ``("file", p)``.
+
+    ``p`` is the path to write with links followed (``follow_links=False``, for the
+    package's own working files, replaces a link instead). Raises ``ParameterError``
+    naming ``option`` for an empty path or a directory.
+    """
+    from .errors import ParameterError
+
+    text = os.fspath(path)
+    if not follow_links:
+        return "file", Path(os.path.abspath(text))
+    if text == "-" or _descriptor(str(text)) == 1:
+        return "stdout", None
+    if not str(text).strip():
+        raise ParameterError(option, text, "a file path (it is empty)")
+    try:
+        st = os.stat(text)  # follows links, also the /proc "magic" ones behind /dev/stdout
+    except FileNotFoundError:
+        st = None
+    except OSError as e:
+        raise ParameterError(option, text, f"a usable file path ({e.strerror})") from None
+    if st is not None and stat.S_ISDIR(st.st_mode):
+        raise ParameterError(option, text, "a file path; it is a directory")
+    real = os.path.realpath(text)
+    if st is not None and (
+        not stat.S_ISREG(st.st_mode) or _is_system_path(str(text)) or _is_system_path(real)
+    ):
+        # a device, FIFO or socket, or a descriptor such as /dev/stdout (even when it is
+        # redirected to a file): written in place, never replaced
+        return "stream", Path(text)
+    return "file", Path(real)
+
+
+def _is_system_path(path: str) -> bool:
+    return path.startswith(("/dev/", "/proc/"))
+
+
+def _descriptor(path: str) -> int | None:
+    """The descriptor number a path such as /dev/stdout or /dev/fd/3 names, else None."""
+    import re
+
+    named = {"/dev/stdin": 0, "/dev/stdout": 1, "/dev/stderr": 2}
+    if path in named:
+        return named[path]
+    m = re.fullmatch(rf"/(?:dev/fd|proc/self/fd|proc/{os.getpid()}/fd)/(\d+)", path)
+    return int(m.group(1)) if m else None
 
 
 @contextmanager
-def atomic_path(path: str | os.PathLike, suffix: str = ".tmp") -> Iterator[str]:
-    """Yield a temporary path beside ``path``; on success rename it onto ``path``.
+def atomic_path(
+    path: str | os.PathLike,
+    suffix: str = ".tmp",
+    option: str = "output",
+    follow_links: bool = True,
+) -> Iterator[str]:
+    """Yield a temporary path; on success its content goes to ``path``.
+
+    For a regular (or new) file the temporary file sits beside the target and is
+    renamed onto it; for ``-`` and special files it is copied into them and removed.
 
     Examples
     --------
@@ -28,28 +124,151 @@ def atomic_path(path: str | os.PathLike, suffix: str = ".tmp") -> Iterator[str]:
     >>> (d / "a.txt").read_text(), sorted(p.name for p in d.iterdir())
     ('done', ['a.txt'])
     """
-    p = Path(path)
-    p.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=suffix)
+    kind, p = output_target(path, option, follow_links)
+    if kind == "file":
+        p.parent.mkdir(parents=True, exist_ok=True)
+        fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=suffix)
+    else:
+        fd, tmp = tempfile.mkstemp(prefix=".inerterlab-out.", suffix=suffix)
     os.close(fd)
     try:
         yield tmp
-        os.replace(tmp, p)
+        if kind == "file":
+            try:
+                mode = stat.S_IMODE(os.stat(p).st_mode)
+            except FileNotFoundError:
+                mode = 0o666 & ~current_umask()
+            os.chmod(tmp, mode)
+            os.replace(tmp, p)
+        else:
+            with open(tmp, "rb") as src:
+                if kind == "stdout":
+                    sys.stdout.flush()
+                    shutil.copyfileobj(src, sys.stdout.buffer)
+                    sys.stdout.buffer.flush()
+                elif _descriptor(str(p)) is not None:
+                    # write through the descriptor itself: reopening /dev/fd/N would
+                    # truncate a file it is redirected to and lose its offset
+                    fd = _descriptor(str(p))
+                    if fd == 2:
+                        sys.stderr.flush()
+                    while chunk := src.read(1 << 16):
+                        view = memoryview(chunk)
+                        while view:
+                            view = view[os.write(fd, view) :]
+                else:
+                    with open(p, "wb") as dst:
+                        shutil.copyfileobj(src, dst)
+            os.unlink(tmp)
     except BaseException:
         if os.path.exists(tmp):
             os.unlink(tmp)
         raise
 
 
-def atomic_write_bytes(path: str | os.PathLike, data: bytes) -> Path:
-    """Write ``data`` to ``path`` atomically."""
-    with atomic_path(path) as tmp:
+def atomic_write_bytes(
+    path: str | os.PathLike, data: bytes, option: str = "output", follow_links: bool = True
+) -> Path:
+    """Write ``data`` to ``path`` (atomically for a regular file)."""
+    with atomic_path(path, option=option, follow_links=follow_links) as tmp:
         Path(tmp).write_bytes(data)
     return Path(path)
 
 
-def atomic_write_text(path: str | os.PathLike, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically."""
-    with atomic_path(path) as tmp:
+def atomic_write_text(path: str | os.PathLike, text: str, option: str = "output") -> Path:
+    """Write ``text`` to ``path`` (atomically for a regular file)."""
+    with atomic_path(path, option=option) as tmp:
         Path(tmp).write_text(text)
     return Path(path)
+
+
+def clean_stale_siblings(target: Path) -> list[Path]:
+    """Remove ``.<name>.new-*`` / ``.<name>.old-*`` folders an interrupted
+    :func:`replace_directory` left beside ``target``."""
+    import re
+
+    target = Path(target)
+    pat = re.compile(re.escape(f".{target.name}.") + r"(new-[A-Za-z0-9_]+|old-\d+)")
+    removed = []
+    if target.parent.is_dir():
+        for p in target.parent.iterdir():
+            if pat.fullmatch(p.name) and p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+                removed.append(p)
+    return removed
+
+
+def replace_directory(target: str | os.PathLike, files: dict[str, bytes | str]) -> Path:
+    """Write ``files`` ({relative path: content}) as a new directory that replaces ``target``.
+
+    The new directory is filled beside ``target`` and swapped in with two renames, so a
+    crash or a full disk leaves either the old directory or the new one, never a mix.
+    The caller decides beforehand that whatever is at ``target`` may be replaced.
+    Leftovers of an interrupted earlier call are removed first.
+    """
+    target = Path(target)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    clean_stale_siblings(target)
+    tmp = Path(tempfile.mkdtemp(dir=target.parent, prefix=f".{target.name}.new-"))
+    try:
+        os.chmod(tmp, 0o777 & ~current_umask())
+        for rel, data in files.items():
+            p = tmp / rel
+            p.parent.mkdir(parents=True, exist_ok=True)
+            with open(p, "wb") as fh:
+                fh.write(data.encode() if isinstance(data, str) else data)
+                fh.flush()
+                os.fsync(fh.fileno())
+        old = None
+        if target.exists():
+            old = target.parent / f".{target.name}.old-{os.getpid()}"
+            os.replace(target, old)
+        os.replace(tmp, target)
+        if old is not None:
+            shutil.rmtree(old, ignore_errors=True)
+    except BaseException:
+        shutil.rmtree(tmp, ignore_errors=True)
+        raise
+    return target
+
+
+def input_size_limit() -> int:
+    """Largest input file read into memory [bytes]: 1/16 of the memory budget, at most 1 GiB.
+
+    Parsing text into numbers takes several times the file's size.
+    """
+    from .resources import MEMORY_FRACTION, available_memory
+
+    return int(min(1024**3, MEMORY_FRACTION * available_memory() / 16))
+
+
+def read_text_limited(path: str | os.PathLike, what: str, limit: int | None = None) -> str:
+    """Read a UTF-8 text file of at most ``limit`` bytes, or raise ``DataFileError``.
+
+    A regular file is checked by its size before reading; anything else (a FIFO, a
+    device such as ``/dev/zero``) is read only up to the limit. Errors name the file.
+    """
+    from .errors import DataFileError
+
+    p = Path(path)
+    limit = input_size_limit() if limit is None else int(limit)
+    try:
+        st = os.stat(p)
+        if stat.S_ISDIR(st.st_mode):
+            raise DataFileError(p, f"is a directory, not a {what}")
+        if stat.S_ISREG(st.st_mode) and st.st_size > limit:
+            raise DataFileError(
+                p, f"is {st.st_size} bytes; a {what} may have at most {limit} bytes here"
+            )
+        with open(p, "rb") as fh:
+            data = fh.read(limit + 1)
+    except OSError as e:
+        raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
+    if len(data) > limit:
+        raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
+    try:
+        return data.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise DataFileError(
+            p, f"not a UTF-8 text file (byte {e.start}); a {what} is text"
+        ) from None

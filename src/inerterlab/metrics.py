@@ -304,9 +304,17 @@ def h2_norms(model) -> H2Norms:
     """
     from scipy.linalg import solve_continuous_lyapunov
 
+    from .errors import ConvergenceError
     from .suspension.linear import linear_quarter_car
 
-    lin = linear_quarter_car(model)
+    try:
+        with np.errstate(all="ignore"):
+            lin = linear_quarter_car(model)
+    except np.linalg.LinAlgError as exc:
+        raise ConvergenceError(
+            f"H2 norms: the mass matrix is singular to machine precision ({exc}); the "
+            "inertance and the masses are too far apart in scale"
+        ) from None
     A, B = lin.A, lin.B
     # augment with the Wk filter driven by the body acceleration
     wa, wb, wc, _ = wk_state_space()
@@ -316,7 +324,18 @@ def h2_norms(model) -> H2Norms:
     Aa[n:, :n] = np.outer(wb, lin.C["body_acc"])
     Aa[n:, n:] = wa
     Ba = np.concatenate([B, wb * lin.D["body_acc"]])
-    P = solve_continuous_lyapunov(Aa, -np.outer(Ba, Ba))
+    try:
+        with np.errstate(all="ignore"):
+            P = solve_continuous_lyapunov(Aa, -np.outer(Ba, Ba))
+    except (np.linalg.LinAlgError, ValueError) as exc:
+        P, why = None, f"{type(exc).__name__}: {exc}"
+    else:
+        why = "the solution is not finite"
+    if P is None or not np.all(np.isfinite(P)):
+        raise ConvergenceError(
+            f"H2 norms: the Lyapunov equation cannot be solved for these parameters ({why}); "
+            "masses, stiffnesses, damping and inertance are too far apart in scale"
+        )
     norms, infinite = {}, {}
     outputs = {k: (np.concatenate([c, np.zeros(m)]), lin.D[k]) for k, c in lin.C.items()}
     outputs["body_acc_wk"] = (np.concatenate([np.zeros(n), wc]), 0.0)

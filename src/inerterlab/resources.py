@@ -12,10 +12,14 @@ import os
 
 from .errors import ParameterError
 
-__all__ = ["available_memory", "check_memory"]
+__all__ = ["available_memory", "check_memory", "check_work"]
 
 #: fraction of the physical memory one run may claim for a single result
 MEMORY_FRACTION = 0.5
+
+#: floating point operations one command may plan before it is refused (about ten
+#: minutes on one core of an ordinary machine)
+WORK_LIMIT = 1e12
 
 
 def available_memory() -> int:
@@ -41,6 +45,7 @@ def check_memory(
     parameter: str,
     bytes_per_value: int = 8,
     limit: int | None = None,
+    value: object = None,
 ) -> int:
     """Raise if ``n_values`` floats would exceed the memory budget; return the estimate.
 
@@ -54,6 +59,9 @@ def check_memory(
         The option the user can change to make it fit (named in the message).
     limit : int, optional
         Budget [bytes]; default half the physical memory.
+    value : optional
+        The value the user gave for ``parameter`` (shown in the message; default the
+        number of values).
 
     Examples
     --------
@@ -65,8 +73,34 @@ def check_memory(
     if not need < budget:
         raise ParameterError(
             parameter,
-            f"{n_values:.3g} values",
+            f"{n_values:.3g} values" if value is None else value,
             f"a setting whose {what} fits in memory: it needs about {_fmt(need)}, "
             f"the limit is {_fmt(budget)}",
         )
     return int(need)
+
+
+def check_work(
+    ops: float, *, what: str, parameter: str, limit: float | None = None, value: object = None
+) -> float:
+    """Raise if a run is estimated to need more than ``limit`` floating point operations.
+
+    The estimate is deliberately rough (an order of magnitude); it only stops runs
+    that would take hours or days from starting silently.
+
+    Examples
+    --------
+    >>> check_work(1e9, what="frequency sweep", parameter="--df")
+    1000000000.0
+    """
+    budget = float(limit if limit is not None else WORK_LIMIT)
+    ops = float(ops)
+    if not ops < budget:
+        raise ParameterError(
+            parameter,
+            f"{ops:.3g} operations" if value is None else value,
+            f"a setting whose {what} finishes in reasonable time: it needs about {ops:.3g} "
+            f"floating point operations (~{ops / 1e9 / 3600:.3g} h at 1 Gflop/s), "
+            f"the limit is {budget:.3g}",
+        )
+    return ops

@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import sys
+import time
 import types
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -76,7 +77,12 @@ class SimulationOptions:
         Locate peaks between steps on the continuous extension (numba backend);
         without it peaks are the largest values at step ends.
     max_steps : int
-        Give up (ConvergenceError) after this many steps.
+        Give up (ConvergenceError) after this many steps (scipy backend: after 16 x
+        this many right-hand-side evaluations, about as many steps of DOP853).
+    time_limit : float or None
+        Give up (ConvergenceError) after this many seconds of integration (scipy
+        backend, checked every 256 evaluations); None for no limit. The compiled
+        backend is bounded by ``max_steps`` alone.
     exact_steps : bool
         Numba backend: advance the linear phases (no inerter, a constant one, or a
         saturated flywheel under the thesis or momentum law; not with tyre lift-off)
@@ -92,6 +98,7 @@ class SimulationOptions:
     refine_peaks: bool = True
     max_steps: int = 10_000_000
     exact_steps: bool = True
+    time_limit: float | None = None
 
     def __post_init__(self) -> None:
         check_choice("backend", self.backend, BACKENDS)
@@ -102,6 +109,8 @@ class SimulationOptions:
         check_positive("sample_rate", self.sample_rate, "Hz")
         if not isinstance(self.max_steps, int) or self.max_steps < 1:
             raise ParameterError("max_steps", self.max_steps, "an integer >= 1")
+        if self.time_limit is not None:
+            check_positive("time_limit", self.time_limit, "s")
 
 
 DEFAULT_OPTIONS = SimulationOptions()
@@ -384,9 +393,13 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
             K.STEP_TOO_SMALL: "the step size fell below round-off (stiff or discontinuous equations)",
             K.NOT_FINITE: "the solution is not finite (unstable parameters?)",
         }[status]
-        raise ConvergenceError(
-            f"numba backend stopped: {why}; try the scipy backend with method='Radau'"
+        hint = (
+            "shorten --horizon (in Python: raise SimulationOptions.max_steps)"
+            if status == K.TOO_MANY_STEPS
+            else "try --backend scipy on the command line (in Python: "
+            "SimulationOptions(backend='scipy', method='Radau') for stiff cases)"
         )
+        raise ConvergenceError(f"numba backend stopped: {why}; {hint}")
     st = {
         "steps": int(stats[0]),
         "rejected": int(stats[1]),
@@ -423,6 +436,25 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
     nsteps = nfev = 0
     jumps = []
     tol = ROAD_JUMP_RTOL * road_scale(segs)
+    budget = {"calls": 0, "t": 0.0}
+    max_calls = 16 * options.max_steps
+    deadline = None if options.time_limit is None else time.monotonic() + options.time_limit
+
+    class _OverBudget(Exception):
+        pass
+
+    def rhs(t, yy):
+        # step and time limits: solve_ivp itself has neither
+        budget["calls"] += 1
+        budget["t"] = t
+        if budget["calls"] > max_calls:
+            raise _OverBudget(
+                f"more than max_steps={options.max_steps} steps "
+                f"({max_calls} right-hand-side evaluations)"
+            )
+        if deadline is not None and budget["calls"] % 256 == 0 and time.monotonic() > deadline:
+            raise _OverBudget(f"the time limit of {options.time_limit:g} s was reached")
+        return f(t, yy)
 
     def q_of(t, yy):
         a3, aw, z, ft = f.outputs(t, yy)
@@ -439,9 +471,22 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
         x_prev, _ = f.road(seg, t1)
         if t1 <= t0:
             continue
-        sol = solve_ivp(
-            f, (t0, t1), y, method=options.method, rtol=options.rtol, atol=atol, dense_output=True
-        )
+        try:
+            sol = solve_ivp(
+                rhs,
+                (t0, t1),
+                y,
+                method=options.method,
+                rtol=options.rtol,
+                atol=atol,
+                dense_output=True,
+            )
+        except _OverBudget as exc:
+            raise ConvergenceError(
+                f"scipy {options.method} stopped at t = {budget['t']:.6g} s of "
+                f"{horizon:g} s: {exc}; the equations are stiff or the horizon is long "
+                "(try --backend numba, a shorter --horizon, or a larger --time-limit)"
+            ) from None
         if sol.status != 0:
             raise ConvergenceError(f"scipy {options.method} failed: {sol.message}")
         nsteps += sol.t.size - 1

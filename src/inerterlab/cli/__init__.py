@@ -8,8 +8,11 @@ errors exit with status 1 and a hint to rerun with ``--debug`` for the traceback
 
 from __future__ import annotations
 
+import errno
 import importlib
+import os
 import sys
+import warnings
 
 import typer
 
@@ -91,12 +94,43 @@ def _usage_message(e: Exception) -> str:
     return msg
 
 
+def _os_error_message(e: OSError) -> str:
+    """One line for a failure of the system (full disk, read-only mount, permission)."""
+    what = e.filename if e.filename is not None else ""
+    reason = e.strerror or str(e)
+    hint = {
+        errno.ENOSPC: "free some space or write elsewhere",
+        errno.EDQUOT: "free some space or write elsewhere",
+        errno.EROFS: "the file system is mounted read-only; write elsewhere",
+        errno.EACCES: "check the permissions or write elsewhere",
+        errno.EPERM: "check the permissions or write elsewhere",
+    }.get(e.errno, "")
+    return f"{what + ': ' if what else ''}{reason}{' (' + hint + ')' if hint else ''}"
+
+
 def main(argv: list[str] | None = None) -> int:
-    """Entry point of the ``inerterlab`` script; returns the exit status."""
+    """Entry point of the ``inerterlab`` script; returns the exit status.
+
+    Warnings raised by the libraries while a command runs are collected and shown
+    once each, after the command's output or its error line.
+    """
     args = list(sys.argv[1:] if argv is None else argv)
     debug = "--debug" in args
     if debug:
         args.remove("--debug")
+    with warnings.catch_warnings(record=True) as caught:
+        try:
+            return _main(args, debug)
+        finally:
+            seen = set()
+            for w in caught:
+                line = f"{w.category.__name__}: {str(w.message).splitlines()[0] if str(w.message) else ''}"
+                if line not in seen:
+                    seen.add(line)
+                    print(f"inerterlab: warning: {line}", file=sys.stderr)
+
+
+def _main(args: list[str], debug: bool) -> int:
     try:
         rc = app(args=args, prog_name="inerterlab", standalone_mode=False)
         if isinstance(rc, int) and not isinstance(rc, bool):
@@ -135,6 +169,38 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print(_INTERRUPTED, file=sys.stderr)
         return 130
+    except SystemExit as e:
+        # click turns a broken pipe into exit 1; it is the reader's choice, not an error
+        if isinstance(e.__context__, BrokenPipeError):
+            return 0
+        raise
+    except BrokenPipeError:
+        # the reader of our output went away (``| head``): stop quietly, as Unix tools do
+        try:
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+        except OSError:
+            pass
+        return 0
+    except OSError as e:  # the system refused: disk full, read-only, permissions, ...
+        if debug:
+            raise
+        print(f"inerterlab: error: {_os_error_message(e)}", file=sys.stderr)
+        return 2
+    except RecursionError as e:
+        if debug:
+            raise
+        print(f"inerterlab: error: input nested too deeply ({e})", file=sys.stderr)
+        return 2
+    except MemoryError:
+        if debug:
+            raise
+        print(
+            "inerterlab: error: out of memory; reduce the size of the run "
+            "(horizon, sample rate, grid, number of points)",
+            file=sys.stderr,
+        )
+        return 2
     except Exception as e:  # noqa: BLE001 - last-resort guard for the command line
         if debug:
             raise

@@ -16,17 +16,20 @@ from ..io import atomic_path
 from ..io import atomic_write_text as atomic_write_text
 
 
-def _clean(obj: Any) -> Any:
+def _clean(obj: Any, where: str = "") -> Any:
     if isinstance(obj, dict):
-        return {str(k): _clean(v) for k, v in obj.items()}
+        return {str(k): _clean(v, f"{where}.{k}" if where else str(k)) for k, v in obj.items()}
     if isinstance(obj, list | tuple):
-        return [_clean(v) for v in obj]
+        return [_clean(v, f"{where}[{i}]") for i, v in enumerate(obj)]
     if isinstance(obj, np.ndarray):
-        return _clean(obj.tolist())
+        return _clean(obj.tolist(), where)
     if isinstance(obj, np.generic):
-        return _clean(obj.item())
+        return _clean(obj.item(), where)
     if isinstance(obj, float) and not math.isfinite(obj):
-        raise InerterlabError("a result is not a finite number; nothing was printed")
+        raise InerterlabError(
+            f"result {where or 'value'} is {obj} (not a finite number): the computation "
+            "left the range of floating point numbers for these inputs; nothing was printed"
+        )
     return obj
 
 
@@ -35,10 +38,15 @@ def emit_json(obj: Any) -> None:
     sys.stdout.write(json.dumps(_clean(obj), allow_nan=False) + "\n")
 
 
-def atomic_savefig(fig: Any, path: str | os.PathLike) -> Path:
-    """Save a matplotlib figure atomically (format from the suffix)."""
-    suffix = Path(path).suffix.lstrip(".") or "png"
-    with atomic_path(path, suffix="." + suffix) as tmp:
+def atomic_savefig(fig: Any, path: str | os.PathLike, option: str = "--plot") -> Path:
+    """Save a matplotlib figure atomically (format from the suffix, PNG without one)."""
+    suffix = Path(path).suffix.lstrip(".").lower() or "png"
+    formats = fig.canvas.get_supported_filetypes()
+    if suffix not in formats:
+        raise ParameterError(
+            option, str(path), "a figure file ending in ." + ", .".join(sorted(formats))
+        )
+    with atomic_path(path, suffix="." + suffix, option=option) as tmp:
         fig.savefig(tmp, format=suffix, dpi=120, bbox_inches="tight")
     return Path(path)
 

@@ -91,7 +91,7 @@ def device_force_command(
     if csv is not None:
         rows = np.column_stack([res.t, res.force, res.equivalent_mass])
         lines = ["t,force,equivalent_mass"] + [f"{t:.9g},{F:.9g},{m:.9g}" for t, F, m in rows]
-        atomic_write_text(csv, "\n".join(lines) + "\n")
+        atomic_write_text(csv, "\n".join(lines) + "\n", option="--csv")
     if json_out:
         emit_json({"t": res.t, "force": res.force, "equivalent_mass": res.equivalent_mass})
         return

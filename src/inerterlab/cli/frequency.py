@@ -90,7 +90,7 @@ def frequency_response_command(
     out["law"] = law
     out["failed_points"] = int((~fr.converged).sum())
     if csv is not None:
-        atomic_write_text(csv, fr.to_pandas().to_csv(index=False))
+        atomic_write_text(csv, fr.to_pandas().to_csv(index=False), option="--csv")
         out["csv"] = str(csv)
     if plot is not None:
         fig = fr.plot()

@@ -58,7 +58,7 @@ def reproduce_command(
 
         workers = default_workers()
     settings = ReproduceSettings(quick=quick, workers=workers)
-    ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables else None
+    ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
     total = count_items(ids, ids is None)
     with RunProgress(total, label="reproduce", interval=progress_interval) as bar:
         # first Ctrl-C: finish the current item, keep everything, stop; second: stop now.

@@ -35,10 +35,10 @@ def _save_series(result, path: Path) -> None:
     if suffix == ".csv":
         df = result.to_pandas(units_in_names=True)
         header = "".join(f"# {k}: {v}\n" for k, v in result.settings().items())
-        atomic_write_text(path, header + df.to_csv(float_format="%.10g"))
+        atomic_write_text(path, header + df.to_csv(float_format="%.10g"), option="--save")
     elif suffix == ".nc":
         ds = result.to_xarray()
-        with atomic_path(path, suffix=".nc") as tmp:
+        with atomic_path(path, suffix=".nc", option="--save") as tmp:
             ds.to_netcdf(tmp, engine="scipy")  # netCDF3 via scipy: no HDF5 library needed
     else:
         raise ParameterError("save", str(path), "a file name ending in .csv or .nc")
@@ -100,6 +100,10 @@ def simulate_command(
     ] = False,
     backend: Annotated[str, typer.Option(help="numba (fast) or scipy (reference).")] = "numba",
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
+    time_limit: Annotated[
+        float,
+        typer.Option(help="scipy backend: give up after this many seconds of integration."),
+    ] = 300.0,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     save: Annotated[Path | None, typer.Option(help="Write the time series (.csv or .nc).")] = None,
     plot: Annotated[
@@ -132,7 +136,7 @@ def simulate_command(
     else:
         ex = read_road_csv(input_, speed=speed)
     want_series = save is not None or plot is not None
-    opts = SimulationOptions(backend=backend, rtol=rtol)
+    opts = SimulationOptions(backend=backend, rtol=rtol, time_limit=time_limit)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RoadTooShortWarning)
         res = simulate(

@@ -188,6 +188,15 @@ def optimize_ratio_command(
         step = parse_float("--grid-step", grid_step)
         if not 0.0 < step <= 0.125:
             raise ParameterError("--grid-step", grid_step, "a step in (0, 0.125]")
+        from ..resources import check_memory
+
+        check_memory(
+            (0.5 / step + 1) * len(INPUTS),
+            what="interpolation sweep (0.5 / grid-step ratios x inputs)",
+            parameter="--grid-step",
+            value=grid_step,
+            bytes_per_value=64,
+        )
         ds = sweep(
             {
                 "point": point,

@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..resources import check_memory
 from . import _kernels
 
 __all__ = [
@@ -61,8 +62,8 @@ class FourierBasis:
 
 def default_samples(harmonics: int, degree: int = 3) -> int:
     """Smallest power of two >= 2 * degree * harmonics + 1."""
-    need = 2 * degree * harmonics + 1
-    return int(2 ** int(np.ceil(np.log2(need))))
+    need = 2 * int(degree) * int(harmonics) + 1
+    return 1 << (need - 1).bit_length()  # exact for integers of any size
 
 
 def check_samples(harmonics: int, n_samples: int, degree: int) -> None:
@@ -301,6 +302,21 @@ def make_engine(system, harmonics: int, n_samples: int | None = None, *, compile
     degree = int(getattr(system, "nonlinearity_degree", 3))
     n = default_samples(int(harmonics), degree) if n_samples is None else int(n_samples)
     check_samples(int(harmonics), n, degree)
+    size = 2 * int(harmonics) + 1
+    # the basis holds samples x (2H+1) values (and its derivative); the Jacobian and the
+    # stability matrix grow with (2H+1)^2: refuse up front what cannot fit
+    check_memory(
+        float(n) * size * 3,
+        what="harmonic-balance basis (samples x harmonics)",
+        parameter="harmonics" if n_samples is None else "n_samples",
+        value=harmonics if n_samples is None else n_samples,
+    )
+    check_memory(
+        float(size) ** 2 * 8,
+        what="Jacobian and stability matrices",
+        parameter="harmonics",
+        value=harmonics,
+    )
     basis = fourier_basis(int(harmonics), n)
     if compiled and hasattr(system, "kernel"):
         return NumbaEngine(system, basis)

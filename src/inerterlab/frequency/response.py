@@ -31,6 +31,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
+from ..resources import check_memory, check_work
 from . import _kernels
 from .brute import steady_state
 from .continuation import continue_branch
@@ -286,7 +287,10 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
     df = check_positive("df", df, "Hz")
     if not fmin < fmax:
         raise ParameterError("fmin", fmin, f"a frequency < fmax={fmax} Hz")
-    n = int(math.floor((fmax - fmin) / df + 1e-9))
+    count = math.floor((fmax - fmin) / df + 1e-9) + 1
+    # each point keeps a few dozen numbers (coefficients, flags, residuals)
+    check_memory(count * 32, what="frequency grid and its results", parameter="df", value=df)
+    n = int(count) - 1
     return np.round(fmin + df * np.arange(n + 1), 12)
 
 
@@ -382,6 +386,25 @@ def frequency_response(
             raise ParameterError("freq_hz", freq_hz, "finite frequencies > 0 Hz")
         freqs = np.unique(freqs)
     scale = float(getattr(system, "displacement_scale", 1.0))
+    # rough cost: per point and pass, Newton iterations on a (2H+1)-square system plus
+    # the Hill stability matrix (twice that size); brute force integrates periods
+    n_pass = 2 if direction == "both" else 1
+    size = 2.0 * float(harmonics) + 1.0
+    if method == "brute":
+        per_point = 50.0 * steps_per_period * min(max_periods, 50)
+    else:
+        per_point = max_iter * (size**3 / 3 + 64 * size**2) + (
+            10 * (2 * size) ** 3 if stability else 0.0
+        )
+    by_harmonics = size**3 > 1e4 * freqs.size
+    check_work(
+        freqs.size * n_pass * per_point,
+        what="frequency response",
+        parameter="harmonics" if by_harmonics else "df",
+        value=harmonics
+        if by_harmonics
+        else (df if df is not None else f"{freqs.size} frequencies"),
+    )
     settings = {
         "method": method,
         "harmonics": int(harmonics),

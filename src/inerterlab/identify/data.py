@@ -29,6 +29,8 @@ from __future__ import annotations
 import csv
 import io
 import math
+import os
+import re
 import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -36,8 +38,7 @@ from pathlib import Path
 import numpy as np
 
 from ..datafiles import read_columns
-from ..errors import DataFileError
-from ..io import atomic_write_text
+from ..errors import DataFileError, ParameterError
 
 __all__ = ["RigTest", "RigDataSet", "load_rig_data", "read_rig_test", "write_rig_data"]
 
@@ -134,8 +135,10 @@ def _make_test(p, meta, col):
 
 def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
     csvp, tomlp = directory / "manifest.csv", directory / "manifest.toml"
+    from ..io import read_text_limited
+
     if csvp.exists():
-        lines = csvp.read_text().splitlines()
+        lines = read_text_limited(csvp, "manifest").splitlines()
         body = [(i + 1, ln) for i, ln in enumerate(lines) if ln.strip() and not ln.startswith("#")]
         if not body:
             raise DataFileError(csvp, "empty manifest", 1)
@@ -152,11 +155,13 @@ def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
         return csvp, out
     if tomlp.exists():
         try:
-            doc = tomllib.loads(tomlp.read_text())
+            doc = tomllib.loads(read_text_limited(tomlp, "manifest"))
         except tomllib.TOMLDecodeError as e:
             raise DataFileError(tomlp, f"not valid TOML ({e})") from None
+        except RecursionError:
+            raise DataFileError(tomlp, "not usable TOML: values nested too deeply") from None
         tests = doc.get("test")
-        if not isinstance(tests, list) or not tests:
+        if not isinstance(tests, list) or not tests or not all(isinstance(t, dict) for t in tests):
             raise DataFileError(tomlp, "needs an array of [[test]] tables")
         return tomlp, [(None, {k: str(v) for k, v in t.items()}) for t in tests]
     raise DataFileError(directory, "no manifest.csv or manifest.toml in this directory")
@@ -186,6 +191,12 @@ def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
     for ln, e in entries:
         if "file" not in e or not e["file"]:
             raise DataFileError(mpath, "test without a file name", ln)
+        if not isinstance(e["file"], str):
+            raise DataFileError(mpath, f"file {e['file']!r} is not a file name", ln)
+        inside = (d / e["file"]).resolve()
+        if not inside.is_relative_to(d.resolve()):
+            # a manifest names tests of its own data set, never other files of the system
+            raise DataFileError(mpath, f"file {e['file']!r} is outside the data directory {d}", ln)
         sig = e.get("signal", "other") or "other"
         if sig not in SIGNAL_TYPES:
             raise DataFileError(
@@ -201,17 +212,60 @@ def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
             if e.get(key, "") not in ("", None):
                 try:
                     meta[key] = float(e[key])
-                except ValueError:
+                except (ValueError, TypeError):
                     raise DataFileError(mpath, f"{key} {e[key]!r} is not a number", ln) from None
         tests.append(read_rig_test(d / e["file"], units=units, meta=meta))
     return RigDataSet(tests=tuple(tests), source=str(d))
 
 
+_RIG_FILE = re.compile(r"manifest\.csv|[A-Za-z0-9_.\-]+\.csv")
+
+
+def _replaceable_rig_dir(text: str, d: Path) -> None:
+    """Refuse ``d`` unless it is new, empty, or a data set written by :func:`write_rig_data`."""
+    if not d.exists():
+        return
+    if not d.is_dir():
+        raise ParameterError("out", text, "a directory; it is an existing file, not replaced")
+    entries = list(d.iterdir())
+    if not entries:
+        return
+    try:
+        first = (d / "manifest.csv").read_text().splitlines()[:1]
+    except (OSError, UnicodeDecodeError):
+        first = []
+    listed = {"manifest.csv"}
+    if first == [_MANIFEST_HEADER]:
+        for row in (d / "manifest.csv").read_text().splitlines()[1:]:
+            listed.add(row.split(",", 1)[0])
+    ours = first == [_MANIFEST_HEADER] and all(
+        e.name in listed and e.is_file() and not e.is_symlink() for e in entries
+    )
+    if not ours:
+        raise ParameterError(
+            "out",
+            text,
+            "a new or empty directory, or a rig data set written by inerterlab (it holds "
+            "other files, and the data set replaces the directory as a whole; nothing was written)",
+        )
+
+
+_MANIFEST_HEADER = "file,signal,frequency_hz,amplitude_m,purpose"
+
+
 def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
-    """Write ``dataset`` as test CSV files plus ``manifest.csv`` (each file atomically)."""
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    rows = ["file,signal,frequency_hz,amplitude_m,purpose"]
+    """Write ``dataset`` as test CSV files plus ``manifest.csv``.
+
+    The whole directory is replaced at once (new files are written beside it and
+    swapped in), so an interrupted or failed write leaves the previous data set
+    complete and never a mix of old and new files. A directory that holds anything
+    other than a data set of ours is refused and left as it was.
+    """
+    from ..io import replace_directory
+
+    d = check_rig_output(directory)
+    files: dict[str, str] = {}
+    rows = [_MANIFEST_HEADER]
     for test in dataset.tests:
         cols = [("time [s]", test.t)]
         if test.displacement is not None:
@@ -226,9 +280,24 @@ def write_rig_data(dataset: RigDataSet, directory, *, header: str = "") -> Path:
                 buf.write(f"# {hl}\n")
         buf.write(",".join(c[0] for c in cols) + "\n")
         np.savetxt(buf, arr, delimiter=",", fmt="%.10g")
-        atomic_write_text(d / test.name, buf.getvalue())
+        files[test.name] = buf.getvalue()
         rows.append(
             f"{test.name},{test.signal},{test.frequency:g},{test.amplitude:g},{test.purpose}"
         )
-    atomic_write_text(d / "manifest.csv", "\n".join(rows) + "\n")
+    files["manifest.csv"] = "\n".join(rows) + "\n"
+    return replace_directory(d, files)
+
+
+def check_rig_output(directory) -> Path:
+    """The resolved directory a data set will replace; raises if it is not ours to replace."""
+    text = os.fspath(directory)
+    if not str(text).strip():
+        raise ParameterError("out", text, "a directory path (it is empty)")
+    d = Path(os.path.realpath(text))
+    cwd = Path.cwd().resolve()
+    if d == d.parent or d == cwd or d in cwd.parents:
+        raise ParameterError(
+            "out", text, "a directory path other than the current one, above it or a root"
+        )
+    _replaceable_rig_dir(text, d)
     return d

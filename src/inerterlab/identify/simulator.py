@@ -155,6 +155,13 @@ def simulate_rig(
     check_choice("columns", columns, ("both", "displacement", "velocity"))
     if max_duration is not None:
         check_positive("max_duration", max_duration, "s")
+    from ..resources import check_memory
+
+    total = sum(
+        fs * (t.duration if max_duration is None else min(t.duration, max_duration)) for t in tests
+    )
+    # time, force, displacement, velocity and the solver's copies, then the CSV text
+    check_memory(total * 16, what="simulated rig records", parameter="sample_rate", value=fs)
     rng = np.random.default_rng(seed)
     out = []
     for spec in tests:

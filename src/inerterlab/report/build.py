@@ -8,22 +8,22 @@ Layout of a finished report directory::
     data/<id>.csv         the data behind every figure
     manifest.json         versions, settings, run time, what failed and why
 
-While it runs, finished items are kept in ``<out>.work/`` (one pickle per item keyed by
-the settings); a rerun of the same command after a crash or Ctrl-C reuses them. The
-final directory is built beside ``<out>`` and swapped in with renames, so a crashed
-run leaves the previous report intact.
+While it runs, finished items are kept in ``<out>.work/`` (one JSON file per item,
+keyed by the settings, the package version and source; see :mod:`.cache`); a rerun of
+the same command after a crash or Ctrl-C reuses them. The final directory is built
+beside ``<out>`` and swapped in with renames, so a crashed run leaves the previous
+report intact. ``<out>`` must be new, empty or an earlier report of ours: nothing else
+is ever replaced (:func:`resolve_report_target`).
 """
 
 from __future__ import annotations
 
 import base64
-import hashlib
 import html
 import importlib
 import io
 import json
 import os
-import pickle
 import platform
 import re
 import shutil
@@ -36,6 +36,15 @@ from pathlib import Path
 
 from ..errors import ParameterError
 from ..io import atomic_write_bytes
+from .cache import (
+    Uncacheable,
+    cache_key,
+    clean_work_dir,
+    dumps_record,
+    prepare_work_dir,
+    read_cached,
+    report_lock,
+)
 from .registry import FigureResult, ReproduceSettings, TableResult
 
 CHAPTERS = ("ch3", "ch4_6", "studies", "ch5", "ch7")
@@ -86,7 +95,7 @@ def parse_table_selection(spec: str, available: list[str]) -> list[str]:
             c1, a, c2, b = (int(g) for g in m.groups())
             if c1 != c2 or a > b:
                 raise ParameterError("--tables", token, valid)
-            ids = [f"{c1}.{i}" for i in range(a, b + 1)]
+            ids = (f"{c1}.{i}" for i in range(a, b + 1))  # lazy: stops at the first unknown
         else:
             ids = [token]
         for i in ids:
@@ -110,10 +119,6 @@ def _fig_png(fig) -> bytes:
 
 def _slug(s: str) -> str:
     return re.sub(r"[^A-Za-z0-9._-]+", "_", s).strip("_")
-
-
-def _settings_hash(settings: ReproduceSettings) -> str:
-    return hashlib.sha256(json.dumps(asdict(settings), sort_keys=True).encode()).hexdigest()[:12]
 
 
 def _csv_with_header(frame, header: dict) -> str:
@@ -184,24 +189,24 @@ def run_items(
     items = [("table", t, tables[t]) for t in chosen_tables]
     if include_figures:
         items += [("figure", f, figures[f]) for f in figures]
-    work_dir.mkdir(parents=True, exist_ok=True)
-    tag = _settings_hash(settings)
+    prepare_work_dir(work_dir)
+    tag = cache_key(asdict(settings))
     records = []
     pre: dict = {}
     if settings.workers > 1:  # shared pieces and independent chapters in parallel first
         from .parallel import run_parallel
 
         todo = [
-            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()
+            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.json").exists()
         ]
         pre = run_parallel(settings, todo, settings.workers, note=on_start, done=progress)
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
-        cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.pkl"
-        if cache.exists():
-            with open(cache, "rb") as fh:
-                records.append({**pickle.load(fh), "reused": True})
+        cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.json"
+        cached = read_cached(cache, tag)
+        if cached is not None and (cached["kind"], cached["id"]) == (kind, ident):
+            records.append({**cached, "reused": True})
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
@@ -210,7 +215,10 @@ def run_items(
             on_start(f"{kind} {ident}")
         rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
         if rec["ok"]:
-            atomic_write_bytes(cache, pickle.dumps(rec))
+            try:
+                atomic_write_bytes(cache, dumps_record(rec, tag), follow_links=False)
+            except Uncacheable:  # stored inexactly would break resume: recompute instead
+                pass
         records.append(rec)
         if progress and not from_worker:
             progress(f"{kind} {ident}")
@@ -383,12 +391,107 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
     return files
 
 
+#: what a report directory of ours holds at its top level
+REPORT_ENTRIES = frozenset({"index.html", "manifest.json", "tables", "figures", "data"})
+
+
+def _is_our_report(d: Path) -> bool:
+    """True if ``d`` is empty or holds exactly a report this package wrote.
+
+    A report of ours has a ``manifest.json`` with our keys, nothing at its top level but
+    the entries of :data:`REPORT_ENTRIES`, and only ``.csv``/``.png`` files (no links,
+    no subfolders) in ``tables/``, ``figures/`` and ``data/``.
+    """
+    entries = list(d.iterdir())
+    if not entries:
+        return True
+    names = {e.name for e in entries}
+    if not names <= REPORT_ENTRIES or "manifest.json" not in names:
+        return False
+    for e in entries:
+        if e.is_symlink():
+            return False
+        if e.name in ("index.html", "manifest.json"):
+            if not e.is_file():
+                return False
+        elif not e.is_dir() or any(
+            f.is_symlink() or not f.is_file() or f.suffix not in (".csv", ".png")
+            for f in e.iterdir()
+        ):
+            return False
+    try:
+        m = json.loads((d / "manifest.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(m, dict) and {"settings", "versions", "items"} <= set(m)
+
+
+def resolve_report_target(out: str | os.PathLike) -> Path:
+    """The directory a report for ``--out`` goes to; refuses what is not ours to replace.
+
+    A symbolic link is followed (the report replaces what it points to, the link stays).
+    An existing path must be an empty directory or a report this package wrote:
+    anything else is refused, so no file of the user's is ever removed.
+    """
+    text = os.fspath(out)
+    if not str(text).strip():
+        raise ParameterError("--out", text, "a directory path (it is empty)")
+    p = Path(os.path.realpath(text))
+    if p.name in ("", ".", "..") or p == p.parent:
+        raise ParameterError("--out", text, "a directory path with a name (not a root)")
+    cwd = Path.cwd().resolve()
+    if p == cwd or p in cwd.parents:
+        raise ParameterError("--out", text, "a directory other than the current one or above it")
+    if p.exists():
+        if not p.is_dir():
+            raise ParameterError(
+                "--out", text, "a new or report directory; it is an existing file, not replaced"
+            )
+        try:
+            ours = _is_our_report(p)
+        except OSError as e:
+            raise ParameterError("--out", text, f"a readable directory ({e.strerror})") from None
+        if not ours:
+            raise ParameterError(
+                "--out",
+                text,
+                "a new directory, an empty one or an earlier report of inerterlab; this folder "
+                "holds other files, and --out is replaced as a whole, so nothing was written",
+            )
+    return p
+
+
+def _umask() -> int:
+    from ..io import current_umask
+
+    return current_umask()
+
+
+def clean_stale_temporaries(out: Path) -> list[Path]:
+    """Remove ``.<name>.new-*`` / ``.<name>.old-*`` folders left by an interrupted write.
+
+    Call only while holding the report lock (:func:`report_lock`): then no other run can
+    be writing them.
+    """
+    removed = []
+    pat = re.compile(re.escape(f".{out.name}.") + r"(new-[A-Za-z0-9_]+|old-\d+)")
+    for p in out.parent.iterdir() if out.parent.is_dir() else []:
+        if pat.fullmatch(p.name) and p.is_dir() and not p.is_symlink():
+            shutil.rmtree(p, ignore_errors=True)
+            removed.append(p)
+    return removed
+
+
 def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:
-    """Write ``files`` into a fresh directory and swap it in place of ``out``."""
+    """Write ``files`` into a fresh directory and swap it in place of ``out``.
+
+    ``out`` must have passed :func:`resolve_report_target` (empty or ours).
+    """
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)
     tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
     try:
+        os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes it private; follow the umask
         for rel, data in files.items():
             p = tmp / rel
             p.parent.mkdir(parents=True, exist_ok=True)
@@ -439,16 +542,24 @@ def reproduce(
         unless ``figures`` is True and no selection is given.
     """
     settings = settings or ReproduceSettings()
-    out = Path(out)
+    out = resolve_report_target(out)
     t0 = time.perf_counter()
     all_tables, _ = _load_chapters()
-    ids = parse_table_selection(tables, list(all_tables)) if tables else None
-    work = out.parent / f"{out.name}.work"
-    records = run_items(
-        settings, ids, figures and ids is None, work, progress, should_stop, on_start
-    )
+    ids = parse_table_selection(tables, list(all_tables)) if tables is not None else None
+    work = prepare_work_dir(out.parent / f"{out.name}.work")
+    with report_lock(work, out):
+        clean_stale_temporaries(out)
+        out = resolve_report_target(out)  # checked again now that no one else writes it
+        records = run_items(
+            settings, ids, figures and ids is None, work, progress, should_stop, on_start
+        )
+        manifest = _finish(out, records, settings, t0, errata_path)
+        clean_work_dir(work)
+    return manifest
+
+
+def _finish(out, records, settings, t0, errata_path) -> dict:
     errata = read_errata(errata_path)
     files = render(records, settings, time.perf_counter() - t0, errata)
     write_report_atomically(out, files)
-    shutil.rmtree(work, ignore_errors=True)
     return json.loads(files["manifest.json"])

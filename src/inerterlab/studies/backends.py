@@ -12,13 +12,15 @@ Backends are context managers; leaving the ``with`` block releases workers.
 from __future__ import annotations
 
 import abc
+import functools
 import multiprocessing
 import os
+import time
 from collections.abc import Callable, Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from typing import Any
 
-from ..errors import ParameterError
+from ..errors import InerterlabError, ParameterError
 
 __all__ = ["Backend", "SerialBackend", "ProcessBackend", "DaskBackend", "make_backend", "BACKENDS"]
 
@@ -85,6 +87,42 @@ def _windowed(submit, tasks: Iterable[Any], window: int, wait_any):
             yield task, fut
 
 
+def _die_with_parent(parent: int) -> None:
+    """Make this worker end when the process that started it ends (even by SIGKILL).
+
+    On Linux the kernel sends SIGKILL when the parent dies (``PR_SET_PDEATHSIG``);
+    elsewhere a daemon thread notices that the parent is gone and exits.
+    """
+    import signal
+    import threading
+
+    try:
+        import ctypes
+
+        libc = ctypes.CDLL(None, use_errno=True)
+        pr_set_pdeathsig = 1
+        ok = libc.prctl(pr_set_pdeathsig, int(signal.SIGKILL), 0, 0, 0) == 0
+    except (OSError, AttributeError):
+        ok = False
+    if os.getppid() != parent:  # the parent died before the request took effect
+        os._exit(1)
+    if ok:
+        return
+
+    def watch() -> None:  # pragma: no cover - systems without prctl
+        while os.getppid() == parent:
+            time.sleep(1.0)
+        os._exit(1)
+
+    threading.Thread(target=watch, daemon=True, name="inerterlab-parent-watch").start()
+
+
+def _worker_start(parent: int, initializer: Callable | None) -> None:
+    _die_with_parent(parent)
+    if initializer is not None:
+        initializer()
+
+
 class ProcessBackend(Backend):
     """Local worker processes (``concurrent.futures.ProcessPoolExecutor``).
 
@@ -113,7 +151,9 @@ class ProcessBackend(Backend):
         methods = multiprocessing.get_all_start_methods()
         ctx = multiprocessing.get_context("fork" if "fork" in methods else "spawn")
         self._pool = ProcessPoolExecutor(
-            max_workers=self.workers, mp_context=ctx, initializer=self.initializer
+            max_workers=self.workers,
+            mp_context=ctx,
+            initializer=functools.partial(_worker_start, os.getpid(), self.initializer),
         )
         # start every worker now (before any progress-bar thread exists in this process)
         for f in [self._pool.submit(_noop) for _ in range(self.workers)]:
@@ -137,6 +177,10 @@ class ProcessBackend(Backend):
             yield task, fut.result()
 
 
+class WorkersLost(InerterlabError):
+    """A distributed run lost all its workers and cannot go on."""
+
+
 class DaskBackend(Backend):
     """Dask distributed: an existing cluster (``scheduler``) or a local one (``workers``).
 
@@ -151,6 +195,8 @@ class DaskBackend(Backend):
     """
 
     name = "dask"
+    #: seconds without any worker after which a run stops with a message
+    no_worker_timeout = 60.0
 
     def __init__(
         self, scheduler: str | None = None, workers: int | None = None, *, processes: bool = True
@@ -175,7 +221,7 @@ class DaskBackend(Backend):
         if self.scheduler is not None:
             try:
                 self._client = Client(self.scheduler, timeout="10s")
-            except (OSError, TimeoutError) as exc:
+            except (OSError, TimeoutError, ValueError, TypeError) as exc:
                 raise ParameterError(
                     "scheduler", self.scheduler, f"the address of a running Dask scheduler ({exc})"
                 ) from None
@@ -209,7 +255,29 @@ class DaskBackend(Backend):
         client = self._client
 
         def wait_any(futs):
-            return dwait(futs, return_when="FIRST_COMPLETED").done
+            # wait in short slices; if the cluster has had no worker for a while, the
+            # futures would wait forever: stop with a message instead (finished points
+            # are already in the store)
+            gone_since = None
+            while True:
+                try:
+                    return dwait(futs, timeout=2.0, return_when="FIRST_COMPLETED").done
+                except TimeoutError:
+                    pass
+                try:
+                    alive = len(client.scheduler_info().get("workers", {}))
+                except Exception:  # noqa: BLE001 - the scheduler itself is gone
+                    alive = 0
+                if alive:
+                    gone_since = None
+                    continue
+                gone_since = gone_since or time.monotonic()
+                if time.monotonic() - gone_since > self.no_worker_timeout:
+                    raise WorkersLost(
+                        f"every Dask worker has been gone for {self.no_worker_timeout:g} s; "
+                        "the sweep stopped (finished points are kept in the store: rerun to "
+                        "resume once workers are back)"
+                    )
 
         def submit(task):
             return client.submit(fn, task, pure=False)

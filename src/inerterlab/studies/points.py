@@ -161,7 +161,20 @@ class PointFunction:
                 name,
                 f"a parameter of point function {self.name!r}: " + ", ".join(self.parameters),
             )
-        return spec.check(key, value)
+        value = spec.check(key, value)
+        if name == "log_file" and value and os.environ.get(LOG_FILE_ENV) != "1":
+            # a sweep file must not be able to create or append to files of the user's
+            raise ParameterError(
+                key,
+                value,
+                f"no value: the evaluation log of the synthetic point is a testing aid, "
+                f"enabled only when the environment sets {LOG_FILE_ENV}=1",
+            )
+        return value
+
+
+#: environment variable that enables the synthetic point's ``log_file`` (tests only)
+LOG_FILE_ENV = "INERTERLAB_ALLOW_POINT_LOG"
 
 
 # --- the synthetic point function ---------------------------------------------------

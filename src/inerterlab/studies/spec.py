@@ -142,6 +142,10 @@ def expand_range(key: str, value: Any) -> tuple:
                 raise ParameterError(f"{key}.num", num, "an integer >= 1 (empty range)")
             if num > 1 and stop < start:
                 raise ParameterError(key, value, "a range with stop >= start (empty range)")
+            # swept values are kept as Python floats in tuples (about 64 bytes each)
+            check_memory(
+                num, what="list of swept values", parameter=f"{key}.num", bytes_per_value=64
+            )
             out = np.linspace(start, stop, num)
         else:
             step = float(value["step"])
@@ -149,7 +153,11 @@ def expand_range(key: str, value: Any) -> tuple:
                 raise ParameterError(f"{key}.step", value["step"], "a step > 0")
             if stop < start:
                 raise ParameterError(key, value, "a range with stop >= start (empty range)")
-            n = int(math.floor((stop - start) / step + 1e-9)) + 1
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            check_memory(
+                count, what="list of swept values", parameter=f"{key}.step", bytes_per_value=64
+            )
+            n = int(count)
             out = start + step * np.arange(n)
         return tuple(round(float(v), 12) for v in out)
     if isinstance(value, list | tuple):
@@ -279,6 +287,8 @@ def sweep_spec(
         raise exc
 
     try:
+        if not isinstance(point, str):
+            raise ParameterError("point", point, "the name of a point function (a string)")
         pf = point_function(point)
     except ParameterError as exc:
         fail("point", exc)
@@ -327,6 +337,15 @@ def sweep_spec(
         isinstance(chunk_size, bool) or not isinstance(chunk_size, int) or chunk_size < 1
     ):
         fail("chunk_size", ParameterError("chunk_size", chunk_size, "an integer >= 1"))
+    if chunk_size is not None:
+        try:  # one chunk of every variable is held in memory at once
+            check_memory(
+                float(chunk_size) * (len(pf.metrics) + 2),
+                what="store chunk",
+                parameter="chunk_size",
+            )
+        except ParameterError as exc:
+            fail("chunk_size", exc)
     n_points = 1
     for _, values in swept:
         n_points *= len(values)
@@ -375,20 +394,17 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     DataFileError
         With the file, the line and the valid values for any problem.
     """
+    from ..io import read_text_limited
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DataFileError(p, f"cannot read the sweep file: {exc.strerror}") from None
-    except UnicodeDecodeError as exc:
-        raise DataFileError(
-            p, f"not a UTF-8 text file (byte {exc.start}); a sweep file is TOML text"
-        ) from None
+    text = read_text_limited(p, "sweep file", limit=16 * 1024**2)
     try:
         data = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         m = re.search(r"line (\d+)", str(exc))
         raise DataFileError(p, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+    except RecursionError:
+        raise DataFileError(p, "not usable TOML: values nested too deeply") from None
     lines = _key_lines(text)
     allowed = {"point", "chunk_size", "parameters", "settings", "weights"}
     for key in data:
@@ -404,12 +420,21 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     if "parameters" not in data:
         raise DataFileError(p, "missing table [parameters] (the swept parameters)")
     point = data.get("point", "quarter-car")
-    return sweep_spec(
-        point,
-        parameters=data["parameters"],
-        settings=data.get("settings"),
-        weights=data.get("weights"),
-        chunk_size=data.get("chunk_size"),
-        _lines=lines,
-        _path=str(p),
-    )
+    try:
+        return sweep_spec(
+            point,
+            parameters=data["parameters"],
+            settings=data.get("settings"),
+            weights=data.get("weights"),
+            chunk_size=data.get("chunk_size"),
+            _lines=lines,
+            _path=str(p),
+        )
+    except (TypeError, ValueError, RecursionError) as exc:
+        if isinstance(exc, DataFileError):
+            raise
+        # a value of a type no check expected (a list or table where a number or a
+        # name belongs, a structure nested too deeply): name the file, never crash
+        raise DataFileError(
+            p, f"a value has the wrong type or shape ({type(exc).__name__}: {exc})"
+        ) from None

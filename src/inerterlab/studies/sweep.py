@@ -172,7 +172,10 @@ class _ZarrStore:
 
         self.path = str(path)
         self.metrics = spec.point_function.metrics
+        self._lock_fd: int | None = None
         config_hash = spec.config_hash()
+        if not path.exists():
+            _create_store(path, spec, chunk_size, config_hash, self.metrics)
         if path.exists():
             try:
                 group = zarr.open_group(str(path), mode="r+")
@@ -193,10 +196,89 @@ class _ZarrStore:
                 )
             self.group = group
             self.chunk_size = int(attrs["chunk_size"])
-        else:
-            group = zarr.open_group(str(path), mode="w-")
+            self._lock_fd = _lock_store(path)
+
+    def close(self) -> None:
+        if self._lock_fd is not None:
+            os.close(self._lock_fd)
+            self._lock_fd = None
+
+    def status(self) -> np.ndarray:
+        return np.asarray(self.group["status"][:])
+
+    def write(self, idx: np.ndarray, res: ChunkResult) -> None:
+        contiguous = idx[-1] - idx[0] + 1 == len(idx)
+        sel = slice(int(idx[0]), int(idx[-1]) + 1) if contiguous else idx
+
+        def put(name, data):
+            arr = self.group[name]
+            if contiguous:
+                arr[sel] = data
+            else:
+                arr.oindex[sel] = data
+
+        for j, name in enumerate(self.metrics):
+            put(name, res.values[:, j])
+        put("reason", _encode_reasons(res.reasons))
+        put("status", res.status)  # last: marks the points as done
+
+    def read(self):
+        values = np.stack([np.asarray(self.group[m][:]) for m in self.metrics], axis=1)
+        return values, self.status(), _decode_reasons(np.asarray(self.group["reason"][:]))
+
+
+def _lock_store(path: Path) -> int:
+    """Exclusive lock on the store directory for this run; refuses a second writer."""
+    import fcntl
+
+    from ..errors import LockedError
+
+    fd = os.open(path, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        os.close(fd)
+        raise LockedError(
+            f"{path}: another inerterlab sweep is writing this store; wait for it to finish "
+            "(then rerun to pick up what it did not compute) or choose another --out"
+        ) from None
+    return fd
+
+
+def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str, metrics):
+    """Create a complete empty store beside ``path`` and rename it into place.
+
+    The store is valid from the moment ``path`` exists: a run killed while creating it
+    leaves only a ``.<name>.new-*`` folder, removed by the next run. Creation is
+    serialised by a short lock on the parent directory, so two runs starting at once
+    do not both create one (the second finds the first's store and is locked out).
+    """
+    import fcntl
+    import re
+    import shutil
+    import tempfile
+
+    import zarr
+
+    from ..io import current_umask
+
+    parent = path.parent
+    parent.mkdir(parents=True, exist_ok=True)
+    dfd = os.open(parent, os.O_RDONLY | os.O_DIRECTORY)
+    try:
+        fcntl.flock(dfd, fcntl.LOCK_EX)
+        if path.exists() or path.is_symlink():
+            return
+        pat = re.compile(re.escape(f".{path.name}.new-") + r"[A-Za-z0-9_]+")
+        for p in parent.iterdir():
+            if pat.fullmatch(p.name) and p.is_dir() and not p.is_symlink():
+                shutil.rmtree(p, ignore_errors=True)
+        tmp = Path(tempfile.mkdtemp(dir=parent, prefix=f".{path.name}.new-"))
+        try:
+            os.chmod(tmp, 0o777 & ~current_umask())
+            group = zarr.open_group(str(tmp), mode="w")
             n = spec.size
-            for name in self.metrics:
+            for name in metrics:
                 group.create_array(
                     name,
                     shape=(n,),
@@ -228,37 +310,18 @@ class _ZarrStore:
                     "config": spec.to_dict(),
                     "config_hash": config_hash,
                     "chunk_size": int(chunk_size),
-                    "metrics": list(self.metrics),
+                    "metrics": list(metrics),
                     "dims": list(spec.dims),
                     "shape": list(spec.shape),
                     "created": time.strftime("%Y-%m-%dT%H:%M:%S%z"),
                 }
             )
-            self.group = group
-            self.chunk_size = chunk_size
-
-    def status(self) -> np.ndarray:
-        return np.asarray(self.group["status"][:])
-
-    def write(self, idx: np.ndarray, res: ChunkResult) -> None:
-        contiguous = idx[-1] - idx[0] + 1 == len(idx)
-        sel = slice(int(idx[0]), int(idx[-1]) + 1) if contiguous else idx
-
-        def put(name, data):
-            arr = self.group[name]
-            if contiguous:
-                arr[sel] = data
-            else:
-                arr.oindex[sel] = data
-
-        for j, name in enumerate(self.metrics):
-            put(name, res.values[:, j])
-        put("reason", _encode_reasons(res.reasons))
-        put("status", res.status)  # last: marks the points as done
-
-    def read(self):
-        values = np.stack([np.asarray(self.group[m][:]) for m in self.metrics], axis=1)
-        return values, self.status(), _decode_reasons(np.asarray(self.group["reason"][:]))
+            os.rename(tmp, path)
+        except BaseException:
+            shutil.rmtree(tmp, ignore_errors=True)
+            raise
+    finally:
+        os.close(dfd)
 
 
 def _short(v: Any) -> str:
@@ -378,12 +441,21 @@ def sweep(
     if isinstance(spec, dict):
         spec = sweep_spec(**spec)
     n = spec.size
-    point = spec.point_function
     be = make_backend(backend, workers=workers, scheduler=scheduler)
     chunk_size = spec.chunk_size or _auto_chunk_size(
         n, be.workers if be.name != "dask" else max(1, workers or 2)
     )
     target = _ZarrStore(Path(store), spec, chunk_size) if store is not None else _MemoryStore(spec)
+    try:
+        return _run_sweep(spec, target, be, chunk_size, store, progress)
+    finally:
+        if store is not None:
+            target.close()
+
+
+def _run_sweep(spec, target, be, chunk_size, store, progress):
+    n = spec.size
+    point = spec.point_function
     if store is not None:
         chunk_size = target.chunk_size
     status = target.status()
@@ -499,7 +571,7 @@ def save_netcdf(ds, path: str | os.PathLike) -> Path:
     """
     from ..io import atomic_path
 
-    with atomic_path(path, suffix=".nc") as tmp:
+    with atomic_path(path, suffix=".nc", option="--netcdf") as tmp:
         try:
             ds.to_netcdf(tmp, engine="h5netcdf")
         except ImportError:  # h5netcdf without h5py: classic netCDF through scipy

@@ -1,0 +1,9 @@
+"""Shared test set-up."""
+
+import os
+
+from inerterlab.studies.points import LOG_FILE_ENV
+
+# the synthetic point's evaluation log (used to count evaluations) is a testing aid that
+# user configurations cannot switch on; the tests, and the processes they start, may
+os.environ.setdefault(LOG_FILE_ENV, "1")

@@ -1,0 +1,292 @@
+"""Outputs: the resume cache runs no code, nothing of the user's is removed or replaced,
+special files are streamed into, modes follow the umask."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import pickle
+import stat
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from inerterlab import ParameterError
+from inerterlab.cli import main
+from inerterlab.errors import LockedError
+from inerterlab.io import atomic_write_text
+from inerterlab.report import build, cache
+from inerterlab.report.registry import FigureResult, ReproduceSettings, TableResult
+
+
+def _fake_chapters(calls):
+    def table(settings):
+        calls.append("t")
+        frame = pd.DataFrame(
+            {
+                "quantity": ["a", "b", None],
+                "ours": [1.0, np.nan, 1e-300],
+                "n": np.array([1, 2, 3], dtype=np.int64),
+                "flag": [True, False, True],
+                "mixed": ["x", 1.5, None],
+            }
+        )
+        return TableResult(
+            table_id="9.1",
+            title="t",
+            frame=frame,
+            claim="c",
+            claim_holds=None,
+            reason="r",
+            settings={"h": (1, 2), "x": np.float64(0.1), "law": "thesis"},
+        )
+
+    def figure(settings):
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        calls.append("f")
+        fig, ax = plt.subplots()
+        ax.plot([0, 1], [0, 1])
+        return FigureResult(
+            figure_id="F", title="f", figure=fig, data=pd.DataFrame({"x": [0.1, 0.2]})
+        )
+
+    return {"9.1": table}, {"Figure 9": figure}
+
+
+# ---- the resume cache ----------------------------------------------------------------
+
+
+class _Boom:
+    def __reduce__(self):
+        return (os.system, ("touch PWNED",))
+
+
+def test_planted_pickle_in_the_cache_is_never_loaded(tmp_path, monkeypatch):
+    """The cache no longer reads pickles: a malicious one under every name the old and
+    new formats use is ignored, nothing runs, and the item is computed afresh."""
+    calls: list[str] = []
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters(calls))
+    monkeypatch.chdir(tmp_path)
+    work = tmp_path / "w"
+    work.mkdir()
+    key = cache.cache_key({"quick": True, "workers": 1})
+    old_key = hashlib.sha256(json.dumps({"quick": True, "workers": 1}, sort_keys=True).encode())
+    payload = pickle.dumps(_Boom())
+    for name in (f"table-9.1-{key}.json", f"table-9.1-{old_key.hexdigest()[:12]}.pkl"):
+        (work / name).write_bytes(payload)
+    recs = build.run_items(ReproduceSettings(quick=True), None, False, work, None)
+    assert not (tmp_path / "PWNED").exists()
+    assert calls == ["t"] and recs[0]["ok"] and not recs[0].get("reused")
+
+
+def test_cache_round_trip_is_exact_and_rejects_forgeries(tmp_path, monkeypatch):
+    calls: list[str] = []
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters(calls))
+    work = tmp_path / "w"
+    s = ReproduceSettings(quick=True)
+    first = build.run_items(s, None, True, work, None)
+    again = build.run_items(s, None, True, work, None)
+    assert calls == ["t", "f"]  # second run reused both
+    assert all(r["reused"] for r in again)
+    files_a = build.render(first, s, 1.0, "")
+    files_b = build.render(again, s, 1.0, "")
+    for k in files_a:
+        if k not in ("index.html", "manifest.json"):
+            assert files_a[k] == files_b[k], k
+    a, b = first[0]["frame"], again[0]["frame"]
+    assert list(a.dtypes) == list(b.dtypes) and a.equals(b)
+    assert again[0]["settings"] == first[0]["settings"]
+    assert type(again[0]["settings"]["h"]) is tuple
+    # a cache file with a wrong key, a bad shape or garbage is ignored and recomputed
+    (p,) = work.glob("table-*.json")
+    good = json.loads(p.read_text())
+    for bad in (
+        {**good, "key": "0" * 16},
+        {**good, "record": {**good["record"], "frame": "not a frame"}},
+        {"format": cache.FORMAT, "key": good["key"], "record": {"__np__": "<M8[ns]", "v": 1}},
+    ):
+        p.write_text(json.dumps(bad))
+        build.run_items(s, None, False, work, None)
+    p.write_bytes(b"\x80\x04garbage")
+    build.run_items(s, None, False, work, None)
+    assert calls.count("t") == 5
+
+
+def test_cache_key_covers_the_package_source(monkeypatch):
+    k = cache.cache_key({"quick": True})
+    monkeypatch.setattr(cache, "source_hash", lambda: "something else")
+    assert cache.cache_key({"quick": True}) != k
+
+
+def test_symlinked_work_dir_is_refused(tmp_path, monkeypatch):
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters([]))
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    (tmp_path / "rep.work").symlink_to(elsewhere)
+    with pytest.raises(ParameterError, match="symbolic link"):
+        build.reproduce(tmp_path / "rep", settings=ReproduceSettings(quick=True))
+    assert list(elsewhere.iterdir()) == []
+
+
+# ---- --out: never remove what is not ours ---------------------------------------------
+
+
+def test_out_into_a_foreign_folder_is_refused_and_nothing_removed(tmp_path, monkeypatch, capsys):
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters([]))
+    folder = tmp_path / "thesis"
+    (folder / "data").mkdir(parents=True)
+    (folder / "main.tex").write_text("\\documentclass{article}")
+    (folder / "data" / "x.csv").write_text("1,2\n")
+    rc = main(["reproduce", "--quick", "--tables", "9.1", "--out", str(folder)])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "--out" in err and "nothing was written" in err
+    assert (folder / "main.tex").read_text() == "\\documentclass{article}"
+    assert (folder / "data" / "x.csv").read_text() == "1,2\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["thesis"]
+
+
+def test_out_report_of_ours_is_replaced_but_not_with_extra_files(tmp_path, monkeypatch):
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters([]))
+    out = tmp_path / "rep"
+    build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")
+    assert (out / "tables" / "9.1.csv").is_file()
+    build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")  # ours: ok
+    (out / "notes.txt").write_text("mine")
+    with pytest.raises(ParameterError, match="--out"):
+        build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")
+    assert (out / "notes.txt").read_text() == "mine"
+    for bad, match in (("", "empty"), (str(out / "notes.txt"), "existing file")):
+        with pytest.raises(ParameterError, match=match):
+            build.reproduce(bad, settings=ReproduceSettings(quick=True), tables="9.1")
+
+
+def test_empty_tables_selection_is_refused_not_the_whole_report(tmp_path, capsys):
+    rc = main(["reproduce", "--quick", "--tables", "", "--out", str(tmp_path / "r")])
+    err = capsys.readouterr().err
+    assert rc == 2 and "--tables" in err and not (tmp_path / "r").exists()
+
+
+def test_huge_table_range_is_refused_quickly():
+    avail = [f"4.{i}" for i in range(1, 16)]
+    with pytest.raises(ParameterError, match="4.16"):
+        build.parse_table_selection("4.1-4.99999999", avail)
+
+
+def test_stale_temporaries_are_cleaned_and_report_mode_follows_umask(tmp_path, monkeypatch):
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters([]))
+    out = tmp_path / "rep"
+    (tmp_path / ".rep.new-abc123").mkdir()
+    (tmp_path / ".rep.old-4242").mkdir()
+    (tmp_path / ".other.new-abc").mkdir()  # not this report's: left alone
+    old = os.umask(0o022)
+    try:
+        build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")
+    finally:
+        os.umask(old)
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".other.new-abc", "rep"]
+    assert stat.S_IMODE(out.stat().st_mode) == 0o755
+
+
+def test_a_second_writer_is_locked_out(tmp_path, monkeypatch):
+    monkeypatch.setattr(build, "_load_chapters", lambda: _fake_chapters([]))
+    out = tmp_path / "rep"
+    work = cache.prepare_work_dir(tmp_path / "rep.work")
+    with cache.report_lock(work, out):
+        with pytest.raises(LockedError, match="another inerterlab reproduce"):
+            build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")
+    build.reproduce(out, settings=ReproduceSettings(quick=True), tables="9.1")
+    assert not work.exists()
+
+
+# ---- single-file outputs ---------------------------------------------------------------
+
+
+def test_devices_fifos_links_and_stdout_are_written_into(tmp_path, capfd):
+    atomic_write_text("/dev/null", "x")
+    assert stat.S_ISCHR(os.stat("/dev/null").st_mode)
+
+    fifo = tmp_path / "fifo"
+    os.mkfifo(fifo)
+    reader = subprocess.Popen([sys.executable, "-c", f"print(open({str(fifo)!r}).read())"],
+                              stdout=subprocess.PIPE, text=True)  # fmt: skip
+    atomic_write_text(fifo, "through the pipe")
+    assert reader.communicate(timeout=20)[0].strip() == "through the pipe"
+    assert stat.S_ISFIFO(os.stat(fifo).st_mode)
+
+    target = tmp_path / "target.csv"
+    target.write_text("old")
+    os.chmod(target, 0o640)
+    link = tmp_path / "link.csv"
+    link.symlink_to(target)
+    atomic_write_text(link, "new")
+    assert link.is_symlink() and target.read_text() == "new"
+    assert stat.S_IMODE(target.stat().st_mode) == 0o640  # mode of the replaced file kept
+
+    atomic_write_text("-", "to stdout\n")
+    assert capfd.readouterr().out == "to stdout\n"
+
+
+def test_new_files_follow_the_umask(tmp_path):
+    old = os.umask(0o027)
+    try:
+        atomic_write_text(tmp_path / "a.csv", "x")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE((tmp_path / "a.csv").stat().st_mode) == 0o640
+
+
+def test_cli_output_paths_that_cannot_be_written_are_user_errors(tmp_path, capsys):
+    base = ["frequency-response", "--method", "shb", "--fmin", "1", "--fmax", "1.2", "--df", "0.1"]
+    cases = [
+        (["--csv", str(tmp_path)], "--csv"),
+        (["--plot", str(tmp_path)], "--plot"),
+        (["--plot", str(tmp_path / "f.xyz")], "--plot"),
+        (["--csv", ""], "--csv"),
+    ]
+    for extra, name in cases:
+        rc = main(base + ["--no-stability"] + extra)
+        err = capsys.readouterr().err
+        assert rc == 2, (extra, err)
+        assert err.count("\n") == 1 and name in err, err
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+
+def test_dev_stdout_redirected_to_a_file_keeps_everything(tmp_path):
+    """``--csv /dev/stdout > file`` writes through the descriptor: the CSV and the table
+    both end up in the file (reopening the path would truncate it)."""
+    code = "import sys; from inerterlab.cli import main; sys.exit(main())"
+    args = ["device-force", "--amplitude", "0.01", "--duration", "0.002", "--csv", "/dev/stdout"]
+    out = tmp_path / "out.txt"
+    with open(out, "w") as fh:
+        r = subprocess.run([sys.executable, "-c", code, *args], stdout=fh, stderr=subprocess.PIPE,
+                           text=True, timeout=120)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    assert text.startswith("t,force,equivalent_mass\n") and "samples" in text
+
+
+def test_a_reader_that_stops_early_is_not_an_error():
+    code = "import sys; from inerterlab.cli import main; sys.exit(main())"
+    args = [
+        "device-force",
+        "--amplitude",
+        "0.01",
+        "--duration",
+        "5",
+        "--csv",
+        "-",
+    ]  # > a pipe buffer
+    p = subprocess.Popen([sys.executable, "-c", code, *args], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE)  # fmt: skip
+    p.stdout.read(10)
+    p.stdout.close()
+    err = p.stderr.read().decode()
+    assert p.wait(120) == 0 and "Traceback" not in err, err
