@@ -20,7 +20,7 @@ from inerterlab.studies.points import LOG_FILE_ENV
 
 sweep_mod = importlib.import_module("inerterlab.studies.sweep")
 
-SPEC = {"point": "synthetic", "parameters": {"changing_ratio": [0.1, 0.2, 0.3]}}
+SWEEP = {"point": "synthetic", "parameters": {"changing_ratio": [0.1, 0.2, 0.3]}}
 CFG = 'point = "synthetic"\n[parameters]\nchanging_ratio = {start = 0.05, stop = 0.55, num = 40}\n'
 
 
@@ -33,26 +33,26 @@ def test_store_creation_interrupted_leaves_no_store_and_next_run_cleans(tmp_path
 
     monkeypatch.setattr(sweep_mod.os, "rename", killed)
     with pytest.raises(KeyboardInterrupt):
-        sweep(SPEC, store=store, backend="serial")
+        sweep(SWEEP, store=store, backend="serial")
     monkeypatch.setattr(sweep_mod.os, "rename", real_rename)
     assert sorted(p.name for p in tmp_path.iterdir()) == []  # nothing half made
     # a leftover of a run killed by SIGKILL mid-creation is removed by the next run
     (tmp_path / ".s.zarr.new-k1ll3d").mkdir()
-    ds = sweep(SPEC, store=store, backend="serial")
+    ds = sweep(SWEEP, store=store, backend="serial")
     assert int((ds.status == 1).sum()) == 3
     assert sorted(p.name for p in tmp_path.iterdir()) == ["s.zarr"]
 
 
 def test_second_writer_is_locked_out(tmp_path):
     store = tmp_path / "s.zarr"
-    sweep(SPEC, store=store, backend="serial")
+    sweep(SWEEP, store=store, backend="serial")
     fd = sweep_mod._lock_store(store)
     try:
         with pytest.raises(LockedError, match="another inerterlab sweep"):
-            sweep(SPEC, store=store, backend="serial")
+            sweep(SWEEP, store=store, backend="serial")
     finally:
         os.close(fd)
-    sweep(SPEC, store=store, backend="serial")  # free again
+    sweep(SWEEP, store=store, backend="serial")  # free again
 
 
 def test_log_file_from_a_sweep_file_is_refused(tmp_path, monkeypatch, capsys):
@@ -153,8 +153,8 @@ def test_dask_run_without_any_worker_stops_with_a_message(tmp_path):
         be.no_worker_timeout = 3.0
         t0 = time.monotonic()
         with pytest.raises(WorkersLost, match="every Dask worker has been gone"):
-            sweep(SPEC, store=tmp_path / "s.zarr", backend=be)
+            sweep(SWEEP, store=tmp_path / "s.zarr", backend=be)
         assert time.monotonic() - t0 < 60
     # nothing was computed, the store is valid and resumes with a working backend
-    ds = sweep(SPEC, store=tmp_path / "s.zarr", backend="serial")
+    ds = sweep(SWEEP, store=tmp_path / "s.zarr", backend="serial")
     assert int((ds.status == 1).sum()) == 3
