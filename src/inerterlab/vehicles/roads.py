@@ -47,6 +47,7 @@ __all__ = [
     "fit_iso8608",
     "iri",
     "GOLDEN_CAR",
+    "read_profile_csv",
 ]
 
 COHERENCE_MODELS = ("isotropic", "identical", "independent")
@@ -285,3 +286,41 @@ def iri(x, z, smoothing: float | None = 0.25) -> float:
         s = phi @ s + g0 * z[i] + g1 * du[i]
         rel[i + 1] = s[1] - s[3]
     return float(np.mean(np.abs(rel[1:])) / v * 1000.0)
+
+
+def read_profile_csv(path):
+    """(distance [m], elevation [m]) from a CSV file of two (or more) numeric columns.
+
+    Lines starting with ``#`` and a non-numeric header line are skipped; the first two
+    columns are used.
+    """
+    from pathlib import Path
+
+    from ..errors import DataFileError
+
+    p = Path(path)
+    try:
+        lines = p.read_text(encoding="utf-8").splitlines()
+    except OSError as e:
+        raise DataFileError(p, f"cannot read: {e.strerror or e}") from None
+    xs, zs = [], []
+    for i, line in enumerate(lines, start=1):
+        s = line.strip()
+        if not s or s.startswith("#"):
+            continue
+        cells = [c.strip() for c in s.split(",")]
+        try:
+            x, z = float(cells[0]), float(cells[1])
+        except (ValueError, IndexError):
+            if not xs:
+                continue  # header
+            raise DataFileError(
+                p, f"expected two numbers 'distance,elevation', got {s!r}", i
+            ) from None
+        if not (math.isfinite(x) and math.isfinite(z)):
+            raise DataFileError(p, "non-finite value", i)
+        xs.append(x)
+        zs.append(z)
+    if len(xs) < 16:
+        raise DataFileError(p, f"{len(xs)} samples; at least 16 needed")
+    return np.array(xs), np.array(zs)
