@@ -110,9 +110,7 @@ def spectral_command(
     rows = [(f"{k} [{res.units[k]}]", _fmt(v)) for k, v in res.rms.items()]
     rows += [(f"{c}_static_load [N]", _fmt(res.static_load[c])) for c in veh.corners]
     rows += [(f"{c}_lift_off_probability [-]", f"{res.lift_off[c]:.3g}") for c in veh.corners]
-    _table(
-        f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s: RMS values", rows
-    )
+    _table(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s: RMS values", rows)
 
 
 def modes_command(
@@ -136,8 +134,16 @@ def modes_command(
 
 def road_command(
     profile: Annotated[
-        Path, typer.Option(help="CSV file: distance [m], elevation [m], evenly spaced.")
+        Path,
+        typer.Option(
+            help="CSV file (distance [m], elevation [m], evenly spaced) or OpenCRG file "
+            "(.crg, the reference line v = 0)."
+        ),
     ],
+    lateral: Annotated[
+        float,
+        typer.Option(help="OpenCRG only: lateral position v of the profile [m], left positive."),
+    ] = 0.0,
     free_waviness: Annotated[
         bool, typer.Option(help="Fit the waviness w too (ISO 8608 class uses w = 2).")
     ] = False,
@@ -149,7 +155,12 @@ def road_command(
     """
     from ..vehicles.roads import fit_iso8608, iri, read_profile_csv
 
-    x, z = read_profile_csv(profile)
+    if profile.suffix.lower() == ".crg":
+        from ..vehicles.crg import read_crg_profile
+
+        x, z = read_crg_profile(profile, lateral=lateral)
+    else:
+        x, z = read_profile_csv(profile)
     fit = fit_iso8608(x, z, waviness=None if free_waviness else 2.0)
     out = {**fit, "iri_m_per_km": iri(x, z), "length_m": float(x[-1] - x[0])}
     if json_out:
@@ -168,14 +179,19 @@ def road_command(
 
 
 def generate_command(
-    output: Annotated[Path, typer.Option(help="CSV file to write: distance [m], left, right [m].")],
+    output: Annotated[
+        Path,
+        typer.Option(
+            help="File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG)."
+        ),
+    ],
     road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
     length: Annotated[float, typer.Option(help="Profile length [m].")] = 1000.0,
     step: Annotated[float, typer.Option(help="Sample spacing [m].")] = 0.05,
     track: Annotated[float, typer.Option(help="Distance between the tracks [m].")] = 1.5,
     seed: Annotated[int, typer.Option(help="Random seed [-].")] = 0,
 ) -> None:
-    """Write a left/right pair of ISO 8608 tracks with isotropic coherence to a CSV file.
+    """Write a left/right pair of ISO 8608 tracks with isotropic coherence (CSV or OpenCRG).
 
     Example: inerterlab vehicle generate --output road.csv --road-class D --length 500
     """
@@ -187,25 +203,64 @@ def generate_command(
     x, zl, zr = generate_tracks(
         road_spectrum(road_class), length=length, step=step, track=track, seed=seed
     )
-    rows = "\n".join(f"{a:.6f},{b:.9e},{c:.9e}" for a, b, c in zip(x, zl, zr, strict=True))
-    atomic_write_text(output, "distance_m,left_m,right_m\n" + rows + "\n")
+    if output.suffix.lower() == ".crg":
+        from ..io import atomic_path
+        from ..vehicles.crg import write_crg_tracks
+
+        with atomic_path(output, suffix=".crg") as tmp:
+            write_crg_tracks(tmp, x, zl, zr, track, comment=f"ISO 8608 class {road_class}")
+    else:
+        rows = "\n".join(f"{a:.6f},{b:.9e},{c:.9e}" for a, b, c in zip(x, zl, zr, strict=True))
+        atomic_write_text(output, "distance_m,left_m,right_m\n" + rows + "\n")
     print(f"wrote {output} ({x.size} samples, rms left {np.std(zl) * 1e3:.3g} mm)")
+
+
+def _read_tracks(path: Path, track: float, step: float):
+    """(x, left, right) from a CRG file or a CSV file of distance, left[, right] [m]."""
+    import numpy as np
+
+    from ..errors import DataFileError
+
+    if path.suffix.lower() == ".crg":
+        from ..vehicles.crg import read_crg_tracks
+
+        return read_crg_tracks(path, track, step)
+    try:
+        data = np.genfromtxt(path, delimiter=",", comments="#", names=None, skip_header=0)
+    except OSError as e:
+        raise DataFileError(path, f"cannot read: {e}") from None
+    data = np.atleast_2d(data)
+    data = data[np.all(np.isfinite(data), axis=1)]  # drops the header line
+    if data.shape[0] < 16 or data.shape[1] < 2:
+        raise DataFileError(path, "expected >= 16 rows of distance, left[, right] in metres")
+    x = data[:, 0]
+    right = data[:, 2] if data.shape[1] > 2 else data[:, 1]
+    grid = np.arange(x[0], x[-1] + 1e-9 * step, step)
+    return grid, np.interp(grid, x, data[:, 1]), np.interp(grid, x, right)
 
 
 def simulate_command(
     vehicle: Annotated[Path | None, _VEHICLE] = None,
     model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
     road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
+    road_file: Annotated[
+        Path | None,
+        typer.Option(
+            help="Drive over this road instead: OpenCRG (.crg, tracks at +/- track/2) or "
+            "CSV (distance, left[, right] [m])."
+        ),
+    ] = None,
     speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
-    length: Annotated[float, typer.Option(help="Road length [m].")] = 2000.0,
+    length: Annotated[float, typer.Option(help="Generated road length [m].")] = 2000.0,
     dt: Annotated[float, typer.Option(help="Time step [s] of the exact discretisation.")] = 0.002,
     seed: Annotated[int, typer.Option(help="Random seed of the road [-].")] = 0,
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
-    """Time simulation on a generated road (a check on the spectral RMS values).
+    """Time simulation on a generated or a given road (a check on the spectral RMS values).
 
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
-    [m/s^2], VDV [m/s^1.75] and crest factor [-], and the spectral RMS for comparison.
+    [m/s^2], VDV [m/s^1.75] and crest factor [-]; on a generated road also the
+    spectral RMS for comparison. The first 5 s (start-up) are left out.
 
     Example: inerterlab vehicle simulate --vehicle car.toml --road-class C --speed 20
     """
@@ -217,33 +272,48 @@ def simulate_command(
     params, veh = _load(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
-    if length / (v * h) > 5_000_000:
-        raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
-    road = road_spectrum(road_class)
     width = 0.5 * (params.front_track + params.rear_track) if veh.kind == "full" else 1.5
-    x, zl, zr = generate_tracks(road, length=length, step=v * h, track=width, seed=seed)
-    r = road_inputs(veh, x, zl, zr, v, h)
+    if road_file is None:
+        if length / (v * h) > 5_000_000:
+            raise ParameterError(
+                "length", length, f"at most {5e6 * v * h:g} m at this speed and dt"
+            )
+        road = road_spectrum(road_class)
+        x, zl, zr = generate_tracks(road, length=length, step=v * h, track=width, seed=seed)
+        r = road_inputs(veh, x, zl, zr, v, h)
+    else:
+        road = None
+        x, zl, zr = _read_tracks(road_file, width, v * h)
+        if x.size > 5_000_000:
+            raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
+        r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
     y = simulate(veh, r, h)
     keep = slice(min(int(5.0 / h), r.shape[0] // 2), None)
     rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
     acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
     aw = iso2631.weight(y[acc], 1.0 / h, "Wk")[keep]
-    spec = spectral_response(veh, road, v).rms
     out = {
         "rms": rms,
-        "spectral_rms": {k: spec[k] for k in rms},
         f"{acc}_wk": float(math.sqrt((aw**2).mean())),
-        f"{acc}_wk_spectral": spec[f"{acc}_wk"],
         "vdv": iso2631.vibration_dose_value(aw, 1.0 / h),
         "crest_factor": iso2631.crest_factor(aw),
         "duration_s": float(aw.size * h),
     }
+    spec = None
+    if road is not None:
+        spec = spectral_response(veh, road, v).rms
+        out["spectral_rms"] = {k: spec[k] for k in rms}
+        out[f"{acc}_wk_spectral"] = spec[f"{acc}_wk"]
     if json_out:
         emit_json(out)
         return
-    rows = [(f"{k} [{veh.outputs[k].unit}]", f"{rms[k]:.4g} (spectral {spec[k]:.4g})") for k in rms]
+
+    def cell(k, value):
+        return f"{value:.4g}" + (f" (spectral {spec[k]:.4g})" if spec else "")
+
+    rows = [(f"{k} [{veh.outputs[k].unit}]", cell(k, rms[k])) for k in rms]
     rows += [
-        (f"{acc}_wk [m/s^2]", f"{out[f'{acc}_wk']:.4g} (spectral {spec[f'{acc}_wk']:.4g})"),
+        (f"{acc}_wk [m/s^2]", cell(f"{acc}_wk", out[f"{acc}_wk"])),
         ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
         ("crest factor [-]", f"{out['crest_factor']:.3g}"),
     ]

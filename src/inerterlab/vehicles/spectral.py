@@ -170,22 +170,30 @@ def white_velocity_h2(vehicle: LinearVehicle) -> dict:
     return out
 
 
-def road_inputs(vehicle: LinearVehicle, x, z_left, z_right, speed: float, dt: float):
+def road_inputs(
+    vehicle: LinearVehicle, x, z_left, z_right, speed: float, dt: float, periodic: bool = True
+):
     """Wheel heights (n_t, n_inputs) sampled every ``dt`` [s] at ``speed`` [m/s].
 
-    The front wheels start at the distance of the wheelbase along the profiles (x in
-    metres, periodic with period x[-1] + dx), the rear wheels at 0.
+    The front wheels start one wheelbase along the profiles (x [m], evenly spaced),
+    the rear wheels at the start, and the run ends when the front wheels reach the end.
+    ``periodic``: the profiles repeat with period x[-1] + dx (generated roads), so the
+    last interval joins the end to the start; otherwise (measured roads) they end at x[-1].
     """
     v = check_positive("speed", speed, "m/s")
-    x = np.asarray(x, dtype=float)
-    period = x[-1] + (x[1] - x[0])
+    x = np.asarray(x, dtype=float) - float(x[0])
     wb = vehicle.parameters.wheelbase
-    nt = int(math.floor((period - wb) / (v * dt)))
+    end = x[-1] + (x[1] - x[0]) if periodic else x[-1]
+    if end <= wb:
+        raise ParameterError("profile length", end, f"longer than the wheelbase {wb:g} m")
+    nt = int(math.floor((end - wb) / (v * dt))) + (0 if periodic else 1)
     s = v * dt * np.arange(nt)
-    xp = np.concatenate([x, [period]])
 
     def at(z, pos):
-        return np.interp(np.mod(pos, period), xp, np.concatenate([z, z[:1]]))
+        z = np.asarray(z, dtype=float)
+        if periodic:
+            return np.interp(pos, np.append(x, end), np.append(z, z[0]))
+        return np.interp(pos, x, z)
 
     if vehicle.kind == "half":
         return np.column_stack([at(z_left, s + wb), at(z_left, s)])
