@@ -248,8 +248,8 @@ WEIGHTINGS = {
     "Wj": Weighting(name="Wj", f1=0.4, f2=100.0, f5=3.75, q5=0.91, f6=5.32, q6=0.91),
 }
 
-#: Axis weightings and multipliers k (ISO 2631-1:1997 clauses 7.2.3 (health) and
-#: 8.2.2, 8.2.3 (comfort)); rotational multipliers in m/rad.
+#: Axis weightings and multipliers k (ISO 2631-1:1997 clause 7, health, and clause 8,
+#: comfort); rotational multipliers in m/rad.
 AXIS_MULTIPLIERS = {
     "health-seated": {"x": ("Wd", 1.4), "y": ("Wd", 1.4), "z": ("Wk", 1.0)},
     "comfort-seat": {
