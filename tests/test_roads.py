@@ -123,3 +123,24 @@ def test_iri_errors():
         iri(np.array([0.0, 1.0, 3.0, 20.0]), np.zeros(4))
     with pytest.raises(ParameterError, match="coherence"):
         road_spectrum("C", coherence=1.5)
+
+
+def test_iri_of_a_random_road_matches_gaussian_theory():
+    # For a Gaussian profile, mean |z_s' - z_u'| = sqrt(2/pi) sigma, sigma^2 the integral
+    # of |H|^2 times the profile PSD (here times sinc^4: the golden car runs on the
+    # profile joined by straight lines, which scales each component by sinc^2).
+    dx, v = 0.05, GOLDEN_CAR["speed"]
+    road = road_spectrum("C", band=(0.01, 2.0))
+    vals = []
+    for seed in range(3):
+        x, z, _ = generate_tracks(road, length=6000.0, step=dx, seed=seed)
+        vals.append(iri(x, z, smoothing=None))
+    n = np.linspace(0.01, 2.0, 20001)
+    A, B = _golden_matrices()
+    w = 2 * math.pi * n * v
+    rhs = np.broadcast_to(B[:, None], (n.size, 4, 1))
+    H = np.linalg.solve(1j * w[:, None, None] * np.eye(4) - A, rhs)[:, :, 0]
+    gain = np.abs(H[:, 1] - H[:, 3]) ** 2 * np.sinc(n * dx) ** 4
+    sigma = math.sqrt(np.trapezoid(gain * road.psd(n), n))
+    want = math.sqrt(2 / math.pi) * sigma / v * 1000
+    assert np.mean(vals) == pytest.approx(want, rel=0.03)

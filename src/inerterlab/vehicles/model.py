@@ -218,7 +218,17 @@ def _unit(n, i):
 
 
 def build(parameters: HalfCar | FullCar) -> LinearVehicle:
-    """The :class:`LinearVehicle` of a :class:`HalfCar` or :class:`FullCar`."""
+    """The :class:`LinearVehicle` of a :class:`HalfCar` or :class:`FullCar`.
+
+    Examples
+    --------
+    >>> from inerterlab.vehicles import example_vehicle_path, load_vehicle
+    >>> car = build(load_vehicle(example_vehicle_path()))
+    >>> car.inputs
+    ('front_left', 'front_right', 'rear_left', 'rear_right')
+    >>> [round(float(f), 1) for f in car.natural_frequencies(rigid_tyres=True)]
+    [1.4, 1.6, 2.3, 4.2]
+    """
     p = parameters
     if isinstance(p, HalfCar):
         body = ["bounce", "pitch"]
