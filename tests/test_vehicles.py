@@ -112,18 +112,21 @@ def test_isotropic_coherence_lies_between_the_limits():
     assert 0 < out["isotropic"]["roll_acc"] < out["independent"]["roll_acc"]
 
 
-def test_decoupled_half_car_equals_two_quarter_cars():
+@pytest.mark.parametrize("inertance", [0.0, 60.0])
+def test_decoupled_half_car_equals_two_quarter_cars(inertance):
+    """I_y = m a b puts the centre of percussion of each axle on the other: two quarter
+    cars (the package's traditional one, or its cfw one for a strut with an inerter)."""
     from inerterlab.suspension import linear_quarter_car, quarter_car
 
     m, a, b = 1200.0, 1.2, 1.4
     front = Corner(
         unsprung_mass=80.0,
-        strut=Strut(stiffness=50e3, damping=3000.0),
+        strut=Strut(stiffness=50e3, damping=3000.0, inertance=inertance),
         tyre=Tyre(stiffness=4e5, damping=300.0),
     )
     rear = Corner(
         unsprung_mass=90.0,
-        strut=Strut(stiffness=44e3, damping=2800.0),
+        strut=Strut(stiffness=44e3, damping=2800.0, inertance=inertance),
         tyre=Tyre(stiffness=4.2e5, damping=250.0),
     )
     half = build(
@@ -144,9 +147,11 @@ def test_decoupled_half_car_equals_two_quarter_cars():
         "rear": H["bounce_acc"] + b * H["pitch_acc"],
     }
     for j, (axle, corner, share) in enumerate((("front", front, b), ("rear", rear, a))):
+        extra = {"inertance": inertance} if inertance else {}
         qc = linear_quarter_car(
             quarter_car(
-                "traditional",
+                "cfw" if inertance else "traditional",
+                **extra,
                 sprung_mass=m * share / (a + b),
                 unsprung_mass=corner.unsprung_mass,
                 stiffness=corner.strut.stiffness,
@@ -300,3 +305,14 @@ def test_parameter_errors_name_the_parameter():
         Seat(mass=0.0, stiffness=1.0, damping=0.0)
     with pytest.raises(ParameterError, match="front"):
         full_car(front="soft")
+
+
+def test_seat_total_value_combines_the_weighted_axes():
+    res = spectral_response(build(full_car()), road_spectrum("C"), 20.0)
+    r = res.rms
+    want = math.sqrt(
+        r["seat_acc_wk"] ** 2 + (0.4 * r["pitch_acc_we"]) ** 2 + (0.63 * r["roll_acc_we"]) ** 2
+    )
+    assert r["seat_total_value"] == pytest.approx(want, rel=1e-12)
+    assert res.units["seat_total_value"] == "m/s^2"
+    assert r["roll_acc_we"] < r["roll_acc"]  # We falls above 1 Hz

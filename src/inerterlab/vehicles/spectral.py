@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, check_positive
-from ..iso2631 import weighting
+from ..iso2631 import vibration_total_value, weighting
 from .model import LinearVehicle
 from .roads import RoadSpectrum
 
@@ -117,7 +117,11 @@ def spectral_response(
 
     The frequency grid is ``points`` values spaced logarithmically over the road band
     seen at this speed, or ``freq`` [Hz]. Adds the Wk-weighted seat (or, without a
-    seat, bounce) acceleration as ``seat_acc_wk`` (``bounce_acc_wk``).
+    seat, bounce) acceleration as ``seat_acc_wk`` (``bounce_acc_wk``), the We-weighted
+    pitch and roll accelerations (``pitch_acc_we``, ``roll_acc_we``) and, with a seat,
+    ``seat_total_value``: ISO 2631-1's comfort total value on the seat surface from the
+    axes the model has, sqrt(a_wz^2 + (0.40 a_w,pitch)^2 + (0.63 a_w,roll)^2) [m/s^2]
+    (the seat's fore-aft and lateral motions are not modelled, so they are missing).
     """
     v = check_positive("speed", speed, "m/s")
     if freq is None:
@@ -128,10 +132,21 @@ def spectral_response(
         raise ParameterError("freq", "grid", "an increasing grid of > 2 positive frequencies")
     fac = input_factor(vehicle, road, v, freq)
     acc = "seat_acc" if "seat_acc" in vehicle.outputs else "bounce_acc"
-    psd = output_psd(vehicle, freq, fac, weighted={f"{acc}_wk": (acc, "Wk")})
+    weighted = {f"{acc}_wk": (acc, "Wk")}
+    rot = {"ry": "pitch_acc", "rx": "roll_acc"}
+    rot = {axis: out for axis, out in rot.items() if out in vehicle.outputs}
+    for out in rot.values():
+        weighted[f"{out}_we"] = (out, "We")
+    psd = output_psd(vehicle, freq, fac, weighted=weighted)
     rms = {k: math.sqrt(_mean_square(freq, s)) for k, s in psd.items()}
     units = {k: vehicle.outputs[k].unit for k in vehicle.outputs}
     units[f"{acc}_wk"] = "m/s^2"
+    for out in rot.values():
+        units[f"{out}_we"] = "rad/s^2"
+    if acc == "seat_acc":
+        parts = {"z": rms["seat_acc_wk"], **{a: rms[f"{o}_we"] for a, o in rot.items()}}
+        rms["seat_total_value"] = vibration_total_value(parts, "comfort-seat")
+        units["seat_total_value"] = "m/s^2"
     static = vehicle.static_tyre_loads()
     lift = {
         c: float(math.erfc(static[c] / (rms[f"{c}_tyre_load"] * math.sqrt(2.0))))
