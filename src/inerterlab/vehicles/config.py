@@ -49,7 +49,7 @@ import re
 import tomllib
 from pathlib import Path
 
-from ..errors import DataFileError, InerterlabError, ParameterError
+from ..errors import DataFileError, ParameterError
 from .parameters import Corner, FullCar, HalfCar, Seat, Strut, Tyre
 
 __all__ = [
@@ -275,8 +275,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                 tyre=Tyre(stiffness=q["tyre_stiffness"], damping=q.get("tyre_damping", 0.0)),
             )
         except ParameterError as e:
-            key = e.name.replace("tyre_", "tyre_") if e.name in _CORNER_KEYS else e.name
-            fail(axle, key, f"{e.value!r}: expected {e.valid}")
+            fail(axle, e.name, f"{e.value!r}: expected {e.valid}")  # names match the keys
         corners[f"{axle}_anti_roll"] = q.get("anti_roll", 0.0)
     seat = None
     if "seat" in data:
@@ -316,8 +315,6 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
             if name == f"{axle}_anti_roll":
                 fail(axle, "anti_roll", f"{e.value!r}: expected {e.valid}")
         fail(None, name, f"{e.value!r}: expected {e.valid}")
-    except InerterlabError:
-        raise
 
 
 def load_vehicle(path) -> HalfCar | FullCar:
