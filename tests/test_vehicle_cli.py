@@ -70,3 +70,12 @@ def test_simulate_agrees_roughly_with_spectral(capsys):
     )
     assert out["rms"]["bounce_acc"] == pytest.approx(out["spectral_rms"]["bounce_acc"], rel=0.15)
     assert out["crest_factor"] > 2
+
+
+def test_simulate_nonlinear(capsys):
+    args = ["vehicle", "simulate", "--road-class", "E", "--speed", "25", "--length", "400"]
+    out = _json(capsys, args + ["--lift-off", "--rebound", "1.6", "--compression", "0.6", "--json"])
+    assert out["model"] == "nonlinear"
+    assert 0 < out["lift_off_fraction"]["rear_left"] < 1
+    lin = _json(capsys, args + ["--json"])
+    assert lin["model"] == "linear" and "lift_off_fraction" not in lin

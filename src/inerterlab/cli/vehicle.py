@@ -254,13 +254,29 @@ def simulate_command(
     length: Annotated[float, typer.Option(help="Generated road length [m].")] = 2000.0,
     dt: Annotated[float, typer.Option(help="Time step [s] of the exact discretisation.")] = 0.002,
     seed: Annotated[int, typer.Option(help="Random seed of the road [-].")] = 0,
+    lift_off: Annotated[
+        bool,
+        typer.Option(
+            "--lift-off",
+            help="Tyres cannot pull: contact force max(0, ...) (Runge-Kutta, not exact steps).",
+        ),
+    ] = False,
+    rebound: Annotated[
+        float, typer.Option(help="Damping factor while a strut extends [-] (1: linear).")
+    ] = 1.0,
+    compression: Annotated[
+        float, typer.Option(help="Damping factor while a strut shortens [-] (1: linear).")
+    ] = 1.0,
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
     """Time simulation on a generated or a given road (a check on the spectral RMS values).
 
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
     [m/s^2], VDV [m/s^1.75] and crest factor [-]; on a generated road also the
-    spectral RMS for comparison. The first 5 s (start-up) are left out.
+    spectral RMS for comparison. The first 5 s (start-up) are left out. With
+    --lift-off, --rebound or --compression the nonlinear model runs (fourth-order
+    Runge-Kutta, 4 steps per sample) and the fraction of time each tyre is off the
+    road [-] is printed too.
 
     Example: inerterlab vehicle simulate --vehicle car.toml --road-class C --speed 20
     """
@@ -287,7 +303,17 @@ def simulate_command(
         if x.size > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
-    y = simulate(veh, r, h)
+    nonlinear = lift_off or rebound != 1.0 or compression != 1.0
+    lift = None
+    if nonlinear:
+        from ..vehicles.nonlinear import simulate_nonlinear
+
+        res = simulate_nonlinear(
+            veh, r, h, tyre_lift_off=lift_off, rebound=rebound, compression=compression, substeps=4
+        )
+        y, lift = res.outputs, res.lift_off_fraction
+    else:
+        y = simulate(veh, r, h)
     keep = slice(min(int(5.0 / h), r.shape[0] // 2), None)
     rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
     acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
@@ -298,7 +324,10 @@ def simulate_command(
         "vdv": iso2631.vibration_dose_value(aw, 1.0 / h),
         "crest_factor": iso2631.crest_factor(aw),
         "duration_s": float(aw.size * h),
+        "model": "nonlinear" if nonlinear else "linear",
     }
+    if lift is not None:
+        out["lift_off_fraction"] = lift
     spec = None
     if road is not None:
         spec = spectral_response(veh, road, v).rms
@@ -317,7 +346,9 @@ def simulate_command(
         ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
         ("crest factor [-]", f"{out['crest_factor']:.3g}"),
     ]
-    _table(f"time simulation, {out['duration_s']:.0f} s after the start-up", rows)
+    if lift is not None:
+        rows += [(f"{c}_lift_off_fraction [-]", f"{v:.3g}") for c, v in lift.items()]
+    _table(f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up", rows)
 
 
 def example_command() -> None:
