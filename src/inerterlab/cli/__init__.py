@@ -64,6 +64,7 @@ _COMMANDS = [
     "devices",
     "identify",
     "simulate",
+    "vehicle",
 ]
 
 for _name in _COMMANDS:

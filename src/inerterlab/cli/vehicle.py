@@ -1,0 +1,372 @@
+"""``inerterlab vehicle ...``: linear half car and full car on random roads."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ._common import emit_json, print_table
+
+_HELP = """Linear half car and full car (SI units: RMS accelerations [m/s^2], pitch and
+roll accelerations [rad/s^2], deflections [m], tyre loads [N]).
+
+Example: inerterlab vehicle spectral --vehicle car.toml --road-class C --speed 20 --json
+"""
+
+_VEHICLE = typer.Option(
+    "--vehicle", help="Vehicle TOML file (units on every value); default: the packaged example."
+)
+_JSON = typer.Option("--json", help="Print the result as one JSON object.")
+
+
+def _load(path: Path | None, model: str):
+    from ..errors import check_choice
+    from ..vehicles import build
+    from ..vehicles.config import example_vehicle_path, load_vehicle
+
+    check_choice("model", model, ("file", "half", "full"))
+    params = load_vehicle(path if path is not None else example_vehicle_path())
+    if model == "half" and hasattr(params, "half_car"):
+        params = params.half_car()
+    elif model == "full" and not hasattr(params, "half_car"):
+        from ..errors import ParameterError
+
+        raise ParameterError("model", model, "'half' or 'file' for a half-car file")
+    return params, build(params)
+
+
+def _road(road_class: str | None, gd_n0: str | None, coherence: str):
+    from ..errors import ParameterError
+    from ..vehicles.roads import RoadSpectrum, road_spectrum
+    from ._common import parse_float
+
+    coh: str | float = coherence
+    if coherence not in ("isotropic", "identical", "independent"):
+        coh = parse_float("coherence", coherence)
+    if gd_n0 is not None:
+        if road_class is not None:
+            raise ParameterError("gd-n0", gd_n0, "either --road-class or --gd-n0, not both")
+        return RoadSpectrum(gd_n0=parse_float("gd-n0", gd_n0), coherence=coh)
+    return road_spectrum(road_class or "C", coherence=coh)
+
+
+def _fmt(x: float) -> str:
+    return f"{x:.4g}"
+
+
+def _table(title: str, rows) -> None:
+    """print_table with the unit brackets kept literal (not read as console markup)."""
+    from rich.markup import escape
+
+    print_table(escape(title), [(escape(k), escape(v)) for k, v in rows])
+
+
+def spectral_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    model: Annotated[
+        str, typer.Option(help="file (as the file says), half (lump each axle) or full.")
+    ] = "file",
+    road_class: Annotated[
+        str | None, typer.Option(help="ISO 8608 class A-H (geometric mean Gd(n0)); default C.")
+    ] = None,
+    gd_n0: Annotated[
+        str | None, typer.Option("--gd-n0", help="Gd(n0) [m^3] instead of a class.")
+    ] = None,
+    speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
+    coherence: Annotated[
+        str,
+        typer.Option(help="Left/right tracks: isotropic, identical, independent or a number 0-1."),
+    ] = "isotropic",
+    points: Annotated[int, typer.Option(help="Frequencies of the log grid [-].")] = 4000,
+    json_out: Annotated[bool, _JSON] = False,
+) -> None:
+    """RMS of every output on an ISO 8608 road by the spectral method (no time simulation).
+
+    Road band 0.01-10 cycle/m, waviness 2; rear wheels delayed by wheelbase/V.
+    Also prints the Wk-weighted seat acceleration [m/s^2] and, per corner, the
+    static tyre load [N] and the probability that the Gaussian dynamic load exceeds it.
+
+    Example: inerterlab vehicle spectral --vehicle car.toml --road-class C --speed 20 --json
+    """
+    from ..errors import check_positive
+    from ..vehicles.spectral import spectral_response
+
+    params, veh = _load(vehicle, model)
+    road = _road(road_class, gd_n0, coherence)
+    check_positive("speed", speed, "m/s")
+    if points < 16:
+        from ..errors import ParameterError
+
+        raise ParameterError("points", points, "an integer >= 16")
+    res = spectral_response(veh, road, speed, points=points)
+    out = res.to_dict()
+    out.update(model=veh.kind, gd_n0=road.gd_n0, coherence=road.coherence)
+    if json_out:
+        emit_json(out)
+        return
+    rows = [(f"{k} [{res.units[k]}]", _fmt(v)) for k, v in res.rms.items()]
+    rows += [(f"{c}_static_load [N]", _fmt(res.static_load[c])) for c in veh.corners]
+    rows += [(f"{c}_lift_off_probability [-]", f"{res.lift_off[c]:.3g}") for c in veh.corners]
+    _table(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s: RMS values", rows)
+
+
+def modes_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
+    json_out: Annotated[bool, _JSON] = False,
+) -> None:
+    """Undamped natural frequencies [Hz]: body (and seat) on rigid tyres, and the whole car.
+
+    Example: inerterlab vehicle modes --vehicle car.toml
+    """
+    params, veh = _load(vehicle, model)
+    rigid = veh.natural_frequencies(rigid_tyres=True).tolist()
+    whole = veh.natural_frequencies(rigid_tyres=False).tolist()
+    if json_out:
+        emit_json({"model": veh.kind, "rigid_tyres_hz": rigid, "whole_car_hz": whole})
+        return
+    print("rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
+    print("whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
+
+
+def road_command(
+    profile: Annotated[
+        Path,
+        typer.Option(
+            help="CSV file (distance [m], elevation [m], evenly spaced) or OpenCRG file "
+            "(.crg, the reference line v = 0)."
+        ),
+    ],
+    lateral: Annotated[
+        float,
+        typer.Option(help="OpenCRG only: lateral position v of the profile [m], left positive."),
+    ] = 0.0,
+    free_waviness: Annotated[
+        bool, typer.Option(help="Fit the waviness w too (ISO 8608 class uses w = 2).")
+    ] = False,
+    json_out: Annotated[bool, _JSON] = False,
+) -> None:
+    """ISO 8608 class (fitted Gd(n0) [m^3]) and IRI [m/km] of a measured profile.
+
+    Example: inerterlab vehicle road --profile profile.csv --json
+    """
+    from ..vehicles.roads import fit_iso8608, iri, read_profile_csv
+
+    if profile.suffix.lower() == ".crg":
+        from ..vehicles.crg import read_crg_profile
+
+        x, z = read_crg_profile(profile, lateral=lateral)
+    else:
+        x, z = read_profile_csv(profile)
+    fit = fit_iso8608(x, z, waviness=None if free_waviness else 2.0)
+    out = {**fit, "iri_m_per_km": iri(x, z), "length_m": float(x[-1] - x[0])}
+    if json_out:
+        emit_json(out)
+        return
+    _table(
+        f"road profile {profile.name}",
+        [
+            ("Gd(n0) [m^3]", f"{out['gd_n0']:.3g}"),
+            ("waviness [-]", f"{out['waviness']:.3g}"),
+            ("ISO 8608 class", out["road_class"]),
+            ("IRI [m/km]", f"{out['iri_m_per_km']:.3g}"),
+            ("length [m]", f"{out['length_m']:.6g}"),
+        ],
+    )
+
+
+def generate_command(
+    output: Annotated[
+        Path,
+        typer.Option(
+            help="File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG)."
+        ),
+    ],
+    road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
+    length: Annotated[float, typer.Option(help="Profile length [m].")] = 1000.0,
+    step: Annotated[float, typer.Option(help="Sample spacing [m].")] = 0.05,
+    track: Annotated[float, typer.Option(help="Distance between the tracks [m].")] = 1.5,
+    seed: Annotated[int, typer.Option(help="Random seed [-].")] = 0,
+) -> None:
+    """Write a left/right pair of ISO 8608 tracks with isotropic coherence (CSV or OpenCRG).
+
+    Example: inerterlab vehicle generate --output road.csv --road-class D --length 500
+    """
+    import numpy as np
+
+    from ..vehicles.roads import generate_tracks, road_spectrum
+    from ._common import atomic_write_text
+
+    x, zl, zr = generate_tracks(
+        road_spectrum(road_class), length=length, step=step, track=track, seed=seed
+    )
+    if output.suffix.lower() == ".crg":
+        from ..io import atomic_path
+        from ..vehicles.crg import write_crg_tracks
+
+        with atomic_path(output, suffix=".crg") as tmp:
+            write_crg_tracks(tmp, x, zl, zr, track, comment=f"ISO 8608 class {road_class}")
+    else:
+        rows = "\n".join(f"{a:.6f},{b:.9e},{c:.9e}" for a, b, c in zip(x, zl, zr, strict=True))
+        atomic_write_text(output, "distance_m,left_m,right_m\n" + rows + "\n")
+    print(f"wrote {output} ({x.size} samples, rms left {np.std(zl) * 1e3:.3g} mm)")
+
+
+def _read_tracks(path: Path, track: float, step: float):
+    """(x, left, right) from a CRG file or a CSV file of distance, left[, right] [m]."""
+    import numpy as np
+
+    from ..errors import DataFileError
+
+    if path.suffix.lower() == ".crg":
+        from ..vehicles.crg import read_crg_tracks
+
+        return read_crg_tracks(path, track, step)
+    try:
+        data = np.genfromtxt(path, delimiter=",", comments="#", names=None, skip_header=0)
+    except OSError as e:
+        raise DataFileError(path, f"cannot read: {e}") from None
+    data = np.atleast_2d(data)
+    data = data[np.all(np.isfinite(data), axis=1)]  # drops the header line
+    if data.shape[0] < 16 or data.shape[1] < 2:
+        raise DataFileError(path, "expected >= 16 rows of distance, left[, right] in metres")
+    x = data[:, 0]
+    right = data[:, 2] if data.shape[1] > 2 else data[:, 1]
+    grid = np.arange(x[0], x[-1] + 1e-9 * step, step)
+    return grid, np.interp(grid, x, data[:, 1]), np.interp(grid, x, right)
+
+
+def simulate_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
+    road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
+    road_file: Annotated[
+        Path | None,
+        typer.Option(
+            help="Drive over this road instead: OpenCRG (.crg, tracks at +/- track/2) or "
+            "CSV (distance, left[, right] [m])."
+        ),
+    ] = None,
+    speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
+    length: Annotated[float, typer.Option(help="Generated road length [m].")] = 2000.0,
+    dt: Annotated[float, typer.Option(help="Time step [s] of the exact discretisation.")] = 0.002,
+    seed: Annotated[int, typer.Option(help="Random seed of the road [-].")] = 0,
+    lift_off: Annotated[
+        bool,
+        typer.Option(
+            "--lift-off",
+            help="Tyres cannot pull: contact force max(0, ...) (Runge-Kutta, not exact steps).",
+        ),
+    ] = False,
+    rebound: Annotated[
+        float, typer.Option(help="Damping factor while a strut extends [-] (1: linear).")
+    ] = 1.0,
+    compression: Annotated[
+        float, typer.Option(help="Damping factor while a strut shortens [-] (1: linear).")
+    ] = 1.0,
+    json_out: Annotated[bool, _JSON] = False,
+) -> None:
+    """Time simulation on a generated or a given road (a check on the spectral RMS values).
+
+    Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
+    [m/s^2], VDV [m/s^1.75] and crest factor [-]; on a generated road also the
+    spectral RMS for comparison. The first 5 s (start-up) are left out. With
+    --lift-off, --rebound or --compression the nonlinear model runs (fourth-order
+    Runge-Kutta, 4 steps per sample) and the fraction of time each tyre is off the
+    road [-] is printed too.
+
+    Example: inerterlab vehicle simulate --vehicle car.toml --road-class C --speed 20
+    """
+    from .. import iso2631
+    from ..errors import ParameterError, check_positive
+    from ..vehicles.roads import generate_tracks, road_spectrum
+    from ..vehicles.spectral import road_inputs, simulate, spectral_response
+
+    params, veh = _load(vehicle, model)
+    v = check_positive("speed", speed, "m/s")
+    h = check_positive("dt", dt, "s")
+    width = 0.5 * (params.front_track + params.rear_track) if veh.kind == "full" else 1.5
+    if road_file is None:
+        if length / (v * h) > 5_000_000:
+            raise ParameterError(
+                "length", length, f"at most {5e6 * v * h:g} m at this speed and dt"
+            )
+        road = road_spectrum(road_class)
+        x, zl, zr = generate_tracks(road, length=length, step=v * h, track=width, seed=seed)
+        r = road_inputs(veh, x, zl, zr, v, h)
+    else:
+        road = None
+        x, zl, zr = _read_tracks(road_file, width, v * h)
+        if x.size > 5_000_000:
+            raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
+        r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
+    nonlinear = lift_off or rebound != 1.0 or compression != 1.0
+    lift = None
+    if nonlinear:
+        from ..vehicles.nonlinear import simulate_nonlinear
+
+        res = simulate_nonlinear(
+            veh, r, h, tyre_lift_off=lift_off, rebound=rebound, compression=compression, substeps=4
+        )
+        y, lift = res.outputs, res.lift_off_fraction
+    else:
+        y = simulate(veh, r, h)
+    keep = slice(min(int(5.0 / h), r.shape[0] // 2), None)
+    rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
+    acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
+    aw = iso2631.weight(y[acc], 1.0 / h, "Wk")[keep]
+    out = {
+        "rms": rms,
+        f"{acc}_wk": float(math.sqrt((aw**2).mean())),
+        "vdv": iso2631.vibration_dose_value(aw, 1.0 / h),
+        "crest_factor": iso2631.crest_factor(aw),
+        "duration_s": float(aw.size * h),
+        "model": "nonlinear" if nonlinear else "linear",
+    }
+    if lift is not None:
+        out["lift_off_fraction"] = lift
+    spec = None
+    if road is not None:
+        spec = spectral_response(veh, road, v).rms
+        out["spectral_rms"] = {k: spec[k] for k in rms}
+        out[f"{acc}_wk_spectral"] = spec[f"{acc}_wk"]
+    if json_out:
+        emit_json(out)
+        return
+
+    def cell(k, value):
+        return f"{value:.4g}" + (f" (spectral {spec[k]:.4g})" if spec else "")
+
+    rows = [(f"{k} [{veh.outputs[k].unit}]", cell(k, rms[k])) for k in rms]
+    rows += [
+        (f"{acc}_wk [m/s^2]", cell(f"{acc}_wk", out[f"{acc}_wk"])),
+        ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
+        ("crest factor [-]", f"{out['crest_factor']:.3g}"),
+    ]
+    if lift is not None:
+        rows += [(f"{c}_lift_off_fraction [-]", f"{v:.3g}") for c, v in lift.items()]
+    _table(f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up", rows)
+
+
+def example_command() -> None:
+    """Print the packaged example vehicle file (units on every value [kg, m, N/m, N s/m]).
+
+    Example: inerterlab vehicle example > car.toml
+    """
+    from ..vehicles.config import example_vehicle_path
+
+    print(example_vehicle_path().read_text(encoding="utf-8"), end="")
+
+
+def register(app: typer.Typer) -> None:
+    group = typer.Typer(name="vehicle", help=_HELP, no_args_is_help=True, rich_markup_mode=None)
+    group.command("spectral")(spectral_command)
+    group.command("simulate")(simulate_command)
+    group.command("modes")(modes_command)
+    group.command("road")(road_command)
+    group.command("generate")(generate_command)
+    group.command("example")(example_command)
+    app.add_typer(group, name="vehicle")

@@ -1,0 +1,341 @@
+"""ISO 2631-1 frequency weightings and whole-body vibration values.
+
+Each weighting of ISO 2631-1:1997 (Annex A, Table A.1 of the transfer-function
+parameters; the same definitions are repeated in ISO 8041) is a product of four analog
+filters in p = j 2 pi f, with w_i = 2 pi f_i:
+
+    band limiting, high pass  Hh = 1 / (1 + sqrt2 w1/p + (w1/p)^2)
+    band limiting, low pass   Hl = 1 / (1 + sqrt2 p/w2 + (p/w2)^2)
+    a-v transition            Ht = (1 + p/w3) / (1 + p/(Q4 w4) + (p/w4)^2)
+    upward step               Hs = (1 + p/(Q5 w5) + (p/w5)^2) / (1 + p/(Q6 w6) + (p/w6)^2) (w5/w6)^2
+
+A frequency given as ``None`` stands for infinity (the factor drops out). The step is
+written with the (w5/w6)^2 factor, so it rises from (w5/w6)^2 at low frequency to 1.
+
+Values computed here (ISO 2631-1 clauses 6 to 8 and 9 for motion sickness):
+
+* weighted RMS a_w, the vibration total value a_v = sqrt(sum (k_i a_wi)^2) with the
+  axis multipliers k_i of :data:`AXIS_MULTIPLIERS`;
+* the vibration dose value VDV = (int a_w^4 dt)^(1/4) [m/s^1.75];
+* the motion sickness dose value MSDV = (int a_w^2 dt)^(1/2) [m/s^1.5], a_w weighted
+  with Wf;
+* the crest factor max|a_w| / a_w and the maximum transient vibration value (running
+  RMS with the linear 1 s window, MTVV).
+
+Discrete filtering uses the exact discretisation of the analog filter for a signal
+linear between samples (first-order hold, the default) or the bilinear transform.
+``inerterlab.metrics`` keeps its own Wk (same parameters) for the quarter-car
+backends; ``tests/test_iso2631.py`` checks that the two agree.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ParameterError, check_choice, check_positive
+
+__all__ = [
+    "Weighting",
+    "WEIGHTINGS",
+    "AXIS_MULTIPLIERS",
+    "weighting",
+    "weighting_magnitude",
+    "weight",
+    "weighted_rms",
+    "vibration_total_value",
+    "vibration_dose_value",
+    "motion_sickness_dose_value",
+    "crest_factor",
+    "running_rms",
+    "mtvv",
+]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Weighting:
+    """Parameters of one ISO 2631-1 weighting (frequencies [Hz], ``None`` = infinite).
+
+    Parameters
+    ----------
+    name : str
+        "Wk", "Wd", ...
+    f1, f2 : float or None
+        Corner frequencies of the band-limiting high pass and low pass.
+    f3, f4, q4 : float or None
+        a-v transition: zero at f3, pole pair at f4 with quality q4.
+    f5, q5, f6, q6 : float or None
+        Upward step: zero pair at f5 (q5), pole pair at f6 (q6).
+    """
+
+    name: str
+    f1: float | None = None
+    f2: float | None = None
+    f3: float | None = None
+    f4: float | None = None
+    q4: float | None = None
+    f5: float | None = None
+    q5: float | None = None
+    f6: float | None = None
+    q6: float | None = None
+
+    def __post_init__(self) -> None:
+        for key in ("f1", "f2", "f3", "f4", "q4", "f5", "q5", "f6", "q6"):
+            v = getattr(self, key)
+            if v is not None:
+                check_positive(f"{self.name}.{key}", v)
+        if self.f4 is not None and self.q4 is None:
+            raise ParameterError(f"{self.name}.q4", None, "a quality factor > 0 when f4 is set")
+        if (self.f5 is None) != (self.f6 is None):
+            raise ParameterError(f"{self.name}.f5", self.f5, "f5 and f6 both set or both None")
+        if self.f5 is not None and (self.q5 is None or self.q6 is None):
+            raise ParameterError(f"{self.name}.q5", self.q5, "q5 and q6 > 0 when f5, f6 are set")
+
+    # -- the standard's formula ---------------------------------------------------------
+    def response(self, freq_hz):
+        """Complex weighting at ``freq_hz`` [Hz], evaluated term by term as written."""
+        f = np.asarray(freq_hz, dtype=float)
+        p = 2j * math.pi * f
+        h = np.ones_like(p)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            if self.f1 is not None:
+                w1 = 2 * math.pi * self.f1
+                h = h / (1.0 + math.sqrt(2.0) * w1 / p + (w1 / p) ** 2)
+            if self.f2 is not None:
+                w2 = 2 * math.pi * self.f2
+                h = h / (1.0 + math.sqrt(2.0) * p / w2 + (p / w2) ** 2)
+        num = 1.0 if self.f3 is None else 1.0 + p / (2 * math.pi * self.f3)
+        if self.f4 is None:
+            den = 1.0
+        else:
+            w4 = 2 * math.pi * self.f4
+            den = 1.0 + p / (self.q4 * w4) + (p / w4) ** 2
+        h = h * num / den
+        if self.f5 is not None:
+            w5, w6 = 2 * math.pi * self.f5, 2 * math.pi * self.f6
+            h = (
+                h
+                * (1.0 + p / (self.q5 * w5) + (p / w5) ** 2)
+                / (1.0 + p / (self.q6 * w6) + (p / w6) ** 2)
+                * (w5 / w6) ** 2
+            )
+        return np.where(f == 0, 0.0 if self.f1 is not None else h, h)
+
+    def magnitude(self, freq_hz):
+        """|W(f)| [-]."""
+        return np.abs(self.response(freq_hz))
+
+    # -- filter forms -------------------------------------------------------------------
+    def sections(self) -> list[tuple[np.ndarray, np.ndarray]]:
+        """Analog second-order sections (b, a), coefficients of s^2, s, 1."""
+        out = []
+        r2 = math.sqrt(2.0)
+        if self.f1 is not None:
+            w1 = 2 * math.pi * self.f1
+            out.append((np.array([1.0, 0.0, 0.0]), np.array([1.0, r2 * w1, w1 * w1])))
+        if self.f2 is not None:
+            w2 = 2 * math.pi * self.f2
+            out.append((np.array([0.0, 0.0, w2 * w2]), np.array([1.0, r2 * w2, w2 * w2])))
+        if self.f4 is not None:
+            w4 = 2 * math.pi * self.f4
+            a = np.array([1.0, w4 / self.q4, w4 * w4])
+            if self.f3 is None:
+                b = np.array([0.0, 0.0, w4 * w4])
+            else:
+                w3 = 2 * math.pi * self.f3
+                b = np.array([0.0, w4 * w4 / w3, w4 * w4])
+            out.append((b, a))
+        elif self.f3 is not None:
+            raise ParameterError(f"{self.name}.f4", None, "a pole pair f4 when f3 is set")
+        if self.f5 is not None:
+            w5, w6 = 2 * math.pi * self.f5, 2 * math.pi * self.f6
+            # (w5/w6)^2 folded in: the ratio of monic quadratics
+            out.append(
+                (np.array([1.0, w5 / self.q5, w5 * w5]), np.array([1.0, w6 / self.q6, w6 * w6]))
+            )
+        return out
+
+    def state_space(self):
+        """(A, B, C, D) of the cascade of :meth:`sections`.
+
+        Each section (b2 s^2 + b1 s + b0)/(s^2 + a1 s + w0^2) has the states
+        q1 = w0^2/den u and q2 = q1'/w0, both of the size of the input, so the matrices
+        stay well scaled from 0.08 Hz to 100 Hz.
+        """
+        A = np.zeros((0, 0))
+        B = np.zeros((0, 1))
+        C = np.zeros((1, 0))
+        D = np.ones((1, 1))
+        for (b2, b1, b0), (_, a1, a0) in self.sections():
+            w0 = math.sqrt(a0)
+            a2 = np.array([[0.0, w0], [-w0, -a1]])
+            bb = np.array([[0.0], [w0]])
+            c2 = np.array([[(b0 - b2 * a0) / a0, (b1 - b2 * a1) / w0]])
+            d2 = np.array([[b2]])
+            n1, n2 = A.shape[0], 2
+            An = np.zeros((n1 + n2, n1 + n2))
+            An[:n1, :n1] = A
+            An[n1:, :n1] = bb @ C
+            An[n1:, n1:] = a2
+            A = An
+            B = np.vstack([B, bb @ D])
+            C = np.hstack([d2 @ C, c2])
+            D = d2 @ D
+        return A, B, C, D
+
+    def sos(self, fs: float) -> np.ndarray:
+        """Digital second-order sections at ``fs`` [Hz] by the bilinear transform (no prewarping)."""
+        from scipy.signal import bilinear, tf2sos
+
+        fs = check_positive("fs", fs, "Hz")
+        return np.array([tf2sos(*bilinear(b, a, fs=fs))[0] for b, a in self.sections()])
+
+    def filter(self, signal, fs: float, method: str = "foh") -> np.ndarray:
+        """Weighted signal of ``signal`` sampled at ``fs`` [Hz], filter at rest before it.
+
+        ``"foh"``: exact discretisation of the whole cascade for a signal linear between
+        samples (and rising linearly from 0 over the sample before the first one), run
+        in modal form, one first-order complex recursion per pole, so no high-order
+        polynomial is ever formed. ``"bilinear"``: Tustin transform per section.
+        """
+        from scipy.signal import cont2discrete, lfilter, sosfilt
+
+        fs = check_positive("fs", fs, "Hz")
+        check_choice("method", method, ("foh", "bilinear"))
+        x = np.asarray(signal, dtype=float)
+        if x.ndim != 1 or x.size < 2 or not np.all(np.isfinite(x)):
+            raise ParameterError(
+                "signal", f"array of shape {x.shape}", "a finite 1-D array of >= 2 samples"
+            )
+        if method == "bilinear":
+            return sosfilt(self.sos(fs), x)
+        A, B, C, D = self.state_space()
+        Ad, Bd, Cd, Dd, _ = cont2discrete((A, B, C, D), 1.0 / fs, method="foh")
+        lam, V = np.linalg.eig(Ad)
+        b = np.linalg.solve(V, Bd[:, 0])
+        c = Cd[0] @ V
+        y = Dd[0, 0] * x
+        done = np.zeros(lam.size, bool)
+        for i in range(lam.size):  # complex pairs: one recursion and twice its real part
+            if done[i]:
+                continue
+            mode = c[i] * lfilter([0.0, b[i]], [1.0, -lam[i]], x.astype(complex))
+            if abs(lam[i].imag) > 0:
+                gap = np.abs(lam - lam[i].conj())
+                gap[done] = np.inf
+                gap[i] = np.inf
+                done[int(np.argmin(gap))] = True
+                y = y + 2.0 * mode.real
+            else:
+                y = y + mode.real
+            done[i] = True
+        return y
+
+
+#: ISO 2631-1:1997 Annex A, Table A.1 (parameters of the weighting transfer functions)
+WEIGHTINGS = {
+    "Wk": Weighting(
+        name="Wk", f1=0.4, f2=100.0, f3=12.5, f4=12.5, q4=0.63, f5=2.37, q5=0.91, f6=3.35, q6=0.91
+    ),
+    "Wd": Weighting(name="Wd", f1=0.4, f2=100.0, f3=2.0, f4=2.0, q4=0.63),
+    "Wf": Weighting(
+        name="Wf", f1=0.08, f2=0.63, f3=None, f4=0.25, q4=0.86, f5=0.0625, q5=0.80, f6=0.1, q6=0.80
+    ),
+    "Wc": Weighting(name="Wc", f1=0.4, f2=100.0, f3=8.0, f4=8.0, q4=0.63),
+    "We": Weighting(name="We", f1=0.4, f2=100.0, f3=1.0, f4=1.0, q4=0.63),
+    "Wj": Weighting(name="Wj", f1=0.4, f2=100.0, f5=3.75, q5=0.91, f6=5.32, q6=0.91),
+}
+
+#: Axis weightings and multipliers k (ISO 2631-1:1997 clause 7, health, and clause 8,
+#: comfort); rotational multipliers in m/rad.
+AXIS_MULTIPLIERS = {
+    "health-seated": {"x": ("Wd", 1.4), "y": ("Wd", 1.4), "z": ("Wk", 1.0)},
+    "comfort-seat": {
+        "x": ("Wd", 1.0),
+        "y": ("Wd", 1.0),
+        "z": ("Wk", 1.0),
+        "rx": ("We", 0.63),
+        "ry": ("We", 0.40),
+        "rz": ("We", 0.20),
+    },
+    "comfort-seat-back": {"x": ("Wc", 0.8), "y": ("Wd", 0.5), "z": ("Wd", 0.4)},
+    "comfort-feet": {"x": ("Wk", 0.25), "y": ("Wk", 0.25), "z": ("Wk", 0.4)},
+    "comfort-standing": {"x": ("Wd", 1.0), "y": ("Wd", 1.0), "z": ("Wk", 1.0)},
+}
+
+
+def weighting(name: str) -> Weighting:
+    """The weighting called ``name`` (one of :data:`WEIGHTINGS`)."""
+    check_choice("weighting", name, tuple(WEIGHTINGS))
+    return WEIGHTINGS[name]
+
+
+def weighting_magnitude(name: str, freq_hz):
+    """|W(f)| of weighting ``name`` at ``freq_hz`` [Hz].
+
+    Examples
+    --------
+    >>> round(float(weighting_magnitude("Wk", 1.0)), 3)
+    0.482
+    """
+    return weighting(name).magnitude(freq_hz)
+
+
+def weight(signal, fs: float, name: str = "Wk", method: str = "foh") -> np.ndarray:
+    """Weighted signal a_w of ``signal`` sampled at ``fs`` [Hz] (see :meth:`Weighting.filter`)."""
+    return weighting(name).filter(signal, fs, method)
+
+
+def weighted_rms(signal, fs: float, name: str = "Wk", method: str = "foh") -> float:
+    """a_w = sqrt(mean(a_w(t)^2)) of the weighted signal [units of the signal]."""
+    aw = weight(signal, fs, name, method)
+    return float(np.sqrt(np.mean(aw * aw)))
+
+
+def vibration_total_value(values: dict, posture: str = "comfort-seat") -> float:
+    """a_v = sqrt(sum (k_i a_wi)^2) from weighted RMS values per axis (ISO 2631-1 (8)).
+
+    ``values`` maps axis names of the posture ("x", "y", "z", "rx", ...) to a_w.
+    """
+    check_choice("posture", posture, tuple(AXIS_MULTIPLIERS))
+    axes = AXIS_MULTIPLIERS[posture]
+    total = 0.0
+    for axis, aw in values.items():
+        check_choice("axis", axis, tuple(axes))
+        total += (axes[axis][1] * float(aw)) ** 2
+    return math.sqrt(total)
+
+
+def vibration_dose_value(weighted, fs: float) -> float:
+    """VDV = (int a_w^4 dt)^(1/4) [m/s^1.75], rectangle rule on samples at ``fs``."""
+    a = np.asarray(weighted, dtype=float)
+    return float((np.sum(a**4) / fs) ** 0.25)
+
+
+def motion_sickness_dose_value(weighted_wf, fs: float) -> float:
+    """MSDV = (int a_w^2 dt)^(1/2) [m/s^1.5] of a Wf-weighted vertical acceleration."""
+    a = np.asarray(weighted_wf, dtype=float)
+    return float(math.sqrt(np.sum(a * a) / fs))
+
+
+def crest_factor(weighted) -> float:
+    """max |a_w| / rms(a_w) [-]."""
+    a = np.asarray(weighted, dtype=float)
+    r = float(np.sqrt(np.mean(a * a)))
+    return float(np.max(np.abs(a)) / r) if r > 0 else 0.0
+
+
+def running_rms(weighted, fs: float, tau: float = 1.0) -> np.ndarray:
+    """Running RMS with the linear window of length ``tau`` [s] (ISO 2631-1 (2))."""
+    a = np.asarray(weighted, dtype=float)
+    n = max(1, int(round(check_positive("tau", tau, "s") * fs)))
+    c = np.concatenate([[0.0], np.cumsum(a * a)])
+    lo = np.maximum(np.arange(1, a.size + 1) - n, 0)
+    return np.sqrt((c[1:] - c[lo]) / n)
+
+
+def mtvv(weighted, fs: float, tau: float = 1.0) -> float:
+    """Maximum transient vibration value: the largest running RMS (ISO 2631-1 (3))."""
+    return float(np.max(running_rms(weighted, fs, tau)))

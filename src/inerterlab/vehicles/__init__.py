@@ -1,0 +1,29 @@
+"""Linear half-car and full-car models, road tracks and their stochastic response.
+
+See docs/guide/vehicles.md. Main entry points: :func:`load_vehicle` (TOML file),
+:func:`build` (parameters -> :class:`LinearVehicle`), :func:`road_spectrum`,
+:func:`spectral_response`, :func:`simulate`, :func:`iri`, :func:`fit_iso8608`.
+"""
+
+from .config import example_vehicle_path as example_vehicle_path
+from .config import load_vehicle as load_vehicle
+from .config import loads_vehicle as loads_vehicle
+from .model import LinearVehicle as LinearVehicle
+from .model import build as build
+from .parameters import Corner as Corner
+from .parameters import FullCar as FullCar
+from .parameters import HalfCar as HalfCar
+from .parameters import Seat as Seat
+from .parameters import Strut as Strut
+from .parameters import Tyre as Tyre
+from .roads import RoadSpectrum as RoadSpectrum
+from .roads import fit_iso8608 as fit_iso8608
+from .roads import generate_tracks as generate_tracks
+from .roads import iri as iri
+from .roads import isotropic_coherence as isotropic_coherence
+from .roads import road_spectrum as road_spectrum
+from .spectral import SpectralResult as SpectralResult
+from .spectral import road_inputs as road_inputs
+from .spectral import simulate as simulate
+from .spectral import spectral_response as spectral_response
+from .spectral import white_velocity_h2 as white_velocity_h2

@@ -1,0 +1,334 @@
+"""Vehicle files: TOML with a unit on every value.
+
+A value is a string ``"<number> <unit>"`` (``sprung_mass = "1200 kg"``) or an inline
+table ``{ value = 1200, unit = "kg" }``. A bare number is refused: the file must say
+what it means. Units are products of symbols separated by spaces, ``*`` or ``·``,
+with ``^n`` (or a trailing digit, or ``²``) for powers and at most one ``/``:
+``kg``, ``t``, ``g``; ``m``, ``mm``, ``cm``; ``N``, ``kN``; ``s``; ``kg m^2``,
+``N/m``, ``kN/m``, ``N/mm``, ``N s/m``, ``kN s/m``. Each key has a dimension
+(mass, length, stiffness, ...) and a value in another dimension is an error.
+
+Layout (full car; ``model = "half"`` takes the same keys without ``roll_inertia``,
+the tracks and the anti-roll bars, and its axles lump both wheels)::
+
+    model = "full"
+    sprung_mass = "1200 kg"
+    pitch_inertia = "1800 kg m^2"
+    roll_inertia = "450 kg m^2"
+    cg_to_front = "1.15 m"
+    cg_to_rear = "1.45 m"
+    front_track = "1.52 m"
+    rear_track = "1.50 m"
+
+    [front]                       # one wheel
+    unsprung_mass = "40 kg"
+    stiffness = "28 kN/m"
+    damping = "2200 N s/m"
+    inertance = "0 kg"            # optional
+    tyre_stiffness = "200 kN/m"
+    tyre_damping = "50 N s/m"     # optional
+    anti_roll = "12 kN/m"         # optional, full car only
+
+    [rear]
+    ...
+
+    [seat]                        # optional
+    x = "0.25 m"
+    y = "0.37 m"
+    mass = "75 kg"
+    stiffness = "47 kN/m"
+    damping = "1100 N s/m"
+
+Errors name the file, the table and key, and the line.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+import tomllib
+from pathlib import Path
+
+from ..errors import DataFileError, ParameterError
+from .parameters import Corner, FullCar, HalfCar, Seat, Strut, Tyre
+
+__all__ = [
+    "load_vehicle",
+    "loads_vehicle",
+    "parse_quantity",
+    "parse_unit",
+    "example_vehicle_path",
+    "DIMENSIONS",
+]
+
+# exponents of (kg, m, s)
+DIMENSIONS = {
+    "mass": (1, 0, 0),
+    "length": (0, 1, 0),
+    "inertia": (1, 2, 0),
+    "stiffness": (1, 0, -2),
+    "damping": (1, 0, -1),
+    "acceleration": (0, 1, -2),
+    "force": (1, 1, -2),
+}
+_SYMBOLS = {
+    "g": (1e-3, (1, 0, 0)),
+    "t": (1e3, (1, 0, 0)),
+    "m": (1.0, (0, 1, 0)),
+    "s": (1.0, (0, 0, 1)),
+    "N": (1.0, (1, 1, -2)),
+    "Hz": (1.0, (0, 0, -1)),
+    "rad": (1.0, (0, 0, 0)),
+}
+_PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "c": 1e-2, "m": 1e-3, "u": 1e-6, "µ": 1e-6}
+_SUPERSCRIPTS = str.maketrans("²³⁻¹", "23-1")
+_TOKEN = re.compile(r"^([A-Za-zµ]+)(?:\^?(-?\d+))?$")
+
+_BODY_KEYS = {
+    "sprung_mass": "mass",
+    "pitch_inertia": "inertia",
+    "roll_inertia": "inertia",
+    "cg_to_front": "length",
+    "cg_to_rear": "length",
+    "front_track": "length",
+    "rear_track": "length",
+    "gravity": "acceleration",
+}
+_CORNER_KEYS = {
+    "unsprung_mass": "mass",
+    "stiffness": "stiffness",
+    "damping": "damping",
+    "inertance": "mass",
+    "tyre_stiffness": "stiffness",
+    "tyre_damping": "damping",
+    "anti_roll": "stiffness",
+}
+_SEAT_KEYS = {
+    "x": "length",
+    "y": "length",
+    "mass": "mass",
+    "stiffness": "stiffness",
+    "damping": "damping",
+}
+_HALF_ONLY_EXCLUDED = ("roll_inertia", "front_track", "rear_track")
+
+
+def _symbol(token: str):
+    if token in _SYMBOLS:
+        return _SYMBOLS[token]
+    if len(token) > 1 and token[0] in _PREFIXES and token[1:] in _SYMBOLS:
+        f, d = _SYMBOLS[token[1:]]
+        return _PREFIXES[token[0]] * f, d
+    return None
+
+
+def parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
+    """(factor to SI, (kg, m, s) exponents) of a unit string; ParameterError if unknown."""
+    t = text.strip().translate(_SUPERSCRIPTS).replace("·", " ").replace("*", " ")
+    parts = t.split("/")
+    if len(parts) > 2 or not parts[0].strip() and len(parts) == 1:
+        raise ParameterError("unit", text, "a unit such as 'kg', 'N/m', 'N s/m', 'kg m^2'")
+    factor, dims = 1.0, [0, 0, 0]
+    for side, chunk in enumerate(parts):
+        sign = -1 if side else 1
+        for tok in chunk.split():
+            if tok == "1" and side == 0:
+                continue
+            if tok == "Ns":  # common shorthand for newton second
+                tok_list = [("N", 1), ("s", 1)]
+            else:
+                m = _TOKEN.match(tok)
+                if not m:
+                    raise ParameterError("unit", text, "known unit symbols (kg, m, s, N, ...)")
+                tok_list = [(m.group(1), int(m.group(2)) if m.group(2) else 1)]
+            for sym, power in tok_list:
+                found = _symbol(sym)
+                if found is None:
+                    raise ParameterError(
+                        "unit",
+                        text,
+                        f"known unit symbols (kg, t, m, mm, s, N, kN, ...), not {sym!r}",
+                    )
+                f, d = found
+                factor *= f ** (sign * power)
+                for i in range(3):
+                    dims[i] += sign * power * d[i]
+    return factor, tuple(dims)
+
+
+def _dim_text(d) -> str:
+    for name, dd in DIMENSIONS.items():
+        if tuple(dd) == tuple(d):
+            return name
+    return "kg^{} m^{} s^{}".format(*d)
+
+
+def parse_quantity(value, dimension: str) -> float:
+    """SI value of ``"1200 kg"`` or ``{value=1200, unit="kg"}`` in ``dimension``."""
+    if isinstance(value, dict):
+        extra = set(value) - {"value", "unit"}
+        if extra or "value" not in value or "unit" not in value:
+            raise ParameterError("value", value, "a table with exactly 'value' and 'unit'")
+        number, unit = value["value"], value["unit"]
+        if isinstance(number, bool) or not isinstance(number, int | float):
+            raise ParameterError("value", number, "a number")
+        if not isinstance(unit, str):
+            raise ParameterError("unit", unit, "a string")
+    elif isinstance(value, str):
+        m = re.match(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$", value)
+        if not m or not m.group(2):
+            raise ParameterError(
+                "value", value, f"a number and a unit of {dimension}, e.g. '1200 kg'"
+            )
+        number, unit = float(m.group(1)), m.group(2)
+    elif isinstance(value, int | float) and not isinstance(value, bool):
+        raise ParameterError(
+            "value", value, f'a value with a unit of {dimension}, e.g. "{value} <unit>"'
+        )
+    else:
+        raise ParameterError("value", value, "a string '<number> <unit>' or {value, unit}")
+    factor, dims = parse_unit(unit)
+    want = DIMENSIONS[dimension]
+    if tuple(dims) != tuple(want):
+        raise ParameterError("unit", unit, f"a unit of {dimension}, not of {_dim_text(dims)}")
+    x = float(number) * factor
+    if not math.isfinite(x):
+        raise ParameterError("value", value, "a finite number")
+    return x
+
+
+def _find_line(text: str, table: str | None, key: str | None) -> int | None:
+    """Line (1-based) of ``key`` inside ``[table]`` (top level for None), else the header."""
+    current = None
+    header_line = None
+    for i, line in enumerate(text.splitlines(), start=1):
+        s = line.strip()
+        m = re.match(r"^\[\s*([A-Za-z0-9_\-]+)\s*\]", s)
+        if m:
+            current = m.group(1)
+            if current == table:
+                header_line = i
+            continue
+        if current == table and key is not None and re.match(rf"^{re.escape(key)}\s*=", s):
+            return i
+    return header_line
+
+
+def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
+    """Vehicle parameters from TOML text (``source`` names it in errors)."""
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"line (\d+)", str(e))
+        raise DataFileError(
+            source, f"not valid TOML: {e}", int(m.group(1)) if m else None
+        ) from None
+
+    def fail(table, key, msg):
+        where = f"[{table}] {key}" if table and key else (f"[{table}]" if table else key)
+        raise DataFileError(source, f"{where}: {msg}", _find_line(text, table, key))
+
+    model = data.get("model", "full")
+    if model not in ("half", "full"):
+        fail(None, "model", f"{model!r} is not 'half' or 'full'")
+    body_keys = dict(_BODY_KEYS)
+    if model == "half":
+        for k in _HALF_ONLY_EXCLUDED:
+            body_keys.pop(k)
+    tables = {"front", "rear", "seat"}
+
+    def quantities(table, values, keys):
+        out = {}
+        for k, v in values.items():
+            if k not in keys:
+                fail(table, k, "unknown key; expected one of " + ", ".join(sorted(keys)))
+            try:
+                out[k] = parse_quantity(v, keys[k])
+            except ParameterError as e:
+                fail(table, k, f"{v!r}: expected {e.valid}")
+        return out
+
+    top = {k: v for k, v in data.items() if k != "model" and k not in tables}
+    body = quantities(None, top, body_keys)
+    for k in body_keys:
+        if k not in body and k != "gravity":
+            fail(None, k, "missing")
+    corners = {}
+    for axle in ("front", "rear"):
+        if axle not in data or not isinstance(data[axle], dict):
+            fail(None, axle, f"missing table [{axle}]")
+        keys = dict(_CORNER_KEYS)
+        if model == "half":
+            keys.pop("anti_roll")
+        q = quantities(axle, data[axle], keys)
+        for k in ("unsprung_mass", "stiffness", "damping", "tyre_stiffness"):
+            if k not in q:
+                fail(axle, k, "missing")
+        try:
+            corners[axle] = Corner(
+                unsprung_mass=q["unsprung_mass"],
+                strut=Strut(
+                    stiffness=q["stiffness"],
+                    damping=q["damping"],
+                    inertance=q.get("inertance", 0.0),
+                ),
+                tyre=Tyre(stiffness=q["tyre_stiffness"], damping=q.get("tyre_damping", 0.0)),
+            )
+        except ParameterError as e:
+            fail(axle, e.name, f"{e.value!r}: expected {e.valid}")  # names match the keys
+        corners[f"{axle}_anti_roll"] = q.get("anti_roll", 0.0)
+    seat = None
+    if "seat" in data:
+        q = quantities("seat", data["seat"], _SEAT_KEYS)
+        for k in ("mass", "stiffness", "damping"):
+            if k not in q:
+                fail("seat", k, "missing")
+        try:
+            seat = Seat(**q)
+        except ParameterError as e:
+            fail("seat", e.name.removeprefix("seat."), f"{e.value!r}: expected {e.valid}")
+    try:
+        common = dict(
+            sprung_mass=body["sprung_mass"],
+            pitch_inertia=body["pitch_inertia"],
+            cg_to_front=body["cg_to_front"],
+            cg_to_rear=body["cg_to_rear"],
+            front=corners["front"],
+            rear=corners["rear"],
+            seat=seat,
+        )
+        if "gravity" in body:
+            common["gravity"] = body["gravity"]
+        if model == "half":
+            return HalfCar(**common)
+        return FullCar(
+            roll_inertia=body["roll_inertia"],
+            front_track=body["front_track"],
+            rear_track=body["rear_track"],
+            front_anti_roll=corners["front_anti_roll"],
+            rear_anti_roll=corners["rear_anti_roll"],
+            **common,
+        )
+    except ParameterError as e:
+        name = e.name
+        for axle in ("front", "rear"):
+            if name == f"{axle}_anti_roll":
+                fail(axle, "anti_roll", f"{e.value!r}: expected {e.valid}")
+        fail(None, name, f"{e.value!r}: expected {e.valid}")
+
+
+def load_vehicle(path) -> HalfCar | FullCar:
+    """Vehicle parameters from a TOML file (see the module documentation)."""
+    p = Path(path)
+    try:
+        text = p.read_text(encoding="utf-8")
+    except OSError as e:
+        raise DataFileError(p, f"cannot read: {e.strerror or e}") from None
+    return loads_vehicle(text, str(p))
+
+
+def example_vehicle_path() -> Path:
+    """Path of the example full car shipped with the package."""
+    from importlib.resources import files
+
+    return Path(str(files("inerterlab") / "data" / "vehicle_sedan.toml"))

@@ -1,0 +1,319 @@
+"""Linear half-car and full-car models assembled from connections.
+
+Coordinates q are displacements from static equilibrium: the body's bounce, pitch
+(and roll), each unsprung mass, then the seat. Road inputs r are the road heights
+under the wheels, ordered front, rear (half car) or front_left, front_right,
+rear_left, rear_right (full car).
+
+Every force element is a *connection* with extension delta = u . q - v . r and a
+force law (:class:`~inerterlab.vehicles.parameters.Strut`,
+:class:`~inerterlab.vehicles.parameters.Tyre`, or a bare rate for anti-roll bars).
+Its generalised force on q is -u Z(s) delta, Z the law's dynamic stiffness, so
+
+    [sum_j u_j u_j^T Z_j(s) + s^2 M] q = [sum_j u_j v_j^T Z_j(s)] r.
+
+The frequency response uses this form with each law's ``dynamic_stiffness`` (a future
+network law fits in unchanged); the state space uses each law's (b, c, k).
+
+Outputs y = P q + V q' + G q'' + R r + S r' (G for accelerations, S for the tyre
+damper's share of a tyre load). Units: m/s^2 for accelerations, rad/s^2 for pitch
+and roll accelerations, m for suspension deflections (extension positive), N for
+dynamic tyre loads (increase of the contact force, positive pressing the tyre down).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import ParameterError
+from .parameters import Corner, FullCar, HalfCar
+
+__all__ = ["Connection", "Output", "LinearVehicle", "build", "OUTPUT_UNITS"]
+
+OUTPUT_UNITS = {
+    "bounce_acc": "m/s^2",
+    "pitch_acc": "rad/s^2",
+    "roll_acc": "rad/s^2",
+    "seat_acc": "m/s^2",
+    "deflection": "m",
+    "tyre_load": "N",
+}
+
+
+@dataclass(frozen=True)
+class _Rate:
+    """A bare spring rate (anti-roll bar) with the force-law interface."""
+
+    stiffness: float
+
+    def dynamic_stiffness(self, s):
+        return self.stiffness + 0.0 * s
+
+    def mck(self):
+        return (0.0, 0.0, float(self.stiffness))
+
+    def internal_states(self) -> int:
+        return 0
+
+
+@dataclass(frozen=True)
+class Connection:
+    """Force element with extension u . q - v . r and force law ``law``."""
+
+    name: str
+    u: np.ndarray
+    v: np.ndarray
+    law: object
+
+
+@dataclass(frozen=True)
+class Output:
+    """y = P q + V q' + G q'' + R r + S r' with its unit."""
+
+    P: np.ndarray
+    V: np.ndarray
+    G: np.ndarray
+    R: np.ndarray
+    S: np.ndarray
+    unit: str
+
+
+@dataclass(frozen=True)
+class LinearVehicle:
+    """A linear vehicle: masses, connections and outputs (build with :func:`build`).
+
+    Attributes
+    ----------
+    parameters : HalfCar or FullCar
+    dofs : tuple of str
+        Names of the coordinates q.
+    inputs : tuple of str
+        Names of the road inputs (wheel positions).
+    corners : tuple of str
+        Names of the wheel stations (same order as ``inputs``).
+    axle_x : dict
+        x position of each input's wheel [m] (a for front, -b for rear).
+    mass : ndarray
+        Mass matrix of the bodies alone (inerters come from the connections).
+    connections : tuple of Connection
+    outputs : dict of Output
+    gravity_force : ndarray
+        Generalised weight forces on q [N, N m].
+    """
+
+    parameters: object
+    dofs: tuple
+    inputs: tuple
+    corners: tuple
+    axle_x: dict
+    mass: np.ndarray
+    connections: tuple
+    outputs: dict = field(default_factory=dict)
+    gravity_force: np.ndarray | None = None
+
+    @property
+    def kind(self) -> str:
+        return "half" if isinstance(self.parameters, HalfCar) else "full"
+
+    # -- matrices ------------------------------------------------------------------------
+    def matrices(self):
+        """(M, C, K, Kr, Cr): M q'' + C q' + K q = Kr r + Cr r'."""
+        n, m = len(self.dofs), len(self.inputs)
+        M = self.mass.copy()
+        C, K = np.zeros((n, n)), np.zeros((n, n))
+        Kr, Cr = np.zeros((n, m)), np.zeros((n, m))
+        for con in self.connections:
+            if con.law.internal_states():
+                raise ParameterError(
+                    con.name, con.law, "a force law without internal states for the state space"
+                )
+            b, c, k = con.law.mck()
+            if b and np.any(con.v):
+                raise ParameterError(con.name, b, "no inertance on an element touching the road")
+            M += b * np.outer(con.u, con.u)
+            C += c * np.outer(con.u, con.u)
+            K += k * np.outer(con.u, con.u)
+            Kr += k * np.outer(con.u, con.v)
+            Cr += c * np.outer(con.u, con.v)
+        return M, C, K, Kr, Cr
+
+    def state_space(self):
+        """x = (q, q'): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.
+
+        Returns (A, Br, Bd, Cy, Dr, Dd) with Cy, Dr, Dd dicts keyed by output name.
+        """
+        M, C, K, Kr, Cr = self.matrices()
+        n = len(self.dofs)
+        Minv = np.linalg.inv(M)
+        A = np.zeros((2 * n, 2 * n))
+        A[:n, n:] = np.eye(n)
+        A[n:, :n] = -Minv @ K
+        A[n:, n:] = -Minv @ C
+        Br = np.vstack([np.zeros_like(Kr), Minv @ Kr])
+        Bd = np.vstack([np.zeros_like(Cr), Minv @ Cr])
+        Cy, Dr, Dd = {}, {}, {}
+        for name, o in self.outputs.items():
+            Cy[name] = np.concatenate([o.P - o.G @ Minv @ K, o.V - o.G @ Minv @ C])
+            Dr[name] = o.R + o.G @ Minv @ Kr
+            Dd[name] = o.S + o.G @ Minv @ Cr
+        return A, Br, Bd, Cy, Dr, Dd
+
+    # -- frequency response --------------------------------------------------------------
+    def frequency_response(self, freq_hz, outputs=None) -> dict:
+        """Transfer functions from the road heights to each output at ``freq_hz`` [Hz].
+
+        Returns name -> complex array (n_freq, n_inputs).
+        """
+        f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
+        s = 2j * math.pi * f
+        n, m = len(self.dofs), len(self.inputs)
+        Z = np.zeros((f.size, n, n), complex)
+        F = np.zeros((f.size, n, m), complex)
+        Z -= (2 * math.pi * f)[:, None, None] ** 2 * self.mass
+        for con in self.connections:
+            z = np.asarray(con.law.dynamic_stiffness(s))[:, None, None]
+            Z += z * np.outer(con.u, con.u)
+            F += z * np.outer(con.u, con.v)
+        Q = np.linalg.solve(Z, F)
+        out = {}
+        for name in outputs or self.outputs:
+            o = self.outputs[name]
+            w = (o.P + s[:, None] * o.V + (s * s)[:, None] * o.G)[:, None, :]
+            out[name] = (w @ Q)[:, 0, :] + o.R + s[:, None] * o.S
+        return out
+
+    # -- statics and modes ---------------------------------------------------------------
+    def static_tyre_loads(self) -> dict:
+        """Static contact force of each wheel station [N], from K q0 = weights."""
+        _, _, K, _, _ = self.matrices()
+        q0 = np.linalg.solve(K, self.gravity_force)
+        out = {}
+        for con in self.connections:
+            if con.name.endswith("_tyre"):
+                b, c, k = con.law.mck()
+                out[con.name[: -len("_tyre")]] = float(-k * con.u @ q0)
+        return out
+
+    def natural_frequencies(self, rigid_tyres: bool = True) -> np.ndarray:
+        """Undamped natural frequencies [Hz], ascending.
+
+        ``rigid_tyres=True``: the wheels are held (the body, and seat, on the struts'
+        springs and inerters alone); otherwise the whole undamped system.
+        """
+        M, _, K, _, _ = self.matrices()
+        keep = [i for i, d in enumerate(self.dofs) if not (rigid_tyres and d.startswith("wheel_"))]
+        from scipy.linalg import eigh
+
+        w2 = eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True)
+        return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi)
+
+
+def _unit(n, i):
+    e = np.zeros(n)
+    e[i] = 1.0
+    return e
+
+
+def build(parameters: HalfCar | FullCar) -> LinearVehicle:
+    """The :class:`LinearVehicle` of a :class:`HalfCar` or :class:`FullCar`.
+
+    Examples
+    --------
+    >>> from inerterlab.vehicles import example_vehicle_path, load_vehicle
+    >>> car = build(load_vehicle(example_vehicle_path()))
+    >>> car.inputs
+    ('front_left', 'front_right', 'rear_left', 'rear_right')
+    >>> [round(float(f), 1) for f in car.natural_frequencies(rigid_tyres=True)]
+    [1.4, 1.6, 2.3, 4.2]
+    """
+    p = parameters
+    if isinstance(p, HalfCar):
+        body = ["bounce", "pitch"]
+        a, b = p.cg_to_front, p.cg_to_rear
+        stations = [("front", a, 0.0, p.front), ("rear", -b, 0.0, p.rear)]
+    elif isinstance(p, FullCar):
+        body = ["bounce", "pitch", "roll"]
+        a, b = p.cg_to_front, p.cg_to_rear
+        tf, tr = 0.5 * p.front_track, 0.5 * p.rear_track
+        stations = [
+            ("front_left", a, tf, p.front),
+            ("front_right", a, -tf, p.front),
+            ("rear_left", -b, tr, p.rear),
+            ("rear_right", -b, -tr, p.rear),
+        ]
+    else:
+        raise ParameterError("vehicle", type(p).__name__, "a HalfCar or a FullCar")
+    names = [s[0] for s in stations]
+    dofs = body + [f"wheel_{c}" for c in names] + (["seat"] if p.seat is not None else [])
+    n, m = len(dofs), len(stations)
+    nb = len(body)
+
+    def body_point(x, y):
+        u = np.zeros(n)
+        u[0], u[1] = 1.0, -x
+        if nb == 3:
+            u[2] = y
+        return u
+
+    mass = np.zeros((n, n))
+    mass[0, 0], mass[1, 1] = p.sprung_mass, p.pitch_inertia
+    if nb == 3:
+        mass[2, 2] = p.roll_inertia
+    gravity = np.zeros(n)
+    gravity[0] = -p.sprung_mass * p.gravity
+    cons = []
+    strut_u = {}
+    outputs = {}
+    zero_n, zero_m = np.zeros(n), np.zeros(m)
+    for j, (name, x, y, corner) in enumerate(stations):
+        assert isinstance(corner, Corner)
+        iw = nb + j
+        mass[iw, iw] = corner.unsprung_mass
+        gravity[iw] = -corner.unsprung_mass * p.gravity
+        u_s = body_point(x, y) - _unit(n, iw)  # strut extension
+        strut_u[name] = u_s
+        cons.append(Connection(f"{name}_strut", u_s, zero_m.copy(), corner.strut))
+        u_t, v_t = _unit(n, iw), _unit(m, j)  # tyre extension: wheel - road
+        cons.append(Connection(f"{name}_tyre", u_t, v_t, corner.tyre))
+        kt, ct = corner.tyre.stiffness, corner.tyre.damping
+        outputs[f"{name}_deflection"] = Output(
+            u_s, zero_n, zero_n, zero_m, zero_m, OUTPUT_UNITS["deflection"]
+        )
+        outputs[f"{name}_tyre_load"] = Output(
+            -kt * u_t, -ct * u_t, zero_n, kt * v_t, ct * v_t, OUTPUT_UNITS["tyre_load"]
+        )
+    if isinstance(p, FullCar):
+        for axle, rate in (("front", p.front_anti_roll), ("rear", p.rear_anti_roll)):
+            if rate > 0:
+                u = strut_u[f"{axle}_left"] - strut_u[f"{axle}_right"]
+                cons.append(Connection(f"{axle}_anti_roll", u, zero_m.copy(), _Rate(rate)))
+    if p.seat is not None:
+        s = p.seat
+        isx = n - 1
+        mass[isx, isx] = s.mass
+        gravity[isx] = -s.mass * p.gravity
+        from .parameters import Strut
+
+        cushion = Strut(stiffness=s.stiffness, damping=s.damping)
+        cons.append(Connection("seat", body_point(s.x, s.y) - _unit(n, isx), zero_m, cushion))
+    accel = {"bounce_acc": 0, "pitch_acc": 1, "roll_acc": 2, "seat_acc": n - 1}
+    acc_out = {}
+    for name, i in accel.items():
+        if name == "roll_acc" and nb < 3 or name == "seat_acc" and p.seat is None:
+            continue
+        acc_out[name] = Output(zero_n, zero_n, _unit(n, i), zero_m, zero_m, OUTPUT_UNITS[name])
+    acc_out.update(outputs)
+    return LinearVehicle(
+        parameters=p,
+        dofs=tuple(dofs),
+        inputs=tuple(names),
+        corners=tuple(names),
+        axle_x={c[0]: c[1] for c in stations},
+        mass=mass,
+        connections=tuple(cons),
+        outputs=acc_out,
+        gravity_force=gravity,
+    )

@@ -1,0 +1,282 @@
+"""Parameter sets of the linear half car and full car.
+
+All values SI. Every class is a frozen keyword-only dataclass that checks its values
+in ``__post_init__`` and names the offending parameter and its valid range.
+
+Geometry and signs (ISO 8855 axes: x forward, y left, z up, origin at the sprung mass
+centre of gravity): bounce z is positive up, pitch theta positive nose down, roll phi
+positive left side up. A body point at (x, y) moves z - x theta + y phi.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+
+from ..errors import ParameterError, check_finite, check_nonnegative, check_positive
+
+__all__ = ["Strut", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
+
+GRAVITY = 9.81  # [m/s^2]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Strut:
+    """Suspension force law of one corner: spring, damper and inerter in parallel.
+
+    The force pushing the body and the wheel apart is F = -(k x + c x' + b x''), with x
+    the extension of the strut. The vehicle model asks a force law for two things only:
+    :meth:`dynamic_stiffness` (force per displacement at complex frequency s, used by
+    the spectral method) and :meth:`mck` (the inertance, damping and stiffness of its
+    polynomial part, used by the state space). A network law can supply the same two
+    methods; a network whose dynamic stiffness is not a polynomial in s will then need
+    extra internal states in the state space, which :meth:`internal_states` reports.
+
+    Parameters
+    ----------
+    stiffness : float
+        k [N/m], >= 0.
+    damping : float
+        c [N s/m], >= 0.
+    inertance : float
+        b [kg], >= 0.
+    """
+
+    stiffness: float
+    damping: float
+    inertance: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_nonnegative("stiffness", self.stiffness, "N/m")
+        check_nonnegative("damping", self.damping, "N s/m")
+        check_nonnegative("inertance", self.inertance, "kg")
+
+    def dynamic_stiffness(self, s):
+        """k + c s + b s^2 [N/m] at complex frequency ``s`` [rad/s]."""
+        return self.stiffness + self.damping * s + self.inertance * s * s
+
+    def mck(self) -> tuple[float, float, float]:
+        """(b [kg], c [N s/m], k [N/m])."""
+        return (float(self.inertance), float(self.damping), float(self.stiffness))
+
+    def internal_states(self) -> int:
+        """Extra states the law needs in a state space (0: purely polynomial)."""
+        return 0
+
+    def scaled(self, factor: float) -> Strut:
+        """The same law with every coefficient times ``factor`` (struts in parallel)."""
+        return Strut(
+            stiffness=self.stiffness * factor,
+            damping=self.damping * factor,
+            inertance=self.inertance * factor,
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class Tyre:
+    """Point-contact tyre: spring and damper in parallel, always in contact (linear).
+
+    Parameters
+    ----------
+    stiffness : float
+        k_t [N/m], > 0.
+    damping : float
+        c_t [N s/m], >= 0.
+    """
+
+    stiffness: float
+    damping: float = 0.0
+
+    def __post_init__(self) -> None:
+        check_positive("tyre_stiffness", self.stiffness, "N/m")
+        check_nonnegative("tyre_damping", self.damping, "N s/m")
+
+    def dynamic_stiffness(self, s):
+        """k_t + c_t s [N/m]."""
+        return self.stiffness + self.damping * s
+
+    def mck(self) -> tuple[float, float, float]:
+        return (0.0, float(self.damping), float(self.stiffness))
+
+    def internal_states(self) -> int:
+        return 0
+
+    def scaled(self, factor: float) -> Tyre:
+        return Tyre(stiffness=self.stiffness * factor, damping=self.damping * factor)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Corner:
+    """One wheel station: unsprung mass, suspension strut and tyre.
+
+    In a half car a corner stands for a whole axle (both wheels lumped); in a full
+    car for one wheel.
+    """
+
+    unsprung_mass: float
+    strut: Strut
+    tyre: Tyre
+
+    def __post_init__(self) -> None:
+        check_positive("unsprung_mass", self.unsprung_mass, "kg")
+        if not isinstance(self.strut, Strut):
+            raise ParameterError("strut", self.strut, "a Strut")
+        if not isinstance(self.tyre, Tyre):
+            raise ParameterError("tyre", self.tyre, "a Tyre")
+
+    def scaled(self, factor: float) -> Corner:
+        """``factor`` identical corners lumped into one (masses and laws times factor)."""
+        return Corner(
+            unsprung_mass=self.unsprung_mass * factor,
+            strut=self.strut.scaled(factor),
+            tyre=self.tyre.scaled(factor),
+        )
+
+
+@dataclass(frozen=True, kw_only=True)
+class Seat:
+    """Seat and occupant as one mass on a cushion spring and damper.
+
+    Parameters
+    ----------
+    x, y : float
+        Position of the seat mounting on the body relative to the centre of gravity
+        [m] (x forward, y left). A half car ignores ``y``.
+    mass : float
+        Seat plus occupant mass carried by the cushion [kg], > 0.
+    stiffness, damping : float
+        Cushion stiffness [N/m] > 0 and damping [N s/m] >= 0.
+    """
+
+    x: float = 0.0
+    y: float = 0.0
+    mass: float
+    stiffness: float
+    damping: float
+
+    def __post_init__(self) -> None:
+        check_finite("seat.x", self.x)
+        check_finite("seat.y", self.y)
+        check_positive("seat.mass", self.mass, "kg")
+        check_positive("seat.stiffness", self.stiffness, "N/m")
+        check_nonnegative("seat.damping", self.damping, "N s/m")
+
+
+def _check_body(p) -> None:
+    check_positive("sprung_mass", p.sprung_mass, "kg")
+    check_positive("pitch_inertia", p.pitch_inertia, "kg m^2")
+    check_positive("cg_to_front", p.cg_to_front, "m")
+    check_positive("cg_to_rear", p.cg_to_rear, "m")
+    check_positive("gravity", p.gravity, "m/s^2")
+    for name in ("front", "rear"):
+        if not isinstance(getattr(p, name), Corner):
+            raise ParameterError(name, getattr(p, name), "a Corner")
+    if p.seat is not None and not isinstance(p.seat, Seat):
+        raise ParameterError("seat", p.seat, "a Seat or None")
+
+
+@dataclass(frozen=True, kw_only=True)
+class HalfCar:
+    """Pitch-plane model: rigid body (bounce, pitch) on a front and a rear axle.
+
+    Parameters
+    ----------
+    sprung_mass : float
+        m [kg] (of the seat-less body).
+    pitch_inertia : float
+        I_y about the centre of gravity [kg m^2].
+    cg_to_front, cg_to_rear : float
+        a and b [m]; the wheelbase is a + b.
+    front, rear : Corner
+        Axles (both wheels lumped: twice a wheel's mass, strut and tyre).
+    seat : Seat or None
+        Optional seat at x = seat.x.
+    gravity : float
+        [m/s^2], for the static tyre loads.
+    """
+
+    sprung_mass: float
+    pitch_inertia: float
+    cg_to_front: float
+    cg_to_rear: float
+    front: Corner
+    rear: Corner
+    seat: Seat | None = None
+    gravity: float = GRAVITY
+
+    def __post_init__(self) -> None:
+        _check_body(self)
+
+    @property
+    def wheelbase(self) -> float:
+        return float(self.cg_to_front + self.cg_to_rear)
+
+    def replace(self, **changes) -> HalfCar:
+        return replace(self, **changes)
+
+
+@dataclass(frozen=True, kw_only=True)
+class FullCar:
+    """Rigid body (bounce, pitch, roll) on four independent corners.
+
+    Left and right corners of an axle are alike (``front`` and ``rear`` describe one
+    wheel). Optional anti-roll bars add ``k_arb (x_left - x_right)^2 / 2`` to the
+    potential energy, x the strut extensions: ``front_anti_roll`` is the rate felt
+    at one wheel when the other is held [N/m].
+
+    Parameters
+    ----------
+    sprung_mass, pitch_inertia, cg_to_front, cg_to_rear : float
+        As for :class:`HalfCar`.
+    roll_inertia : float
+        I_x about the centre of gravity [kg m^2].
+    front_track, rear_track : float
+        Distance between the left and right wheel centres [m].
+    front, rear : Corner
+        One wheel of each axle.
+    front_anti_roll, rear_anti_roll : float
+        Anti-roll bar rates at the wheel [N/m], >= 0 (0: no bar).
+    seat : Seat or None
+    gravity : float
+    """
+
+    sprung_mass: float
+    pitch_inertia: float
+    roll_inertia: float
+    cg_to_front: float
+    cg_to_rear: float
+    front_track: float
+    rear_track: float
+    front: Corner
+    rear: Corner
+    front_anti_roll: float = 0.0
+    rear_anti_roll: float = 0.0
+    seat: Seat | None = None
+    gravity: float = GRAVITY
+
+    def __post_init__(self) -> None:
+        _check_body(self)
+        check_positive("roll_inertia", self.roll_inertia, "kg m^2")
+        check_positive("front_track", self.front_track, "m")
+        check_positive("rear_track", self.rear_track, "m")
+        check_nonnegative("front_anti_roll", self.front_anti_roll, "N/m")
+        check_nonnegative("rear_anti_roll", self.rear_anti_roll, "N/m")
+
+    @property
+    def wheelbase(self) -> float:
+        return float(self.cg_to_front + self.cg_to_rear)
+
+    def replace(self, **changes) -> FullCar:
+        return replace(self, **changes)
+
+    def half_car(self) -> HalfCar:
+        """The pitch-plane model of this car: each axle's two wheels lumped into one."""
+        return HalfCar(
+            sprung_mass=self.sprung_mass,
+            pitch_inertia=self.pitch_inertia,
+            cg_to_front=self.cg_to_front,
+            cg_to_rear=self.cg_to_rear,
+            front=self.front.scaled(2.0),
+            rear=self.rear.scaled(2.0),
+            seat=self.seat,
+            gravity=self.gravity,
+        )

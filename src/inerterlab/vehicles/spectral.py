@@ -1,0 +1,266 @@
+"""Stochastic response of a linear vehicle: spectral method, H2 norms, time simulation.
+
+Spectral method. The tracks (left, right) have the one-sided spectral matrix
+G(f) [[1, rho], [rho, 1]] with G(f) = Gd(f/V)/V and rho the left/right ratio of
+:class:`~inerterlab.vehicles.roads.RoadSpectrum`; the rear wheels see the front track
+delayed by tau = (a + b)/V, so the wheel inputs are r(f) = T(f) t(f) with
+T = [[1, 0], [0, 1], [e^-j w tau, 0], [0, e^-j w tau]] (half car: one track, [1, e^-j w tau]).
+Factoring G [[1, rho], [rho, 1]] = L L^H, each output's PSD is
+S_y(f) = || H_y(f) T(f) L(f) ||^2 with H_y the transfer row from the wheel heights, and
+its mean square the integral of S_y over the band (trapezoidal rule in ln f on a
+logarithmic grid). No time simulation is involved.
+
+Lift-off: with a Gaussian dynamic tyre load of standard deviation sigma, the
+probability that its magnitude exceeds the static load F0 is erfc(F0 / (sigma sqrt2));
+the contact is lost only on the downward half, erfc(...)/2.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError, check_positive
+from ..iso2631 import vibration_total_value, weighting
+from .model import LinearVehicle
+from .roads import RoadSpectrum
+
+__all__ = [
+    "SpectralResult",
+    "spectral_response",
+    "output_psd",
+    "white_velocity_h2",
+    "simulate",
+    "road_inputs",
+]
+
+
+@dataclass(frozen=True)
+class SpectralResult:
+    """PSDs [unit^2/Hz] on ``freq`` [Hz], RMS values, units and lift-off probabilities."""
+
+    freq: np.ndarray
+    psd: dict
+    rms: dict
+    units: dict
+    static_load: dict
+    lift_off: dict
+    speed: float
+
+    def to_dict(self) -> dict:
+        return {
+            "speed": self.speed,
+            "rms": dict(self.rms),
+            "units": dict(self.units),
+            "static_tyre_load": dict(self.static_load),
+            "lift_off_probability": dict(self.lift_off),
+        }
+
+
+def _track_width(vehicle: LinearVehicle) -> float:
+    p = vehicle.parameters
+    return 0.5 * (p.front_track + p.rear_track)
+
+
+def input_factor(vehicle: LinearVehicle, road: RoadSpectrum, speed: float, freq):
+    """(n_freq, n_inputs, n_tracks) factor F with wheel-input spectral matrix F F^H."""
+    f = np.asarray(freq, dtype=float)
+    g = road.temporal_psd(f, speed)
+    tau = vehicle.parameters.wheelbase / speed
+    delay = np.exp(-2j * math.pi * f * tau)
+    sq = np.sqrt(g)
+    if vehicle.kind == "half":
+        F = np.zeros((f.size, 2, 1), complex)
+        F[:, 0, 0] = sq
+        F[:, 1, 0] = sq * delay
+        return F
+    rho = road.rho(f / speed, _track_width(vehicle))
+    L = np.zeros((f.size, 2, 2))
+    L[:, 0, 0] = sq
+    L[:, 1, 0] = sq * rho
+    L[:, 1, 1] = sq * np.sqrt(np.clip(1.0 - rho * rho, 0.0, None))
+    T = np.zeros((f.size, 4, 2), complex)
+    T[:, 0, 0] = T[:, 1, 1] = 1.0
+    T[:, 2, 0] = T[:, 3, 1] = delay
+    return T @ L
+
+
+def output_psd(vehicle: LinearVehicle, freq, factor, outputs=None, weighted=None) -> dict:
+    """One-sided PSD of each output given the wheel-input factor (see :func:`input_factor`).
+
+    ``weighted`` maps new names to (output, weighting name), e.g.
+    {"seat_acc_wk": ("seat_acc", "Wk")}: the PSD of the ISO 2631 weighted signal.
+    """
+    H = vehicle.frequency_response(freq, outputs)
+    out = {k: np.sum(np.abs(h[:, None, :] @ factor) ** 2, axis=(1, 2)) for k, h in H.items()}
+    for name, (src, w) in (weighted or {}).items():
+        out[name] = out[src] * weighting(w).magnitude(freq) ** 2
+    return out
+
+
+def _mean_square(freq, psd) -> float:
+    f = np.asarray(freq)
+    return float(np.trapezoid(psd * f, np.log(f)))
+
+
+def spectral_response(
+    vehicle: LinearVehicle,
+    road: RoadSpectrum,
+    speed: float,
+    *,
+    points: int = 4000,
+    freq=None,
+) -> SpectralResult:
+    """Response PSDs and RMS values of ``vehicle`` on ``road`` at ``speed`` [m/s].
+
+    The frequency grid is ``points`` values spaced logarithmically over the road band
+    seen at this speed, or ``freq`` [Hz]. Adds the Wk-weighted seat (or, without a
+    seat, bounce) acceleration as ``seat_acc_wk`` (``bounce_acc_wk``), the We-weighted
+    pitch and roll accelerations (``pitch_acc_we``, ``roll_acc_we``) and, with a seat,
+    ``seat_total_value``: ISO 2631-1's comfort total value on the seat surface from the
+    axes the model has, sqrt(a_wz^2 + (0.40 a_w,pitch)^2 + (0.63 a_w,roll)^2) [m/s^2]
+    (the seat's fore-aft and lateral motions are not modelled, so they are missing).
+    """
+    v = check_positive("speed", speed, "m/s")
+    if freq is None:
+        lo, hi = road.band
+        freq = np.geomspace(lo * v, hi * v, int(points))
+    freq = np.asarray(freq, dtype=float)
+    if freq.ndim != 1 or freq.size < 3 or np.any(freq <= 0) or np.any(np.diff(freq) <= 0):
+        raise ParameterError("freq", "grid", "an increasing grid of > 2 positive frequencies")
+    fac = input_factor(vehicle, road, v, freq)
+    acc = "seat_acc" if "seat_acc" in vehicle.outputs else "bounce_acc"
+    weighted = {f"{acc}_wk": (acc, "Wk")}
+    rot = {"ry": "pitch_acc", "rx": "roll_acc"}
+    rot = {axis: out for axis, out in rot.items() if out in vehicle.outputs}
+    for out in rot.values():
+        weighted[f"{out}_we"] = (out, "We")
+    psd = output_psd(vehicle, freq, fac, weighted=weighted)
+    rms = {k: math.sqrt(_mean_square(freq, s)) for k, s in psd.items()}
+    units = {k: vehicle.outputs[k].unit for k in vehicle.outputs}
+    units[f"{acc}_wk"] = "m/s^2"
+    for out in rot.values():
+        units[f"{out}_we"] = "rad/s^2"
+    if acc == "seat_acc":
+        parts = {"z": rms["seat_acc_wk"], **{a: rms[f"{o}_we"] for a, o in rot.items()}}
+        rms["seat_total_value"] = vibration_total_value(parts, "comfort-seat")
+        units["seat_total_value"] = "m/s^2"
+    static = vehicle.static_tyre_loads()
+    lift = {
+        c: float(math.erfc(static[c] / (rms[f"{c}_tyre_load"] * math.sqrt(2.0))))
+        if rms[f"{c}_tyre_load"] > 0
+        else 0.0
+        for c in vehicle.corners
+    }
+    return SpectralResult(
+        freq=freq, psd=psd, rms=rms, units=units, static_load=static, lift_off=lift, speed=v
+    )
+
+
+def white_velocity_h2(vehicle: LinearVehicle) -> dict:
+    """H2 norm of every output when each wheel's road velocity is independent unit white
+    noise (two-sided spectral density 1), by a Lyapunov equation.
+
+    With r = u/s the transfer from u is G_r(0)/s + Cy (sI - A)^-1 (A^-1 Br + Bd) + Dd;
+    the norm is finite when G_r(0) = 0 (the output returns to 0 after a step in road
+    height) and Dd = 0 (no direct feed-through of road velocity). Outputs failing
+    either map to None.
+    """
+    from scipy.linalg import solve_continuous_lyapunov
+
+    A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
+    Ainv_Br = np.linalg.solve(A, Br)
+    Bv = Ainv_Br + Bd
+    P = solve_continuous_lyapunov(A, -Bv @ Bv.T)
+    out = {}
+    for k in Cy:
+        dc = Dr[k] - Cy[k] @ Ainv_Br
+        scale = 1.0 + float(np.max(np.abs(Cy[k])))
+        if np.max(np.abs(dc)) > 1e-9 * scale or np.max(np.abs(Dd[k])) > 1e-12 * scale:
+            out[k] = None
+        else:
+            out[k] = math.sqrt(max(float(Cy[k] @ P @ Cy[k]), 0.0))
+    return out
+
+
+def road_inputs(
+    vehicle: LinearVehicle, x, z_left, z_right, speed: float, dt: float, periodic: bool = True
+):
+    """Wheel heights (n_t, n_inputs) sampled every ``dt`` [s] at ``speed`` [m/s].
+
+    The front wheels start one wheelbase along the profiles (x [m], evenly spaced),
+    the rear wheels at the start, and the run ends when the front wheels reach the end.
+    ``periodic``: the profiles repeat with period x[-1] + dx (generated roads), so the
+    last interval joins the end to the start; otherwise (measured roads) they end at x[-1].
+    """
+    v = check_positive("speed", speed, "m/s")
+    x = np.asarray(x, dtype=float) - float(x[0])
+    wb = vehicle.parameters.wheelbase
+    end = x[-1] + (x[1] - x[0]) if periodic else x[-1]
+    if end <= wb:
+        raise ParameterError("profile length", end, f"longer than the wheelbase {wb:g} m")
+    nt = int(math.floor((end - wb) / (v * dt))) + (0 if periodic else 1)
+    s = v * dt * np.arange(nt)
+
+    def at(z, pos):
+        z = np.asarray(z, dtype=float)
+        if periodic:
+            return np.interp(pos, np.append(x, end), np.append(z, z[0]))
+        return np.interp(pos, x, z)
+
+    if vehicle.kind == "half":
+        return np.column_stack([at(z_left, s + wb), at(z_left, s)])
+    return np.column_stack([at(z_left, s + wb), at(z_right, s + wb), at(z_left, s), at(z_right, s)])
+
+
+def simulate(vehicle: LinearVehicle, r, dt: float, outputs=None) -> dict:
+    """Outputs of ``vehicle`` for wheel heights ``r`` (n_t, n_inputs) linear between
+    samples ``dt`` [s] apart, starting at rest in equilibrium (exact discretisation).
+
+    With xi = x - Bd r the road velocity leaves the state equation:
+    xi' = A xi + (Br + A Bd) r, y = Cy xi + (Cy Bd + Dr) r + Dd r' (r' the slope of
+    the current sample interval).
+    """
+    from .roads import _foh_matrices
+
+    dt = check_positive("dt", dt, "s")
+    r = np.asarray(r, dtype=float)
+    A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
+    phi, g0, g1 = _foh_matrices(A, Br + A @ Bd, dt)
+    du = np.diff(r, axis=0)
+    x0 = -np.linalg.solve(A, Br @ r[0])  # static equilibrium on the first road heights
+    xi = _propagate(phi, g0 @ r[:-1].T, g1 @ du.T, x0 - Bd @ r[0])
+    rdot = np.vstack([du / dt, du[-1:] / dt])
+    out = {}
+    for k in outputs or Cy:
+        out[k] = Cy[k] @ xi + (Cy[k] @ Bd + Dr[k]) @ r.T + Dd[k] @ rdot.T
+    return out
+
+
+def _propagate(phi, a, b, x0):
+    """Columns x_{k+1} = phi x_k + a_k + b_k, x_0 = x0 (compiled loop)."""
+    from numba import njit
+
+    global _prop_kernel
+    if _prop_kernel is None:
+
+        @njit(cache=False)
+        def kern(phi, f, x0):
+            n, m = f.shape
+            x = np.empty((n, m + 1))
+            x[:, 0] = x0
+            for k in range(m):
+                for i in range(n):
+                    acc = f[i, k]
+                    for j in range(n):
+                        acc += phi[i, j] * x[j, k]
+                    x[i, k + 1] = acc
+            return x
+
+        _prop_kernel = kern
+    return _prop_kernel(np.ascontiguousarray(phi), np.ascontiguousarray(a + b), x0.astype(float))
+
+
+_prop_kernel = None
