@@ -341,7 +341,16 @@ def _time_history(chapter: str):
             title=f"Time histories, ch. {chapter} suspensions, M_v = 370 kg",
             figure=fig,
             data=pd.concat(frames, ignore_index=True),
-            caption="Not in the thesis: body acceleration, deflection and tyre force behind the tables.",
+            caption="Not in the thesis: body acceleration, deflection and tyre force behind the tables."
+            + (
+                " Under the bump the body velocity of CFW and AFW jumps at both edges (the"
+                " inerter passes part of the tyre-damper impulse to the body): the plotted"
+                " acceleration is its finite part and leaves out those Dirac impulses, which is"
+                " why the bump tables compare the Wk-weighted RMS."
+                if chapter == "4"
+                else " Systems A and B keep their inertance behind the device's series spring, so"
+                " the body velocity does not jump at the bump's edges."
+            ),
         )
 
     return figure
