@@ -241,6 +241,21 @@ code,pre{background:#f6f8fa}
 """
 
 
+def _numeric_none(frame):
+    """Columns of numbers and ``None`` (a value that is not finite, or no thesis value)
+    as float columns, so they print with the number format and ``None`` as the dash."""
+    import numbers
+
+    out = frame.copy()
+    for c in out.columns:
+        col = out[c]
+        if col.dtype == object and all(
+            v is None or (isinstance(v, numbers.Real) and not isinstance(v, bool)) for v in col
+        ):
+            out[c] = col.astype(float)
+    return out
+
+
 def _verdict(v) -> str:
     if v is True:
         return '<span class="ok">holds</span>'
@@ -342,7 +357,7 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
             f"<div class='claim'><b>Thesis claim:</b> {html.escape(r['claim'])}<br>"
             f"<b>In our physics:</b> {_verdict(r['claim_holds'])}. {html.escape(r['reason'])}</div>"
         )
-        frame = r["frame"]
+        frame = _numeric_none(r["frame"])
         parts.append(frame.to_html(index=False, float_format=lambda x: f"{x:.5g}", na_rep="—"))
         if r.get("settings"):
             s = "; ".join(f"{k} = {v}" for k, v in r["settings"].items())
