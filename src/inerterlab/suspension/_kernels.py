@@ -996,6 +996,7 @@ X_NO = 6
 #: the longest exact step [s] and the number of levels (halvings)
 X_H_EXACT = 0.01
 X_N_LEVELS = 4
+X_FINE_AFTER_JUMP = 0.03  # [s] shortest exact steps after a body velocity jump
 #: Gauss-Legendre nodes per level (10, 5, 2.5, 1.25 ms)
 X_N_GAUSS = (12, 8, 8, 6)
 X_N_POINTS_MAX = max(X_N_GAUSS) + 2
@@ -1454,6 +1455,7 @@ def integrate(
     h_side = np.zeros(2)  # last step-size proposal below / above the saturation speed
     natural_next = False
     road_scale = road_size(segs)
+    fine_until = -1.0
     for iseg in range(segs.shape[0]):
         seg = segs[iseg]
         t0 = seg[0]
@@ -1470,6 +1472,7 @@ def integrate(
             dv3 = y[3] - v3_before
             jumps[iseg] = dv3
             if dv3 != 0.0:
+                fine_until = t0 + X_FINE_AFTER_JUMP
                 # the Dirac dv3 delta(t) in a3 drives the Wk cascade: each section's
                 # second state jumps by w0 times the Dirac weight reaching it
                 g = dv3
@@ -1502,7 +1505,10 @@ def integrate(
                 t_lim = t1 - 1e-12 * max(1.0, abs(t1))
                 if isamp < ns:
                     t_lim = min(t_lim, sample_times[isamp] - 1e-12 * max(1.0, abs(t1)))
-                lev = 0
+                # just after a body velocity jump the Wk filter rings fast (its 12.5 and
+                # 100 Hz sections): shortest exact steps there, so the Gauss-Legendre
+                # sums of a_w^2 and a_w^4 stay exact to round-off
+                lev = X_N_LEVELS - 1 if t < fine_until else 0
                 while lev < X_N_LEVELS and t + X_H_EXACT / 2.0**lev > t_lim:
                     lev += 1
             else:
