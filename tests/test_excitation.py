@@ -47,7 +47,7 @@ def test_csv_road_round_trip_and_errors(tmp_path):
     bad.write_text("0,0\n0.1,0.2\n0.05,0\n")
     with pytest.raises(DataFileError, match="line 3: time"):
         read_road_csv(bad)
-    with pytest.raises(DataFileError, match="cannot be read"):
+    with pytest.raises(DataFileError, match="cannot read"):
         read_road_csv(tmp_path / "missing.csv")
 
 

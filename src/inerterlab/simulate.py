@@ -175,7 +175,10 @@ class SimulationResult:
         from .metrics import METRIC_UNITS
 
         title = f"{self.model.suspension} on {self.excitation.name}, T = {self.horizon:g} s"
-        rows = [(k, fmt(self.values[k], METRIC_UNITS.get(k, ""))) for k in self.values]
+        rows = [
+            (k, "not finite" if self.values[k] is None else fmt(self.values[k], METRIC_UNITS.get(k, "")))
+            for k in self.values
+        ]
         rows.append(("samples", str(0 if self.time is None else self.time.size)))
         return title, rows
 

@@ -48,7 +48,13 @@ def reproduce_command(
 
     Example: inerterlab reproduce --out reproduction
     """
-    from ..report.build import _load_chapters, count_items, parse_table_selection, reproduce
+    from ..report.build import (
+        _load_chapters,
+        count_items,
+        parse_table_selection,
+        reproduce,
+        resolve_report_target,
+    )
     from ..report.registry import ReproduceSettings
     from ._common import emit_json
     from ._progress import RunProgress
@@ -58,6 +64,7 @@ def reproduce_command(
 
         workers = default_workers()
     settings = ReproduceSettings(quick=quick, workers=workers)
+    resolve_report_target(out)  # refuse a bad --out before any progress line
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
     total = count_items(ids, ids is None)
     with RunProgress(total, label="reproduce", interval=progress_interval) as bar:
