@@ -1,0 +1,281 @@
+"""Linear two-terminal networks: parsing, admittance, quarter-car H2, enumeration."""
+
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+import pytest
+
+from inerterlab.networks import (
+    NetworkError,
+    admittance,
+    admittance_at,
+    enumerate_networks,
+    parse_network,
+)
+from inerterlab.suspension.network_linear import OUTPUTS, network_h2, network_quarter_car
+
+# networks with internal nodes (massless nodes between elements in series)
+INTERNAL = [
+    "k | (k1 - c - b)",
+    "k | (c - (k1 | b))",
+    "k | (b - (k1 | c))",
+    "k | c | (k1 - b)",
+    "k | (k1 - b) | (k2 - c)",
+    "(k - c1) | (k2 - (b | c2))",
+    "k | (k1 - (c | (k2 - b)))",
+]
+PARAMS = dict(k=50e3, k1=30e3, k2=80e3, c=3000.0, c1=4000.0, c2=1500.0, b=150.0)
+
+
+def _params(net):
+    return {n: PARAMS[n] for n in parse_network(net).names}
+
+
+# ---------------------------------------------------------------------- parsing
+
+
+def test_parse_precedence_and_text():
+    assert parse_network("k | c - b").text == "k | (c - b)"
+    assert parse_network("(k | c) - b").text == "(k | c) - b"
+    assert parse_network("((k))|(c|b)").text == "k | c | b"  # associativity flattened
+    n = parse_network("k | afw - c")
+    assert n.kinds == ("spring", "adaptive-flywheel inerter", "damper")
+    assert not n.is_linear
+
+
+@pytest.mark.parametrize(
+    "text, needle",
+    [
+        ("k | x2", "unknown element name 'x2'"),
+        ("k | (c - b", "expected ')'"),
+        ("k || c", "found '|' at position 4"),
+        ("k | c | k", "'k' appears 2 times"),
+        ("", "empty"),
+        ("k | c ; b", "unexpected character ';'"),
+    ],
+)
+def test_parse_errors(text, needle):
+    with pytest.raises(NetworkError, match=re.escape(needle)):
+        parse_network(text)
+
+
+def test_parameter_errors_name_the_element():
+    with pytest.raises(NetworkError, match=r"missing parameter\(s\) b \[kg\]"):
+        network_h2("k | c | b", {"k": 1e4, "c": 1e3})
+    with pytest.raises(NetworkError, match=r"parameter c=-3.0 \(damper\): expected .* > 0"):
+        network_h2("k | c", {"k": 1e4, "c": -3.0})
+    with pytest.raises(NetworkError, match="c9 name no element"):
+        network_h2("k | c", {"k": 1e4, "c": 3.0, "c9": 1.0})
+    with pytest.raises(NetworkError, match="'afw' is a nonlinear element .*linearisation"):
+        network_h2("k | c | afw", {"k": 1e4, "c": 3.0})
+
+
+def test_unstable_network_is_infinite_with_reason():
+    # no damper anywhere and an undamped tyre: lossless, so no finite norm
+    q = network_quarter_car("k | (k1 - b)", tyre_damping=0.0)
+    p = {"k": 5e4, "k1": 1e4, "b": 50.0}
+    assert all(math.isinf(v) for v in q.h2(p).values())
+    assert "not asymptotically stable" in q.h2_reasons(p)["body_acc"]
+
+
+# ---------------------------------------------------------------------- admittance
+
+
+def test_admittance_by_hand():
+    num, den = admittance("k | (c - b) | k2", dict(k=1.0, c=2.0, b=3.0, k2=4.0))
+    # 5/s + 6 s/(3 s + 2) = (6 s^2 + 15 s + 10) / (3 s^2 + 2 s)
+    np.testing.assert_allclose(num, [6, 15, 10])
+    np.testing.assert_allclose(den, [3, 2, 0])
+    num, den = admittance("k1 | k2", dict(k1=1.0, k2=2.0))  # common s cancelled
+    np.testing.assert_allclose(num, [3.0])
+    np.testing.assert_allclose(den, [1.0, 0.0])
+
+
+def _sympy_admittance(net):
+    sp = pytest.importorskip("sympy")
+    s = sp.Symbol("s")
+    syms = {n: sp.Symbol(n, positive=True) for n in net.names}
+
+    def ev(node):
+        if hasattr(node, "kind"):
+            x = syms[node.name]
+            return {"spring": x / s, "damper": x, "inerter": x * s}[node.kind]
+        ys = [ev(p) for p in node.parts]
+        return sp.Add(*ys) if node.op == "|" else 1 / sp.Add(*[1 / y for y in ys])
+
+    y = sp.cancel(sp.together(ev(net.tree)))
+    num, den = sp.fraction(y)
+    return sp, s, syms, num, den
+
+
+ALL = sorted(
+    {n.text for n in enumerate_networks(1, 1, 2)} | {parse_network(t).text for t in INTERNAL}
+)
+
+
+@pytest.mark.parametrize("text", ALL)
+def test_admittance_matches_sympy(text):
+    net = parse_network(text)
+    sp, s, syms, snum, sden = _sympy_admittance(net)
+    rng = np.random.default_rng(abs(hash(text)) % 2**32)
+    vals = {n: float(rng.uniform(0.5, 3.0)) for n in net.names}
+    num, den = admittance(net, vals)
+    sub = {syms[n]: sp.Rational(v) for n, v in vals.items()}
+    pn = sp.Poly(snum.subs(sub), s).all_coeffs()
+    pd = sp.Poly(sden.subs(sub), s).all_coeffs()
+    # same degrees (the numpy form is as reduced as the symbolic one) ...
+    assert (len(num), len(den)) == (len(pn), len(pd)), text
+    # ... and the same coefficients up to one common factor
+    f = float(pd[0]) / den[0]
+    np.testing.assert_allclose(num * f, [float(c) for c in pn], rtol=1e-12)
+    np.testing.assert_allclose(den * f, [float(c) for c in pd], rtol=1e-12)
+    # compiled assembly == numpy reference
+    cn, cd = network_quarter_car(net).polynomials(vals)["admittance"]
+    np.testing.assert_allclose(cn, num, rtol=1e-14)
+    np.testing.assert_allclose(cd, den, rtol=1e-14)
+
+
+# ---------------------------------------------------------------------- H2 norms
+
+
+@pytest.mark.parametrize("ct", [1300.0, 0.0])
+def test_equals_existing_h2_for_parallel_layouts(ct):
+    from inerterlab.metrics import h2_norms
+    from inerterlab.suspension import quarter_car
+
+    ref = h2_norms(quarter_car("traditional", tyre_damping=ct)).norms
+    new = network_h2("k | c", {"k": 90e3, "c": 5000.0}, tyre_damping=ct)
+    for k in OUTPUTS:
+        assert new[k] == pytest.approx(ref[k], rel=1e-9)
+    car = quarter_car("cfw", tyre_damping=ct)
+    ref = h2_norms(car).norms
+    new = network_h2("k | c | b", {"k": 90e3, "c": 5000.0, "b": car.inertance}, tyre_damping=ct)
+    for k in OUTPUTS:
+        if ref[k] is None:  # body acceleration through the inerter with a damped tyre
+            assert math.isinf(new[k])
+        else:
+            assert new[k] == pytest.approx(ref[k], rel=1e-9)
+
+
+def _h_direct(text, params, omega, ms=370.0, mu=25.0, kt=120e3, ct=1300.0):
+    """H(j w) from the tree's complex admittance and the two mass equations (no polynomials)."""
+    s = 1j * omega
+    y = admittance_at(text, params, s)
+    t = kt / s + ct
+    det = (ms * s + y) * (mu * s + y + t) - y * y
+    vu = (ms * s + y) * t / det
+    vs = y * t / det
+    return {
+        "body_acc": s * vs,
+        "tyre_deflection": (vu - 1.0) / s,
+        "suspension_deflection": (vs - vu) / s,
+    }
+
+
+def _h2_quad(text, params, out, **car):
+    from scipy.integrate import quad
+
+    def f(w):
+        return abs(_h_direct(text, params, w, **car)[out]) ** 2
+
+    edges = [0.0, 1.0, 5.0, 10.0, 20.0, 40.0, 80.0, 160.0, 400.0, 2000.0]
+    tot = sum(
+        quad(f, a, b, epsabs=0.0, epsrel=1e-11, limit=400)[0]
+        for a, b in zip(edges[:-1], edges[1:], strict=True)
+    )
+    tot += quad(f, edges[-1], np.inf, epsabs=0.0, epsrel=1e-11, limit=400)[0]
+    return math.sqrt(tot / math.pi)  # (1/2 pi) over (-inf, inf) = (1/pi) over (0, inf)
+
+
+@pytest.mark.parametrize("text", INTERNAL)
+def test_h2_equals_frequency_integral(text):
+    p = _params(text)
+    q = network_quarter_car(text, tyre_damping=0.0)
+    lyap = q.h2(p)
+    assert q.program.shape[0] >= 3
+    assert len(q.polynomials(p)["den"]) - 1 > 4  # internal states beyond the car's four
+    for out in OUTPUTS:
+        ref = _h2_quad(text, p, out, ct=0.0)
+        assert lyap[out] == pytest.approx(ref, rel=1e-6), (text, out)
+
+
+def test_transfer_and_state_space_agree_with_direct_solution():
+    text = "k | (k1 - c - b)"
+    p = _params(text)
+    q = network_quarter_car(text)
+    w = np.array([0.3, 2.0, 9.0, 60.0, 700.0])
+    h = q.transfer(p, w)
+    A, B, C, D = q.state_space(p)
+    direct = _h_direct(text, p, w)
+    for k in OUTPUTS:
+        np.testing.assert_allclose(h[k], direct[k], rtol=1e-10)
+        ss = np.array([C[k] @ np.linalg.solve(1j * x * np.eye(len(B)) - A, B) + D[k] for x in w])
+        np.testing.assert_allclose(ss, direct[k], rtol=1e-8)
+    assert A.shape == (6, 6)  # 4 car states + 2 network states: minimal
+
+
+def test_compiled_lyapunov_matches_scipy():
+    from scipy.linalg import solve_continuous_lyapunov
+
+    for text in INTERNAL:
+        p = _params(text)
+        q = network_quarter_car(text)
+        A, B, C, D = q.state_space(p)
+        P = solve_continuous_lyapunov(A, -np.outer(B, B))
+        norms = q.h2(p)
+        for k in ("tyre_deflection", "suspension_deflection"):
+            assert norms[k] == pytest.approx(math.sqrt(C[k] @ P @ C[k]), rel=1e-9)
+
+
+# ---------------------------------------------------------------------- enumeration
+
+
+def test_enumeration_counts_by_hand():
+    # budget 1 damper, 1 inerter, 0 springs: N in {c, b, c|b, c-b}
+    assert [n.text for n in enumerate_networks(1, 1, 0)] == [
+        "k | c",
+        "k | b",
+        "k | (c - b)",
+        "k | c | b",
+    ]
+    # budget 1, 1, 1: singles c, b (k1 alone joins k: static); pairs k1-c, k1-b, c|b,
+    # c-b (k1|c, k1|b are a spring beside k); triples: all series 1, x | (y - z) with
+    # x not k1: 2, x - (y | z): 3 (all parallel has k1 beside k)  ->  2 + 4 + 6 = 12
+    nets = enumerate_networks(1, 1, 1)
+    assert len(nets) == 12
+    assert len({n.text for n in nets}) == 12
+    # no degenerate pairs of one kind side by side, every one has static stiffness k only
+    assert "k | (k1 - (k2 | c))" not in {n.text for n in enumerate_networks(1, 1, 2)}
+    assert len(enumerate_networks(1, 1, 2)) == 19
+
+
+def test_enumerate_cli_json():
+    import json
+    import subprocess
+    import sys
+
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "inerterlab",
+            "network",
+            "enumerate",
+            "--dampers",
+            "1",
+            "--inerters",
+            "1",
+            "--springs",
+            "1",
+            "--json",
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout
+    data = json.loads(out)
+    assert len(data) == 12
+    assert data[0] == {"network": "k | c", "parameters": ["k", "c"]}
