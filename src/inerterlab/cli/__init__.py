@@ -45,6 +45,7 @@ _COMMANDS = [
     "devices",
     "identify",
     "simulate",
+    "network",
 ]
 
 for _name in _COMMANDS:
