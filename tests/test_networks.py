@@ -305,7 +305,8 @@ def test_kc_optimum_is_the_closed_form():
     [
         ("k | (b - (k1 | c))", "body_acc"),
         ("k | (k1 - c - b)", "body_acc"),
-        ("k | c | (k1 - b)", "tyre_deflection"),
+        ("k | (k1 - c - b)", "tyre_deflection"),
+        ("k | c | (k1 - b)", "suspension_deflection"),
         ("k | (c - b)", "weighted"),
     ],
 )
