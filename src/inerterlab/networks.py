@@ -52,6 +52,7 @@ __all__ = [
     "parse_network",
     "admittance",
     "enumerate_networks",
+    "same_family",
     "LINEAR_KINDS",
     "NONLINEAR_PREFIXES",
 ]
@@ -487,7 +488,12 @@ def _count(key: tuple) -> Counter:
 
 
 def enumerate_networks(
-    dampers: int = 1, inerters: int = 1, springs: int = 2, *, main_spring: bool = True
+    dampers: int = 1,
+    inerters: int = 1,
+    springs: int = 2,
+    *,
+    main_spring: bool = True,
+    merge_equivalent: bool = True,
 ) -> list[Network]:
     """Every distinct series-parallel network within a budget of elements.
 
@@ -508,6 +514,13 @@ def enumerate_networks(
     parallel (they act as one element of the same kind). With ``main_spring=False``
     the sub-networks N themselves are listed (then without the static rule).
 
+    With ``merge_equivalent`` (default) sub-networks N that realise the same family of
+    admittances in different structures are kept once (the first in the listed order),
+    by the numerical test of :func:`same_family`; e.g. ``b - (k1 | (k2 - c))`` and
+    ``k1 - b - (k2 | c)`` are one family, because ``k1 | (k2 - c)`` and
+    ``k1 - (k2 | c)`` are (the two forms of the standard linear solid). Since the main
+    spring is common to all, equal families of N give equal families of k | (N).
+
     Examples
     --------
     >>> [n.text for n in enumerate_networks(1, 1, 0)]
@@ -525,11 +538,128 @@ def enumerate_networks(
                 if 0 <= nb <= inerters:
                     level.extend(k for k in _trees(nk, nc, nb) if not _degenerate(k, main_spring))
         keys.extend(sorted(level, key=_sort_key))
+    subs = [parse_network(_key_text(key, Counter(), _count(key))) for key in keys]
+    if merge_equivalent:
+        subs = _merge_families(subs)
     out = []
-    for key in keys:
-        totals = _count(key)
-        text = _key_text(key, Counter(), totals)
+    for sub in subs:
+        text = sub.text
         if main_spring:
-            text = "k | " + (text if key[0] == "|" else f"({text})" if key[0] == "-" else text)
+            op = sub.tree.op if isinstance(sub.tree, Combination) else ""
+            text = "k | " + (f"({text})" if op == "-" else text)
         out.append(parse_network(text))
+    return out
+
+
+# ---------------------------------------------------------------------------------------
+# equal admittance families
+
+
+_PROGRAMS: dict[str, np.ndarray] = {}
+
+
+def _normalised(net: Network, theta: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Ascending coefficients of Y with a monic denominator (compiled assembly)."""
+    from .suspension.network_linear import MAXC, _assemble
+
+    prog = _PROGRAMS.get(net.text)
+    if prog is None:
+        prog = _PROGRAMS[net.text] = net.program()
+    num, den = np.zeros(MAXC), np.zeros(MAXC)
+    ln, ld = _assemble(prog, np.asarray(theta, dtype=float), num, den)
+    lead = den[ld - 1]
+    return num[:ln] / lead, den[:ld] / lead
+
+
+def _signature(net: Network) -> tuple:
+    """Degrees, structural zeros and dimension of the family (rank of its Jacobian)."""
+    rng = np.random.default_rng(7)
+    u = rng.uniform(-1, 1, len(net.names))
+    num, den = _normalised(net, np.exp(u))
+    base = np.concatenate([num, den])
+    jac = np.empty((len(base), len(u)))
+    for i in range(len(u)):
+        up = u.copy()
+        up[i] += 1e-6
+        jac[:, i] = (np.concatenate(_normalised(net, np.exp(up))) - base) / 1e-6
+    sv = np.linalg.svd(jac, compute_uv=False)
+    rank = int(np.sum(sv > 1e-6 * sv[0])) if len(sv) else 0
+    counts = tuple(sorted(Counter(net.kinds).items()))
+    return (counts, len(num), len(den), tuple(num == 0), tuple(den == 0), rank)
+
+
+def _covers(a: Network, b: Network, rng, samples: int = 2, tries: int = 4) -> bool:
+    """True if every sampled admittance of ``a`` is matched by some parameters of ``b``."""
+    from scipy.optimize import least_squares
+
+    for _ in range(samples):
+        na, da = _normalised(a, np.exp(rng.uniform(-1.0, 1.0, len(a.names))))
+        target = np.concatenate([na, da])
+        mask = target != 0.0
+        scale = np.abs(target[mask])
+
+        def res(u, mask=mask, target=target, scale=scale):
+            with np.errstate(all="ignore"):
+                nb_, db_ = _normalised(b, np.exp(np.clip(u, -40.0, 40.0)))
+                got = np.concatenate([nb_, db_])
+            if got.shape != target.shape or not np.all(np.isfinite(got)):
+                return np.full(int(mask.sum()), 1e6)
+            return (got[mask] - target[mask]) / scale
+
+        ok = False
+        for _t in range(tries):
+            r = least_squares(
+                res,
+                rng.uniform(-2.0, 2.0, len(b.names)),
+                xtol=1e-15,
+                ftol=1e-15,
+                gtol=1e-15,
+                max_nfev=200,
+            )
+            if np.max(np.abs(r.fun)) < 1e-8:
+                ok = True
+                break
+        if not ok:
+            return False
+    return True
+
+
+def same_family(a: str | Network, b: str | Network, seed: int = 0) -> bool:
+    """True if two linear networks realise the same set of admittances.
+
+    Numerical test: the two networks must have the same numbers of springs, dampers
+    and inerters (a limitation: equal families with different element counts are not
+    sought), their admittances the same degrees, structural zero
+    coefficients and family dimension (rank of the Jacobian of the normalised
+    coefficients in the log-parameters), and random admittances of each (parameters log-uniform over a factor
+    e^2) must be matched exactly (to 1e-8 in every normalised coefficient) by some
+    parameters of the other, found by least squares from several starts. A failed fit
+    reads as "different", so the test can keep two equal families apart but does not
+    merge different ones unless a fit succeeds.
+
+    Examples
+    --------
+    >>> same_family("k1 - (k2 | c)", "k1 | (k2 - c)")  # the two standard-solid forms
+    True
+    >>> same_family("k1 - c", "k1 | c")
+    False
+    """
+    a, b = parse_network(a), parse_network(b)
+    a.require_linear()
+    b.require_linear()
+    if _signature(a) != _signature(b):
+        return False
+    rng = np.random.default_rng(seed)
+    return _covers(a, b, rng) and _covers(b, a, rng)
+
+
+def _merge_families(nets: list[Network]) -> list[Network]:
+    reps: dict[tuple, list[Network]] = {}
+    out = []
+    for n in nets:
+        group = reps.setdefault(_signature(n), [])
+        if any(same_family(r, n) for r in group):
+            continue
+        group.append(n)
+        out.append(n)
     return out

@@ -49,18 +49,27 @@ def enumerate_command(
     springs: Annotated[
         int, typer.Option(help="At most this many springs besides the main spring k (0-4).")
     ] = 2,
+    merge: Annotated[
+        bool,
+        typer.Option(
+            "--merge/--no-merge",
+            help="Keep one of each family of equal admittances (numerical test; slow "
+            "for budgets above 4-5 elements).",
+        ),
+    ] = True,
     json_out: Json = False,
 ) -> None:
     """List every distinct network k | (N) of a budget of elements in N.
 
     The main spring k is in parallel with the whole and alone sets the static
-    stiffness; equivalent orderings and degenerate pairs (two elements of one kind
-    directly in series or parallel) are removed.
+    stiffness; equivalent orderings, degenerate pairs (two elements of one kind
+    directly in series or parallel) and, with --merge, other structures realising the
+    same family of admittances are removed.
     Example: inerterlab network enumerate --dampers 1 --inerters 1 --springs 2 --json
     """
     from ..networks import enumerate_networks
 
-    nets = enumerate_networks(dampers, inerters, springs)
+    nets = enumerate_networks(dampers, inerters, springs, merge_equivalent=merge)
     out = [{"network": n.text, "parameters": list(n.names)} for n in nets]
     if json_out:
         emit_json(out)
