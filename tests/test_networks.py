@@ -79,6 +79,15 @@ def test_unstable_network_is_infinite_with_reason():
     p = {"k": 5e4, "k1": 1e4, "b": 50.0}
     assert all(math.isinf(v) for v in q.h2(p).values())
     assert "not asymptotically stable" in q.h2_reasons(p)["body_acc"]
+    assert "'(k | (k1 - b))' has springs and inerters but no damper" in q.h2_reasons(p)["body_acc"]
+    # a lossless branch inside a damped network: the tyre damper cannot reach it when the
+    # inerter is locked to the body by nothing else -> named
+    q = network_quarter_car("k | c | ((k1 - b) - (k2 | b2))", tyre_damping=0.0)
+    p = {"k": 5e4, "c": 3e3, "k1": 1e4, "b": 50.0, "k2": 2e4, "b2": 20.0}
+    assert all(math.isfinite(v) for v in q.h2(p).values())  # damped through c: fine
+    # an inerter alone: no static stiffness, the body drifts
+    q = network_quarter_car("b")
+    assert "no static stiffness" in q.h2_reasons({"b": 100.0})["suspension_deflection"]
 
 
 # ---------------------------------------------------------------------- admittance

@@ -436,13 +436,13 @@ class NetworkQuarterCar:
         den = p["den"][::-1]
         stable = bool(_hurwitz(den / den[-1], len(den) - 1)) if den[0] > 0 else False
         out = {}
+        why = _instability(self.network, p["admittance"]) if not stable else ""
         for k, v in norms.items():
             if math.isfinite(v):
                 continue
             if not stable:
                 out[k] = (
-                    "infinite: the quarter car with this network is not asymptotically "
-                    "stable (no damping reaches some mode, or the body floats)"
+                    f"infinite: the quarter car with this network is not asymptotically stable ({why})"
                 )
             else:
                 out[k] = (
@@ -450,6 +450,40 @@ class NetworkQuarterCar:
                     "(an inerter acting at high frequency with a damped tyre)"
                 )
         return out
+
+
+def _instability(net: Network, adm) -> str:
+    """Name the sub-network that makes the car marginally stable, where one stands out."""
+    from ..networks import Combination, Element
+
+    num, den = adm
+    if den[-1] != 0.0:
+        return (
+            f"network {net.text!r} has no static stiffness (no path of springs alone "
+            "between its terminals): the body drifts"
+        )
+
+    def lossless(node) -> bool:
+        return all(e.kind != "damper" for e in node.elements())
+
+    found = []
+
+    def walk(node):
+        kinds = {e.kind for e in node.elements()}
+        if lossless(node) and {"spring", "inerter"} <= kinds:
+            found.append(node)
+            return
+        if isinstance(node, Combination):
+            for part in node.parts:
+                walk(part)
+
+    walk(net.tree)
+    if found:
+        names = ", ".join(
+            repr(f.text() if isinstance(f, Element) else f"({f.text()})") for f in found
+        )
+        return f"sub-network {names} has springs and inerters but no damper: an undamped resonance"
+    return "no damping reaches some mode"
 
 
 def network_quarter_car(network, **car) -> NetworkQuarterCar:
