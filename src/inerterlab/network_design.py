@@ -377,7 +377,7 @@ class _Problem:
         return math.sqrt(v) if v < _BIG else math.inf
 
 
-def _polish(pb: _Problem, u0: np.ndarray):
+def _polish(pb: _Problem, u0: np.ndarray, maxiter: int | None = None):
     from scipy.optimize import minimize
 
     bnds = list(zip(pb.lo, pb.hi, strict=True))
@@ -403,7 +403,7 @@ def _polish(pb: _Problem, u0: np.ndarray):
             method="SLSQP",
             bounds=bnds,
             constraints=cons,
-            options={"maxiter": 300, "ftol": 1e-14},
+            options={"maxiter": maxiter or 300, "ftol": 1e-14},
         )
     else:
         r = minimize(
@@ -412,7 +412,7 @@ def _polish(pb: _Problem, u0: np.ndarray):
             jac=True,
             method="L-BFGS-B",
             bounds=bnds,
-            options={"maxiter": 500, "ftol": 1e-15, "gtol": 1e-10},
+            options={"maxiter": maxiter or 500, "ftol": 1e-15, "gtol": 1e-10},
         )
     return r
 
@@ -470,7 +470,7 @@ def optimize_network(
     bounds=None,
     constraints=None,
     weights=None,
-    starts: int = 4,
+    starts: int = 8,
     samples: int = 256,
     seed: int = 0,
     compare: bool = True,
@@ -489,7 +489,9 @@ def optimize_network(
     constraints : dict output -> upper limit of its H2 norm (constraint form, e.g.
         minimise body_acc with tyre and suspension deflection limits).
     weights : dict output -> weight of the ``weighted`` objective (default equal).
-    starts, samples, seed : polished starts, Sobol sample size, sample seed.
+    starts, samples, seed : starts (the differential evolution's best point and the
+        best distinct Sobol points; each gets a short polish, the two best a full one),
+        Sobol sample size, sample seed.
     evolve : with two or more free parameters, run a differential evolution over the
         log box first (one compiled batch per generation) and polish its best point too.
     compare : also optimise ``k | c`` under the same settings and report the
@@ -529,6 +531,20 @@ def optimize_network(
     if picks and d > 1 and evolve:
         picks.insert(0, _evolve(pb, seed))
         picks = picks[: max(starts, 1)]
+    if len(picks) > 2:
+        # short polish of every start, full polish of the two best (distinct) ends
+        ends = []
+        for u0 in picks:
+            r = _polish(pb, u0, maxiter=15)
+            u = np.clip(r.x, pb.lo, pb.hi)
+            s = pb.squares(u)
+            ends.append((float(pb.scalar(s)[0] * (1.0 + 1e3 * pb.violation(s)[0])), u))
+        ends.sort(key=lambda e: e[0])
+        picks = [ends[0][1]]
+        for _, u in ends[1:]:
+            if np.max(np.abs(u - picks[0]) / span) > 1e-3:
+                picks.append(u)
+                break
     best = None
     finals = []
     for u0 in picks:

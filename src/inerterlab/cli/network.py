@@ -170,7 +170,9 @@ def optimize_command(
     dampers: Annotated[int, typer.Option(help="--all: budget of dampers.")] = 1,
     inerters: Annotated[int, typer.Option(help="--all: budget of inerters.")] = 1,
     springs: Annotated[int, typer.Option(help="--all: budget of springs besides k.")] = 2,
-    starts: Annotated[int, typer.Option(help="Local polishes from the best sample points.")] = 4,
+    starts: Annotated[
+        int, typer.Option(help="Starts for the local polish (evolution + best sample points).")
+    ] = 8,
     seed: Annotated[int, typer.Option(help="Seed of the Sobol sample.")] = 0,
     sprung_mass: SprungMass = 370.0,
     unsprung_mass: UnsprungMass = 25.0,
