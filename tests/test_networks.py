@@ -502,3 +502,64 @@ def test_pareto_front_two_objectives(tmp_path):
     fig = pareto_figure(ds)
     fig.savefig(tmp_path / "front.png")
     assert (tmp_path / "front.png").stat().st_size > 0
+
+
+def test_pareto_three_objectives_respect_limits():
+    from inerterlab.network_design import pareto_front
+
+    ds = pareto_front(
+        ["k | (c - b)"],
+        ["body_acc", "tyre_deflection", "suspension_deflection"],
+        points=3,
+        fixed={"k": 50e3},
+    )
+    assert ds.sizes["point"] == 9
+    ok = np.isfinite(ds["body_acc"].values)
+    assert ok.sum() >= 3
+    for o in ("tyre_deflection", "suspension_deflection"):
+        assert np.all(ds[o].values[ok] <= ds[f"limit_{o}"].values[ok] * (1 + 1e-6))
+
+
+def test_weighted_reference_scores_one():
+    from inerterlab.network_design import _Problem, reference_norms
+
+    k = 50e3
+    ref = reference_norms(k=k)
+    c = k * math.sqrt(395.0 / 120e3)
+    assert ref == network_h2("k | c", {"k": k, "c": c})
+    pb = _Problem(parse_network("k | c"), "weighted", {"k": k}, {}, {}, {}, {})
+    assert pb.value(pb.squares(np.log([c]))[0]) == pytest.approx(1.0, rel=1e-12)
+
+
+def test_pareto_cli_csv(tmp_path):
+    import subprocess
+    import sys
+
+    import pandas as pd
+
+    csv = tmp_path / "front.csv"
+    subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "inerterlab",
+            "network",
+            "pareto",
+            "--network",
+            "k | c",
+            "--objectives",
+            "body_acc,suspension_deflection",
+            "--fix",
+            "k=50000",
+            "--points",
+            "4",
+            "--csv",
+            str(csv),
+        ],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    df = pd.read_csv(csv)
+    assert list(df.columns[:4]) == ["network", "point", "body_acc", "suspension_deflection"]
+    assert len(df) == 4

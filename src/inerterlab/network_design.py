@@ -667,8 +667,11 @@ def pareto_front(
     over ``points`` values spaced geometrically between its own optimum (best possible)
     and its value at the first objective's optimum; for three objectives the limits of
     the second and third are swept on a ``points x points`` grid over the same ranges.
-    Returns an :class:`xarray.Dataset` with dimensions (network, point) and one
-    variable per objective plus the parameters (NaN where a sweep point is infeasible).
+    Returns an :class:`xarray.Dataset` with dimensions (network, point): one variable
+    per objective, the parameters (``param_<name>``) and the limits imposed
+    (``limit_<objective>``); NaN where a sweep point is infeasible. Points of a
+    three-objective grid may be dominated by others of the same grid (a limit that is
+    not active); filter with the objectives' values where a strict front is needed.
     """
     import xarray as xr
 
@@ -704,7 +707,7 @@ def pareto_front(
             r = optimize_network(
                 text, first, constraints=dict(zip(others, lims, strict=True)), starts=3, **kw
             )
-            res.append(r)
+            res.append((r, lims))
         rows.append(res)
         for n in parse_network(text).names:
             if n not in all_names:
@@ -712,8 +715,11 @@ def pareto_front(
     npts = max((len(r) for r in rows), default=0)
     data = {o: np.full((len(nets), npts), np.nan) for o in objectives}
     pars = {n: np.full((len(nets), npts), np.nan) for n in all_names}
+    limits = {o: np.full((len(nets), npts), np.nan) for o in others}
     for i, res in enumerate(rows):
-        for j, r in enumerate(res):
+        for j, (r, lims) in enumerate(res):
+            for o, lim in zip(others, lims, strict=True):
+                limits[o][i, j] = lim
             if not math.isfinite(r.objective):
                 continue
             for o in objectives:
@@ -722,7 +728,8 @@ def pareto_front(
                 pars[n][i, j] = v
     ds = xr.Dataset(
         {o: (("network", "point"), data[o]) for o in objectives}
-        | {f"param_{n}": (("network", "point"), pars[n]) for n in all_names},
+        | {f"param_{n}": (("network", "point"), pars[n]) for n in all_names}
+        | {f"limit_{o}": (("network", "point"), limits[o]) for o in others},
         coords={"network": nets, "point": np.arange(npts)},
         attrs={
             "objectives": ",".join(objectives),
