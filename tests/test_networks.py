@@ -563,3 +563,14 @@ def test_pareto_cli_csv(tmp_path):
     df = pd.read_csv(csv)
     assert list(df.columns[:4]) == ["network", "point", "body_acc", "suspension_deflection"]
     assert len(df) == 4
+
+
+def test_too_many_elements_is_an_error():
+    text = " | ".join(f"(k{i} - c{i})" for i in range(14))
+    with pytest.raises(NetworkError, match="at most 26"):
+        network_quarter_car(text)
+    # the largest accepted size still evaluates
+    text = " | ".join(f"(k{i} - c{i})" for i in range(12))
+    q = network_quarter_car("k | c | " + text)
+    p = {n: 1e4 if n.startswith("k") else 500.0 for n in q.network.names}
+    assert all(math.isfinite(v) for v in q.h2(p).values())

@@ -356,6 +356,11 @@ class NetworkQuarterCar:
         check_positive("tyre_stiffness", self.tyre_stiffness, "N/m")
         check_nonnegative("tyre_damping", self.tyre_damping, "N s/m")
         self.network.require_linear()
+        if len(self.network.names) > MAXC - 6:
+            raise NetworkError(
+                f"network {self.network.text!r}: {len(self.network.names)} elements; "
+                f"the compiled evaluator takes at most {MAXC - 6}"
+            )
         object.__setattr__(self, "_prog", self.network.program())
 
     @property
