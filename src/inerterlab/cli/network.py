@@ -74,11 +74,11 @@ def enumerate_command(
     if json_out:
         emit_json(out)
         return
-    rows = [(str(i + 1), f"{n.text}") for i, n in enumerate(nets)]
-    print_table(
+    _table(
         f"{len(nets)} networks: <= {dampers} damper(s), {inerters} inerter(s), "
         f"{springs} spring(s) besides k",
-        rows,
+        ["#", "network", "parameters"],
+        [(str(i + 1), n.text, ", ".join(n.names)) for i, n in enumerate(nets)],
     )
 
 
@@ -215,16 +215,19 @@ def optimize_command(
         rows = [
             (
                 r.network,
-                ("infinite" if not math.isfinite(r.objective) else f"{r.objective:.5g}")
-                + (
-                    f"  ({r.improvement_vs['k | c']:+.2f} % vs k | c)"
-                    if r.improvement_vs.get("k | c") is not None
-                    else ""
-                ),
+                _fmt(r.objective),
+                "-"
+                if r.improvement_vs.get("k | c") is None
+                else f"{r.improvement_vs['k | c']:+.2f}",
+                ", ".join(r.at_bound) or "-",
             )
             for r in sorted(results, key=lambda r: r.objective)
         ]
-        print_table(f"{objective}: H2-optimal networks", rows)
+        _table(
+            f"{objective}: H2-optimal networks",
+            ["network", objective, "% vs k | c", "at bound"],
+            rows,
+        )
         return
     r = results[0]
     rows = [("objective " + objective, _fmt(r.objective))]
@@ -234,6 +237,18 @@ def optimize_command(
         rows.append((f"improvement vs {k} [%]", "n/a" if v is None else f"{v:.3f}"))
     rows += [("converged", str(r.converged)), ("at bound", ", ".join(r.at_bound) or "-")]
     print_table(f"H2-optimal {r.network}", rows)
+
+
+def _table(title: str, columns: list[str], rows: list[tuple]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    for i, c in enumerate(columns):
+        t.add_column(c, justify="left" if i == 0 or c == "network" else "right")
+    for r in rows:
+        t.add_row(*r)
+    Console(width=max(100, Console().width)).print(t)
 
 
 def _names(text: str) -> tuple:
