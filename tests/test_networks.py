@@ -121,7 +121,8 @@ def _sympy_admittance(net):
 
 
 ALL = sorted(
-    {n.text for n in enumerate_networks(1, 1, 2)} | {parse_network(t).text for t in INTERNAL}
+    {n.text for n in enumerate_networks(1, 1, 2, merge_equivalent=False)}
+    | {parse_network(t).text for t in INTERNAL}
 )
 
 
