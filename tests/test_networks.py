@@ -575,3 +575,36 @@ def test_too_many_elements_is_an_error():
     q = network_quarter_car("k | c | " + text)
     p = {n: 1e4 if n.startswith("k") else 500.0 for n in q.network.names}
     assert all(math.isfinite(v) for v in q.h2(p).values())
+
+
+def test_cli_limits_and_usage_errors():
+    import subprocess
+    import sys
+
+    from inerterlab.cli.network import _limits
+
+    lim = _limits(None, 0.2, 12000.0, 120e3)  # tyre load 12 kN / k_t -> 0.1 m
+    assert lim == {"tyre_deflection": pytest.approx(0.1), "suspension_deflection": 0.2}
+    assert _limits(0.05, None, 12000.0, 120e3)["tyre_deflection"] == 0.05  # the tighter
+    run = subprocess.run(
+        [sys.executable, "-m", "inerterlab", "network", "optimize", "--all", "--network", "k | c"],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 2 and "not both" in run.stderr
+    run = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "inerterlab",
+            "network",
+            "h2",
+            "--network",
+            "k | c | q",
+            "-p",
+            "k=1,c=1",
+        ],
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 2 and "unknown element name 'q'" in run.stderr
