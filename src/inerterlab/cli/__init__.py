@@ -65,6 +65,7 @@ _COMMANDS = [
     "identify",
     "simulate",
     "vehicle",
+    "network",
 ]
 
 for _name in _COMMANDS:

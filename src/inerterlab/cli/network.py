@@ -1,0 +1,353 @@
+"""``inerterlab network ...``: linear suspension networks in the quarter car.
+
+Subcommands: ``enumerate`` (every distinct network of a budget of elements), ``h2``
+(norms of one network), ``optimize`` (H2-optimal parameters, one network or all of a
+budget) and ``pareto`` (fronts between two or three norms).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Annotated
+
+import typer
+
+from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
+
+network_app = typer.Typer(
+    name="network",
+    help="Linear spring/damper/inerter networks as quarter-car suspensions: enumerate "
+    "layouts, H2 norms, H2-optimal parameters, Pareto fronts. Networks are text: "
+    "'|' parallel, '-' series (binds tighter), parentheses; k.. springs [N/m], "
+    "c.. dampers [N s/m], b.. inerters [kg]. Example: 'k | (k1 - c - b)'.",
+    no_args_is_help=True,
+    rich_markup_mode=None,
+)
+
+SprungMass = Annotated[
+    float, typer.Option("--sprung-mass", "--body-mass", help="Sprung mass m_s [kg].")
+]
+UnsprungMass = Annotated[float, typer.Option("--unsprung-mass", help="Unsprung mass m_u [kg].")]
+TyreStiffness = Annotated[float, typer.Option("--tyre-stiffness", help="Tyre stiffness k_t [N/m].")]
+TyreDamping = Annotated[float, typer.Option("--tyre-damping", help="Tyre damping c_t [N s/m].")]
+Json = Annotated[bool, typer.Option("--json", help="Print JSON.")]
+
+
+def _car(ms, mu, kt, ct) -> dict:
+    return dict(sprung_mass=ms, unsprung_mass=mu, tyre_stiffness=kt, tyre_damping=ct)
+
+
+def _num(v):
+    return v if v is None or math.isfinite(v) else None
+
+
+@network_app.command("enumerate")
+def enumerate_command(
+    dampers: Annotated[int, typer.Option(help="At most this many dampers (0-4).")] = 1,
+    inerters: Annotated[int, typer.Option(help="At most this many inerters (0-4).")] = 1,
+    springs: Annotated[
+        int, typer.Option(help="At most this many springs besides the main spring k (0-4).")
+    ] = 2,
+    merge: Annotated[
+        bool,
+        typer.Option(
+            "--merge/--no-merge",
+            help="Keep one of each family of equal admittances (numerical test; slow "
+            "for budgets above 4-5 elements).",
+        ),
+    ] = True,
+    json_out: Json = False,
+) -> None:
+    """List every distinct network k | (N) of a budget of elements in N.
+
+    The main spring k is in parallel with the whole and alone sets the static
+    stiffness; equivalent orderings, degenerate pairs (two elements of one kind
+    directly in series or parallel) and, with --merge, other structures realising the
+    same family of admittances are removed.
+    Example: inerterlab network enumerate --dampers 1 --inerters 1 --springs 2 --json
+    """
+    from ..networks import enumerate_networks
+
+    nets = enumerate_networks(dampers, inerters, springs, merge_equivalent=merge)
+    out = [{"network": n.text, "parameters": list(n.names)} for n in nets]
+    if json_out:
+        emit_json(out)
+        return
+    _table(
+        f"{len(nets)} networks: <= {dampers} damper(s), {inerters} inerter(s), "
+        f"{springs} spring(s) besides k",
+        ["#", "network", "parameters"],
+        [(str(i + 1), n.text, ", ".join(n.names)) for i, n in enumerate(nets)],
+    )
+
+
+@network_app.command("h2")
+def h2_command(
+    network: Annotated[str, typer.Option(help="Network text, e.g. 'k | (k1 - c - b)'.")],
+    param: Annotated[
+        list[str], typer.Option("--param", "-p", help="name=value, repeatable or comma-separated.")
+    ],
+    sprung_mass: SprungMass = 370.0,
+    unsprung_mass: UnsprungMass = 25.0,
+    tyre_stiffness: TyreStiffness = 120_000.0,
+    tyre_damping: TyreDamping = 1300.0,
+    json_out: Json = False,
+) -> None:
+    """H2 norms per unit white road velocity of the quarter car with a network.
+
+    Example: inerterlab network h2 --network 'k | c' -p k=90000,c=5000 --json
+    """
+    from ..network_design import _parse_assignments
+    from ..suspension.network_linear import network_quarter_car
+
+    q = network_quarter_car(
+        network, **_car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
+    )
+    params = _parse_assignments(param, "parameter")
+    norms = q.h2(params)
+    out = {"network": q.network.text, **{k: _num(v) for k, v in norms.items()}}
+    reasons = q.h2_reasons(params)
+    if reasons:
+        out["infinite"] = reasons
+    out["states"] = len(q.polynomials(params)["den"]) - 1
+    if json_out:
+        emit_json(out)
+        return
+    rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k in norms]
+    rows.append(("states", str(out["states"])))
+    print_table(f"H2 norms, {q.network.text}, unit white road velocity", rows)
+
+
+def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt) -> dict:
+    from ..errors import ParameterError
+
+    lim = {}
+    if max_tyre_deflection is not None:
+        lim["tyre_deflection"] = max_tyre_deflection
+    if max_tyre_load is not None:
+        if not max_tyre_load > 0:
+            raise ParameterError("max-tyre-load", max_tyre_load, "a number > 0")
+        t = max_tyre_load / kt
+        lim["tyre_deflection"] = min(lim.get("tyre_deflection", t), t)
+    if max_suspension_deflection is not None:
+        lim["suspension_deflection"] = max_suspension_deflection
+    return lim
+
+
+@network_app.command("optimize")
+def optimize_command(
+    network: Annotated[str | None, typer.Option(help="Network text; omit with --all.")] = None,
+    all_: Annotated[
+        bool, typer.Option("--all", help="Every network of the budget (--dampers ...).")
+    ] = False,
+    objective: Annotated[
+        str,
+        typer.Option(help="body_acc, tyre_deflection, suspension_deflection or weighted."),
+    ] = "body_acc",
+    fix: Annotated[
+        list[str] | None,
+        typer.Option(help="Held parameter name=value, e.g. k=50000 (repeatable)."),
+    ] = None,
+    bound: Annotated[
+        list[str] | None,
+        typer.Option(help="Search range name=low:high, e.g. b=0:500 (repeatable)."),
+    ] = None,
+    weight: Annotated[
+        list[str] | None,
+        typer.Option(help="weighted only: output=w, e.g. body_acc=1 (default equal)."),
+    ] = None,
+    max_tyre_deflection: Annotated[
+        float | None, typer.Option(help="Constraint: H2 of tyre deflection <= this [m].")
+    ] = None,
+    max_suspension_deflection: Annotated[
+        float | None, typer.Option(help="Constraint: H2 of suspension deflection <= this [m].")
+    ] = None,
+    max_tyre_load: Annotated[
+        float | None,
+        typer.Option(help="Constraint: H2 of the elastic tyre load k_t x deflection <= this [N]."),
+    ] = None,
+    dampers: Annotated[int, typer.Option(help="--all: budget of dampers.")] = 1,
+    inerters: Annotated[int, typer.Option(help="--all: budget of inerters.")] = 1,
+    springs: Annotated[int, typer.Option(help="--all: budget of springs besides k.")] = 2,
+    starts: Annotated[
+        int, typer.Option(help="Starts for the local polish (evolution + best sample points).")
+    ] = 8,
+    seed: Annotated[int, typer.Option(help="Seed of the Sobol sample.")] = 0,
+    sprung_mass: SprungMass = 370.0,
+    unsprung_mass: UnsprungMass = 25.0,
+    tyre_stiffness: TyreStiffness = 120_000.0,
+    tyre_damping: TyreDamping = 1300.0,
+    json_out: Json = False,
+) -> None:
+    """H2-optimal parameters of a network (global sample, then gradient polish).
+
+    Example: inerterlab network optimize --network 'k | (k1 - c - b)' --objective
+    body_acc --fix k=50000 --bound b=0:500 --json
+    """
+    from ..errors import ParameterError
+    from ..network_design import optimize_network
+    from ..networks import enumerate_networks
+
+    car = _car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
+    lim = _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, tyre_stiffness)
+    if all_ == (network is not None):
+        raise ParameterError("network", network, "a network text, or --all (not both)")
+    nets = [n.text for n in enumerate_networks(dampers, inerters, springs)] if all_ else [network]
+    results = [
+        optimize_network(
+            n,
+            objective,
+            fixed=fix,
+            bounds=[b for b in (bound or []) if b.split("=")[0] in _names(n)] if all_ else bound,
+            constraints=lim,
+            weights=weight,
+            starts=starts,
+            seed=seed,
+            **car,
+        )
+        for n in nets
+    ]
+    if json_out:
+        emit_json([_short(r) for r in results] if all_ else _short(results[0]))
+        return
+    if all_:
+        rows = [
+            (
+                r.network,
+                _fmt(r.objective),
+                "-"
+                if r.improvement_vs.get("k | c") is None
+                else f"{r.improvement_vs['k | c']:+.2f}",
+                ", ".join(r.at_bound) or "-",
+            )
+            for r in sorted(results, key=lambda r: r.objective)
+        ]
+        _table(
+            f"{objective}: H2-optimal networks",
+            ["network", objective, "% vs k | c", "at bound"],
+            rows,
+        )
+        return
+    r = results[0]
+    rows = [("objective " + objective, _fmt(r.objective))]
+    rows += [(f"{k}", f"{v:.6g}") for k, v in r.parameters.items()]
+    rows += [(f"H2 {k}", _fmt(v)) for k, v in r.norms.items()]
+    for k, v in r.improvement_vs.items():
+        rows.append((f"improvement vs {k} [%]", "n/a" if v is None else f"{v:.3f}"))
+    rows += [("converged", str(r.converged)), ("at bound", ", ".join(r.at_bound) or "-")]
+    print_table(f"H2-optimal {r.network}", rows)
+
+
+def _table(title: str, columns: list[str], rows: list[tuple]) -> None:
+    from rich.console import Console
+    from rich.table import Table
+
+    t = Table(title=title)
+    for i, c in enumerate(columns):
+        t.add_column(c, justify="left" if i == 0 or c == "network" else "right")
+    for r in rows:
+        t.add_row(*r)
+    Console(width=max(100, Console().width)).print(t)
+
+
+def _names(text: str) -> tuple:
+    from ..networks import parse_network
+
+    return parse_network(text).names
+
+
+def _fmt(v: float) -> str:
+    return "infinite" if not math.isfinite(v) else f"{v:.6g}"
+
+
+def _short(r) -> dict:
+    d = r.to_dict()
+    out = {
+        "network": d["network"],
+        "objective": d["objective"],
+        "parameters": d["parameters"],
+        "norms": d["norms"],
+        "improvement_vs": d["improvement_vs"],
+        "converged": d["converged"],
+        "at_bound": d["at_bound"],
+    }
+    for k in ("constraints", "reason"):
+        if k in d:
+            out[k] = d[k]
+    return out
+
+
+@network_app.command("pareto")
+def pareto_command(
+    network: Annotated[list[str], typer.Option(help="Network text (repeatable).")],
+    objectives: Annotated[
+        str, typer.Option(help="Two or three outputs, comma-separated; the first is minimised.")
+    ] = "body_acc,tyre_deflection",
+    points: Annotated[int, typer.Option(help="Sweep points per constrained objective.")] = 10,
+    fix: Annotated[
+        list[str] | None, typer.Option(help="Held parameter name=value (repeatable).")
+    ] = None,
+    bound: Annotated[
+        list[str] | None, typer.Option(help="Search range name=low:high (repeatable).")
+    ] = None,
+    sprung_mass: SprungMass = 370.0,
+    unsprung_mass: UnsprungMass = 25.0,
+    tyre_stiffness: TyreStiffness = 120_000.0,
+    tyre_damping: TyreDamping = 1300.0,
+    csv: Annotated[Path | None, typer.Option(help="Write the fronts as CSV.")] = None,
+    save: Annotated[Path | None, typer.Option(help="Write the Dataset (.nc).")] = None,
+    plot: Annotated[Path | None, typer.Option(help="Figure of the fronts (.png/.pdf).")] = None,
+    json_out: Json = False,
+) -> None:
+    """Pareto fronts between H2 norms for a set of networks (epsilon-constraint sweep).
+
+    Example: inerterlab network pareto --network 'k | c' --network 'k | (k1 - c - b)'
+    --objectives body_acc,tyre_deflection --fix k=50000 --csv front.csv --plot front.png
+    """
+    from ..errors import ParameterError
+    from ..io import atomic_path
+    from ..network_design import pareto_figure, pareto_front
+
+    if points < 2 or points > 60:
+        raise ParameterError("points", points, "an integer 2-60")
+    objs = [o.strip() for o in objectives.split(",") if o.strip()]
+    car = _car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
+    ds = pareto_front(network, objs, points=points, fixed=fix, bounds=bound, **car)
+    df = ds.to_dataframe().reset_index().dropna(subset=objs)
+    if csv is not None:
+        atomic_write_text(csv, df.to_csv(index=False, float_format="%.10g"))
+    if save is not None:
+        with atomic_path(save, suffix=".nc") as tmp:
+            ds.to_netcdf(tmp, engine="scipy")
+    if plot is not None:
+        atomic_savefig(pareto_figure(ds), plot)
+    if json_out:
+        emit_json(
+            {
+                "objectives": objs,
+                "fronts": {
+                    str(n): [
+                        {o: float(g[o]) for o in objs} for _, g in df[df["network"] == n].iterrows()
+                    ]
+                    for n in ds["network"].values
+                },
+            }
+        )
+        return
+    rows = []
+    for n in ds["network"].values:
+        sub = df[df["network"] == n]
+        rows.append(
+            (
+                str(n),
+                f"{len(sub)} points, {objs[0]} {sub[objs[0]].min():.4g}-{sub[objs[0]].max():.4g}"
+                if len(sub)
+                else "no feasible point",
+            )
+        )
+    print_table(f"Pareto fronts {', '.join(objs)}", rows)
+
+
+def register(app: typer.Typer) -> None:
+    app.add_typer(network_app, name="network")

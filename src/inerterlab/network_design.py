@@ -1,0 +1,769 @@
+"""H2-optimal parameters of linear suspension networks and Pareto fronts between norms.
+
+Objectives are the H2 norms of :mod:`inerterlab.suspension.network_linear` per unit
+white road velocity: ``body_acc`` (comfort), ``tyre_deflection`` (road holding; times
+k_t it is the elastic tyre load), ``suspension_deflection`` (working space), or
+``weighted``: sqrt(sum_i w_i (H_i / H_i,ref)^2) with H_i,ref the norms of the reference
+``k | c`` whose damping minimises the body acceleration without tyre damping,
+c = k sqrt((m_s + m_u)/k_t); equal weights by default, so the reference scores 1.
+
+Search. Parameters are searched in logarithms within bounds (defaults per kind below;
+fixed ones, e.g. the main spring, are held). A scrambled Sobol sample of the box is
+evaluated in one compiled batch, the best few distinct points are polished by L-BFGS-B
+(unconstrained) or SLSQP (with limits on other norms), and the best polished point wins.
+The gradient for the polish is exact up to rounding and costs one batch call: every
+polynomial coefficient of the car is affine in each single network parameter, so the
+squared norm is differentiated through the coefficients by the adjoint of the Lyapunov
+equation (observability gramian), see :func:`gradient`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numba as nb
+import numpy as np
+
+from .networks import UNITS, NetworkError, enumerate_networks, parse_network
+from .suspension.network_linear import (
+    MAXC,
+    OUTPUTS,
+    NetworkQuarterCar,
+    _assemble,
+    _car_polys,
+    _h2_polys,
+    h2_squared_many,
+    network_quarter_car,
+)
+
+__all__ = [
+    "OBJECTIVES",
+    "DEFAULT_BOUNDS",
+    "OptimizationResult",
+    "optimize_network",
+    "optimize_all",
+    "pareto_front",
+    "reference_norms",
+    "gradient",
+]
+
+OBJECTIVES = (*OUTPUTS, "weighted")
+DEFAULT_BOUNDS = {"spring": (1e3, 1e7), "damper": (10.0, 1e5), "inerter": (0.1, 2000.0)}
+_BIG = 1e30
+
+
+# ---------------------------------------------------------------------------------------
+# exact gradient: adjoint of the Lyapunov equation through the polynomial coefficients
+
+
+@nb.njit(cache=True)
+def _lyap_general(A, R):
+    """Solve A X + X A^T + R = 0 for symmetric X (R symmetric), small n."""
+    n = A.shape[0]
+    m = n * (n + 1) // 2
+    idx = np.empty((n, n), np.int64)
+    c = 0
+    for i in range(n):
+        for j in range(i, n):
+            idx[i, j] = c
+            idx[j, i] = c
+            c += 1
+    M = np.zeros((m, m))
+    rhs = np.zeros(m)
+    for i in range(n):
+        for j in range(i, n):
+            e = idx[i, j]
+            for k in range(n):
+                if A[i, k] != 0.0:
+                    M[e, idx[k, j]] += A[i, k]
+                if A[j, k] != 0.0:
+                    M[e, idx[i, k]] += A[j, k]
+            rhs[e] = -R[i, j]
+    x = np.linalg.solve(M, rhs)
+    X = np.empty((n, n))
+    for i in range(n):
+        for j in range(n):
+            X[i, j] = x[idx[i, j]]
+    return X
+
+
+@nb.njit(cache=True)
+def _coef_grad(polys, n, which, g):
+    """d(||row/Delta||^2)/d(coefficients of Delta and of row ``which``) into g[0], g[1]."""
+    an = polys[0, n]
+    w0 = (polys[0, 0] / an) ** (1.0 / n)
+    at = np.empty(n + 1)
+    sc = np.empty(n + 1)
+    for i in range(n + 1):
+        sc[i] = 1.0 / (an * w0 ** (n - i))
+        at[i] = polys[0, i] * sc[i]
+    A = np.zeros((n, n))
+    for i in range(n - 1):
+        A[i, i + 1] = 1.0
+    for j in range(n):
+        A[n - 1, j] = -at[j]
+    R = np.zeros((n, n))
+    R[n - 1, n - 1] = 1.0
+    P = _lyap_general(A, R)
+    c = np.empty(n)
+    for i in range(n):
+        c[i] = polys[which, i] * sc[i]
+    Q = _lyap_general(A.T.copy(), np.outer(c, c))
+    PQ = P @ Q
+    Pc = P @ c
+    J = 0.0
+    for i in range(n):
+        J += c[i] * Pc[i]
+    # scaled problem: dJ~/d at_j = -2 (P Q)[j, n-1], dJ~/dc_j = 2 (P c)_j; J = w0 J~
+    # (w0 is only the choice of realisation: held fixed while differentiating)
+    g[:, :] = 0.0
+    for j in range(n):
+        g[0, j] = w0 * (-2.0 * PQ[j, n - 1]) * sc[j]
+        g[1, j] = w0 * 2.0 * Pc[j] * sc[j]
+    # a_n scales every at_j and c_j by 1/a_n
+    s = 0.0
+    for j in range(n):
+        s += -2.0 * PQ[j, n - 1] * at[j] + 2.0 * Pc[j] * c[j]
+    g[0, n] = -w0 * s / an
+    return w0 * J
+
+
+@nb.njit(cache=True)
+def _grad_batch(prog, theta, car, which, grad):
+    """Squared norm of output ``which`` (1..3) and its derivatives in log-parameters."""
+    num = np.zeros(MAXC)
+    den = np.zeros(MAXC)
+    ln, ld = _assemble(prog, theta, num, den)
+    base = np.zeros((4, MAXC))
+    n = _car_polys(num, ln, den, ld, car[0], car[1], car[2], car[3], base)
+    sq = np.empty(3)
+    _h2_polys(base, n, sq)
+    if not np.isfinite(sq[which - 1]):
+        grad[:] = np.nan
+        return sq[which - 1]
+    g = np.zeros((2, n + 1))
+    _coef_grad(base, n, which, g)
+    pert = np.zeros((4, MAXC))
+    th = theta.copy()
+    for k in range(theta.shape[0]):
+        # the coefficients are affine in theta_k: doubling it adds theta_k * d/dtheta_k,
+        # which is the derivative in log(theta_k)
+        th[k] = 2.0 * theta[k]
+        ln2, ld2 = _assemble(prog, th, num, den)
+        n2 = _car_polys(num, ln2, den, ld2, car[0], car[1], car[2], car[3], pert)
+        th[k] = theta[k]
+        if n2 != n:
+            grad[k] = np.nan
+            continue
+        acc = 0.0
+        for i in range(n + 1):
+            acc += g[0, i] * (pert[0, i] - base[0, i])
+            acc += g[1, i] * (pert[which, i] - base[which, i])
+        grad[k] = acc
+    return sq[which - 1]
+
+
+def gradient(car: NetworkQuarterCar, params: dict, output: str) -> tuple[float, dict]:
+    """Squared H2 norm of ``output`` and its derivative in the log of each parameter."""
+    th = car.theta(params)
+    g = np.empty(len(th))
+    val = _grad_batch(car.program, th, car.car_vector, OUTPUTS.index(output) + 1, g)
+    return float(val), dict(zip(car.network.names, g.tolist(), strict=True))
+
+
+# ---------------------------------------------------------------------------------------
+# problem set-up
+
+
+def _parse_assignments(items, what: str) -> dict:
+    """``["k=50000", ...]`` or a dict -> {name: value}."""
+    if items is None:
+        return {}
+    if isinstance(items, dict):
+        return dict(items)
+    out = {}
+    for it in items:
+        for part in str(it).split(","):
+            if not part.strip():
+                continue
+            if "=" not in part:
+                raise NetworkError(f"{what} {part!r}: expected name=value")
+            name, val = (x.strip() for x in part.split("=", 1))
+            out[name] = val
+    return out
+
+
+def _bounds_for(net, fixed: dict, bounds: dict) -> tuple[list[str], np.ndarray, np.ndarray]:
+    free, lo, hi = [], [], []
+    for name, kind in zip(net.names, net.kinds, strict=True):
+        if name in fixed:
+            continue
+        a, b = DEFAULT_BOUNDS[kind]
+        if name in bounds:
+            bd = bounds[name]
+            if isinstance(bd, str):
+                try:
+                    a, b = (float(x) for x in bd.split(":"))
+                except ValueError:
+                    raise NetworkError(
+                        f"bound {name}={bd!r}: expected low:high in {UNITS[kind]}"
+                    ) from None
+            else:
+                a, b = (float(x) for x in bd)
+            if not (0 <= a < b < math.inf):
+                raise NetworkError(f"bound {name}={bd!r}: expected 0 <= low < high")
+            if a == 0.0:
+                a = b * 1e-6  # log search: 0 stands for "negligible"
+        free.append(name)
+        lo.append(math.log(a))
+        hi.append(math.log(b))
+    for name in list(fixed) + list(bounds):
+        if name not in net.names:
+            raise NetworkError(
+                f"{name!r} names no element of {net.text!r} (elements: {', '.join(net.names)})"
+            )
+    return free, np.array(lo), np.array(hi)
+
+
+def reference_norms(**car) -> dict:
+    """Norms of ``k | c`` with c = k sqrt((m_s + m_u)/k_t), k from ``car['k']`` (50 kN/m)."""
+    k = float(car.pop("k", 50e3))
+    q = network_quarter_car("k | c", **car)
+    c = k * math.sqrt((q.sprung_mass + q.unsprung_mass) / q.tyre_stiffness)
+    return q.h2({"k": k, "c": c})
+
+
+@dataclass
+class OptimizationResult:
+    """Best parameters found for one network and objective."""
+
+    network: str
+    objective_name: str
+    objective: float
+    parameters: dict
+    norms: dict
+    converged: bool
+    at_bound: list
+    improvement_vs: dict = field(default_factory=dict)
+    constraints: dict = field(default_factory=dict)
+    starts_agree: bool = True
+    evaluations: int = 0
+    reason: str = ""
+
+    def to_dict(self) -> dict:
+        out = {
+            "network": self.network,
+            "objective_name": self.objective_name,
+            "objective": self.objective if math.isfinite(self.objective) else None,
+            "parameters": self.parameters,
+            "norms": {k: (v if math.isfinite(v) else None) for k, v in self.norms.items()},
+            "improvement_vs": self.improvement_vs,
+            "converged": self.converged,
+            "at_bound": self.at_bound,
+        }
+        if self.constraints:
+            out["constraints"] = self.constraints
+        if self.reason:
+            out["reason"] = self.reason
+        return out
+
+
+class _Problem:
+    def __init__(self, net, objective, fixed, bounds, constraints, weights, car):
+        if objective not in OBJECTIVES:
+            raise NetworkError(f"objective {objective!r}: expected one of {', '.join(OBJECTIVES)}")
+        self.q = network_quarter_car(net, **car)
+        self.net = self.q.network
+        self.objective = objective
+        self.fixed = {k: float(v) for k, v in fixed.items()}
+        if self.fixed:
+            # validates the fixed values (finite, > 0) with the network's own messages
+            probe = {n: self.fixed.get(n, 1.0) for n in self.net.names}
+            self.net.parameter_vector(probe)
+        self.free, self.lo, self.hi = _bounds_for(self.net, self.fixed, bounds)
+        if not self.free:
+            raise NetworkError(f"network {self.net.text!r}: every parameter is fixed")
+        self.constraints = {}
+        for k, v in constraints.items():
+            if k not in OUTPUTS:
+                raise NetworkError(f"constraint on {k!r}: expected one of {', '.join(OUTPUTS)}")
+            v = float(v)
+            if not v > 0:
+                raise NetworkError(f"constraint {k} <= {v}: the limit must be > 0")
+            self.constraints[k] = v
+        ref = None
+        if objective == "weighted":
+            ref = reference_norms(k=self.fixed.get("k", 50e3), **car)
+            w = {k: 1.0 for k in OUTPUTS} if not weights else {k: 0.0 for k in OUTPUTS}
+            for k, v in (weights or {}).items():
+                if k not in OUTPUTS or float(v) < 0:
+                    raise NetworkError(f"weight {k}={v}: expected an output name and w >= 0")
+                w[k] = float(v)
+            tot = sum(w.values())
+            if not tot > 0:
+                raise NetworkError("weights: at least one must be > 0")
+            self.wvec = np.array([w[k] / tot / ref[k] ** 2 for k in OUTPUTS])
+        else:
+            self.wvec = np.array([1.0 if k == objective else 0.0 for k in OUTPUTS])
+        self.ref = ref
+        self.free_idx = np.array([self.net.names.index(n) for n in self.free])
+        self.theta0 = np.array([self.fixed.get(n, 1.0) for n in self.net.names])
+        self.car = self.q.car_vector
+        self.prog = self.q.program
+        self.neval = 0
+        self.cidx = [OUTPUTS.index(k) for k in self.constraints]
+        self.clim = np.array([self.constraints[k] ** 2 for k in self.constraints])
+
+    def thetas(self, U):
+        U = np.atleast_2d(U)
+        T = np.repeat(self.theta0[None, :], U.shape[0], axis=0)
+        T[:, self.free_idx] = np.exp(U)
+        return T
+
+    def squares(self, U):
+        T = self.thetas(U)
+        out = np.empty((T.shape[0], 3))
+        h2_squared_many(self.prog, T, self.car, out)
+        self.neval += T.shape[0]
+        return out
+
+    def scalar(self, sq):
+        with np.errstate(invalid="ignore"):
+            used = self.wvec > 0
+            v = sq[:, used] @ self.wvec[used]
+        return np.where(np.isfinite(v), v, _BIG)
+
+    def violation(self, sq):
+        if not self.cidx:
+            return np.zeros(sq.shape[0])
+        r = sq[:, self.cidx] / self.clim - 1.0
+        r = np.where(np.isfinite(r), r, 1e6)
+        return np.maximum(r, 0.0).sum(axis=1)
+
+    def f_and_g(self, u):
+        """Scalar objective and its gradient in the free log-parameters."""
+        th = self.thetas(u)[0]
+        total, grad = 0.0, np.zeros(len(self.free))
+        gfull = np.empty(len(th))
+        for o in range(3):
+            w = self.wvec[o]
+            if w == 0.0:
+                continue
+            v = _grad_batch(self.prog, th, self.car, o + 1, gfull)
+            self.neval += 1 + len(th)
+            if not np.isfinite(v) or not np.all(np.isfinite(gfull)):
+                return _BIG, np.zeros(len(self.free))
+            total += w * v
+            grad += w * gfull[self.free_idx]
+        return total, grad
+
+    def cons_and_jac(self, u):
+        th = self.thetas(u)[0]
+        vals, jacs = [], []
+        gfull = np.empty(len(th))
+        for o, lim in zip(self.cidx, self.clim, strict=True):
+            v = _grad_batch(self.prog, th, self.car, o + 1, gfull)
+            if not np.isfinite(v):
+                vals.append(-1e6)
+                jacs.append(np.zeros(len(self.free)))
+                continue
+            vals.append(1.0 - v / lim)
+            jacs.append(-gfull[self.free_idx] / lim)
+        return np.array(vals), np.array(jacs)
+
+    def value(self, sq_row) -> float:
+        v = float(self.scalar(sq_row[None, :])[0])
+        return math.sqrt(v) if v < _BIG else math.inf
+
+
+def _polish(pb: _Problem, u0: np.ndarray, maxiter: int | None = None):
+    from scipy.optimize import minimize
+
+    bnds = list(zip(pb.lo, pb.hi, strict=True))
+    f0 = pb.f_and_g(u0)[0]
+    fs = 1.0 / f0 if 0 < f0 < _BIG else 1.0  # SLSQP wants an objective of order one
+
+    def fg(u):
+        f, g = pb.f_and_g(u)
+        return f * fs, g * fs
+
+    if pb.cidx:
+        cons = [
+            {
+                "type": "ineq",
+                "fun": lambda u: pb.cons_and_jac(u)[0],
+                "jac": lambda u: pb.cons_and_jac(u)[1],
+            }
+        ]
+        r = minimize(
+            fg,
+            u0,
+            jac=True,
+            method="SLSQP",
+            bounds=bnds,
+            constraints=cons,
+            options={"maxiter": maxiter or 300, "ftol": 1e-14},
+        )
+    else:
+        r = minimize(
+            lambda u: pb.f_and_g(u),
+            u0,
+            jac=True,
+            method="L-BFGS-B",
+            bounds=bnds,
+            options={"maxiter": maxiter or 500, "ftol": 1e-15, "gtol": 1e-10},
+        )
+    return r
+
+
+def _evolve(pb: _Problem, seed: int) -> np.ndarray:
+    """Differential evolution over the log box, one compiled batch per generation."""
+    from scipy.optimize import differential_evolution
+
+    def fvec(U):
+        sq = pb.squares(U.T)
+        v = pb.scalar(sq)
+        viol = pb.violation(sq)
+        return np.where(viol > 0, np.minimum(v * (1 + 1e3 * viol) + 1e3 * v * viol, _BIG), v)
+
+    d = len(pb.free)
+    r = differential_evolution(
+        fvec,
+        list(zip(pb.lo, pb.hi, strict=True)),
+        popsize=max(15, 8 * d),
+        maxiter=200,
+        tol=1e-10,
+        seed=seed,
+        init="sobol",
+        polish=False,
+        vectorized=True,
+        updating="deferred",
+    )
+    return np.asarray(r.x)
+
+
+def _kkt(pb: _Problem, u: np.ndarray, val: float) -> bool:
+    """First-order optimality without constraints: projected log-gradient ~ 0.
+
+    L-BFGS-B stops with an abnormal line search when the objective can no longer
+    decrease in double precision; that point is still an optimum if the gradient,
+    projected on the bounds, vanishes relative to the objective.
+    """
+    if pb.cidx or not math.isfinite(val) or val >= _BIG:
+        return False
+    _, g = pb.f_and_g(u)
+    tol = 1e-4 * (pb.hi - pb.lo)
+    g = np.where((u - pb.lo <= tol) & (g > 0), 0.0, g)
+    g = np.where((pb.hi - u <= tol) & (g < 0), 0.0, g)
+    return bool(np.max(np.abs(g)) <= 1e-5 * val)
+
+
+_BASELINES: dict = {}
+
+
+def optimize_network(
+    network,
+    objective: str = "body_acc",
+    *,
+    fixed=None,
+    bounds=None,
+    constraints=None,
+    weights=None,
+    starts: int = 8,
+    samples: int = 256,
+    seed: int = 0,
+    compare: bool = True,
+    evolve: bool = True,
+    **car,
+) -> OptimizationResult:
+    """Minimise one H2 objective over the free parameters of ``network``.
+
+    Parameters
+    ----------
+    network : str or Network
+    objective : {"body_acc", "tyre_deflection", "suspension_deflection", "weighted"}
+    fixed : dict or list of "name=value", held parameters (e.g. ``{"k": 50e3}``).
+    bounds : dict name -> (low, high) or "low:high"; a low of 0 means 1e-6 x high.
+        Defaults per kind: :data:`DEFAULT_BOUNDS`.
+    constraints : dict output -> upper limit of its H2 norm (constraint form, e.g.
+        minimise body_acc with tyre and suspension deflection limits).
+    weights : dict output -> weight of the ``weighted`` objective (default equal).
+    starts, samples, seed : starts (the differential evolution's best point and the
+        best distinct Sobol points; each gets a short polish, the two best a full one),
+        Sobol sample size, sample seed.
+    evolve : with two or more free parameters, run a differential evolution over the
+        log box first (one compiled batch per generation) and polish its best point too.
+    compare : also optimise ``k | c`` under the same settings and report the
+        improvement in percent (positive: this network is better).
+    car : sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping.
+    """
+    from scipy.stats import qmc
+
+    fixed = _parse_assignments(fixed, "fixed parameter")
+    bounds = _parse_assignments(bounds, "bound")
+    constraints = _parse_assignments(constraints, "constraint")
+    weights = _parse_assignments(weights, "weight")
+    for k, v in list(fixed.items()):
+        try:
+            fixed[k] = float(v)
+        except ValueError:
+            raise NetworkError(f"fixed parameter {k}={v!r}: not a number") from None
+    pb = _Problem(parse_network(network), objective, fixed, bounds, constraints, weights, car)
+    d = len(pb.free)
+    m = max(int(samples), 16 * d)
+    sob = qmc.Sobol(d, scramble=True, seed=seed)
+    U = pb.lo + (pb.hi - pb.lo) * sob.random(2 ** int(math.ceil(math.log2(m))))
+    sq = pb.squares(U)
+    score = pb.scalar(sq)
+    viol = pb.violation(sq)
+    order = np.lexsort((score, viol))  # feasible points first, then by objective
+    score = np.where(viol > 0, np.minimum(score * (1.0 + viol), _BIG / 2), score)
+    picks: list[np.ndarray] = []
+    span = pb.hi - pb.lo
+    for i in order:
+        if score[i] >= _BIG:
+            break
+        if all(np.max(np.abs(U[i] - p) / span) > 0.05 for p in picks):
+            picks.append(U[i])
+        if len(picks) >= starts:
+            break
+    if picks and d > 1 and evolve:
+        picks.insert(0, _evolve(pb, seed))
+        picks = picks[: max(starts, 1)]
+    if len(picks) > 2:
+        # short polish of every start, full polish of the two best (distinct) ends
+        ends = []
+        for u0 in picks:
+            r = _polish(pb, u0, maxiter=15)
+            u = np.clip(r.x, pb.lo, pb.hi)
+            s = pb.squares(u)
+            ends.append((float(pb.scalar(s)[0] * (1.0 + 1e3 * pb.violation(s)[0])), u))
+        ends.sort(key=lambda e: e[0])
+        picks = [ends[0][1]]
+        for _, u in ends[1:]:
+            if np.max(np.abs(u - picks[0]) / span) > 1e-3:
+                picks.append(u)
+                break
+    best = None
+    finals = []
+    for u0 in picks:
+        r = _polish(pb, u0)
+        u = np.clip(r.x, pb.lo, pb.hi)
+        s = pb.squares(u)
+        val = float(pb.scalar(s)[0])
+        feas = pb.violation(s)[0] <= 1e-6
+        finals.append((val, feas))
+        if feas and (best is None or val < best[0]):
+            best = (val, u, s[0], bool(r.success) or _kkt(pb, u, val))
+    names = pb.net.names
+    if best is None:
+        reason = (
+            "no finite objective anywhere in the bounds (see the norms' reasons: "
+            "unstable car or direct feed-through)"
+            if not picks
+            else "no start met the constraints"
+        )
+        u = (pb.lo + pb.hi) / 2
+        th = pb.thetas(u)[0]
+        params = dict(zip(names, th.tolist(), strict=True))
+        res = OptimizationResult(
+            network=pb.net.text,
+            objective_name=objective,
+            objective=math.inf,
+            parameters=params,
+            norms=pb.q.h2(params),
+            converged=False,
+            at_bound=[],
+            evaluations=pb.neval,
+            reason=reason
+            + ("; " + "; ".join(pb.q.h2_reasons(params).values()) if picks == [] else ""),
+        )
+    else:
+        val, u, srow, ok = best
+        th = pb.thetas(u)[0]
+        params = dict(zip(names, th.tolist(), strict=True))
+        tol = 1e-4 * span
+        at_bound = [
+            f"{n}={'low' if u[i] - pb.lo[i] <= tol[i] else 'high'}"
+            for i, n in enumerate(pb.free)
+            if u[i] - pb.lo[i] <= tol[i] or pb.hi[i] - u[i] <= tol[i]
+        ]
+        good = [v for v, f in finals if f]
+        agree = sum(1 for v in good if v <= val * (1 + 1e-6)) >= min(2, len(good))
+        res = OptimizationResult(
+            network=pb.net.text,
+            objective_name=objective,
+            objective=math.sqrt(val),
+            parameters=params,
+            norms=pb.q.h2(params),
+            converged=ok,
+            at_bound=at_bound,
+            constraints=dict(pb.constraints),
+            starts_agree=agree,
+            evaluations=pb.neval,
+        )
+    if compare and pb.net.text != "k | c":
+        # the reference holds only the main spring (same static stiffness); its
+        # damper is always optimised, whatever is held in the network compared
+        base_fixed = {k: v for k, v in fixed.items() if k == "k"}
+        base_bounds = {k: v for k, v in bounds.items() if k == "k"}
+        key = repr((objective, base_fixed, base_bounds, constraints, weights, seed, car))
+        base = _BASELINES.get(key)
+        if base is None:
+            base = _BASELINES[key] = optimize_network(
+                "k | c",
+                objective,
+                fixed=base_fixed,
+                bounds=base_bounds,
+                constraints=constraints,
+                weights=weights,
+                starts=2,
+                samples=64,
+                seed=seed,
+                compare=False,
+                **car,
+            )
+        if math.isfinite(base.objective) and math.isfinite(res.objective):
+            res.improvement_vs["k | c"] = 100.0 * (base.objective - res.objective) / base.objective
+        else:
+            res.improvement_vs["k | c"] = None
+            if not math.isfinite(base.objective):
+                note = f"k | c: {base.reason or 'infinite objective'}"
+                res.reason = f"{res.reason}; {note}" if res.reason else note
+    elif compare:
+        res.improvement_vs["k | c"] = 0.0
+    return res
+
+
+def optimize_all(
+    dampers: int = 1,
+    inerters: int = 1,
+    springs: int = 2,
+    objective: str = "body_acc",
+    **kw,
+) -> list[OptimizationResult]:
+    """:func:`optimize_network` for every network of :func:`enumerate_networks`."""
+    nets = enumerate_networks(dampers, inerters, springs)
+    return [optimize_network(n, objective, **kw) for n in nets]
+
+
+# ---------------------------------------------------------------------------------------
+# Pareto fronts by epsilon-constraint sweeps
+
+
+def pareto_front(
+    networks,
+    objectives=("body_acc", "tyre_deflection"),
+    *,
+    points: int = 12,
+    fixed=None,
+    bounds=None,
+    seed: int = 0,
+    **car,
+):
+    """Pareto fronts of several networks between two or three H2 objectives.
+
+    The first objective is minimised subject to upper limits on the others
+    (epsilon-constraint method). For two objectives the limit on the second is swept
+    over ``points`` values spaced geometrically between its own optimum (best possible)
+    and its value at the first objective's optimum; for three objectives the limits of
+    the second and third are swept on a ``points x points`` grid over the same ranges.
+    Returns an :class:`xarray.Dataset` with dimensions (network, point): one variable
+    per objective, the parameters (``param_<name>``) and the limits imposed
+    (``limit_<objective>``); NaN where a sweep point is infeasible. Points of a
+    three-objective grid may be dominated by others of the same grid (a limit that is
+    not active); filter with the objectives' values where a strict front is needed.
+    """
+    import xarray as xr
+
+    objectives = tuple(objectives)
+    if len(objectives) not in (2, 3) or len(set(objectives)) != len(objectives):
+        raise NetworkError("pareto: give two or three different objectives")
+    for o in objectives:
+        if o not in OUTPUTS:
+            raise NetworkError(f"pareto objective {o!r}: expected one of {', '.join(OUTPUTS)}")
+    nets = [parse_network(n).text for n in networks]
+    first, others = objectives[0], objectives[1:]
+    rows = []
+    all_names: list[str] = []
+    for text in nets:
+        kw = dict(fixed=fixed, bounds=bounds, seed=seed, compare=False, **car)
+        anchor = optimize_network(text, first, **kw)
+        ranges = []
+        for o in others:
+            lo = optimize_network(text, o, **kw).norms[o]
+            hi = anchor.norms[o]
+            if not (math.isfinite(lo) and math.isfinite(hi)):
+                ranges.append(None)
+            else:
+                ranges.append(np.geomspace(lo * 1.0001, max(hi, lo * 1.001), points))
+        if any(r is None for r in ranges):
+            grid = []
+        elif len(others) == 1:
+            grid = [(x,) for x in ranges[0]]
+        else:
+            grid = [(x, y) for x in ranges[0] for y in ranges[1]]
+        res = []
+        for lims in grid:
+            r = optimize_network(
+                text, first, constraints=dict(zip(others, lims, strict=True)), starts=3, **kw
+            )
+            res.append((r, lims))
+        rows.append(res)
+        for n in parse_network(text).names:
+            if n not in all_names:
+                all_names.append(n)
+    npts = max((len(r) for r in rows), default=0)
+    data = {o: np.full((len(nets), npts), np.nan) for o in objectives}
+    pars = {n: np.full((len(nets), npts), np.nan) for n in all_names}
+    limits = {o: np.full((len(nets), npts), np.nan) for o in others}
+    for i, res in enumerate(rows):
+        for j, (r, lims) in enumerate(res):
+            for o, lim in zip(others, lims, strict=True):
+                limits[o][i, j] = lim
+            if not math.isfinite(r.objective):
+                continue
+            for o in objectives:
+                data[o][i, j] = r.norms[o]
+            for n, v in r.parameters.items():
+                pars[n][i, j] = v
+    ds = xr.Dataset(
+        {o: (("network", "point"), data[o]) for o in objectives}
+        | {f"param_{n}": (("network", "point"), pars[n]) for n in all_names}
+        | {f"limit_{o}": (("network", "point"), limits[o]) for o in others},
+        coords={"network": nets, "point": np.arange(npts)},
+        attrs={
+            "objectives": ",".join(objectives),
+            "method": "epsilon-constraint: minimise the first objective with limits on the others",
+            "units": "H2 norms per unit white road velocity (body_acc m/s^2, deflections m)",
+            "car": str({k: v for k, v in car.items()}),
+        },
+    )
+    for o in objectives:
+        ds[o].attrs["long_name"] = f"H2 norm of {o}"
+    return ds
+
+
+def pareto_figure(ds):
+    """Figure of the fronts in a Dataset from :func:`pareto_front` (first two objectives)."""
+    from matplotlib.figure import Figure
+
+    objs = ds.attrs["objectives"].split(",")
+    fig = Figure(figsize=(6.4, 4.6))
+    ax = fig.add_subplot(1, 1, 1)
+    for net in ds["network"].values:
+        x = ds[objs[1]].sel(network=net).values
+        y = ds[objs[0]].sel(network=net).values
+        ok = np.isfinite(x) & np.isfinite(y)
+        if len(objs) == 3:
+            ax.scatter(x[ok], y[ok], s=10, label=str(net))
+        else:
+            o = np.argsort(x[ok])
+            ax.plot(x[ok][o], y[ok][o], marker="o", ms=3, label=str(net))
+    ax.set_xlabel(f"{objs[1]} H2 norm")
+    ax.set_ylabel(f"{objs[0]} H2 norm")
+    ax.set_title("H2 Pareto fronts (epsilon-constraint)")
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    return fig
