@@ -509,16 +509,22 @@ def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> lis
     """
     segs = np.asarray(segments, dtype=float)
     tol = ROAD_JUMP_RTOL * road_scale(segs)
-    out = []
-    prev = float(initial_road)
-    for seg in segs:
-        t0, t1 = float(seg[0]), float(seg[1])
-        start, _ = road_displacement(seg[None, :], t0)
-        if t0 < horizon and abs(float(start[0]) - prev) > tol:
-            out.append((t0, float(start[0]) - prev))
-        end, _ = road_displacement(seg[None, :], t1)
-        prev = float(end[0])
-    return out
+    start, _ = _road_on(segs, segs[:, 0])
+    end, _ = _road_on(segs, segs[:, 1])
+    prev = np.concatenate([[float(initial_road)], end[:-1]])
+    jump = start - prev
+    hit = np.flatnonzero((np.abs(jump) > tol) & (segs[:, 0] < horizon))
+    return [(float(segs[i, 0]), float(jump[i])) for i in hit]
+
+
+def _road_on(s: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """X1 and X1' of each segment row of ``s`` at its own time ``t``."""
+    lin = s[:, 2] == 0
+    x = np.where(
+        lin, s[:, 3] + s[:, 4] * (t - s[:, 0]), s[:, 3] + s[:, 5] * np.sin(s[:, 6] * t + s[:, 7])
+    )
+    v = np.where(lin, s[:, 4], s[:, 5] * s[:, 6] * np.cos(s[:, 6] * t + s[:, 7]))
+    return x, v
 
 
 # -- factories ---------------------------------------------------------------------

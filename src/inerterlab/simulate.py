@@ -573,7 +573,9 @@ def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: f
     return out
 
 
-def _metrics(model: QuarterCar, excitation: Excitation, run: _Run, horizon: float) -> dict:
+def _metrics(
+    model: QuarterCar, excitation: Excitation, run: _Run, horizon: float, not_finite=None
+) -> dict:
     I = run.integrals
     pk = run.peaks
     w = model.parameters.static_tyre_load
@@ -595,7 +597,9 @@ def _metrics(model: QuarterCar, excitation: Excitation, run: _Run, horizon: floa
         "min_tyre_force": min_force,
         "tyre_lift_off": bool(pk[6] >= w),
     }
-    for key in _not_finite(model, excitation, run, horizon):
+    if not_finite is None:
+        not_finite = _not_finite(model, excitation, run, horizon)
+    for key in not_finite:
         out[key] = None
         if key == "min_tyre_force":
             out["tyre_lift_off"] = True  # the contact force demanded goes below zero
@@ -662,15 +666,16 @@ def simulate(
             road=x1,
             road_velocity=v1,
         )
+    nf = _not_finite(model, excitation, run, T)
     return SimulationResult(
         model=model,
         excitation=excitation,
         horizon=T,
         options=options,
-        values=_metrics(model, excitation, run, T),
+        values=_metrics(model, excitation, run, T, nf),
         stats=run.stats,
         body_velocity_jumps=run.jumps,
-        not_finite=_not_finite(model, excitation, run, T),
+        not_finite=nf,
         **kw,
     )
 

@@ -996,7 +996,7 @@ X_NO = 6
 #: the longest exact step [s] and the number of levels (halvings)
 X_H_EXACT = 0.01
 X_N_LEVELS = 4
-X_FINE_AFTER_JUMP = 0.03  # [s] shortest exact steps after a body velocity jump
+X_FINE_AFTER_JUMP = 0.02  # [s] shortest exact steps after a body velocity jump
 #: Gauss-Legendre nodes per level (10, 5, 2.5, 1.25 ms)
 X_N_GAUSS = (12, 8, 8, 6)
 X_N_POINTS_MAX = max(X_N_GAUSS) + 2
@@ -1508,7 +1508,7 @@ def integrate(
                 # just after a body velocity jump the Wk filter rings fast (its 12.5 and
                 # 100 Hz sections): shortest exact steps there, so the Gauss-Legendre
                 # sums of a_w^2 and a_w^4 stay exact to round-off
-                lev = X_N_LEVELS - 1 if t < fine_until else 0
+                lev = X_N_LEVELS - 2 if t < fine_until else 0
                 while lev < X_N_LEVELS and t + X_H_EXACT / 2.0**lev > t_lim:
                     lev += 1
             else:
