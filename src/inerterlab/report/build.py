@@ -191,25 +191,33 @@ def run_items(
     if settings.workers > 1:  # shared pieces and independent chapters in parallel first
         from .parallel import run_parallel
 
-        todo = [
-            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()
-        ]
-        pre = run_parallel(settings, todo, settings.workers, note=on_start, done=progress)
+        todo = [it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()]
+
+        def arrived(rec: dict) -> None:  # saved at once: a killed run keeps it
+            if rec["ok"]:
+                path = work_dir / f"{rec['kind']}-{_slug(rec['id'])}-{tag}.pkl"
+                atomic_write_bytes(path, pickle.dumps(rec))
+            if progress:
+                progress(f"{rec['kind']} {rec['id']}")
+
+        pre = run_parallel(
+            settings, todo, settings.workers, note=on_start, done=arrived, should_stop=should_stop
+        )
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
         cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.pkl"
-        if cache.exists():
+        from_worker = (kind, ident) in pre  # computed, saved and reported by run_parallel
+        if not from_worker and cache.exists():
             with open(cache, "rb") as fh:
                 records.append({**pickle.load(fh), "reused": True})
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
-        from_worker = (kind, ident) in pre  # computed (and reported) by run_parallel
         if on_start and not from_worker:
             on_start(f"{kind} {ident}")
         rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
-        if rec["ok"]:
+        if rec["ok"] and not from_worker:
             atomic_write_bytes(cache, pickle.dumps(rec))
         records.append(rec)
         if progress and not from_worker:
