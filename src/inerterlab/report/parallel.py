@@ -166,7 +166,7 @@ def run_parallel(
             if not pending:
                 break
             if note:
-                note(f"{len(pending)} of {len(pending) + len(queue)} tasks running in "
+                note(f"{len(pending)} of {len(pending) + len(queue)} tasks in "
                      f"{workers} processes: " + "; ".join(v[0] for v in pending.values()))  # fmt: skip
             finished, _ = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
             for fut in finished:
