@@ -128,6 +128,10 @@ def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
     return n + (len(figures) if include_figures else 0)
 
 
+#: fewest items to compute for which a run with workers starts worker processes
+MIN_PARALLEL_ITEMS = 4
+
+
 def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSettings) -> dict:
     """Compute one item and return its record (a failure is recorded, not raised)."""
     t0 = time.perf_counter()
@@ -188,10 +192,11 @@ def run_items(
     tag = _settings_hash(settings)
     records = []
     pre: dict = {}
-    if settings.workers > 1:  # shared pieces and independent chapters in parallel first
+    todo = [it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()]
+    # shared pieces and independent chapters in parallel first; a few items are not worth
+    # starting worker processes for (each imports the package and loads the kernels)
+    if settings.workers > 1 and len(todo) >= MIN_PARALLEL_ITEMS:
         from .parallel import run_parallel
-
-        todo = [it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.pkl").exists()]
 
         def arrived(rec: dict) -> None:  # saved at once: a killed run keeps it
             if rec["ok"]:
