@@ -215,6 +215,7 @@ def device_force(
     event_tol: float = 1e-7,
     max_steps: int = 50_000_000,
     initial_force: float | None = None,
+    force_only: bool = False,
 ) -> DeviceForceResult:
     """Predict the force of ``device`` for the terminal ``motion``.
 
@@ -241,10 +242,13 @@ def device_force(
         force at the first sample). By default the device starts as if it had been
         moving steadily with the terminals: the spring carries damper + friction +
         inertia force at the initial velocity and acceleration.
+    force_only : bool
+        Return only the force array [N] (the same numbers), skipping the other series
+        of the result; for identification, which runs a device thousands of times.
 
     Returns
     -------
-    DeviceForceResult
+    DeviceForceResult (or the force array with ``force_only``)
 
     Examples
     --------
@@ -334,6 +338,8 @@ def device_force(
             f"device_force: integration stopped at t={t_out[len(force) - 1]:.6g} s ({why}); "
             "check the parameters or raise max_steps"
         )
+    if force_only:
+        return force
     x, v, a = motion.evaluate(t_out)
     law = _LAW[device.law]
     r = device.transmission.ratio
