@@ -123,3 +123,25 @@ def test_ratio_optimum_at_a_bound_is_said():
 def test_cli_tables_and_example_use_the_api():
     src = (ROOT / "examples" / "identify_from_rig.py").read_text()
     assert "inerterlab.cli" not in src and "main(" not in src
+
+
+def test_h2_and_continuation_summaries():
+    import math
+
+    from inerterlab.metrics import h2_norms
+
+    h = h2_norms(inerterlab.quarter_car("cfw"))
+    assert "body_acc=inf" in repr(h) and h._repr_html_().startswith("<table")
+    ds = h.to_xarray()
+    assert math.isnan(float(ds["body_acc"])) and "infinite" in ds["body_acc"].attrs
+    assert ds["suspension_deflection"].attrs["units"] == "m"
+
+    from inerterlab.frequency import DuffingOscillator, continue_branch, make_engine
+
+    eng = make_engine(DuffingOscillator.nlvib_example(), 3)
+    x0 = np.zeros(eng.basis.size * 1)
+    path = continue_branch(eng, x0, 0.8, 0.9, max_points=20)
+    text = repr(path)
+    assert text.startswith("<ContinuationPath") and len(text) < 300
+    if len(path.omega):
+        assert path.to_xarray()["omega"].attrs["units"] == "rad/s"

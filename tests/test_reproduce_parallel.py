@@ -33,7 +33,7 @@ def test_memo_keys_fill_defaults():
 
 
 def test_parallel_equals_serial(tmp_path):
-    ids = ["4.1", "7.3", "3.A"]  # pieces of ch4_6 and ch7, a whole chapter-3 item
+    ids = ["3.A", "3.B", "4.1", "7.3"]  # chapter-3 items whole, pieces of ch4_6 and ch7
     started, finished = [], []
     _clear_memos()
     par = run_items(
@@ -49,3 +49,11 @@ def test_parallel_equals_serial(tmp_path):
         assert p["claim_holds"] == s["claim_holds"] and p["reason"] == s["reason"]
     assert sorted(finished) == sorted(f"table {i}" for i in ids)
     assert any("processes" in s for s in started)
+
+
+def test_few_items_run_in_this_process(tmp_path):
+    started = []
+    recs = run_items(
+        ReproduceSettings(quick=True, workers=2), ["3.A"], False, tmp_path, on_start=started.append
+    )
+    assert recs[0]["ok"] and started == ["table 3.A"]  # no worker processes for one item

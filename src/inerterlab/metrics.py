@@ -275,6 +275,42 @@ class H2Norms:
         scale = math.pi * ISO8608_N0 * math.sqrt(2.0 * ISO8608_CLASSES[road_class] * v)
         return {k: (None if n is None else scale * n) for k, n in self.norms.items()}
 
+    #: unit of each norm per unit white road velocity
+    UNITS = {
+        "body_acc": "m/s^2",
+        "body_acc_wk": "m/s^2",
+        "tyre_deflection": "m",
+        "suspension_deflection": "m",
+        "tyre_grip": "1",
+    }
+
+    def __repr__(self) -> str:
+        parts = [
+            f"{k}={'inf' if v is None else format(v, '.4g')}" for k, v in self.norms.items()
+        ]
+        return "<H2Norms per unit white road velocity: " + ", ".join(parts) + ">"
+
+    def _repr_html_(self) -> str:
+        from ._display import fmt, html_table
+
+        rows = [
+            (f"{k} [{self.UNITS.get(k, '')}]", "infinite" if v is None else fmt(v))
+            for k, v in self.norms.items()
+        ]
+        return html_table("H2 norms per unit white road velocity", rows)
+
+    def to_xarray(self):
+        """The norms as an xarray Dataset (infinite ones NaN, with the reason)."""
+        import xarray as xr
+
+        data = {}
+        for k, v in self.norms.items():
+            attrs = {"units": self.UNITS.get(k, "")}
+            if k in self.infinite:
+                attrs["infinite"] = self.infinite[k]
+            data[k] = ((), math.nan if v is None else float(v), attrs)
+        return xr.Dataset(data, attrs={"input": "unit white road velocity"})
+
     def to_dict(self) -> dict:
         """Norms as a dict; infinite ones as None plus an ``infinite`` entry saying why."""
         out = dict(self.norms)

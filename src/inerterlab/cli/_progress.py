@@ -89,8 +89,9 @@ class RunProgress:
     # -- events ------------------------------------------------------------------
     def start(self, name: str) -> None:
         with self._lock:
+            if name != self.current:  # the same work described again keeps its start
+                self.current_since = time.perf_counter()
             self.current = name
-            self.current_since = time.perf_counter()
         if self._bar is not None:
             self._bar.update(self._task, description=f"running {name}")
 

@@ -218,6 +218,7 @@ def device_force(
     event_tol: float = 1e-7,
     max_steps: int = 50_000_000,
     initial_force: float | None = None,
+    force_only: bool = False,
 ) -> DeviceForceResult:
     """Predict the force of ``device`` for the terminal ``motion``.
 
@@ -245,10 +246,13 @@ def device_force(
         moving steadily with the terminals: the spring carries damper + friction +
         flywheel bearing drag (c_d r^2 v) + inertia force at the initial velocity and
         acceleration.
+    force_only : bool
+        Return only the force array [N] (the same numbers), skipping the other series
+        of the result; for identification, which runs a device thousands of times.
 
     Returns
     -------
-    DeviceForceResult
+    DeviceForceResult (or the force array with ``force_only``)
 
     Examples
     --------
@@ -338,6 +342,8 @@ def device_force(
             f"device_force: integration stopped at t={t_out[len(force) - 1]:.6g} s ({why}); "
             "check the parameters or raise max_steps"
         )
+    if force_only:
+        return force
     x, v, a = motion.evaluate(t_out)
     law = _LAW[device.law]
     r = device.transmission.ratio

@@ -142,7 +142,19 @@ class Motion:
         return float(np.max(np.abs(self.samples[2])))
 
     def kernel_args(self):
-        """(kind, params[4], t_nodes, x_nodes, v_nodes) for the compiled kernels."""
+        """(kind, params[4], t_nodes, x_nodes, v_nodes) for the compiled kernels.
+
+        Built once per motion (an identification drives the same motion thousands of
+        times); the kernels only read the arrays (not flagged read-only: numba would
+        compile other specialisations for read-only arrays).
+        """
+        cached = self.__dict__.get("_kernel_args")
+        if cached is None:
+            cached = self._build_kernel_args()
+            self.__dict__["_kernel_args"] = cached  # frozen dataclass: bypass __setattr__
+        return cached
+
+    def _build_kernel_args(self):
         kind = _KIND[self.signal]
         par = np.array(
             [self.amplitude, self.frequency, self.edge_time, 0.0] if kind != 2 else [0.0] * 4,

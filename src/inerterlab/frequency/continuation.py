@@ -27,6 +27,40 @@ class ContinuationPath:
     completed: bool
     message: str
 
+    def __repr__(self) -> str:
+        if len(self.omega) == 0:
+            return f"<ContinuationPath empty: {self.message}>"
+        return (
+            f"<ContinuationPath {len(self.omega)} points, Omega {self.omega.min():.4g} .. "
+            f"{self.omega.max():.4g} rad/s, {'completed' if self.completed else 'stopped'}: "
+            f"{self.message}>"
+        )
+
+    def _repr_html_(self) -> str:
+        from .._display import html_table
+
+        rows = [("points", str(len(self.omega))), ("completed", str(self.completed)),
+                ("message", self.message)]  # fmt: skip
+        if len(self.omega):
+            rows.insert(1, ("Omega [rad/s]", f"{self.omega.min():.4g} .. {self.omega.max():.4g}"))
+        return html_table("continuation path", rows)
+
+    def to_xarray(self):
+        """The path as an xarray Dataset over ``point`` (Omega in rad/s, coefficients in
+        the units of the response)."""
+        import xarray as xr
+
+        ds = xr.Dataset(
+            {
+                "coefficients": (("point", "coefficient"), self.coefficients),
+                "residual": ("point", self.residual, {"units": "1"}),
+                "iterations": ("point", self.iterations),
+            },
+            coords={"omega": ("point", self.omega, {"units": "rad/s"})},
+        )
+        ds.attrs.update(completed=str(self.completed), message=self.message)
+        return ds
+
 
 def _domega(engine, X, omega):
     h = 1e-7 * omega

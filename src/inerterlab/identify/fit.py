@@ -460,8 +460,8 @@ def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     """
     f0 = _initial_force_guess(prep)
     base = device_force(
-        device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0
-    ).force
+        device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0, force_only=True
+    )
     if not device.series:
         return base
     probe = max(1.0, 1e-3 * float(np.abs(prep.force).max()))
@@ -469,8 +469,14 @@ def predict_test(device, prep: _Prepared, *, rtol: float = 1e-8) -> np.ndarray:
     h = np.zeros_like(base)
     for m in (min(n, prep.t.size), prep.t.size):
         moved = device_force(
-            device, prep.motion, t=prep.t[:m], rtol=rtol, h_max=0.01, initial_force=f0 + probe
-        ).force
+            device,
+            prep.motion,
+            t=prep.t[:m],
+            rtol=rtol,
+            h_max=0.01,
+            initial_force=f0 + probe,
+            force_only=True,
+        )
         h[:m] = (moved - base[:m]) / probe
         tail = np.abs(h[m - max(1, m // 10) : m]).max()
         if m == prep.t.size or tail <= 1e-6 * np.abs(h[:m]).max():

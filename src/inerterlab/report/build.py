@@ -133,6 +133,10 @@ def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
     return n + (len(figures) if include_figures else 0)
 
 
+#: fewest items to compute for which a run with workers starts worker processes
+MIN_PARALLEL_ITEMS = 4
+
+
 def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSettings) -> dict:
     """Compute one item and return its record (a failure is recorded, not raised)."""
     t0 = time.perf_counter()
@@ -193,32 +197,54 @@ def run_items(
     tag = cache_key(asdict(settings))
     records = []
     pre: dict = {}
-    if settings.workers > 1:  # shared pieces and independent chapters in parallel first
+    def cache_of(kind: str, ident: str) -> Path:
+        return work_dir / f"{kind}-{_slug(ident)}-{tag}.json"
+
+    def save(rec: dict) -> None:
+        if not rec["ok"]:
+            return
+        try:
+            atomic_write_bytes(
+                cache_of(rec["kind"], rec["id"]), dumps_record(rec, tag), follow_links=False
+            )
+        except Uncacheable:  # stored inexactly would break resume: recompute instead
+            pass
+
+    def reusable(kind: str, ident: str):
+        cached = read_cached(cache_of(kind, ident), tag)
+        if cached is not None and (cached["kind"], cached["id"]) == (kind, ident):
+            return cached
+        return None
+
+    todo = [it for it in items if reusable(it[0], it[1]) is None]
+    # shared pieces and independent chapters in parallel first; a few items are not worth
+    # starting worker processes for (each imports the package and loads the kernels)
+    if settings.workers > 1 and len(todo) >= MIN_PARALLEL_ITEMS:
         from .parallel import run_parallel
 
-        todo = [
-            it for it in items if not (work_dir / f"{it[0]}-{_slug(it[1])}-{tag}.json").exists()
-        ]
-        pre = run_parallel(settings, todo, settings.workers, note=on_start, done=progress)
+        def arrived(rec: dict) -> None:  # saved at once: a killed run keeps it
+            save(rec)
+            if progress:
+                progress(f"{rec['kind']} {rec['id']}")
+
+        pre = run_parallel(
+            settings, todo, settings.workers, note=on_start, done=arrived, should_stop=should_stop
+        )
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
-        cache = work_dir / f"{kind}-{_slug(ident)}-{tag}.json"
-        cached = read_cached(cache, tag)
-        if cached is not None and (cached["kind"], cached["id"]) == (kind, ident):
+        from_worker = (kind, ident) in pre  # computed, saved and reported by run_parallel
+        cached = None if from_worker else reusable(kind, ident)
+        if cached is not None:
             records.append({**cached, "reused": True})
             if progress:
                 progress(f"{kind} {ident} (reused)")
             continue
-        from_worker = (kind, ident) in pre  # computed (and reported) by run_parallel
         if on_start and not from_worker:
             on_start(f"{kind} {ident}")
         rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
-        if rec["ok"]:
-            try:
-                atomic_write_bytes(cache, dumps_record(rec, tag), follow_links=False)
-            except Uncacheable:  # stored inexactly would break resume: recompute instead
-                pass
+        if not from_worker:
+            save(rec)
         records.append(rec)
         if progress and not from_worker:
             progress(f"{kind} {ident}")

@@ -23,6 +23,7 @@ import dataclasses
 import importlib
 import multiprocessing
 import os
+import signal
 from collections.abc import Callable
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 
@@ -37,8 +38,10 @@ ITEM_COST = {
     "inerterlab.report.ch5": 0.5,
     "inerterlab.report.ch7": 0.5,
 }
-#: chapters whose items share caches that are not memos: computed in one group
+#: chapters whose items share caches that are not memos: computed in one task
 ONE_GROUP = {"inerterlab.report.studies"}
+#: chapters whose memo entries are large: one task per worker, not per item
+CHUNKED = {"inerterlab.report.ch7"}
 #: environment of the workers: one thread each, the processes are the parallelism
 _THREAD_ENV = {
     "OMP_NUM_THREADS": "1",
@@ -82,19 +85,27 @@ def _items(module: str, items: list, settings: ReproduceSettings, seeds: dict) -
     return out
 
 
+def _worker_init() -> None:
+    """Workers leave Ctrl-C to the parent, which lets the running tasks finish."""
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
 def run_parallel(
     settings: ReproduceSettings,
     items: list[tuple[str, str, Callable]],
     workers: int,
     *,
     note: Callable[[str], None] | None = None,
-    done: Callable[[str], None] | None = None,
+    done: Callable[[dict], None] | None = None,
+    should_stop: Callable[[], bool] | None = None,
 ) -> dict[tuple[str, str], dict]:
     """Compute ``items`` (kind, id, function) in ``workers`` processes.
 
     Returns the records keyed by (kind, id), as :func:`~inerterlab.report.build.
-    compute_item` makes them. ``note`` receives what is running, ``done`` the name of
-    each finished item.
+    compute_item` makes them; an item missing from the result (its task failed) is
+    left to the caller. ``note`` receives what is running, ``done`` each record as it
+    arrives (to save it at once). When ``should_stop`` returns True, no new task starts,
+    the running ones finish and are delivered, then ``KeyboardInterrupt`` is raised.
     """
     by_module: dict[str, list[tuple[str, str]]] = {}
     for kind, ident, fn in items:
@@ -112,73 +123,81 @@ def run_parallel(
                 pieces.append((cost, name, names[id(memo)], full))
         waiting[name] = sum(1 for p in pieces if p[1] == name)
     records: dict[tuple[str, str], dict] = {}
-    ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx)
+    queue: list = []  # tasks not yet handed to the pool: (label, fn, args, meta)
     pending: dict = {}
 
-    def submit_items(module: str) -> None:
+    def add_items(module: str) -> None:
         its = by_module[module]
         mod = importlib.import_module(module)
         seeds = {n: dict(m.cache) for n, m in _memos(mod).items() if m.cache}
-        n = 1 if module in ONE_GROUP else min(workers, len(its))
-        chunks = [its[i::n] for i in range(n)]
-        for chunk in chunks:
-            fut = pool.submit(_items, module, chunk, inner, seeds)
-            pending[fut] = ("items", module, chunk)
-
-    def describe() -> str:
-        running = [v for v in pending.values()][:workers]
-        text = []
-        for kind, module, what in running:
+        # one task per item (each saved as soon as it is done), except where the items
+        # share caches that are not memos, or the memo entries are large (ch. 7 curves)
+        n = 1 if module in ONE_GROUP else min(workers, len(its)) if module in CHUNKED else len(its)
+        for i in range(n):
+            chunk = its[i::n]
             short = module.rsplit(".", 1)[-1]
-            text.append(f"{short} {what[2]}" if kind == "piece" else f"{short} {len(what)} items")
-        return f"{len(pending)} tasks in {workers} processes: " + "; ".join(text)
+            label = f"{short} {chunk[0][1]}" if len(chunk) == 1 else f"{short} {len(chunk)} items"
+            queue.append((label, _items, (module, chunk, inner, seeds), ("items", module)))
+
+    # chapters without pieces first (they take long), then the pieces, longest first
+    for name in sorted(by_module, key=lambda m: -ITEM_COST.get(m, 1.0) * len(by_module[m])):
+        if waiting[name] == 0:
+            add_items(name)
+    for _cost, name, memo_name, key in sorted(pieces, key=lambda p: -p[0]):
+        label = f"{name.rsplit('.', 1)[-1]} {memo_name}{key}"
+        queue.append((label, _piece, (name, memo_name, key), ("piece", name, memo_name, key)))
 
     # the workers start on demand and read these when they start; the parent has loaded
     # its libraries already, so it keeps its own settings
     saved = {k: os.environ.get(k) for k in _THREAD_ENV}
     os.environ.update(_THREAD_ENV)
+    ctx = multiprocessing.get_context("spawn")
+    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+    stopping = False
     try:
-        _run(pool, by_module, waiting, pieces, submit_items, pending, records, describe,
-             note, done)  # fmt: skip
-    finally:
-        _restore(saved)
-    return records
-
-
-def _run(pool, by_module, waiting, pieces, submit_items, pending, records, describe, note, done):
-    with pool:
-        # chapters without pieces first (they take long), then the pieces, longest first
-        for name in sorted(by_module, key=lambda m: -ITEM_COST.get(m, 1.0) * len(by_module[m])):
-            if waiting[name] == 0:
-                submit_items(name)
-        for _cost, name, memo_name, key in sorted(pieces, key=lambda p: -p[0]):
-            fut = pool.submit(_piece, name, memo_name, key)
-            pending[fut] = ("piece", name, (memo_name, key, f"{memo_name}{key}"))
-        if note and pending:
-            note(describe())
-        while pending:
-            finished, _ = wait(pending, return_when=FIRST_COMPLETED)
+        while queue or pending:
+            if should_stop is not None and should_stop():
+                stopping = True
+            # keep exactly one task per worker in the pool: a stop then waits only for
+            # the running ones, and items of a chapter join the queue as it unblocks
+            while queue and len(pending) < workers and not stopping:
+                label, fn, args, meta = queue.pop(0)
+                pending[pool.submit(fn, *args)] = (label, meta)
+            if not pending:
+                break
+            if note:
+                note(f"{len(pending)} of {len(pending) + len(queue)} tasks in "
+                     f"{workers} processes: " + "; ".join(v[0] for v in pending.values()))  # fmt: skip
+            finished, _ = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
             for fut in finished:
-                kind, module, what = pending.pop(fut)
+                label, meta = pending.pop(fut)
                 try:
                     result = fut.result()
                 except Exception:  # noqa: BLE001 - the caller recomputes and records it
                     result = None
-                if kind == "items":
+                if meta[0] == "items":
                     for rec in result or ():
                         records[(rec["kind"], rec["id"])] = rec
                         if done:
-                            done(f"{rec['kind']} {rec['id']}")
+                            done(rec)
                     continue
-                memo_name, key, _ = what
+                _, module, memo_name, key = meta
                 if result is not None:
                     getattr(importlib.import_module(module), memo_name).put(key, result)
                 waiting[module] -= 1
                 if waiting[module] == 0:
-                    submit_items(module)
-            if note and pending:
-                note(describe())
+                    add_items(module)
+        if stopping:
+            raise KeyboardInterrupt
+    except BaseException:
+        for proc in list(getattr(pool, "_processes", {}).values()):
+            proc.terminate()
+        pool.shutdown(wait=False, cancel_futures=True)
+        raise
+    finally:
+        _restore(saved)
+    pool.shutdown(wait=True)
+    return records
 
 
 def _restore(saved: dict) -> None:

@@ -320,6 +320,19 @@ class RatioOptimum:
             f"cost={self.cost:.4g} ({self.cost_function})>"
         )
 
+    def _repr_html_(self) -> str:
+        from .._display import html_table
+
+        rows = [
+            ("optimal changing ratio x", f"{self.optimal_ratio:.4g}"
+             + (f" (at the {self.at_bound} bound)" if self.at_bound else "")),
+            ("search range", f"{self.bounds[0]:g} .. {self.bounds[1]:g}"),
+            ("lambda (4.38)", f"{self.lam:.4g}"),
+            ("performance (4.33)", f"{self.performance:.4g}"),
+            (f"cost (4.34, {self.cost_function})", f"{self.cost:.4g}"),
+        ]  # fmt: skip
+        return html_table("optimal changing ratio", rows)
+
     def to_xarray(self):
         """Metrics at the optimum and of the traditional suspension, by input and metric."""
         import xarray as xr
