@@ -33,6 +33,8 @@ def _fake_chapters(calls):
                 "n": np.array([1, 2, 3], dtype=np.int64),
                 "flag": [True, False, True],
                 "mixed": ["x", 1.5, None],
+                "masked": pd.array([0.25, pd.NA, 2.0], dtype="Float64"),
+                "count": pd.array([1, pd.NA, 3], dtype="Int64"),
             }
         )
         return TableResult(
