@@ -23,6 +23,7 @@ from inerterlab.cli import app
 #: caps for each fuzzed command
 MEMORY_CAP = 4 * 1024**3  # bytes of address space
 TIME_CAP = 120  # seconds
+MAX_OPTIONS = int(os.environ.get("INERTERLAB_FUZZ_OPTIONS", "3"))  # options per command line
 
 HOSTILE_NUMBERS = ["0", "-1", "1", "1e-300", "1e300", "-1e300", "nan", "inf", "-inf",
                    "99999999999999999999", "1e9", "0.5", "abc", "", " ", "1,2", "0x10"]  # fmt: skip
@@ -72,7 +73,9 @@ def command_lines(draw, d: Path):
     options = [p for p in params if p.param_type_name == "option"]
     for _p in positional:
         args.append(draw(st.sampled_from(_path_values(d))))
-    chosen = draw(st.lists(st.sampled_from(options), max_size=3, unique_by=lambda p: p.name))
+    chosen = draw(
+        st.lists(st.sampled_from(options), max_size=MAX_OPTIONS, unique_by=lambda p: p.name)
+    )
     for p in chosen:
         flag = p.opts[0]
         if p.is_flag:
