@@ -37,9 +37,10 @@ def reproduce_command(
 
     from ..report.build import _load_chapters, count_items, parse_table_selection, reproduce
     from ..report.registry import ReproduceSettings
+    from ..studies.backends import check_workers
     from ._common import emit_json
 
-    settings = ReproduceSettings(quick=quick, workers=workers)
+    settings = ReproduceSettings(quick=quick, workers=check_workers("--workers", workers))
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
     total = count_items(ids, ids is None)
     with Progress(
