@@ -248,3 +248,14 @@ def test_absurd_worker_counts_are_refused_before_any_process_starts():
             sweep(spec, backend="processes", workers=n)
         with pytest.raises(ParameterError, match="workers"):
             sweep(spec, backend="dask", workers=n)
+
+
+def test_frequency_response_announces_long_runs_and_only_those(capsys, monkeypatch):
+    from inerterlab.cli import frequency
+
+    frequency._note_if_long(59, "sihb", None, None, True)  # the default: seconds
+    assert capsys.readouterr().err == ""
+    frequency._note_if_long(2901, "mhb", 60, None, False)  # minutes
+    assert "note: 2901 frequencies" in capsys.readouterr().err
+    frequency._note_if_long(10**9, "mhb", 60, None, False)  # refused later: no note
+    assert capsys.readouterr().err == ""
