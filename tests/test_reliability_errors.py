@@ -65,6 +65,7 @@ def files(tmp_path):
 CASES = [
     # (arguments, text the error line must contain)
     (["simulate", "--input", "iso8608", "--seed", "-1", "--horizon", "1"], "seed"),
+    (["rig-simulate", "--seed", "-1", "--out", "{tmp}/never"], "seed"),
     (["h2", "--suspension", "cfw", "--inertance", "1e300"], "singular"),
     (["frequency-response", "--harmonics", "99999999999999999999"], "harmonics"),
     (["frequency-response", "--method", "mhb", "--harmonics", "2000"], "harmonics"),
