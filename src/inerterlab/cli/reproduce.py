@@ -11,7 +11,11 @@ import typer
 
 def reproduce_command(
     out: Annotated[
-        Path, typer.Option(help="Report directory (replaced atomically at the end).")
+        Path,
+        typer.Option(
+            help="Report directory: new, empty or an earlier report of inerterlab "
+            "(replaced atomically at the end; any other folder is refused)."
+        ),
     ] = Path("reproduction"),
     tables: Annotated[
         str | None,
