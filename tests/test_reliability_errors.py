@@ -45,6 +45,9 @@ def files(tmp_path):
     (tmp_path / "huge_chunk.toml").write_text(
         'point = "synthetic"\nchunk_size = 1000000000000\n[parameters]\nchanging_ratio = [0.1, 0.2]\n'
     )
+    (tmp_path / "ok.toml").write_text(
+        'point = "synthetic"\n[parameters]\nchanging_ratio = [0.1, 0.2]\n'
+    )
     rig = tmp_path / "rig"
     rig.mkdir()
     (rig / "manifest.csv").write_text(
@@ -62,6 +65,7 @@ def files(tmp_path):
 CASES = [
     # (arguments, text the error line must contain)
     (["simulate", "--input", "iso8608", "--seed", "-1", "--horizon", "1"], "seed"),
+    (["rig-simulate", "--seed", "-1", "--out", "{tmp}/never"], "seed"),
     (["h2", "--suspension", "cfw", "--inertance", "1e300"], "singular"),
     (["frequency-response", "--harmonics", "99999999999999999999"], "harmonics"),
     (["frequency-response", "--method", "mhb", "--harmonics", "2000"], "harmonics"),
@@ -89,6 +93,9 @@ CASES = [
         + ["--time-limit", "2"],
         "time limit of 2 s",
     ),
+    (["sweep", "{tmp}/ok.toml", "--workers", "99999999999999999999"], "--workers"),
+    (["sweep", "{tmp}/list_point.toml", "--workers", "100000"], "list_point"),
+    (["reproduce", "--quick", "--workers", "1000000", "--out", "{tmp}/r"], "--workers"),
     (["reproduce", "--tables", "", "--out", "{tmp}/r"], "--tables"),
     (["reproduce", "--tables", "4.1-4.99999999", "--out", "{tmp}/r"], "--tables"),
 ]
@@ -229,3 +236,27 @@ def test_identify_size_guard_refuses_hours_and_announces_minutes(capsys):
         _check_fit_size(data(1_000_000), 100)  # hours: refused
     with pytest.raises(ParameterError, match="--data"):
         _check_fit_size(data(100_000_000), 0)
+
+
+def test_absurd_worker_counts_are_refused_before_any_process_starts():
+    from inerterlab import ParameterError
+    from inerterlab.studies import sweep
+    from inerterlab.studies.backends import max_workers
+
+    spec = {"point": "synthetic", "parameters": {"changing_ratio": [0.1, 0.2]}}
+    for n in (max_workers() + 1, 10**20):
+        with pytest.raises(ParameterError, match="workers"):
+            sweep(spec, backend="processes", workers=n)
+        with pytest.raises(ParameterError, match="workers"):
+            sweep(spec, backend="dask", workers=n)
+
+
+def test_frequency_response_announces_long_runs_and_only_those(capsys, monkeypatch):
+    from inerterlab.cli import frequency
+
+    frequency._note_if_long(59, "sihb", None, None, True)  # the default: seconds
+    assert capsys.readouterr().err == ""
+    frequency._note_if_long(2901, "mhb", 60, None, False)  # minutes
+    assert "note: 2901 frequencies" in capsys.readouterr().err
+    frequency._note_if_long(10**9, "mhb", 60, None, False)  # refused later: no note
+    assert capsys.readouterr().err == ""

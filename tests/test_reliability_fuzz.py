@@ -1,7 +1,8 @@
 """Fuzz of the command line: random hostile values for every option of every command.
 
-Each generated command runs in its own process with an address-space cap and a time
-limit, in a scratch directory. Whatever the input, it must end with exit status 0 or
+Each generated command runs in its own process with caps on address space, CPU time
+and file size, in a scratch directory (every path it is offered lies there, apart from
+/dev/null and -). Whatever the input, it must end with exit status 0 or
 2 (never an internal error or a crash), print at most one error line (library
 warnings may follow it, never precede it) and stay within the caps.
 """
@@ -23,6 +24,8 @@ from inerterlab.cli import app
 #: caps for each fuzzed command
 MEMORY_CAP = 4 * 1024**3  # bytes of address space
 TIME_CAP = 120  # seconds
+FILE_CAP = 512 * 1024**2  # bytes per file written
+MAX_OPTIONS = int(os.environ.get("INERTERLAB_FUZZ_OPTIONS", "3"))  # options per command line
 
 HOSTILE_NUMBERS = ["0", "-1", "1", "1e-300", "1e300", "-1e300", "nan", "inf", "-inf",
                    "99999999999999999999", "1e9", "0.5", "abc", "", " ", "1,2", "0x10"]  # fmt: skip
@@ -49,13 +52,15 @@ def scratch(tmp_path_factory):
     (d / "ok.toml").write_text('point = "synthetic"\n[parameters]\nchanging_ratio = [0.1, 0.2]\n')
     (d / "road.csv").write_text("t,x\n0,0\n0.5,0.01\n1,0\n")
     os.mkfifo(d / "fifo")
+    (d / "link_to_dir").symlink_to(d / "dir")
+    (d / "dangling").symlink_to(d / "nowhere" / "x")
     return d
 
 
 def _path_values(d: Path) -> list[str]:
     return [str(d / n) for n in ("dir", "file.txt", "bin.bin", "nested.toml", "ok.toml",
                                  "road.csv", "missing", "new_out", "x.xyz", "x.png", "x.csv")] + [
-        "/dev/null", "-", "", "/proc/self/mem", "/"]  # fmt: skip
+        "/dev/null", "-", "", str(d / "link_to_dir"), str(d / "dangling")]  # fmt: skip
 
 
 def _value_strategy(param, d: Path):
@@ -72,7 +77,9 @@ def command_lines(draw, d: Path):
     options = [p for p in params if p.param_type_name == "option"]
     for _p in positional:
         args.append(draw(st.sampled_from(_path_values(d))))
-    chosen = draw(st.lists(st.sampled_from(options), max_size=3, unique_by=lambda p: p.name))
+    chosen = draw(
+        st.lists(st.sampled_from(options), max_size=MAX_OPTIONS, unique_by=lambda p: p.name)
+    )
     for p in chosen:
         flag = p.opts[0]
         if p.is_flag:
@@ -89,6 +96,7 @@ def command_lines(draw, d: Path):
 def _limits():  # pragma: no cover - runs in the child
     resource.setrlimit(resource.RLIMIT_AS, (MEMORY_CAP, MEMORY_CAP))
     resource.setrlimit(resource.RLIMIT_CPU, (TIME_CAP, TIME_CAP + 5))
+    resource.setrlimit(resource.RLIMIT_FSIZE, (FILE_CAP, FILE_CAP))
 
 
 def run_capped(args: list[str], cwd: Path) -> subprocess.CompletedProcess:

@@ -33,6 +33,8 @@ def _fake_chapters(calls):
                 "n": np.array([1, 2, 3], dtype=np.int64),
                 "flag": [True, False, True],
                 "mixed": ["x", 1.5, None],
+                "masked": pd.array([0.25, pd.NA, 2.0], dtype="Float64"),
+                "count": pd.array([1, pd.NA, 3], dtype="Int64"),
             }
         )
         return TableResult(
@@ -290,3 +292,43 @@ def test_a_reader_that_stops_early_is_not_an_error():
     p.stdout.close()
     err = p.stderr.read().decode()
     assert p.wait(120) == 0 and "Traceback" not in err, err
+
+
+@pytest.mark.slow
+def test_killed_table_run_resumes_from_the_json_cache_byte_for_byte(tmp_path):
+    """``reproduce --quick --tables 4.1,6.1``: SIGKILL after the first finished item, rerun;
+    the first item is reused and both tables equal an uninterrupted run's."""
+    import signal
+    import time
+
+    code = "import sys; from inerterlab.cli import main; sys.exit(main())"
+    sel = ["reproduce", "--quick", "--tables", "4.1,6.1"]
+    ref = tmp_path / "ref"
+    r = subprocess.run([sys.executable, "-c", code, *sel, "--out", str(ref)],
+                       capture_output=True, text=True, timeout=900)  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    out, work = tmp_path / "out", tmp_path / "out.work"
+    cmd = [sys.executable, "-c", code, *sel, "--out", str(out)]
+    # the interrupted run lingers in its second item, so the kill always lands there
+    slow = (
+        "import time\nfrom inerterlab.report import build\norig = build._load_chapters\n"
+        "def patched():\n    t, f = orig()\n    g = t['6.1']\n"
+        "    t['6.1'] = lambda s: (time.sleep(120), g(s))[1]\n    return t, f\n"
+        "build._load_chapters = patched\n"
+    )
+    slow_cmd = [sys.executable, "-c", slow + code, *sel, "--out", str(out)]
+    proc = subprocess.Popen(slow_cmd, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 600
+    while time.monotonic() < deadline and not list(work.glob("table-*.json")):
+        assert proc.poll() is None, "the run ended before it could be interrupted"
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    assert not out.exists()
+    r = subprocess.run(cmd + ["--json"], capture_output=True, text=True, timeout=900)
+    assert r.returncode == 0, r.stderr
+    manifest = json.loads(r.stdout)
+    assert [i["reused"] for i in manifest["items"]] == [True, False]
+    for name in ("4.1.csv", "6.1.csv"):
+        assert (out / "tables" / name).read_bytes() == (ref / "tables" / name).read_bytes()
+    assert not work.exists()

@@ -11,6 +11,29 @@ from ..errors import ParameterError
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 
+def _note_if_long(n, method, harmonics, direction, stability) -> None:
+    """Say on standard error when a run is estimated to take minutes (it prints nothing
+    until it is done)."""
+    import sys
+
+    from ..frequency.response import estimate_operations
+
+    h = harmonics if harmonics is not None else {"shb": 1, "sihb": 15}.get(method, 7)
+    if not isinstance(h, int) or h < 1:
+        return  # refused with a message by frequency_response
+    d = direction or ("both" if method == "sihb" else "up")
+    from ..resources import WORK_LIMIT
+
+    ops = estimate_operations(n, method, h, direction=d, stability=stability)
+    minutes = ops / 1e9 / 60
+    if minutes > 1 and ops < WORK_LIMIT:  # beyond the limit the run is refused instead
+        print(
+            f"inerterlab: note: {n} frequencies with {method}; expect minutes, not seconds "
+            f"(estimate: {minutes:.1f} min of computing)",
+            file=sys.stderr,
+        )
+
+
 def frequency_response_command(
     method: Annotated[
         str, typer.Option(help="brute, shb, mhb, sihb (scan down and up) or continuation.")
@@ -70,10 +93,13 @@ def frequency_response_command(
     if not amplitude > 0:
         raise ParameterError("--amplitude", amplitude, "a displacement > 0 m")
     system = chapter7_system(amplitude, preset=flywheel, law=law)
+    grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
+    if grid is not None:
+        _note_if_long(grid.size, method, harmonics, direction, not no_stability)
     fr = frequency_response(
         system,
         method,
-        freq_hz=frequency_grid(fmin, fmax, df) if method != "continuation" else None,
+        freq_hz=grid,
         fmin=fmin,
         fmax=fmax,
         harmonics=harmonics,

@@ -34,7 +34,11 @@ def rig_simulate_command(
         str, typer.Option(help="Motion columns: both, displacement or velocity.")
     ] = "both",
     out: Annotated[
-        Path, typer.Option(help="Output directory (test CSV files + manifest.csv).")
+        Path,
+        typer.Option(
+            help="Output directory (test CSV files + manifest.csv): new, empty or an earlier "
+            "data set of inerterlab, replaced as a whole; any other folder is refused."
+        ),
     ] = Path("rig-data"),
     json_out: Annotated[bool, typer.Option("--json", help="Print a JSON summary.")] = False,
 ) -> None:

@@ -11,7 +11,11 @@ import typer
 
 def reproduce_command(
     out: Annotated[
-        Path, typer.Option(help="Report directory (replaced atomically at the end).")
+        Path,
+        typer.Option(
+            help="Report directory: new, empty or an earlier report of inerterlab "
+            "(replaced atomically at the end; any other folder is refused)."
+        ),
     ] = Path("reproduction"),
     tables: Annotated[
         str | None,
@@ -56,6 +60,7 @@ def reproduce_command(
         resolve_report_target,
     )
     from ..report.registry import ReproduceSettings
+    from ..studies.backends import check_workers
     from ._common import emit_json
     from ._progress import RunProgress
 
@@ -63,7 +68,7 @@ def reproduce_command(
         from ..report.parallel import default_workers
 
         workers = default_workers()
-    settings = ReproduceSettings(quick=quick, workers=workers)
+    settings = ReproduceSettings(quick=quick, workers=check_workers("--workers", workers))
     resolve_report_target(out)  # refuse a bad --out before any progress line
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
     total = count_items(ids, ids is None)

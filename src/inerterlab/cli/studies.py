@@ -52,8 +52,10 @@ def sweep_command(
     from ..studies import SweepInterrupted, load_sweep_config, save_netcdf, sweep
 
     spec = load_sweep_config(config)
-    if workers is not None and workers < 1:
-        raise ParameterError("--workers", workers, "an integer >= 1")
+    if workers is not None:
+        from ..studies.backends import check_workers
+
+        check_workers("--workers", workers)
     t0 = time.perf_counter()
     try:
         ds = sweep(

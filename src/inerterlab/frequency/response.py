@@ -298,6 +298,33 @@ def _amplitudes(C) -> np.ndarray:
     return _kernels.half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
 
 
+def estimate_operations(
+    n_freqs: int,
+    method: str,
+    harmonics: int,
+    *,
+    direction: str = "up",
+    stability: bool = True,
+    max_iter: int = 30,
+    steps_per_period: int = 2000,
+    max_periods: int = 5000,
+) -> float:
+    """Rough floating point operations of :func:`frequency_response` (order of magnitude).
+
+    Per point and pass: Newton iterations on a (2H+1)-square system plus the Hill
+    stability matrix (twice that size); brute force integrates up to 50 periods.
+    """
+    n_pass = 2 if direction == "both" else 1
+    size = 2.0 * float(harmonics) + 1.0
+    if method == "brute":
+        per_point = 50.0 * steps_per_period * min(max_periods, 50)
+    else:
+        per_point = max_iter * (size**3 / 3 + 64 * size**2) + (
+            10 * (2 * size) ** 3 if stability else 0.0
+        )
+    return float(n_freqs) * n_pass * per_point
+
+
 def frequency_response(
     system,
     method: str = "sihb",
@@ -386,19 +413,19 @@ def frequency_response(
             raise ParameterError("freq_hz", freq_hz, "finite frequencies > 0 Hz")
         freqs = np.unique(freqs)
     scale = float(getattr(system, "displacement_scale", 1.0))
-    # rough cost: per point and pass, Newton iterations on a (2H+1)-square system plus
-    # the Hill stability matrix (twice that size); brute force integrates periods
-    n_pass = 2 if direction == "both" else 1
     size = 2.0 * float(harmonics) + 1.0
-    if method == "brute":
-        per_point = 50.0 * steps_per_period * min(max_periods, 50)
-    else:
-        per_point = max_iter * (size**3 / 3 + 64 * size**2) + (
-            10 * (2 * size) ** 3 if stability else 0.0
-        )
     by_harmonics = size**3 > 1e4 * freqs.size
     check_work(
-        freqs.size * n_pass * per_point,
+        estimate_operations(
+            freqs.size,
+            method,
+            harmonics,
+            direction=direction,
+            stability=stability,
+            max_iter=max_iter,
+            steps_per_period=steps_per_period,
+            max_periods=max_periods,
+        ),  # fmt: skip
         what="frequency response",
         parameter="harmonics" if by_harmonics else "df",
         value=harmonics

@@ -155,6 +155,8 @@ def simulate_rig(
     check_choice("columns", columns, ("both", "displacement", "velocity"))
     if max_duration is not None:
         check_positive("max_duration", max_duration, "s")
+    if isinstance(seed, bool) or not isinstance(seed, int | np.integer) or seed < 0:
+        raise ParameterError("seed", seed, "an integer >= 0")
     from ..resources import check_memory
 
     total = sum(

@@ -514,13 +514,9 @@ def clean_stale_temporaries(out: Path) -> list[Path]:
     Call only while holding the report lock (:func:`report_lock`): then no other run can
     be writing them.
     """
-    removed = []
-    pat = re.compile(re.escape(f".{out.name}.") + r"(new-[A-Za-z0-9_]+|old-\d+)")
-    for p in out.parent.iterdir() if out.parent.is_dir() else []:
-        if pat.fullmatch(p.name) and p.is_dir() and not p.is_symlink():
-            shutil.rmtree(p, ignore_errors=True)
-            removed.append(p)
-    return removed
+    from ..io import clean_stale_siblings
+
+    return clean_stale_siblings(out)
 
 
 def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:

@@ -47,6 +47,11 @@ _PLAIN_DTYPES = ("float64", "float32", "int64", "int32", "int16", "int8", "uint6
                  "uint16", "uint8", "bool", "object")  # fmt: skip
 
 
+#: pandas dtypes with their own missing value (NA) and "str"; rebuilt with pd.array
+_PANDAS_DTYPES = ("str", "Float64", "Float32", "Int64", "Int32", "Int16", "Int8",
+                  "UInt64", "UInt32", "UInt16", "UInt8", "boolean")  # fmt: skip
+
+
 class Uncacheable(TypeError):
     """A record holds a value this format cannot store exactly (the item is not cached)."""
 
@@ -88,6 +93,8 @@ def _enc(x: Any) -> Any:
 
     if x is None or isinstance(x, bool | str):
         return x
+    if x is pd.NA:
+        return {"__na__": 1}
     if isinstance(x, int):
         return x
     if isinstance(x, float):
@@ -127,7 +134,7 @@ def _enc_frame(df) -> dict:
     cols = []
     for i in range(df.shape[1]):
         s = df.iloc[:, i]
-        if s.dtype.name not in _PLAIN_DTYPES + ("str",):
+        if s.dtype.name not in _PLAIN_DTYPES + _PANDAS_DTYPES:
             raise Uncacheable(f"column of dtype {s.dtype}")
         cols.append({"dtype": s.dtype.name, "v": _enc(s.tolist())})
     return {"columns": _enc(list(df.columns)), "data": cols, "n": len(df)}
@@ -140,6 +147,10 @@ def _dec(x: Any) -> Any:
         return x
     if len(x) >= 1:
         tag = next(iter(x))
+        if tag == "__na__":
+            import pandas as pd
+
+            return pd.NA
         if tag == "__float__":
             v = x[tag]
             if v not in ("nan", "inf", "-inf"):
@@ -175,11 +186,11 @@ def _dec_frame(f: dict):
     n = int(f["n"])
     data = {}
     for i, c in enumerate(f["data"]):
-        if c["dtype"] not in _PLAIN_DTYPES + ("str",):
+        if c["dtype"] not in _PLAIN_DTYPES + _PANDAS_DTYPES:
             raise ValueError(f"dtype {c['dtype']!r} not allowed")
         vals = _dec(c["v"])
-        if c["dtype"] == "str":
-            arr = pd.array(vals, dtype="str")
+        if c["dtype"] in _PANDAS_DTYPES:
+            arr = pd.array(vals, dtype=c["dtype"])
         elif c["dtype"] == "object":
             arr = np.empty(len(vals), dtype=object)
             arr[:] = vals

@@ -87,6 +87,24 @@ def _windowed(submit, tasks: Iterable[Any], window: int, wait_any):
             yield task, fut
 
 
+def max_workers() -> int:
+    """Most local workers a run may start: 8 per CPU, at least 32."""
+    return max(32, 8 * (os.cpu_count() or 1))
+
+
+def check_workers(name: str, workers) -> int:
+    """``workers`` as an int in [1, :func:`max_workers`] or a ParameterError naming ``name``.
+
+    Every local worker is a process started at once; an absurd count would exhaust the
+    machine's process table before anything else could refuse it.
+    """
+    cap = max_workers()
+    valid = f"an integer in [1, {cap}] (8 per CPU of this machine, at least 32)"
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= cap:
+        raise ParameterError(name, workers, valid)
+    return workers
+
+
 def _die_with_parent(parent: int) -> None:
     """Make this worker end when the process that started it ends (even by SIGKILL).
 
@@ -141,9 +159,7 @@ class ProcessBackend(Backend):
 
     def __init__(self, workers: int | None = None, *, initializer: Callable | None = None):
         n = (os.cpu_count() or 1) if workers is None else workers
-        if isinstance(n, bool) or not isinstance(n, int) or n < 1:
-            raise ParameterError("workers", workers, "an integer >= 1")
-        self.workers = n
+        self.workers = check_workers("workers", n)
         self.initializer = initializer
         self._pool: ProcessPoolExecutor | None = None
 
@@ -205,10 +221,8 @@ class DaskBackend(Backend):
             raise ParameterError(
                 "workers", workers, "no value when --scheduler is given (the cluster has its own)"
             )
-        if workers is not None and (
-            isinstance(workers, bool) or not isinstance(workers, int) or workers < 1
-        ):
-            raise ParameterError("workers", workers, "an integer >= 1")
+        if workers is not None:
+            check_workers("workers", workers)
         self.scheduler = scheduler
         self.workers = workers or 0
         self.processes = processes
@@ -227,7 +241,7 @@ class DaskBackend(Backend):
                 ) from None
             self.workers = max(1, len(self._client.scheduler_info().get("workers", {})))
         else:
-            self.workers = self.workers or (os.cpu_count() or 1)
+            self.workers = self.workers or min(os.cpu_count() or 1, max_workers())
             self._cluster = LocalCluster(
                 n_workers=self.workers,
                 threads_per_worker=1,
