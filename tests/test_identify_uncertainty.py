@@ -68,3 +68,235 @@ def test_jackknife_covariance_is_the_leave_one_test_out_spread():
     expect = D.T @ D * (G - 1) / G
     assert np.allclose(spread.cov, expect, rtol=1e-8)
     assert abs(expect[0, 1]) > 0.1 * np.sqrt(expect[0, 0] * expect[1, 1])
+
+
+# -- propagation to ride metrics -------------------------------------------------------
+def _agree(a, b, tol=0.1):
+    """Both intervals' ends within tol x the (delta) interval width."""
+    width = a["ci95"][1] - a["ci95"][0]
+    return (
+        abs(a["ci95"][0] - b["ci95"][0]) <= tol * width
+        and abs(a["ci95"][1] - b["ci95"][1]) <= tol * width
+    )
+
+
+def test_delta_is_exact_and_monte_carlo_agrees_for_a_linear_metric():
+    # g = a . theta: var g = a^T Sigma a exactly, including the strong negative
+    # correlation (ignoring it would give sqrt(sum a_i^2 Sigma_ii), 2.4 x too wide)
+    from inerterlab.identify import propagate_function
+
+    a = np.array([2.0, 3.0])
+    mean = np.array([10.0, 5.0])
+    cov = np.array([[1.0, -0.8 * 0.5], [-0.8 * 0.5, 0.25]]) * 0.04
+    f = lambda th: {"g": float(a @ th)}  # noqa: E731
+    d = propagate_function(f, mean, cov, method="delta")["g"]
+    exact = np.sqrt(a @ cov @ a)
+    assert d["value"] == pytest.approx(35.0)
+    assert d["std"] == pytest.approx(exact, rel=1e-9)
+    assert d["ci95"][1] - d["value"] == pytest.approx(1.959964 * exact, rel=1e-6)
+    assert np.sqrt(a**2 @ np.diag(cov)) > 2 * exact
+    mc = propagate_function(f, mean, cov, method="monte-carlo", n=4000, seed=1)["g"]
+    assert mc["std"] == pytest.approx(exact, rel=0.05)
+    assert _agree(d, mc)
+
+
+def test_linear_car_h2_delta_and_monte_carlo_agree():
+    # H2 norms of the linear traditional car against its damper and spring, with a
+    # covariance small enough that the norm is linear over its spread
+    from inerterlab.identify import propagate
+    from inerterlab.suspension import quarter_car
+
+    def car(p):
+        return quarter_car("traditional", damping=p["damping"], stiffness=p["stiffness"])
+
+    src = (
+        [5000.0, 90_000.0],
+        np.array([[50.0**2, 0.3 * 50 * 900], [0.3 * 50 * 900, 900.0**2]]),
+        ["damping", "stiffness"],
+    )
+    d = propagate(src, car, method="delta")
+    mc = propagate(src, car, method="monte-carlo", n=600, seed=2)
+    for k in (
+        "h2_body_acc",
+        "h2_body_acc_wk",
+        "h2_tyre_grip",
+        "h2_suspension_deflection",
+        "body_resonance_hz",
+    ):
+        assert d[k]["std"] > 0, k
+        assert mc[k]["value"] == d[k]["value"]
+        assert _agree(d[k], mc[k]), (k, d[k], mc[k])
+    # the plug-in H2 is the package's own h2_norms
+    from inerterlab.metrics import h2_norms
+
+    assert d["h2_body_acc_wk"]["value"] == pytest.approx(
+        h2_norms(car({"damping": 5000.0, "stiffness": 90_000.0}))["body_acc_wk"], rel=1e-12
+    )
+
+
+def test_linearised_device_car_matches_its_simulation_on_a_random_road():
+    # statistical linearisation of the friction (and flywheel) on the road it is used on
+    from inerterlab.excitation import iso8608
+    from inerterlab.identify import linearised_car, ride_metrics
+    from inerterlab.identify.propagate import _road_scale
+    from inerterlab.metrics import h2_norms_state_space
+    from inerterlab.suspension import quarter_car
+
+    car = quarter_car("device")
+    lin = linearised_car(car, road_class="C", speed=20.0)
+    assert lin.info["equivalent_damping"] > car.device.damping
+    sim = ride_metrics(car, iso8608("C", 20.0, seed=2), 30.0, linear=False)
+    n = h2_norms_state_space(lin).norms
+    s = _road_scale("C", 20.0)
+    assert n["body_acc_wk"] * s == pytest.approx(sim["rms_body_acc_wk"], rel=0.05)
+    assert n["tyre_grip"] * s == pytest.approx(sim["rms_tyre_grip"], rel=0.05)
+
+
+def test_propagate_device_car_from_a_covariance():
+    from inerterlab.excitation import drop
+    from inerterlab.identify import propagate
+    from inerterlab.suspension import quarter_car
+
+    cov = np.diag([3e4**2, 200.0**2, 10.0**2])
+    src = ([7.76e5, 8100.0, 190.0], cov, ["stiffness", "damping", "friction"])
+    out = propagate(src, quarter_car("device-afw"), drop(0.05), 3.0, method="delta")
+    for k in (
+        "rms_body_acc",
+        "rms_body_acc_wk",
+        "rms_tyre_grip",
+        "rms_deflection",
+        "h2_body_acc",
+        "body_resonance_hz",
+    ):
+        assert out[k]["ci95"][0] < out[k]["value"] < out[k]["ci95"][1], k
+    # zero covariance: zero width
+    zero = propagate((src[0], 0 * cov, src[2]), quarter_car("device"), None, method="delta")
+    assert zero["h2_body_acc"]["std"] == 0.0
+
+
+def test_propagate_refuses_a_bad_covariance():
+    from inerterlab.errors import ParameterError
+    from inerterlab.identify import propagate
+    from inerterlab.suspension import quarter_car
+
+    with pytest.raises(ParameterError, match="semi-definite"):
+        propagate(
+            ([1.0, 2.0], [[1.0, 2.0], [2.0, 1.0]], ["damping", "friction"]), quarter_car("device")
+        )
+    with pytest.raises(ParameterError, match="2 x 2"):
+        propagate(([1.0, 2.0], np.eye(3), ["damping", "friction"]), quarter_car("device"))
+
+
+# -- the car file and the CLI ----------------------------------------------------------
+CAR_TOML = """
+suspension = "device"
+friction_velocity = "1 mm/s"
+
+[car]
+sprung_mass = "370 kg"
+stiffness = "90 kN/m"
+damping = "5000 N s/m"
+
+[road]
+type = "drop"
+height = "50 mm"
+horizon = "3 s"
+
+[propagation]
+method = "delta"
+"""
+
+
+def test_car_file_reads_units(tmp_path):
+    from inerterlab.identify.carfile import load_car_file
+
+    p = tmp_path / "car.toml"
+    p.write_text(CAR_TOML)
+    cf = load_car_file(p)
+    assert cf.car.suspension == "device"
+    assert cf.car.parameters.stiffness == 90_000.0
+    assert cf.car.device.friction_velocity == pytest.approx(1e-3)
+    assert cf.excitation.height == pytest.approx(0.05)
+    assert cf.horizon == 3.0 and cf.method == "delta"
+
+
+@pytest.mark.parametrize(
+    ("change", "key"),
+    [
+        (('stiffness = "90 kN/m"', "stiffness = 90000"), "car.stiffness"),
+        (('sprung_mass = "370 kg"', 'sprung_mass = "370 lb"'), "car.sprung_mass"),
+        (('height = "50 mm"', 'heigth = "50 mm"'), "road.heigth"),
+        (('suspension = "device"', 'suspension = "afw"'), "suspension"),
+        (('method = "delta"', 'method = "exact"'), "propagation.method"),
+        (('sprung_mass = "370 kg"', 'sprung_mass = "-3 kg"'), "car.sprung_mass"),
+    ],
+)
+def test_car_file_errors_name_file_and_key(tmp_path, change, key):
+    from inerterlab.errors import DataFileError
+    from inerterlab.identify.carfile import load_car_file
+
+    p = tmp_path / "car.toml"
+    p.write_text(CAR_TOML.replace(*change))
+    with pytest.raises(DataFileError) as e:
+        load_car_file(p)
+    assert str(p) in str(e.value) and key in str(e.value)
+    assert e.value.line is not None
+
+
+def test_cli_identify_propagate(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    run = lambda *a: subprocess.run(  # noqa: E731
+        [sys.executable, "-c", "import sys; from inerterlab.cli import main; sys.exit(main())", *a],
+        capture_output=True,
+        text=True,
+    )
+    out = run(
+        "rig-simulate",
+        "--device",
+        "screw",
+        "--matrix",
+        "appendix-a2",
+        "--max-duration",
+        "0.5",
+        "--sample-rate",
+        "100",
+        "--seed",
+        "1",
+        "--out",
+        str(tmp_path / "d"),
+    )
+    assert out.returncode == 0, out.stderr
+    car = tmp_path / "car.toml"
+    car.write_text(CAR_TOML)
+    out = run(
+        "identify",
+        "--device",
+        "screw",
+        "--data",
+        str(tmp_path / "d"),
+        "--json",
+        "--propagate",
+        str(car),
+    )
+    assert out.returncode == 0, out.stderr
+    res = json.loads(out.stdout)
+    rm = res["ride_metrics"]
+    for k in (
+        "rms_body_acc",
+        "rms_body_acc_wk",
+        "rms_tyre_grip",
+        "rms_deflection",
+        "h2_body_acc",
+        "body_resonance_hz",
+    ):
+        assert rm[k]["ci95"][0] <= rm[k]["value"] <= rm[k]["ci95"][1], k
+    assert len(res["covariance"]["matrix"]) == 3
+    car.write_text(CAR_TOML.replace('"5000 N s/m"', "5000"))
+    bad = run(
+        "identify", "--device", "screw", "--data", str(tmp_path / "d"), "--propagate", str(car)
+    )
+    assert bad.returncode == 2
+    assert "car.toml" in bad.stderr and "car.damping" in bad.stderr

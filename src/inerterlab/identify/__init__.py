@@ -10,6 +10,10 @@ from .filters import velocity_from_displacement as velocity_from_displacement
 from .fit import FitResult as FitResult
 from .fit import ParameterEstimate as ParameterEstimate
 from .fit import identify as identify
+from .propagate import linearised_car as linearised_car
+from .propagate import propagate as propagate
+from .propagate import propagate_function as propagate_function
+from .propagate import ride_metrics as ride_metrics
 from .simulator import MATRICES as MATRICES
 from .simulator import TestSpec as TestSpec
 from .simulator import simulate_rig as simulate_rig
