@@ -35,6 +35,16 @@ def test_covariance_diagonal_matches_the_printed_intervals():
     corr = fit.correlation()
     assert np.allclose(np.diag(corr), 1.0)
     assert np.abs(corr[np.triu_indices(3, 1)]).max() > 0.05
+    # propagation carries each parameter's printed interval (t quantile) by default
+    from inerterlab.identify.propagate import _source
+
+    _, wide, _ = _source(fit)
+    _, raw, _ = _source(fit, widen=False)
+    assert np.allclose(raw, cov)
+    for i, name in enumerate(fit.parameter_order):
+        p = fit.parameters[name]
+        assert 1.959964 * np.sqrt(wide[i, i]) == pytest.approx(0.5 * (p.ci95[1] - p.ci95[0]))
+    assert np.allclose(wide / np.sqrt(np.outer(np.diag(wide), np.diag(wide))), corr)
     d = fit.to_dict()["covariance"]
     assert d["parameters"] == list(fit.parameter_order)
     assert np.allclose(d["matrix"], cov)
@@ -300,3 +310,46 @@ def test_cli_identify_propagate(tmp_path):
     )
     assert bad.returncode == 2
     assert "car.toml" in bad.stderr and "car.damping" in bad.stderr
+
+
+# -- Sobol indices ---------------------------------------------------------------------
+def test_sobol_reproduces_the_ishigami_indices():
+    # Ishigami, a = 7, b = 0.1, x uniform on [-pi, pi]^3: known S1 = 0.314, 0.442, 0 and
+    # ST = 0.558, 0.442, 0.244; x3 acts only through its interaction with x1
+    from inerterlab.identify.sensitivity import sobol_indices
+
+    def f(X):
+        return {
+            "y": np.sin(X[:, 0]) + 7 * np.sin(X[:, 1]) ** 2 + 0.1 * X[:, 2] ** 4 * np.sin(X[:, 0])
+        }
+
+    r = sobol_indices(f, {f"x{i}": (-np.pi, np.pi) for i in (1, 2, 3)}, n=2048, vectorized=True)
+    t = r.to_pandas().set_index("parameter")
+    assert r.runs == 2048 * 5
+    for name, s1, st in (("x1", 0.314, 0.558), ("x2", 0.442, 0.442), ("x3", 0.0, 0.244)):
+        assert abs(t.loc[name, "S1"] - s1) <= t.loc[name, "S1_conf"], (name, t.loc[name])
+        assert abs(t.loc[name, "ST"] - st) <= t.loc[name, "ST_conf"], (name, t.loc[name])
+        assert t.loc[name, "S1_conf"] < 0.08 and t.loc[name, "ST_conf"] < 0.08
+
+
+def test_ride_sensitivity_table_and_plot():
+    from matplotlib.figure import Figure
+
+    from inerterlab.excitation import drop
+    from inerterlab.identify.sensitivity import ride_sensitivity
+    from inerterlab.suspension import quarter_car
+
+    r = ride_sensitivity(quarter_car("device-afw"), drop(0.05), 2.0, n=8, seed=1)
+    t = r.to_pandas()
+    assert set(t["parameter"]) == {"stiffness", "damping", "friction", "changing_ratio"}
+    assert set(t["output"]) == {
+        "rms_body_acc",
+        "rms_body_acc_wk",
+        "rms_tyre_grip",
+        "rms_deflection",
+    }
+    assert r.bounds["damping"] == pytest.approx((8100 * 0.8, 8100 * 1.2))
+    assert r.runs == 8 * 6
+    assert np.all(np.isfinite(t[["S1", "ST"]].to_numpy()))
+    fig = r.plot(title="drop")
+    assert isinstance(fig, Figure) and len([a for a in fig.axes if a.get_visible()]) == 4

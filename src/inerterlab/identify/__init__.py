@@ -14,6 +14,8 @@ from .propagate import linearised_car as linearised_car
 from .propagate import propagate as propagate
 from .propagate import propagate_function as propagate_function
 from .propagate import ride_metrics as ride_metrics
+from .sensitivity import ride_sensitivity as ride_sensitivity
+from .sensitivity import sobol_indices as sobol_indices
 from .simulator import MATRICES as MATRICES
 from .simulator import TestSpec as TestSpec
 from .simulator import simulate_rig as simulate_rig

@@ -275,13 +275,20 @@ def ride_metrics(
 
 
 # -- the propagation itself ------------------------------------------------------------
-def _source(source):
+def _source(source, widen: bool = True):
     from .fit import FitResult
 
     if isinstance(source, FitResult):
         names = tuple(source.parameter_order)
         mean = np.array([source.parameters[n].value for n in names], dtype=float)
         cov = np.asarray(source.covariance, dtype=float)
+        if widen:
+            # each parameter's t quantile (few effective tests) carried over: the
+            # standard deviations scaled by q / 1.96, correlations kept, so that
+            # +/- 1.96 sqrt(diagonal) is the printed interval
+            q = np.array([source.parameters[n].quantile for n in names])
+            d = np.where(q > 0, q / Z975, 1.0)
+            cov = cov * np.outer(d, d)
     else:
         try:
             mean, cov, names = source
@@ -404,6 +411,7 @@ def propagate(
     linear: bool = True,
     road_class: str = "C",
     speed: float = 20.0,
+    widen: bool = True,
 ) -> dict:
     """Uncertainty of the ride metrics of a car that uses an identified device.
 
@@ -428,6 +436,12 @@ def propagate(
     linear : bool
         Also the H2 norms and body resonance of the linearised car
         (:func:`linearised_car`, on an ISO 8608 road of ``road_class`` at ``speed``).
+    widen : bool
+        For a FitResult: scale each parameter's standard deviation by its interval's
+        quantile / 1.96 (correlations kept), so that a parameter whose interval is a
+        Student-t with few degrees of freedom (a parameter carried by one or two tests)
+        passes that width on instead of the normal one. ``False`` uses the covariance
+        as estimated.
 
     Returns
     -------
@@ -445,7 +459,7 @@ def propagate(
     >>> r["ci95"][0] < r["value"] < r["ci95"][1]
     True
     """
-    mean, cov, names = _source(source)
+    mean, cov, names = _source(source, widen)
     factory = car if callable(car) and not hasattr(car, "suspension") else None
 
     def f(theta):
