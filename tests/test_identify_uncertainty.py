@@ -353,3 +353,53 @@ def test_ride_sensitivity_table_and_plot():
     assert np.all(np.isfinite(t[["S1", "ST"]].to_numpy()))
     fig = r.plot(title="drop")
     assert isinstance(fig, Figure) and len([a for a in fig.axes if a.get_visible()]) == 4
+
+
+# -- D-optimal campaign design ---------------------------------------------------------
+def _design_candidates():
+    from inerterlab.identify import TestSpec
+
+    rows = [("sine", f, a) for f in (0.5, 1.0, 2.0, 4.0) for a in (0.005, 0.02)]
+    rows += [("triangle", 0.5, 0.02), ("triangle", 1.0, 0.01)]
+    return [
+        TestSpec(
+            number=i, signal=s, frequency=f, amplitude=a, duration=2.0, purpose="identification"
+        )
+        for i, (s, f, a) in enumerate(rows)
+    ]
+
+
+def test_d_optimal_design_finds_the_best_subset_and_predicts_the_fit():
+    import itertools
+
+    from inerterlab.identify import simulate_rig
+    from inerterlab.identify.design import design_campaign
+
+    dev = device_preset("screw")
+    cands = _design_candidates()
+    d = design_campaign(dev, 4, matrix=cands, sample_rate=200, noise=5.0)
+    info = d.information
+    assert info.shape == (10, 3, 3)
+
+    def logdet(idx):
+        return np.linalg.slogdet(info[list(idx)].sum(axis=0))[1]
+
+    best = max(itertools.combinations(range(10), 4), key=logdet)
+    assert logdet(d.indices) == pytest.approx(logdet(best), abs=1e-9)
+    assert logdet(d.indices) > logdet(range(4)) + 1.0  # not just the first tests
+    tab = d.to_pandas()
+    assert np.all(tab["ratio"] >= 1.0) and d.efficiency() < 1.0
+    # the predicted standard errors are those of the fit on the chosen tests
+    data = simulate_rig(
+        dev,
+        matrix=d.chosen,
+        sample_rate=200,
+        noise=5.0,
+        displacement_noise=0.0,
+        velocity_noise=0.0,
+        spikes=False,
+        seed=5,
+    )
+    fit = identify(data, dev, loss="linear")
+    for name, se in zip(d.names, d.standard_errors(), strict=True):
+        assert 0.7 < fit.parameters[name].std_error / se < 1.4, (name, fit.parameters[name], se)

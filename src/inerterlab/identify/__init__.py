@@ -5,6 +5,8 @@ from .data import RigTest as RigTest
 from .data import load_rig_data as load_rig_data
 from .data import read_rig_test as read_rig_test
 from .data import write_rig_data as write_rig_data
+from .design import CampaignDesign as CampaignDesign
+from .design import design_campaign as design_campaign
 from .filters import displacement_from_velocity as displacement_from_velocity
 from .filters import velocity_from_displacement as velocity_from_displacement
 from .fit import FitResult as FitResult
