@@ -31,7 +31,7 @@ from ..errors import ParameterError, check_positive
 from .fit import PARAMETERS, _prepare, _raw_jacobian, _residuals
 from .simulator import TestSpec, simulate_rig, test_matrix
 
-__all__ = ["CampaignDesign", "test_information", "design_campaign"]
+__all__ = ["CampaignDesign", "campaign_information", "design_campaign"]
 
 
 @dataclasses.dataclass(frozen=True, eq=False)
@@ -114,7 +114,7 @@ class CampaignDesign:
         )
 
 
-def test_information(
+def campaign_information(
     device,
     tests: list,
     *,
@@ -218,7 +218,7 @@ def design_campaign(
         As for the rig and the fit; ``max_duration`` shortens every candidate (quick
         designs; the information then is that of the shortened tests).
     information : ndarray, optional
-        Precomputed :func:`test_information` of the candidates.
+        Precomputed :func:`campaign_information` of the candidates.
     """
     cands = test_matrix(matrix) if isinstance(matrix, str) else list(matrix)
     if not cands or not all(isinstance(t, TestSpec) for t in cands):
@@ -230,7 +230,7 @@ def design_campaign(
             "budget", budget, f"between {len(names)} (free parameters) and {len(cands)} tests"
         )
     if information is None:
-        information = test_information(
+        information = campaign_information(
             device,
             cands,
             noise=noise,
