@@ -144,6 +144,7 @@ def test_linear_car_h2_delta_and_monte_carlo_agree():
     )
 
 
+@pytest.mark.slow
 def test_linearised_device_car_matches_its_simulation_on_a_random_road():
     # statistical linearisation of the friction (and flywheel) on the road it is used on
     from inerterlab.excitation import iso8608

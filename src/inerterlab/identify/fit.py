@@ -216,7 +216,9 @@ class FitResult:
             "noise_estimate": self.noise_estimate,
             "robust_scale": self.f_scale,
             "reversal_window": self.reversal_window,
-            "covariance": {
+            "covariance": None
+            if self.covariance is None
+            else {
                 "parameters": list(self.parameter_order),
                 "matrix": np.asarray(self.covariance, dtype=float).tolist(),
             },
