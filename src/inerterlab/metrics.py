@@ -38,6 +38,7 @@ __all__ = [
     "rms",
     "vibration_dose_value",
     "crest_factor",
+    "h2_norms_state_space",
     "series_metrics",
     "H2Norms",
     "h2_norms",
@@ -65,6 +66,7 @@ METRIC_KEYS = (
     "rms_body_acc_wk",
     "vdv",
     "crest_factor",
+    "h2_norms_state_space",
     "peak_body_acc",
     "peak_body_acc_wk",
     "peak_deflection",
@@ -338,8 +340,6 @@ def h2_norms(model) -> H2Norms:
     >>> round(n["suspension_deflection"] ** 2, 6) == round((250 + 35) / (2 * 5000), 6)
     True
     """
-    from scipy.linalg import solve_continuous_lyapunov
-
     from .errors import ConvergenceError
     from .suspension.linear import linear_quarter_car
 
@@ -351,6 +351,19 @@ def h2_norms(model) -> H2Norms:
             f"H2 norms: the mass matrix is singular to machine precision ({exc}); the "
             "inertance and the masses are too far apart in scale"
         ) from None
+    return h2_norms_state_space(lin, label=model.suspension)
+
+
+def h2_norms_state_space(lin, *, label: str = "model") -> H2Norms:
+    """H2 norms of any stable linear quarter car given as x' = A x + B w with outputs
+    ``C[name] x + D[name] w`` for the names of :data:`H2_OUTPUTS` but ``body_acc_wk``
+    (which is formed here with the Wk filter); ``lin`` is a
+    :class:`~inerterlab.suspension.linear.LinearQuarterCar` or any object with ``A``,
+    ``B``, ``C``, ``D``. ``label`` names the model in errors."""
+    from scipy.linalg import solve_continuous_lyapunov
+
+    from .errors import ConvergenceError
+
     A, B = lin.A, lin.B
     # augment with the Wk filter driven by the body acceleration
     wa, wb, wc, _ = wk_state_space()
@@ -386,6 +399,6 @@ def h2_norms(model) -> H2Norms:
             continue
         val = float(c @ P @ c)
         if val < 0:
-            raise ParameterError("model", model.suspension, "an asymptotically stable quarter car")
+            raise ParameterError("model", label, "an asymptotically stable quarter car")
         norms[k] = math.sqrt(val)
     return H2Norms(norms=norms, infinite=infinite)

@@ -151,6 +151,13 @@ def identify_command(
         Path | None, typer.Option(help="Write plots and tables to this directory.")
     ] = None,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    propagate: Annotated[
+        Path | None,
+        typer.Option(
+            help="Car file (TOML): carry the parameter covariance to the ride metrics "
+            "of this quarter car with the identified device."
+        ),
+    ] = None,
 ) -> None:
     """Identify stiffness [N/m], damping [N s/m] and friction [N] from rig data.
 
@@ -164,6 +171,11 @@ def identify_command(
     if bootstrap < 0:
         raise ParameterError("bootstrap", bootstrap, "an integer >= 0")
     dev = device_preset(device, flywheel_preset=flywheel, law=law)
+    car_file = None
+    if propagate is not None:
+        from ..identify.carfile import load_car_file
+
+        car_file = load_car_file(propagate)  # a bad file fails before the fit
     ds = load_rig_data(data)
     _check_fit_size(ds, bootstrap)
     fit = identify(
@@ -176,6 +188,31 @@ def identify_command(
         reversal_window=parse_float("reversal-window", reversal_window),
     )
     out = fit.to_dict()
+    if car_file is not None:
+        from ..identify import propagate as propagate_fit
+
+        ride = propagate_fit(
+            fit,
+            car_file.car,
+            car_file.excitation,
+            car_file.horizon,
+            method=car_file.method,
+            n=car_file.draws,
+            seed=car_file.seed,
+            linear=car_file.linear,
+            road_class=car_file.road_class,
+            speed=car_file.speed,
+        )
+        out["ride_metrics"] = {
+            k: {
+                "value": v["value"],
+                "ci95": None if v["ci95"] is None else list(v["ci95"]),
+                "std": v["std"],
+                "unit": v["unit"],
+            }
+            for k, v in ride.items()
+        }
+        out["ride_metrics_method"] = car_file.method
     if report is not None:
         report.mkdir(parents=True, exist_ok=True)
         atomic_write_text(report / "parameters.csv", fit.to_pandas().to_csv(index=False))
@@ -193,6 +230,12 @@ def identify_command(
         emit_json(out)
         return
     _, rows = fit._summary()
+    for k, v in out.get("ride_metrics", {}).items():
+        ci = v["ci95"]
+        text = "not finite"
+        if ci is not None:
+            text = f"{v['value']:.6g}  (95 %: {ci[0]:.6g} .. {ci[1]:.6g})"
+        rows.append((k, text))
     print_table(f"identify: {device}, {method} method, {loss} loss", rows)
 
 

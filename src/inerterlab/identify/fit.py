@@ -89,6 +89,7 @@ class ParameterEstimate:
     std_error: float = 0.0
     ci95_bootstrap: tuple[float, float] | None = None
     interval: str = ""
+    quantile: float = 0.0
 
     def __str__(self) -> str:
         """Value, unit and interval with enough digits to tell them apart."""
@@ -149,6 +150,16 @@ class FitResult:
         What each stage fitted (the thesis procedure has two for the hydraulic device).
     bootstrap : ndarray or None
         Parameter values of the bootstrap refits (rows) in ``parameters`` order.
+    covariance : ndarray
+        Covariance [unit_i unit_j] of the estimates in ``parameter_order``, from the
+        same sandwich or jackknife the intervals use: its diagonal is ``std_error``
+        squared and each ``ci95`` is value +/- ``quantile`` x sqrt(diagonal). Rows and
+        columns of fixed parameters are zero. The thesis method fits the hydraulic
+        device in two stages on disjoint tests (square-velocity plateaus, then sines)
+        and the covariance between the stages is taken as zero; the stiffness stage
+        treats the plateau estimates as known, as its interval does.
+    parameter_order : tuple of str
+        Row and column order of ``covariance`` (stiffness, damping, friction).
     """
 
     parameters: dict
@@ -163,6 +174,18 @@ class FitResult:
     nfev: int = 0
     f_scale: float = 0.0
     reversal_window: float = 0.0
+    covariance: np.ndarray | None = None
+    parameter_order: tuple = PARAMETERS
+
+    def correlation(self) -> np.ndarray:
+        """Correlation matrix of the free parameters' estimates (``parameter_order``;
+        rows and columns of fixed parameters are zero)."""
+        cov = np.asarray(self.covariance, dtype=float)
+        s = np.sqrt(np.diag(cov))
+        ok = s > 0
+        out = np.zeros_like(cov)
+        out[np.ix_(ok, ok)] = cov[np.ix_(ok, ok)] / np.outer(s[ok], s[ok])
+        return out
 
     def _summary(self) -> tuple[str, list[tuple[str, str]]]:
         from .._display import fmt
@@ -258,6 +281,12 @@ class FitResult:
             "noise_estimate": self.noise_estimate,
             "robust_scale": self.f_scale,
             "reversal_window": self.reversal_window,
+            "covariance": None
+            if self.covariance is None
+            else {
+                "parameters": list(self.parameter_order),
+                "matrix": np.asarray(self.covariance, dtype=float).tolist(),
+            },
         }
 
     def to_pandas(self):
@@ -565,6 +594,7 @@ class _Spread:
     se: np.ndarray
     quantile: np.ndarray
     interval: tuple
+    cov: np.ndarray
 
 
 def _satterthwaite_dof(B, Hg, Ng, H, N) -> np.ndarray:
@@ -646,7 +676,7 @@ def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
         how = tuple(
             f"jackknife (CR3) sandwich over {groups} tests, t({v:.1f}) (Satterthwaite)" for v in dof
         )
-        return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), np.asarray(q), how)
+        return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), np.asarray(q), how, cov)
     M = G.T @ G
     if sizes is not None:
         for i, j in zip(bounds[:-1], bounds[1:], strict=True):
@@ -660,7 +690,7 @@ def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
         how = "sandwich"
     cov = Hi @ M @ Hi
     q = np.full(p, 1.959963984540054)
-    return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, (how,) * p)
+    return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, (how,) * p, cov)
 
 
 def _raw_jacobian(fun, x, f0, lb, ub, jac=None) -> np.ndarray:
@@ -907,7 +937,9 @@ def identify(
                 dev, squares, loss=loss, f_scale=f_scale, settle_time=settle_time
             )
             dev = dataclasses.replace(dev, **{n: getattr(dev2, n) for n in first})
-            spreads.update({n: (spread, j) for j, n in enumerate(("damping", "friction"))})
+            spreads.update(
+                {n: (spread, j) for j, n in enumerate(("damping", "friction")) if n in first}
+            )
             stages.append(f"damping, friction from {n_used} settled plateau samples (5.1)")
         if "stiffness" not in fixed:
             dev, sol, spread, f_scale, n_ev = _fit_stage(
@@ -937,13 +969,10 @@ def identify(
             bci = (float(np.percentile(boot[:, j], 2.5)), float(np.percentile(boot[:, j], 97.5)))
         if n in spreads:
             spread, k = spreads[n]
-            s, half, how = (
-                float(spread.se[k]),
-                float(spread.quantile[k] * spread.se[k]),
-                spread.interval[k],
-            )
+            s, q, how = float(spread.se[k]), float(spread.quantile[k]), spread.interval[k]
+            half = q * s
         else:
-            s, half, how = 0.0, 0.0, "fixed"
+            s, q, half, how = 0.0, 0.0, 0.0, "fixed"
         params[n] = ParameterEstimate(
             name=n,
             value=val,
@@ -953,7 +982,14 @@ def identify(
             std_error=s,
             ci95_bootstrap=bci,
             interval=how,
+            quantile=q,
         )
+    cov = np.zeros((len(PARAMETERS), len(PARAMETERS)))
+    for a, na in enumerate(PARAMETERS):
+        for b, nb in enumerate(PARAMETERS):
+            if na in spreads and nb in spreads and spreads[na][0] is spreads[nb][0]:
+                sp = spreads[na][0]
+                cov[a, b] = sp.cov[spreads[na][1], spreads[nb][1]]
     tests = []
     for t in dataset.tests:
         p = preps[id(t)]
@@ -987,4 +1023,6 @@ def identify(
         nfev=nfev,
         f_scale=float(f_scale),
         reversal_window=float(reversal_window),
+        covariance=cov,
+        parameter_order=PARAMETERS,
     )

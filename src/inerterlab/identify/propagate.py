@@ -1,0 +1,475 @@
+"""Carry the uncertainty of identified device parameters to ride metrics: :func:`propagate`.
+
+A fit gives the device parameters with a covariance (:attr:`FitResult.covariance`). A
+car built with the identified device then has ride metrics that are uncertain too.
+Two ways to carry the parameter covariance Sigma to a metric g(theta):
+
+``delta``
+    First order: var g = grad^T Sigma grad, the gradient by central differences with
+    the step of each parameter ``step`` times its standard error (so the step follows
+    the size of the uncertainty, not of the value), interval value +/- 1.96 std.
+``monte-carlo``
+    Draws of theta from the multivariate normal N(theta_hat, Sigma) (seeded), the
+    metric of each draw, interval between the 2.5 and 97.5 percentiles, std the
+    sample standard deviation. Draws with a parameter <= 0 whose estimate is > 0 are
+    drawn again (the device needs positive damping and stiffness).
+
+Both report ``value`` = the metric at the estimate. They agree when the metric is close
+to linear over the spread of the parameters; the Monte Carlo interval also shows a
+skew where it is not.
+
+The metrics (:func:`ride_metrics`): the simulated RMS body acceleration, Wk-weighted
+body acceleration, tyre grip index and suspension deflection over an excitation
+(:func:`inerterlab.simulate.simulate_metrics`), and, without simulation, H2 norms of a
+linearised car from unit white road velocity and the body resonance frequency of its
+frequency response (:func:`linearised_car`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from collections.abc import Callable
+
+import numpy as np
+
+from ..errors import ParameterError, check_choice, check_positive
+
+__all__ = [
+    "propagate",
+    "propagate_function",
+    "ride_metrics",
+    "linearised_car",
+    "device_car",
+    "SIMULATED_METRICS",
+    "LINEAR_METRICS",
+]
+
+SIMULATED_METRICS = ("rms_body_acc", "rms_body_acc_wk", "rms_tyre_grip", "rms_deflection")
+LINEAR_METRICS = (
+    "h2_body_acc",
+    "h2_body_acc_wk",
+    "h2_tyre_grip",
+    "h2_suspension_deflection",
+    "body_resonance_hz",
+)
+UNITS = {
+    "rms_body_acc": "m/s^2",
+    "rms_body_acc_wk": "m/s^2",
+    "rms_tyre_grip": "-",
+    "rms_deflection": "m",
+    "h2_body_acc": "(m/s^2) per unit white road velocity",
+    "h2_body_acc_wk": "(m/s^2) per unit white road velocity",
+    "h2_tyre_grip": "(-) per unit white road velocity",
+    "h2_suspension_deflection": "(m) per unit white road velocity",
+    "body_resonance_hz": "Hz",
+}
+DEVICE_FIELDS = ("stiffness", "damping", "friction")
+Z975 = 1.959963984540054
+
+
+# -- cars with the identified device ---------------------------------------------------
+def device_car(car, params: dict):
+    """``car`` (suspension ``device`` or ``device-afw``) with its device's ``stiffness``
+    (k_h), ``damping`` (b_ah) and ``friction`` (F_fh) replaced by ``params``, and, for
+    ``device-afw``, the flywheel's ``changing_ratio`` if given. Other keys are an error."""
+    if car.suspension not in ("device", "device-afw"):
+        raise ParameterError(
+            "car", car.suspension, "a 'device' or 'device-afw' quarter car (or a car factory)"
+        )
+    dev = {k: float(v) for k, v in params.items() if k in DEVICE_FIELDS}
+    other = set(params) - set(DEVICE_FIELDS) - {"changing_ratio"}
+    if other:
+        raise ParameterError("parameters", sorted(other), f"names among {DEVICE_FIELDS}")
+    out = dataclasses.replace(car, device=dataclasses.replace(car.device, **dev))
+    if "changing_ratio" in params:
+        if car.suspension != "device-afw":
+            raise ParameterError("changing_ratio", params["changing_ratio"], "a device-afw car")
+        out = dataclasses.replace(
+            out, flywheel=car.flywheel.with_changing_ratio(float(params["changing_ratio"]))
+        )
+    return out
+
+
+@dataclasses.dataclass(frozen=True)
+class _Linear:
+    A: np.ndarray
+    B: np.ndarray
+    C: dict
+    D: dict
+    info: dict
+
+
+def _road_scale(road_class: str, speed: float) -> float:
+    from ..excitation import ISO8608_CLASSES, ISO8608_N0
+
+    check_choice("road_class", road_class, tuple(ISO8608_CLASSES))
+    v = check_positive("speed", speed, "m/s")
+    return math.pi * ISO8608_N0 * math.sqrt(2.0 * ISO8608_CLASSES[road_class] * v)
+
+
+def _device_state_space(car, c_eq: float, m_e: float | None) -> _Linear:
+    q = car.parameters
+    kt, ct, k, c, kh = (
+        q.tyre_stiffness,
+        q.tyre_damping,
+        q.stiffness,
+        q.damping,
+        car.device.stiffness,
+    )
+    M, Mt = q.sprung_mass, q.unsprung_mass
+    inerter = m_e is not None
+    n = 6 if inerter else 5
+    # states z1 = X2 - X1, z2 = X3 - X2, V2, V3, x_k (series spring), [u branch velocity]
+    A = np.zeros((n, n))
+    B = np.zeros(n)
+    A[0, 2], B[0] = 1.0, -1.0
+    A[1, 2], A[1, 3] = -1.0, 1.0
+    # unsprung: -K_t z1 - C_t (V2 - w) + K z2 + C (V3 - V2) + k_h x_k
+    A[2, :5] = np.array([-kt, k, -ct - c, c, kh]) / Mt
+    B[2] = ct / Mt
+    A[3, :5] = np.array([0.0, -k, c, -c, -kh]) / M
+    if inerter:
+        A[4, 2], A[4, 3], A[4, 5] = -1.0, 1.0, -1.0  # x_k' = v - u
+        A[5, 4], A[5, 5] = kh / m_e, -c_eq / m_e  # m_e u' = k_h x_k - c_eq u
+        cu = np.zeros(n)
+        cu[5] = 1.0
+    else:
+        A[4, 2], A[4, 3], A[4, 4] = -1.0, 1.0, -kh / c_eq  # x_k' = v - k_h x_k / c_eq
+        cu = np.zeros(n)
+        cu[4] = kh / c_eq
+    grip = kt / q.static_tyre_load
+    e = np.eye(n)
+    C = {
+        "body_acc": A[3].copy(),
+        "tyre_deflection": e[0],
+        "suspension_deflection": e[1],
+        "tyre_grip": grip * e[0],
+        "branch_velocity": cu,
+    }
+    D = {k_: 0.0 for k_ in C}
+    return _Linear(A=A, B=B, C=C, D=D, info={})
+
+
+def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
+    """Linear state space of a quarter car, with the real device linearised.
+
+    ``traditional`` and ``cfw`` are linear already
+    (:func:`~inerterlab.suspension.linear.linear_quarter_car`). For ``device`` and
+    ``device-afw`` the series spring k_h stays as it is; the branch behind it becomes
+    linear by statistical linearisation on an ISO 8608 road of ``road_class`` at
+    ``speed`` [m/s] (the branch velocity u taken as Gaussian with standard deviation
+    sigma_u):
+
+    * friction F_fh tanh(u / v_eps) -> equivalent damping F_fh sqrt(2/pi) / sigma_u,
+      added to b_ah (the least-squares linear fit of F_fh sgn(u) for Gaussian u; the
+      smoothing v_eps is taken as far below sigma_u);
+    * ``device-afw``: the speed-dependent inertance -> the constant r^2 I(r E|u|),
+      E|u| = sqrt(2/pi) sigma_u (the flywheel at its mean speed; the force laws'
+      extra terms are dropped).
+
+    sigma_u follows from the linear car itself, so the equivalent values are iterated
+    to a fixed point. ``info`` of the result holds them (``equivalent_damping`` [N s/m],
+    ``inertance`` [kg], ``sigma_branch_velocity`` [m/s]).
+    """
+    if car.is_linear:
+        from ..suspension.linear import linear_quarter_car
+
+        lin = linear_quarter_car(car)
+        return _Linear(A=lin.A, B=lin.B, C=dict(lin.C), D=dict(lin.D), info={})
+    if car.suspension not in ("device", "device-afw") or car.tyre_lift_off:
+        raise ParameterError(
+            "car", car.suspension, "traditional, cfw, device or device-afw without tyre lift-off"
+        )
+    from scipy.linalg import solve_continuous_lyapunov
+
+    scale = _road_scale(road_class, speed)
+    b, ff = car.device.damping, car.device.friction
+    inerter = car.suspension == "device-afw"
+    r = car.transmission.ratio if inerter else 0.0
+    m_e = car.inertance if inerter else None
+    c_eq = b
+    sigma = math.nan
+    for _ in range(100):
+        lin = _device_state_space(car, c_eq, m_e)
+        P = solve_continuous_lyapunov(lin.A, -np.outer(lin.B, lin.B))
+        cu = lin.C["branch_velocity"]
+        sigma = scale * math.sqrt(max(float(cu @ P @ cu), 0.0))
+        if sigma <= 0:
+            break
+        c_new = b + ff * math.sqrt(2.0 / math.pi) / sigma
+        m_new = (
+            r * r * float(car.flywheel.inertia(r * sigma * math.sqrt(2.0 / math.pi)))
+            if inerter
+            else None
+        )
+        done = abs(c_new - c_eq) <= 1e-12 * c_new and (
+            not inerter or abs(m_new - m_e) <= 1e-12 * m_new
+        )
+        c_eq, m_e = c_new, m_new
+        if done:
+            break
+    lin = _device_state_space(car, c_eq, m_e)
+    lin.info.update(equivalent_damping=c_eq, inertance=m_e or 0.0, sigma_branch_velocity=sigma)
+    return lin
+
+
+def _body_resonance(lin) -> float:
+    """Frequency [Hz] of the peak of |X3 / X1| (body over road displacement) in
+    0.2-5 Hz, or NaN if the peak is at an edge."""
+    from scipy.optimize import minimize_scalar
+
+    n = lin.A.shape[0]
+    c = np.zeros(n)
+    c[0] = c[1] = 1.0  # X3 - X1 = z1 + z2
+    eye = np.eye(n)
+
+    def gain(f):
+        s = 2j * math.pi * f
+        return abs(1.0 + s * (c @ np.linalg.solve(s * eye - lin.A, lin.B)))
+
+    grid = np.arange(0.2, 5.0001, 0.02)
+    g = np.array([gain(f) for f in grid])
+    i = int(np.argmax(g))
+    if i == 0 or i == grid.size - 1:
+        return math.nan
+    res = minimize_scalar(
+        lambda f: -gain(f),
+        bounds=(grid[i - 1], grid[i + 1]),
+        method="bounded",
+        options={"xatol": 1e-7},
+    )
+    return float(res.x)
+
+
+def ride_metrics(
+    car,
+    excitation=None,
+    horizon: float = 10.0,
+    *,
+    linear: bool = True,
+    road_class: str = "C",
+    speed: float = 20.0,
+) -> dict:
+    """Ride metrics of one car: the :data:`SIMULATED_METRICS` over ``excitation`` (if
+    given; ``None`` where not finite) and, with ``linear``, the :data:`LINEAR_METRICS`
+    of :func:`linearised_car`."""
+    out = {}
+    if excitation is not None:
+        from ..simulate import simulate_metrics
+
+        m = simulate_metrics(car, excitation, horizon)
+        for k in SIMULATED_METRICS:
+            out[k] = m.get(k)
+    if linear:
+        from ..metrics import h2_norms_state_space
+
+        lin = linearised_car(car, road_class=road_class, speed=speed)
+        norms = h2_norms_state_space(lin, label=car.suspension).norms
+        out["h2_body_acc"] = norms["body_acc"]
+        out["h2_body_acc_wk"] = norms["body_acc_wk"]
+        out["h2_tyre_grip"] = norms["tyre_grip"]
+        out["h2_suspension_deflection"] = norms["suspension_deflection"]
+        out["body_resonance_hz"] = _body_resonance(lin)
+    return out
+
+
+# -- the propagation itself ------------------------------------------------------------
+def _source(source, widen: bool = True):
+    from .fit import FitResult
+
+    if isinstance(source, FitResult):
+        names = tuple(source.parameter_order)
+        mean = np.array([source.parameters[n].value for n in names], dtype=float)
+        cov = np.asarray(source.covariance, dtype=float)
+        if widen:
+            # each parameter's t quantile (few effective tests) carried over: the
+            # standard deviations scaled by q / 1.96, correlations kept, so that
+            # +/- 1.96 sqrt(diagonal) is the printed interval
+            q = np.array([source.parameters[n].quantile for n in names])
+            d = np.where(q > 0, q / Z975, 1.0)
+            cov = cov * np.outer(d, d)
+    else:
+        try:
+            mean, cov, names = source
+        except (TypeError, ValueError):
+            raise ParameterError(
+                "source", type(source).__name__, "a FitResult or a (mean, covariance, names) tuple"
+            ) from None
+        mean = np.atleast_1d(np.asarray(mean, dtype=float))
+        cov = np.atleast_2d(np.asarray(cov, dtype=float))
+        names = tuple(names)
+    p = mean.size
+    if cov.shape != (p, p) or len(names) != p:
+        raise ParameterError(
+            "covariance", cov.shape, f"a {p} x {p} matrix and {p} names for {p} parameters"
+        )
+    if not (np.all(np.isfinite(mean)) and np.all(np.isfinite(cov))):
+        raise ParameterError("covariance", "not finite", "finite mean and covariance")
+    if not np.allclose(cov, cov.T, rtol=1e-8, atol=0.0):
+        raise ParameterError("covariance", "not symmetric", "a symmetric matrix")
+    if np.linalg.eigvalsh(cov).min() < -1e-9 * max(float(np.abs(cov).max()), 1e-300):
+        raise ParameterError("covariance", "not positive semi-definite", "a covariance matrix")
+    return mean, 0.5 * (cov + cov.T), names
+
+
+def _as_float(v) -> float:
+    return math.nan if v is None else float(v)
+
+
+def propagate_function(
+    f: Callable[[np.ndarray], dict],
+    mean,
+    cov,
+    *,
+    method: str = "delta",
+    n: int = 200,
+    seed: int = 0,
+    step: float = 0.5,
+) -> dict:
+    """Propagate N(mean, cov) through ``f`` (parameter vector -> {metric: float}).
+
+    Returns ``{metric: {"value", "ci95", "std"}}`` (plus ``"mean"`` and ``"draws"`` for
+    Monte Carlo); a metric that is not finite at the estimate or at any evaluation has
+    value, interval and std ``None``. Parameters with zero variance are not perturbed.
+    See the module docstring for the two methods.
+    """
+    check_choice("method", method, ("delta", "monte-carlo"))
+    mean = np.asarray(mean, dtype=float)
+    cov = np.asarray(cov, dtype=float)
+    se = np.sqrt(np.maximum(np.diag(cov), 0.0))
+    free = np.nonzero(se > 0)[0]
+    f0 = {k: _as_float(v) for k, v in f(mean.copy()).items()}
+    keys = list(f0)
+    out = {}
+    if method == "delta":
+        check_positive("step", step)
+        grads = np.zeros((len(keys), free.size))
+        for j, k in enumerate(free):
+            h = step * se[k]
+            up, dn = mean.copy(), mean.copy()
+            up[k] += h
+            dn[k] -= h
+            fp, fm = f(up), f(dn)
+            grads[:, j] = [(_as_float(fp[m]) - _as_float(fm[m])) / (2.0 * h) for m in keys]
+        S = cov[np.ix_(free, free)]
+        for i, m in enumerate(keys):
+            g = grads[i]
+            if not (math.isfinite(f0[m]) and np.all(np.isfinite(g))):
+                out[m] = {"value": None, "ci95": None, "std": None}
+                continue
+            s = math.sqrt(max(float(g @ S @ g), 0.0))
+            out[m] = {"value": f0[m], "ci95": (f0[m] - Z975 * s, f0[m] + Z975 * s), "std": s}
+        return out
+    n = int(n)
+    if n < 2:
+        raise ParameterError("n", n, "at least 2 Monte Carlo draws")
+    rng = np.random.default_rng(seed)
+    S = cov[np.ix_(free, free)]
+    positive = mean[free] > 0
+    rows = np.empty((0, free.size))
+    for _ in range(100):
+        d = rng.multivariate_normal(mean[free], S, size=n, method="eigh")
+        d = d[np.all((d > 0) | ~positive, axis=1)]
+        rows = np.vstack([rows, d])[:n]
+        if rows.shape[0] == n:
+            break
+    else:
+        raise ParameterError("covariance", "too wide", "draws with positive parameters")
+    vals = np.empty((n, len(keys)))
+    for i, row in enumerate(rows):
+        th = mean.copy()
+        th[free] = row
+        r = f(th)
+        vals[i] = [_as_float(r[m]) for m in keys]
+    for i, m in enumerate(keys):
+        v = vals[:, i]
+        if not (math.isfinite(f0[m]) and np.all(np.isfinite(v))):
+            out[m] = {"value": None, "ci95": None, "std": None}
+            continue
+        lo, hi = np.percentile(v, [2.5, 97.5])
+        out[m] = {
+            "value": f0[m],
+            "ci95": (float(lo), float(hi)),
+            "std": float(v.std(ddof=1)),
+            "mean": float(v.mean()),
+            "draws": n,
+        }
+    return out
+
+
+def propagate(
+    source,
+    car,
+    excitation=None,
+    horizon: float = 10.0,
+    *,
+    method: str = "delta",
+    n: int = 200,
+    seed: int = 0,
+    step: float = 0.5,
+    linear: bool = True,
+    road_class: str = "C",
+    speed: float = 20.0,
+    widen: bool = True,
+) -> dict:
+    """Uncertainty of the ride metrics of a car that uses an identified device.
+
+    Parameters
+    ----------
+    source : FitResult or (mean, covariance, names)
+        The estimates and their covariance (``FitResult.covariance`` in
+        ``FitResult.parameter_order``).
+    car : QuarterCar or callable
+        A ``device`` or ``device-afw`` quarter car whose device's stiffness (k_h),
+        damping (b_ah) and friction (F_fh) are replaced by the parameters
+        (:func:`device_car`; a ``changing_ratio`` parameter sets the flywheel's), or a
+        factory ``car(params: dict) -> QuarterCar`` for anything else.
+    excitation, horizon
+        Road and length [s] of the simulation (:func:`inerterlab.simulate.simulate_metrics`);
+        ``None``: linear metrics only. Use a drop, sine or ISO 8608 road: across a
+        rectangular bump some RMS values are not finite.
+    method : {"delta", "monte-carlo"}
+    n, seed : Monte Carlo draws and seed.
+    step : float
+        Delta method: central-difference step in standard errors.
+    linear : bool
+        Also the H2 norms and body resonance of the linearised car
+        (:func:`linearised_car`, on an ISO 8608 road of ``road_class`` at ``speed``).
+    widen : bool
+        For a FitResult: scale each parameter's standard deviation by its interval's
+        quantile / 1.96 (correlations kept), so that a parameter whose interval is a
+        Student-t with few degrees of freedom (a parameter carried by one or two tests)
+        passes that width on instead of the normal one. ``False`` uses the covariance
+        as estimated.
+
+    Returns
+    -------
+    dict
+        ``{metric: {"value", "ci95", "std", "unit"}}``, metrics of
+        :data:`SIMULATED_METRICS` (with an excitation) and :data:`LINEAR_METRICS`.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from inerterlab.suspension import quarter_car
+    >>> out = propagate(([8100.0, 190.0], np.diag([50.0**2, 4.0**2]), ["damping", "friction"]),
+    ...                 quarter_car("device"))
+    >>> r = out["body_resonance_hz"]
+    >>> r["ci95"][0] < r["value"] < r["ci95"][1]
+    True
+    """
+    mean, cov, names = _source(source, widen)
+    factory = car if callable(car) and not hasattr(car, "suspension") else None
+
+    def f(theta):
+        params = dict(zip(names, (float(x) for x in theta), strict=True))
+        c = factory(params) if factory is not None else device_car(car, params)
+        return ride_metrics(
+            c, excitation, horizon, linear=linear, road_class=road_class, speed=speed
+        )
+
+    out = propagate_function(f, mean, cov, method=method, n=n, seed=seed, step=step)
+    for k, v in out.items():
+        v["unit"] = UNITS.get(k, "")
+    return out

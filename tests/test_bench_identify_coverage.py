@@ -1,0 +1,50 @@
+"""The coverage benchmark's machinery on a tiny run (not its statistics)."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_identify_coverage.py"
+
+
+@pytest.mark.slow
+def test_coverage_benchmark_runs_caches_and_resumes(tmp_path):
+    out = tmp_path / "cov"
+    cmd = [
+        sys.executable,
+        str(BENCH),
+        "--campaigns",
+        "2",
+        "--devices",
+        "screw",
+        "--out",
+        str(out),
+        "--max-duration",
+        "0.5",
+        "--sample-rate",
+        "100",
+    ]
+    first = subprocess.run(cmd, capture_output=True, text=True)
+    assert first.returncode == 0, first.stderr
+    assert "2 to run" in first.stdout
+    lines = [ln.split() for ln in first.stdout.splitlines() if ln.startswith("screw ")]
+    assert [ln[1] for ln in lines[:3]] == ["stiffness", "damping", "friction"]
+    for ln in lines[:3]:
+        assert ln[2] == "2" and 0.0 <= float(ln[3]) <= 1.0
+    files = sorted((out / "screw").glob("seed_*.json"))
+    assert [f.name for f in files] == ["seed_0001.json", "seed_0002.json"]
+    rec = json.loads(files[0].read_text())
+    assert rec["stiffness"]["ci95"][0] <= rec["stiffness"]["value"] <= rec["stiffness"]["ci95"][1]
+    # resumed: one result removed, only that one is computed again, same summary
+    files[1].unlink()
+    second = subprocess.run(cmd, capture_output=True, text=True)
+    assert second.returncode == 0, second.stderr
+    assert "1 cached, 1 to run" in second.stdout
+    summary = lambda s: [ln for ln in s.splitlines() if ln.startswith("screw ")][:3]  # noqa: E731
+    assert summary(second.stdout) == summary(first.stdout)
+    # other settings into the same folder are refused
+    bad = subprocess.run(cmd[:-1] + ["200"], capture_output=True, text=True)
+    assert bad.returncode == 2 and "settings" not in bad.stdout and "another --out" in bad.stderr
