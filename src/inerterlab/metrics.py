@@ -66,7 +66,6 @@ METRIC_KEYS = (
     "rms_body_acc_wk",
     "vdv",
     "crest_factor",
-    "h2_norms_state_space",
     "peak_body_acc",
     "peak_body_acc_wk",
     "peak_deflection",
