@@ -92,3 +92,19 @@ def test_render_marks_failures_without_numbers():
     assert "does not hold" in page and "failed: ValueError: boom" in page
     assert "tables/9.1.csv" in files and "tables/9.2.csv" not in files
     assert files["tables/9.1.csv"].decode().startswith("# table: 9.1")
+
+
+def test_headline_counts_the_claims_and_marks_a_quick_run():
+    from inerterlab.report.build import _headline
+    from inerterlab.report.registry import ReproduceSettings
+
+    recs = [
+        {"ok": True, "id": "4.7", "claim_holds": True, "reason": ""},
+        {"ok": True, "id": "4.2", "claim_holds": False, "reason": "the body velocity jumps"},
+        {"ok": False, "id": "4.3"},
+    ]
+    quick = _headline(recs, ReproduceSettings(quick=True))
+    assert "Quick run" in quick and "1 of 2 thesis claims hold" in quick
+    assert "(tables 4.7)" in quick and "Wk-weighted" in quick
+    full = _headline(recs[:1], ReproduceSettings(quick=False))
+    assert "Quick run" not in full and "1 of 1" in full and "Wk-weighted" not in full
