@@ -60,10 +60,10 @@ def test_atomic_replace_keeps_old_report_on_failure(tmp_path, monkeypatch):
     class Boom(Exception):
         pass
 
-    def bad_write(self, data):
+    def bad_sync(fd):  # the disk fails while the new report is being written
         raise Boom()
 
-    monkeypatch.setattr("pathlib.Path.write_bytes", bad_write)
+    monkeypatch.setattr("os.fsync", bad_sync)
     with pytest.raises(Boom):
         build.write_report_atomically(out, {"index.html": b"new"})
     monkeypatch.undo()

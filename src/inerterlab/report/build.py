@@ -26,8 +26,6 @@ import json
 import os
 import platform
 import re
-import shutil
-import tempfile
 import time
 import traceback
 from collections.abc import Callable
@@ -551,28 +549,12 @@ def clean_stale_temporaries(out: Path) -> list[Path]:
 def write_report_atomically(out: Path, files: dict[str, bytes]) -> Path:
     """Write ``files`` into a fresh directory and swap it in place of ``out``.
 
-    ``out`` must have passed :func:`resolve_report_target` (empty or ours).
+    ``out`` must have passed :func:`resolve_report_target` (empty or ours). The swap is
+    :func:`inerterlab.io.replace_directory` (filled beside, two renames, synced files).
     """
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    tmp = Path(tempfile.mkdtemp(dir=out.parent, prefix=f".{out.name}.new-"))
-    try:
-        os.chmod(tmp, 0o777 & ~_umask())  # mkdtemp makes it private; follow the umask
-        for rel, data in files.items():
-            p = tmp / rel
-            p.parent.mkdir(parents=True, exist_ok=True)
-            p.write_bytes(data)
-        old = None
-        if out.exists():
-            old = out.parent / f".{out.name}.old-{os.getpid()}"
-            os.replace(out, old)
-        os.replace(tmp, out)
-        if old is not None:
-            shutil.rmtree(old, ignore_errors=True)
-    except BaseException:
-        shutil.rmtree(tmp, ignore_errors=True)
-        raise
-    return out
+    from ..io import replace_directory
+
+    return replace_directory(out, files)
 
 
 def read_errata(path: str | os.PathLike | None = None) -> str:
