@@ -34,8 +34,17 @@ HOSTILE_NUMBERS = ["0", "-1", "1", "1e-300", "1e300", "-1e300", "nan", "inf", "-
 def _commands() -> dict[str, list]:
     import typer.main
 
-    group = typer.main.get_command(app)
-    return {name: list(cmd.params) for name, cmd in group.commands.items()}
+    out: dict[str, list] = {}
+
+    def walk(group, prefix: str) -> None:
+        for name, cmd in group.commands.items():
+            if hasattr(cmd, "commands"):  # a command group: fuzz each of its commands
+                walk(cmd, f"{prefix}{name} ")
+            else:
+                out[f"{prefix}{name}"] = list(cmd.params)
+
+    walk(typer.main.get_command(app), "")
+    return out
 
 
 COMMANDS = _commands()
@@ -72,13 +81,15 @@ def _value_strategy(param, d: Path):
 def command_lines(draw, d: Path):
     name = draw(st.sampled_from(sorted(COMMANDS)))
     params = [p for p in COMMANDS[name] if p.name not in ("help",)]
-    args: list[str] = [name]
+    args: list[str] = name.split()
     positional = [p for p in params if p.param_type_name == "argument"]
     options = [p for p in params if p.param_type_name == "option"]
     for _p in positional:
         args.append(draw(st.sampled_from(_path_values(d))))
-    chosen = draw(
-        st.lists(st.sampled_from(options), max_size=MAX_OPTIONS, unique_by=lambda p: p.name)
+    chosen = (
+        draw(st.lists(st.sampled_from(options), max_size=MAX_OPTIONS, unique_by=lambda p: p.name))
+        if options
+        else []
     )
     for p in chosen:
         flag = p.opts[0]
