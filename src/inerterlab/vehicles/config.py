@@ -319,11 +319,11 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
 
 def load_vehicle(path) -> HalfCar | FullCar:
     """Vehicle parameters from a TOML file (see the module documentation)."""
+    from ..io import read_text_limited
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as e:
-        raise DataFileError(p, f"cannot read: {e.strerror or e}") from None
+    # size-capped, UTF-8 only; a device or FIFO is read only up to the cap
+    text = read_text_limited(p, "vehicle file")
     return loads_vehicle(text, str(p))
 
 

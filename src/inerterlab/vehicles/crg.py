@@ -30,6 +30,17 @@ def _pycrg():
     return pycrg
 
 
+def _check_crg_file(p: Path) -> None:
+    """A regular file within the input size cap (the library reads it whole)."""
+    from ..io import input_size_limit
+
+    if not p.is_file():
+        raise DataFileError(p, "no such file (an OpenCRG road must be a regular file)")
+    size, limit = p.stat().st_size, input_size_limit()
+    if size > limit:
+        raise DataFileError(p, f"is {size} bytes; a road file may have at most {limit} bytes here")
+
+
 def read_crg_tracks(path, track: float = 1.5, step: float | None = None):
     """(u [m], z_left [m], z_right [m]) of a CRG file, every ``step`` m along u.
 
@@ -41,8 +52,7 @@ def read_crg_tracks(path, track: float = 1.5, step: float | None = None):
     pycrg = _pycrg()
     p = Path(path)
     half = 0.5 * check_positive("track", track, "m")
-    if not p.is_file():
-        raise DataFileError(p, "no such file")
+    _check_crg_file(p)
     try:
         with pycrg.RoadSurface.open(str(p)) as road:
             u0, u1 = road.dataset.u_range()
@@ -67,8 +77,7 @@ def read_crg_profile(path, step: float | None = None, lateral: float = 0.0):
     lateral = check_finite("lateral", lateral)
     pycrg = _pycrg()
     p = Path(path)
-    if not p.is_file():
-        raise DataFileError(p, "no such file")
+    _check_crg_file(p)
     try:
         with pycrg.RoadSurface.open(str(p)) as road:
             u0, u1 = road.dataset.u_range()

@@ -297,12 +297,10 @@ def read_profile_csv(path):
     from pathlib import Path
 
     from ..errors import DataFileError
+    from ..io import read_text_limited
 
     p = Path(path)
-    try:
-        lines = p.read_text(encoding="utf-8").splitlines()
-    except OSError as e:
-        raise DataFileError(p, f"cannot read: {e.strerror or e}") from None
+    lines = read_text_limited(p, "road profile").splitlines()
     xs, zs = [], []
     for i, line in enumerate(lines, start=1):
         s = line.strip()
