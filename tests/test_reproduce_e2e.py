@@ -94,6 +94,29 @@ def test_report_renders_in_headless_chromium(quick_report, tmp_path):
 
 
 @pytest.mark.slow
+def _children(pid: int) -> list[int]:
+    """Process ids whose parent is ``pid`` (Linux /proc)."""
+    out = []
+    for d in Path("/proc").iterdir():
+        if d.name.isdigit():
+            try:
+                stat = (d / "stat").read_text()
+            except OSError:
+                continue
+            if int(stat.rsplit(")", 1)[1].split()[1]) == pid:
+                out.append(int(d.name))
+    return out
+
+
+def _alive(pid: int) -> bool:
+    """True while ``pid`` exists and is not a zombie."""
+    try:
+        stat = Path(f"/proc/{pid}/stat").read_text()
+    except OSError:
+        return False
+    return stat.rsplit(")", 1)[1].split()[0] != "Z"
+
+
 def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
     """SIGKILL part way, rerun: finished items are reused and the report equals an
     uninterrupted run's (tables and figure data byte for byte)."""
@@ -113,8 +136,14 @@ def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
             break
         time.sleep(0.05)
     assert proc.poll() is None, "the run ended before it could be interrupted"
+    workers = _children(proc.pid)
     proc.send_signal(signal.SIGKILL)
     proc.wait()
+    # the worker processes of the parallel run end with it (nothing left computing)
+    t_end = time.monotonic() + 20
+    while time.monotonic() < t_end and any(_alive(w) for w in workers):
+        time.sleep(0.1)
+    assert not [w for w in workers if _alive(w)], "worker processes outlived the killed run"
     done_before = {p.name for p in work.glob("*.json")}
     assert len(done_before) >= 4
     assert not out.exists()  # no half-written report

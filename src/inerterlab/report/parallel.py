@@ -85,8 +85,12 @@ def _items(module: str, items: list, settings: ReproduceSettings, seeds: dict) -
     return out
 
 
-def _worker_init() -> None:
-    """Workers leave Ctrl-C to the parent, which lets the running tasks finish."""
+def _worker_init(parent: int) -> None:
+    """Workers leave Ctrl-C to the parent, which lets the running tasks finish, and end
+    with the parent even when it is killed (SIGKILL leaves no chance to shut the pool)."""
+    from ..studies.backends import _die_with_parent
+
+    _die_with_parent(parent)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
@@ -152,7 +156,9 @@ def run_parallel(
     saved = {k: os.environ.get(k) for k in _THREAD_ENV}
     os.environ.update(_THREAD_ENV)
     ctx = multiprocessing.get_context("spawn")
-    pool = ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init)
+    pool = ProcessPoolExecutor(
+        max_workers=workers, mp_context=ctx, initializer=_worker_init, initargs=(os.getpid(),)
+    )
     stopping = False
     try:
         while queue or pending:
