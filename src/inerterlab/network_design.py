@@ -33,6 +33,8 @@ from .suspension.network_linear import (
     _assemble,
     _car_polys,
     _h2_polys,
+    _lyap_system,
+    _sym_index,
     h2_squared_many,
     network_quarter_car,
 )
@@ -61,25 +63,12 @@ _BIG = 1e30
 def _lyap_general(A, R):
     """Solve A X + X A^T + R = 0 for symmetric X (R symmetric), small n."""
     n = A.shape[0]
-    m = n * (n + 1) // 2
-    idx = np.empty((n, n), np.int64)
-    c = 0
-    for i in range(n):
-        for j in range(i, n):
-            idx[i, j] = c
-            idx[j, i] = c
-            c += 1
-    M = np.zeros((m, m))
+    idx, m = _sym_index(n)
+    M = _lyap_system(A, idx, m)
     rhs = np.zeros(m)
     for i in range(n):
         for j in range(i, n):
-            e = idx[i, j]
-            for k in range(n):
-                if A[i, k] != 0.0:
-                    M[e, idx[k, j]] += A[i, k]
-                if A[j, k] != 0.0:
-                    M[e, idx[i, k]] += A[j, k]
-            rhs[e] = -R[i, j]
+            rhs[idx[i, j]] = -R[i, j]
     x = np.linalg.solve(M, rhs)
     X = np.empty((n, n))
     for i in range(n):

@@ -206,9 +206,8 @@ def _hurwitz(a, n):
 
 
 @nb.njit(cache=True)
-def _lyap_companion(at, n):
-    """Controllability gramian P of the monic companion form with coefficients ``at``."""
-    m = n * (n + 1) // 2
+def _sym_index(n):
+    """Packed index of the entries of a symmetric n x n matrix, and their count."""
     idx = np.empty((n, n), np.int64)
     c = 0
     for i in range(n):
@@ -216,13 +215,14 @@ def _lyap_companion(at, n):
             idx[i, j] = c
             idx[j, i] = c
             c += 1
-    A = np.zeros((n, n))
-    for i in range(n - 1):
-        A[i, i + 1] = 1.0
-    for j in range(n):
-        A[n - 1, j] = -at[j]
+    return idx, c
+
+
+@nb.njit(cache=True)
+def _lyap_system(A, idx, m):
+    """Matrix of X -> A X + X A^T on the packed entries of a symmetric X."""
+    n = A.shape[0]
     M = np.zeros((m, m))
-    rhs = np.zeros(m)
     for i in range(n):
         for j in range(i, n):
             e = idx[i, j]
@@ -231,8 +231,21 @@ def _lyap_companion(at, n):
                     M[e, idx[k, j]] += A[i, k]
                 if A[j, k] != 0.0:
                     M[e, idx[i, k]] += A[j, k]
-            if i == n - 1 and j == n - 1:
-                rhs[e] = -1.0
+    return M
+
+
+@nb.njit(cache=True)
+def _lyap_companion(at, n):
+    """Controllability gramian P of the monic companion form with coefficients ``at``."""
+    idx, m = _sym_index(n)
+    A = np.zeros((n, n))
+    for i in range(n - 1):
+        A[i, i + 1] = 1.0
+    for j in range(n):
+        A[n - 1, j] = -at[j]
+    M = _lyap_system(A, idx, m)
+    rhs = np.zeros(m)
+    rhs[idx[n - 1, n - 1]] = -1.0
     # Gaussian elimination with partial pivoting
     for col in range(m):
         piv = col
