@@ -387,7 +387,8 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     jumps = np.zeros(len(segs))
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
-        wk, ts, out_y, out_a3, peaks, stats, jumps, bool(options.refine_peaks),
+        wk, ts, out_y, out_a3, peaks, stats, jumps, ROAD_JUMP_RTOL * road_scale(segs),
+        bool(options.refine_peaks),
         int(options.max_steps), bool(options.exact_steps),
     )  # fmt: skip
     if status != K.OK:

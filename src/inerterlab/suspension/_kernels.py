@@ -399,23 +399,6 @@ def _rhs_road(x1, v1, y, dy, p, wk, low_pass):
     return a3
 
 
-#: road jumps up to this size relative to the road's (``road_size``) are round-off
-#: between segments, not steps
-ROAD_JUMP_RTOL = 1e-12
-
-
-@leaf
-def road_size(segs):
-    """Largest |X1| any segment can reach [m] (bound), the scale of a road jump."""
-    size = 0.0
-    for i in range(segs.shape[0]):
-        s = segs[i]
-        v = abs(s[3]) + abs(s[5]) + abs(s[4]) * (s[1] - s[0])
-        if v > size:
-            size = v
-    return size
-
-
 @leaf
 def apply_jump(p, y, jump):
     """Apply in place the tyre-damper impulse C_t * jump of a road step [m]."""
@@ -1344,7 +1327,7 @@ def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
 @nb.njit(cache=True)
 def integrate(
     p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
-    peaks, stats, jumps, refine_peaks, max_steps, exact,
+    peaks, stats, jumps, jump_tol, refine_peaks, max_steps, exact,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
@@ -1355,7 +1338,8 @@ def integrate(
     a segment edge gets the value after the edge. ``exact``: take exact steps through
     the linear phases.
 
-    ``jumps`` (one value per segment) receives the jump of the body velocity V3 [m/s]
+    A road difference between segments above ``jump_tol`` [m] is a step (below it,
+    round-off). ``jumps`` (one value per segment) receives the jump of the body velocity V3 [m/s]
     at the segment's start, where the road steps and the inerter passes part of the
     tyre-damper impulse to the body. The body acceleration then holds a Dirac of that
     weight; the Wk filter, strictly proper, takes it as a jump of its states by its
@@ -1454,7 +1438,6 @@ def integrate(
     rv = np.empty(5)
     h_side = np.zeros(2)  # last step-size proposal below / above the saturation speed
     natural_next = False
-    road_scale = road_size(segs)
     fine_until = -1.0
     for iseg in range(segs.shape[0]):
         seg = segs[iseg]
@@ -1466,7 +1449,7 @@ def integrate(
         jumps[iseg] = 0.0
         # a difference at round-off level between the end of one segment and the start
         # of the next (a ramp or half-cosine edge, a sampled road) is not a step
-        if abs(jump) > ROAD_JUMP_RTOL * road_scale:
+        if abs(jump) > jump_tol:
             v3_before = y[3]
             apply_jump(p, y, jump)
             dv3 = y[3] - v3_before
