@@ -276,14 +276,20 @@ def point_function(name: str) -> PointFunction:
     """The registered point function ``name``, or a ParameterError listing the valid ones."""
     if name == "quarter-car" and name not in POINT_FUNCTIONS:
         from . import quarter_car  # noqa: F401 - registers itself on import
+    if name in _VEHICLE_POINTS and name not in POINT_FUNCTIONS:
+        from ..vehicles import stochastic  # noqa: F401 - registers itself on import
 
     if name not in POINT_FUNCTIONS:
         raise ParameterError("point", name, "one of " + ", ".join(repr(n) for n in _known()))
     return POINT_FUNCTIONS[name]
 
 
+_VEHICLE_POINTS = ("half-car-road", "full-car-road")
+
+
 def _known() -> list[str]:
     names = list(POINT_FUNCTIONS)
     if "quarter-car" not in names:
         names.insert(0, "quarter-car")
+    names += [n for n in _VEHICLE_POINTS if n not in names]
     return names

@@ -8,6 +8,11 @@ property of a connection:
   so the force is max(0, that). The linear model lets it go negative.
 * **Asymmetric dampers.** A strut's damping is ``rebound`` x c while it extends and
   ``compression`` x c while it shortens (both 1: the linear strut).
+* **Strut friction.** A Coulomb force of size ``friction`` against the strut's
+  extension rate, regularised as F_f tanh(delta' / v_f) with ``friction_velocity``
+  v_f (default 1 mm/s): below v_f the friction acts as a damper of rate F_f / v_f, so
+  the equations stay an ODE an explicit method can integrate; the step must resolve
+  m / (F_f / v_f) (checked).
 
 Coordinates, outputs and their units are those of the linear model, measured from
 static equilibrium; the inerters keep the mass matrix constant. The equations are
@@ -19,12 +24,13 @@ Outputs are sampled at the road samples.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
 
-from ..errors import ParameterError, check_positive
+from ..errors import ParameterError, check_nonnegative, check_positive
 from .model import LinearVehicle
 
 __all__ = ["NonlinearResult", "simulate_nonlinear"]
@@ -40,7 +46,14 @@ class NonlinearResult:
     lift_off_fraction: dict
 
 
-def _tables(vehicle: LinearVehicle, rebound: float, compression: float, lift_off: bool):
+def _tables(
+    vehicle: LinearVehicle,
+    rebound: float,
+    compression: float,
+    lift_off: bool,
+    friction: float = 0.0,
+    friction_velocity: float = 1e-3,
+):
     M, _, _, _, _ = vehicle.matrices()
     static = vehicle.static_tyre_loads()
     U = np.array([c.u for c in vehicle.connections])
@@ -50,20 +63,23 @@ def _tables(vehicle: LinearVehicle, rebound: float, compression: float, lift_off
     c_cmp = np.zeros(len(U))
     preload = np.zeros(len(U))
     unilateral = np.zeros(len(U), dtype=np.int64)
+    fric = np.zeros(len(U))
     for j, con in enumerate(vehicle.connections):
         _, c, kk = con.law.mck()
         k[j] = kk
         c_ext[j] = c_cmp[j] = c
         if con.name.endswith("_strut"):
             c_ext[j], c_cmp[j] = rebound * c, compression * c
+            fric[j] = friction
         if con.name.endswith("_tyre"):
             preload[j] = static[con.name[: -len("_tyre")]]
             unilateral[j] = 1 if lift_off else 0
-    return np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral
+    fv = np.array([friction_velocity])
+    return np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv
 
 
 @njit(cache=True)
-def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, out_f):
+def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, out_f):
     """Generalised forces; ``out_f`` receives each connection's tension."""
     n = q.size
     gen = np.zeros(n)
@@ -78,6 +94,8 @@ def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, out_f):
             dd -= V[j, i] * rd[i]
         c = c_ext[j] if dd > 0.0 else c_cmp[j]
         f = k[j] * d + c * dd
+        if fric[j] != 0.0:
+            f += fric[j] * math.tanh(dd / fv[0])
         if unilateral[j] == 1 and preload[j] - f < 0.0:
             f = preload[j]  # the contact force F0 - f is held at 0
         out_f[j] = f
@@ -87,15 +105,15 @@ def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, out_f):
 
 
 @njit(cache=True)
-def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, f, out):
+def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f, out):
     n = Minv.shape[0]
-    gen = _forces(x[:n], x[n:], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, f)
+    gen = _forces(x[:n], x[n:], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
     out[:n] = x[n:]
     out[n:] = Minv @ gen
 
 
 @njit(cache=True)
-def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral):
+def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv):
     n = Minv.shape[0]
     nt = r.shape[0]
     xs = np.empty((nt, 2 * n))
@@ -107,14 +125,14 @@ def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral):
     k2 = np.empty(2 * n)
     k3 = np.empty(2 * n)
     k4 = np.empty(2 * n)
-    args = (Minv, U, V, k, c_ext, c_cmp, preload, unilateral, f)
+    args = (Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
     for it in range(nt):
         if it + 1 < nt:
             slope = (r[it + 1] - r[it]) / dt
         else:
             slope = (r[it] - r[it - 1]) / dt
         xs[it] = x
-        _forces(x[:n], x[n:], r[it], slope, U, V, k, c_ext, c_cmp, preload, unilateral, f)
+        _forces(x[:n], x[n:], r[it], slope, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
         fs[it] = f
         if it + 1 == nt:
             break
@@ -137,10 +155,13 @@ def simulate_nonlinear(
     rebound: float = 1.0,
     compression: float = 1.0,
     substeps: int = 1,
+    friction: float = 0.0,
+    friction_velocity: float = 1e-3,
 ) -> NonlinearResult:
     """Simulate ``vehicle`` over wheel heights ``r`` (n_t, n_inputs) sampled every ``dt``.
 
-    ``substeps`` Runge-Kutta steps per road sample. Starts at rest in static equilibrium
+    ``substeps`` Runge-Kutta steps per road sample. ``friction`` [N] is the Coulomb
+    friction of every strut, regularised over ``friction_velocity`` [m/s]. Starts at rest in static equilibrium
     on the first road heights (computed with the linear model, where every tyre presses).
     """
     dt = check_positive("dt", dt, "s")
@@ -151,7 +172,25 @@ def simulate_nonlinear(
         check_positive(name, val)
     if not isinstance(substeps, int) or substeps < 1:
         raise ParameterError("substeps", substeps, "an integer >= 1")
-    tables = _tables(vehicle, float(rebound), float(compression), bool(tyre_lift_off))
+    check_nonnegative("friction", friction, "N")
+    v_f = check_positive("friction_velocity", friction_velocity, "m/s")
+    tables = _tables(
+        vehicle, float(rebound), float(compression), bool(tyre_lift_off), float(friction), v_f
+    )
+    if friction > 0.0:
+        # below v_f the friction is a damper of rate F_f / v_f: RK4 is stable for
+        # h c / m < 2.78; the lightest mass of the model sets the limit
+        M = vehicle.matrices()[0]
+        m_min = float(np.min(np.diag(M)[np.diag(M) > 0]))
+        h_max = 2.0 * m_min * v_f / friction
+        if dt / substeps > h_max:
+            raise ParameterError(
+                "substeps",
+                substeps,
+                f"at least {math.ceil(dt / h_max)}: the regularised friction "
+                f"(rate {friction / v_f:.3g} N s/m) needs steps below {h_max:.3g} s; "
+                "or raise friction_velocity",
+            )
     A, Br, _, _, _, _ = vehicle.state_space()
     x0 = -np.linalg.solve(A, Br @ r[0])
     xs, fs = _run(x0, r, dt, substeps, *tables)
