@@ -89,7 +89,7 @@ def test_monte_carlo_of_linear_vehicle_agrees_with_spectral_rms(tmp_path):
         assert lo < val < hi
     # bilateral tyres: the time the dynamic load would exceed the static load is the
     # Gaussian tail of the linear tyre load
-    for c, (frac, (lo, hi)) in mc.lift_off_fraction.items():
+    for c, (_frac, (lo, hi)) in mc.lift_off_fraction.items():
         assert lo - 1e-5 <= lin.spectral.lift_off[c] <= hi + 1e-5, c
     # resume: the same study again computes nothing new and gives the same numbers
     again = monte_carlo(
