@@ -474,7 +474,11 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     use_exact = method == "exact" or (method == "auto" and sys.linear and piecewise_linear)
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
-    if use_exact:
+    if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
+        Y = np.empty((ts.size, 0))
+        stats = {"steps": 0}
+        meth = "adaptive" if not use_exact else "exact"
+    elif use_exact:
         Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol)
         meth = "exact"
     else:
