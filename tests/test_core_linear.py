@@ -35,10 +35,14 @@ def _ss_response(q, params, road_v, ts):
     big = np.zeros((n + 1, n + 1))
     big[:n, :n] = A
     big[:n, n] = B
+    cache = {}
     for j, t in enumerate(ts):
         if j:
             h = t - ts[j - 1]
-            E = expm(big * h)
+            key = round(h, 15)
+            if key not in cache:
+                cache[key] = expm(big * h)
+            E = cache[key]
             x = E[:n, :n] @ x + E[:n, n] * road_v(ts[j - 1] + 0.5 * h)
         w = road_v(t)
         for k in C:
