@@ -1,0 +1,73 @@
+"""Element laws of two-terminal networks, one module each, and their registry.
+
+:data:`ELEMENTS` maps a name prefix (as written in a network text, ``k2``, ``afw_front``)
+to the element class. A primitive element (spring, damper, inerter, friction, adaptive
+flywheel) has a compiled force law the system right-hand side calls; a composite element
+(hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
+Adding an element is one module and one line below (docs/decisions.md, "Model core").
+"""
+
+from __future__ import annotations
+
+import re
+
+from ..networks import NetworkError
+from ._base import ElementBase, Param
+from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
+from .damper import Damper
+from .fluid_inerter import FluidInerter
+from .friction import Friction
+from .hydraulic import HydraulicElement
+from .inerter import Inerter
+from .rectifier import RectifierElement
+from .screw import ScrewElement
+from .spring import Spring
+
+__all__ = [
+    "ELEMENTS",
+    "ElementBase",
+    "Param",
+    "element_class",
+    "make_element",
+    "inertia_law",
+    "Spring",
+    "Damper",
+    "Inerter",
+    "Friction",
+    "AdaptiveFlywheelInerter",
+    "HydraulicElement",
+    "ScrewElement",
+    "RectifierElement",
+    "FluidInerter",
+]
+
+ELEMENTS: dict[str, type[ElementBase]] = {
+    "k": Spring,
+    "c": Damper,
+    "b": Inerter,
+    "fric": Friction,
+    "afw": AdaptiveFlywheelInerter,
+    "hyd": HydraulicElement,
+    "screw": ScrewElement,
+    "rect": RectifierElement,
+    "fluid": FluidInerter,
+}
+
+_SUFFIX = r"(?:\d*|_[A-Za-z0-9_]+)"
+
+
+def element_class(name: str) -> type[ElementBase]:
+    """The element class a network name belongs to (longest matching prefix)."""
+    for prefix in sorted(ELEMENTS, key=len, reverse=True):
+        if re.fullmatch(re.escape(prefix) + _SUFFIX, name):
+            return ELEMENTS[prefix]
+    raise NetworkError(
+        f"unknown element name {name!r}: expected a prefix "
+        f"{', '.join(sorted(ELEMENTS))} and an optional suffix (digits or _word), "
+        "e.g. k2, c_front, afw"
+    )
+
+
+def make_element(name: str, value=None) -> ElementBase:
+    """The element ``name`` with ``value``: a number, a dict of parameters or an element."""
+    return element_class(name).from_value(name, value)

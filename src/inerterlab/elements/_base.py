@@ -1,0 +1,173 @@
+"""What every element says about itself: parameters, states, primitive row, linear part.
+
+An element is a frozen dataclass. A *primitive* element has a kernel code and packs its
+parameters into one row of :data:`NPAR` floats that the compiled system right-hand side
+reads (:mod:`inerterlab.systems._kernel`). A *composite* element (the thesis devices,
+the fluid inerter) is a small network of primitives: :meth:`ElementBase.expansion`
+returns its text and the primitive objects by local name, and the system builder
+substitutes it where the composite's name appears.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import re
+from dataclasses import dataclass
+from typing import Any, ClassVar
+
+import numpy as np
+
+from ..errors import ParameterError, check_choice, check_in_range
+
+__all__ = ["Param", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL"]
+
+#: floats per primitive element row in the compiled tables
+NPAR = 16
+#: kernel codes of the primitive elements
+SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 0, 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter: name, unit, valid interval (``low``, ``high``; open ends) or choices."""
+
+    name: str
+    unit: str = ""
+    low: float = 0.0
+    high: float = float("inf")
+    low_open: bool = True
+    choices: tuple | None = None
+    optional: bool = False
+
+    def check(self, value: Any) -> Any:
+        if self.optional and value is None:
+            return None
+        if self.choices is not None:
+            return check_choice(self.name, value, self.choices)
+        return check_in_range(
+            self.name,
+            value,
+            self.low,
+            self.high,
+            low_open=self.low_open,
+            high_open=True,
+            unit=self.unit,
+        )
+
+
+class ElementBase:
+    """Common behaviour; subclasses are frozen keyword-only dataclasses."""
+
+    prefix: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    PARAMETERS: ClassVar[tuple[Param, ...]] = ()
+    #: kernel code, or None for a composite
+    code: ClassVar[int | None] = None
+
+    def __post_init__(self) -> None:
+        for p in self.PARAMETERS:
+            v = getattr(self, p.name)
+            if p.choices is None and v is not None:
+                v = p.check(v)
+                object.__setattr__(self, p.name, float(v))
+            else:
+                p.check(v)
+
+    # -- construction -----------------------------------------------------------------
+    @classmethod
+    def from_value(cls, name: str, value: Any) -> ElementBase:
+        """An element from what a user gave for ``name``: an element, a number (the first
+        parameter) or a dict of parameters; ``None`` takes every default."""
+        if isinstance(value, ElementBase):
+            if not isinstance(value, cls):
+                raise ParameterError(name, value, f"a {cls.description} ({cls.__name__})")
+            return value
+        if value is None:
+            value = {}
+        if not isinstance(value, dict):
+            value = {cls.PARAMETERS[0].name: value}
+        known = {p.name for p in cls.PARAMETERS}
+        unknown = sorted(set(value) - known)
+        if unknown:
+            raise ParameterError(
+                f"{name}.{unknown[0]}",
+                value[unknown[0]],
+                f"no such parameter of a {cls.description}; known: {', '.join(sorted(known))}",
+            )
+        try:
+            return cls(**value)
+        except ParameterError as e:
+            label = name if len(cls.PARAMETERS) == 1 else f"{name}.{e.name}"
+            raise ParameterError(label, e.value, e.valid) from None
+        except TypeError as e:  # a required parameter is missing
+            missing = [
+                p.name
+                for p in cls.PARAMETERS
+                if p.name not in value
+                and getattr(cls.__dataclass_fields__[p.name], "default", dataclasses.MISSING)
+                is dataclasses.MISSING
+                and cls.__dataclass_fields__[p.name].default_factory is dataclasses.MISSING
+            ]
+            if missing:
+                p = next(q for q in cls.PARAMETERS if q.name == missing[0])
+                raise ParameterError(
+                    f"{name}.{p.name}" if len(cls.PARAMETERS) > 1 else name,
+                    None,
+                    f"a value [{p.unit}] (required)",
+                ) from None
+            raise ParameterError(name, value, str(e)) from None
+
+    def parameters(self) -> dict:
+        """The parameter values by name."""
+        return {p.name: getattr(self, p.name) for p in self.PARAMETERS}
+
+    # -- what the system builder asks ---------------------------------------------------
+    def expansion(self) -> tuple[str, dict] | None:
+        """Composite: (network text over local names, {local name: primitive element})."""
+        return None
+
+    def row(self) -> np.ndarray:
+        """Primitive: the kernel row of :data:`NPAR` floats."""
+        raise NotImplementedError
+
+    @property
+    def internal_states(self) -> tuple[str, ...]:
+        """Names of the element's own states (beyond node displacements and velocities)."""
+        return ()
+
+    def initial_internal_state(self) -> tuple[float, ...]:
+        return ()
+
+    def linear(self) -> tuple[str, float] | None:
+        """Primitive: ("k"|"c"|"b", value) if the element is linear, else None."""
+        return None
+
+    def linear_network(self) -> tuple[str, dict] | None:
+        """(network text of springs, dampers and inerters, parameters) equal to this element,
+        or None where it is not linear (for transfer functions and H2 norms)."""
+        exp = self.expansion()
+        if exp is None:
+            lin = self.linear()
+            if lin is None:
+                return None
+            return lin[0], {lin[0]: lin[1]}
+        text, parts = exp
+        params: dict = {}
+        repl = {}
+        for local, el in parts.items():
+            sub = el.linear_network()
+            if sub is None:
+                return None
+            stext, sparams = sub
+            ren = {k: f"{k}_{local}" for k in sparams}
+            for k, v in sparams.items():
+                params[ren[k]] = v
+            stext = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: ren.get(m.group(0), m.group(0)), stext)
+            repl[local] = f"({stext})"
+        text = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), text)
+        return text, params
+
+    def _row(self, *values: float) -> np.ndarray:
+        r = np.zeros(NPAR)
+        r[: len(values)] = values
+        return r

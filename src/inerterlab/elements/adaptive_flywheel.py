@@ -1,0 +1,166 @@
+"""Adaptive-flywheel inerter: a transmission of ratio r [rad/m] driving a flywheel whose
+inertia I(omega) grows with speed (docs/model.md §1-§2).
+
+The inertia law and its derivatives are written here once, as compiled functions:
+
+    l(w) = k_s l_min / (k_s - m_s w^2) for w < w_sat, l_max above     (3.9)
+    I(w) = I_rest + coef l(w)^power                                     (3.2), (3.6), (3.25)
+
+with coef = n m_s (``power`` 2; 1 only for the misprinted ``thesis-literal`` law).
+
+Force laws (docs/model.md §2), v the relative velocity, w = r|v|:
+
+* ``thesis``: F = m_e dv/dt with m_e = r^2 I(w);
+* ``momentum``: m_e = r^2 (I + w dI/dw);
+* ``slider-dynamics``: the slider radius l and its rate are states,
+  m_e = r^2 (I_rest + coef l^2) and F = m_e dv/dt + 2 coef r^2 l l' v.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numba as nb
+
+from ..errors import ParameterError
+from ..flywheels import FLYWHEEL_PRESETS, INERTIA_LAWS, AdaptiveFlywheel
+from ..flywheels import flywheel as make_flywheel
+from ..slider_dynamics import SliderDynamics, slider_state_derivative
+from ..transmissions import FORCE_LAWS
+from ..transmissions import hydraulic as hydraulic_transmission
+from ._base import FLYWHEEL, ElementBase, Param
+
+__all__ = ["AdaptiveFlywheelInerter", "inertia_law", "flywheel_inertance", "slider_derivative"]
+
+LAW_CODES = {"thesis": 0.0, "momentum": 1.0, "slider-dynamics": 2.0}
+
+
+@nb.njit(cache=True)
+def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
+    """I, dI/dw, d2I/dw2 at speed w >= 0 [rad/s] for I = I_rest + coef l(w)^power."""
+    if w < w_sat:
+        d = k_s - m_s * w * w
+        l = k_s * l_min / d
+        l1 = 2.0 * k_s * l_min * m_s * w / (d * d)
+        l2 = 2.0 * k_s * l_min * m_s / (d * d) + 8.0 * k_s * l_min * m_s * m_s * w * w / (d * d * d)
+    else:
+        l = l_max
+        l1 = 0.0
+        l2 = 0.0
+    if power == 1:
+        return i_rest + coef * l, coef * l1, coef * l2
+    return i_rest + coef * l * l, 2.0 * coef * l * l1, 2.0 * coef * (l1 * l1 + l * l2)
+
+
+# row layout: law, r, I_rest, coef, k_s, m_s, l_min, l_max, w_sat, power, n, c_s, k_c, c_c
+@nb.njit(cache=True)
+def flywheel_inertance(row, v, l, ld):
+    """(m_e [kg], extra force g [N]) at relative velocity v; l, l' the slider states
+    (used by ``slider-dynamics`` only)."""
+    r = row[1]
+    if row[0] == 2.0:
+        me = r * r * (row[2] + row[3] * l * l)
+        return me, 2.0 * row[3] * r * r * l * ld * v
+    i0, i1, _ = inertia_law(
+        abs(r * v), row[2], row[3], row[4], row[5], row[6], row[7], row[8], int(row[9])
+    )
+    if row[0] == 0.0:
+        return r * r * i0, 0.0
+    return r * r * (i0 + abs(r * v) * i1), 0.0
+
+
+@nb.njit(cache=True)
+def slider_derivative(row, l, ld, v):
+    """l'' [m/s^2] of the sliders at relative velocity v (``slider-dynamics``)."""
+    ldd, _ = slider_state_derivative(
+        l, ld, row[1] * v, row[10], row[5], row[4], row[6], row[7], row[11], row[12], row[13]
+    )
+    return ldd
+
+
+@dataclass(frozen=True, kw_only=True)
+class AdaptiveFlywheelInerter(ElementBase):
+    """Ideal device (no losses) with an adaptive flywheel.
+
+    Parameters
+    ----------
+    flywheel : str or AdaptiveFlywheel
+        Preset ``metal``, ``nylon`` (default) or ``nylon-large``, or a flywheel object.
+    inertia_law : {"published", "geometry", "thesis-literal"}
+        Law of a preset (docs/model.md §1).
+    changing_ratio : float, optional
+        The variant with this changing ratio x in (0, 1).
+    ratio : float
+        Transmission ratio r [rad/m] (default the hydraulic device's, 961.66).
+    law : {"thesis", "momentum", "slider-dynamics"}
+        How the speed-dependent inertia makes a force.
+    slider : SliderDynamics
+        Options of ``slider-dynamics``.
+    """
+
+    flywheel: str | AdaptiveFlywheel = "nylon"
+    inertia_law: str = "published"
+    changing_ratio: float | None = None
+    ratio: float = field(default_factory=lambda: hydraulic_transmission().ratio)
+    law: str = "thesis"
+    slider: SliderDynamics = field(default_factory=SliderDynamics)
+
+    prefix = "afw"
+    description = "adaptive-flywheel inerter"
+    PARAMETERS = (
+        Param("flywheel", choices=FLYWHEEL_PRESETS),
+        Param("inertia_law", choices=INERTIA_LAWS),
+        Param("changing_ratio", "", 0.0, 1.0, optional=True),
+        Param("ratio", "rad/m"),
+        Param("law", choices=FORCE_LAWS),
+    )
+    code = FLYWHEEL
+
+    def __post_init__(self) -> None:
+        if isinstance(self.flywheel, AdaptiveFlywheel):
+            fw = self.flywheel
+        else:
+            self.PARAMETERS[0].check(self.flywheel)
+            self.PARAMETERS[1].check(self.inertia_law)
+            fw = make_flywheel(self.flywheel, law=self.inertia_law)
+        if self.changing_ratio is not None:
+            x = self.PARAMETERS[2].check(self.changing_ratio)
+            if x >= 1.0:
+                raise ParameterError("changing_ratio", self.changing_ratio, "a number in (0, 1)")
+            fw = fw.with_changing_ratio(x)
+        object.__setattr__(self, "ratio", float(self.PARAMETERS[3].check(self.ratio)))
+        self.PARAMETERS[4].check(self.law)
+        if not isinstance(self.slider, SliderDynamics):
+            raise ParameterError("slider", self.slider, "a SliderDynamics")
+        if self.law == "slider-dynamics" and fw.power != 2:
+            raise ParameterError("law", self.law, "'thesis' or 'momentum' for a power-1 flywheel")
+        object.__setattr__(self, "_fw", fw)
+
+    @property
+    def wheel(self) -> AdaptiveFlywheel:
+        """The flywheel actually used (preset and changing ratio applied)."""
+        return self._fw
+
+    @property
+    def inertance_min(self) -> float:
+        """r^2 I_min [kg], the inertance at rest."""
+        return self.ratio**2 * self._fw.inertia_min
+
+    def row(self):
+        fw = self._fw
+        cs = kc = cc = 0.0
+        if self.law == "slider-dynamics":
+            co = self.slider.coefficients(fw)
+            cs, kc, cc = co[6], co[7], co[8]
+        return self._row(
+            LAW_CODES[self.law], self.ratio, fw.rest_inertia, fw.inertia_coefficient,
+            fw.spring_stiffness, fw.slider_mass, fw.slider_min, fw.slider_max,
+            fw.saturation_speed, float(fw.power), float(fw.n_sliders), cs, kc, cc,
+        )  # fmt: skip
+
+    @property
+    def internal_states(self):
+        return ("slider_radius", "slider_rate") if self.law == "slider-dynamics" else ()
+
+    def initial_internal_state(self):
+        return (self._fw.slider_min, 0.0) if self.law == "slider-dynamics" else ()

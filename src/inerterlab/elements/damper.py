@@ -1,0 +1,42 @@
+"""Damper: F = c v + c_2 v |v| (linear, with an optional quadratic term)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ._base import DAMPER, ElementBase, Param
+
+__all__ = ["Damper"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Damper(ElementBase):
+    """Damper: ``damping`` c [N s/m] >= 0 and ``quadratic`` c_2 [N s^2/m^2] >= 0.
+
+    F = c v + c_2 v |v| with v the relative velocity; linear (admittance c) when c_2 = 0.
+    At least one coefficient must be positive.
+    """
+
+    damping: float
+    quadratic: float = 0.0
+
+    prefix = "c"
+    description = "damper"
+    PARAMETERS = (
+        Param("damping", "N s/m", low_open=False),
+        Param("quadratic", "N s^2/m^2", low_open=False),
+    )
+    code = DAMPER
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        if self.damping == 0.0 and self.quadratic == 0.0:
+            from ..errors import ParameterError
+
+            raise ParameterError("damping", 0.0, "a value > 0 N s/m (or a quadratic term > 0)")
+
+    def row(self):
+        return self._row(self.damping, self.quadratic)
+
+    def linear(self):
+        return ("c", self.damping) if self.quadratic == 0.0 else None

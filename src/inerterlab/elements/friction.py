@@ -1,0 +1,43 @@
+"""Coulomb friction, regularised: F = F_c tanh(v / v_eps) (docs/model.md §3).
+
+sgn(v) is replaced by tanh(v / v_eps) with the velocity scale v_eps (1e-3 m/s by
+default, as the device models use), so the force is smooth and the result does not
+depend on where an integrator puts its steps. A friction element cannot carry a force
+larger than F_c: a massless node held only by friction and springs has no solution once
+the springs pull harder, so the system builder refuses such a node (it needs a damper
+or an inertance beside the friction).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numba as nb
+
+from ._base import FRICTION, ElementBase, Param
+
+__all__ = ["Friction", "friction_force"]
+
+
+@nb.njit(cache=True)
+def friction_force(force, v_eps, v):
+    """(F, dF/dv) of the regularised friction at relative velocity v [m/s]."""
+    th = math.tanh(v / v_eps)
+    return force * th, force / v_eps * (1.0 - th * th)
+
+
+@dataclass(frozen=True, kw_only=True)
+class Friction(ElementBase):
+    """Coulomb friction ``force`` F_c [N] > 0 smoothed over ``velocity`` v_eps [m/s] > 0."""
+
+    force: float
+    velocity: float = 1e-3
+
+    prefix = "fric"
+    description = "Coulomb friction"
+    PARAMETERS = (Param("force", "N"), Param("velocity", "m/s"))
+    code = FRICTION
+
+    def row(self):
+        return self._row(self.force, self.velocity)

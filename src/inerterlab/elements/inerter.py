@@ -1,0 +1,27 @@
+"""Ideal inerter: F = b (a_top - a_bottom) [S02]."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ._base import INERTER, ElementBase, Param
+
+__all__ = ["Inerter"]
+
+
+@dataclass(frozen=True, kw_only=True)
+class Inerter(ElementBase):
+    """Ideal inerter of inertance ``inertance`` b [kg] > 0; admittance b s."""
+
+    inertance: float
+
+    prefix = "b"
+    description = "ideal inerter"
+    PARAMETERS = (Param("inertance", "kg"),)
+    code = INERTER
+
+    def row(self):
+        return self._row(self.inertance)
+
+    def linear(self):
+        return ("b", self.inertance)

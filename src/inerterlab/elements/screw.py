@@ -1,0 +1,70 @@
+"""Inverse ball screw (3.34)-(3.38) as a composite: k_i | c_i | f_i | flywheel inerter,
+all on the terminal displacement. Identified values from
+:class:`inerterlab.devices.models.ScrewDevice` (nylon flywheel, r = 501.35 rad/m).
+The backlash of (3.36)-(3.37) is not published (the device default is 0, always in
+contact); the network element models contact only.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from ..devices.models import ScrewDevice
+from ..flywheels import FLYWHEEL_PRESETS
+from ..transmissions import FORCE_LAWS
+from ._base import ElementBase, Param
+from .adaptive_flywheel import AdaptiveFlywheelInerter
+from .damper import Damper
+from .friction import Friction
+from .spring import Spring
+
+__all__ = ["ScrewElement"]
+
+_D = ScrewDevice()
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScrewElement(ElementBase):
+    """Ball-screw device: ``stiffness`` k_i, ``damping`` c_i, ``friction`` f_i,
+    ``friction_velocity``, ``flywheel``, ``changing_ratio``, ``ratio``, ``law``."""
+
+    stiffness: float = _D.stiffness
+    damping: float = _D.damping
+    friction: float = _D.friction
+    friction_velocity: float = _D.friction_velocity
+    flywheel: str = _D.flywheel.name
+    changing_ratio: float | None = None
+    ratio: float = _D.transmission.ratio
+    law: str = _D.law
+
+    prefix = "screw"
+    description = "ball-screw device"
+    PARAMETERS = (
+        Param("stiffness", "N/m"),
+        Param("damping", "N s/m", low_open=False),
+        Param("friction", "N", low_open=False),
+        Param("friction_velocity", "m/s"),
+        Param("flywheel", choices=FLYWHEEL_PRESETS),
+        Param("changing_ratio", "", 0.0, 1.0, optional=True),
+        Param("ratio", "rad/m"),
+        Param("law", choices=FORCE_LAWS),
+    )
+
+    def expansion(self):
+        parts = {
+            "k": Spring(stiffness=self.stiffness),
+            "afw": AdaptiveFlywheelInerter(
+                flywheel=self.flywheel,
+                changing_ratio=self.changing_ratio,
+                ratio=self.ratio,
+                law=self.law,
+            ),
+        }
+        names = ["k"]
+        if self.damping > 0:
+            parts["c"] = Damper(damping=self.damping)
+            names.append("c")
+        if self.friction > 0:
+            parts["fric"] = Friction(force=self.friction, velocity=self.friction_velocity)
+            names.append("fric")
+        return " | ".join([*names, "afw"]), parts

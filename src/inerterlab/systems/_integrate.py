@@ -1,0 +1,249 @@
+"""Adaptive Dormand-Prince 5(4) for the core systems, with road segments and road steps.
+
+The tableau, error weights and the order-4 continuous extension are those of the
+quarter-car kernels (:mod:`inerterlab.suspension._kernels`, imported, not copied); the
+step-size control is the classic one of Hairer, Norsett and Wanner (Solving ODEs I,
+II.4): h_new = h min(5, max(0.2, 0.9 err^(-1/5))). Steps never cross a road segment
+edge; where the road displacement jumps at an edge, the impulse that the dampers
+attached to the road pass (c x jump per unit jump, precomputed) is applied by
+integrating the impulse flow M(x)^-1 J over a unit interval with the same pair at
+rtol 1e-13: exact for constant inertances (one step) and, for a speed-dependent one,
+the momentum balance the force law implies (thesis law: the integral of m_e(v) dv).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numba as nb
+import numpy as np
+
+from ..suspension._kernels import (
+    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65,
+    B1, B3, B4, B5, B6, C2, C3, C4, C5,
+    D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7,
+)  # fmt: skip
+from ._kernel import I_NE, I_NN, evaluate
+
+OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
+IMPULSE_RTOL = 1e-13
+
+
+@nb.njit(cache=True)
+def road_at(seg, t, out):
+    """Road displacement, velocity, acceleration on segment ``seg`` at time t."""
+    if seg[2] == 0.0:
+        out[0] = seg[3] + seg[4] * (t - seg[0])
+        out[1] = seg[4]
+        out[2] = 0.0
+    else:
+        s = math.sin(seg[6] * t + seg[7])
+        out[0] = seg[3] + seg[5] * s
+        out[1] = seg[5] * seg[6] * math.cos(seg[6] * t + seg[7])
+        out[2] = -seg[5] * seg[6] * seg[6] * s
+
+
+@nb.njit(cache=True)
+def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
+    stats[2] += 1
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    road = work[0:3]
+    if mode == 0:
+        road_at(seg, t, road)
+    else:
+        road[0] = road_fixed[0]
+        road[1] = road_fixed[1]
+        road[2] = 0.0
+    X = work[3 : 3 + nn]
+    V = work[3 + nn : 3 + 2 * nn]
+    A = work[3 + 2 * nn : 3 + 3 * nn]
+    F = work[3 + 3 * nn : 3 + 3 * nn + ne]
+    return evaluate(t, y, road, itab, ftab, X, V, A, F, dy, imp)
+
+
+@nb.njit(cache=True)
+def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol, t_out,
+             out_y, k, stats, max_steps):  # fmt: skip
+    """Integrate from t to t_end (one road segment, or the impulse flow when mode = 1),
+    writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
+    Returns (status, k, h)."""
+    n = y.size
+    nn = itab[I_NN]
+    work = np.empty(3 + 3 * nn + itab[I_NE])
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    k3 = np.empty(n)
+    k4 = np.empty(n)
+    k5 = np.empty(n)
+    k6 = np.empty(n)
+    k7 = np.empty(n)
+    yt = np.empty(n)
+    yn = np.empty(n)
+    if not _f(mode, seg, t, y, itab, ftab, imp, road_fixed, k1, work, stats):
+        return BALANCE_FAILED, k, h
+    span = t_end - t
+    if span <= 0.0:
+        return OK, k, h
+    if h <= 0.0 or h > span:
+        h = min(span, 1e-3 * max(span, 1.0))
+    reject_prev = False
+    while t < t_end:
+        if stats[0] + stats[1] >= max_steps:
+            return TOO_MANY_STEPS, k, h
+        if t + h >= t_end or t + 1.01 * h >= t_end:
+            h = t_end - t
+            tn = t_end
+        else:
+            tn = t + h
+        if h <= 1e-15 * max(abs(t), 1.0):
+            return STEP_TOO_SMALL, k, h
+        for i in range(n):
+            yt[i] = y[i] + h * A21 * k1[i]
+        ok = _f(mode, seg, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, work, stats)
+        for i in range(n):
+            yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
+        ok &= _f(mode, seg, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, work, stats)
+        for i in range(n):
+            yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
+        ok &= _f(mode, seg, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, work, stats)
+        for i in range(n):
+            yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
+        ok &= _f(mode, seg, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, work, stats)
+        for i in range(n):
+            yt[i] = y[i] + h * (
+                A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
+            )
+        ok &= _f(mode, seg, tn, yt, itab, ftab, imp, road_fixed, k6, work, stats)
+        for i in range(n):
+            yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
+        ok &= _f(mode, seg, tn, yn, itab, ftab, imp, road_fixed, k7, work, stats)
+        err = 0.0
+        for i in range(n):
+            sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
+            e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
+            err += (e / sc) ** 2
+        err = math.sqrt(err / n)
+        if not ok or not math.isfinite(err):
+            if h < 1e-14 * max(abs(t), 1.0) or not ok and h < 1e-12:
+                return NOT_FINITE if ok else BALANCE_FAILED, k, h
+            h *= 0.25
+            stats[1] += 1
+            reject_prev = True
+            continue
+        if err <= 1.0:
+            stats[0] += 1
+            # dense output on (t, tn]
+            if mode == 0:
+                while k < t_out.size and (
+                    t_out[k] < tn or (last and t_out[k] <= tn)
+                ):
+                    th = (t_out[k] - t) / h
+                    th1 = 1.0 - th
+                    for i in range(n):
+                        r2 = yn[i] - y[i]
+                        r3 = h * k1[i] - r2
+                        r4 = r2 - h * k7[i] - r3
+                        r5 = h * (
+                            D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i]
+                            + D7 * k7[i]
+                        )  # fmt: skip
+                        out_y[k, i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+                    k += 1
+            for i in range(n):
+                y[i] = yn[i]
+                k1[i] = k7[i]
+            t = tn
+            fac = 0.9 * err ** -0.2 if err > 0.0 else 5.0
+            fac = min(5.0, max(0.2, fac))
+            if reject_prev:
+                fac = min(fac, 1.0)
+            reject_prev = False
+            h = h * fac
+        else:
+            stats[1] += 1
+            reject_prev = True
+            h = h * max(0.2, 0.9 * err ** -0.2)
+    return OK, k, h
+
+
+@nb.njit(cache=True)
+def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
+              t_out, out_y, stats, jumps, max_steps):  # fmt: skip
+    """Integrate a core system over the road segments up to t_end.
+
+    ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
+    receives the road step at the start of segment i. ``imp_unit`` is the impulse per
+    unit road step on each dynamic node, ``jump_ok`` False where a step has no finite
+    response (an inerter or a quadratic damper to the road, a rig)."""
+    k = 0
+    h = 0.0
+    prev = x1_before
+    road = np.empty(3)
+    rf = np.empty(3)
+    atol_imp = np.empty(y.size)
+    for i in range(y.size):
+        atol_imp[i] = 1e-3 * atol[i]
+    nseg = segs.shape[0]
+    for s in range(nseg):
+        seg = segs[s]
+        t0 = seg[0]
+        if t0 >= t_end and s > 0:
+            break
+        road_at(seg, t0, road)
+        jump = road[0] - prev
+        if abs(jump) > jump_tol:
+            jumps[s] = jump
+            if not jump_ok:
+                return ROAD_STEP, k
+            imp = imp_unit * jump
+            rf[0] = road[0]
+            rf[1] = road[1]
+            st, _, _ = _advance(1, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, imp, rf,
+                                IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
+            if st != OK:
+                return st, k
+        while k < t_out.size and t_out[k] <= t0:
+            for i in range(y.size):
+                out_y[k, i] = y[i]
+            k += 1
+        t1 = min(seg[1], t_end)
+        last = s == nseg - 1 or seg[1] >= t_end
+        st, k, h = _advance(0, seg, t0, t1, y, h, last, itab, ftab, np.empty(0), rf, rtol, atol,
+                            t_out, out_y, k, stats, max_steps)  # fmt: skip
+        if st != OK:
+            return st, k
+        road_at(seg, t1, road)
+        prev = road[0]
+        if last:
+            break
+    return OK, k
+
+
+@nb.njit(cache=True)
+def outputs_many(t_out, Y, segs, itab, ftab, O):
+    """Outputs (see :func:`._kernel.outputs`) at every sample; the road on the segment
+    that holds each time (right-continuous)."""
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    road = np.empty(3)
+    X = np.empty(nn)
+    V = np.empty(nn)
+    A = np.empty(nn)
+    F = np.empty(ne)
+    dx = np.empty(Y.shape[1])
+    s = 0
+    ok = True
+    for j in range(t_out.size):
+        t = t_out[j]
+        while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
+            s += 1
+        road_at(segs[s], t, road)
+        ok &= evaluate(t, Y[j], road, itab, ftab, X, V, A, F, dx, np.empty(0))
+        for i in range(nn):
+            O[j, i] = X[i]
+            O[j, nn + i] = V[i]
+            O[j, 2 * nn + i] = A[i]
+        for e in range(ne):
+            O[j, 3 * nn + e] = F[e]
+    return ok

@@ -1,0 +1,757 @@
+"""Build a core :class:`System` from bodies and networks; simulate it."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, ElementBase
+from ..elements.damper import Damper
+from ..elements.spring import Spring
+from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
+from ..networks import NetworkError
+from . import _integrate, _kernel
+from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, ROAD, VEL
+from ._network import Layout, elements_of
+
+_TYPE = {"ground": GROUND, "road": ROAD}
+
+
+@dataclass(frozen=True, eq=False)
+class CoreResult:
+    """A time simulation of a core system.
+
+    Attributes
+    ----------
+    time : ndarray
+        Sample times [s].
+    states : ndarray
+        States at the samples, columns ``system.state_names``.
+    outputs : dict
+        Sampled outputs by name: ``<node>.x``, ``<node>.v``, ``<node>.a`` [m, m/s, m/s^2]
+        (acceleration NaN at massless nodes), ``<element>.force`` [N]; for a quarter car
+        also ``body_acc``, ``deflection``, ``tyre_force`` (dynamic), ``tyre_grip``; for a
+        rig ``force`` (the force the rig applies).
+    metrics : dict or None
+        Quarter car: the ride metrics of :func:`inerterlab.metrics.series_metrics` from
+        the samples.
+    method : str
+        ``adaptive`` or ``exact``.
+    stats : dict
+    road_steps : tuple
+        ((time [s], road jump [m]), ...).
+    """
+
+    system: System
+    time: np.ndarray
+    states: np.ndarray
+    outputs: dict
+    metrics: dict | None
+    method: str
+    stats: dict
+    road_steps: tuple = ()
+
+
+@dataclass(frozen=True, eq=False)
+class System:
+    """A compiled system: bodies, networks and the road (see :mod:`inerterlab.systems`)."""
+
+    kind: str
+    description: str
+    node_names: tuple
+    node_types: tuple
+    element_names: tuple
+    elements: tuple
+    state_names: tuple
+    itab: np.ndarray
+    ftab: np.ndarray
+    x0_template: np.ndarray
+    state_scales: np.ndarray
+    linear: bool
+    imp_unit: np.ndarray
+    jump_ok: bool
+    info: dict = field(default_factory=dict)
+
+    rhs = staticmethod(_kernel.rhs)
+    outputs = staticmethod(_kernel.outputs)
+
+    @property
+    def n_states(self) -> int:
+        return len(self.state_names)
+
+    @property
+    def tables(self) -> tuple[np.ndarray, np.ndarray]:
+        return self.itab, self.ftab
+
+    @property
+    def output_names(self) -> tuple[str, ...]:
+        n = self.node_names
+        return (
+            tuple(f"{x}.x" for x in n)
+            + tuple(f"{x}.v" for x in n)
+            + tuple(f"{x}.a" for x in n)
+            + tuple(f"{e}.force" for e in self.element_names)
+        )
+
+    def initial_state(self, **node_displacements: float) -> np.ndarray:
+        """State at rest; ``node_displacements`` (e.g. ``body=0.05``) move bodies, the
+        internal nodes take the spring equilibrium between them."""
+        return _initial(self, node_displacements, 0.0)
+
+    # -- linear analysis ------------------------------------------------------------------
+    def linear_state_space(self):
+        """(A, B, C, D) of x' = A x + B u, y = C x + D u with u = (road displacement,
+        velocity, acceleration) and y the outputs (:attr:`output_names`).
+
+        Columns come from the right-hand side at unit vectors, exact for a linear system.
+        NetworkError if an element is not linear."""
+        if not self.linear:
+            bad = [n for n, e in zip(self.element_names, self.elements, strict=True) if _nonlinear(e)]
+            raise NetworkError(
+                f"{self.description}: not linear ({', '.join(bad)}); linear analysis needs "
+                "springs, linear dampers and ideal inerters"
+            )
+        n = self.n_states
+        no = len(self.output_names)
+        A = np.zeros((n, n))
+        B = np.zeros((n, 3))
+        C = np.zeros((no, n))
+        D = np.zeros((no, 3))
+        z = np.zeros(n)
+        r0 = np.zeros(3)
+        for k in range(n):
+            e = np.zeros(n)
+            e[k] = 1.0
+            self.rhs(0.0, e, r0, self.itab, self.ftab, A[:, k])
+            out = np.empty(no)
+            self.outputs(0.0, e, r0, self.itab, self.ftab, out)
+            C[:, k] = out
+        for k in range(3):
+            u = np.zeros(3)
+            u[k] = 1.0
+            self.rhs(0.0, z, u, self.itab, self.ftab, B[:, k])
+            out = np.empty(no)
+            self.outputs(0.0, z, u, self.itab, self.ftab, out)
+            D[:, k] = out
+        return A, B, np.nan_to_num(C), np.nan_to_num(D)
+
+    def transfer(self, omega, output: str):
+        """H(j omega) from road velocity to ``output`` (linear systems)."""
+        A, B, C, D = self.linear_state_space()
+        i = self.output_names.index(output) if output in self.output_names else None
+        c, d = _derived_row(self, output, C, D) if i is None else (C[i], D[i])
+        out = []
+        for w in np.atleast_1d(np.asarray(omega, float)):
+            s = 1j * w
+            bu = B @ np.array([1.0 / s, 1.0, s])
+            x = np.linalg.solve(s * np.eye(self.n_states) - A, bu)
+            out.append(c @ x + d @ np.array([1.0 / s, 1.0, s]))
+        return np.array(out)
+
+    # -- time simulation --------------------------------------------------------------
+    def simulate(
+        self,
+        excitation,
+        horizon: float = 10.0,
+        *,
+        rtol: float = 1e-8,
+        sample_rate: float = 1000.0,
+        method: str = "auto",
+        max_steps: int = 10_000_000,
+        x0: np.ndarray | None = None,
+    ) -> CoreResult:
+        """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
+
+        ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
+        linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
+        ISO 8608 and file roads) or ``auto`` (exact where it applies)."""
+        return _simulate(self, excitation, horizon, rtol, sample_rate, method, max_steps, x0)
+
+
+def _nonlinear(e: ElementBase) -> bool:
+    return e.linear() is None
+
+
+def _derived_row(sys, output, C, D):
+    names = list(sys.output_names)
+    if sys.kind == "quarter_car":
+        def row(n):
+            j = names.index(n)
+            return C[j], D[j]
+        if output == "body_acc":
+            return row("body.a")
+        if output == "suspension_deflection":
+            cb, db = row("body.x")
+            cw, dw = row("wheel.x")
+            return cb - cw, db - dw
+        if output == "tyre_deflection":
+            cw, dw = row("wheel.x")
+            cr, dr = row("road.x")
+            return cw - cr, dw - dr
+    raise ParameterError("output", output, "one of the output names")
+
+
+# ---------------------------------------------------------------------------------------
+# building
+
+
+def _check_singular(Mat: np.ndarray, nodes: list, lay: Layout, what: str, hint: str) -> None:
+    if Mat.shape[0] == 0:
+        return
+    w, v = np.linalg.eigh(0.5 * (Mat + Mat.T))
+    scale = max(np.max(np.abs(np.diag(Mat))), 1e-300)
+    bad = np.flatnonzero(np.abs(w) <= 1e-12 * scale)
+    if bad.size:
+        vec = v[:, bad[0]]
+        idx = [nodes[i] for i in np.flatnonzero(np.abs(vec) > 1e-8)]
+        where = "; ".join(sorted({lay.nodes[i]["origin"] or lay.nodes[i]["name"] for i in idx}))
+        raise NetworkError(f"ill-posed network: {what} at {where}. {hint}")
+
+
+def build(kind: str, description: str, lay: Layout, info: dict) -> System:
+    """Classify the nodes, check the network is well posed and pack the tables."""
+    nn = len(lay.nodes)
+    edges = lay.edges
+    attached: list[list[int]] = [[] for _ in range(nn)]
+    for e, (_, _, t, b) in enumerate(edges):
+        attached[t].append(e)
+        attached[b].append(e)
+    types = []
+    for i, nd in enumerate(lay.nodes):
+        if nd["kind"] in _TYPE:
+            types.append(_TYPE[nd["kind"]])
+            continue
+        codes = {edges[e][1].code for e in attached[i]}
+        if nd["mass"] > 0 or INERTER in codes or FLYWHEEL in codes:
+            types.append(DYN)
+        elif DAMPER in codes:
+            types.append(VEL)
+        elif FRICTION in codes:
+            raise NetworkError(
+                f"ill-posed network: friction with no damper or inertance beside it at "
+                f"{nd['origin'] or nd['name']}: a massless node held by friction and "
+                "springs has no solution once the springs pull harder than the friction "
+                "force. Add a damper in parallel with the friction (or a mass)"
+            )
+        else:
+            types.append(POS)
+    dyn = [i for i in range(nn) if types[i] == DYN]
+    vel = [i for i in range(nn) if types[i] == VEL]
+    pos = [i for i in range(nn) if types[i] == POS]
+    cls = {}
+    for lst in (dyn, vel, pos):
+        for j, i in enumerate(lst):
+            cls[i] = j
+    # nominal mass matrix of the dynamic nodes
+    Md = np.zeros((len(dyn), len(dyn)))
+    for i in dyn:
+        Md[cls[i], cls[i]] += lay.nodes[i]["mass"]
+    Dv = np.zeros((len(vel), len(vel)))
+    L = np.zeros((nn, nn))  # spring Laplacian
+    for _, el, t, b in edges:
+        if el.code == SPRING:
+            k = el.stiffness
+            L[t, t] += k
+            L[b, b] += k
+            L[t, b] -= k
+            L[b, t] -= k
+        if el.code in (INERTER, FLYWHEEL):
+            me = el.inertance if el.code == INERTER else el.inertance_min
+            for a_, c_ in ((t, b), (b, t)):
+                if types[a_] == DYN:
+                    Md[cls[a_], cls[a_]] += me
+                    if types[c_] == DYN:
+                        Md[cls[a_], cls[c_]] -= me
+        if el.code == DAMPER:
+            w = 1.0
+            for a_, c_ in ((t, b), (b, t)):
+                if types[a_] == VEL:
+                    Dv[cls[a_], cls[a_]] += w
+                    if types[c_] == VEL:
+                        Dv[cls[a_], cls[c_]] -= w
+    _check_singular(
+        Md, dyn, lay, "the inertances form a free sub-network (no mass or terminal fixes "
+        "its motion)", "Attach a mass, or combine the springs around the inerter into one",
+    )
+    _check_singular(
+        Dv, vel, lay, "massless nodes joined only through dampers whose common motion only "
+        "springs hold (a differential-algebraic loop)",
+        "Write the springs in series next to each other (e.g. 'k1 - k2 - c' for "
+        "'k1 - c - k2')",
+    )
+    # spring-only nodes from the others: X_p = R X
+    R = np.zeros((len(pos), nn))
+    if pos:
+        Lpp = L[np.ix_(pos, pos)]
+        others = [i for i in range(nn) if types[i] != POS]
+        _check_singular(Lpp, pos, lay, "spring-only nodes not held", "")
+        R[:, others] = -np.linalg.solve(Lpp, L[np.ix_(pos, others)])
+    # states
+    names: list[str] = []
+    xs = [-1] * nn
+    vs = [-1] * nn
+    scales = []
+    for i in range(nn):
+        nm = lay.nodes[i]["name"]
+        if types[i] == DYN:
+            xs[i] = len(names)
+            names.append(f"{nm}.x")
+            vs[i] = len(names)
+            names.append(f"{nm}.v")
+            scales += [1e-2, 1e-1]
+        elif types[i] == VEL:
+            xs[i] = len(names)
+            names.append(f"{nm}.x")
+            scales.append(1e-2)
+    n_node_states = len(names)
+    so = []
+    x0 = []
+    for name, el, _, _ in edges:
+        st = el.internal_states
+        so.append(len(names) if st else -1)
+        for s in st:
+            names.append(f"{name}.{s}")
+        x0 += list(el.initial_internal_state())
+        scales += [1e-3, 1e-2][: len(st)]
+    x0_template = np.concatenate([np.zeros(n_node_states), np.array(x0, float)])
+    # tables
+    ne = len(edges)
+    no = HEADER
+    eo = no + NODE_W * nn
+    lo = eo + ELEM_W * ne
+    itab = np.zeros(lo + nn, dtype=np.int64)
+    itab[_kernel.I_NN] = nn
+    itab[_kernel.I_NE] = ne
+    itab[_kernel.I_ND] = len(dyn)
+    itab[_kernel.I_NV] = len(vel)
+    itab[_kernel.I_NP] = len(pos)
+    itab[_kernel.I_NS] = len(names)
+    itab[_kernel.I_NI] = len(names) - n_node_states
+    itab[_kernel.I_NODE] = no
+    itab[_kernel.I_ELEM] = eo
+    itab[_kernel.I_DYN] = lo
+    itab[_kernel.I_VEL] = lo + len(dyn)
+    itab[_kernel.I_POS] = lo + len(dyn) + len(vel)
+    itab[lo : lo + len(dyn) + len(vel) + len(pos)] = dyn + vel + pos
+    fmass = 0
+    fr = nn
+    fe = fr + len(pos) * nn
+    ftab = np.zeros(fe + NPAR * ne)
+    itab[_kernel.I_FMASS] = fmass
+    itab[_kernel.I_FR] = fr
+    for i in range(nn):
+        itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (types[i], xs[i], vs[i], cls.get(i, -1))
+        ftab[fmass + i] = lay.nodes[i]["mass"]
+    ftab[fr:fe] = R.ravel()
+    for e, (_, el, t, b) in enumerate(edges):
+        itab[eo + ELEM_W * e : eo + ELEM_W * (e + 1)] = (el.code, t, b, fe + NPAR * e, so[e])
+        ftab[fe + NPAR * e : fe + NPAR * (e + 1)] = el.row()
+    # impulse of a unit road step
+    imp = np.zeros(len(dyn))
+    jump_ok = True
+    for _, el, t, b in edges:
+        ends = (t, b)
+        if not any(types[x] == ROAD for x in ends):
+            continue
+        other = b if types[t] == ROAD else t
+        if el.code in (INERTER, FLYWHEEL):
+            jump_ok = False
+        elif el.code == DAMPER:
+            if el.quadratic > 0 or types[other] != DYN:
+                jump_ok = False
+            else:
+                imp[cls[other]] += el.damping
+    linear = all(not _nonlinear(el) for _, el, _, _ in edges)
+    itab.setflags(write=False)
+    ftab.setflags(write=False)
+    return System(
+        kind=kind,
+        description=description,
+        node_names=tuple(nd["name"] for nd in lay.nodes),
+        node_types=tuple(types),
+        element_names=tuple(e[0] for e in edges),
+        elements=tuple(e[1] for e in edges),
+        state_names=tuple(names),
+        itab=itab,
+        ftab=ftab,
+        x0_template=x0_template,
+        state_scales=np.array(scales, float),
+        linear=linear,
+        imp_unit=imp,
+        jump_ok=jump_ok,
+        info=dict(info, spring_laplacian=L, types=types),
+    )
+
+
+def _initial(sys: System, fixed: dict, road0: float) -> np.ndarray:
+    """Rest state: the named nodes at the given displacements (others of the bodies and
+    the road at ``road0``), internal nodes at the spring equilibrium between them."""
+    names = list(sys.node_names)
+    for k in fixed:
+        if k not in names or sys.node_types[names.index(k)] == GROUND:
+            raise ParameterError(k, fixed[k], f"a body node of the system ({', '.join(names)})")
+    L = sys.info["spring_laplacian"]
+    nn = len(names)
+    masses = sys.ftab[sys.itab[_kernel.I_FMASS] : sys.itab[_kernel.I_FMASS] + nn]
+    X = np.zeros(nn)
+    term = [i for i in range(nn) if sys.node_types[i] in (GROUND, ROAD) or masses[i] > 0]
+    for i in term:
+        X[i] = 0.0 if sys.node_types[i] == GROUND else road0
+        X[i] += float(fixed.get(names[i], 0.0))
+    inner = [i for i in range(nn) if i not in term]
+    if inner:
+        x_def = float(np.mean(X[term])) if term else road0
+        Lii = L[np.ix_(inner, inner)]
+        rhs = -L[np.ix_(inner, term)] @ X[term]
+        eps = 1e-13 * max(np.max(np.abs(np.diag(L))), 1.0)
+        X[inner] = np.linalg.solve(Lii + eps * np.eye(len(inner)), rhs + eps * x_def)
+    x = sys.x0_template.copy()
+    for i in range(nn):
+        nm = names[i]
+        if f"{nm}.x" in sys.state_names:
+            x[sys.state_names.index(f"{nm}.x")] = X[i]
+    return x
+
+
+# ---------------------------------------------------------------------------------------
+# simulation
+
+
+def _sample_times(horizon: float, rate: float) -> np.ndarray:
+    n = int(math.floor(horizon * rate + 1e-9))
+    return np.arange(n + 1) / rate
+
+
+def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0) -> CoreResult:
+    from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
+
+    if not isinstance(excitation, Excitation):
+        raise ParameterError("excitation", excitation, "an Excitation (drop(), bump(), sine(), ...)")
+    T = check_positive("horizon", horizon, "s")
+    check_positive("sample_rate", sample_rate, "Hz")
+    r = check_positive("rtol", rtol)
+    if not 1e-14 <= r <= 1e-2:
+        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-14, 1e-2]")
+    if method not in ("auto", "adaptive", "exact"):
+        raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
+    excitation.check_horizon(T, stacklevel=3)
+    segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
+    x1 = float(excitation.initial_road(T))
+    if x0 is None:
+        fixed = {}
+        du, ds = excitation.initial_displacements
+        if sys.kind == "quarter_car":
+            fixed = {"wheel": du, "body": ds}
+        elif sys.kind == "base_excited":
+            fixed = {"body": ds}
+        y = _initial(sys, fixed, x1)
+    else:
+        y = np.array(x0, dtype=float)
+        if y.shape != (sys.n_states,):
+            raise ParameterError("x0", x0, f"{sys.n_states} states")
+    ts = _sample_times(T, sample_rate)
+    piecewise_linear = bool(np.all(segs[:, 2] == 0.0))
+    if method == "exact" and not (sys.linear and piecewise_linear):
+        raise ParameterError(
+            "method",
+            "exact",
+            "'adaptive' here: exact steps need a linear system and a piecewise-linear road",
+        )
+    use_exact = method == "exact" or (method == "auto" and sys.linear and piecewise_linear)
+    jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
+    jumps = np.zeros(len(segs))
+    if use_exact:
+        Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol)
+        meth = "exact"
+    else:
+        atol = r * np.maximum(sys.state_scales, 1e-12)
+        Y = np.empty((ts.size, sys.n_states))
+        st = np.zeros(4, dtype=np.int64)
+        status, k = _integrate.integrate(
+            sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
+            ts, Y, st, jumps, int(max_steps),
+        )  # fmt: skip
+        if status != _integrate.OK:
+            why = {
+                _integrate.TOO_MANY_STEPS: f"more than max_steps={max_steps} steps",
+                _integrate.STEP_TOO_SMALL: "the step size fell below round-off",
+                _integrate.NOT_FINITE: "the solution is not finite (unstable parameters?)",
+                _integrate.ROAD_STEP: "the road steps, and a step has no finite response "
+                "here (an inerter or quadratic damper on the road, or a rig): smooth the "
+                "edges (bump(edge='ramp', edge_width=...))",
+                _integrate.BALANCE_FAILED: "a force balance of the massless nodes could not "
+                "be solved",
+            }[status]
+            raise ConvergenceError(f"{sys.description}: {why}")
+        stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2])}
+        meth = "adaptive"
+    O = np.empty((ts.size, len(sys.output_names)))
+    _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
+    outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
+    metrics = None
+    if sys.kind == "quarter_car":
+        car = sys.info["car"]
+        outs["body_acc"] = outs["body.a"]
+        outs["deflection"] = outs["body.x"] - outs["wheel.x"]
+        outs["tyre_force"] = outs["tyre_k.force"] + outs["tyre_c.force"]
+        load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
+        outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
+        from ..metrics import series_metrics
+
+        metrics = series_metrics(
+            ts, outs["body_acc"], outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"]
+        )
+    if sys.kind == "rig":
+        outs["force"] = sum(
+            outs[f"{n}.force"]
+            for n, (_, _, t, _) in zip(sys.element_names, sys.info["edges"], strict=True)
+            if t == 0
+        )
+    steps = tuple(
+        (float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps) if segs[i, 0] < T
+    )
+    return CoreResult(
+        system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
+        stats=stats, road_steps=steps,
+    )  # fmt: skip
+
+
+def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol):
+    """Matrix-exponential steps of a linear system on a piecewise-linear road: on each
+    segment the input u = (X1, X1', 0) has a constant rate, so z = (x, u, u') obeys a
+    constant linear equation and e^{Ah} propagates it exactly."""
+    from scipy.linalg import expm
+
+    A, B, _, _ = sys.linear_state_space()
+    n = sys.n_states
+    big = np.zeros((n + 6, n + 6))
+    big[:n, :n] = A
+    big[:n, n : n + 3] = B
+    big[n : n + 3, n + 3 : n + 6] = np.eye(3)
+    cache: dict = {}
+
+    def prop(h):
+        key = round(h, 15)
+        E = cache.get(key)
+        if E is None:
+            E = expm(big * h)[:n]
+            cache[key] = E
+        return E
+
+    Y = np.empty((ts.size, n))
+    k = 0
+    prev = x1
+    nexp = 0
+    x = y.copy()
+    for s, seg in enumerate(segs):
+        t0, t1 = seg[0], min(seg[1], T)
+        if t0 >= T and s > 0:
+            break
+        a, b = seg[3], seg[4]
+        start = a
+        jump = start - prev
+        if abs(jump) > jump_tol:
+            jumps[s] = jump
+            if not sys.jump_ok:
+                raise ConvergenceError(
+                    f"{sys.description}: the road steps at {t0:g} s and a step has no finite "
+                    "response here; smooth the edges"
+                )
+            # constant inertances: the impulse flow is constant, one Euler step is exact
+            dx = np.empty(n)
+            _impulse(x, np.array([start, b, 0.0]), sys.itab, sys.ftab, sys.imp_unit * jump, dx)
+            x = x + dx
+        last = s == len(segs) - 1 or seg[1] >= T
+        t = t0
+        while k < ts.size and ts[k] <= t0:
+            Y[k] = x
+            k += 1
+        while True:
+            if k < ts.size and (ts[k] < t1 or (last and ts[k] <= t1)):
+                tn = ts[k]
+                sample = True
+            else:
+                tn = t1
+                sample = False
+            h = tn - t
+            if h > 0:
+                E = prop(h)
+                u = np.array([a + b * (t - t0), b, 0.0])
+                x = E @ np.concatenate([x, u, [b, 0.0, 0.0]])
+                nexp += 1
+            t = tn
+            if sample:
+                Y[k] = x
+                k += 1
+            else:
+                break
+        prev = a + b * (t1 - t0)
+        if last:
+            break
+    return Y, {"exact_steps": nexp, "distinct_step_sizes": len(cache)}
+
+
+def _impulse(x, road, itab, ftab, imp, dx):
+    nn = int(itab[_kernel.I_NN])
+    ne = int(itab[_kernel.I_NE])
+    X, V, A, F = np.empty(nn), np.empty(nn), np.empty(nn), np.empty(ne)
+    _kernel.evaluate(0.0, x, road, itab, ftab, X, V, A, F, dx, imp)
+
+
+# ---------------------------------------------------------------------------------------
+# systems
+
+
+def _as_network(device_or_network, params):
+    """(text, params) from a network text, an element object or a device model."""
+    from ..devices.models import HydraulicDevice, RectifierDevice, ScrewDevice
+
+    d = device_or_network
+    if isinstance(d, str):
+        return d, params
+    if isinstance(d, ElementBase):
+        return f"{d.prefix}", {d.prefix: d}
+    if isinstance(d, HydraulicDevice | ScrewDevice | RectifierDevice):
+        from ..elements import HydraulicElement, RectifierElement, ScrewElement
+
+        cls = {"hydraulic": HydraulicElement, "screw": ScrewElement, "rectifier": RectifierElement}[
+            d.kind
+        ]
+        if getattr(d, "backlash", 0.0):
+            raise ParameterError("backlash", d.backlash, "0 (the network element has contact only)")
+        if getattr(d, "freewheel", False):
+            raise ParameterError("freewheel", True, "False (the network element stays coupled)")
+        el = cls(
+            stiffness=d.stiffness, damping=d.damping, friction=d.friction,
+            friction_velocity=d.friction_velocity, flywheel=d.flywheel,
+            ratio=d.transmission.ratio, law=d.law,
+        )  # fmt: skip
+        return cls.prefix, {cls.prefix: el}
+    raise ParameterError(
+        "device_or_network", d, "a network text, an element or a device of inerterlab.devices"
+    )
+
+
+def rig(device_or_network, params: dict | None = None) -> System:
+    """A test rig: the network between a driven terminal (``drive``, the road input is
+    its prescribed displacement) and the ground. Output ``force`` is the force the rig
+    applies."""
+    text, params = _as_network(device_or_network, params)
+    tree, els = elements_of(text, params)
+    lay = Layout()
+    top = lay.node("drive", "road")
+    bot = lay.node("ground", "ground")
+    lay.place(tree, top, bot, els)
+    sys = build("rig", f"rig with {text!r}", lay, {"network": text})
+    sys.info["edges"] = tuple(lay.edges)
+    return sys
+
+
+def base_excited(mass: float, network: str, params: dict | None = None) -> System:
+    """A body of ``mass`` [kg] on ``network`` over a moving base (the ch. 7 system)."""
+    m = check_positive("mass", mass, "kg")
+    tree, els = elements_of(network, params)
+    lay = Layout()
+    body = lay.node("body", "mass", m)
+    base = lay.node("base", "road")
+    lay.place(tree, body, base, els)
+    return build("base_excited", f"base-excited body on {network!r}", lay, {"network": network})
+
+
+QUARTER_CAR_PRESETS = {
+    "traditional": "k | c",
+    "cfw": "k | c | b",
+    "afw": "k | c | afw",
+    "device": "k | c | hyd",
+    "device-afw": "k | c | hyd",
+}
+
+
+def _car_dict(car) -> dict:
+    from ..suspension.parameters import QuarterCarParameters
+
+    if car is None:
+        car = QuarterCarParameters()
+    if isinstance(car, QuarterCarParameters):
+        return dict(
+            sprung_mass=car.sprung_mass, unsprung_mass=car.unsprung_mass,
+            stiffness=car.stiffness, damping=car.damping, tyre_stiffness=car.tyre_stiffness,
+            tyre_damping=car.tyre_damping, gravity=car.gravity,
+        )  # fmt: skip
+    if not isinstance(car, dict):
+        raise ParameterError("car", car, "a dict of car values or a QuarterCarParameters")
+    base = _car_dict(None)
+    unknown = sorted(set(car) - set(base))
+    if unknown:
+        raise ParameterError(unknown[0], car[unknown[0]], f"one of {', '.join(base)}")
+    base.update(car)
+    return base
+
+
+def preset_parameters(name: str, car: dict, *, flywheel="nylon", law="thesis",
+                      changing_ratio=None) -> dict:  # fmt: skip
+    """The element parameters of a named quarter-car suspension (docs/model.md §5)."""
+    from ..suspension.model import CFW_INERTIA
+    from ..suspension.parameters import HydraulicDeviceParameters
+    from ..transmissions import hydraulic
+
+    p: dict[str, Any] = {"k": car["stiffness"], "c": car["damping"]}
+    r = hydraulic().ratio
+    if name == "cfw":
+        from ..flywheels import constant_flywheel
+
+        p["b"] = r**2 * constant_flywheel(CFW_INERTIA).inertia_min
+    elif name == "afw":
+        p["afw"] = {"flywheel": flywheel, "law": law, "changing_ratio": changing_ratio}
+    elif name in ("device", "device-afw"):
+        d = HydraulicDeviceParameters()
+        p["hyd"] = dict(
+            stiffness=d.stiffness, damping=d.damping, friction=d.friction,
+            friction_velocity=d.friction_velocity, ratio=r, law=law,
+            flywheel="none" if name == "device" else flywheel, changing_ratio=changing_ratio,
+        )  # fmt: skip
+    return p
+
+
+def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, **preset) -> System:
+    """A quarter car with ``network`` between body and wheel.
+
+    ``network`` is a network text (``"k | (c - afw)"``) or a named suspension
+    (``traditional``, ``cfw``, ``afw``, ``device``, ``device-afw``: the presets
+    :data:`QUARTER_CAR_PRESETS`, with the element values of docs/model.md §5; ``preset``
+    passes ``flywheel``, ``law``, ``changing_ratio`` to them). ``params`` gives the
+    element values by name (they override a preset's). ``car``: a dict or
+    :class:`~inerterlab.suspension.parameters.QuarterCarParameters` of masses, tyre
+    stiffness and damping (defaults thesis (4.16), M = 370 kg).
+    """
+    c = _car_dict(car)
+    check_positive("sprung_mass", c["sprung_mass"], "kg")
+    check_positive("unsprung_mass", c["unsprung_mass"], "kg")
+    check_positive("tyre_stiffness", c["tyre_stiffness"], "N/m")
+    check_nonnegative("tyre_damping", c["tyre_damping"], "N s/m")
+    if network in QUARTER_CAR_PRESETS:
+        text = QUARTER_CAR_PRESETS[network]
+        p = preset_parameters(network, c, **preset)
+        for key, v in (params or {}).items():
+            p[key] = v
+    else:
+        if preset:
+            k = next(iter(preset))
+            raise ParameterError(k, preset[k], "no value: only the named presets take it")
+        text, p = network, params
+    tree, els = elements_of(text, p)
+    lay = Layout()
+    road = lay.node("road", "road")
+    wheel = lay.node("wheel", "mass", c["unsprung_mass"])
+    body = lay.node("body", "mass", c["sprung_mass"])
+    lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
+    if c["tyre_damping"] > 0:
+        lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
+    lay.place(tree, body, wheel, els)
+    sys = build("quarter_car", f"quarter car with {network!r}", lay, {"network": text, "car": c})
+    if c["tyre_damping"] == 0:
+        raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
+    return sys
