@@ -44,6 +44,58 @@ def _save_series(result, path: Path) -> None:
         raise ParameterError("save", str(path), "a file name ending in .csv or .nc")
 
 
+def _parse_params(items) -> dict:
+    """``name=value`` pairs (repeatable or comma-separated) -> dict; numbers as floats."""
+    from ..errors import ParameterError
+
+    out: dict = {}
+    for item in items or []:
+        for part in str(item).split(","):
+            if not part.strip():
+                continue
+            key, eq, val = part.partition("=")
+            key, val = key.strip(), val.strip()
+            if not eq or not key or not val:
+                raise ParameterError("param", part, "name=value, e.g. k=90000 or afw.law=momentum")
+            try:
+                out[key] = float(val)
+            except ValueError:
+                out[key] = val
+    return out
+
+
+def _simulate_network(network, params, ex, horizon, car, preset, method, rtol, json_out, save):
+    """``simulate --network``: the model core's quarter car."""
+    from ..systems import QUARTER_CAR_PRESETS, quarter_car
+
+    kw = preset if network in QUARTER_CAR_PRESETS else {}
+    sys_ = quarter_car(network, params, car=car, **kw)
+    res = sys_.simulate(ex, horizon, rtol=rtol, method=method)
+    m = res.metrics
+    if save is not None:
+        import pandas as pd
+
+        from ._common import atomic_write_text as _write
+
+        df = pd.DataFrame({"time": res.time, **res.outputs})
+        _write(save, df.to_csv(index=False, float_format="%.10g"), option="--save")
+    out = {k: m[k] for k in _JSON_KEYS}
+    out.update(
+        network=network,
+        input=ex.name,
+        horizon=horizon,
+        method=res.method,
+        states=sys_.n_states,
+        road_steps=[{"time": t, "jump": j} for t, j in res.road_steps],
+        metrics_from="sampled series (1 kHz, trapezoidal rule)",
+    )
+    if json_out:
+        emit_json(out)
+        return
+    rows = [(k, str(m[k]) if isinstance(m[k], bool) else f"{m[k]:.6g}") for k in _JSON_KEYS]
+    print_table(f"{network} on {ex.name}, T = {horizon:g} s ({res.method} steps)", rows)
+
+
 def simulate_command(
     suspension: Annotated[
         str, typer.Option(help="traditional, cfw, afw, device (system A) or device-afw (system B).")
@@ -83,7 +135,8 @@ def simulate_command(
         ),
     ] = "step",
     edge_width: Annotated[
-        float, typer.Option(help="Width of each smoothed bump edge [s] (with --edge ramp/half-cosine).")
+        float,
+        typer.Option(help="Width of each smoothed bump edge [s] (with --edge ramp/half-cosine)."),
     ] = 0.0,
     horizon: Annotated[float, typer.Option(help="Simulated time T [s].")] = 10.0,
     road_class: Annotated[str, typer.Option("--class", help="ISO 8608 road class A-H.")] = "C",
@@ -109,22 +162,50 @@ def simulate_command(
     plot: Annotated[
         Path | None, typer.Option(help="Figure of acceleration, deflection, tyre force.")
     ] = None,
+    network: Annotated[
+        str | None,
+        typer.Option(
+            help="Suspension network between body and wheel, simulated by the model core, "
+            "e.g. 'k | (c - b)' or 'k | c | afw' (elements k, c, b, fric, afw, hyd, screw, "
+            "rect, fluid); a named suspension is also accepted."
+        ),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option(
+            "--param",
+            "-p",
+            help="With --network: element parameter name=value (k=90000, afw.law=momentum); "
+            "repeatable or comma-separated.",
+        ),
+    ] = None,
+    method: Annotated[
+        str, typer.Option(help="With --network: auto, adaptive or exact (linear networks).")
+    ] = "auto",
 ) -> None:
     """Simulate a quarter car on a road input and print its ride metrics.
 
-    Example: inerterlab simulate --suspension afw --input sine --json
+    Example: inerterlab simulate --suspension afw --input sine --json;
+    inerterlab simulate --network "k | (c - b)" --param k=90000 --param c=5000 --param b=200
     """
+    from ..errors import ParameterError as _PE
+
+    if network is None and param:
+        raise _PE("param", param[0], "no value without --network")
     from ..excitation import RoadTooShortWarning, bump, drop, iso8608, read_road_csv, sine
     from ..simulate import SimulationOptions, simulate
     from ..suspension import quarter_car
 
-    car = quarter_car(
-        suspension,
-        changing_ratio=changing_ratio,
-        law=law,
-        tyre_lift_off=lift_off,
-        **_car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping),
-    )
+    if network is None:
+        car = quarter_car(
+            suspension,
+            changing_ratio=changing_ratio,
+            law=law,
+            tyre_lift_off=lift_off,
+            **_car_kwargs(
+                sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping
+            ),
+        )
     if input_ == "drop":
         ex = drop(amplitude)
     elif input_ == "bump":
@@ -135,6 +216,18 @@ def simulate_command(
         ex = iso8608(road_class, 20.0 if speed is None else speed, seed=seed)
     else:
         ex = read_road_csv(input_, speed=speed)
+    if network is not None:
+        if lift_off or plot is not None or backend != "numba":
+            bad = "--lift-off" if lift_off else "--plot" if plot is not None else "--backend"
+            raise _PE(bad, True, "not with --network (the model core)")
+        carv = _car_kwargs(
+            sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping
+        )
+        preset = {"law": law, "changing_ratio": changing_ratio}
+        _simulate_network(
+            network, _parse_params(param), ex, horizon, carv, preset, method, rtol, json_out, save
+        )
+        return
     want_series = save is not None or plot is not None
     opts = SimulationOptions(backend=backend, rtol=rtol, time_limit=time_limit)
     with warnings.catch_warnings(record=True) as caught:
@@ -157,9 +250,7 @@ def simulate_command(
         out.update(suspension=suspension, input=ex.name, horizon=horizon, law=car.effective_law)
         if res.not_finite:
             out["not_finite"] = dict(res.not_finite)
-        out["body_velocity_jumps"] = [
-            {"time": t, "jump": dv} for t, dv in res.body_velocity_jumps
-        ]
+        out["body_velocity_jumps"] = [{"time": t, "jump": dv} for t, dv in res.body_velocity_jumps]
         if save is not None:
             out["saved"] = str(save)
         if plot is not None:
@@ -201,6 +292,14 @@ def h2_command(
     tyre_stiffness: Annotated[float, typer.Option(help="Tyre stiffness [N/m].")] = 120_000.0,
     tyre_damping: Annotated[float, typer.Option(help="Tyre damping [N s/m].")] = 1300.0,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
+    network: Annotated[
+        str | None,
+        typer.Option(help="A linear suspension network, e.g. 'k | (c - b)' or 'k | fluid'."),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option("--param", "-p", help="With --network: element parameter name=value."),
+    ] = None,
 ) -> None:
     """H2 norms from unit white road velocity (Lyapunov equation, no time stepping).
 
@@ -211,6 +310,14 @@ def h2_command(
     from ..metrics import h2_norms
     from ..suspension import quarter_car
 
+    if network is not None:
+        _h2_network(
+            network, _parse_params(param), sprung_mass, unsprung_mass, tyre_stiffness,
+            tyre_damping, json_out,
+        )  # fmt: skip
+        return
+    if param:
+        raise ParameterError("param", param[0], "no value without --network")
     if suspension not in ("traditional", "cfw"):
         raise ParameterError(
             "suspension", suspension, "'traditional' or 'cfw' (linear suspensions)"
@@ -231,6 +338,38 @@ def h2_command(
         return
     rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k != "infinite"]
     print_table(f"H2 norms, {suspension}, unit white road velocity", rows)
+
+
+def _h2_network(network, params, ms, mu, kt, ct, json_out) -> None:
+    """``h2 --network``: admittance-based H2 norms of a linear network (composite linear
+    elements such as a loss-free fluid inerter replaced by their springs, dampers and
+    inerters)."""
+    import math
+
+    from ..suspension.network_linear import network_quarter_car
+    from ..systems import linear_equivalent
+
+    text, lin = linear_equivalent(network, params)
+    q = network_quarter_car(
+        text, sprung_mass=ms, unsprung_mass=mu, tyre_stiffness=kt, tyre_damping=ct
+    )
+    norms = q.h2(lin)
+    out = {
+        k: (None if not math.isfinite(norms[k]) else norms[k])
+        for k in ("body_acc", "tyre_deflection", "suspension_deflection")
+    }
+    reasons = q.h2_reasons(lin)
+    if reasons:
+        out["infinite"] = reasons
+    out["network"] = network
+    if json_out:
+        emit_json(out)
+        return
+    rows = [
+        (k, "infinite" if out[k] is None else f"{out[k]:.6g}")
+        for k in ("body_acc", "tyre_deflection", "suspension_deflection")
+    ]
+    print_table(f"H2 norms, {network}, unit white road velocity", rows)
 
 
 def register(app: typer.Typer) -> None:

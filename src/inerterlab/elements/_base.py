@@ -43,6 +43,11 @@ class Param:
         if self.optional and value is None:
             return None
         if self.choices is not None:
+            if self.name == "flywheel" and not isinstance(value, str):
+                from ..flywheels import AdaptiveFlywheel
+
+                if isinstance(value, AdaptiveFlywheel):
+                    return value
             return check_choice(self.name, value, self.choices)
         return check_in_range(
             self.name,
@@ -162,7 +167,9 @@ class ElementBase:
             ren = {k: f"{k}_{local}" for k in sparams}
             for k, v in sparams.items():
                 params[ren[k]] = v
-            stext = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: ren.get(m.group(0), m.group(0)), stext)
+            stext = re.sub(
+                r"[A-Za-z_][A-Za-z0-9_]*", lambda m, ren=ren: ren.get(m.group(0), m.group(0)), stext
+            )
             repl[local] = f"({stext})"
         text = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), text)
         return text, params

@@ -22,25 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
-# ---------------------------------------------------------------------------------
-# inertia law (flywheels.py in scalar form, with first and second derivatives)
-
-
-@njit(cache=True)
-def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
-    """I, dI/dw, d2I/dw2 at speed w >= 0 [rad/s] for I = I_rest + coef l(w)^power."""
-    if w < w_sat:
-        d = k_s - m_s * w * w
-        l = k_s * l_min / d
-        l1 = 2.0 * k_s * l_min * m_s * w / (d * d)
-        l2 = 2.0 * k_s * l_min * m_s / (d * d) + 8.0 * k_s * l_min * m_s * m_s * w * w / (d * d * d)
-    else:
-        l = l_max
-        l1 = 0.0
-        l2 = 0.0
-    if power == 1:
-        return i_rest + coef * l, coef * l1, coef * l2
-    return i_rest + coef * l * l, 2.0 * coef * l * l1, 2.0 * coef * (l1 * l1 + l * l2)
+# the inertia law with its first and second derivatives, written once in elements/
+from ..elements.adaptive_flywheel import inertia_law
 
 
 @njit(cache=True)

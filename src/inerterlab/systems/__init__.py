@@ -53,6 +53,7 @@ from .core import (
     CoreResult,
     System,
     base_excited,
+    linear_equivalent,
     preset_parameters,
     quarter_car,
     rig,
@@ -66,4 +67,5 @@ __all__ = [
     "quarter_car",
     "preset_parameters",
     "QUARTER_CAR_PRESETS",
+    "linear_equivalent",
 ]

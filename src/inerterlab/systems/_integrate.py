@@ -19,9 +19,42 @@ import numba as nb
 import numpy as np
 
 from ..suspension._kernels import (
-    A21, A31, A32, A41, A42, A43, A51, A52, A53, A54, A61, A62, A63, A64, A65,
-    B1, B3, B4, B5, B6, C2, C3, C4, C5,
-    D1, D3, D4, D5, D6, D7, E1, E3, E4, E5, E6, E7,
+    A21,
+    A31,
+    A32,
+    A41,
+    A42,
+    A43,
+    A51,
+    A52,
+    A53,
+    A54,
+    A61,
+    A62,
+    A63,
+    A64,
+    A65,
+    B1,
+    B3,
+    B4,
+    B5,
+    B6,
+    C2,
+    C3,
+    C4,
+    C5,
+    D1,
+    D3,
+    D4,
+    D5,
+    D6,
+    D7,
+    E1,
+    E3,
+    E4,
+    E5,
+    E6,
+    E7,
 )  # fmt: skip
 from ._kernel import I_NE, I_NN, evaluate
 
@@ -111,9 +144,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
             yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
         ok &= _f(mode, seg, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, work, stats)
         for i in range(n):
-            yt[i] = y[i] + h * (
-                A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]
-            )
+            yt[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
         ok &= _f(mode, seg, tn, yt, itab, ftab, imp, road_fixed, k6, work, stats)
         for i in range(n):
             yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
@@ -135,9 +166,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
             stats[0] += 1
             # dense output on (t, tn]
             if mode == 0:
-                while k < t_out.size and (
-                    t_out[k] < tn or (last and t_out[k] <= tn)
-                ):
+                while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     th = (t_out[k] - t) / h
                     th1 = 1.0 - th
                     for i in range(n):
@@ -154,7 +183,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
                 y[i] = yn[i]
                 k1[i] = k7[i]
             t = tn
-            fac = 0.9 * err ** -0.2 if err > 0.0 else 5.0
+            fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))
             if reject_prev:
                 fac = min(fac, 1.0)
@@ -163,7 +192,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
         else:
             stats[1] += 1
             reject_prev = True
-            h = h * max(0.2, 0.9 * err ** -0.2)
+            h = h * max(0.2, 0.9 * err**-0.2)
     return OK, k, h
 
 

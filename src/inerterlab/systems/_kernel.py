@@ -27,7 +27,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING
+from ..elements._base import DAMPER, FRICTION, INERTER, NPAR, SPRING
 from ..elements.adaptive_flywheel import flywheel_inertance, slider_derivative
 from ..elements.friction import friction_force
 
@@ -175,7 +175,7 @@ def _velocities(itab, ftab, X, V):
         V[n] = u
         return False
     # several nodes: Newton with backtracking on |G|
-    for it in range(200):
+    for _it in range(200):
         _vel_residual(itab, ftab, X, V, G, J, nv, True)
         g2 = 0.0
         for i in range(nv):

@@ -109,7 +109,9 @@ class System:
         Columns come from the right-hand side at unit vectors, exact for a linear system.
         NetworkError if an element is not linear."""
         if not self.linear:
-            bad = [n for n, e in zip(self.element_names, self.elements, strict=True) if _nonlinear(e)]
+            bad = [
+                n for n, e in zip(self.element_names, self.elements, strict=True) if _nonlinear(e)
+            ]
             raise NetworkError(
                 f"{self.description}: not linear ({', '.join(bad)}); linear analysis needs "
                 "springs, linear dampers and ideal inerters"
@@ -178,9 +180,11 @@ def _nonlinear(e: ElementBase) -> bool:
 def _derived_row(sys, output, C, D):
     names = list(sys.output_names)
     if sys.kind == "quarter_car":
+
         def row(n):
             j = names.index(n)
             return C[j], D[j]
+
         if output == "body_acc":
             return row("body.a")
         if output == "suspension_deflection":
@@ -273,14 +277,19 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
                     if types[c_] == VEL:
                         Dv[cls[a_], cls[c_]] -= w
     _check_singular(
-        Md, dyn, lay, "the inertances form a free sub-network (no mass or terminal fixes "
-        "its motion)", "Attach a mass, or combine the springs around the inerter into one",
+        Md,
+        dyn,
+        lay,
+        "the inertances form a free sub-network (no mass or terminal fixes its motion)",
+        "Attach a mass, or combine the springs around the inerter into one",
     )
     _check_singular(
-        Dv, vel, lay, "massless nodes joined only through dampers whose common motion only "
+        Dv,
+        vel,
+        lay,
+        "massless nodes joined only through dampers whose common motion only "
         "springs hold (a differential-algebraic loop)",
-        "Write the springs in series next to each other (e.g. 'k1 - k2 - c' for "
-        "'k1 - c - k2')",
+        "Write the springs in series next to each other (e.g. 'k1 - k2 - c' for 'k1 - c - k2')",
     )
     # spring-only nodes from the others: X_p = R X
     R = np.zeros((len(pos), nn))
@@ -429,7 +438,9 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
     if not isinstance(excitation, Excitation):
-        raise ParameterError("excitation", excitation, "an Excitation (drop(), bump(), sine(), ...)")
+        raise ParameterError(
+            "excitation", excitation, "an Excitation (drop(), bump(), sine(), ...)"
+        )
     T = check_positive("horizon", horizon, "s")
     check_positive("sample_rate", sample_rate, "Hz")
     r = check_positive("rtol", rtol)
@@ -755,3 +766,41 @@ def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, *
     if c["tyre_damping"] == 0:
         raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
     return sys
+
+
+def linear_equivalent(network: str, params: dict | None) -> tuple[str, dict]:
+    """The same network written with springs, dampers and inerters only (for the
+    admittance-based analysis of :mod:`inerterlab.suspension.network_linear`): composite
+    elements are replaced by their linear networks. NetworkError naming a nonlinear one."""
+    import re
+
+    tree, els = elements_of(network, params)
+    repl: dict[str, str] = {}
+    out: dict[str, float] = {}
+    for name, el in els.items():
+        if el.expansion() is None:
+            lin = el.linear()
+            if lin is None:
+                raise NetworkError(
+                    f"network {network!r}: {name!r} ({el.description}) is not linear; H2 "
+                    "norms need springs, linear dampers and ideal inerters"
+                )
+            out[name] = lin[1]
+            continue
+        sub = el.linear_network()
+        if sub is None:
+            raise NetworkError(
+                f"network {network!r}: {name!r} ({el.description}) is not linear with these "
+                "parameters; H2 norms need springs, linear dampers and ideal inerters"
+            )
+        stext, sparams = sub
+        ren = {k: f"{k}_{name}" for k in sparams}
+        stext = re.sub(
+            r"[A-Za-z_][A-Za-z0-9_]*", lambda m, ren=ren: ren.get(m.group(0), m.group(0)), stext
+        )
+        repl[name] = f"({stext})"
+        out.update({ren[k]: v for k, v in sparams.items()})
+    text = re.sub(
+        r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), tree.text()
+    )
+    return text, out

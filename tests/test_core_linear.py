@@ -1,0 +1,177 @@
+"""Model core, linear networks: exact steps, adaptive integration, the admittance-based
+analysis of network_linear and the fluid inerter."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from inerterlab.elements import FluidInerter, make_element
+from inerterlab.errors import ParameterError
+from inerterlab.excitation import bump, drop, sine
+from inerterlab.networks import NetworkError
+from inerterlab.suspension.network_linear import network_quarter_car
+from inerterlab.systems import base_excited, linear_equivalent, quarter_car
+
+NETWORKS = {
+    "k | (c - b)": {"k": 90e3, "c": 5e3, "b": 200.0},
+    "k | c | (k1 - b)": {"k": 80e3, "c": 3e3, "k1": 40e3, "b": 150.0},
+    "(k | c) - (k1 | b)": {"k": 90e3, "c": 4e3, "k1": 300e3, "b": 100.0},
+    "k | (k1 - c1) | b": {"k": 70e3, "k1": 60e3, "c1": 6e3, "b": 80.0},
+    "k | (k1 - c - b)": {"k": 90e3, "k1": 50e3, "c": 5e3, "b": 250.0},
+    "k | (k1 - k2 - c)": {"k": 90e3, "k1": 100e3, "k2": 150e3, "c": 4e3},
+}
+RAMP_BUMP = bump(edge="ramp", edge_width=0.003)
+
+
+def _ss_response(q, params, road_v, ts):
+    """network_linear's own realisation (from the admittance polynomials) driven exactly
+    by a piecewise-constant road velocity (zero-order hold is exact for it)."""
+    A, B, C, D = q.state_space(params)
+    n = A.shape[0]
+    x = np.zeros(n)
+    out = {k: np.empty(ts.size) for k in C}
+    big = np.zeros((n + 1, n + 1))
+    big[:n, :n] = A
+    big[:n, n] = B
+    for j, t in enumerate(ts):
+        if j:
+            h = t - ts[j - 1]
+            E = expm(big * h)
+            x = E[:n, :n] @ x + E[:n, n] * road_v(ts[j - 1] + 0.5 * h)
+        w = road_v(t)
+        for k in C:
+            out[k][j] = C[k] @ x + D[k] * w
+    return out
+
+
+@pytest.mark.parametrize("text", list(NETWORKS))
+def test_linear_network_time_and_frequency(text):
+    params = NETWORKS[text]
+    car = quarter_car(text, params)
+    assert car.linear
+    assert any(n not in ("road", "wheel", "body") for n in car.node_names)  # internal nodes
+    exact = car.simulate(RAMP_BUMP, 1.0, method="exact", sample_rate=2000)
+    adapt = car.simulate(RAMP_BUMP, 1.0, method="adaptive", rtol=1e-12, sample_rate=2000)
+    scale = np.abs(exact.states).max(axis=0)
+    assert (np.abs(exact.states - adapt.states).max(axis=0) <= 1e-8 * scale + 1e-15).all()
+    # independent: the admittance-based realisation of network_linear, same road
+    q = network_quarter_car(text)
+    segs = RAMP_BUMP.segments(1.0)
+
+    def road_v(t):
+        i = max(0, np.searchsorted(segs[:, 0], t, side="right") - 1)
+        return segs[i, 4]
+
+    # sample times away from the velocity switches of the ramp edges
+    ts = exact.time
+    ss = _ss_response(q, params, road_v, ts)
+    mine = {
+        "body_acc": exact.outputs["body_acc"],
+        "suspension_deflection": exact.outputs["deflection"],
+        "tyre_deflection": exact.outputs["wheel.x"] - exact.outputs["road.x"],
+    }
+    for k in ("suspension_deflection", "tyre_deflection"):
+        assert np.abs(ss[k] - mine[k]).max() <= 1e-9 * np.abs(ss[k]).max(), k
+    # body acceleration: the ramp's road velocity jumps at 4 instants; compare elsewhere
+    edges = np.concatenate([segs[:, 0], segs[:, 1]])
+    away = np.min(np.abs(ts[:, None] - edges[None, :]), axis=1) > 1e-6
+    k = "body_acc"
+    assert np.abs(ss[k] - mine[k])[away].max() <= 1e-8 * np.abs(ss[k]).max()
+    # transfer functions road velocity -> outputs at several frequencies
+    om = np.array([0.5, 3.0, 10.0, 40.0, 200.0])
+    ref = q.transfer(params, om)
+    for k in ("body_acc", "suspension_deflection", "tyre_deflection"):
+        got = car.transfer(om, k)
+        assert np.allclose(got, ref[k], rtol=1e-9, atol=0), (k, got, ref[k])
+
+
+def test_exact_steps_refused_where_they_do_not_apply():
+    car = quarter_car("k | (c - b)", NETWORKS["k | (c - b)"])
+    with pytest.raises(ParameterError, match="method"):
+        car.simulate(sine(), 0.1, method="exact")
+    assert car.simulate(sine(), 0.1).method == "adaptive"
+    assert car.simulate(drop(), 0.1).method == "exact"
+    with pytest.raises(NetworkError, match="not linear"):
+        quarter_car("afw").linear_state_space()
+
+
+FLUID = dict(density=870.0, length=3.3, piston_area=2.0e-3, channel_area=7.0e-5)
+
+
+def test_fluid_inertance_formula():
+    f = FluidInerter(**FLUID)
+    assert math.isclose(f.inertance, 870.0 * 3.3 * 2.0e-3**2 / 7.0e-5, rel_tol=1e-15)
+    with pytest.raises(ParameterError, match="fluid.channel_area"):
+        make_element("fluid", {**FLUID, "channel_area": -1.0})
+    with pytest.raises(ParameterError, match="fluid.length"):
+        make_element("fluid", {k: v for k, v in FLUID.items() if k != "length"})
+
+
+def test_fluid_without_losses_is_an_ideal_inerter():
+    b = FluidInerter(**FLUID).inertance
+    fl = quarter_car("k | c | fluid", {"k": 90e3, "c": 2e3, "fluid": FLUID})
+    ideal = quarter_car("k | c | b", {"k": 90e3, "c": 2e3, "b": b})
+    for ex in (bump(), sine()):
+        r1 = fl.simulate(ex, 1.0, method="adaptive", rtol=1e-10)
+        r2 = ideal.simulate(ex, 1.0, method="adaptive", rtol=1e-10)
+        assert np.array_equal(r1.states, r2.states)
+    A1, B1, C1, D1 = fl.linear_state_space()
+    A2, B2, C2, D2 = ideal.linear_state_space()
+    assert np.array_equal(A1, A2) and np.array_equal(B1, B2)
+    text, lin = linear_equivalent("k | c | fluid", {"k": 90e3, "c": 2e3, "fluid": FLUID})
+    h_f = network_quarter_car(text).h2(lin)
+    h_b = network_quarter_car("k | c | b").h2({"k": 90e3, "c": 2e3, "b": b})
+    for k in h_b:
+        assert math.isclose(h_f[k], h_b[k], rel_tol=1e-12)
+
+
+def test_fluid_energy_balance():
+    """Base-excited body on k | fluid (linear and quadratic loss): the work the base does
+    equals the stored energy (body, spring, fluid) plus the dissipated energy."""
+    fluid = {**FLUID, "damping": 400.0, "quadratic": 2.0e4}
+    sys_ = base_excited(300.0, "k | fluid", {"k": 90e3, "fluid": fluid})
+    res = sys_.simulate(sine(0.02, 2.0), 1.5, rtol=1e-11, sample_rate=40000.0)
+    o = res.outputs
+    t = res.time
+    vb, xb = o["base.v"], o["base.x"]
+    v = o["body.v"] - vb
+    z = o["body.x"] - xb
+    b = FluidInerter(**FLUID).inertance
+    stored = 0.5 * 300.0 * o["body.v"] ** 2 + 0.5 * 90e3 * z**2 + 0.5 * b * v**2
+    # power the base delivers: minus each element's force on the base times its velocity
+    f_base = sum(o[f"{n}.force"] for n in sys_.element_names)
+    p_in = -f_base * vb
+    p_loss = 400.0 * v**2 + 2.0e4 * np.abs(v) ** 3
+
+    def simpson(y):
+        return float(np.sum((y[0:-1:2] + 4 * y[1::2] + y[2::2]) * (t[2] - t[0]) / 6.0))
+
+    work = simpson(p_in)
+    lost = simpson(p_loss)
+    gain = stored[-1] - stored[0]
+    assert lost > 0.1 * work
+    assert abs(work - gain - lost) < 1e-6 * work
+
+
+def test_ill_posed_networks_name_the_sub_network():
+    with pytest.raises(NetworkError, match=r"friction.*fric - k1"):
+        quarter_car("k | c | (fric - k1)", {"k": 1e5, "c": 1e3, "fric": 100.0, "k1": 1e4})
+    with pytest.raises(NetworkError, match=r"k1 - c1 - k2"):
+        quarter_car("k | (k1 - c1 - k2)", {"k": 1e5, "k1": 1e4, "c1": 1e3, "k2": 2e4})
+    with pytest.raises(NetworkError, match=r"free sub-network.*k1 - b - k2"):
+        quarter_car("k | c | (k1 - b - k2)", {"k": 1e5, "c": 1e3, "k1": 1e4, "b": 10.0, "k2": 2e4})
+    with pytest.raises(NetworkError, match="unknown element"):
+        quarter_car("k | q", {"k": 1e5})
+
+
+def test_parameters_by_name_errors():
+    with pytest.raises(ParameterError, match="k2"):
+        quarter_car("k | c", {"k": 1e5, "c": 1e3, "k2": 1.0})
+    with pytest.raises(ParameterError, match="c.damping"):
+        quarter_car("k | c", {"k": 1e5})
+    with pytest.raises(ParameterError, match="afw.law"):
+        quarter_car("k | c | afw", {"k": 1e5, "c": 1e3, "afw.law": "magic"})
+    with pytest.raises(ParameterError, match="k"):
+        quarter_car("k | c", {"k": -5.0, "c": 1e3})
