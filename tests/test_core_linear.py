@@ -35,10 +35,14 @@ def _ss_response(q, params, road_v, ts):
     big = np.zeros((n + 1, n + 1))
     big[:n, :n] = A
     big[:n, n] = B
+    cache = {}
     for j, t in enumerate(ts):
         if j:
             h = t - ts[j - 1]
-            E = expm(big * h)
+            key = round(h, 15)
+            if key not in cache:
+                cache[key] = expm(big * h)
+            E = cache[key]
             x = E[:n, :n] @ x + E[:n, n] * road_v(ts[j - 1] + 0.5 * h)
         w = road_v(t)
         for k in C:
@@ -175,3 +179,12 @@ def test_parameters_by_name_errors():
         quarter_car("k | c | afw", {"k": 1e5, "c": 1e3, "afw.law": "magic"})
     with pytest.raises(ParameterError, match="k"):
         quarter_car("k | c", {"k": -5.0, "c": 1e3})
+
+
+def test_road_step_metrics_not_finite_where_the_body_velocity_jumps():
+    direct = quarter_car("k | c | b", {"k": 90e3, "c": 5e3, "b": 200.0}).simulate(bump(), 0.5)
+    assert direct.metrics["rms_body_acc"] is None and direct.metrics["peak_body_acc"] is None
+    assert direct.metrics["min_tyre_force"] is None  # the road steps down
+    assert direct.metrics["rms_body_acc_wk"] > 0
+    behind = quarter_car("k | (c - b)", NETWORKS["k | (c - b)"]).simulate(bump(), 0.5)
+    assert behind.metrics["rms_body_acc"] > 0 and "rms_body_acc" not in behind.not_finite

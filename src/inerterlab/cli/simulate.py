@@ -89,11 +89,19 @@ def _simulate_network(network, params, ex, horizon, car, preset, method, rtol, j
         road_steps=[{"time": t, "jump": j} for t, j in res.road_steps],
         metrics_from="sampled series (1 kHz, trapezoidal rule)",
     )
+    if res.not_finite:
+        out["not_finite"] = dict(res.not_finite)
     if json_out:
         emit_json(out)
         return
-    rows = [(k, str(m[k]) if isinstance(m[k], bool) else f"{m[k]:.6g}") for k in _JSON_KEYS]
+
+    def cell(v):
+        return "not finite" if v is None else str(v) if isinstance(v, bool) else f"{v:.6g}"
+
+    rows = [(k, cell(m[k])) for k in _JSON_KEYS]
     print_table(f"{network} on {ex.name}, T = {horizon:g} s ({res.method} steps)", rows)
+    for k, why in res.not_finite.items():
+        print(f"{k}: {why}")
 
 
 def simulate_command(

@@ -4,9 +4,18 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba as nb
+
 from ._base import DAMPER, ElementBase, Param
 
-__all__ = ["Damper"]
+__all__ = ["Damper", "damper_force"]
+
+
+@nb.njit(cache=True)
+def damper_force(row, v):
+    """(F [N], dF/dv [N s/m]) at relative velocity v [m/s]."""
+    a = abs(v)
+    return row[0] * v + row[1] * v * a, row[0] + 2.0 * row[1] * a
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -6,18 +6,16 @@ piston, so its kinetic energy is that of an inertance
 
     b = rho l A1^2 / A2                                              [kg]
 
-(Swift et al. 2013, eq. for the ideal fluid inerter). The channel's losses are modelled
-as a parallel damper F = c v + c_2 v |v|: the linear part for laminar (viscous) loss,
-the quadratic part for the turbulent and entry/exit losses of the flow, which grow with
-the square of the flow velocity [SW13, DR18]. With c = c_2 = 0 the element is an ideal
-inerter of inertance b.
+[SW13]. The channel's losses are modelled as a parallel damper F = c v + c_2 v |v|:
+the linear part for the viscous (laminar) loss, the quadratic part the usual model of
+turbulent and entry/exit losses of a pipe flow (pressure drop proportional to the
+square of the flow velocity); [SW13] discusses these parasitic effects. The loss
+coefficients are the user's. With c = c_2 = 0 the element is an ideal inerter of
+inertance b (docs/model.md §11).
 
 [SW13] S. J. Swift, M. C. Smith, A. R. Glover, C. Papageorgiou, B. Gartner and
 N. E. Houghton, "Design and modelling of a fluid inerter", International Journal of
 Control 86(11), 2035-2051, 2013.
-[DR18] D. De Domenico and G. Ricciardi, "An enhanced base isolation system equipped
-with optimal tuned mass damper inerter (TMDI)", Earthquake Engineering & Structural
-Dynamics 47(5), 1169-1192, 2018.
 """
 
 from __future__ import annotations

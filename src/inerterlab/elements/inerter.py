@@ -4,9 +4,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba as nb
+
 from ._base import INERTER, ElementBase, Param
 
-__all__ = ["Inerter"]
+__all__ = ["Inerter", "inerter_inertance"]
+
+
+@nb.njit(cache=True)
+def inerter_inertance(row):
+    """b [kg]: F = b (a_top - a_bottom)."""
+    return row[0]
 
 
 @dataclass(frozen=True, kw_only=True)

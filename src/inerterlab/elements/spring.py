@@ -4,9 +4,17 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+import numba as nb
+
 from ._base import SPRING, ElementBase, Param
 
-__all__ = ["Spring"]
+__all__ = ["Spring", "spring_force"]
+
+
+@nb.njit(cache=True)
+def spring_force(row, x):
+    """F [N] at relative displacement x [m]."""
+    return row[0] * x
 
 
 @dataclass(frozen=True, kw_only=True)

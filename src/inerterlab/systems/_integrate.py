@@ -154,7 +154,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
             sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
             e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
             err += (e / sc) ** 2
-        err = math.sqrt(err / n)
+        err = math.sqrt(err / max(n, 1))
         if not ok or not math.isfinite(err):
             if h < 1e-14 * max(abs(t), 1.0) or not ok and h < 1e-12:
                 return NOT_FINITE if ok else BALANCE_FAILED, k, h

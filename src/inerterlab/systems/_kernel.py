@@ -29,7 +29,10 @@ import numpy as np
 
 from ..elements._base import DAMPER, FRICTION, INERTER, NPAR, SPRING
 from ..elements.adaptive_flywheel import flywheel_inertance, slider_derivative
+from ..elements.damper import damper_force
 from ..elements.friction import friction_force
+from ..elements.inerter import inerter_inertance
+from ..elements.spring import spring_force
 
 GROUND, ROAD, DYN, VEL, POS = 0, 1, 2, 3, 4
 NODE_W = 4
@@ -84,8 +87,7 @@ def _solve(M, r, n):
 def _dissipative(code, row, v):
     """(F, dF/dv) of a velocity-dependent element at relative velocity v."""
     if code == DAMPER:
-        a = abs(v)
-        return row[0] * v + row[1] * v * a, row[0] + 2.0 * row[1] * a
+        return damper_force(row, v)
     return friction_force(row[0], row[1], v)
 
 
@@ -111,7 +113,7 @@ def _vel_residual(itab, ftab, X, V, G, J, nv, want_j):
             continue
         row = ftab[itab[b + 3] : itab[b + 3] + NPAR]
         if code == SPRING:
-            f = row[0] * (X[top] - X[bot])
+            f = spring_force(row, X[top] - X[bot])
             d = 0.0
         elif code == DAMPER or code == FRICTION:
             f, d = _dissipative(code, row, V[top] - V[bot])
@@ -281,12 +283,12 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp):
         v = V[top] - V[bot]
         me = 0.0
         if code == SPRING:
-            f = row[0] * (X[top] - X[bot])
+            f = spring_force(row, X[top] - X[bot])
         elif code == DAMPER or code == FRICTION:
             f, _ = _dissipative(code, row, v)
         elif code == INERTER:
             f = 0.0
-            me = row[0]
+            me = inerter_inertance(row)
         else:
             so = itab[b + 4]
             if so >= 0:

@@ -18,6 +18,8 @@ from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, ROAD, VEL
 from ._network import Layout, elements_of
 
 _TYPE = {"ground": GROUND, "road": ROAD}
+#: ``method="auto"`` takes exact steps on roads of at most this many segments
+EXACT_MAX_SEGMENTS = 64
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,6 +55,7 @@ class CoreResult:
     method: str
     stats: dict
     road_steps: tuple = ()
+    not_finite: dict = field(default_factory=dict)
 
 
 @dataclass(frozen=True, eq=False)
@@ -169,7 +172,9 @@ class System:
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
-        ISO 8608 and file roads) or ``auto`` (exact where it applies)."""
+        ISO 8608 and file roads) or ``auto`` (exact for a linear system on a
+        piecewise-linear road of at most :data:`EXACT_MAX_SEGMENTS` segments, adaptive
+        otherwise)."""
         return _simulate(self, excitation, horizon, rtol, sample_rate, method, max_steps, x0)
 
 
@@ -374,6 +379,10 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
             else:
                 imp[cls[other]] += el.damping
     linear = all(not _nonlinear(el) for _, el, _, _ in edges)
+    # velocity jump of each dynamic node per unit road step (nominal inertances; only
+    # whether it is zero is used: a body whose velocity jumps has a Dirac acceleration)
+    dv_unit = np.linalg.solve(Md, imp) if len(dyn) and jump_ok else np.zeros(len(dyn))
+    node_jump = {lay.nodes[i]["name"]: float(dv_unit[cls[i]]) for i in dyn}
     itab.setflags(write=False)
     ftab.setflags(write=False)
     return System(
@@ -391,7 +400,7 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
         linear=linear,
         imp_unit=imp,
         jump_ok=jump_ok,
-        info=dict(info, spring_laplacian=L, types=types),
+        info=dict(info, spring_laplacian=L, types=types, velocity_jump_per_step=node_jump),
     )
 
 
@@ -471,10 +480,18 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
             "exact",
             "'adaptive' here: exact steps need a linear system and a piecewise-linear road",
         )
-    use_exact = method == "exact" or (method == "auto" and sys.linear and piecewise_linear)
+    # exact steps pay one matrix exponential per distinct step length in Python: with
+    # many road segments (sampled roads) the adaptive integration is faster
+    use_exact = method == "exact" or (
+        method == "auto" and sys.linear and piecewise_linear and len(segs) <= EXACT_MAX_SEGMENTS
+    )
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
-    if use_exact:
+    if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
+        Y = np.empty((ts.size, 0))
+        stats = {"steps": 0}
+        meth = "adaptive" if not use_exact else "exact"
+    elif use_exact:
         Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol)
         meth = "exact"
     else:
@@ -499,6 +516,7 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
             raise ConvergenceError(f"{sys.description}: {why}")
         stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2])}
         meth = "adaptive"
+    not_finite: dict = {}
     O = np.empty((ts.size, len(sys.output_names)))
     _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
     outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
@@ -515,6 +533,24 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
         metrics = series_metrics(
             ts, outs["body_acc"], outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"]
         )
+        steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
+        if steps_:
+            jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
+            jw = sys.info["velocity_jump_per_step"].get("wheel", 0.0)
+            if abs(jb) > 1e-12 * abs(jw):
+                why = (
+                    "not finite: the body velocity jumps at the road steps (an inertance "
+                    "between wheel and body), so the body acceleration has a Dirac part; "
+                    "smooth the edges (bump(edge=...), --edge)"
+                )
+                not_finite.update(rms_body_acc=why, peak_body_acc=why)
+            if any(j < 0 for _, j in steps_):
+                not_finite["min_tyre_force"] = (
+                    "not finite: the road steps down and the tyre damper would pull the "
+                    "wheel with a Dirac impulse C_t x step; smooth the edges"
+                )
+            for k in not_finite:
+                metrics[k] = None
     if sys.kind == "rig":
         outs["force"] = sum(
             outs[f"{n}.force"]
@@ -526,7 +562,7 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     )
     return CoreResult(
         system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
-        stats=stats, road_steps=steps,
+        stats=stats, road_steps=steps, not_finite=not_finite,
     )  # fmt: skip
 
 
