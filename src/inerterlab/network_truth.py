@@ -94,7 +94,7 @@ LAWS = ("thesis", "momentum")
 THESIS_PARALLEL = {"c": 5000.0, "b": 206.3}  # thesis car (4.16) with the cfw inertance
 
 _VARIANT_RE = re.compile(
-    r"^(?:(ideal)|ideal-max x=([0-9.]+)|afw x=([0-9.]+) law=([a-z-]+)"
+    r"^(?:(ideal)|ideal-max x=([0-9.eE+-]+)|afw x=([0-9.eE+-]+) law=([a-z-]+)"
     r"|(hydraulic)|(rectifier)|(screw)|(fluid))$"
 )
 
@@ -132,7 +132,10 @@ def _parse_variant(text: str):
 
 
 def _ratio(s: str) -> float:
-    x = float(s)
+    try:
+        x = float(s)
+    except ValueError:
+        raise ParameterError("variant", s, "a changing ratio x in (0, 1)") from None
     if not 0.0 < x < 1.0:
         raise ParameterError("variant", s, "a changing ratio x in (0, 1)")
     return x
@@ -204,10 +207,25 @@ def _network_for(layout_text: str, params: dict, variant: str):
         "fric_dev": {"force": dev.friction, "velocity": dev.friction_velocity},
         "b": b,
     }
-    inner = (
-        "(k_dev | c_dev | fric_dev | b)" if kind == "screw" else "(k_dev - (c_dev | fric_dev | b))"
-    )
-    return _replace_b(layout_text, inner), {**p, **parts}
+    if kind == "screw":
+        return _replace_b(layout_text, "(k_dev | c_dev | fric_dev | b)"), {**p, **parts}
+    # a series device: its spring on either side of the branch (the same admittance);
+    # the model core needs one end of the inertance on a node that has a mass or
+    # another inertance, so take the order that gives that
+    from .networks import NetworkError
+    from .systems import quarter_car
+
+    texts = [
+        _replace_b(layout_text, "(k_dev - (c_dev | fric_dev | b))"),
+        _replace_b(layout_text, "((c_dev | fric_dev | b) - k_dev)"),
+    ]
+    for text in texts:
+        try:
+            quarter_car(text, {**p, **parts})
+        except NetworkError:
+            continue
+        return text, {**p, **parts}
+    return texts[0], {**p, **parts}
 
 
 def _excitation(name: str, seed: int):
