@@ -214,6 +214,48 @@ def _find_line(text: str, table: str | None, key: str | None) -> int | None:
     return header_line
 
 
+_ADAPTIVE_KEYS = ("flywheel", "changing_ratio", "law", "rest_inertance")
+
+
+def _adaptive(table, where: str, fail):
+    """An adaptive-flywheel inerter from a ``[front.adaptive]`` table: ``flywheel`` (preset),
+    ``changing_ratio`` [-], ``law`` (thesis or momentum) and ``rest_inertance`` (a mass,
+    r^2 I_min, which sets the transmission ratio r)."""
+    import math
+
+    from ..elements import AdaptiveFlywheelInerter
+    from ..flywheels import flywheel
+
+    if not isinstance(table, dict):
+        fail(
+            where.split(".")[0],
+            "adaptive",
+            "a table [.adaptive] of flywheel, changing_ratio, law, rest_inertance",
+        )
+    for k in table:
+        if k not in _ADAPTIVE_KEYS:
+            fail(where, k, "unknown key; expected one of " + ", ".join(_ADAPTIVE_KEYS))
+    if "rest_inertance" not in table:
+        fail(where, "rest_inertance", 'missing (the inertance at rest, e.g. "200 kg")')
+    try:
+        b = parse_quantity(table["rest_inertance"], "mass")
+    except ParameterError as e:
+        fail(where, "rest_inertance", f"{table['rest_inertance']!r}: expected {e.valid}")
+    if not b > 0:
+        fail(where, "rest_inertance", f"{b!r}: expected a mass > 0 kg")
+    try:
+        fw = flywheel(table.get("flywheel", "nylon"))
+        x = table.get("changing_ratio")
+        if x is not None:
+            fw = fw.with_changing_ratio(float(x))
+        return AdaptiveFlywheelInerter(
+            flywheel=fw, ratio=math.sqrt(b / fw.inertia_min), law=table.get("law", "thesis")
+        )
+    except (ParameterError, TypeError, ValueError) as e:
+        name = getattr(e, "name", "changing_ratio")
+        fail(where, name, f"{getattr(e, 'value', '')!r}: expected {getattr(e, 'valid', e)}")
+
+
 def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
     """Vehicle parameters from TOML text (``source`` names it in errors)."""
     try:
@@ -260,7 +302,12 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
         keys = dict(_CORNER_KEYS)
         if model == "half":
             keys.pop("anti_roll")
-        q = quantities(axle, data[axle], keys)
+        values = dict(data[axle])
+        adaptive_table = values.pop("adaptive", None)
+        q = quantities(axle, values, keys)
+        adaptive = None
+        if adaptive_table is not None:
+            adaptive = _adaptive(adaptive_table, f"{axle}.adaptive", fail)
         for k in ("unsprung_mass", "stiffness", "damping", "tyre_stiffness"):
             if k not in q:
                 fail(axle, k, "missing")
@@ -271,6 +318,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                     stiffness=q["stiffness"],
                     damping=q["damping"],
                     inertance=q.get("inertance", 0.0),
+                    adaptive=adaptive,
                 ),
                 tyre=Tyre(stiffness=q["tyre_stiffness"], damping=q.get("tyre_damping", 0.0)),
             )

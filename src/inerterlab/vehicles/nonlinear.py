@@ -8,6 +8,13 @@ property of a connection:
   so the force is max(0, that). The linear model lets it go negative.
 * **Asymmetric dampers.** A strut's damping is ``rebound`` x c while it extends and
   ``compression`` x c while it shortens (both 1: the linear strut).
+* **Adaptive inerters.** A strut's adaptive-flywheel inerter (``Strut.adaptive``) adds
+  (m_e(v) - m_e(0)) u u^T to the mass matrix, m_e the inertance of its law at the
+  strut's extension rate v (laws ``thesis`` and ``momentum`` of
+  :mod:`inerterlab.elements.adaptive_flywheel`, the same compiled code every system
+  uses); the accelerations then solve the small symmetric positive definite system by
+  Cholesky at every stage. ``thesis`` and ``momentum`` make the force from the
+  inertance alone (no extra velocity-squared term), so the mass matrix carries it all.
 * **Strut friction.** A Coulomb force of size ``friction`` against the strut's
   extension rate, regularised as F_f tanh(delta' / v_f) with ``friction_velocity``
   v_f (default 1 mm/s): below v_f the friction acts as a damper of rate F_f / v_f, so
@@ -15,7 +22,7 @@ property of a connection:
   m / (F_f / v_f) (checked).
 
 Coordinates, outputs and their units are those of the linear model, measured from
-static equilibrium; the inerters keep the mass matrix constant. The equations are
+static equilibrium; constant inerters keep the mass matrix constant. The equations are
 integrated by the classical fourth-order Runge-Kutta method with a fixed step, the
 road linear between its samples (so the road velocity is constant on each sample
 interval and the steps never straddle a change of slope), compiled with numba.
@@ -30,6 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
 from .model import LinearVehicle
 
@@ -75,14 +83,25 @@ def _tables(
             preload[j] = static[con.name[: -len("_tyre")]]
             unilateral[j] = 1 if lift_off else 0
     fv = np.array([friction_velocity])
-    return np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv
+    afw, rows, me0 = [], [], []
+    for j, con in enumerate(vehicle.connections):
+        adaptive = getattr(con.law, "adaptive", None)
+        if adaptive is not None:
+            afw.append(j)
+            rows.append(adaptive.row())
+            me0.append(adaptive.inertance_min)
+    afw = np.array(afw, dtype=np.int64)
+    rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, 16))
+    me0 = np.array(me0, dtype=float)
+    return (np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
+            afw, rows, me0, np.ascontiguousarray(M))  # fmt: skip
 
 
 @njit(cache=True)
-def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, out_f):
-    """Generalised forces; ``out_f`` receives each connection's tension."""
+def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, out_f, gen):
+    """Generalised forces into ``gen``; ``out_f`` receives each connection's tension."""
     n = q.size
-    gen = np.zeros(n)
+    gen[:] = 0.0
     for j in range(U.shape[0]):
         d = 0.0
         dd = 0.0
@@ -105,19 +124,70 @@ def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, 
 
 
 @njit(cache=True)
-def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f, out):
-    n = Minv.shape[0]
-    gen = _forces(x[:n], x[n:], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
-    out[:n] = x[n:]
-    out[n:] = Minv @ gen
+def _solve_spd(A, b, L, out):
+    """out = A^-1 b for a small symmetric positive definite A (Cholesky; L is work)."""
+    n = A.shape[0]
+    for j in range(n):
+        s = A[j, j]
+        for m in range(j):
+            s -= L[j, m] * L[j, m]
+        L[j, j] = math.sqrt(s)
+        for i in range(j + 1, n):
+            t = A[i, j]
+            for m in range(j):
+                t -= L[i, m] * L[j, m]
+            L[i, j] = t / L[j, j]
+    for i in range(n):
+        t = b[i]
+        for m in range(i):
+            t -= L[i, m] * out[m]
+        out[i] = t / L[i, i]
+    for i in range(n - 1, -1, -1):
+        t = out[i]
+        for m in range(i + 1, n):
+            t -= L[m, i] * out[m]
+        out[i] = t / L[i, i]
 
 
 @njit(cache=True)
-def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv):
+def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
+           afw, rows, me0, M0, Mw, Lw, gen, f, out):  # fmt: skip
+    n = Minv.shape[0]
+    _forces(x[:n], x[n:], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f, gen)
+    for i in range(n):
+        out[i] = x[n + i]
+    if afw.size == 0:
+        for a in range(n):
+            t = 0.0
+            for b in range(n):
+                t += Minv[a, b] * gen[b]
+            out[n + a] = t
+        return
+    # adaptive inerters: M(q') = M0 + sum_j (m_e,j(v_j) - m_e,j(0)) u_j u_j^T
+    for a in range(n):
+        for b in range(n):
+            Mw[a, b] = M0[a, b]
+    for jj in range(afw.size):
+        j = afw[jj]
+        v = 0.0
+        for i in range(n):
+            v += U[j, i] * x[n + i]
+        me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
+        d = me - me0[jj]
+        for a in range(n):
+            for b in range(n):
+                Mw[a, b] += d * U[j, a] * U[j, b]
+    _solve_spd(Mw, gen, Lw, out[n:])
+
+
+@njit(cache=True)
+def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
+         afw, rows, me0, M0):  # fmt: skip
     n = Minv.shape[0]
     nt = r.shape[0]
     xs = np.empty((nt, 2 * n))
     fs = np.empty((nt, U.shape[0]))
+    acc = np.empty((nt, n))
     x = x0.copy()
     h = dt / sub
     f = np.empty(U.shape[0])
@@ -125,25 +195,57 @@ def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric,
     k2 = np.empty(2 * n)
     k3 = np.empty(2 * n)
     k4 = np.empty(2 * n)
-    args = (Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
+    xt = np.empty(2 * n)
+    Mw = np.empty((n, n))
+    Lw = np.zeros((n, n))
+    gen = np.empty(n)
+    args = (
+        Minv,
+        U,
+        V,
+        k,
+        c_ext,
+        c_cmp,
+        preload,
+        unilateral,
+        fric,
+        fv,
+        afw,
+        rows,
+        me0,
+        M0,
+        Mw,
+        Lw,
+        gen,
+        f,
+    )
     for it in range(nt):
         if it + 1 < nt:
             slope = (r[it + 1] - r[it]) / dt
         else:
             slope = (r[it] - r[it - 1]) / dt
         xs[it] = x
-        _forces(x[:n], x[n:], r[it], slope, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f)
+        _deriv(x, r[it], slope, *args, k1)
         fs[it] = f
+        acc[it] = k1[n:]
         if it + 1 == nt:
             break
         for s in range(sub):
             r0 = r[it] + slope * (s * h)
-            _deriv(x, r0, slope, *args, k1)
-            _deriv(x + 0.5 * h * k1, r0 + 0.5 * h * slope, slope, *args, k2)
-            _deriv(x + 0.5 * h * k2, r0 + 0.5 * h * slope, slope, *args, k3)
-            _deriv(x + h * k3, r0 + h * slope, slope, *args, k4)
-            x = x + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
-    return xs, fs
+            if s > 0:
+                _deriv(x, r0, slope, *args, k1)
+            for i in range(2 * n):
+                xt[i] = x[i] + 0.5 * h * k1[i]
+            _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k2)
+            for i in range(2 * n):
+                xt[i] = x[i] + 0.5 * h * k2[i]
+            _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k3)
+            for i in range(2 * n):
+                xt[i] = x[i] + h * k3[i]
+            _deriv(xt, r0 + h * slope, slope, *args, k4)
+            for i in range(2 * n):
+                x[i] = x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+    return xs, fs, acc
 
 
 def simulate_nonlinear(
@@ -193,12 +295,9 @@ def simulate_nonlinear(
             )
     A, Br, _, _, _, _ = vehicle.state_space()
     x0 = -np.linalg.solve(A, Br @ r[0])
-    xs, fs = _run(x0, r, dt, substeps, *tables)
+    xs, fs, qdd = _run(x0, r, dt, substeps, *tables)
     n = len(vehicle.dofs)
     q, qd = xs[:, :n], xs[:, n:]
-    Minv, U = tables[0], tables[1]
-    gen = -(fs @ U)  # generalised forces at the samples
-    qdd = gen @ Minv.T
     rdot = np.vstack([np.diff(r, axis=0) / dt, (r[-1:] - r[-2:-1]) / dt])
     outputs = {}
     for name, o in vehicle.outputs.items():

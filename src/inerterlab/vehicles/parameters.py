@@ -11,6 +11,7 @@ positive left side up. A body point at (x, y) moves z - x theta + y phi.
 from __future__ import annotations
 
 from dataclasses import dataclass, replace
+from typing import Any
 
 from ..errors import ParameterError, check_finite, check_nonnegative, check_positive
 
@@ -39,24 +40,48 @@ class Strut:
         c [N s/m], >= 0.
     inertance : float
         b [kg], >= 0.
+    adaptive : AdaptiveFlywheelInerter, optional
+        An adaptive-flywheel inerter (:mod:`inerterlab.elements`) in parallel with the
+        strut, laws ``thesis`` or ``momentum``. The nonlinear model
+        (:mod:`inerterlab.vehicles.nonlinear`) uses its speed-dependent inertance; the
+        linear model (spectral method, modes) uses its rest inertance r^2 I_min, and
+        :func:`~inerterlab.vehicles.stochastic.statistical_linearisation` its Gaussian
+        equivalent.
     """
 
     stiffness: float
     damping: float
     inertance: float = 0.0
+    adaptive: Any = None
 
     def __post_init__(self) -> None:
         check_nonnegative("stiffness", self.stiffness, "N/m")
         check_nonnegative("damping", self.damping, "N s/m")
         check_nonnegative("inertance", self.inertance, "kg")
+        if self.adaptive is not None:
+            from ..elements import AdaptiveFlywheelInerter
+
+            if not isinstance(self.adaptive, AdaptiveFlywheelInerter):
+                raise ParameterError("adaptive", self.adaptive, "an AdaptiveFlywheelInerter")
+            if self.adaptive.law not in ("thesis", "momentum"):
+                raise ParameterError(
+                    "adaptive.law", self.adaptive.law, "'thesis' or 'momentum' in a vehicle"
+                )
+
+    @property
+    def linear_inertance(self) -> float:
+        """b plus the adaptive inerter's rest inertance [kg] (the linear model's)."""
+        extra = 0.0 if self.adaptive is None else self.adaptive.inertance_min
+        return float(self.inertance) + extra
 
     def dynamic_stiffness(self, s):
-        """k + c s + b s^2 [N/m] at complex frequency ``s`` [rad/s]."""
-        return self.stiffness + self.damping * s + self.inertance * s * s
+        """k + c s + b s^2 [N/m] at complex frequency ``s`` [rad/s] (b: the linear
+        inertance, an adaptive inerter at rest)."""
+        return self.stiffness + self.damping * s + self.linear_inertance * s * s
 
     def mck(self) -> tuple[float, float, float]:
-        """(b [kg], c [N s/m], k [N/m])."""
-        return (float(self.inertance), float(self.damping), float(self.stiffness))
+        """(b [kg], c [N s/m], k [N/m]); b includes an adaptive inerter at rest."""
+        return (self.linear_inertance, float(self.damping), float(self.stiffness))
 
     def internal_states(self) -> int:
         """Extra states the law needs in a state space (0: purely polynomial)."""
@@ -64,10 +89,24 @@ class Strut:
 
     def scaled(self, factor: float) -> Strut:
         """The same law with every coefficient times ``factor`` (struts in parallel)."""
+        if self.adaptive is not None:
+            # factor identical flywheels at the same speed: one flywheel with every
+            # inertia (rest, sliders) times factor and the same slider law l(w)
+            fw = self.adaptive.wheel
+            fw = replace(
+                fw,
+                rest_inertia=fw.rest_inertia * factor,
+                slider_mass=fw.slider_mass * factor,
+                spring_stiffness=fw.spring_stiffness * factor,
+            )
+            adaptive = replace(self.adaptive, flywheel=fw, changing_ratio=None)
+        else:
+            adaptive = None
         return Strut(
             stiffness=self.stiffness * factor,
             damping=self.damping * factor,
             inertance=self.inertance * factor,
+            adaptive=adaptive,
         )
 
 

@@ -16,6 +16,9 @@ Monte Carlo
     probability that a road of that length lifts the tyre at all (Wilson interval).
 
 Statistical linearisation
+    An adaptive inerter's force m_e(v) dv/dt (laws ``thesis``, ``momentum``) becomes the
+    constant inertance E[m_e(v)]: for a stationary Gaussian response v and dv/dt are
+    independent, so E[m_e(v) a^2] / E[a^2] = E[m_e(v)].
     Each nonlinear strut force g(v) of the strut's extension rate v (asymmetric damper,
     regularised Coulomb friction) is replaced by the damper c_eq that minimises the
     mean square error E[(g(v) - c_eq v)^2] for a zero-mean Gaussian v of standard
@@ -346,6 +349,8 @@ class LinearisationResult:
     damping : dict
         Axle (``front``, ``rear``) -> equivalent strut damping c_eq [N s/m] (both
         corners of a full car's axle see the same road statistics).
+    inertance : dict
+        Axle -> equivalent inertance of its adaptive inerter, E[m_e(v)] [kg] (0 without).
     velocity_rms : dict
         Axle -> RMS strut extension rate sigma_v [m/s] at the fixed point.
     spectral : SpectralResult
@@ -360,6 +365,7 @@ class LinearisationResult:
     """
 
     damping: dict
+    inertance: dict
     velocity_rms: dict
     spectral: Any
     mean: dict
@@ -391,11 +397,35 @@ def _friction_gain(sigma: float, friction: float, v_f: float) -> float:
     return friction * float(val) / v_f
 
 
-def _with_damping(params, damping: dict):
-    """Vehicle parameters with each axle's strut damping replaced (``front``, ``rear``)."""
+def _adaptive_gain(adaptive, sigma: float) -> float:
+    """E[m_e(v)] [kg] for v ~ N(0, sigma^2): the Gaussian equivalent inertance of an
+    adaptive inerter whose force is m_e(v) dv/dt (laws ``thesis`` and ``momentum``).
+
+    In a stationary Gaussian response v and dv/dt are uncorrelated, hence independent,
+    so E[m_e(v) a a] / E[a^2] = E[m_e(v)]."""
+    from ..elements.adaptive_flywheel import flywheel_inertance
+
+    row = adaptive.row()
+    if sigma <= 0.0:
+        return float(flywheel_inertance(row, 0.0, 0.0, 0.0)[0])
+    # m_e is smooth except for a kink at the saturation speed: a fine trapezoid
+    v = np.linspace(-9.0 * sigma, 9.0 * sigma, 4001)
+    me = np.array([flywheel_inertance(row, float(x), 0.0, 0.0)[0] for x in v])
+    pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2.0 * math.pi))
+    return float(np.trapezoid(me * pdf, v))
+
+
+def _with_damping(params, damping: dict, inertance: dict | None = None):
+    """Vehicle parameters with each axle's strut damping replaced (``front``, ``rear``)
+    and, where ``inertance`` gives one, the adaptive inerter replaced by a constant one."""
 
     def corner(c, name):
-        return dataclasses.replace(c, strut=dataclasses.replace(c.strut, damping=damping[name]))
+        strut = dataclasses.replace(c.strut, damping=damping[name])
+        if inertance is not None and c.strut.adaptive is not None:
+            strut = dataclasses.replace(
+                strut, inertance=c.strut.inertance + inertance[name], adaptive=None
+            )
+        return dataclasses.replace(c, strut=strut)
 
     return dataclasses.replace(
         params, **{axle: corner(getattr(params, axle), axle) for axle in _HALF_CORNERS}
@@ -435,6 +465,8 @@ def statistical_linearisation(
     corners = _HALF_CORNERS  # axles; the left corner stands for a full car's axle
     probe = {a: (a if vehicle_lin.kind == "half" else f"{a}_left") for a in corners}
     base = {c: getattr(params, c).strut.damping for c in corners}
+    adaptive = {c: getattr(params, c).strut.adaptive for c in corners}
+    inertance = {c: (0.0 if a is None else a.inertance_min) for c, a in adaptive.items()}
     damping = {c: base[c] * 0.5 * (rebound + compression) for c in corners}
     sigma = dict.fromkeys(corners, 0.0)
     converged = False
@@ -442,7 +474,7 @@ def statistical_linearisation(
     res = None
     while it < max_iter:
         it += 1
-        veh = build(_with_damping(params, damping))
+        veh = build(_with_damping(params, damping, inertance))
         lo, hi = road.band
         freq = np.geomspace(lo * speed, hi * speed, points)
         res = spectral_response(veh, road, speed, freq=freq)
@@ -455,13 +487,22 @@ def statistical_linearisation(
             new[c] = base[c] * 0.5 * (rebound + compression) + _friction_gain(
                 sigma[c], friction, v_f
             )
+        new_b = {
+            c: (0.0 if adaptive[c] is None else _adaptive_gain(adaptive[c], sigma[c]))
+            for c in corners
+        }
         change = max(abs(new[c] - damping[c]) / max(new[c], 1e-300) for c in corners)
+        change = max(
+            change,
+            max(abs(new_b[c] - inertance[c]) / max(new_b[c], 1e-300) for c in corners),
+        )
         # damped update: the friction gain falls like 1/sigma, and sigma falls with c
         damping = {c: 0.5 * (new[c] + damping[c]) for c in corners}
+        inertance = {c: 0.5 * (new_b[c] + inertance[c]) for c in corners}
         if change < tol:
-            damping = new
+            damping, inertance = new, new_b
             converged = True
-            veh = build(_with_damping(params, damping))
+            veh = build(_with_damping(params, damping, inertance))
             res = spectral_response(veh, road, speed, freq=freq)
             break
     # mean offset from the rectified part of the asymmetric damper: a constant
@@ -485,6 +526,7 @@ def statistical_linearisation(
             mean[name] = float(o.P @ q_mean)
     return LinearisationResult(
         damping=damping,
+        inertance=inertance,
         velocity_rms=sigma,
         spectral=res,
         mean=mean,

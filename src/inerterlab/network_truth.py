@@ -1,0 +1,461 @@
+"""Nonlinear truth of optimised suspension layouts: does the linear prediction survive a
+real inerter, and does an adaptive flywheel help in any layout?
+
+For each layout (a network text with one ideal inerter ``b``), the linear H2 design
+(:func:`inerterlab.network_design.optimize_network`, body acceleration under white road
+velocity, static stiffness fixed) is simulated in the time domain by the model core
+(:mod:`inerterlab.systems`) with the ideal inerter replaced by a *variant*:
+
+``ideal``
+    the optimised inerter b itself (the linear prediction on that input);
+``ideal-max x=X``
+    an ideal inerter of b / (1 - X), the inertance an adaptive flywheel of changing
+    ratio X reaches when saturated (adaptivity against simply a larger inerter);
+``afw x=X law=L``
+    the adaptive-flywheel inerter (nylon flywheel, changing ratio X, force law L) whose
+    transmission ratio gives a rest inertance r^2 I_min = b;
+``hydraulic``, ``rectifier``
+    the inertance b behind the identified series stiffness, in parallel with the
+    identified damping and Coulomb friction of the device, ``(k - (c | fric | b))``
+    (docs/model.md §3; the rectifier's flywheel kept coupled);
+``screw``
+    the inertance b in parallel with the ball screw's identified stiffness, damping and
+    friction, ``(k | c | fric | b)``;
+``fluid``
+    a helical-channel fluid inerter of inertance b with laminar (Hagen-Poiseuille) and
+    quadratic (entry/exit) losses for a stated illustrative geometry (:data:`FLUID`).
+
+The comfort gain of each variant is measured against the optimised ``k | c`` on the
+same input, in the same time simulation. The *survival* is the variant's gain divided
+by the ideal inerter's gain (1: all of the linear prediction survives, 0: none,
+negative: worse than having no inerter). Each (layout, variant, input) is one point of
+a sweep (:mod:`inerterlab.studies`), so the study runs serially, in processes or on
+Dask, is stored chunk by chunk and resumes.
+"""
+
+from __future__ import annotations
+
+import functools
+import math
+import re
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from .errors import ParameterError
+from .studies.points import ParameterSpec, PointFunction, register_point_function
+
+__all__ = [
+    "LAYOUTS",
+    "BASELINE",
+    "INPUTS",
+    "FLUID",
+    "TRUTH_METRICS",
+    "variants",
+    "layout_parameters",
+    "truth_point",
+    "network_truth",
+    "TruthResult",
+]
+
+#: the layouts studied (key: the name used in tables) -> network text with one ``b``
+LAYOUTS = {
+    "parallel": "k | c | b",
+    "series": "k | (c - b)",
+    "series-spring": "k | (b - (k1 | c))",
+}
+#: the reference every gain is measured against
+BASELINE = "k | c"
+#: road inputs: name -> description
+INPUTS = {
+    "drop": "both masses released from 5 cm",
+    "bump": "5 cm rectangular pulse of 10 ms",
+    "sine-1.5": "5 cm sine at 1.5 Hz (near the body resonance)",
+    "sine-5": "5 cm sine at 5 Hz (the thesis's sine)",
+    "iso-c": "ISO 8608 class C road at 20 m/s",
+}
+#: fluid inerter geometry (illustrative, not a measured device): hydraulic oil of
+#: density 870 kg/m^3 and dynamic viscosity 0.03 Pa s, a 40 mm bore piston and a 6 mm
+#: helical channel whose length gives the wanted inertance; entry plus exit loss
+#: coefficient 1.5
+FLUID = {
+    "density": 870.0,
+    "viscosity": 0.03,
+    "piston_diameter": 0.040,
+    "channel_diameter": 0.006,
+    "loss_coefficient": 1.5,
+}
+#: metrics of a truth point
+TRUTH_METRICS = ("rms_body_acc_wk", "vdv", "rms_tyre_grip", "rms_deflection")
+RATIOS = (0.05, 0.15, 0.285, 0.45, 0.55)
+LAWS = ("thesis", "momentum")
+THESIS_PARALLEL = {"c": 5000.0, "b": 206.3}  # thesis car (4.16) with the cfw inertance
+
+_VARIANT_RE = re.compile(
+    r"^(?:(ideal)|ideal-max x=([0-9.eE+-]+)|afw x=([0-9.eE+-]+) law=([a-z-]+)"
+    r"|(hydraulic)|(rectifier)|(screw)|(fluid))$"
+)
+
+
+def variants(ratios=RATIOS, laws=LAWS, devices=True) -> list[str]:
+    """The variant names of the study (see the module docstring)."""
+    out = ["ideal"]
+    out += [f"ideal-max x={x:g}" for x in ratios]
+    out += [f"afw x={x:g} law={law}" for law in laws for x in ratios]
+    if devices:
+        out += ["hydraulic", "rectifier", "screw", "fluid"]
+    return out
+
+
+def _parse_variant(text: str):
+    m = _VARIANT_RE.match(text.strip())
+    if not m:
+        raise ParameterError(
+            "variant",
+            text,
+            "ideal, 'ideal-max x=X', 'afw x=X law=thesis|momentum|slider-dynamics', "
+            "hydraulic, rectifier, screw or fluid",
+        )
+    g = m.groups()
+    if g[0]:
+        return ("ideal", None, None)
+    if g[1]:
+        return ("ideal-max", _ratio(g[1]), None)
+    if g[2]:
+        law = g[3]
+        if law not in ("thesis", "momentum", "slider-dynamics"):
+            raise ParameterError("variant", text, "law thesis, momentum or slider-dynamics")
+        return ("afw", _ratio(g[2]), law)
+    return (next(x for x in g[4:] if x), None, None)
+
+
+def _ratio(s: str) -> float:
+    try:
+        x = float(s)
+    except ValueError:
+        raise ParameterError("variant", s, "a changing ratio x in (0, 1)") from None
+    if not 0.0 < x < 1.0:
+        raise ParameterError("variant", s, "a changing ratio x in (0, 1)")
+    return x
+
+
+@functools.lru_cache(maxsize=32)
+def layout_parameters(network: str, stiffness: float = 90_000.0) -> dict:
+    """The H2 comfort design of ``network`` in the thesis car (static stiffness fixed).
+
+    ``k | c | b`` has an infinite body-acceleration H2 norm with a damped tyre (the
+    inerter passes the tyre damper's impulse to the body), so it keeps the thesis's
+    values (c = 5000 N s/m, b = the ``cfw`` inertance 206.3 kg)."""
+    from .network_design import optimize_network
+
+    if network == LAYOUTS["parallel"]:
+        return {"k": stiffness, **THESIS_PARALLEL}
+    res = optimize_network(network, "body_acc", fixed={"k": stiffness}, compare=False)
+    return {k: float(v) for k, v in res.parameters.items()}
+
+
+def _replace_b(network: str, text: str) -> str:
+    out, n = re.subn(r"(?<![A-Za-z0-9_])b(?![A-Za-z0-9_])", text, network)
+    if n != 1:
+        raise ParameterError("layout", network, "a network with exactly one inerter named b")
+    return out
+
+
+def _fluid_parameters(b: float) -> dict:
+    g = FLUID
+    a1 = math.pi * g["piston_diameter"] ** 2 / 4
+    a2 = math.pi * g["channel_diameter"] ** 2 / 4
+    length = b * a2 / (g["density"] * a1 * a1)  # b = rho l A1^2 / A2
+    # Hagen-Poiseuille: dp = 128 mu l Q / (pi d^4), Q = A1 v, F = A1 dp
+    c_lin = 128.0 * g["viscosity"] * length * a1 * a1 / (math.pi * g["channel_diameter"] ** 4)
+    # entry/exit loss: dp = K rho u^2 / 2 with channel velocity u = (A1/A2) v
+    c_quad = 0.5 * g["loss_coefficient"] * g["density"] * a1 * (a1 / a2) ** 2
+    return dict(
+        density=g["density"], length=length, piston_area=a1, channel_area=a2,
+        damping=c_lin, quadratic=c_quad,
+    )  # fmt: skip
+
+
+def _network_for(layout_text: str, params: dict, variant: str):
+    """(network text, element parameters) of ``layout_text`` with ``variant`` for b."""
+    from .devices.models import HydraulicDevice, RectifierDevice, ScrewDevice
+    from .flywheels import flywheel
+
+    kind, x, law = _parse_variant(variant)
+    p = dict(params)
+    b = p.pop("b")
+    if kind == "ideal":
+        return layout_text, {**p, "b": b}
+    if kind == "ideal-max":
+        return layout_text, {**p, "b": b / (1.0 - x)}
+    if kind == "afw":
+        fw = flywheel("nylon").with_changing_ratio(x)
+        r = math.sqrt(b / fw.inertia_min)
+        text = _replace_b(layout_text, "afw")
+        return text, {
+            **p,
+            "afw": {"flywheel": "nylon", "changing_ratio": x, "ratio": r, "law": law},
+        }
+    if kind == "fluid":
+        return _replace_b(layout_text, "fluid"), {**p, "fluid": _fluid_parameters(b)}
+    dev = {"hydraulic": HydraulicDevice, "rectifier": RectifierDevice, "screw": ScrewDevice}[kind]()
+    parts = {
+        "k_dev": dev.stiffness,
+        "c_dev": dev.damping,
+        "fric_dev": {"force": dev.friction, "velocity": dev.friction_velocity},
+        "b": b,
+    }
+    if kind == "screw":
+        return _replace_b(layout_text, "(k_dev | c_dev | fric_dev | b)"), {**p, **parts}
+    # a series device: its spring on either side of the branch (the same admittance);
+    # the model core needs one end of the inertance on a node that has a mass or
+    # another inertance, so take the order that gives that
+    from .networks import NetworkError
+    from .systems import quarter_car
+
+    texts = [
+        _replace_b(layout_text, "(k_dev - (c_dev | fric_dev | b))"),
+        _replace_b(layout_text, "((c_dev | fric_dev | b) - k_dev)"),
+    ]
+    for text in texts:
+        try:
+            quarter_car(text, {**p, **parts})
+        except NetworkError:
+            continue
+        return text, {**p, **parts}
+    return texts[0], {**p, **parts}
+
+
+def _excitation(name: str, seed: int):
+    from . import excitation as ex
+
+    if name == "drop":
+        return ex.drop(0.05)
+    if name == "bump":
+        return ex.bump(0.05)
+    if name == "sine-1.5":
+        return ex.sine(0.05, 1.5)
+    if name == "sine-5":
+        return ex.sine(0.05, 5.0)
+    return ex.iso8608("C", 20.0, seed=seed)
+
+
+def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
+    """Simulate one (layout, variant, input) and return :data:`TRUTH_METRICS`."""
+    from .systems import quarter_car
+
+    layout = params["layout"]
+    text = BASELINE if layout == "baseline" else LAYOUTS[layout]
+    design = layout_parameters(text, float(params["stiffness"]))
+    if layout == "baseline":
+        net, elp = text, design
+    else:
+        net, elp = _network_for(text, design, params["variant"])
+    car = quarter_car(net, elp)
+    res = car.simulate(
+        _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
+    )
+    return {k: float(res.metrics[k]) for k in TRUTH_METRICS}
+
+
+TRUTH = register_point_function(
+    PointFunction(
+        name="network-truth",
+        function=truth_point,
+        parameters={
+            "layout": ParameterSpec(kind="choice", choices=(*LAYOUTS, "baseline")),
+            "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
+            "input": ParameterSpec(kind="choice", choices=tuple(INPUTS)),
+            "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
+            "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
+            "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+        },
+        defaults={
+            "layout": "series",
+            "variant": "ideal",
+            "input": "bump",
+            "stiffness": 90_000.0,
+            "horizon": 10.0,
+            "seed": 1,
+        },
+        metrics=TRUTH_METRICS,
+    )
+)
+
+
+@dataclass(frozen=True)
+class TruthResult:
+    """The study: the raw dataset and the gains.
+
+    Attributes
+    ----------
+    dataset : xarray.Dataset
+        Metrics over (layout, variant, input) with the baseline in ``baseline``.
+    gains : xarray.Dataset
+        Percent improvement over the optimised ``k | c`` on the same input (positive:
+        better) of every metric.
+    survival : xarray.DataArray
+        Comfort (Wk RMS) gain of each variant / the ideal inerter's gain in that layout
+        and input.
+    parameters : dict
+        Layout -> the designed element values.
+    """
+
+    dataset: Any
+    gains: Any
+    survival: Any
+    parameters: dict
+
+    def findings(self) -> list[str]:
+        """Plain-language conclusions computed from the gains (comfort, Wk RMS)."""
+        return _findings(self)
+
+    def to_dict(self) -> dict:
+        g = self.gains["rms_body_acc_wk"]
+        return {
+            "parameters": self.parameters,
+            "comfort_gain_percent": {
+                lay: {
+                    var: {
+                        inp: float(g.sel(layout=lay, variant=var, input=inp))
+                        for inp in g.input.values
+                    }
+                    for var in g.variant.values
+                }
+                for lay in g.layout.values
+            },
+            "findings": self.findings(),
+        }
+
+
+def network_truth(
+    *,
+    layouts=tuple(LAYOUTS),
+    variant_list=None,
+    inputs=tuple(INPUTS),
+    stiffness: float = 90_000.0,
+    horizon: float = 10.0,
+    seed: int = 1,
+    store=None,
+    backend: str | None = "serial",
+    workers: int | None = None,
+    progress=False,
+) -> TruthResult:
+    """Run the study (see the module docstring) and compute gains and survival."""
+    import xarray as xr
+
+    from .studies import sweep
+
+    for lay in layouts:
+        if lay not in LAYOUTS:
+            raise ParameterError("layout", lay, f"one of {', '.join(LAYOUTS)}")
+    vlist = list(variant_list) if variant_list is not None else variants()
+    for v in vlist:
+        _parse_variant(v)
+    for i in inputs:
+        if i not in INPUTS:
+            raise ParameterError("input", i, f"one of {', '.join(INPUTS)}")
+    settings = {"stiffness": float(stiffness), "horizon": float(horizon), "seed": int(seed)}
+    common = dict(backend=backend, workers=workers, progress=progress)
+    ds = sweep(
+        {
+            "point": "network-truth",
+            "parameters": {"layout": list(layouts), "variant": vlist, "input": list(inputs)},
+            "settings": settings,
+        },
+        store=None if store is None else f"{store}/layouts.zarr",
+        **common,
+    )
+    base = sweep(
+        {
+            "point": "network-truth",
+            "parameters": {"input": list(inputs)},
+            "settings": {**settings, "layout": "baseline", "variant": "ideal"},
+        },
+        store=None if store is None else f"{store}/baseline.zarr",
+        **common,
+    )
+    failed = int((ds.status != 1).sum()) + int((base.status != 1).sum())
+    if failed:
+        reasons = sorted({str(r) for r in np.ravel(ds.reason.values) if str(r)})[:3]
+        raise ParameterError("study", f"{failed} failed points", f"none failing: {reasons}")
+    gains = xr.Dataset({m: 100.0 * (1.0 - ds[m] / base[m]) for m in TRUTH_METRICS})
+    ideal = gains["rms_body_acc_wk"].sel(variant="ideal")
+    survival = gains["rms_body_acc_wk"] / ideal
+    params = {lay: layout_parameters(LAYOUTS[lay], float(stiffness)) for lay in layouts}
+    params["baseline"] = layout_parameters(BASELINE, float(stiffness))
+    ds = ds.assign(baseline=xr.Dataset({m: base[m] for m in TRUTH_METRICS}).to_array("metric"))
+    return TruthResult(dataset=ds, gains=gains, survival=survival, parameters=params)
+
+
+def _findings(res: TruthResult) -> list[str]:
+    g = res.gains["rms_body_acc_wk"]
+    out = []
+    afw = [v for v in g.variant.values if str(v).startswith("afw")]
+    for lay in g.layout.values:
+        gi = g.sel(layout=lay, variant="ideal")
+        best_in = str(gi.input.values[int(gi.argmax())])
+        out.append(
+            f"{lay} ({LAYOUTS[str(lay)]}): the ideal inerter changes comfort by "
+            + ", ".join(f"{inp} {float(gi.sel(input=inp)):+.1f} %" for inp in gi.input.values)
+            + f" against the optimised k | c (largest on {best_in})."
+        )
+        if afw:
+            delta = g.sel(layout=lay, variant=afw) - gi
+            best = delta.where(delta == delta.max(), drop=True)
+            dmax = float(delta.max())
+            if dmax > 0.05:
+                v = str(best.variant.values[0])
+                inp = str(best.input.values[0])
+                out.append(
+                    f"{lay}: the adaptive flywheel helps at most {dmax:.2f} points of comfort "
+                    f"over the ideal inerter of its rest inertance ({v}, {inp})."
+                )
+            else:
+                out.append(
+                    f"{lay}: the adaptive flywheel never helps comfort over the ideal inerter "
+                    f"of its rest inertance (best difference {dmax:+.2f} points)."
+                )
+        for dev in ("hydraulic", "rectifier", "screw", "fluid"):
+            if dev in g.variant.values:
+                s = res.survival.sel(layout=lay, variant=dev)
+                out.append(
+                    f"{lay}: with the {dev} device "
+                    + ", ".join(f"{inp} {float(s.sel(input=inp)):+.2f}" for inp in s.input.values)
+                    + " of the ideal gain survives."
+                )
+    return out
+
+
+def truth_figure(res: TruthResult):
+    """Comfort gain [%] against the optimised k | c, one panel per layout: lines over the
+    changing ratio for each adaptive-flywheel law, markers for the other variants."""
+    from matplotlib.figure import Figure
+
+    g = res.gains["rms_body_acc_wk"]
+    lays = [str(v) for v in g.layout.values]
+    fig = Figure(figsize=(4.2 * len(lays), 3.6), layout="constrained")
+    axes = fig.subplots(1, len(lays), squeeze=False)[0]
+    for ax, lay in zip(axes, lays, strict=True):
+        for inp in g.input.values:
+            gi = g.sel(layout=lay, input=inp)
+            line = None
+            for law in LAWS:
+                names = [v for v in gi.variant.values if str(v).endswith(f"law={law}")]
+                if not names:
+                    continue
+                xs = [float(str(v).split("x=")[1].split()[0]) for v in names]
+                style = "-" if law == "thesis" else "--"
+                kw = {"color": line.get_color()} if line is not None else {}
+                (line,) = ax.plot(xs, gi.sel(variant=names).values, style, marker="o", ms=3,
+                                  label=f"{inp} afw {law}", **kw)  # fmt: skip
+            color = line.get_color() if line is not None else None
+            ax.axhline(float(gi.sel(variant="ideal")), color=color, lw=0.8, ls=":")
+        ax.set_title(f"{lay}: {LAYOUTS[lay]}", fontsize=9)
+        ax.set_xlabel("changing ratio x [-]")
+        ax.set_ylabel("comfort gain vs k | c [%]")
+        ax.grid(alpha=0.3)
+    axes[0].legend(fontsize=6)
+    return fig

@@ -1,0 +1,104 @@
+"""The nonlinear-truth study of optimised suspension layouts."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import pytest
+
+from inerterlab.elements import AdaptiveFlywheelInerter, FluidInerter
+from inerterlab.errors import ParameterError
+from inerterlab.network_truth import (
+    FLUID,
+    LAYOUTS,
+    _fluid_parameters,
+    _network_for,
+    network_truth,
+    truth_point,
+    variants,
+)
+from inerterlab.systems import quarter_car
+
+DESIGN = {"k": 90_000.0, "k1": 40_000.0, "c": 4647.0, "b": 640.0}
+
+
+def test_fluid_geometry_gives_the_inertance_and_poiseuille_loss():
+    p = _fluid_parameters(640.0)
+    assert FluidInerter(**p).inertance == pytest.approx(640.0, rel=1e-12)
+    d1, d2 = FLUID["piston_diameter"], FLUID["channel_diameter"]
+    a1, a2 = math.pi * d1**2 / 4, math.pi * d2**2 / 4
+    # channel length from b = rho l A1^2 / A2, then Hagen-Poiseuille
+    length = 640.0 * a2 / (FLUID["density"] * a1**2)
+    dp_per_flow = 128 * FLUID["viscosity"] * length / (math.pi * d2**4)
+    assert p["damping"] == pytest.approx(dp_per_flow * a1 * a1, rel=1e-12)
+    # quadratic loss: K rho u^2 / 2 on the piston, u = v A1/A2
+    assert p["quadratic"] == pytest.approx(
+        0.5 * FLUID["loss_coefficient"] * FLUID["density"] * a1 * (a1 / a2) ** 2, rel=1e-12
+    )
+
+
+def test_every_variant_builds_a_car_with_the_inertance_asked_for():
+    for layout in LAYOUTS.values():
+        for v in variants():
+            design = DESIGN if "k1" in layout else {k: DESIGN[k] for k in ("k", "c", "b")}
+            text, params = _network_for(layout, design, v)
+            quarter_car(text, params)  # builds (a bad network would raise)
+            if v.startswith("afw"):
+                el = AdaptiveFlywheelInerter(**params["afw"])
+                assert el.inertance_min == pytest.approx(640.0, rel=1e-12)
+            if v.startswith("ideal-max"):
+                x = float(v.split("x=")[1])
+                assert params["b"] == pytest.approx(640.0 / (1 - x), rel=1e-12)
+    with pytest.raises(ParameterError, match="variant"):
+        _network_for(LAYOUTS["series"], DESIGN, "afw x=1.5 law=thesis")
+    with pytest.raises(ParameterError, match="variant"):
+        _network_for(LAYOUTS["series"], DESIGN, "magnet")
+
+
+def test_vanishing_adaptivity_is_the_ideal_inerter():
+    common = dict(layout="series", input="bump", stiffness=90_000.0, horizon=3.0, seed=1)
+    ideal = truth_point({**common, "variant": "ideal"})
+    afw = truth_point({**common, "variant": "afw x=1e-07 law=thesis"})
+    for k, v in ideal.items():
+        assert afw[k] == pytest.approx(v, rel=1e-5), k
+
+
+@pytest.mark.slow
+def test_study_gains_survival_and_resume(tmp_path):
+    kw = dict(
+        layouts=("series",),
+        variant_list=["ideal", "afw x=0.285 law=thesis", "screw"],
+        inputs=("bump",),
+        horizon=3.0,
+        store=tmp_path / "truth",
+    )
+    res = network_truth(**kw)
+    g = res.gains["rms_body_acc_wk"]
+    assert float(res.survival.sel(layout="series", variant="ideal", input="bump")) == 1.0
+    # the gain is the direct comparison of two simulations
+    common = dict(input="bump", stiffness=90_000.0, horizon=3.0, seed=1)
+    base = truth_point({**common, "layout": "baseline", "variant": "ideal"})
+    screw = truth_point({**common, "layout": "series", "variant": "screw"})
+    expect = 100 * (1 - screw["rms_body_acc_wk"] / base["rms_body_acc_wk"])
+    assert float(g.sel(layout="series", variant="screw", input="bump")) == pytest.approx(
+        expect, rel=1e-12
+    )
+    assert res.findings()
+    again = network_truth(**kw)
+    assert again.dataset.attrs["points_computed"] == 0
+    json.dumps(again.to_dict())
+
+
+@pytest.mark.slow
+def test_cli_truth(capsys, tmp_path):
+    from inerterlab.cli import main
+
+    args = ["network", "truth", "--layout", "series", "--input", "bump", "--horizon", "2"]
+    rc = main([*args, "--variant", "ideal", "--backend", "serial", "--json"])
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    out = json.loads(cap.out)
+    assert "series" in out["comfort_gain_percent"]
+    assert main([*args, "--variant", "magnet", "--backend", "serial"]) == 2
+    assert "variant" in capsys.readouterr().err
