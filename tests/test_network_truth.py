@@ -102,3 +102,35 @@ def test_cli_truth(capsys, tmp_path):
     assert "series" in out["comfort_gain_percent"]
     assert main([*args, "--variant", "magnet", "--backend", "serial"]) == 2
     assert "variant" in capsys.readouterr().err
+
+
+@pytest.mark.slow
+def test_linear_limit_reproduces_the_linear_optimum_on_a_long_road():
+    """x -> 0 adaptive inerter in the H2-optimal series layout, simulated over ISO 8608
+    class C roads: the RMS body acceleration equals the linear spectral prediction over
+    the road's band within the statistical error of the realisations."""
+    import numpy as np
+
+    from inerterlab.excitation import ISO8608_BAND, ISO8608_CLASSES, ISO8608_N0, iso8608
+    from inerterlab.network_truth import layout_parameters
+    from inerterlab.suspension.network_linear import network_quarter_car
+
+    net = LAYOUTS["series"]
+    design = layout_parameters(net)
+    text, params = _network_for(net, design, "afw x=1e-07 law=thesis")
+    car = quarter_car(text, params)
+    speed = 20.0
+    rms = []
+    for seed in range(4):
+        res = car.simulate(iso8608("C", speed, seed=seed, length=1400.0), horizon=60.0)
+        rms.append(res.metrics["rms_body_acc"])
+    rms = np.array(rms)
+    # spectral prediction: road velocity PSD (one-sided, per Hz) is flat,
+    # (2 pi n0)^2 Gd(n0) V, between V n_lo and V n_hi
+    f = np.geomspace(ISO8608_BAND[0] * speed, ISO8608_BAND[1] * speed, 20001)
+    h = network_quarter_car(net).transfer(design, 2 * np.pi * f)["body_acc"]
+    s_w = (2 * np.pi * ISO8608_N0) ** 2 * ISO8608_CLASSES["C"] * speed
+    pred = math.sqrt(np.trapezoid(np.abs(h) ** 2 * s_w * f, np.log(f)))
+    ms = rms**2
+    se = ms.std(ddof=1) / math.sqrt(ms.size)
+    assert abs(ms.mean() - pred**2) < 4 * se + 0.01 * pred**2
