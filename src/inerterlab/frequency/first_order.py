@@ -378,7 +378,7 @@ def fo_sweep(
                     rhs, jac, has_jac, itab, ftab, work, n, X, w, amp, tau, E, ET, D, F, scales
                 )
                 try:
-                    Jinv = np.linalg.inv(J)
+                    Jinv = np.ascontiguousarray(np.linalg.inv(J))
                     have_jinv = np.all(np.isfinite(Jinv))
                 except Exception:  # noqa: BLE001 - singular at a fold
                     have_jinv = False
@@ -714,11 +714,17 @@ class FirstOrderEngine:
             best[good] = np.max(near.real, axis=1)
         return best, exps
 
-    def samples(self, omegas, C):
-        """States and derivatives at the N samples of every point, (P, n, N) each."""
+    def samples(self, omegas, C, tau=None):
+        """States and derivatives at the phases ``tau`` (default the N samples) of every
+        point, (P, n, K) each."""
+        if tau is None:
+            tau, ET = self.tau, self.ET
+        else:
+            tau = np.ascontiguousarray(tau, dtype=float)
+            ET = np.ascontiguousarray(fourier_basis(self.basis.harmonics, len(tau)).E.T)
         return kernel("fo_derivative_samples")(
             *self._r(), np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(C, dtype=float), self.amplitude, self.tau, self.ET,
+            np.ascontiguousarray(C, dtype=float), self.amplitude, tau, ET,
         )  # fmt: skip
 
 

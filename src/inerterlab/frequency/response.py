@@ -41,7 +41,7 @@ from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_s
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
 METHODS = ("brute", "shb", "mhb", "sihb", "continuation")
-FIRST_ORDER_HARMONICS = 5  # default H of a first-order system (quarter car: see decisions.md)
+FIRST_ORDER_HARMONICS = 9  # default H of a first-order system (docs/decisions.md: accuracy)
 DIRECTIONS = ("down", "up", "both")
 
 
@@ -406,7 +406,7 @@ def frequency_response(
         First-order systems: harmonics 0..this of the Hill matrix used for stability
         (default min(H, 2); the exponents converge much faster than the response).
 
-    For a first-order system the harmonics default to 5 (1 for ``shb``), every state is
+    For a first-order system the harmonics default to 9 (1 for ``shb``), every state is
     balanced, and ``outputs`` holds the half peak-to-peak of each named output
     (quarter car: body displacement [m], body acceleration [m/s^2], suspension
     deflection [m], tyre force [N]); ``amplitude_m`` is the body displacement.
@@ -602,20 +602,48 @@ def _road_samples(omegas, amplitude, tau):
     return np.stack([amplitude * s + 0.0 * w, amplitude * w * c, -amplitude * w * w * s], axis=1)
 
 
+OUTPUT_PHASES = 128  # phases per period at which the outputs are evaluated
+
+
+def _half_peak_to_peak_dense(samples: np.ndarray) -> np.ndarray:
+    """Half peak-to-peak of periodic samples (P, K), each extreme refined by the parabola
+    through it and its two neighbours."""
+    out = np.empty(samples.shape[0])
+    k = samples.shape[1]
+    rows = np.arange(samples.shape[0])
+    ext = []
+    for sign in (1.0, -1.0):
+        y = sign * samples
+        i = np.argmax(y, axis=1)
+        y0, y1, y2 = y[rows, (i - 1) % k], y[rows, i], y[rows, (i + 1) % k]
+        den = y0 - 2.0 * y1 + y2
+        with np.errstate(divide="ignore", invalid="ignore"):
+            top = np.where(den < 0.0, y1 - 0.125 * (y0 - y2) ** 2 / den, y1)
+        ext.append(sign * top)
+    out[:] = 0.5 * (ext[0] - ext[1])
+    return out
+
+
 def _first_order_outputs(engine, system, omegas, coeffs, ok):
-    """Half peak-to-peak of the system's outputs (masked where not converged)."""
+    """Half peak-to-peak of the system's outputs (masked where not converged).
+
+    The outputs are evaluated at OUTPUT_PHASES phases from the periodic states (the
+    balanced Fourier series) through the system's own right-hand side, so an output
+    with a kink (the inerter force at the flywheel's saturation speed) keeps it instead
+    of being truncated to H harmonics."""
     fn = getattr(system, "outputs", None)
     n = len(omegas)
     if fn is None or n == 0:
         return {}, {}
-    xs, fs = engine.samples(omegas, coeffs)
-    road = _road_samples(omegas, engine.amplitude, engine.basis.tau)
-    out = {}
-    for name, samples in fn(xs, fs, road).items():
-        c = coefficients_by_fft(np.asarray(samples, dtype=float), engine.basis.harmonics)
-        out[name] = np.ma.masked_array(_amplitudes(c), mask=~np.asarray(ok, dtype=bool))
-    units = dict(getattr(system, "output_units", {}))
-    return out, units
+    tau = 2.0 * np.pi * np.arange(OUTPUT_PHASES) / OUTPUT_PHASES
+    xs, fs = engine.samples(omegas, coeffs, tau)
+    road = _road_samples(omegas, engine.amplitude, tau)
+    mask = ~np.asarray(ok, dtype=bool)
+    out = {
+        name: np.ma.masked_array(_half_peak_to_peak_dense(np.asarray(v, dtype=float)), mask=mask)
+        for name, v in fn(xs, fs, road).items()
+    }
+    return out, dict(getattr(system, "output_units", {}))
 
 
 def _resolve_system(system, amplitude):
