@@ -132,8 +132,11 @@ def _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau):
 
 
 @njit(cache=True)
-def _rhs_and_jacobian(rhs, jac, has_jac, itab, ftab, work, n, xs, omega, amp, tau, scales):
-    """f at the samples (n, N) and df/dx at the samples (n, n, N)."""
+def _rhs_and_jacobian(
+    rhs, jac, has_jac, itab, ftab, work, n, xs, omega, amp, tau, scales, central=True
+):  # fmt: skip
+    """f at the samples (n, N) and df/dx at the samples (n, n, N) (central or forward
+    differences without an analytic Jacobian)."""
     N = tau.shape[0]
     x = np.zeros(work)
     out = np.zeros(work)
@@ -161,11 +164,16 @@ def _rhs_and_jacobian(rhs, jac, has_jac, itab, ftab, work, n, xs, omega, amp, ta
                 h = FD_STEP * max(abs(xj), scales[j])
                 x[j] = xj + h
                 rhs(t, x, road, itab, ftab, outp)
-                x[j] = xj - h
-                rhs(t, x, road, itab, ftab, out)
-                x[j] = xj
-                for i in range(n):
-                    A[i, j, k] = (outp[i] - out[i]) / (2.0 * h)
+                if central:
+                    x[j] = xj - h
+                    rhs(t, x, road, itab, ftab, out)
+                    x[j] = xj
+                    for i in range(n):
+                        A[i, j, k] = (outp[i] - out[i]) / (2.0 * h)
+                else:
+                    x[j] = xj
+                    for i in range(n):
+                        A[i, j, k] = (outp[i] - f[i, k]) / h
     return f, A
 
 
@@ -432,22 +440,28 @@ def fo_relative_residuals(rhs, itab, ftab, work, n, omegas, C, amp, tau, ET, D, 
 
 @njit(cache=True)
 def fo_hill_matrices(
-    rhs, jac, has_jac, itab, ftab, work, n, omegas, C, ok, amp, tau, E, ET, D, F, scales, hs
+    rhs, jac, has_jac, itab, ftab, work, n, omegas, C, ok, amp, tau, ET, Es, Ds, Fs, scales
 ):  # fmt: skip
-    """-dR/dX restricted to the harmonics 0..hs of each state, for every converged point
-    (shape (P, n (2 hs + 1), n (2 hs + 1)); NaN where not converged). Its eigenvalues
-    approximate the Floquet exponents and their copies shifted by i k Omega."""
+    """-dR/dX in the basis Es (harmonics 0..hs) sampled at the phases ``tau`` (which may
+    be denser than the balance's: the state Jacobian jumps where the flywheel saturates,
+    and the quadrature of a jump converges only as 1/N), for every converged point
+    (shape (P, n (2 hs + 1), n (2 hs + 1)); NaN where not converged). ``ET`` synthesises
+    the states at ``tau`` from the H-harmonic coefficients. Its eigenvalues approximate
+    the Floquet exponents and their copies shifted by i k Omega."""
     n_pts = omegas.shape[0]
-    ms = n * (2 * hs + 1)
-    out = np.full((n_pts, ms, ms), np.nan)
+    ms = Es.shape[1]
+    hs = (ms - 1) // 2
+    out = np.full((n_pts, n * ms, n * ms), np.nan)
     for p in range(n_pts):
         if not ok[p]:
             continue
         w = omegas[p]
         X = np.ascontiguousarray(C[p])
         xs = _state_samples(X, n, ET)
-        _, A = _rhs_and_jacobian(rhs, jac, has_jac, itab, ftab, work, n, xs, w, amp, tau, scales)
-        out[p] = -_assemble_jacobian(A, w, n, E, D, F, hs)
+        _, A = _rhs_and_jacobian(
+            rhs, jac, has_jac, itab, ftab, work, n, xs, w, amp, tau, scales, False
+        )
+        out[p] = -_assemble_jacobian(A, w, n, Es, Ds, Fs, hs)
     return out
 
 
@@ -464,6 +478,57 @@ def fo_derivative_samples(rhs, itab, ftab, work, n, omegas, C, amp, tau, ET):
         xs_all[p] = xs
         f_all[p] = _rhs_samples(rhs, itab, ftab, work, n, xs, omegas[p], amp, tau)
     return xs_all, f_all
+
+
+@njit(cache=True)
+def interpolant_half_peak_to_peak(samples, a0, a, b):
+    """Half peak-to-peak of the trigonometric interpolants of periodic samples.
+
+    ``samples`` (P, K) at phases 2 pi k / K; ``a0`` (P,), ``a``, ``b`` (P, Hd) their
+    cos/sin coefficients of harmonics 1..Hd. Each extreme starts at the extreme sample
+    and is refined by Newton on the interpolant (exact for a sampled trigonometric
+    polynomial of degree <= Hd)."""
+    n_pts, K = samples.shape
+    Hd = a.shape[1]
+    out = np.empty(n_pts)
+    for p in range(n_pts):
+        k_hi = 0
+        k_lo = 0
+        for k in range(K):
+            if samples[p, k] > samples[p, k_hi]:
+                k_hi = k
+            if samples[p, k] < samples[p, k_lo]:
+                k_lo = k
+        ext = np.empty(2)
+        for e in range(2):
+            k0 = k_hi if e == 0 else k_lo
+            t = 2.0 * math.pi * k0 / K
+            best = samples[p, k0]
+            for _ in range(6):
+                c1 = math.cos(t)
+                s1 = math.sin(t)
+                c = c1
+                s = s1
+                val = a0[p]
+                d1 = 0.0
+                d2 = 0.0
+                for h in range(Hd):
+                    q = h + 1.0
+                    val += a[p, h] * c + b[p, h] * s
+                    d1 += q * (-a[p, h] * s + b[p, h] * c)
+                    d2 -= q * q * (a[p, h] * c + b[p, h] * s)
+                    c, s = c * c1 - s * s1, s * c1 + c * s1
+                if (e == 0 and val > best) or (e == 1 and val < best):
+                    best = val
+                if d2 == 0.0:
+                    break
+                dt = -d1 / d2
+                if abs(dt) > 2.0 * math.pi / K:
+                    break
+                t += dt
+            ext[e] = best
+        out[p] = 0.5 * (ext[0] - ext[1])
+    return out
 
 
 # ---------------------------------------------------------------------------------
@@ -565,7 +630,7 @@ _ENTRY_TYPES = {
     "fo_newton": (*_SYS, _v, _f8, _f8, _v, _m, _m, _m, _m, _v, _f8, _i8, _f8),
     "fo_sweep": (*_SYS, _v, _v, _v, _f8, _v, _m, _m, _m, _m, _v, _f8, _i8, _f8, _b1),
     "fo_relative_residuals": (*_SYS_R, _v, _m, _f8, _v, _m, _m, _m),
-    "fo_hill_matrices": (*_SYS, _v, _m, _a1, _f8, _v, _m, _m, _m, _m, _v, _i8),
+    "fo_hill_matrices": (*_SYS, _v, _m, _a1, _f8, _v, _m, _m, _m, _m, _v),
     "fo_derivative_samples": (*_SYS_R, _v, _m, _f8, _v, _m),
     "_rhs_samples": (*_SYS_R, _m, _f8, _f8, _v),
     "fo_brute_point": (*_SYS_R, _v, _f8, _f8, _i8, _f8, _i8, _v),
@@ -684,20 +749,25 @@ class FirstOrderEngine:
             self.F,
         )  # fmt: skip
 
-    def stability(self, omegas, C, ok, harmonics: int | None = None):
+    def stability(self, omegas, C, ok, harmonics: int | None = None, samples: int = 256):
         """Floquet exponents by Hill's method with the harmonics 0..``harmonics``
-        (default all): (max Re lambda [1/s] over the n eigenvalues nearest the real
+        (default all) and the state Jacobian at ``samples`` phases (at least the
+        balance's N): (max Re lambda [1/s] over the n eigenvalues nearest the real
         axis, NaN where unknown; those eigenvalues, (P, n) complex)."""
         hs = self.basis.harmonics if harmonics is None else int(harmonics)
         if not 0 <= hs <= self.basis.harmonics:
             raise ParameterError(
                 "stability_harmonics", harmonics, f"0 .. harmonics = {self.basis.harmonics}"
             )
+        ns = max(int(samples), self.basis.n_samples)
+        bs = fourier_basis(hs, ns)
+        ET = np.ascontiguousarray(fourier_basis(self.basis.harmonics, ns).E.T)
         omegas = np.ascontiguousarray(omegas, dtype=float)
         ok = np.ascontiguousarray(ok, dtype=np.bool_)
         H = kernel("fo_hill_matrices")(
             *self._a(), omegas, np.ascontiguousarray(C, dtype=float), ok, self.amplitude,
-            self.tau, self.E, self.ET, self.D, self.F, self.scales, hs,
+            np.ascontiguousarray(bs.tau), ET, np.ascontiguousarray(bs.E),
+            np.ascontiguousarray(bs.F @ bs.E1), np.ascontiguousarray(bs.F), self.scales,
         )  # fmt: skip
         n = self.n_dof
         best = np.full(len(omegas), np.nan)

@@ -606,22 +606,18 @@ OUTPUT_PHASES = 128  # phases per period at which the outputs are evaluated
 
 
 def _half_peak_to_peak_dense(samples: np.ndarray) -> np.ndarray:
-    """Half peak-to-peak of periodic samples (P, K), each extreme refined by the parabola
-    through it and its two neighbours."""
-    out = np.empty(samples.shape[0])
+    """Half peak-to-peak of periodic samples (P, K): extremes of their trigonometric
+    interpolant (exact for a signal with fewer than K/2 harmonics)."""
+    from .first_order import interpolant_half_peak_to_peak
+
+    samples = np.ascontiguousarray(samples, dtype=float)
     k = samples.shape[1]
-    rows = np.arange(samples.shape[0])
-    ext = []
-    for sign in (1.0, -1.0):
-        y = sign * samples
-        i = np.argmax(y, axis=1)
-        y0, y1, y2 = y[rows, (i - 1) % k], y[rows, i], y[rows, (i + 1) % k]
-        den = y0 - 2.0 * y1 + y2
-        with np.errstate(divide="ignore", invalid="ignore"):
-            top = np.where(den < 0.0, y1 - 0.125 * (y0 - y2) ** 2 / den, y1)
-        ext.append(sign * top)
-    out[:] = 0.5 * (ext[0] - ext[1])
-    return out
+    hd = (k - 1) // 2
+    c = coefficients_by_fft(samples, hd)
+    return interpolant_half_peak_to_peak(
+        samples, np.ascontiguousarray(c[:, 0]), np.ascontiguousarray(c[:, 1::2]),
+        np.ascontiguousarray(c[:, 2::2]),
+    )  # fmt: skip
 
 
 def _first_order_outputs(engine, system, omegas, coeffs, ok):
@@ -630,7 +626,8 @@ def _first_order_outputs(engine, system, omegas, coeffs, ok):
     The outputs are evaluated at OUTPUT_PHASES phases from the periodic states (the
     balanced Fourier series) through the system's own right-hand side, so an output
     with a kink (the inerter force at the flywheel's saturation speed) keeps it instead
-    of being truncated to H harmonics."""
+    of being truncated to H harmonics; the extremes are those of the trigonometric
+    interpolant of these samples."""
     fn = getattr(system, "outputs", None)
     n = len(omegas)
     if fn is None or n == 0:
