@@ -1,5 +1,5 @@
 """``inerterlab frequency-response``: steady-state response of the ch. 7 system (7.1) or
-of a quarter car (docs/model.md §5, §12)."""
+of a quarter car (docs/model.md §5, §7)."""
 
 from __future__ import annotations
 

@@ -40,7 +40,7 @@ of -dR/dX. Each true exponent appears with copies shifted by multiples of i Omeg
 n eigenvalues nearest the real axis are taken as the exponents (one copy of each) and
 the largest real part decides stability. The exponents converge with far fewer
 harmonics than the response, so the Hill matrix may be restricted to the harmonics
-0..H_s of every state (docs/model.md §12).
+0..H_s of every state (docs/model.md §7).
 
 The right-hand side is handed to the compiled kernels as a first-class function of a
 fixed signature (:data:`RHS_SIGNATURE`), so the kernels compile once and are cached on
