@@ -404,7 +404,7 @@ def frequency_response(
         others (which carry their own forcing).
     stability_harmonics : int, optional
         First-order systems: harmonics 0..this of the Hill matrix used for stability
-        (default min(H, 2); the exponents converge much faster than the response).
+        (default 1; the exponents converge much faster than the response).
 
     For a first-order system the harmonics default to 9 (1 for ``shb``), every state is
     balanced, and ``outputs`` holds the half peak-to-peak of each named output
@@ -493,7 +493,7 @@ def frequency_response(
     if first_order:
         engine = make_first_order_engine(system, int(harmonics), n_samples, amplitude)
         settings["amplitude"] = amplitude
-        sh = min(int(harmonics), 2) if stability_harmonics is None else stability_harmonics
+        sh = min(int(harmonics), 1) if stability_harmonics is None else stability_harmonics
         if isinstance(sh, bool) or not isinstance(sh, int | np.integer) or not 0 <= sh <= harmonics:
             raise ParameterError(
                 "stability_harmonics", sh, f"an integer 0 .. harmonics = {harmonics}"
