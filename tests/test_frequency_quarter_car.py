@@ -167,7 +167,8 @@ def test_cli_table(capsys):
         (["--fmin", "3", "--fmax", "2"], "--fmin"),
         (["--suspension", "hydraulic"], "--suspension"),
         (["--suspension", "device"], "--suspension"),
-        (["--network", "k | c"], "--network"),
+        (["--network", "k | c", "--suspension", "afw"], "--network"),
+        (["--param", "k=1"], "--param"),
         (["--amplitude", "0"], "--amplitude"),
     ],
 )
@@ -182,3 +183,36 @@ def test_cli_suspension_needs_quarter_car(capsys):
     rc = main(["frequency-response", "--suspension", "afw"])
     assert rc == 2
     assert "--suspension" in capsys.readouterr().err
+
+
+def test_model_core_system_plugs_in():
+    """A system of the model core (inerterlab.systems) goes through the same driver: a
+    network quarter car against its own linear transfer function (road velocity in,
+    times Omega A), and the core's afw quarter car against the suspension one."""
+    systems = pytest.importorskip("inerterlab.systems")
+    core = systems.quarter_car("k | (c - b)", {"k": 90e3, "c": 5e3, "b": 200.0})
+    f = np.array([0.7, 1.5, 3.0, 9.0, 15.0])
+    fr = frequency_response(core, "mhb", freq_hz=f, amplitude=0.01)
+    assert fr.converged.all() and fr.stable.all()
+    w = 2 * np.pi * f
+    for out, name in (("body.x", "body_displacement"), ("body.a", "body_acceleration")):
+        ref = np.abs(core.transfer(w, out)).ravel() * w * 0.01
+        np.testing.assert_allclose(fr.outputs[name].data, ref, rtol=1e-9)
+    a = frequency_response(systems.quarter_car("afw"), "mhb", freq_hz=f, amplitude=0.01)
+    b = frequency_response(quarter_car("afw"), "mhb", freq_hz=f, amplitude=0.01)
+    for name in b.outputs:
+        np.testing.assert_allclose(a.outputs[name].data, b.outputs[name].data, rtol=1e-9)
+
+
+def test_cli_network(capsys):
+    pytest.importorskip("inerterlab.systems")
+    rc = main(
+        ["frequency-response", "--system", "quarter-car", "--network", "k | (c - b)",
+         "--param", "k=90000", "--param", "c=5000", "--param", "b=200", "--amplitude",
+         "0.01", "--fmin", "1", "--fmax", "2", "--df", "0.5", "--json"]
+    )  # fmt: skip
+    out = json.loads(capsys.readouterr().out)
+    assert rc == 0 and all(out["converged"]) and out["network"] == "k | (c - b)"
+    assert set(out["outputs"]) == set(out["output_units"]) == {
+        "body_displacement", "body_acceleration", "suspension_deflection", "tyre_force"
+    }  # fmt: skip

@@ -52,11 +52,14 @@ def frequency_response_command(
     ] = None,
     network: Annotated[
         str | None,
-        typer.Option(help="Quarter car with a suspension network expression (not yet)."),
+        typer.Option(
+            help="Quarter car of the model core with this suspension network, e.g. "
+            "'k | (c - b)' (element values by --param)."
+        ),
     ] = None,
     param: Annotated[
         list[str] | None,
-        typer.Option(help="name=value parameter of --network (not yet)."),
+        typer.Option(help="name=value element value of --network (repeatable)."),
     ] = None,
     method: Annotated[
         str, typer.Option(help="brute, shb, mhb, sihb (scan down and up) or continuation.")
@@ -131,14 +134,10 @@ def frequency_response_command(
                 raise ParameterError(name, value, "no value unless --system quarter-car")
         if param:
             raise ParameterError("--param", param[0], "no value unless --system quarter-car")
-    elif network is not None or param:
-        raise ParameterError(
-            "--network" if network is not None else "--param",
-            network if network is not None else param[0],
-            "no value yet: the frequency response of a network quarter car is not "
-            "available in this version (use --suspension traditional, cfw or afw)",
-        )
-
+    elif network is not None and suspension is not None:
+        raise ParameterError("--network", network, "no value together with --suspension")
+    elif param and network is None:
+        raise ParameterError("--param", param[0], "no value without --network")
     if harmonics is not None and harmonics < 1:
         raise ParameterError("--harmonics", harmonics, "an integer >= 1")
     if samples is not None and samples < 3:
@@ -153,7 +152,7 @@ def frequency_response_command(
     if system == "quarter-car":
         return _quarter_car(
             suspension or "afw", flywheel or "nylon", law, method, amplitude, fmin, fmax, df,
-            harmonics, samples, direction, no_stability, json_out, csv, plot,
+            harmonics, samples, direction, no_stability, json_out, csv, plot, network, param,
         )  # fmt: skip
     flywheel = flywheel or "metal"
     system = chapter7_system(amplitude, preset=flywheel, law=law)
@@ -203,15 +202,47 @@ def frequency_response_command(
     print_table(f"frequency response, {method}, B = {amplitude:g} m", rows)
 
 
+def _network_car(network, param):
+    """The model core's quarter car with ``network`` and ``--param name=value`` values."""
+    from ._common import parse_float
+
+    params = {}
+    for item in param or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise ParameterError("--param", item, "name=value")
+        params[name.strip()] = parse_float(f"--param {name.strip()}", value)
+    try:
+        from ..systems import quarter_car as core_quarter_car
+    except ImportError:
+        raise ParameterError(
+            "--network",
+            network,
+            "no value yet: the model core (inerterlab.systems) is not part of this version "
+            "(use --suspension traditional, cfw or afw)",
+        ) from None
+    return core_quarter_car(network, params)
+
+
 def _quarter_car(
     suspension, flywheel, law, method, amplitude, fmin, fmax, df, harmonics, samples,
-    direction, no_stability, json_out, csv, plot,
+    direction, no_stability, json_out, csv, plot, network=None, param=None,
 ):  # fmt: skip
     from ..errors import check_choice
     from ..frequency import frequency_grid, frequency_response
     from ..frequency.quarter_car import SMOOTH_SUSPENSIONS
     from ..suspension import SUSPENSIONS, quarter_car
 
+    if network is not None:
+        car = _network_car(network, param)
+        grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
+        fr = frequency_response(
+            car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+            n_samples=samples, direction=direction, stability=not no_stability,
+            amplitude=amplitude,
+        )  # fmt: skip
+        label = f"quarter car, {network}"
+        return _report(fr, method, amplitude, json_out, csv, plot, {"network": network}, label)
     check_choice("--suspension", suspension, SUSPENSIONS)
     if suspension not in SMOOTH_SUSPENSIONS:
         raise ParameterError(
@@ -231,29 +262,33 @@ def _quarter_car(
         n_samples=samples, direction=direction, stability=not no_stability,
         amplitude=amplitude,
     )  # fmt: skip
+    extra = {"suspension": suspension}
+    if suspension == "afw":
+        extra.update(flywheel=flywheel, law=law)
+    return _report(fr, method, amplitude, json_out, csv, plot, extra, f"quarter car, {suspension}")
+
+
+def _report(fr, method, amplitude, json_out, csv, plot, extra, label) -> None:
     out = fr.to_dict()
     out["settings"] = {
         k: v for k, v in fr.settings.items() if isinstance(v, str | int | float | bool)
     }
     out["system"] = "quarter-car"
-    out["suspension"] = suspension
+    out.update(extra)
     out["amplitude_input_m"] = amplitude
-    if suspension == "afw":
-        out["flywheel"] = flywheel
-        out["law"] = law
     out["failed_points"] = int((~fr.converged).sum())
     if csv is not None:
         atomic_write_text(csv, fr.to_pandas().to_csv(index=False), option="--csv")
         out["csv"] = str(csv)
     if plot is not None:
         fig = fr.plot()
-        fig.axes[0].set_title(f"quarter car, {suspension}, A = {100 * amplitude:g} cm")
+        fig.axes[0].set_title(f"{label}, A = {100 * amplitude:g} cm")
         atomic_savefig(fig, plot)
         out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
-    _print_points(fr, f"quarter car, {suspension}, {method}, A = {amplitude:g} m")
+    _print_points(fr, f"{label}, {method}, A = {amplitude:g} m")
 
 
 def _print_points(fr, title) -> None:

@@ -5,17 +5,19 @@ A system here is any object with
 ``n_states``
     The number n of states taking part in the balance.
 ``rhs``
-    A compiled (numba) function ``rhs(t, x, road, int_table, float_table, out)`` writing
-    f into ``out``; ``road`` holds the input u = [displacement, velocity, acceleration]
+    A compiled (numba) function ``rhs(t, x, road, int_table, float_table, out) -> bool``
+    writing f into ``out`` (False when it could not, e.g. an internal force balance
+    failed: the point then fails as non-finite); ``road`` holds the input u = [displacement, velocity, acceleration]
     at time t. It is called with arrays of length ``work_size`` >= n (states past n are
     held at zero and their derivatives ignored, so a right-hand side that also carries
     states which do not feed back, such as the filters of a metric, is used unchanged).
-``int_table``, ``float_table``
+``int_table``, ``float_table`` (or ``tables`` = both)
     Its parameters (int64 and float64 vectors, contiguous).
 ``work_size`` (optional, default n), ``state_scales`` (optional: typical magnitude of
     each state, for the finite-difference steps), ``jacobian`` (optional: a compiled
     ``jacobian(t, x, road, int_table, float_table, out)`` writing df/dx, n x n),
-    ``rest_state`` (optional, the cold start), ``nonlinearity_degree`` (aliasing rule).
+    ``rest_state`` or ``initial_state()`` (optional, the cold start),
+    ``nonlinearity_degree`` (aliasing rule).
 
 The input is a sine of amplitude A: u = [A sin(tau), A Omega cos(tau), -A Omega^2 sin(tau)],
 tau = Omega t. Every state is a truncated Fourier series,
@@ -73,8 +75,8 @@ _f8 = types.float64
 _v = types.float64[::1]
 _iv = types.int64[::1]
 _m = types.float64[:, ::1]
-#: rhs(t, x, road, int_table, float_table, out) -> None
-RHS_SIGNATURE = types.void(_f8, _v, _v, _iv, _v, _v)
+#: rhs(t, x, road, int_table, float_table, out) -> ok (False: f could not be evaluated)
+RHS_SIGNATURE = types.boolean(_f8, _v, _v, _iv, _v, _v)
 #: jacobian(t, x, road, int_table, float_table, out) -> None, out[i, j] = df_i/dx_j
 JACOBIAN_SIGNATURE = types.void(_f8, _v, _v, _iv, _v, _m)
 _RHS = types.FunctionType(RHS_SIGNATURE)
@@ -125,9 +127,12 @@ def _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau):
         for i in range(n):
             x[i] = xs[i, k]
         _road(amp, omega, tau[k], road)
-        rhs(tau[k] / omega, x, road, itab, ftab, out)
-        for i in range(n):
-            f[i, k] = out[i]
+        if rhs(tau[k] / omega, x, road, itab, ftab, out):
+            for i in range(n):
+                f[i, k] = out[i]
+        else:
+            for i in range(n):
+                f[i, k] = np.nan
     return f
 
 
@@ -150,9 +155,9 @@ def _rhs_and_jacobian(
             x[i] = xs[i, k]
         _road(amp, omega, tau[k], road)
         t = tau[k] / omega
-        rhs(t, x, road, itab, ftab, out)
+        good = rhs(t, x, road, itab, ftab, out)
         for i in range(n):
-            f[i, k] = out[i]
+            f[i, k] = out[i] if good else np.nan
         if has_jac:
             jac(t, x, road, itab, ftab, Jk)
             for i in range(n):
@@ -245,6 +250,24 @@ def fo_residual_jacobian(
 
 
 @njit(cache=True)
+def _newton_step(J, R):
+    """-J^-1 R; where J is singular (a state whose mean value the equations leave free,
+    e.g. a node held by a damper and an inerter only) the least-squares step of
+    smallest norm, which leaves such a mean where it is."""
+    ok = True
+    try:
+        dX = np.linalg.solve(J, -R)
+    except Exception:  # noqa: BLE001 - LAPACK reports a singular matrix
+        ok = False
+        dX = np.zeros_like(R)
+    if ok and np.all(np.isfinite(dX)):
+        # reject the solve when it amplifies round-off (near-singular J)
+        if _norm(dX) * 1e-12 * np.max(np.abs(J)) <= _norm(R) + 1e-300:
+            return dX
+    return np.linalg.lstsq(J, -R, rcond=1e-12)[0]
+
+
+@njit(cache=True)
 def _norm(v):
     return math.sqrt(np.sum(v * v))
 
@@ -267,10 +290,7 @@ def fo_newton(
     for it in range(max_iter):
         if not np.isfinite(rn):
             return X, False, it, rn, 4
-        try:
-            dX = np.linalg.solve(J, -R)
-        except Exception:  # noqa: BLE001 - LAPACK reports a singular matrix
-            return X, False, it, rn, 2
+        dX = _newton_step(J, R)
         if not np.all(np.isfinite(dX)):
             return X, False, it, rn, 2
         step = 1.0
@@ -385,11 +405,8 @@ def fo_sweep(
                 _, J = fo_residual_jacobian(
                     rhs, jac, has_jac, itab, ftab, work, n, X, w, amp, tau, E, ET, D, F, scales
                 )
-                try:
-                    Jinv = np.ascontiguousarray(np.linalg.inv(J))
-                    have_jinv = np.all(np.isfinite(Jinv))
-                except Exception:  # noqa: BLE001 - singular at a fold
-                    have_jinv = False
+                Jinv = np.ascontiguousarray(np.linalg.pinv(J, rcond=1e-12))
+                have_jinv = np.all(np.isfinite(Jinv))
         if not conv and warm and w_last > 0.0:
             Xs = X_last.copy()
             conv = True
@@ -531,6 +548,29 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
     return out
 
 
+@njit(cache=True)
+def fo_compiled_outputs(outfn, itab, ftab, work, n, n_out, omegas, C, amp, tau, ET):
+    """A system's compiled outputs ``outfn(t, x, road, itab, ftab, out)`` at the phases
+    tau for every point: (P, n_out, K) (NaN where it reports a failure)."""
+    n_pts = omegas.shape[0]
+    K = tau.shape[0]
+    res = np.empty((n_pts, n_out, K))
+    x = np.zeros(work)
+    out = np.zeros(n_out)
+    road = np.empty(3)
+    for p in range(n_pts):
+        X = np.ascontiguousarray(C[p])
+        xs = _state_samples(X, n, ET)
+        for k in range(K):
+            for i in range(n):
+                x[i] = xs[i, k]
+            _road(amp, omegas[p], tau[k], road)
+            good = outfn(tau[k] / omegas[p], x, road, itab, ftab, out)
+            for j in range(n_out):
+                res[p, j, k] = out[j] if good else np.nan
+    return res
+
+
 # ---------------------------------------------------------------------------------
 # brute force on the same right-hand side: fixed-step RK4, period by period
 
@@ -633,6 +673,7 @@ _ENTRY_TYPES = {
     "fo_hill_matrices": (*_SYS, _v, _m, _a1, _f8, _v, _m, _m, _m, _m, _v),
     "fo_derivative_samples": (*_SYS_R, _v, _m, _f8, _v, _m),
     "_rhs_samples": (*_SYS_R, _m, _f8, _f8, _v),
+    "fo_compiled_outputs": (*_SYS_R, _i8, _v, _m, _f8, _v, _m),
     "fo_brute_point": (*_SYS_R, _v, _f8, _f8, _i8, _f8, _i8, _v),
     "fo_monodromy": (*_SYS_R, _v, _f8, _f8, _i8, _v),
 }
@@ -658,6 +699,21 @@ def kernel(name: str):
 
 # ---------------------------------------------------------------------------------
 # engine
+
+
+def system_tables(system):
+    """(int table, float table) of a first-order system."""
+    if hasattr(system, "int_table"):
+        return system.int_table, system.float_table
+    return system.tables
+
+
+def rest_state(system):
+    """The system's rest state (``rest_state`` or ``initial_state()``), or None."""
+    rest = getattr(system, "rest_state", None)
+    if rest is None and callable(getattr(system, "initial_state", None)):
+        rest = system.initial_state()
+    return None if rest is None else np.asarray(rest, dtype=float)
 
 
 def is_first_order(system) -> bool:
@@ -688,8 +744,9 @@ class FirstOrderEngine:
         jac = getattr(system, "jacobian", None)
         self.has_jac = jac is not None
         self.jac = jac if jac is not None else _placeholder_jacobian()
-        self.itab = np.array(system.int_table, dtype=np.int64)
-        self.ftab = np.array(system.float_table, dtype=float)
+        itab, ftab = system_tables(system)
+        self.itab = np.array(itab, dtype=np.int64)  # writable, contiguous copies
+        self.ftab = np.array(ftab, dtype=float)
         sc = getattr(system, "state_scales", None)
         self.scales = np.ones(n) if sc is None else np.ascontiguousarray(np.asarray(sc, float)[:n])
         self.ET = np.ascontiguousarray(basis.E.T)
@@ -709,7 +766,7 @@ class FirstOrderEngine:
         """The rest state as constant terms (zeros when the system gives none)."""
         m = self.basis.size
         X = np.zeros(self.n_dof * m)
-        rest = getattr(self.system, "rest_state", None)
+        rest = rest_state(self.system)
         if rest is not None:
             X[::m] = np.asarray(rest, dtype=float)[: self.n_dof]
         return X
@@ -784,6 +841,16 @@ class FirstOrderEngine:
             best[good] = np.max(near.real, axis=1)
         return best, exps
 
+    def compiled_outputs(self, outfn, n_out, omegas, C, tau):
+        """A compiled output function at the phases tau of every point, (P, n_out, K)."""
+        tau = np.ascontiguousarray(tau, dtype=float)
+        ET = np.ascontiguousarray(fourier_basis(self.basis.harmonics, len(tau)).E.T)
+        return kernel("fo_compiled_outputs")(
+            outfn, self.itab, self.ftab, self.work, self.n_dof, int(n_out),
+            np.ascontiguousarray(omegas, dtype=float), np.ascontiguousarray(C, dtype=float),
+            self.amplitude, tau, ET,
+        )  # fmt: skip
+
     def samples(self, omegas, C, tau=None):
         """States and derivatives at the phases ``tau`` (default the N samples) of every
         point, (P, n, K) each."""
@@ -842,10 +909,10 @@ def brute_force_point(
     sc = getattr(system, "state_scales", None)
     scales = np.ones(n) if sc is None else np.ascontiguousarray(np.asarray(sc, float)[:n])
     y0 = np.zeros(n) if initial_state is None else np.asarray(initial_state, dtype=float)
-    if initial_state is None and getattr(system, "rest_state", None) is not None:
-        y0 = np.asarray(system.rest_state, dtype=float)[:n].copy()
-    itab = np.ascontiguousarray(system.int_table, dtype=np.int64)
-    ftab = np.ascontiguousarray(system.float_table, dtype=float)
+    if initial_state is None and rest_state(system) is not None:
+        y0 = rest_state(system)[:n].copy()
+    it, ft = system_tables(system)
+    itab, ftab = np.array(it, dtype=np.int64), np.array(ft, dtype=float)
     y, xs, ok, periods, _ = kernel("fo_brute_point")(
         system.rhs, itab, ftab, work, n, np.ascontiguousarray(y0), float(omega),
         float(amplitude), int(steps_per_period), float(rtol), int(max_periods), scales,
@@ -857,8 +924,8 @@ def rhs_samples(system, omega, amplitude, xs, tau):
     """f at the states xs (n, K) and phases tau (K,) under the sine input: (n, K)."""
     n = int(system.n_states)
     return kernel("_rhs_samples")(
-        system.rhs, np.array(system.int_table, dtype=np.int64),
-        np.array(system.float_table, dtype=float), int(getattr(system, "work_size", n)), n,
+        system.rhs, np.array(system_tables(system)[0], dtype=np.int64),
+        np.array(system_tables(system)[1], dtype=float), int(getattr(system, "work_size", n)), n,
         np.ascontiguousarray(xs, dtype=float), float(omega), float(amplitude),
         np.ascontiguousarray(tau, dtype=float),
     )  # fmt: skip
@@ -872,8 +939,8 @@ def monodromy_multipliers(system, omega, amplitude, state0, *, steps_per_period=
     sc = getattr(system, "state_scales", None)
     scales = np.ones(n) if sc is None else np.ascontiguousarray(np.asarray(sc, float)[:n])
     M = kernel("fo_monodromy")(
-        system.rhs, np.ascontiguousarray(system.int_table, dtype=np.int64),
-        np.ascontiguousarray(system.float_table, dtype=float), work, n,
+        system.rhs, np.array(system_tables(system)[0], dtype=np.int64),
+        np.array(system_tables(system)[1], dtype=float), work, n,
         np.ascontiguousarray(state0, dtype=float), float(omega), float(amplitude),
         int(steps_per_period), scales,
     )  # fmt: skip

@@ -28,7 +28,13 @@ from ..suspension._kernels import _rhs_road
 from ..suspension.model import N_METRIC_STATES, P_CT, P_KT, QuarterCar
 from .first_order import RHS_SIGNATURE
 
-__all__ = ["FirstOrderSystem", "quarter_car_system", "QUARTER_CAR_OUTPUTS", "SMOOTH_SUSPENSIONS"]
+__all__ = [
+    "FirstOrderSystem",
+    "quarter_car_system",
+    "from_core_system",
+    "QUARTER_CAR_OUTPUTS",
+    "SMOOTH_SUSPENSIONS",
+]
 
 #: output name -> unit
 QUARTER_CAR_OUTPUTS = {
@@ -62,9 +68,14 @@ class FirstOrderSystem:
         Typical size of each state (finite-difference steps, settling test).
     rest_state : ndarray, optional
         Cold start of Newton and start of the brute force.
-    outputs : callable, optional
-        ``outputs(xs, fs, road) -> {name: samples}`` with xs, fs of shape (P, n, N)
-        (states and their derivatives at the samples) and road of shape (P, 3, N).
+    output_samples : callable, optional
+        ``output_samples(xs, fs, road) -> {name: samples}`` with xs, fs of shape
+        (P, n, K) (states and their derivatives at K phases) and road of shape (P, 3, K).
+    compiled_outputs : numba dispatcher, optional
+        Instead of ``output_samples``: ``compiled_outputs(t, x, road, int_table,
+        float_table, out) -> bool`` (the signature of ``rhs``) filling ``n_outputs``
+        values, and ``combine_outputs(O) -> {name: samples}`` with O of shape
+        (P, n_outputs, K).
     output_units : dict
         Unit of each output.
     response_state : int
@@ -82,7 +93,10 @@ class FirstOrderSystem:
     state_scales: np.ndarray | None = None
     rest_state: np.ndarray | None = None
     jacobian: object = None
-    outputs: object = None
+    output_samples: object = None
+    compiled_outputs: object = None
+    n_outputs: int = 0
+    combine_outputs: object = None
     output_units: dict = field(default_factory=dict)
     response_state: int = 0
     nonlinearity_degree: int = 3
@@ -108,6 +122,7 @@ class FirstOrderSystem:
 
 def _quarter_car_rhs_py(t, x, road, itab, ftab, out):
     _rhs_road(road[0], road[1], x, out, ftab, _WK_ZERO, False)
+    return True
 
 
 _RHS_CACHE: list = []
@@ -142,7 +157,7 @@ def quarter_car_system(car: QuarterCar) -> FirstOrderSystem:
     ftab = np.array(p, dtype=float)  # a writable copy
     kt, ct = float(p[P_KT]), float(p[P_CT])
 
-    def outputs(xs, fs, road):
+    def output_samples(xs, fs, road):
         return {
             "body_displacement": xs[:, 2],
             "body_acceleration": fs[:, 3],
@@ -158,9 +173,61 @@ def quarter_car_system(car: QuarterCar) -> FirstOrderSystem:
         work_size=n + N_METRIC_STATES,
         state_scales=np.asarray(car.state_scales[:n], dtype=float),
         rest_state=car.initial_state(),
-        outputs=outputs,
+        output_samples=output_samples,
         output_units=dict(QUARTER_CAR_OUTPUTS),
         response_state=2,
         nonlinearity_degree=3,
         label=f"quarter car, {car.suspension}",
+    )
+
+
+def from_core_system(system) -> FirstOrderSystem:
+    """A system of the model core (``inerterlab.systems``: ``n_states``, ``rhs``,
+    ``tables``, compiled ``outputs`` and ``output_names``) as a first-order system.
+
+    A quarter car (nodes ``body``, ``wheel`` and the tyre elements ``tyre_k``,
+    ``tyre_c``) reports the four quarter-car outputs; any other system reports every
+    node displacement, velocity, acceleration and element force by its name.
+    """
+    names = tuple(system.output_names)
+    index = {name: i for i, name in enumerate(names)}
+    itab, ftab = system.tables
+    quarter = all(k in index for k in ("body.x", "wheel.x", "body.a", "tyre_k.force"))
+
+    if quarter:
+        tyre = [index["tyre_k.force"]] + (
+            [index["tyre_c.force"]] if "tyre_c.force" in index else []
+        )
+
+        def combine(O):
+            return {
+                "body_displacement": O[:, index["body.x"]],
+                "body_acceleration": O[:, index["body.a"]],
+                "suspension_deflection": O[:, index["body.x"]] - O[:, index["wheel.x"]],
+                "tyre_force": np.sum(O[:, tyre], axis=1),
+            }
+
+        units = dict(QUARTER_CAR_OUTPUTS)
+        response = system.state_names.index("body.x") if "body.x" in system.state_names else 0
+    else:
+
+        def combine(O):
+            return {n: O[:, i] for i, n in enumerate(names) if np.all(np.isfinite(O[:, i]))}
+
+        suffix = {"x": "m", "v": "m/s", "a": "m/s^2", "force": "N"}
+        units = {n: suffix.get(n.rsplit(".", 1)[-1], "") for n in names}
+        response = 0
+    return FirstOrderSystem(
+        n_states=int(system.n_states),
+        rhs=system.rhs,
+        int_table=np.array(itab, dtype=np.int64),
+        float_table=np.array(ftab, dtype=float),
+        state_scales=np.asarray(system.state_scales, dtype=float),
+        rest_state=np.asarray(system.initial_state(), dtype=float),
+        compiled_outputs=system.outputs,
+        n_outputs=len(names),
+        combine_outputs=combine,
+        output_units=units,
+        response_state=response,
+        label=str(getattr(system, "description", "model-core system")),
     )

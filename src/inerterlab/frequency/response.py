@@ -628,18 +628,27 @@ def _first_order_outputs(engine, system, omegas, coeffs, ok):
     with a kink (the inerter force at the flywheel's saturation speed) keeps it instead
     of being truncated to H harmonics; the extremes are those of the trigonometric
     interpolant of these samples."""
-    fn = getattr(system, "outputs", None)
+    fn = getattr(system, "output_samples", None)
+    comp = getattr(system, "compiled_outputs", None)
     n = len(omegas)
-    if fn is None or n == 0:
+    if (fn is None and comp is None) or n == 0:
         return {}, {}
     tau = 2.0 * np.pi * np.arange(OUTPUT_PHASES) / OUTPUT_PHASES
-    xs, fs = engine.samples(omegas, coeffs, tau)
-    road = _road_samples(omegas, engine.amplitude, tau)
+    if comp is not None:
+        O = engine.compiled_outputs(comp, system.n_outputs, omegas, coeffs, tau)
+        named = system.combine_outputs(O)
+    else:
+        xs, fs = engine.samples(omegas, coeffs, tau)
+        named = fn(xs, fs, _road_samples(omegas, engine.amplitude, tau))
     mask = ~np.asarray(ok, dtype=bool)
-    out = {
-        name: np.ma.masked_array(_half_peak_to_peak_dense(np.asarray(v, dtype=float)), mask=mask)
-        for name, v in fn(xs, fs, road).items()
-    }
+    out = {}
+    for name, v in named.items():
+        v = np.asarray(v, dtype=float)
+        amp = np.full(n, np.nan)
+        good = np.all(np.isfinite(v), axis=1)
+        if good.any():
+            amp[good] = _half_peak_to_peak_dense(v[good])
+        out[name] = np.ma.masked_array(amp, mask=mask | ~good)
     return out, dict(getattr(system, "output_units", {}))
 
 
@@ -647,10 +656,16 @@ def _resolve_system(system, amplitude):
     """(system, first_order): a quarter car becomes its first-order system."""
     from ..suspension.model import QuarterCar
     from .first_order import is_first_order
-    from .quarter_car import quarter_car_system
+    from .quarter_car import FirstOrderSystem, from_core_system, quarter_car_system
 
     if isinstance(system, QuarterCar):
         system = quarter_car_system(system)
+    elif (
+        not isinstance(system, FirstOrderSystem)
+        and hasattr(system, "tables")
+        and hasattr(system, "output_names")
+    ):
+        system = from_core_system(system)  # a system of the model core
     if is_first_order(system):
         if amplitude is None:
             raise ParameterError("amplitude", None, "a road displacement amplitude > 0 m")
@@ -691,7 +706,7 @@ def _brute_first_order(system, passes, harmonics, settings, amplitude):
     ok = np.array(oks, dtype=bool)
     omegas = np.array(omegas)
     outputs, units = {}, {}
-    fn = getattr(system, "outputs", None)
+    fn = getattr(system, "output_samples", None)
     if fn is not None and len(omegas):
         from .first_order import rhs_samples
 
