@@ -1,4 +1,5 @@
-"""``inerterlab frequency-response``: steady-state response of the ch. 7 system (7.1)."""
+"""``inerterlab frequency-response``: steady-state response of the ch. 7 system (7.1) or
+of a quarter car (docs/model.md §5, §7)."""
 
 from __future__ import annotations
 
@@ -34,28 +35,65 @@ def _note_if_long(n, method, harmonics, direction, stability) -> None:
         )
 
 
+SYSTEMS = ("chapter7", "quarter-car")
+
+
 def frequency_response_command(
+    system: Annotated[
+        str,
+        typer.Option(
+            help="chapter7 (body over a moving base, thesis 7.1) or quarter-car "
+            "(the time simulation's quarter car, road X1 = A sin(2 pi f t))."
+        ),
+    ] = "chapter7",
+    suspension: Annotated[
+        str | None,
+        typer.Option(help="Quarter car: traditional, cfw or afw (default afw)."),
+    ] = None,
+    network: Annotated[
+        str | None,
+        typer.Option(
+            help="Quarter car of the model core with this suspension network, e.g. "
+            "'k | (c - b)' (element values by --param)."
+        ),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option(help="name=value element value of --network (repeatable)."),
+    ] = None,
     method: Annotated[
         str, typer.Option(help="brute, shb, mhb, sihb (scan down and up) or continuation.")
     ] = "sihb",
     amplitude: Annotated[
-        float, typer.Option(help="Base displacement amplitude B [m], X0 = B sin(2 pi f t).")
+        float,
+        typer.Option(help="Base (road) displacement amplitude B [m], X0 = B sin(2 pi f t)."),
     ] = 0.01,
     fmin: Annotated[float, typer.Option(help="Lowest frequency [Hz].")] = 0.1,
     fmax: Annotated[float, typer.Option(help="Highest frequency [Hz].")] = 3.0,
     df: Annotated[float, typer.Option(help="Frequency step [Hz].")] = 0.05,
     harmonics: Annotated[
         int | None,
-        typer.Option(help="Harmonics H (default: 1 for shb, 15 for sihb, 7 otherwise)."),
+        typer.Option(
+            help="Harmonics H (default: 1 for shb, 15 for sihb, 7 otherwise; 9 for the "
+            "quarter car)."
+        ),
     ] = None,
     samples: Annotated[
         int | None, typer.Option(help="Time samples per period N (default from the aliasing rule).")
     ] = None,
     flywheel: Annotated[
-        str, typer.Option(help="Flywheel preset: metal, nylon, nylon-large, or none (no inerter).")
-    ] = "metal",
+        str | None,
+        typer.Option(
+            help="Flywheel preset: metal (default), nylon, nylon-large, or none (no "
+            "inerter); quarter car: nylon (default), metal, nylon-large."
+        ),
+    ] = None,
     law: Annotated[
-        str, typer.Option(help="Inertia law: thesis (default), momentum, thesis-literal.")
+        str,
+        typer.Option(
+            help="Inertia law: thesis (default), momentum, thesis-literal; quarter car: "
+            "thesis, momentum, slider-dynamics."
+        ),
     ] = "thesis",
     direction: Annotated[
         str | None, typer.Option(help="down, up or both (default both for sihb, else up).")
@@ -76,11 +114,30 @@ def frequency_response_command(
     over a moving base (thesis 7.1). Failed points are reported with converged=false and
     a null amplitude.
 
+    With --system quarter-car the response of the quarter car of the time simulation
+    (same equations) to a sine road: half peak-to-peak body displacement [m], body
+    acceleration [m/s^2], suspension deflection [m] and tyre force [N] per frequency.
+
     Example: inerterlab frequency-response --method sihb --amplitude 0.03 --fmin 0.1
     --fmax 3 --df 0.05 --harmonics 15 --json
+
+    Example: inerterlab frequency-response --system quarter-car --suspension afw
+    --amplitude 0.01 --fmin 0.5 --fmax 20 --df 0.1 --json
     """
+    from ..errors import check_choice
     from ..frequency import chapter7_system, frequency_grid, frequency_response
 
+    check_choice("--system", system, SYSTEMS)
+    if system != "quarter-car":
+        for name, value in (("--suspension", suspension), ("--network", network)):
+            if value is not None:
+                raise ParameterError(name, value, "no value unless --system quarter-car")
+        if param:
+            raise ParameterError("--param", param[0], "no value unless --system quarter-car")
+    elif network is not None and suspension is not None:
+        raise ParameterError("--network", network, "no value together with --suspension")
+    elif param and network is None:
+        raise ParameterError("--param", param[0], "no value without --network")
     if harmonics is not None and harmonics < 1:
         raise ParameterError("--harmonics", harmonics, "an integer >= 1")
     if samples is not None and samples < 3:
@@ -92,6 +149,12 @@ def frequency_response_command(
         raise ParameterError("--fmin", fmin, f"a frequency < --fmax={fmax} Hz")
     if not amplitude > 0:
         raise ParameterError("--amplitude", amplitude, "a displacement > 0 m")
+    if system == "quarter-car":
+        return _quarter_car(
+            suspension or "afw", flywheel or "nylon", law, method, amplitude, fmin, fmax, df,
+            harmonics, samples, direction, no_stability, json_out, csv, plot, network, param,
+        )  # fmt: skip
+    flywheel = flywheel or "metal"
     system = chapter7_system(amplitude, preset=flywheel, law=law)
     grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
     if grid is not None:
@@ -137,6 +200,126 @@ def frequency_response_command(
     rows.append(("points (failed)", f"{len(fr)} ({out['failed_points']})"))
     rows.append(("max relative residual", f"{fr.residual[fr.converged].max():.2e}"))
     print_table(f"frequency response, {method}, B = {amplitude:g} m", rows)
+
+
+def _network_car(network, param):
+    """The model core's quarter car with ``network`` and ``--param name=value`` values."""
+    from ._common import parse_float
+
+    params = {}
+    for item in param or []:
+        name, sep, value = item.partition("=")
+        if not sep or not name.strip():
+            raise ParameterError("--param", item, "name=value")
+        params[name.strip()] = parse_float(f"--param {name.strip()}", value)
+    try:
+        from ..systems import quarter_car as core_quarter_car
+    except ImportError:
+        raise ParameterError(
+            "--network",
+            network,
+            "no value yet: the model core (inerterlab.systems) is not part of this version "
+            "(use --suspension traditional, cfw or afw)",
+        ) from None
+    return core_quarter_car(network, params)
+
+
+def _quarter_car(
+    suspension, flywheel, law, method, amplitude, fmin, fmax, df, harmonics, samples,
+    direction, no_stability, json_out, csv, plot, network=None, param=None,
+):  # fmt: skip
+    from ..errors import check_choice
+    from ..frequency import frequency_grid, frequency_response
+    from ..frequency.quarter_car import SMOOTH_SUSPENSIONS
+    from ..suspension import SUSPENSIONS, quarter_car
+
+    if network is not None:
+        car = _network_car(network, param)
+        grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
+        fr = frequency_response(
+            car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+            n_samples=samples, direction=direction, stability=not no_stability,
+            amplitude=amplitude,
+        )  # fmt: skip
+        label = f"quarter car, {network}"
+        return _report(fr, method, amplitude, json_out, csv, plot, {"network": network}, label)
+    check_choice("--suspension", suspension, SUSPENSIONS)
+    if suspension not in SMOOTH_SUSPENSIONS:
+        raise ParameterError(
+            "--suspension",
+            suspension,
+            "traditional, cfw or afw for a frequency response (the real device's friction "
+            "switches too sharply for a Fourier series; use `inerterlab simulate` with a "
+            "sine road)",
+        )
+    kwargs = {"law": law}
+    if suspension == "afw":
+        kwargs["flywheel"] = flywheel
+    car = quarter_car(suspension, **kwargs)
+    grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
+    fr = frequency_response(
+        car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+        n_samples=samples, direction=direction, stability=not no_stability,
+        amplitude=amplitude,
+    )  # fmt: skip
+    extra = {"suspension": suspension}
+    if suspension == "afw":
+        extra.update(flywheel=flywheel, law=law)
+    return _report(fr, method, amplitude, json_out, csv, plot, extra, f"quarter car, {suspension}")
+
+
+def _report(fr, method, amplitude, json_out, csv, plot, extra, label) -> None:
+    out = fr.to_dict()
+    out["settings"] = {
+        k: v for k, v in fr.settings.items() if isinstance(v, str | int | float | bool)
+    }
+    out["system"] = "quarter-car"
+    out.update(extra)
+    out["amplitude_input_m"] = amplitude
+    out["failed_points"] = int((~fr.converged).sum())
+    if csv is not None:
+        atomic_write_text(csv, fr.to_pandas().to_csv(index=False), option="--csv")
+        out["csv"] = str(csv)
+    if plot is not None:
+        fig = fr.plot()
+        fig.axes[0].set_title(f"{label}, A = {100 * amplitude:g} cm")
+        atomic_savefig(fig, plot)
+        out["plot"] = str(plot)
+    if json_out:
+        emit_json(out)
+        return
+    _print_points(fr, f"{label}, {method}, A = {amplitude:g} m")
+
+
+def _print_points(fr, title) -> None:
+    """One row per point with units (failed points: '-')."""
+    import numpy as np
+
+    short = {
+        "body_displacement": "body disp",
+        "body_acceleration": "body acc",
+        "suspension_deflection": "deflection",
+        "tyre_force": "tyre force",
+    }
+    names = list(fr.outputs)
+    heads = ["f [Hz]", "scan"]
+    heads += [f"{short.get(n, n)} [{fr.output_units.get(n, '')}]" for n in names]
+    heads += ["stable", "converged", "residual"]
+    rows = []
+    for i in range(len(fr)):
+        cells = [f"{fr.freq_hz[i]:.5g}", str(fr.direction[i])]
+        for n in names:
+            a = fr.outputs[n]
+            cells.append("-" if np.ma.getmaskarray(a)[i] else f"{a.data[i]:.5g}")
+        known = not np.ma.getmaskarray(fr.stable)[i]
+        cells.append(("yes" if fr.stable.data[i] else "no") if known else "-")
+        cells += ["yes" if fr.converged[i] else "no", f"{fr.residual[i]:.1e}"]
+        rows.append(cells)
+    widths = [max(len(h), *(len(r[j]) for r in rows)) for j, h in enumerate(heads)]
+    print(title)
+    print("  ".join(h.rjust(w) for h, w in zip(heads, widths, strict=True)))
+    for r in rows:
+        print("  ".join(c.rjust(w) for c, w in zip(r, widths, strict=True)))
 
 
 def register(app: typer.Typer) -> None:

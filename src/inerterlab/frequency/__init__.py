@@ -1,6 +1,8 @@
 """Steady-state frequency response: brute force, harmonic balance (AFT), continuation.
 
-See docs/guide/frequency.md. Thesis ch. 7; docs/model.md §7.
+Second-order systems (the chapter-7 system, Duffing, user residuals) and first-order
+state equations (the quarter car, model-core systems). See docs/guide/frequency.md.
+Thesis ch. 7; docs/model.md §7.
 """
 
 from .brute import SteadyState as SteadyState
@@ -8,6 +10,7 @@ from .brute import floquet_multipliers as floquet_multipliers
 from .brute import steady_state as steady_state
 from .continuation import ContinuationPath as ContinuationPath
 from .continuation import continue_branch as continue_branch
+from .first_order import RHS_SIGNATURE as RHS_SIGNATURE
 from .harmonic import FourierBasis as FourierBasis
 from .harmonic import fourier_basis as fourier_basis
 from .harmonic import hill_exponents as hill_exponents
@@ -26,10 +29,12 @@ from .systems import traditional_suspension as traditional_suspension
 __all__ = [
     "ContinuationPath",
     "DuffingOscillator",
+    "FirstOrderSystem",
     "FourierBasis",
     "FrequencyResponse",
     "InerterSuspension",
     "METHODS",
+    "RHS_SIGNATURE",
     "SteadyState",
     "UserSystem",
     "chapter7_system",
@@ -38,9 +43,20 @@ __all__ = [
     "fourier_basis",
     "frequency_grid",
     "frequency_response",
+    "from_core_system",
     "hill_exponents",
     "make_engine",
     "nrmse",
+    "quarter_car_system",
     "steady_state",
     "traditional_suspension",
 ]
+
+
+def __getattr__(name):
+    # the quarter-car adapter imports the suspension kernels: loaded on first use only
+    if name in ("FirstOrderSystem", "from_core_system", "quarter_car_system"):
+        from . import quarter_car
+
+        return getattr(quarter_car, name)
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -35,11 +35,13 @@ from ..resources import check_memory, check_work
 from . import _kernels
 from .brute import steady_state
 from .continuation import continue_branch
+from .first_order import make_first_order_engine
 from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
 
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
 METHODS = ("brute", "shb", "mhb", "sihb", "continuation")
+FIRST_ORDER_HARMONICS = 9  # default H of a first-order system (docs/decisions.md: accuracy)
 DIRECTIONS = ("down", "up", "both")
 
 
@@ -91,6 +93,8 @@ class FrequencyResponse:
     iterations: np.ndarray
     method: str
     settings: dict = field(default_factory=dict)
+    outputs: dict = field(default_factory=dict)
+    output_units: dict = field(default_factory=dict)
 
     @property
     def omega(self) -> np.ndarray:
@@ -124,6 +128,8 @@ class FrequencyResponse:
             iterations=self.iterations[idx],
             method=self.method,
             settings=dict(self.settings),
+            outputs={k: v[idx] for k, v in self.outputs.items()},
+            output_units=dict(self.output_units),
         )
 
     def first_harmonic(self, dof: int = 0) -> np.ma.MaskedArray:
@@ -164,7 +170,7 @@ class FrequencyResponse:
             None if m else bool(v)
             for v, m in zip(self.stable.data, np.ma.getmaskarray(self.stable), strict=True)
         ]
-        return {
+        out = {
             "method": self.method,
             "freq_hz": [float(f) for f in self.freq_hz],
             "amplitude_m": amp,
@@ -174,6 +180,16 @@ class FrequencyResponse:
             "direction": [str(d) for d in self.direction],
             "failure_reason": list(self.failure_reason),
         }
+        if self.outputs:
+            out["outputs"] = {
+                name: [
+                    None if m else float(v)
+                    for v, m in zip(a.data, np.ma.getmaskarray(a), strict=True)
+                ]
+                for name, a in self.outputs.items()
+            }
+            out["output_units"] = dict(self.output_units)
+        return out
 
     def _mask(self):
         return np.ma.getmaskarray(self.amplitude_m)
@@ -193,6 +209,7 @@ class FrequencyResponse:
                 "direction": d["direction"],
                 "iterations": self.iterations,
                 "failure_reason": d["failure_reason"],
+                **{k: pd.array(v, dtype="Float64") for k, v in d.get("outputs", {}).items()},
             }
         )
         df.attrs["method"] = self.method
@@ -308,6 +325,7 @@ def estimate_operations(
     max_iter: int = 30,
     steps_per_period: int = 2000,
     max_periods: int = 5000,
+    n_dof: int = 1,
 ) -> float:
     """Rough floating point operations of :func:`frequency_response` (order of magnitude).
 
@@ -315,7 +333,7 @@ def estimate_operations(
     stability matrix (twice that size); brute force integrates up to 50 periods.
     """
     n_pass = 2 if direction == "both" else 1
-    size = 2.0 * float(harmonics) + 1.0
+    size = (2.0 * float(harmonics) + 1.0) * n_dof
     if method == "brute":
         per_point = 50.0 * steps_per_period * min(max_periods, 50)
     else:
@@ -345,6 +363,8 @@ def frequency_response(
     brute_start: str = "rest",
     max_periods: int = 5000,
     step: float = 0.02,
+    amplitude: float | None = None,
+    stability_harmonics: int | None = None,
 ) -> FrequencyResponse:
     """Steady-state frequency response of a periodically forced system.
 
@@ -377,6 +397,19 @@ def frequency_response(
         Brute force from rest (thesis (7.5)) or from the last point's end state.
     step : float
         Initial continuation step (scaled arclength).
+    amplitude : float, optional
+        Road (input) displacement amplitude A [m], X1 = A sin(Omega t): required for
+        first-order systems (a :class:`~inerterlab.suspension.QuarterCar` or a
+        :class:`~inerterlab.frequency.quarter_car.FirstOrderSystem`), refused for the
+        others (which carry their own forcing).
+    stability_harmonics : int, optional
+        First-order systems: harmonics 0..this of the Hill matrix used for stability
+        (default 1; the exponents converge much faster than the response).
+
+    For a first-order system the harmonics default to 9 (1 for ``shb``), every state is
+    balanced, and ``outputs`` holds the half peak-to-peak of each named output
+    (quarter car: body displacement [m], body acceleration [m/s^2], suspension
+    deflection [m], tyre force [N]); ``amplitude_m`` is the body displacement.
 
     Returns
     -------
@@ -393,8 +426,12 @@ def frequency_response(
     1.2
     """
     check_choice("method", method, METHODS)
+    system, first_order = _resolve_system(system, amplitude)
     if harmonics is None:
-        harmonics = {"shb": 1, "sihb": 15}.get(method, 7)
+        if first_order:
+            harmonics = 1 if method == "shb" else FIRST_ORDER_HARMONICS
+        else:
+            harmonics = {"shb": 1, "sihb": 15}.get(method, 7)
     if isinstance(harmonics, bool) or not isinstance(harmonics, int | np.integer) or harmonics < 1:
         raise ParameterError("harmonics", harmonics, "an integer >= 1")
     if method == "shb" and harmonics != 1:
@@ -412,8 +449,9 @@ def frequency_response(
         if freqs.size == 0 or not np.all(np.isfinite(freqs)) or np.any(freqs <= 0):
             raise ParameterError("freq_hz", freq_hz, "finite frequencies > 0 Hz")
         freqs = np.unique(freqs)
-    scale = float(getattr(system, "displacement_scale", 1.0))
-    size = 2.0 * float(harmonics) + 1.0
+    scale = amplitude if first_order else float(getattr(system, "displacement_scale", 1.0))
+    n_dof = int(system.n_states) if first_order else 1
+    size = (2.0 * float(harmonics) + 1.0) * n_dof
     by_harmonics = size**3 > 1e4 * freqs.size
     check_work(
         estimate_operations(
@@ -425,6 +463,7 @@ def frequency_response(
             max_iter=max_iter,
             steps_per_period=steps_per_period,
             max_periods=max_periods,
+            n_dof=n_dof,
         ),  # fmt: skip
         what="frequency response",
         parameter="harmonics" if by_harmonics else "df",
@@ -447,18 +486,36 @@ def frequency_response(
             brute_start=brute_start, max_periods=max_periods,
         )  # fmt: skip
         passes = orders[direction] if brute_start == "previous" else orders[direction][:1]
+        if first_order:
+            settings["amplitude"] = amplitude
+            return _brute_first_order(system, passes, harmonics, settings, amplitude)
         return _brute(system, passes, harmonics, settings)
-    engine = make_engine(system, int(harmonics), n_samples)
+    if first_order:
+        engine = make_first_order_engine(system, int(harmonics), n_samples, amplitude)
+        settings["amplitude"] = amplitude
+        sh = min(int(harmonics), 1) if stability_harmonics is None else stability_harmonics
+        if isinstance(sh, bool) or not isinstance(sh, int | np.integer) or not 0 <= sh <= harmonics:
+            raise ParameterError(
+                "stability_harmonics", sh, f"an integer 0 .. harmonics = {harmonics}"
+            )
+        settings["stability_harmonics"] = int(sh)
+    else:
+        if stability_harmonics is not None:
+            raise ParameterError(
+                "stability_harmonics", stability_harmonics, "no value (first-order systems only)"
+            )
+        engine = make_engine(system, int(harmonics), n_samples)
     settings["n_samples"] = engine.basis.n_samples
     settings["engine"] = type(engine).__name__
     m = engine.basis.size * engine.n_dof
+    cold = engine.cold_start() if hasattr(engine, "cold_start") else np.zeros(m)
     if method == "continuation":
         settings["step"] = step
         w0, w1 = 2 * np.pi * freqs[0], 2 * np.pi * freqs[-1]
         if direction == "down":
             w0, w1 = w1, w0
         path = continue_branch(
-            engine, np.zeros(m), w0, w1, step=step, rtol=rtol, max_iter=max_iter, scale=scale
+            engine, cold, w0, w1, step=step, rtol=rtol, max_iter=max_iter, scale=scale
         )
         settings["continuation_message"] = path.message
         n = len(path.omega)
@@ -472,7 +529,7 @@ def frequency_response(
     warm = method == "sihb"
     passes = orders[direction]
     omegas, coeffs, oks, its, codes, dirs = [], [], [], [], [], []
-    X_start = np.zeros(m)
+    X_start = cold.copy()
     for name, fr in passes:
         w = 2 * np.pi * fr
         out, ok, it, res, code = engine.sweep(w, X_start, rtol, max_iter, scale, warm)
@@ -500,7 +557,17 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
     stable = np.zeros(n, dtype=bool)
     mult = np.zeros(n)
     known = np.zeros(n, dtype=bool)
-    if stability:
+    outputs, units = {}, {}
+    if hasattr(engine, "stability"):
+        if stability and n:
+            best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
+            known = np.isfinite(best)
+            stable = known & (best < 1e-7 * omegas)
+            mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
+        outputs, units = _first_order_outputs(engine, system, omegas, coeffs, ok)
+        if outputs:
+            amp = outputs[next(iter(outputs))].data
+    elif stability:
         for i in np.flatnonzero(ok):
             lam = hill_exponents(engine, coeffs[i], omegas[i])
             if np.all(np.isfinite(lam)):
@@ -523,6 +590,153 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
         iterations=np.asarray(its, dtype=np.int64),
         method=method,
         settings=settings,
+        outputs=outputs,
+        output_units=units,
+    )
+
+
+def _road_samples(omegas, amplitude, tau):
+    """[X1, X1', X1''] at the phases tau for every Omega: (P, 3, N)."""
+    w = np.asarray(omegas, dtype=float)[:, None]
+    s, c = np.sin(tau)[None, :], np.cos(tau)[None, :]
+    return np.stack([amplitude * s + 0.0 * w, amplitude * w * c, -amplitude * w * w * s], axis=1)
+
+
+OUTPUT_PHASES = 128  # phases per period at which the outputs are evaluated
+
+
+def _half_peak_to_peak_dense(samples: np.ndarray) -> np.ndarray:
+    """Half peak-to-peak of periodic samples (P, K): extremes of their trigonometric
+    interpolant (exact for a signal with fewer than K/2 harmonics)."""
+    from .first_order import interpolant_half_peak_to_peak
+
+    samples = np.ascontiguousarray(samples, dtype=float)
+    k = samples.shape[1]
+    hd = (k - 1) // 2
+    c = coefficients_by_fft(samples, hd)
+    return interpolant_half_peak_to_peak(
+        samples, np.ascontiguousarray(c[:, 0]), np.ascontiguousarray(c[:, 1::2]),
+        np.ascontiguousarray(c[:, 2::2]),
+    )  # fmt: skip
+
+
+def _first_order_outputs(engine, system, omegas, coeffs, ok):
+    """Half peak-to-peak of the system's outputs (masked where not converged).
+
+    The outputs are evaluated at OUTPUT_PHASES phases from the periodic states (the
+    balanced Fourier series) through the system's own right-hand side, so an output
+    with a kink (the inerter force at the flywheel's saturation speed) keeps it instead
+    of being truncated to H harmonics; the extremes are those of the trigonometric
+    interpolant of these samples."""
+    fn = getattr(system, "output_samples", None)
+    comp = getattr(system, "compiled_outputs", None)
+    n = len(omegas)
+    if (fn is None and comp is None) or n == 0:
+        return {}, {}
+    tau = 2.0 * np.pi * np.arange(OUTPUT_PHASES) / OUTPUT_PHASES
+    if comp is not None:
+        O = engine.compiled_outputs(comp, system.n_outputs, omegas, coeffs, tau)
+        named = system.combine_outputs(O)
+    else:
+        xs, fs = engine.samples(omegas, coeffs, tau)
+        named = fn(xs, fs, _road_samples(omegas, engine.amplitude, tau))
+    mask = ~np.asarray(ok, dtype=bool)
+    out = {}
+    for name, v in named.items():
+        v = np.asarray(v, dtype=float)
+        amp = np.full(n, np.nan)
+        good = np.all(np.isfinite(v), axis=1)
+        if good.any():
+            amp[good] = _half_peak_to_peak_dense(v[good])
+        out[name] = np.ma.masked_array(amp, mask=mask | ~good)
+    return out, dict(getattr(system, "output_units", {}))
+
+
+def _resolve_system(system, amplitude):
+    """(system, first_order): a quarter car becomes its first-order system."""
+    from ..suspension.model import QuarterCar
+    from .first_order import is_first_order
+    from .quarter_car import FirstOrderSystem, from_core_system, quarter_car_system
+
+    if isinstance(system, QuarterCar):
+        system = quarter_car_system(system)
+    elif (
+        not isinstance(system, FirstOrderSystem)
+        and hasattr(system, "tables")
+        and hasattr(system, "output_names")
+    ):
+        system = from_core_system(system)  # a system of the model core
+    if is_first_order(system):
+        if amplitude is None:
+            raise ParameterError("amplitude", None, "a road displacement amplitude > 0 m")
+        check_positive("amplitude", amplitude, "m")
+        return system, True
+    if amplitude is not None:
+        raise ParameterError(
+            "amplitude",
+            amplitude,
+            "no value for this system (it carries its own forcing, e.g. chapter7_system(B))",
+        )
+    return system, False
+
+
+def _brute_first_order(system, passes, harmonics, settings, amplitude):
+    """Brute force of a first-order system: RK4 on its right-hand side to steady state."""
+    from .first_order import brute_force_point
+
+    freqs, oks, its, dirs, coeffs, reasons, xs_all, omegas = ([] for _ in range(8))
+    spp = int(settings["steps_per_period"])
+    for name, fr in passes:
+        y = None
+        for f in fr:
+            w = 2 * np.pi * f
+            start = y if settings["brute_start"] == "previous" else None
+            y, xs, ok, periods = brute_force_point(
+                system, w, amplitude, steps_per_period=spp, rtol=settings["brute_rtol"],
+                max_periods=settings["max_periods"], initial_state=start,
+            )  # fmt: skip
+            freqs.append(f)
+            omegas.append(w)
+            oks.append(ok)
+            its.append(periods)
+            dirs.append(name)
+            coeffs.append(coefficients_by_fft(xs, harmonics))
+            xs_all.append(xs)
+            reasons.append("" if ok else "no steady state within max_periods periods")
+    ok = np.array(oks, dtype=bool)
+    omegas = np.array(omegas)
+    outputs, units = {}, {}
+    fn = getattr(system, "output_samples", None)
+    if fn is not None and len(omegas):
+        from .first_order import rhs_samples
+
+        X = np.stack(xs_all)  # (P, n, steps)
+        tau = 2 * np.pi * np.arange(spp) / spp
+        fs = np.stack(
+            [rhs_samples(system, w, amplitude, x, tau) for w, x in zip(omegas, X, strict=True)]
+        )
+        road = _road_samples(omegas, amplitude, tau)
+        for name, samples in fn(X, fs, road).items():
+            hi, lo = np.max(samples, axis=1), np.min(samples, axis=1)
+            outputs[name] = np.ma.masked_array(0.5 * (hi - lo), mask=~ok)
+        units = dict(getattr(system, "output_units", {}))
+    rs = int(getattr(system, "response_state", 0))
+    amp = np.array([0.5 * (x[rs].max() - x[rs].min()) for x in xs_all])
+    return FrequencyResponse(
+        freq_hz=np.array(freqs),
+        amplitude_m=np.ma.masked_array(amp, mask=~ok),
+        coefficients=np.array(coeffs),
+        residual=np.zeros(len(ok)),
+        converged=ok,
+        stable=np.ma.masked_array(ok.copy(), mask=~ok),
+        max_multiplier=np.ma.masked_array(np.zeros(len(ok)), mask=np.ones(len(ok), dtype=bool)),
+        failure_reason=tuple(reasons),
+        direction=np.array(dirs),
+        iterations=np.array(its, dtype=np.int64),
+        method="brute",
+        settings=settings,
+        outputs=outputs,
+        output_units=units,
     )
 
 
