@@ -474,6 +474,77 @@ def monte_carlo_command(
     _table(f"Monte Carlo over {mc.realisations} roads, 95 % intervals", rows)
 
 
+def optimize_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    objective: Annotated[
+        str, typer.Option(help="Metric to minimise: comfort_wk, bounce_acc, front_deflection, ...")
+    ] = "comfort_wk",
+    parameter: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Design parameter (repeatable): front_/rear_ + stiffness, damping, inertance; "
+            "default front_damping and rear_damping."
+        ),
+    ] = None,
+    bound: Annotated[
+        list[str] | None, typer.Option(help="Bounds name=low:high (repeatable), SI units.")
+    ] = None,
+    limit: Annotated[
+        list[str] | None,
+        typer.Option(help="Upper limit metric=value (repeatable), e.g. front_deflection=0.01."),
+    ] = None,
+    road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
+    speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
+    json_out: Annotated[bool, _JSON] = False,
+) -> None:
+    """Strut parameters that minimise one RMS value of the linear vehicle on an ISO 8608
+    road (spectral method), within bounds and under upper limits on others.
+
+    Example: inerterlab vehicle optimize --parameter rear_damping --limit rear_deflection=0.01
+    """
+    from ..errors import ParameterError
+    from ..vehicles.design import optimize_vehicle
+    from ._common import parse_float
+
+    def pairs(items, what):
+        out = {}
+        for it in items or []:
+            if "=" not in it:
+                raise ParameterError(what, it, "name=value")
+            k, v = it.split("=", 1)
+            out[k.strip()] = v.strip()
+        return out
+
+    bounds = {}
+    for k, v in pairs(bound, "bound").items():
+        if ":" not in v:
+            raise ParameterError(f"bound {k}", v, "low:high")
+        lo, hi = v.split(":", 1)
+        bounds[k] = (parse_float(f"bound {k}", lo), parse_float(f"bound {k}", hi))
+    limits = {k: parse_float(f"limit {k}", v) for k, v in pairs(limit, "limit").items()}
+    res = optimize_vehicle(
+        vehicle="" if vehicle is None else str(vehicle),
+        objective=objective,
+        parameters=tuple(parameter or ("front_damping", "rear_damping")),
+        bounds=bounds,
+        limits=limits,
+        road_class=road_class,
+        speed=speed,
+    )
+    if json_out:
+        emit_json(res.to_dict())
+        return
+    from ..vehicles.design import DESIGN_PARAMETERS
+
+    rows = [(f"{k} [{DESIGN_PARAMETERS[k]}]", f"{v:.5g}") for k, v in res.parameters.items()]
+    rows += [
+        (f"{k} (file's value)", f"{res.metrics[k]:.5g} ({res.baseline[k]:.5g})")
+        for k in res.metrics
+    ]
+    rows += [("feasible", str(res.feasible)), ("at bound", ", ".join(res.at_bound) or "-")]
+    _table(f"minimum of {objective} (SI units; deflections m, loads N)", rows)
+
+
 def example_command() -> None:
     """Print the packaged example vehicle file (units on every value [kg, m, N/m, N s/m]).
 
@@ -490,6 +561,7 @@ def register(app: typer.Typer) -> None:
     group.command("simulate")(simulate_command)
     group.command("modes")(modes_command)
     group.command("monte-carlo")(monte_carlo_command)
+    group.command("optimize")(optimize_command)
     group.command("road")(road_command)
     group.command("generate")(generate_command)
     group.command("example")(example_command)

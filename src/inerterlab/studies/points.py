@@ -277,14 +277,14 @@ def point_function(name: str) -> PointFunction:
     if name == "quarter-car" and name not in POINT_FUNCTIONS:
         from . import quarter_car  # noqa: F401 - registers itself on import
     if name in _VEHICLE_POINTS and name not in POINT_FUNCTIONS:
-        from ..vehicles import stochastic  # noqa: F401 - registers itself on import
+        from ..vehicles import design, stochastic  # noqa: F401 - register themselves
 
     if name not in POINT_FUNCTIONS:
         raise ParameterError("point", name, "one of " + ", ".join(repr(n) for n in _known()))
     return POINT_FUNCTIONS[name]
 
 
-_VEHICLE_POINTS = ("half-car-road", "full-car-road")
+_VEHICLE_POINTS = ("half-car-road", "full-car-road", "vehicle-spectral")
 
 
 def _known() -> list[str]:
