@@ -272,24 +272,29 @@ def register_point_function(pf: PointFunction) -> PointFunction:
     return pf
 
 
+#: point functions defined in modules that register them when imported (loaded on
+#: first use, so the sweep machinery never imports the models it runs)
+LAZY_POINT_MODULES = {
+    "quarter-car": "inerterlab.studies.quarter_car",
+    "half-car-road": "inerterlab.vehicles.stochastic",
+    "full-car-road": "inerterlab.vehicles.stochastic",
+    "vehicle-spectral": "inerterlab.vehicles.design",
+    "network-truth": "inerterlab.network_truth",
+}
+
+
 def point_function(name: str) -> PointFunction:
     """The registered point function ``name``, or a ParameterError listing the valid ones."""
-    if name == "quarter-car" and name not in POINT_FUNCTIONS:
-        from . import quarter_car  # noqa: F401 - registers itself on import
-    if name in _VEHICLE_POINTS and name not in POINT_FUNCTIONS:
-        from ..vehicles import design, stochastic  # noqa: F401 - register themselves
+    if name in LAZY_POINT_MODULES and name not in POINT_FUNCTIONS:
+        import importlib
 
+        importlib.import_module(LAZY_POINT_MODULES[name])  # registers itself on import
     if name not in POINT_FUNCTIONS:
         raise ParameterError("point", name, "one of " + ", ".join(repr(n) for n in _known()))
     return POINT_FUNCTIONS[name]
 
 
-_VEHICLE_POINTS = ("half-car-road", "full-car-road", "vehicle-spectral")
-
-
 def _known() -> list[str]:
     names = list(POINT_FUNCTIONS)
-    if "quarter-car" not in names:
-        names.insert(0, "quarter-car")
-    names += [n for n in _VEHICLE_POINTS if n not in names]
+    names += [n for n in LAZY_POINT_MODULES if n not in names]
     return names
