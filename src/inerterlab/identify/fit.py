@@ -75,6 +75,9 @@ __all__ = ["identify", "FitResult", "ParameterEstimate", "TestValidation", "pred
 
 PARAMETERS = ("stiffness", "damping", "friction")
 LOSSES = ("linear", "soft_l1", "huber", "cauchy")
+# default time [s] left out after each velocity reversal: the whole simulated spike
+# (8 widths of 20 ms, simulate_rig); 0.1 s left its tail in and biased the damping
+REVERSAL_WINDOW = 0.16
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -176,6 +179,18 @@ class FitResult:
     reversal_window: float = 0.0
     covariance: np.ndarray | None = None
     parameter_order: tuple = PARAMETERS
+    interval_method: str = "sandwich"
+    interval_alternatives: dict = field(default_factory=dict, repr=False)
+
+    def with_intervals(self, interval: str) -> FitResult:
+        """The same fit with the intervals and covariance of another method
+        (``"sandwich"`` or ``"jackknife"``, see :func:`identify`); the estimates, the
+        validation and everything else are shared, nothing is refitted."""
+        check_choice("interval", interval, tuple(self.interval_alternatives) or INTERVALS)
+        params, cov = self.interval_alternatives[interval]
+        return dataclasses.replace(
+            self, parameters=params, covariance=cov, interval_method=interval
+        )
 
     def correlation(self) -> np.ndarray:
         """Correlation matrix of the free parameters' estimates (``parameter_order``;
@@ -281,6 +296,7 @@ class FitResult:
             "noise_estimate": self.noise_estimate,
             "robust_scale": self.f_scale,
             "reversal_window": self.reversal_window,
+            "interval_method": self.interval_method,
             "covariance": None
             if self.covariance is None
             else {
@@ -584,6 +600,7 @@ def _bandwidth(u: np.ndarray) -> int:
 
 
 MIN_CLUSTERS = 8  # tests needed for the cluster-robust interval
+INTERVALS = ("sandwich", "jackknife")  # interval methods of identify()
 
 
 @dataclass(frozen=True)
@@ -625,7 +642,7 @@ def _satterthwaite_dof(B, Hg, Ng, H, N) -> np.ndarray:
     return np.clip(dof, 1.0, G - 1.0)
 
 
-def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
+def _sandwich(J, r, loss, f_scale, sizes=None, interval="sandwich", masks=None) -> _Spread:
     """Robust sandwich covariance of the M-estimator from the raw Jacobian ``J`` of the
     residuals ``r``: scores psi(r) J, Hessian H = J^T diag(psi'(r)) J.
 
@@ -633,13 +650,16 @@ def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
     ``scipy.optimize.least_squares`` returns for a robust loss (that one is already
     scaled by sqrt(psi')).
 
-    With at least ``MIN_CLUSTERS`` tests (``sizes``: samples per test): the jackknife
-    over tests (CR3) of the one-step estimate, see the module docstring, with a
-    Student-t quantile whose degrees of freedom follow from the information each test
-    carries (:func:`_satterthwaite_dof`). With fewer tests H^-1 M H^-1 with M the
-    Newey-West (Bartlett) sum over lags within each test, with the bandwidth where the
-    residual autocorrelation dies out; without ``sizes``, the plain sandwich.
+    ``interval="sandwich"`` (the default of :func:`identify`): H^-1 M H^-1 with M the
+    Newey-West (Bartlett) sum of the scores over lags within each test (``sizes``:
+    samples per test), the bandwidth where the residual autocorrelation dies out, and
+    the normal quantile; without ``sizes``, the plain sandwich.
+    ``interval="jackknife"``: with at least ``MIN_CLUSTERS`` tests the jackknife over
+    tests (CR3) of the one-step estimate, see the module docstring, with a Student-t
+    quantile whose degrees of freedom follow from the information each test carries
+    (:func:`_satterthwaite_dof`); with fewer tests the Newey-West sandwich above.
     """
+    check_choice("interval", interval, INTERVALS)
     w = _robust_weights(r, loss, f_scale)
     d = _robust_slopes(r, loss, f_scale)
     H = J.T @ (d[:, None] * J)
@@ -651,7 +671,7 @@ def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
     p = J.shape[1]
     bounds = np.cumsum([0, *sizes]) if sizes is not None else None
     groups = 0 if sizes is None else sum(1 for n in sizes if n > 0)
-    if groups >= MIN_CLUSTERS:
+    if interval == "jackknife" and groups >= MIN_CLUSTERS:
         # CR3: the jackknife over tests of the one-step estimate, theta_(-g) - theta =
         # -(H - H_g)^-1 s_g. Unlike the plain cluster sum it stays honest when a few
         # tests carry most of the information about a parameter (the rectifier's
@@ -677,20 +697,98 @@ def _sandwich(J, r, loss, f_scale, sizes=None) -> _Spread:
             f"jackknife (CR3) sandwich over {groups} tests, t({v:.1f}) (Satterthwaite)" for v in dof
         )
         return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), np.asarray(q), how, cov)
-    M = G.T @ G
-    if sizes is not None:
-        for i, j in zip(bounds[:-1], bounds[1:], strict=True):
-            g = G[i:j]
-            L = _bandwidth((w * r)[i:j])
-            for lag in range(1, L + 1):
-                c = g[lag:].T @ g[:-lag]
-                M += (1.0 - lag / (L + 1.0)) * (c + c.T)
-        how = "Newey-West sandwich within tests"
+    if interval == "sandwich" and sizes is not None:
+        M, K = _flat_top_meat(G, w * r, bounds, masks)
+        how = f"sandwich, flat-top HAC within tests (lag {K})"
     else:
-        how = "sandwich"
+        M = G.T @ G
+        if sizes is not None:
+            for i, j in zip(bounds[:-1], bounds[1:], strict=True):
+                g = G[i:j]
+                L = _bandwidth((w * r)[i:j])
+                for lag in range(1, L + 1):
+                    c = g[lag:].T @ g[:-lag]
+                    M += (1.0 - lag / (L + 1.0)) * (c + c.T)
+            how = "Newey-West sandwich within tests"
+        else:
+            how = "sandwich"
     cov = Hi @ M @ Hi
     q = np.full(p, 1.959963984540054)
     return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, (how,) * p, cov)
+
+
+def _flat_top_lag(rho: np.ndarray, n: int, run: int = 5) -> int:
+    """Politis (2003) rule for the lag of a flat-top kernel: the smallest K after
+    which ``run`` autocorrelations in a row are below 2 sqrt(log10(n) / n)."""
+    c = 2.0 * math.sqrt(math.log10(max(n, 10)) / n)
+    small = np.abs(rho[1:]) < c
+    for k in range(small.size - run + 1):
+        if small[k : k + run].all():
+            return k
+    return max(0, small.size - run)
+
+
+def _flat_top_meat(G, u, bounds, masks=None):
+    """Heteroscedasticity and autocorrelation consistent meat of the sandwich:
+    M = sum over tests and lags |k| <= 2K of lambda(k / K) G_i G_(i+k)^T with the
+    flat-top (trapezoid) kernel lambda = 1 up to K, falling linearly to 0 at 2K
+    (Politis and Romano 1995; Politis 2003), lags counted in samples of the record
+    (the samples left out after reversals break no lag). K follows from the
+    autocorrelation of the scores psi(r) pooled over the tests (:func:`_flat_top_lag`).
+
+    A flat top leaves the autocovariances up to lag K unweighted, so a residual whose
+    correlation is negative at short lags (noise of the measured motion differentiated
+    twice through the inertance) has its small long-run variance estimated without the
+    O(1/L) bias of the Bartlett weights, which made the Newey-West interval 2-2.5x too
+    wide for the screw. The meat is made positive semi-definite by clipping negative
+    eigenvalues (rare, from the kernel's non-positive spectral window).
+    """
+    p = G.shape[1]
+    grids = []
+    for g, (i, j) in enumerate(zip(bounds[:-1], bounds[1:], strict=True)):
+        if j <= i:
+            continue
+        if masks is not None:
+            pos = np.nonzero(masks[g])[0]
+        else:
+            pos = np.arange(j - i)
+        n = int(pos[-1]) + 1
+        Gf = np.zeros((n, p))
+        uf = np.zeros(n)
+        on = np.zeros(n)
+        Gf[pos] = G[i:j]
+        uf[pos] = u[i:j]
+        on[pos] = 1.0
+        grids.append((Gf, uf, on))
+    nmax = max(Gf.shape[0] for Gf, _, _ in grids)
+    kmax = max(1, min(nmax // 4, 200))
+    num = np.zeros(kmax + 1)
+    cnt = np.zeros(kmax + 1)
+    for _, uf, on in grids:
+        n = uf.size
+        for k in range(min(kmax, n - 1) + 1):
+            num[k] += uf[k:] @ uf[: n - k]
+            cnt[k] += on[k:] @ on[: n - k]
+    ok = cnt > 0
+    gam = np.where(ok, num / np.where(ok, cnt, 1.0), 0.0)
+    rho = gam / gam[0] if gam[0] > 0 else np.zeros_like(gam)
+    K = _flat_top_lag(rho[: kmax // 2 + 1], int(cnt[0]))
+    M = np.zeros((p, p))
+    for Gf, _, _ in grids:
+        n = Gf.shape[0]
+        M += Gf.T @ Gf
+        for k in range(1, min(2 * K, n - 1) + 1):
+            lam = 1.0 if k <= K else 2.0 - k / K
+            c = Gf[k:].T @ Gf[: n - k]
+            M += lam * (c + c.T)
+    e, V = np.linalg.eigh(0.5 * (M + M.T))
+    M = (V * np.maximum(e, 0.0)) @ V.T
+    return M, K
+
+
+def _spreads(J, r, loss, f_scale, sizes, masks=None) -> dict:
+    """The spread of every interval method (cheap next to the fit), by method name."""
+    return {m: _sandwich(J, r, loss, f_scale, sizes, interval=m, masks=masks) for m in INTERVALS}
 
 
 def _raw_jacobian(fun, x, f0, lb, ub, jac=None) -> np.ndarray:
@@ -777,14 +875,15 @@ def _fit_stage(
     # the Jacobian least_squares returns is scaled by the robust loss; the sandwich
     # needs the derivative of the residuals themselves
     J = _raw_jacobian(fun, sol.x, sol.fun, lb, ub, jac)
-    spread = _sandwich(J, sol.fun, loss, f_scale, [int(p.mask.sum()) for p in preps])
+    sizes = [int(p.mask.sum()) for p in preps]
+    spread = _spreads(J, sol.fun, loss, f_scale, sizes, [p.mask for p in preps])
     dev = dataclasses.replace(device, **dict(zip(names, sol.x, strict=True)))
     return dev, sol, spread, f_scale, nfev
 
 
 def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
     """(5.1): F = b q + F_f sgn(q) on settled velocity plateaus of square-velocity tests."""
-    vs, fs, sizes = [], [], []
+    vs, fs, sizes, masks = [], [], [], []
     for p in preps:
         half = 0.5 / p.test.frequency
         # time since the last reversal of the measured velocity
@@ -799,6 +898,7 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
         vs.append(p.v[settled])
         fs.append(p.force[settled])
         sizes.append(int(settled.sum()))
+        masks.append(settled)
     v = np.concatenate(vs)
     F = np.concatenate(fs)
     if v.size < 10:
@@ -815,8 +915,43 @@ def _plateau_stage(device, preps, *, loss, f_scale, settle_time):
     x0 = np.array([device.damping, device.friction], dtype=float)
     sol = _solve(fun, np.maximum(x0, 1e-6), [0.0, 0.0], [np.inf, np.inf], loss, f_scale, 200)
     J = np.column_stack([v, np.tanh(v / eps)])  # exact: the model is linear in (b, F_f)
-    spread = _sandwich(J, sol.fun, loss, f_scale, sizes)
+    spread = _spreads(J, sol.fun, loss, f_scale, sizes, masks)
     return dataclasses.replace(device, damping=sol.x[0], friction=sol.x[1]), sol, spread, v.size
+
+
+def _estimates(dev, spreads, interval, *, fixed, free, boot):
+    """(parameters, covariance) of a fit with the intervals of one method."""
+    params = {}
+    for j, n in enumerate(PARAMETERS):
+        val = float(getattr(dev, n))
+        bci = None
+        if boot is not None and n in free:
+            bci = (float(np.percentile(boot[:, j], 2.5)), float(np.percentile(boot[:, j], 97.5)))
+        if n in spreads:
+            spread, k = spreads[n]
+            spread = spread[interval]
+            s, q, how = float(spread.se[k]), float(spread.quantile[k]), spread.interval[k]
+            half = q * s
+        else:
+            s, q, half, how = 0.0, 0.0, 0.0, "fixed"
+        params[n] = ParameterEstimate(
+            name=n,
+            value=val,
+            ci95=(val - half, val + half),
+            unit=PARAMETER_UNITS[n],
+            fixed=n in fixed,
+            std_error=s,
+            ci95_bootstrap=bci,
+            interval=how,
+            quantile=q,
+        )
+    cov = np.zeros((len(PARAMETERS), len(PARAMETERS)))
+    for a, na in enumerate(PARAMETERS):
+        for b, nb in enumerate(PARAMETERS):
+            if na in spreads and nb in spreads and spreads[na][0] is spreads[nb][0]:
+                sp = spreads[na][0][interval]
+                cov[a, b] = sp.cov[spreads[na][1], spreads[nb][1]]
+    return params, cov
 
 
 def identify(
@@ -832,11 +967,12 @@ def identify(
     bootstrap: int = 0,
     seed: int = 0,
     settle_time: float | None = None,
-    reversal_window: float = 0.1,
+    reversal_window: float = REVERSAL_WINDOW,
     derivative_window: float = 0.02,
     detrend: str = "constant",
     rtol: float = 1e-8,
     max_nfev: int = 100,
+    interval: str = "sandwich",
 ) -> FitResult:
     """Identify stiffness, damping and friction of ``device`` from rig data.
 
@@ -864,8 +1000,9 @@ def identify(
         reversal (default: five decay times 2 m_e,max / b_ah of the starting model).
     reversal_window : float
         Leave out of the objective the samples within this time [s] after each
-        reversal of the measured velocity, where the rig's spikes sit (default 0.1 s;
-        the thesis also set the spikes aside, ch. 5.3). 0 keeps every sample and leaves
+        reversal of the measured velocity, where the rig's spikes sit (default 0.16 s,
+        the whole spike of :func:`simulate_rig`; the thesis also set the spikes aside,
+        ch. 5.3). Check it on real data with :meth:`FitResult.reversal_profile`. 0 keeps every sample and leaves
         the spikes to the robust loss, which cannot separate them when they are not
         much larger than the residual spread. A test shorter than the window per half
         period contributes nothing.
@@ -874,6 +1011,13 @@ def identify(
         (:mod:`inerterlab.identify.filters`).
     rtol : float
         Tolerance of the model integration.
+    interval : {"sandwich", "jackknife"}
+        How the 95 % intervals and ``covariance`` are computed (module docstring):
+        ``sandwich`` (default) the M-estimator sandwich with a Newey-West meat within
+        tests and the normal quantile; ``jackknife`` the earlier jackknife over tests
+        with Satterthwaite degrees of freedom (conservative, see
+        docs/guide/identification.md). Both are kept on the result:
+        :meth:`FitResult.with_intervals`.
 
     Returns
     -------
@@ -881,6 +1025,7 @@ def identify(
     """
     check_choice("method", method, ("joint", "thesis"))
     check_choice("loss", loss, LOSSES)
+    check_choice("interval", interval, INTERVALS)
     for n in fixed:
         check_choice("fixed", n, PARAMETERS)
     if not isinstance(dataset, RigDataSet) or not dataset.tests:
@@ -961,35 +1106,10 @@ def identify(
             )
             rows.append([getattr(d_b, n) for n in PARAMETERS])
         boot = np.array(rows)
-    params = {}
-    for j, n in enumerate(PARAMETERS):
-        val = float(getattr(dev, n))
-        bci = None
-        if boot is not None and n in free:
-            bci = (float(np.percentile(boot[:, j], 2.5)), float(np.percentile(boot[:, j], 97.5)))
-        if n in spreads:
-            spread, k = spreads[n]
-            s, q, how = float(spread.se[k]), float(spread.quantile[k]), spread.interval[k]
-            half = q * s
-        else:
-            s, q, half, how = 0.0, 0.0, 0.0, "fixed"
-        params[n] = ParameterEstimate(
-            name=n,
-            value=val,
-            ci95=(val - half, val + half),
-            unit=PARAMETER_UNITS[n],
-            fixed=n in fixed,
-            std_error=s,
-            ci95_bootstrap=bci,
-            interval=how,
-            quantile=q,
-        )
-    cov = np.zeros((len(PARAMETERS), len(PARAMETERS)))
-    for a, na in enumerate(PARAMETERS):
-        for b, nb in enumerate(PARAMETERS):
-            if na in spreads and nb in spreads and spreads[na][0] is spreads[nb][0]:
-                sp = spreads[na][0]
-                cov[a, b] = sp.cov[spreads[na][1], spreads[nb][1]]
+    by_method = {
+        m: _estimates(dev, spreads, m, fixed=fixed, free=free, boot=boot) for m in INTERVALS
+    }
+    params, cov = by_method[interval]
     tests = []
     for t in dataset.tests:
         p = preps[id(t)]
@@ -1025,4 +1145,6 @@ def identify(
         reversal_window=float(reversal_window),
         covariance=cov,
         parameter_order=PARAMETERS,
+        interval_method=interval,
+        interval_alternatives=by_method,
     )
