@@ -93,7 +93,12 @@ def test_round_trip_screw_short_campaign():
     # the whole appendix-a2 matrix cut to 2 s per test at 200 Hz, identify defaults
     fit, truth = _round_trip("screw", max_duration=2.0, sample_rate=200)
     _assert_recovered(fit, truth)
-    assert fit.parameters["damping"].interval.startswith("jackknife (CR3)")
+    assert fit.interval_method == "sandwich"
+    assert fit.parameters["damping"].interval.startswith("sandwich, AR(")
+    # the jackknife over tests stays available on the same fit
+    jack = fit.with_intervals("jackknife")
+    assert jack.parameters["damping"].interval.startswith("jackknife (CR3)")
+    assert jack.parameters["damping"].value == fit.parameters["damping"].value
 
 
 @pytest.mark.slow
@@ -192,7 +197,7 @@ def _cauchy_regressions(draws, *, seed=7, tests=12, n=100, scale=3.0):
         for _ in range(15):
             w = _robust_weights(X @ th - y, "cauchy", scale)
             th = np.linalg.solve(X.T @ (w[:, None] * X), X.T @ (w * y))
-        spread = _sandwich(X, X @ th - y, "cauchy", scale, [n] * tests)
+        spread = _sandwich(X, X @ th - y, "cauchy", scale, [n] * tests, interval="jackknife")
         est.append(th - theta)
         se.append(spread.se)
         q.append(spread.quantile)
