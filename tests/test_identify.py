@@ -352,3 +352,25 @@ def test_cli_rig_simulate_and_identify(tmp_path):
     assert (tmp_path / "r" / "parameters.csv").exists()
     bad = run("identify", "--device", "screw", "--data", str(tmp_path / "nothing"))
     assert bad.returncode == 2 and "nothing" in bad.stderr
+
+
+def test_interval_choice_is_checked():
+    from inerterlab.errors import ParameterError
+
+    data = _linear_dataset()
+    start = ScrewDevice(
+        stiffness=5000.0,
+        damping=1000.0,
+        friction=50.0,
+        flywheel=constant_flywheel(1e-12),
+        friction_velocity=1e-6,
+    )
+    with pytest.raises(ParameterError, match="interval"):
+        identify(data, start, loss="linear", interval="bootstrap")
+    fit = identify(data, start, loss="linear", interval="jackknife")
+    assert fit.interval_method == "jackknife" and fit.to_dict()["interval_method"] == "jackknife"
+    # one test: the jackknife falls back to Newey-West; the other method is on the fit
+    assert fit.parameters["damping"].interval == "Newey-West sandwich within tests"
+    assert fit.with_intervals("sandwich").parameters["damping"].interval.startswith("sandwich")
+    with pytest.raises(ParameterError, match="interval"):
+        fit.with_intervals("profile")

@@ -20,7 +20,7 @@ Methods
     damping and friction jointly over the sinusoidal identification tests ((5.10),
     (5.13)).
 
-Spikes and robust scale: by default the samples within ``reversal_window`` = 0.1 s
+Spikes and robust scale: by default the samples within ``reversal_window`` = 0.16 s
 after every reversal of the measured velocity are left out (the thesis also set the
 spikes aside, ch. 5.3); the robust loss handles what is left. Its scale starts at three
 times the force-sensor noise and, after a first pass, is set to three times the robust
@@ -33,19 +33,33 @@ Confidence intervals (95 %): sandwich covariance of the M-estimator, cov = H^-1 
 from the Jacobian J of the residuals at the optimum (the derivative of the residuals
 themselves: the Jacobian ``least_squares`` returns for a robust loss is already scaled by
 the loss), with the scores psi(r) J and H = J^T diag(psi'(r)) J (psi' = 1 for the plain
-loss). With at least eight identification tests the covariance is the jackknife over
-tests (CR3) of the one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1
-s_g, s_g the summed score of test g, scaled (G-1)/G. It assumes only that tests are
-independent, so noise correlated in time and any model mismatch that persists within a
-test widen the interval by as much as the tests disagree, and it does not understate
-the spread when a few tests carry most of the information about a parameter. The
-quantile is Student's t with the Satterthwaite degrees of freedom of that jackknife
-(Bell and McCaffrey 2002, Imbens and Kolesar 2016), per parameter: G - 1 when every
-test carries its share, near 1 when one test carries most of the information, because
-the jackknife spread is then itself estimated from about one test. With fewer tests, M
-is the Newey-West sum over lags within each test and the quantile normal. Optionally
-also a percentile interval from a bootstrap over the identification tests (tests drawn
-with replacement and refitted). Each parameter states which interval it carries
+loss). Two choices of the meat M (``interval``):
+
+``sandwich`` (default)
+    M = sum over tests of J_g^T Sigma_g J_g with Sigma_g the covariance of psi(r) within
+    test g under an autoregressive model: the autocorrelation of psi(r) pooled over the
+    tests (lags in samples of the record), an AR(p) fitted to it by Yule-Walker with
+    the order from the AIC, and each test's own variance; normal quantile. Tests are
+    taken as independent and the noise within a test as stationary. A lag-window
+    (Newey-West) meat is not used: the screw's residual is dominated by motion noise
+    differentiated twice, whose power sits at high frequencies; a Bartlett window
+    leaks it into the low frequencies the parameters live at (intervals 2-2.5 x too
+    wide) and an unbiased flat-top window estimates it so noisily that the intervals
+    undercover. Calibrated in the coverage study (docs/guide/identification.md).
+``jackknife``
+    With at least eight identification tests, the jackknife over tests (CR3) of the
+    one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1 s_g, s_g the
+    summed score of test g, scaled (G-1)/G, with Student's t quantile at the
+    Satterthwaite degrees of freedom of that jackknife (Bell and McCaffrey 2002, Imbens
+    and Kolesar 2016), per parameter. It assumes only that tests are independent, so a
+    model mismatch that persists within a test widens it, but when one or two tests
+    carry a parameter the degrees of freedom fall near 1 and the interval is several
+    times wider than the scatter of the estimates. With fewer tests, a Newey-West
+    sandwich within tests and the normal quantile.
+
+The fit keeps both (:meth:`FitResult.with_intervals`). Optionally also a percentile
+interval from a bootstrap over the identification tests (tests drawn with replacement
+and refitted). Each parameter states which interval it carries
 (``ParameterEstimate.interval``).
 """
 
@@ -717,6 +731,12 @@ def _sandwich(J, r, loss, f_scale, sizes=None, interval="sandwich", masks=None) 
     return _Spread(np.sqrt(np.maximum(np.diag(cov), 0.0)), q, (how,) * p, cov)
 
 
+def _correlate(a, b):
+    """sum_i a[i] b[i + k] for k = 0..n-1 (a 1-D, b 1-D or the same length), by FFT."""
+    n = a.shape[0]
+    return np.fft.irfft(np.conj(np.fft.rfft(a, 2 * n)) * np.fft.rfft(b, 2 * n), 2 * n)[:n]
+
+
 def _pooled_autocorrelation(u, bounds, masks, kmax):
     """Autocorrelation of ``u`` at lags 0..kmax pooled over the tests (lags counted in
     samples of the record: a pair straddling left-out samples has its true lag), the
@@ -736,9 +756,9 @@ def _pooled_autocorrelation(u, bounds, masks, kmax):
         uf[pos] = u[i:j]
         on[pos] = 1.0
         var.append(float(u[i:j] @ u[i:j]) / (j - i))
-        for k in range(min(kmax, n - 1) + 1):
-            num[k] += uf[k:] @ uf[: n - k]
-            cnt[k] += on[k:] @ on[: n - k]
+        m = min(kmax, n - 1) + 1
+        num[:m] += _correlate(uf, uf)[:m]
+        cnt[:m] += _correlate(on, on)[:m]
     gam = np.where(cnt > 0, num / np.maximum(cnt, 1.0), 0.0)
     rho = gam / gam[0] if gam[0] > 0 else np.eye(1, kmax + 1)[0]
     return rho, int(cnt[0]), np.array(var), pos_all
@@ -797,9 +817,6 @@ def _ar_meat(J, u, bounds, masks=None, pmax=40):
     kmax = max(1, min(nmax - 1, 4 * pmax))
     rho, n, var, pos_all = _pooled_autocorrelation(u, bounds, masks, kmax)
     acf, order = _ar_autocorrelation(rho, n, nmax, min(pmax, max(1, n // 50)))
-    # lags beyond which the model's autocorrelation is negligible are skipped
-    big = np.nonzero(np.abs(acf) > 1e-6)[0]
-    reach = int(big[-1]) if big.size else 0
     M = np.zeros((p, p))
     for g, (i, j) in enumerate(zip(bounds[:-1], bounds[1:], strict=True)):
         if j <= i:
@@ -808,10 +825,15 @@ def _ar_meat(J, u, bounds, masks=None, pmax=40):
         n_g = int(pos[-1]) + 1
         Jf = np.zeros((n_g, p))
         Jf[pos] = J[i:j]
-        Mg = acf[0] * (Jf.T @ Jf)
-        for k in range(1, min(reach, n_g - 1) + 1):
-            c = Jf[k:].T @ Jf[: n_g - k]
-            Mg += acf[k] * (c + c.T)
+        F = np.fft.rfft(Jf, 2 * n_g, axis=0)
+        w = acf[:n_g].copy()
+        w[0] *= 0.5  # lag 0 once: it is counted from both sides below
+        Mg = np.empty((p, p))
+        for a in range(p):
+            for b in range(a, p):
+                c = np.fft.irfft(np.conj(F[:, a]) * F[:, b], 2 * n_g)
+                # sum over lags k of acf(|k|) sum_i J_a[i] J_b[i + k], k = -(n-1)..n-1
+                Mg[a, b] = Mg[b, a] = w @ c[:n_g] + w @ np.r_[c[0], c[:n_g:-1]]
         M += var[g] * Mg
     return 0.5 * (M + M.T), order
 
