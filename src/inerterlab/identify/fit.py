@@ -177,6 +177,12 @@ class FitResult:
         treats the plateau estimates as known, as its interval does.
     parameter_order : tuple of str
         Row and column order of ``covariance`` (stiffness, damping, friction).
+    interval_method : str
+        Which intervals ``parameters`` and ``covariance`` carry (``sandwich`` or
+        ``jackknife``, see :func:`identify`).
+    interval_alternatives : dict
+        ``(parameters, covariance)`` of every interval method, computed from the same
+        fit; :meth:`with_intervals` switches between them.
     """
 
     parameters: dict
