@@ -4,8 +4,8 @@ For each device, N campaigns (seeds 1..N) are simulated with the ``rig-simulate`
 defaults (5 N force noise, 1e-6 m and 1e-5 m/s motion noise, 300 N spikes of 20 ms)
 and identified with the ``identify`` defaults (joint fit, Cauchy loss, 0.16 s reversal
 window, ``--reversal-window``; starting from the true values as the CLI does from the
-thesis values). Per device, parameter and interval method (``sandwich``, the default,
-and ``jackknife``, both from the same fit) it prints
+thesis values). Per device, parameter and interval method (``sandwich`` and
+``jackknife``, the default, both from the same fit) it prints
 
 * coverage: the fraction of campaigns whose 95 % interval holds the true value;
 * mean error in standard errors: mean of (estimate - truth) / std_error (bias

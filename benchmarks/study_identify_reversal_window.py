@@ -50,7 +50,8 @@ def main(argv=None) -> int:
                     spikes=spikes,
                 )
                 for w in windows:
-                    fits[spikes, w] = identify(data, dev, reversal_window=w).parameters
+                    fit = identify(data, dev, reversal_window=w, interval="sandwich")
+                    fits[spikes, w] = fit.parameters
             for w in windows:
                 for n in PARAMS:
                     d = fits[True, w][n].value - fits[False, w][n].value

@@ -150,10 +150,10 @@ def identify_command(
     interval: Annotated[
         str,
         typer.Option(
-            help="95 % intervals: sandwich (Newey-West within tests, calibrated in the "
-            "coverage study) or jackknife (over tests, conservative)."
+            help="95 % intervals: jackknife (over tests, conservative) or sandwich "
+            "(autoregressive noise within tests; see the coverage study in the guide)."
         ),
-    ] = "sandwich",
+    ] = "jackknife",
     report: Annotated[
         Path | None, typer.Option(help="Write plots and tables to this directory.")
     ] = None,
