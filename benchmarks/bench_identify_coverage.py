@@ -2,9 +2,10 @@
 
 For each device, N campaigns (seeds 1..N) are simulated with the ``rig-simulate``
 defaults (5 N force noise, 1e-6 m and 1e-5 m/s motion noise, 300 N spikes of 20 ms)
-and identified with the ``identify`` defaults (joint fit, Cauchy loss, 0.1 s reversal
-window, starting from the true values as the CLI does from the thesis values). Per
-device and parameter it prints
+and identified with the ``identify`` defaults (joint fit, Cauchy loss, 0.16 s reversal
+window, ``--reversal-window``; starting from the true values as the CLI does from the
+thesis values). Per device, parameter and interval method (``sandwich`` and
+``jackknife``, the default, both from the same fit) it prints
 
 * coverage: the fraction of campaigns whose 95 % interval holds the true value;
 * mean error in standard errors: mean of (estimate - truth) / std_error (bias
@@ -44,6 +45,7 @@ import numpy as np  # noqa: E402
 
 from inerterlab.devices import device_preset  # noqa: E402
 from inerterlab.identify import identify, simulate_rig  # noqa: E402
+from inerterlab.identify.fit import INTERVALS, REVERSAL_WINDOW  # noqa: E402
 from inerterlab.io import atomic_write_text  # noqa: E402
 
 MATRIX = {"hydraulic": "appendix-a1", "screw": "appendix-a2", "rectifier": "appendix-a2"}
@@ -60,17 +62,26 @@ def run_campaign(device: str, seed: int, settings: dict) -> dict:
         max_duration=settings["max_duration"],
     )
     t0 = time.perf_counter()
-    fit = identify(data, dev)
+    fit = identify(data, dev, reversal_window=settings.get("reversal_window", 0.1))
     out = {"device": device, "seed": seed, "seconds": time.perf_counter() - t0}
-    for n in PARAMS:
-        p = fit.parameters[n]
-        out[n] = {
-            "truth": float(getattr(dev, n)),
-            "value": p.value,
-            "ci95": list(p.ci95),
-            "std_error": p.std_error,
-            "quantile": p.quantile,
-        }
+    # the default interval method at the top level, every method under "intervals"
+    # (computed from the same fit)
+    out["intervals"] = {}
+    for m in INTERVALS:
+        f = fit.with_intervals(m)
+        rec = {}
+        for n in PARAMS:
+            p = f.parameters[n]
+            rec[n] = {
+                "truth": float(getattr(dev, n)),
+                "value": p.value,
+                "ci95": list(p.ci95),
+                "std_error": p.std_error,
+                "quantile": p.quantile,
+            }
+        out["intervals"][m] = rec
+        if m == fit.interval_method:
+            out.update(rec)
     return out
 
 
@@ -87,7 +98,11 @@ def _work(args):
     return res
 
 
-def summarise(results: list) -> list:
+def summarise(results: list, interval: str | None = None) -> list:
+    """Coverage, mean error / standard error and width ratio per parameter, for the
+    intervals of method ``interval`` (default: those the campaign's fit printed)."""
+    if interval is not None:
+        results = [r["intervals"][interval] for r in results if interval in r.get("intervals", {})]
     rows = []
     for n in PARAMS:
         truth = np.array([r[n]["truth"] for r in results])
@@ -120,6 +135,12 @@ def main(argv=None) -> int:
     ap.add_argument("--full", action="store_true", help="whole records at 500 Hz")
     ap.add_argument("--max-duration", type=float, default=2.0, help="[s], reduced campaign")
     ap.add_argument("--sample-rate", type=float, default=200.0, help="[Hz], reduced campaign")
+    ap.add_argument(
+        "--reversal-window",
+        type=float,
+        default=REVERSAL_WINDOW,
+        help="[s] left out after each velocity reversal (identify's default)",
+    )
     args = ap.parse_args(argv)
     devices = [d.strip() for d in args.devices.split(",") if d.strip()]
     for d in devices:
@@ -132,6 +153,7 @@ def main(argv=None) -> int:
         if args.full
         else {"max_duration": args.max_duration, "sample_rate": args.sample_rate}
     )
+    settings["reversal_window"] = args.reversal_window
     args.out.mkdir(parents=True, exist_ok=True)
     sfile = args.out / "settings.json"
     if sfile.exists():
@@ -178,15 +200,17 @@ def main(argv=None) -> int:
                 results[r["device"]].append(r)
     print(f"wall time {time.perf_counter() - t0:.0f} s", flush=True)
     print(
-        f"{'device':10s} {'parameter':10s} {'N':>4s} {'coverage':>9s} {'mean err/se':>12s} {'width ratio':>12s}"
+        f"{'device':10s} {'parameter':10s} {'N':>4s} {'coverage':>9s} {'mean err/se':>12s} "
+        f"{'width ratio':>12s}  interval"
     )
     for d in devices:
         rs = sorted(results[d], key=lambda r: r["seed"])
-        for row in summarise(rs):
-            print(
-                f"{d:10s} {row['parameter']:10s} {row['campaigns']:4d} {row['coverage']:9.3f} "
-                f"{row['mean_error_se']:+12.3f} {row['width_ratio']:12.3f}"
-            )
+        for m in INTERVALS:
+            for row in summarise(rs, m):
+                print(
+                    f"{d:10s} {row['parameter']:10s} {row['campaigns']:4d} {row['coverage']:9.3f} "
+                    f"{row['mean_error_se']:+12.3f} {row['width_ratio']:12.3f}  {m}"
+                )
         secs = [r["seconds"] for r in rs]
         print(f"{d:10s} identify: median {np.median(secs):.1f} s per campaign")
     return 0

@@ -93,7 +93,13 @@ def test_round_trip_screw_short_campaign():
     # the whole appendix-a2 matrix cut to 2 s per test at 200 Hz, identify defaults
     fit, truth = _round_trip("screw", max_duration=2.0, sample_rate=200)
     _assert_recovered(fit, truth)
+    assert fit.interval_method == "jackknife"
     assert fit.parameters["damping"].interval.startswith("jackknife (CR3)")
+    # the sandwich with an autoregressive noise model is on the same fit
+    sand = fit.with_intervals("sandwich")
+    assert sand.parameters["damping"].interval.startswith("sandwich, AR(")
+    assert sand.parameters["damping"].value == fit.parameters["damping"].value
+    assert sand.interval_method == "sandwich" and sand.covariance[1, 1] > 0
 
 
 @pytest.mark.slow
@@ -192,7 +198,7 @@ def _cauchy_regressions(draws, *, seed=7, tests=12, n=100, scale=3.0):
         for _ in range(15):
             w = _robust_weights(X @ th - y, "cauchy", scale)
             th = np.linalg.solve(X.T @ (w[:, None] * X), X.T @ (w * y))
-        spread = _sandwich(X, X @ th - y, "cauchy", scale, [n] * tests)
+        spread = _sandwich(X, X @ th - y, "cauchy", scale, [n] * tests, interval="jackknife")
         est.append(th - theta)
         se.append(spread.se)
         q.append(spread.quantile)
@@ -347,3 +353,25 @@ def test_cli_rig_simulate_and_identify(tmp_path):
     assert (tmp_path / "r" / "parameters.csv").exists()
     bad = run("identify", "--device", "screw", "--data", str(tmp_path / "nothing"))
     assert bad.returncode == 2 and "nothing" in bad.stderr
+
+
+def test_interval_choice_is_checked():
+    from inerterlab.errors import ParameterError
+
+    data = _linear_dataset()
+    start = ScrewDevice(
+        stiffness=5000.0,
+        damping=1000.0,
+        friction=50.0,
+        flywheel=constant_flywheel(1e-12),
+        friction_velocity=1e-6,
+    )
+    with pytest.raises(ParameterError, match="interval"):
+        identify(data, start, loss="linear", interval="bootstrap")
+    fit = identify(data, start, loss="linear", interval="jackknife")
+    assert fit.interval_method == "jackknife" and fit.to_dict()["interval_method"] == "jackknife"
+    # one test: the jackknife falls back to Newey-West; the other method is on the fit
+    assert fit.parameters["damping"].interval == "Newey-West sandwich within tests"
+    assert fit.with_intervals("sandwich").parameters["damping"].interval.startswith("sandwich")
+    with pytest.raises(ParameterError, match="interval"):
+        fit.with_intervals("profile")

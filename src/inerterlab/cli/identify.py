@@ -146,7 +146,14 @@ def identify_command(
     ] = 0,
     reversal_window: Annotated[
         str, typer.Option(help="Leave out this time [s] after each velocity reversal (spikes).")
-    ] = "0.1",
+    ] = "0.16",
+    interval: Annotated[
+        str,
+        typer.Option(
+            help="95 % intervals: jackknife (over tests, conservative) or sandwich "
+            "(autoregressive noise within tests; see the coverage study in the guide)."
+        ),
+    ] = "jackknife",
     report: Annotated[
         Path | None, typer.Option(help="Write plots and tables to this directory.")
     ] = None,
@@ -186,6 +193,7 @@ def identify_command(
         fixed=tuple(fix or ()),
         bootstrap=bootstrap,
         reversal_window=parse_float("reversal-window", reversal_window),
+        interval=interval,
     )
     out = fit.to_dict()
     if car_file is not None:

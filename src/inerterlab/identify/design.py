@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError, check_positive
-from .fit import PARAMETERS, _prepare, _raw_jacobian, _residuals
+from .fit import PARAMETERS, REVERSAL_WINDOW, _prepare, _raw_jacobian, _residuals
 from .simulator import TestSpec, simulate_rig, test_matrix
 
 __all__ = ["CampaignDesign", "campaign_information", "design_campaign"]
@@ -121,7 +121,7 @@ def campaign_information(
     noise: float = 5.0,
     sample_rate: float = 500.0,
     max_duration: float | None = None,
-    reversal_window: float = 0.1,
+    reversal_window: float = REVERSAL_WINDOW,
     fixed: tuple = (),
     rtol: float = 1e-8,
 ) -> np.ndarray:
@@ -196,7 +196,7 @@ def design_campaign(
     noise: float = 5.0,
     sample_rate: float = 500.0,
     max_duration: float | None = None,
-    reversal_window: float = 0.1,
+    reversal_window: float = REVERSAL_WINDOW,
     fixed: tuple = (),
     information: np.ndarray | None = None,
 ) -> CampaignDesign:
