@@ -375,7 +375,7 @@ def _direction(before, after) -> str:
         return "lowers"
     if np.all(d > 0):
         return "raises"
-    return "does not move the same way at every B"
+    return "changes (not the same way at every B)"
 
 
 def figure_7_9(settings: ReproduceSettings) -> FigureResult:
@@ -403,17 +403,8 @@ def figure_7_9(settings: ReproduceSettings) -> FigureResult:
         ax.legend(fontsize=8)
     fig.tight_layout()
     data = pd.concat(frames, ignore_index=True)
-    pk = _peaks(data)
-    fa = [pk[(a, "adaptive flywheel")][0] for a in amps]
-    ft = [pk[(a, "traditional")][0] for a in amps]
-    ta = [pk[(a, "adaptive flywheel")][1] for a in amps]
-    tt = [pk[(a, "traditional")][1] for a in amps]
-    f_dir, t_dir = _direction(ft, fa), _direction(tt, ta)
+    moves, lowers = flywheel_effect(data)
     span = ", ".join(str(a) for a in amps)
-    moves = (
-        f"{f_dir} the resonance from {_span(ft, 'Hz')} to {_span(fa, 'Hz')} and {t_dir} the "
-        f"peak X1/B from {_span(tt)} to {_span(ta)}"
-    )
     return FigureResult(
         figure_id="Fig. 7.9",
         title="Displacement transmissibility: traditional suspension and adaptive flywheel",
@@ -423,8 +414,25 @@ def figure_7_9(settings: ReproduceSettings) -> FigureResult:
         statement="Adding the adaptive flywheel lowers the resonance frequency of the "
         "traditional suspension (Fig. 7.9).",
         verdict=f"At B = {span} cm the adaptive flywheel {moves}.",
-        holds=f_dir == "lowers",
+        holds=lowers,
     )
+
+
+def flywheel_effect(data) -> tuple[str, bool]:
+    """What the adaptive flywheel does to the resonance and the peak X1/B, in words, read
+    from Fig. 7.9's data, and whether it lowers the resonance at every amplitude."""
+    pk = _peaks(data)
+    amps = sorted({a for a, _ in pk})
+    fa = [pk[(a, "adaptive flywheel")][0] for a in amps]
+    ft = [pk[(a, "traditional")][0] for a in amps]
+    ta = [pk[(a, "adaptive flywheel")][1] for a in amps]
+    tt = [pk[(a, "traditional")][1] for a in amps]
+    f_dir, t_dir = _direction(ft, fa), _direction(tt, ta)
+    text = (
+        f"{f_dir} the resonance from {_span(ft, 'Hz')} to {_span(fa, 'Hz')} and {t_dir} the "
+        f"peak X1/B from {_span(tt)} to {_span(ta)}"
+    )
+    return text, f_dir == "lowers"
 
 
 def _span(values, unit: str = "") -> str:
