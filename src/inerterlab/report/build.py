@@ -419,9 +419,11 @@ def _html_table(frame, units: dict | None = None) -> str:
     return f"<div class='tablewrap'>{body}</div>"
 
 
-def _first_sentence(text: str) -> str:
-    head = re.split(r"(?<=[.;])\s", text.strip(), maxsplit=1)[0]
-    return head.rstrip(".;")
+def _first_sentence(text: str, limit: int = 120) -> str:
+    """The first clause of ``text`` (up to the first full stop or semicolon), cut to
+    ``limit`` characters."""
+    head = re.split(r"(?<=[.;])\s", text.strip(), maxsplit=1)[0].rstrip(".;")
+    return head if len(head) <= limit else head[: limit - 3].rstrip() + "..."
 
 
 def _span(lo: float, hi: float, fmt: str = ".3g") -> str:

@@ -205,7 +205,9 @@ def _make_table(table_id: str):
         frame = pd.DataFrame(rows)
         holds, why = _judge(table_id, frame, masses)
         lift = sorted({s for (s, m), v in res.items() if v["tyre_lift_off"]})
-        reason = why if why else "The ordering and trend of the thesis hold in our simulation."
+        reason = (
+            f"{why}." if why else "The ordering and trend of the thesis hold in our simulation."
+        )
         if infinite:
             sm = frame.rename(
                 columns={f"{s}_smoothed_plain_rms": f"{s}_sm" for s in SUSPENSIONS[chapter]}
