@@ -183,7 +183,7 @@ def test_conclusion_is_computed_from_the_tables():
     assert any("1.15-1.19 Hz" in f and "0.35-0.68 Hz" in f and "both fall" in f for f in found)
     page = _conclusion(recs)
     assert "3 of 4 table claims and 0 of 1 figure statements" in page
-    assert "Fig. 7.9" in page and "it raises the resonance" in page
+    assert "#f-Fig._7.9" in page and "Laws" not in page  # only the contradicted figure
     # change a number: the finding follows it
     recs[3]["frame"].loc[0, "resonance_hz_ours"] = 1.4
     assert any("1.15-1.4 Hz" in f for f in _findings(recs))

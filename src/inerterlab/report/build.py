@@ -459,15 +459,14 @@ def _findings(records: list[dict]) -> list[str]:
         ids = [i for i in tab if i.split(".")[0] == ch and tab[i]["claim_holds"] is not None]
         if ids:
             held = [i for i in ids if tab[i]["claim_holds"]]
+            why: dict[str, list[str]] = {}  # first clause of the reason -> tables
+            for i in sorted(set(ids) - set(held), key=_table_key):
+                why.setdefault(_first_sentence(tab[i]["reason"]), []).append(i)
             out.append(
                 f"Ride metrics with the {what}: {len(held)} of {len(ids)} claims hold"
                 + (
-                    "; not: "
-                    + "; ".join(
-                        f"{i} ({_first_sentence(tab[i]['reason'])})"
-                        for i in sorted(set(ids) - set(held), key=_table_key)
-                    )
-                    if len(held) < len(ids)
+                    "; not: " + "; ".join(f"{', '.join(t)} ({w})" for w, t in why.items())
+                    if why
                     else ""
                 )
                 + "."
@@ -535,12 +534,9 @@ def _conclusion(records: list[dict]) -> str:
     bad = [r for r in figures if r.get("holds") is False]
     if bad:
         parts.append(
-            "<li>Figures whose data contradict the thesis's statement: "
-            + "; ".join(
-                f"<a href='#f-{_slug(r['id'])}'>{html.escape(r['id'])}</a> "
-                f"({html.escape(r['verdict'])})"
-                for r in bad
-            )
+            "<li>Figures whose data contradict the thesis's statement (each says how, above "
+            "it): "
+            + ", ".join(f"<a href='#f-{_slug(r['id'])}'>{html.escape(r['id'])}</a>" for r in bad)
             + ".</li>"
         )
     parts.append("</ul>")

@@ -197,8 +197,8 @@ def prefetch(settings: ReproduceSettings, ids) -> list[tuple[Memo, tuple, float]
         elif i in _FIG_DEVICE:
             devices.add(_FIG_DEVICE[i])
     # measured: the hydraulic fit (series spring, 32 identification tests) takes about
-    # ten times the screw's, the rectifier about three times
-    cost = {"hydraulic": 100.0, "rectifier": 30.0, "screw": 10.0}
+    # ten times the screw's, the rectifier about six times
+    cost = {"hydraulic": 100.0, "rectifier": 60.0, "screw": 10.0}
     return [(_fit, _fit.key(d, settings.quick), cost[d]) for d in sorted(devices)]
 
 

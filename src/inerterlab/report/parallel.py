@@ -34,11 +34,24 @@ from .registry import ReproduceSettings
 
 #: rough cost of one item of a chapter (after its pieces), for ordering the work
 ITEM_COST = {
-    "inerterlab.report.studies": 4.0,
+    "inerterlab.report.studies": 3.0,
     "inerterlab.report.ch3": 1.0,
-    "inerterlab.report.ch4_6": 0.5,
-    "inerterlab.report.ch5": 0.5,
+    "inerterlab.report.ch4_6": 0.7,
+    "inerterlab.report.ch5": 1.5,
     "inerterlab.report.ch7": 0.5,
+}
+#: items that cost more than their chapter's rate: figures of many panels and long series
+#: (the units are those of the pieces' costs: a 200-point brute-force curve is 15)
+ITEM_COST_OF = {
+    "Fig. 7.2": 6.0,
+    "Fig. 7.4": 6.0,
+    "Fig. 7.7": 6.5,
+    "Fig. 7.9": 4.0,
+    "Fig. 7.C": 4.5,
+    "Fig. 4.T": 6.0,
+    "Fig. 6.T": 6.0,
+    "Laws": 4.5,
+    "Fig. 3.3/3.8": 1.5,
 }
 #: chapters whose items share caches that are not memos: computed in one task
 ONE_GROUP = {"inerterlab.report.studies"}
@@ -161,20 +174,28 @@ def run_parallel(
             entries = wanted([i for _, i in group])
             deps = {(name, n, k) for n, k, _, m in entries if k not in m.cache}
             label = f"{short} {group[0][1]}" if len(group) == 1 else f"{short} {len(group)} items"
-            cost = ITEM_COST.get(name, 1.0) * len(group)
+            cost = sum(ITEM_COST_OF.get(i, ITEM_COST.get(name, 1.0)) for _, i in group)
             tasks.append([cost, len(tasks), label, _items, (name, group, inner),
                           ("items", name, [(n, k) for n, k, _, _ in entries]), deps])  # fmt: skip
+    # rank of a task: its cost plus the largest rank of the tasks waiting for it, so a
+    # cheap piece that the costliest items wait for goes before costlier loose work
+    rank = {id(t): t[0] for t in tasks}
+    for t in tasks:
+        if t[5][0] == "piece":
+            key = t[5][1:]
+            after = [u[0] for u in tasks if key in u[6]]
+            rank[id(t)] = t[0] + max(after, default=0.0)
     records: dict[tuple[str, str], dict] = {}
     done_pieces: set = set()
     pending: dict = {}
 
     def next_task():
-        """The costliest task whose pieces are all done (longest first keeps the end of
-        the run from waiting on one long task); None if none is ready."""
+        """The ready task (all its pieces done) of highest rank: longest first keeps the
+        end of the run from waiting on one long task; None if none is ready."""
         ready = [t for t in tasks if t[6] <= done_pieces]
         if not ready:
             return None
-        best = max(ready, key=lambda t: (t[0], -t[1]))
+        best = max(ready, key=lambda t: (rank[id(t)], -t[1]))
         tasks.remove(best)
         return best
 
