@@ -24,11 +24,7 @@ def _write(tmp_path, body, name="t.csv"):
         (GOOD.replace("0.02,0.002", "0.005,0.002"), 4, "not strictly increasing"),
         (GOOD.replace("0.01,0.001,0.1,11", "0.01,0.001,nan,11"), 3, "not finite"),
         (GOOD.replace("0.01,0.001,0.1,11", "0.01,0.001,abc,11"), 3, "not a number"),
-        (
-            GOOD.replace("force [N]", "force [lbf]"),
-            1,
-            "unknown unit [lbf] for force; expected one of N, kN",
-        ),
+        (GOOD.replace("force [N]", "force [lbf]"), 1, "unknown unit [lbf] for force; expected one of N, kN"),
         (GOOD.replace("0.01,0.001,0.1,11", "0.01,0.001,11"), 3, "expected 4 values"),
         ("# only a comment\n", 1, "empty file"),
         ("time [s],velocity [m/s],force [N]\n", 1, "empty file"),
