@@ -179,7 +179,6 @@ def test_report_layout_in_headless_chromium(quick_report):
     assert "table claims" in conclusion and "figure statements" in conclusion
 
 
-@pytest.mark.slow
 def _children(pid: int) -> list[int]:
     """Process ids whose parent is ``pid`` (Linux /proc)."""
     out = []
@@ -203,6 +202,7 @@ def _alive(pid: int) -> bool:
     return stat.rsplit(")", 1)[1].split()[0] != "Z"
 
 
+@pytest.mark.slow
 def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
     """SIGKILL part way, rerun: finished items are reused and the report equals an
     uninterrupted run's (tables and figure data byte for byte)."""
