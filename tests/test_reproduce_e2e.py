@@ -45,6 +45,17 @@ def _chromium():
     return None
 
 
+_CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-quic",
+    "--no-first-run",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+]
+
+
 def test_report_renders_in_headless_chromium(quick_report, tmp_path):
     _, out, manifest = quick_report
     exe = _chromium()
@@ -56,18 +67,7 @@ def test_report_renders_in_headless_chromium(quick_report, tmp_path):
     sync_api = pytest.importorskip("playwright.sync_api")
     errors = []
     with sync_api.sync_playwright() as p:
-        browser = p.chromium.launch(
-            executable_path=exe,
-            args=[
-                "--no-sandbox",
-                "--disable-gpu",
-                "--disable-quic",
-                "--no-first-run",
-                "--disable-background-networking",
-                "--disable-component-update",
-                "--disable-sync",
-            ],
-        )
+        browser = p.chromium.launch(executable_path=exe, args=_CHROMIUM_ARGS)
         page = browser.new_page(viewport={"width": 1280, "height": 900})
         page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
         page.on("pageerror", lambda e: errors.append(str(e)))
@@ -93,7 +93,92 @@ def test_report_renders_in_headless_chromium(quick_report, tmp_path):
     assert shot.stat().st_size > 10_000
 
 
-@pytest.mark.slow
+#: narrowest an <img> of the report may be drawn in a 1280 px wide window [CSS px]: a
+#: panel of a three-column figure is then about 100 px, the least that keeps axis labels
+#: legible, and a single-panel figure is shown at least at this width
+MIN_IMAGE_PX = 300
+
+# elements wider than the window are allowed only inside a box that scrolls sideways
+_LAYOUT_JS = """() => {
+  const vw = document.documentElement.clientWidth;
+  const out = {vw: vw, page: document.documentElement.scrollWidth, escaping: [],
+               images: [], tables: 0, wrapped: 0, scrolling: 0};
+  const scroller = (el) => {
+    for (let p = el.parentElement; p; p = p.parentElement) {
+      const o = getComputedStyle(p).overflowX;
+      if (o === 'auto' || o === 'scroll') return p;
+    }
+    return null;
+  };
+  for (const el of document.body.querySelectorAll('*')) {
+    const r = el.getBoundingClientRect();
+    if (r.width === 0 && r.height === 0) continue;
+    if (r.right > vw + 0.5 || r.left < -0.5) {
+      const box = scroller(el);
+      if (!box || box.getBoundingClientRect().right > vw + 0.5)
+        out.escaping.push(el.tagName + ' ' + Math.round(r.left) + '..' + Math.round(r.right));
+    }
+  }
+  for (const img of document.images)
+    out.images.push([img.alt, img.getBoundingClientRect().width]);
+  for (const t of document.querySelectorAll('table')) {
+    out.tables += 1;
+    const w = t.parentElement;
+    if (w.classList.contains('tablewrap')) {
+      out.wrapped += 1;
+      if (w.scrollWidth > w.clientWidth + 1) out.scrolling += 1;
+    }
+  }
+  return out;
+}"""
+
+
+def test_report_layout_in_headless_chromium(quick_report):
+    """No page-wide horizontal overflow (wide tables scroll in their own box) and every
+    figure drawn at a readable width, in a desktop window and a narrow one; every figure
+    has its verdict and the report its conclusion."""
+    _, out, manifest = quick_report
+    exe = _chromium()
+    if exe is None:
+        msg = "chromium is not installed (Debian package 'chromium'; .ci/run installs it)"
+        if os.environ.get("CI"):
+            pytest.fail(msg)
+        pytest.skip(msg)
+    sync_api = pytest.importorskip("playwright.sync_api")
+    seen = {}
+    with sync_api.sync_playwright() as p:
+        browser = p.chromium.launch(executable_path=exe, args=_CHROMIUM_ARGS)
+        for width in (1280, 800):
+            page = browser.new_page(viewport={"width": width, "height": 900})
+            page.goto((out / "index.html").as_uri())
+            page.wait_for_load_state("load")
+            seen[width] = page.evaluate(_LAYOUT_JS)
+            if width == 1280:
+                verdicts = page.evaluate(
+                    "Array.from(document.querySelectorAll('figure')).filter("
+                    "f => f.previousElementSibling && "
+                    "f.previousElementSibling.classList.contains('claim')).length"
+                )
+                conclusion = page.evaluate(
+                    "document.getElementById('conclusion') ? "
+                    "document.getElementById('conclusion').nextElementSibling.textContent : ''"
+                )
+            page.close()
+        browser.close()
+    n_fig = sum(1 for i in manifest["items"] if i["kind"] == "figure" and i["ok"])
+    for width, s in seen.items():
+        assert s["page"] <= s["vw"], (width, s["page"], s["escaping"][:5])
+        assert s["escaping"] == [], (width, s["escaping"][:5])
+        assert s["tables"] > 0 and s["wrapped"] == s["tables"], (width, s)
+        assert len(s["images"]) == n_fig
+        small = [(alt, w) for alt, w in s["images"] if w < MIN_IMAGE_PX]
+        assert small == [], (width, small)
+    # at 800 px the widest tables do not fit: they scroll inside their box instead
+    assert seen[800]["scrolling"] > 0
+    assert verdicts == n_fig
+    assert "table claims" in conclusion and "figure statements" in conclusion
+
+
 def _children(pid: int) -> list[int]:
     """Process ids whose parent is ``pid`` (Linux /proc)."""
     out = []
@@ -117,6 +202,7 @@ def _alive(pid: int) -> bool:
     return stat.rsplit(")", 1)[1].split()[0] != "Z"
 
 
+@pytest.mark.slow
 def test_killed_reproduce_resumes_to_identical_results(quick_report, tmp_path):
     """SIGKILL part way, rerun: finished items are reused and the report equals an
     uninterrupted run's (tables and figure data byte for byte)."""

@@ -149,10 +149,17 @@ def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSetting
                 claim_holds=res.claim_holds,
                 reason=res.reason,
                 settings=res.settings,
+                units=dict(res.units),
             )
         elif isinstance(res, FigureResult):
             rec.update(
-                title=res.title, png=_fig_png(res.figure), data=res.data, caption=res.caption
+                title=res.title,
+                png=_fig_png(res.figure),
+                data=res.data,
+                caption=res.caption,
+                statement=res.statement,
+                verdict=res.verdict,
+                holds=res.holds,
             )
         else:  # a chapter function returned something unexpected: record, do not guess
             rec.update(ok=False, error=f"returned {type(res).__name__}")
@@ -178,13 +185,15 @@ def run_items(
     progress: Callable[[str], None] | None = None,
     should_stop: Callable[[], bool] | None = None,
     on_start: Callable[[str], None] | None = None,
+    timeline: list | None = None,
 ) -> list[dict]:
     """Compute (or reuse from ``work_dir``) every selected item; returns item records.
 
     ``should_stop`` is polled before each item; when it returns True the run stops
     with ``KeyboardInterrupt``, every finished item being already in ``work_dir``.
     ``on_start`` is called with the name of each item about to be computed,
-    ``progress`` with the name of each item done.
+    ``progress`` with the name of each item done. ``timeline`` (a list) receives the
+    tasks of a parallel run with their times (:func:`.parallel.run_parallel`).
     """
     tables, figures = _load_chapters()
     chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
@@ -195,6 +204,7 @@ def run_items(
     tag = cache_key(asdict(settings))
     records = []
     pre: dict = {}
+
     def cache_of(kind: str, ident: str) -> Path:
         return work_dir / f"{kind}-{_slug(ident)}-{tag}.json"
 
@@ -226,7 +236,13 @@ def run_items(
                 progress(f"{rec['kind']} {rec['id']}")
 
         pre = run_parallel(
-            settings, todo, settings.workers, note=on_start, done=arrived, should_stop=should_stop
+            settings,
+            todo,
+            settings.workers,
+            note=on_start,
+            done=arrived,
+            should_stop=should_stop,
+            timeline=timeline,
         )
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
@@ -251,17 +267,19 @@ def run_items(
 
 _CSS = """
 body{font-family:system-ui,-apple-system,Segoe UI,Roboto,sans-serif;max-width:1200px;margin:2em auto;
-padding:0 1em;color:#222;line-height:1.45}
+padding:0 1em;color:#222;line-height:1.45;overflow-wrap:break-word}
 h1{border-bottom:2px solid #345}h2{margin-top:2em;border-bottom:1px solid #ccc}
-table{border-collapse:collapse;font-size:0.85em;margin:0.5em 0 1em}
+.tablewrap{overflow-x:auto;max-width:100%;margin:0.5em 0 1em}
+table{border-collapse:collapse;font-size:0.85em}
 th,td{border:1px solid #ccc;padding:3px 6px;text-align:right}th{background:#eef}
 td:first-child,th:first-child{text-align:left}
 .ok{color:#1a7f37;font-weight:bold}.no{color:#b42318;font-weight:bold}.na{color:#777}
 .claim{background:#f6f8fa;border-left:4px solid #345;padding:0.4em 0.8em;margin:0.5em 0}
-img{max-width:100%;border:1px solid #ddd}nav a{margin-right:0.8em}
+figure{margin:0.5em 0 1.5em}figcaption{margin-top:0.3em}
+img{display:block;max-width:100%;height:auto;border:1px solid #ddd}nav a{margin-right:0.8em}
 table.summary td,table.summary th{text-align:left}
 .failed{background:#fff0f0;border-left:4px solid #b42318;padding:0.4em 0.8em}
-code,pre{background:#f6f8fa}
+code,pre{background:#f6f8fa}pre{overflow-x:auto}
 """
 
 
@@ -357,8 +375,195 @@ def _versions() -> dict:
     return out
 
 
-def render(records: list[dict], settings: ReproduceSettings, elapsed: float, errata: str) -> dict:
-    """Build the files of the report in memory: {relative path: bytes}."""
+#: unit of a quantity named at the start of a column (ratios and weights are fractions)
+_PREFIX_UNITS = (
+    ("rms_body_acc", "m/s^2"),
+    ("rms_tyre_grip", "-"),
+    ("rms_deflection", "m"),
+    ("optimal_ratio", "-"),
+    ("comfort_weight", "-"),
+    ("grip_weight", "-"),
+    ("bump_weight", "-"),
+    ("sine_weight", "-"),
+)
+#: unit implied by one "_"-separated word of a column name
+_WORD_UNITS = {"kg": "kg", "cm": "cm", "hz": "Hz", "%": "%"}
+
+
+def column_unit(name: str, units: dict | None = None) -> str | None:
+    """The unit of table column ``name``: None if the name already carries one
+    ("peak force [N]") or none is known; ``units`` (the table's own) comes first."""
+    if "[" in name:
+        return None
+    if units and name in units:
+        return units[name]
+    for prefix, unit in _PREFIX_UNITS:
+        if name.startswith(prefix):
+            return unit
+    for word in name.split("_"):
+        if word.lower() in _WORD_UNITS:
+            return _WORD_UNITS[word.lower()]
+    return None
+
+
+def _header(name: str, units: dict | None) -> str:
+    unit = column_unit(name, units)
+    return name if unit is None else f"{name} [{unit}]"
+
+
+def _html_table(frame, units: dict | None = None) -> str:
+    """A table with units in its column headers, inside a box that scrolls sideways
+    when the table is wider than the page."""
+    shown = frame.rename(columns=lambda c: _header(str(c), units))
+    body = shown.to_html(index=False, float_format=lambda x: f"{x:.5g}", na_rep="—")
+    return f"<div class='tablewrap'>{body}</div>"
+
+
+def _first_sentence(text: str, limit: int = 120) -> str:
+    """The first clause of ``text`` (up to the first full stop or semicolon), cut to
+    ``limit`` characters."""
+    head = re.split(r"(?<=[.;])\s", text.strip(), maxsplit=1)[0].rstrip(".;")
+    return head if len(head) <= limit else head[: limit - 3].rstrip() + "..."
+
+
+def _span(lo: float, hi: float, fmt: str = ".3g") -> str:
+    return f"{lo:{fmt}}" if f"{lo:{fmt}}" == f"{hi:{fmt}}" else f"{lo:{fmt}}-{hi:{fmt}}"
+
+
+def _findings(records: list[dict]) -> list[str]:
+    """Main findings in plain words, each computed from the tables it names."""
+    import numpy as np
+
+    tab = {r["id"]: r for r in records if r["kind"] == "table" and r["ok"]}
+    out = []
+
+    def col(tid: str, name: str):
+        f = tab[tid]["frame"] if tid in tab else None
+        if f is None or name not in f.columns:
+            return None
+        v = np.asarray(f[name].to_numpy(), dtype=float)
+        v = v[np.isfinite(v)]
+        return v if v.size else None
+
+    c = col("3.C", "imbalance [% of work]")
+    if c is not None and "law" in tab["3.C"]["frame"]:
+        law = dict(zip(tab["3.C"]["frame"]["law"], c, strict=False))
+        if "thesis" in law:
+            rest = [abs(v) for k, v in law.items() if k != "thesis"]
+            out.append(
+                f"Energy (table 3.C): the thesis's force law leaves {abs(law['thesis']):.3g} % "
+                "of the work done on the inerter unaccounted for"
+                + (f"; the energy-consistent laws at most {max(rest):.2g} %." if rest else ".")
+            )
+    for ch, what in (("4", "ideal devices (ch. 4)"), ("6", "real hydraulic device (ch. 6)")):
+        ids = [i for i in tab if i.split(".")[0] == ch and tab[i]["claim_holds"] is not None]
+        if ids:
+            held = [i for i in ids if tab[i]["claim_holds"]]
+            why: dict[str, list[str]] = {}  # first clause of the reason -> tables
+            for i in sorted(set(ids) - set(held), key=_table_key):
+                why.setdefault(_first_sentence(tab[i]["reason"]), []).append(i)
+            out.append(
+                f"Ride metrics with the {what}: {len(held)} of {len(ids)} claims hold"
+                + (
+                    "; not: " + "; ".join(f"{', '.join(t)} ({w})" for w, t in why.items())
+                    if why
+                    else ""
+                )
+                + "."
+            )
+    for ch in ("4", "6"):
+        ours, th = col(f"{ch}.13", "optimal_ratio_ours"), col(f"{ch}.13", "optimal_ratio_thesis")
+        tt = col(f"{ch}.13", "optimal_ratio_from_thesis_tables")
+        if ours is not None and th is not None:
+            out.append(
+                f"Optimal changing ratio (table {ch}.13): ours {ours[0]:.3f}, the thesis "
+                f"{th[0]:.3f}"
+                + (f"; the thesis's own tables give {tt[0]:.3f}" if tt is not None else "")
+                + "."
+            )
+    d = col("5.A", "diff_rel_%")
+    if d is not None:
+        nr = col("5.A", "validation_nrmse_%")
+        out.append(
+            "Identification (table 5.A, simulated rig data): every parameter recovered "
+            f"within {np.max(np.abs(d)):.2g} % of the value that made the data"
+            + (f"; validation NRMSE {_span(nr.min(), nr.max(), '.2g')} %" if nr is not None else "")
+            + "."
+        )
+    f_ours, f_th = col("7.1", "resonance_hz_ours"), col("7.1", "resonance_hz_thesis")
+    if f_ours is not None and f_th is not None:
+        out.append(
+            f"Frequency response (table 7.1): our resonances lie at {_span(f_ours.min(), f_ours.max())} "
+            f"Hz, the thesis's at {_span(f_th.min(), f_th.max())} Hz; "
+            + ("both fall" if tab["7.1"]["claim_holds"] else "the thesis's trends do not both hold")
+            + " as the amplitude grows."
+        )
+    errs = [
+        (t, col(t, f"nrmse_{m}_%_ours"), col(t, f"nrmse_{m}_%_thesis"))
+        for t, m in (("7.2", "shb"), ("7.3", "mhb"), ("7.4", "sihb"))
+    ]
+    errs = [e for e in errs if e[1] is not None and e[2] is not None]
+    if errs:
+        out.append(
+            "Harmonic balance against brute force (tables "
+            + ", ".join(e[0] for e in errs)
+            + f"): our NRMSE at most {max(e[1].max() for e in errs):.2g} %, the thesis's up to "
+            f"{max(e[2].max() for e in errs):.3g} %."
+        )
+    return out
+
+
+def _conclusion(records: list[dict]) -> str:
+    tables = [r for r in records if r["kind"] == "table" and r["ok"]]
+    figures = [r for r in records if r["kind"] == "figure" and r["ok"]]
+    jt = [r for r in tables if r.get("claim_holds") is not None]
+    jf = [r for r in figures if r.get("holds") is not None]
+    parts = ["<h2 id='conclusion'>Conclusion</h2>"]
+    parts.append(
+        f"<p>{sum(bool(r['claim_holds']) for r in jt)} of {len(jt)} table claims and "
+        f"{sum(bool(r['holds']) for r in jf)} of {len(jf)} figure statements of the thesis "
+        "hold in our physics"
+        + (
+            f"; {len(records) - len(tables) - len(figures)} item(s) failed"
+            if len(tables) + len(figures) < len(records)
+            else ""
+        )
+        + ". Main findings:</p><ul>"
+    )
+    parts += [f"<li>{html.escape(f)}</li>" for f in _findings(records)]
+    bad = [r for r in figures if r.get("holds") is False]
+    if bad:
+        parts.append(
+            "<li>Figures whose data contradict the thesis's statement (each says how, above "
+            "it): "
+            + ", ".join(f"<a href='#f-{_slug(r['id'])}'>{html.escape(r['id'])}</a>" for r in bad)
+            + ".</li>"
+        )
+    parts.append("</ul>")
+    return "".join(parts)
+
+
+def _figure_verdict(r: dict) -> str:
+    verdict = html.escape(r.get("verdict", ""))
+    if r.get("statement"):
+        return (
+            f"<div class='claim'><b>Thesis:</b> {html.escape(r['statement'])}<br>"
+            f"<b>The data:</b> {_verdict(r.get('holds'))}. {verdict}</div>"
+        )
+    return f"<div class='claim'><b>Not in the thesis</b> (ours). {verdict}</div>"
+
+
+def render(
+    records: list[dict],
+    settings: ReproduceSettings,
+    elapsed: float,
+    errata: str,
+    timeline: list | None = None,
+) -> dict:
+    """Build the files of the report in memory: {relative path: bytes}.
+
+    ``timeline``: the tasks of a parallel run with their times, kept in the manifest
+    (``parallel_tasks``) to show where the wall time went."""
     files: dict[str, bytes] = {}
     versions = _versions()
     tables = [r for r in records if r["kind"] == "table"]
@@ -366,6 +571,7 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
     failed = [r for r in records if not r["ok"]]
     parts = [
         "<!doctype html><html lang='en'><head><meta charset='utf-8'>",
+        "<meta name='viewport' content='width=device-width, initial-scale=1'>",
         "<title>inerterlab: thesis reproduction report</title>",
         f"<style>{_CSS}</style></head><body>",
         "<h1>Thesis reproduction report</h1>",
@@ -373,12 +579,13 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
         "<p>Every thesis table and figure that carries information, regenerated by inerterlab "
         "beside the thesis's own numbers. Differences are expected: the thesis's MATLAB code "
         "never adapts the flywheel and leaves several settings unstated (see the errata). "
-        "No model was tuned to match a thesis value; for each table the report says whether "
-        "the thesis's qualitative claim holds in our physics.</p>",
-        "<nav><a href='#summary'>Summary</a><a href='#tables'>Tables</a>"
-        "<a href='#figures'>Figures</a><a href='#errata'>Errata</a><a href='#settings'>Settings</a></nav>",
-        "<h2 id='summary'>Summary</h2><table class='summary'><tr><th>item</th><th>title</th><th>thesis claim</th>"
-        "<th>verdict</th></tr>",
+        "No model was tuned to match a thesis value; for each table and figure the report says "
+        "whether the thesis's statement holds in our physics.</p>",
+        "<nav><a href='#summary'>Summary</a><a href='#conclusion'>Conclusion</a>"
+        "<a href='#tables'>Tables</a><a href='#figures'>Figures</a><a href='#errata'>Errata</a>"
+        "<a href='#settings'>Settings</a></nav>",
+        "<h2 id='summary'>Summary</h2><div class='tablewrap'><table class='summary'><tr><th>item</th>"
+        "<th>title</th><th>thesis claim</th><th>verdict</th></tr>",
     ]
     for r in tables:
         if r["ok"]:
@@ -392,12 +599,26 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
                 f"<tr><td>Table {html.escape(r['id'])}</td><td colspan='2'>failed: "
                 f"{html.escape(r['error'])}</td><td class='no'>failed</td></tr>"
             )
-    parts.append("</table>")
+    for r in figures:
+        link = f"<a href='#f-{_slug(r['id'])}'>{html.escape(r['id'])}</a>"
+        if r["ok"]:
+            parts.append(
+                f"<tr><td>{link}</td><td>{html.escape(r['title'])}</td>"
+                f"<td>{html.escape(r.get('statement') or '(not in the thesis)')}</td>"
+                f"<td>{_verdict(r.get('holds'))}: {html.escape(r.get('verdict', ''))}</td></tr>"
+            )
+        else:
+            parts.append(
+                f"<tr><td>{link}</td><td colspan='2'>failed: {html.escape(r['error'])}</td>"
+                "<td class='no'>failed</td></tr>"
+            )
+    parts.append("</table></div>")
     if failed:
         parts.append(
             f"<p class='failed'>{len(failed)} item(s) failed; they are listed with their reason "
             "and no number is shown for them.</p>"
         )
+    parts.append(_conclusion(records))
     parts.append("<h2 id='tables'>Tables</h2>")
     for r in tables:
         sid = _slug(r["id"])
@@ -411,7 +632,8 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
             f"<b>In our physics:</b> {_verdict(r['claim_holds'])}. {html.escape(r['reason'])}</div>"
         )
         frame = _numeric_none(r["frame"])
-        parts.append(frame.to_html(index=False, float_format=lambda x: f"{x:.5g}", na_rep="—"))
+        units = r.get("units") or {}
+        parts.append(_html_table(frame, units))
         if r.get("settings"):
             s = "; ".join(f"{k} = {v}" for k, v in r["settings"].items())
             parts.append(
@@ -419,6 +641,9 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
                 f"<a href='tables/{sid}.csv'>tables/{sid}.csv</a></small></p>"
             )
         header = {"table": r["id"], "title": r["title"], **{k: v for k, v in r["settings"].items()}}
+        known = {str(c): column_unit(str(c), units) for c in frame.columns}
+        if any(known.values()):
+            header["units"] = "; ".join(f"{c} [{u}]" for c, u in known.items() if u)
         files[f"tables/{sid}.csv"] = _csv_with_header(frame, header).encode()
     parts.append("<h2 id='figures'>Figures</h2>")
     for r in figures:
@@ -429,19 +654,24 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
         if not r["ok"]:
             parts.append(f"<div class='failed'>failed: {html.escape(r['error'])}</div>")
             continue
+        parts.append(_figure_verdict(r))
         b64 = base64.b64encode(r["png"]).decode()
-        parts.append(f"<img alt='{html.escape(r['id'])}' src='data:image/png;base64,{b64}'>")
         parts.append(
-            f"<p>{html.escape(r['caption'])} Data: <a href='data/{sid}.csv'>data/{sid}.csv</a></p>"
+            f"<figure><img alt='{html.escape(r['id'])}' src='data:image/png;base64,{b64}'>"
+            f"<figcaption>{html.escape(r['caption'])} Data: "
+            f"<a href='data/{sid}.csv'>data/{sid}.csv</a></figcaption></figure>"
         )
         files[f"figures/{sid}.png"] = r["png"]
         files[f"data/{sid}.csv"] = r["data"].to_csv(index=False).encode()
     parts.append("<h2 id='errata'>Errata</h2>")
     parts.append(_markdown_to_html(errata))
-    parts.append("<h2 id='settings'>Settings and versions</h2><table>")
+    parts.append(
+        "<h2 id='settings'>Settings and versions</h2><div class='tablewrap'><table>"
+        "<tr><th>setting or package</th><th>value (run time in s)</th></tr>"
+    )
     for k, v in {**asdict(settings), **versions, "run time [s]": f"{elapsed:.1f}"}.items():
         parts.append(f"<tr><td>{html.escape(str(k))}</td><td>{html.escape(str(v))}</td></tr>")
-    parts.append("</table></body></html>")
+    parts.append("</table></div></body></html>")
     files["index.html"] = "\n".join(parts).encode()
     manifest = {
         "settings": asdict(settings),
@@ -452,9 +682,12 @@ def render(records: list[dict], settings: ReproduceSettings, elapsed: float, err
             | {"reused": bool(r.get("reused", False))}
             | ({"error": r["error"]} if not r["ok"] else {})
             | ({"claim_holds": r["claim_holds"]} if r["ok"] and r["kind"] == "table" else {})
+            | ({"holds": r.get("holds")} if r["ok"] and r["kind"] == "figure" else {})
             for r in records
         ],
     }
+    if timeline:
+        manifest["parallel_tasks"] = timeline
     files["manifest.json"] = json.dumps(manifest, indent=2).encode()
     return files
 
@@ -598,16 +831,17 @@ def reproduce(
     with report_lock(work, out):
         clean_stale_temporaries(out)
         out = resolve_report_target(out)  # checked again now that no one else writes it
+        timeline: list = []
         records = run_items(
-            settings, ids, figures and ids is None, work, progress, should_stop, on_start
+            settings, ids, figures and ids is None, work, progress, should_stop, on_start, timeline
         )
-        manifest = _finish(out, records, settings, t0, errata_path)
+        manifest = _finish(out, records, settings, t0, errata_path, timeline)
         clean_work_dir(work)
     return manifest
 
 
-def _finish(out, records, settings, t0, errata_path) -> dict:
+def _finish(out, records, settings, t0, errata_path, timeline=None) -> dict:
     errata = read_errata(errata_path)
-    files = render(records, settings, time.perf_counter() - t0, errata)
+    files = render(records, settings, time.perf_counter() - t0, errata, timeline)
     write_report_atomically(out, files)
     return json.loads(files["manifest.json"])

@@ -51,6 +51,7 @@ _TITLE_OF = {
     "rms_tyre_grip": "RMS tyre grip index (4.20)-(4.21) [-]",
     "rms_deflection": "RMS suspension deflection (4.25)-(4.26) [m]",
 }
+_UNIT_OF = {"rms_body_acc": "m/s^2", "rms_tyre_grip": "-", "rms_deflection": "m"}
 _FIGURE_OF = {
     **{f"4.{i}": f"Fig. 4.{i + 3}" for i in range(1, 10)},
     **{f"6.{i}": f"Fig. 6.{i + 2}" for i in range(1, 10)},
@@ -204,7 +205,9 @@ def _make_table(table_id: str):
         frame = pd.DataFrame(rows)
         holds, why = _judge(table_id, frame, masses)
         lift = sorted({s for (s, m), v in res.items() if v["tyre_lift_off"]})
-        reason = why if why else "The ordering and trend of the thesis hold in our simulation."
+        reason = (
+            f"{why}." if why else "The ordering and trend of the thesis hold in our simulation."
+        )
         if infinite:
             sm = frame.rename(
                 columns={f"{s}_smoothed_plain_rms": f"{s}_sm" for s in SUSPENSIONS[chapter]}
@@ -254,10 +257,41 @@ def _make_table(table_id: str):
             claim_holds=holds,
             reason=reason,
             settings=_settings(chapter, input_name, settings.quick),
+            units={c: _UNIT_OF[metric] for c in frame.columns if c != "body_mass_kg"},
         )
 
     table.__doc__ = f"Table {table_id}: {_TITLE_OF[metric]} under {input_name}."
     return table
+
+
+def _what_the_data_show(table_id: str, df) -> str:
+    """Which suspension is lowest and highest at how many masses, and the mass trend,
+    read from a table's frame (our columns)."""
+    sus = SUSPENSIONS[table_id[0]]
+    vals = np.array([df[f"{s}_ours"].to_numpy(dtype=float) for s in sus])
+    n = vals.shape[1]
+    parts = []
+    for word, idx in (("lowest", np.argmin(vals, 0)), ("highest", np.argmax(vals, 0))):
+        counts = {sus[k]: int(np.sum(idx == k)) for k in range(len(sus))}
+        top = max(counts, key=counts.get)
+        parts.append(f"{word} {LABELS[top]} at {counts[top]} of {n} masses")
+    trends = {LABELS[s]: _mass_trend(df[f"{s}_ours"].to_numpy(dtype=float)) for s in sus}
+    if len(set(trends.values())) == 1:
+        parts.append(f"all {next(iter(trends.values()))} with mass")
+    else:
+        parts.append(", ".join(f"{k} {v}" for k, v in trends.items()) + " with mass")
+    spread = float(np.max(vals.max(0) / vals.min(0) - 1.0))
+    parts.append(f"the three differ by up to {100 * spread:.2g} %")
+    return "; ".join(parts)
+
+
+def _mass_trend(v) -> str:
+    d = np.diff(v)
+    if np.all(d < 0):
+        return "fall"
+    if np.all(d > 0):
+        return "rise"
+    return "are not monotone"
 
 
 def _make_figure(table_id: str):
@@ -299,7 +333,20 @@ def _make_figure(table_id: str):
         ax.set_title(f"{fig_id}: {t.title}", fontsize=9)
         ax.legend(fontsize=7)
         fig.tight_layout()
-        return FigureResult(figure_id=fig_id, title=t.title, figure=fig, data=df, caption=t.claim)
+        seen = _what_the_data_show(table_id, df)
+        return FigureResult(
+            figure_id=fig_id,
+            title=t.title,
+            figure=fig,
+            data=df,
+            caption=f"Ours (circles) and the thesis's (crosses) at M_v = "
+            f"{int(df.body_mass_kg.min())}-{int(df.body_mass_kg.max())} kg: {seen}.",
+            statement=t.claim,
+            verdict=f"{seen[0].upper()}{seen[1:]}"
+            + ("" if t.claim_holds else f"; against the claim: {t.reason.split('.')[0]}")
+            + ".",
+            holds=t.claim_holds,
+        )
 
     return figure
 
@@ -336,12 +383,23 @@ def _time_history(chapter: str):
         axes[2, 0].set_ylabel("tyre force [N]")
         axes[0, 0].legend(fontsize=7)
         fig.tight_layout()
+        data = pd.concat(frames, ignore_index=True)
+        peaks = data.assign(a=data.body_acc.abs()).groupby(["input", "suspension"], sort=False).a
+        peak = peaks.max()
+        lowest = "; ".join(
+            f"{name}: lowest {LABELS[peak[name].idxmin()]} ("
+            + ", ".join(f"{LABELS[s]} {peak[name][s]:.3g}" for s in SUSPENSIONS[chapter])
+            + ")"
+            for name in ("drop", "bump", "sine")
+        )
         return FigureResult(
             figure_id=f"Fig. {chapter}.T",
             title=f"Time histories, ch. {chapter} suspensions, M_v = 370 kg",
             figure=fig,
-            data=pd.concat(frames, ignore_index=True),
-            caption="Not in the thesis: body acceleration, deflection and tyre force behind the tables."
+            data=data,
+            verdict=f"Peak |body acceleration| over {horizon:g} s [m/s^2]: {lowest}.",
+            caption="Body acceleration, deflection and tyre force behind the tables. Peak "
+            f"|body acceleration| [m/s^2]: {lowest}."
             + (
                 " Under the bump the body velocity of CFW and AFW jumps at both edges (the"
                 " inerter passes part of the tyre-damper impulse to the body): the plotted"
@@ -360,6 +418,16 @@ TABLES = {f"{c}.{i}": _make_table(f"{c}.{i}") for c in ("4", "6") for i in range
 FIGURES = {_FIGURE_OF[t]: _make_figure(t) for t in TABLES}
 FIGURES["Fig. 4.T"] = _time_history("4")
 FIGURES["Fig. 6.T"] = _time_history("6")
+
+
+def task_groups(ids) -> list[list[str]]:
+    """Each table with its figure in one parallel task: the figure redraws the table,
+    whose bump rows may need a second (smoothed-pulse) grid that is not a piece."""
+    table_of = {f: t for t, f in _FIGURE_OF.items()}
+    groups: dict[str, list[str]] = {}
+    for i in ids:
+        groups.setdefault(table_of.get(i, i), []).append(i)
+    return list(groups.values())
 
 
 def prefetch(settings: ReproduceSettings, ids) -> list[tuple[Memo, tuple, float]]:

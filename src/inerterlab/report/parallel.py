@@ -7,14 +7,16 @@ task for one pool of worker processes:
 
 1. *pieces*: the shared computations of the items to compute (brute-force and
    harmonic-balance curves, identifications, metric grids; each chapter module's
-   ``prefetch``), longest first;
-2. *item groups*: a chapter's items, split into one group per worker, sent once every
-   piece of that chapter is done, together with the chapter's memo entries. Chapters
-   without pieces (design studies, chapter 3) are sent at once.
+   ``prefetch``);
+2. *item tasks*: one item, or a few that share work that is not a piece (a chapter's
+   ``task_groups``; all design studies in one), sent with the memo entries they read
+   as soon as the pieces they read are done.
 
-Every piece and item is computed by the same function with the same arguments as in a
-serial run, so the numbers do not change (tests/test_reproduce_parallel.py compares
-them); only the order of the work does.
+Whenever a worker is free it gets the costliest task that is ready (longest first, so
+the run does not end waiting on one long task started late). Every piece and item is
+computed by the same function with the same arguments as in a serial run, so the
+numbers do not change (tests/test_reproduce_parallel.py compares them); only the order
+of the work does.
 """
 
 from __future__ import annotations
@@ -32,16 +34,27 @@ from .registry import ReproduceSettings
 
 #: rough cost of one item of a chapter (after its pieces), for ordering the work
 ITEM_COST = {
-    "inerterlab.report.studies": 4.0,
+    "inerterlab.report.studies": 3.0,
     "inerterlab.report.ch3": 1.0,
-    "inerterlab.report.ch4_6": 0.5,
-    "inerterlab.report.ch5": 0.5,
+    "inerterlab.report.ch4_6": 0.7,
+    "inerterlab.report.ch5": 1.5,
     "inerterlab.report.ch7": 0.5,
+}
+#: items that cost more than their chapter's rate: figures of many panels and long series
+#: (the units are those of the pieces' costs: a 200-point brute-force curve is 15)
+ITEM_COST_OF = {
+    "Fig. 7.2": 6.0,
+    "Fig. 7.4": 6.0,
+    "Fig. 7.7": 6.5,
+    "Fig. 7.9": 4.0,
+    "Fig. 7.C": 4.5,
+    "Fig. 4.T": 6.0,
+    "Fig. 6.T": 6.0,
+    "Laws": 4.5,
+    "Fig. 3.3/3.8": 1.5,
 }
 #: chapters whose items share caches that are not memos: computed in one task
 ONE_GROUP = {"inerterlab.report.studies"}
-#: chapters whose memo entries are large: one task per worker, not per item
-CHUNKED = {"inerterlab.report.ch7"}
 #: environment of the workers: one thread each, the processes are the parallelism
 _THREAD_ENV = {
     "OMP_NUM_THREADS": "1",
@@ -66,6 +79,20 @@ def _memos(module) -> dict[str, Memo]:
 def _piece(module: str, memo_name: str, key: tuple):
     """Worker: one memo entry."""
     return getattr(importlib.import_module(module), memo_name).fn(*key)
+
+
+def _groups(name: str, module, items: list) -> list[list]:
+    """The items of one chapter cut into tasks: all in one where they share caches that
+    are not memos, else the chapter's ``task_groups`` (items that share work that is not
+    a piece, e.g. a table and its figure), else one task per item (each saved as soon
+    as it is done)."""
+    if name in ONE_GROUP:
+        return [items]
+    grouping = getattr(module, "task_groups", None)
+    if grouping is None:
+        return [[it] for it in items]
+    ids = {i: (k, i) for k, i in items}
+    return [[ids[i] for i in g] for g in grouping([i for _, i in items])]
 
 
 def _items(module: str, items: list, settings: ReproduceSettings, seeds: dict) -> list[dict]:
@@ -102,6 +129,7 @@ def run_parallel(
     note: Callable[[str], None] | None = None,
     done: Callable[[dict], None] | None = None,
     should_stop: Callable[[], bool] | None = None,
+    timeline: list | None = None,
 ) -> dict[tuple[str, str], dict]:
     """Compute ``items`` (kind, id, function) in ``workers`` processes.
 
@@ -110,46 +138,78 @@ def run_parallel(
     left to the caller. ``note`` receives what is running, ``done`` each record as it
     arrives (to save it at once). When ``should_stop`` returns True, no new task starts,
     the running ones finish and are delivered, then ``KeyboardInterrupt`` is raised.
+    ``timeline`` (a list) receives one dict per task: its label and the seconds from the
+    start of the pool at which it was handed out and at which its result came back.
     """
+    import time
+
+    t0 = time.perf_counter()
     by_module: dict[str, list[tuple[str, str]]] = {}
     for kind, ident, fn in items:
         by_module.setdefault(fn.__module__, []).append((kind, ident))
     inner = dataclasses.replace(settings, workers=1)  # no process pools inside workers
-    pieces = []  # (cost, module, memo name, key)
-    waiting: dict[str, int] = {}  # module -> pieces still to come
+    # every task: [cost, order, label, fn, args, meta, deps]; deps are the memo entries
+    # (module, memo name, key) it waits for, computed as pieces by other tasks
+    tasks: list[list] = []
+    seen_pieces: set = set()
     for name, its in by_module.items():
         mod = importlib.import_module(name)
         prefetch = getattr(mod, "prefetch", None)
         names = {id(m): n for n, m in _memos(mod).items()}
-        for memo, key, cost in prefetch(settings, [i for _, i in its]) if prefetch else ():
-            full = memo.key(*key)
-            if full not in memo.cache:
-                pieces.append((cost, name, names[id(memo)], full))
-        waiting[name] = sum(1 for p in pieces if p[1] == name)
+        short = name.rsplit(".", 1)[-1]
+
+        def wanted(ids, mod=mod, prefetch=prefetch, names=names):
+            out = []
+            for memo, key, cost in prefetch(settings, ids) if prefetch else ():
+                out.append((names[id(memo)], memo.key(*key), cost, memo))
+            return out
+
+        for memo_name, full, cost, memo in wanted([i for _, i in its]):
+            if full not in memo.cache and (name, memo_name, full) not in seen_pieces:
+                seen_pieces.add((name, memo_name, full))
+                tasks.append([cost, len(tasks), f"{short} {memo_name}{full}", _piece,
+                              (name, memo_name, full), ("piece", name, memo_name, full),
+                              set()])  # fmt: skip
+        for group in _groups(name, mod, its):
+            entries = wanted([i for _, i in group])
+            deps = {(name, n, k) for n, k, _, m in entries if k not in m.cache}
+            label = f"{short} {group[0][1]}" if len(group) == 1 else f"{short} {len(group)} items"
+            cost = sum(ITEM_COST_OF.get(i, ITEM_COST.get(name, 1.0)) for _, i in group)
+            tasks.append([cost, len(tasks), label, _items, (name, group, inner),
+                          ("items", name, [(n, k) for n, k, _, _ in entries]), deps])  # fmt: skip
+    # rank of a task: its cost plus the largest rank of the tasks waiting for it, so a
+    # cheap piece that the costliest items wait for goes before costlier loose work
+    rank = {id(t): t[0] for t in tasks}
+    for t in tasks:
+        if t[5][0] == "piece":
+            key = t[5][1:]
+            after = [u[0] for u in tasks if key in u[6]]
+            rank[id(t)] = t[0] + max(after, default=0.0)
     records: dict[tuple[str, str], dict] = {}
-    queue: list = []  # tasks not yet handed to the pool: (label, fn, args, meta)
+    done_pieces: set = set()
     pending: dict = {}
 
-    def add_items(module: str) -> None:
-        its = by_module[module]
-        mod = importlib.import_module(module)
-        seeds = {n: dict(m.cache) for n, m in _memos(mod).items() if m.cache}
-        # one task per item (each saved as soon as it is done), except where the items
-        # share caches that are not memos, or the memo entries are large (ch. 7 curves)
-        n = 1 if module in ONE_GROUP else min(workers, len(its)) if module in CHUNKED else len(its)
-        for i in range(n):
-            chunk = its[i::n]
-            short = module.rsplit(".", 1)[-1]
-            label = f"{short} {chunk[0][1]}" if len(chunk) == 1 else f"{short} {len(chunk)} items"
-            queue.append((label, _items, (module, chunk, inner, seeds), ("items", module)))
+    def next_task():
+        """The ready task (all its pieces done) of highest rank: longest first keeps the
+        end of the run from waiting on one long task; None if none is ready."""
+        ready = [t for t in tasks if t[6] <= done_pieces]
+        if not ready:
+            return None
+        best = max(ready, key=lambda t: (rank[id(t)], -t[1]))
+        tasks.remove(best)
+        return best
 
-    # chapters without pieces first (they take long), then the pieces, longest first
-    for name in sorted(by_module, key=lambda m: -ITEM_COST.get(m, 1.0) * len(by_module[m])):
-        if waiting[name] == 0:
-            add_items(name)
-    for _cost, name, memo_name, key in sorted(pieces, key=lambda p: -p[0]):
-        label = f"{name.rsplit('.', 1)[-1]} {memo_name}{key}"
-        queue.append((label, _piece, (name, memo_name, key), ("piece", name, memo_name, key)))
+    def submit(task) -> None:
+        _, _, label, fn, args, meta, _ = task
+        if meta[0] == "items":  # the memo entries the items read, from this process
+            mod = importlib.import_module(meta[1])
+            seeds: dict = {}
+            for memo_name, key in meta[2]:
+                memo = getattr(mod, memo_name)
+                if key in memo.cache:
+                    seeds.setdefault(memo_name, {})[key] = memo.cache[key]
+            args = (*args, seeds)
+        pending[pool.submit(fn, *args)] = (label, meta, time.perf_counter() - t0)
 
     # the workers start on demand and read these when they start; the parent has loaded
     # its libraries already, so it keeps its own settings
@@ -161,22 +221,27 @@ def run_parallel(
     )
     stopping = False
     try:
-        while queue or pending:
+        while tasks or pending:
             if should_stop is not None and should_stop():
                 stopping = True
             # keep exactly one task per worker in the pool: a stop then waits only for
-            # the running ones, and items of a chapter join the queue as it unblocks
-            while queue and len(pending) < workers and not stopping:
-                label, fn, args, meta = queue.pop(0)
-                pending[pool.submit(fn, *args)] = (label, meta)
+            # the running ones, and items join as the pieces they read arrive
+            while len(pending) < workers and not stopping:
+                task = next_task()
+                if task is None:
+                    break
+                submit(task)
             if not pending:
                 break
             if note:
-                note(f"{len(pending)} of {len(pending) + len(queue)} tasks in "
+                note(f"{len(pending)} of {len(pending) + len(tasks)} tasks in "
                      f"{workers} processes: " + "; ".join(v[0] for v in pending.values()))  # fmt: skip
             finished, _ = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
             for fut in finished:
-                label, meta = pending.pop(fut)
+                label, meta, started = pending.pop(fut)
+                if timeline is not None:
+                    end = time.perf_counter() - t0
+                    timeline.append({"task": label, "start_s": started, "end_s": end})
                 try:
                     result = fut.result()
                 except Exception:  # noqa: BLE001 - the caller recomputes and records it
@@ -190,9 +255,9 @@ def run_parallel(
                 _, module, memo_name, key = meta
                 if result is not None:
                     getattr(importlib.import_module(module), memo_name).put(key, result)
-                waiting[module] -= 1
-                if waiting[module] == 0:
-                    add_items(module)
+                # a failed piece is computed again by the items that read it (and fails
+                # there with its reason recorded)
+                done_pieces.add((module, memo_name, key))
         if stopping:
             raise KeyboardInterrupt
     except BaseException:

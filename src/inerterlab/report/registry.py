@@ -47,6 +47,10 @@ class TableResult:
     settings : dict
         Every setting used (horizon, input shape, inertia law, ...), written into the
         CSV header.
+    units : dict
+        Unit of a column whose name does not carry it (shown in the report's column
+        headers and the CSV header); columns not listed get the unit their name implies
+        (:func:`inerterlab.report.build.column_unit`).
     """
 
     table_id: str
@@ -56,17 +60,35 @@ class TableResult:
     claim_holds: bool | None = None
     reason: str = ""
     settings: dict = field(default_factory=dict)
+    units: dict = field(default_factory=dict)
 
 
 @dataclass(kw_only=True)
 class FigureResult:
-    """One thesis figure regenerated: a matplotlib figure and the data behind it."""
+    """One thesis figure regenerated: a matplotlib figure and the data behind it.
+
+    Attributes
+    ----------
+    caption : str
+        What the figure shows, with the numbers read from ``data`` (never a statement
+        the data do not support).
+    statement : str
+        The thesis's statement the figure bears on, in our words ("" for a figure of
+        ours that the thesis does not have).
+    verdict : str
+        One line computed from the data: what they show against ``statement``.
+    holds : bool or None
+        Whether the data support ``statement`` (None where there is nothing to judge).
+    """
 
     figure_id: str
     title: str
     figure: Any
     data: Any  # pandas.DataFrame
     caption: str = ""
+    statement: str = ""
+    verdict: str = ""
+    holds: bool | None = None
 
 
 TableFn = Callable[[ReproduceSettings], TableResult]
