@@ -45,7 +45,7 @@ from .cache import (
 )
 from .registry import FigureResult, ReproduceSettings, TableResult
 
-CHAPTERS = ("ch3", "ch4_6", "studies", "ch5", "ch7")
+CHAPTERS = ("ch3", "ch4_6", "studies", "ch5", "ch7", "layouts")
 
 
 def _missing_chapter(name: str, error: str) -> Callable:
