@@ -101,6 +101,17 @@ def command_lines(draw, d: Path):
         args += ["--quick"] + (
             [] if any(p.name == "tables" for p in chosen) else ["--tables", "4.1"]
         )
+    # studies whose defaults run for minutes: a small one unless the draw set the size
+    small = {
+        "network truth": {"layout": "series", "variant": "ideal", "input_": "drop",
+                          "horizon": "1"},
+        "vehicle monte-carlo": {"roads": "2", "length": "100"},
+    }.get(name, {})  # fmt: skip
+    names = {p.name for p in chosen}
+    for pname, value in small.items():
+        if pname not in names:
+            opt = next(p for p in options if p.name == pname)
+            args += [opt.opts[0], value]
     return args
 
 
