@@ -12,7 +12,8 @@ velocity, static stiffness fixed) is simulated in the time domain by the model c
     an ideal inerter of b / (1 - X), the inertance an adaptive flywheel of changing
     ratio X reaches when saturated (adaptivity against simply a larger inerter);
 ``afw x=X law=L``
-    the adaptive-flywheel inerter (nylon flywheel, changing ratio X, force law L) whose
+    the adaptive-flywheel inerter (nylon flywheel, changing ratio X, force law L:
+    ``thesis``, ``momentum`` or ``slider-dynamics``) whose
     transmission ratio gives a rest inertance r^2 I_min = b;
 ``hydraulic``, ``rectifier``
     the inertance b behind the identified series stiffness, in parallel with the
@@ -90,7 +91,7 @@ FLUID = {
 #: metrics of a truth point
 TRUTH_METRICS = ("rms_body_acc_wk", "vdv", "rms_tyre_grip", "rms_deflection")
 RATIOS = (0.05, 0.15, 0.285, 0.45, 0.55)
-LAWS = ("thesis", "momentum")
+LAWS = ("thesis", "momentum", "slider-dynamics")
 THESIS_PARALLEL = {"c": 5000.0, "b": 206.3}  # thesis car (4.16) with the cfw inertance
 
 _VARIANT_RE = re.compile(
@@ -480,7 +481,7 @@ def truth_figure(res: TruthResult):
                 if not names:
                     continue
                 xs = [float(str(v).split("x=")[1].split()[0]) for v in names]
-                style = "-" if law == "thesis" else "--"
+                style = {"thesis": "-", "momentum": "--"}.get(law, ":")
                 kw = {"color": line.get_color()} if line is not None else {}
                 (line,) = ax.plot(xs, gi.sel(variant=names).values, style, marker="o", ms=3,
                                   label=f"{inp} afw {law}", **kw)  # fmt: skip
