@@ -132,8 +132,12 @@ class ElementBase:
         return None
 
     def row(self) -> np.ndarray:
-        """Primitive: the kernel row of :data:`NPAR` floats."""
-        raise NotImplementedError
+        """Primitive: the kernel row of :data:`NPAR` floats. A composite element has
+        none: the system builder replaces it by its :meth:`expansion` first."""
+        raise TypeError(
+            f"{self.description} ({self.prefix}) is a composite element: it has no kernel "
+            "row; place it in a network, where it is expanded into primitives"
+        )
 
     @property
     def internal_states(self) -> tuple[str, ...]:

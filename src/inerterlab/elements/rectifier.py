@@ -12,9 +12,8 @@ from dataclasses import dataclass
 
 from ..devices.models import RectifierDevice
 from ..flywheels import FLYWHEEL_PRESETS
-from ..transmissions import FORCE_LAWS
-from ._base import ElementBase, Param
-from .hydraulic import series_device_expansion
+from ._base import Param
+from .hydraulic import HydraulicElement
 
 __all__ = ["RectifierElement"]
 
@@ -22,30 +21,21 @@ _D = RectifierDevice()
 
 
 @dataclass(frozen=True, kw_only=True)
-class RectifierElement(ElementBase):
-    """Rectifier device: the parameters of :class:`HydraulicElement` with (5.14) values."""
+class RectifierElement(HydraulicElement):
+    """Rectifier device: the parameters of :class:`HydraulicElement` with (5.14) values
+    (a flywheel is required)."""
 
     stiffness: float = _D.stiffness
     damping: float = _D.damping
     friction: float = _D.friction
     friction_velocity: float = _D.friction_velocity
     flywheel: str = _D.flywheel.name
-    changing_ratio: float | None = None
     ratio: float = _D.transmission.ratio
     law: str = _D.law
 
     prefix = "rect"
     description = "rectifier device"
-    PARAMETERS = (
-        Param("stiffness", "N/m"),
-        Param("damping", "N s/m", low_open=False),
-        Param("friction", "N", low_open=False),
-        Param("friction_velocity", "m/s"),
-        Param("flywheel", choices=FLYWHEEL_PRESETS),
-        Param("changing_ratio", "", 0.0, 1.0, optional=True),
-        Param("ratio", "rad/m"),
-        Param("law", choices=FORCE_LAWS),
+    PARAMETERS = tuple(
+        Param("flywheel", choices=FLYWHEEL_PRESETS) if p.name == "flywheel" else p
+        for p in HydraulicElement.PARAMETERS
     )
-
-    def expansion(self):
-        return series_device_expansion(self)
