@@ -52,6 +52,7 @@ ITEM_COST_OF = {
     "Fig. 6.T": 6.0,
     "Laws": 4.5,
     "Fig. 3.3/3.8": 1.5,
+    "Layouts": 12.0,  # measured 4-6 s, as long as two brute-force curves
 }
 #: chapters whose items share caches that are not memos: computed in one task
 ONE_GROUP = {"inerterlab.report.studies"}
