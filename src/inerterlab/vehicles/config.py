@@ -50,7 +50,7 @@ import tomllib
 from pathlib import Path
 
 from ..errors import DataFileError, ParameterError
-from .parameters import Corner, FullCar, HalfCar, Seat, Strut, Tyre
+from .parameters import Corner, FullCar, HalfCar, NetworkStrut, Seat, Strut, Tyre
 
 __all__ = [
     "load_vehicle",
@@ -256,6 +256,32 @@ def _adaptive(table, where: str, fail):
         fail(where, name, f"{getattr(e, 'value', '')!r}: expected {getattr(e, 'valid', e)}")
 
 
+_ELEMENT_DIMENSION = {"spring": "stiffness", "damper": "damping", "inerter": "inertance"}
+
+
+def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
+    """Element values {name: SI value} of ``network = "..."`` in table ``[axle]``: each
+    element's value under its own name, with the unit of its kind."""
+    from ..networks import NetworkError, parse_network
+
+    if not isinstance(network, str):
+        fail(axle, "network", f"{network!r}: expected a network text such as 'k | (c - b)'")
+    try:
+        net = parse_network(network)
+        net.require_linear()
+    except NetworkError as e:
+        fail(axle, "network", str(e))
+    out = {}
+    for name, kind in zip(net.names, net.kinds, strict=True):
+        if name not in values:
+            fail(axle, name, f"missing: the value of {kind} {name!r} of network {net.text!r}")
+        try:
+            out[name] = parse_quantity(values[name], keys[_ELEMENT_DIMENSION[kind]])
+        except ParameterError as e:
+            fail(axle, name, f"{values[name]!r}: expected {e.valid}")
+    return out
+
+
 def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
     """Vehicle parameters from TOML text (``source`` names it in errors)."""
     try:
@@ -304,22 +330,40 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
             keys.pop("anti_roll")
         values = dict(data[axle])
         adaptive_table = values.pop("adaptive", None)
+        network = values.pop("network", None)
+        elements = {}
+        if network is not None:
+            elements = _network_values(network, values, axle, keys, fail)
+            for k in ("stiffness", "damping", "inertance"):
+                if k in values:
+                    fail(axle, k, f"not with network = {network!r}: give each element's "
+                         "value under its own name")  # fmt: skip
+            if adaptive_table is not None:
+                fail(axle, "adaptive", "not with a network (an adaptive inerter is a Strut's)")
+            values = {k: v for k, v in values.items() if k not in elements}
         q = quantities(axle, values, keys)
         adaptive = None
         if adaptive_table is not None:
             adaptive = _adaptive(adaptive_table, f"{axle}.adaptive", fail)
-        for k in ("unsprung_mass", "stiffness", "damping", "tyre_stiffness"):
+        required = ("unsprung_mass", "tyre_stiffness")
+        if network is None:
+            required += ("stiffness", "damping")
+        for k in required:
             if k not in q:
                 fail(axle, k, "missing")
         try:
-            corners[axle] = Corner(
-                unsprung_mass=q["unsprung_mass"],
-                strut=Strut(
+            if network is not None:
+                strut = NetworkStrut(network, elements)
+            else:
+                strut = Strut(
                     stiffness=q["stiffness"],
                     damping=q["damping"],
                     inertance=q.get("inertance", 0.0),
                     adaptive=adaptive,
-                ),
+                )
+            corners[axle] = Corner(
+                unsprung_mass=q["unsprung_mass"],
+                strut=strut,
                 tyre=Tyre(stiffness=q["tyre_stiffness"], damping=q.get("tyre_damping", 0.0)),
             )
         except ParameterError as e:

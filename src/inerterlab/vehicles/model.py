@@ -58,6 +58,9 @@ class _Rate:
     def internal_states(self) -> int:
         return 0
 
+    def static_stiffness(self) -> float:
+        return float(self.stiffness)
+
 
 @dataclass(frozen=True)
 class Connection:
@@ -119,16 +122,27 @@ class LinearVehicle:
         return "half" if isinstance(self.parameters, HalfCar) else "full"
 
     # -- matrices ------------------------------------------------------------------------
-    def matrices(self):
-        """(M, C, K, Kr, Cr): M q'' + C q' + K q = Kr r + Cr r'."""
+    def matrices(self, internal: bool = False):
+        """(M, C, K, Kr, Cr): M q'' + C q' + K q = Kr r + Cr r'.
+
+        A network strut with internal states contributes only the polynomial part of
+        its dynamic stiffness here; that is the whole model only with ``internal=True``
+        and the states of :meth:`internal_realisation` (used by :meth:`state_space`).
+        Without it such a strut is refused, naming it.
+        """
         n, m = len(self.dofs), len(self.inputs)
         M = self.mass.copy()
         C, K = np.zeros((n, n)), np.zeros((n, n))
         Kr, Cr = np.zeros((n, m)), np.zeros((n, m))
         for con in self.connections:
-            if con.law.internal_states():
+            if con.law.internal_states() and not internal:
                 raise ParameterError(
-                    con.name, con.law, "a force law without internal states for the state space"
+                    con.name,
+                    getattr(con.law, "network", con.law),
+                    "a strut without internal states here (mass, damping and stiffness "
+                    "matrices alone); a network with internal nodes works in the state "
+                    "space, the frequency response, the spectral method and the linear "
+                    "and nonlinear time simulations",
                 )
             b, c, k = con.law.mck()
             if b and np.any(con.v):
@@ -140,23 +154,49 @@ class LinearVehicle:
             Cr += c * np.outer(con.u, con.v)
         return M, C, K, Kr, Cr
 
-    def state_space(self):
-        """x = (q, q'): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.
+    def internal_realisation(self):
+        """The internal states of every network strut, stacked: z' = Az z + Zq q - Zr r
+        and generalised force -Fz z on q. Returns (Az, Zq, Zr, Fz) (nz = 0: empty)."""
+        n, m = len(self.dofs), len(self.inputs)
+        blocks = []
+        for con in self.connections:
+            if con.law.internal_states():
+                blocks.append((con, *con.law.realisation()))
+        nz = sum(b[1].shape[0] for b in blocks)
+        Az, Zq, Zr, Fz = np.zeros((nz, nz)), np.zeros((nz, n)), np.zeros((nz, m)), np.zeros((n, nz))
+        i = 0
+        for con, A, B, Cc in blocks:
+            k = A.shape[0]
+            Az[i : i + k, i : i + k] = A
+            Zq[i : i + k] = np.outer(B, con.u)
+            Zr[i : i + k] = np.outer(B, con.v)
+            Fz[:, i : i + k] = np.outer(con.u, Cc)
+            i += k
+        return Az, Zq, Zr, Fz
 
-        Returns (A, Br, Bd, Cy, Dr, Dd) with Cy, Dr, Dd dicts keyed by output name.
+    def state_space(self):
+        """x = (q, q', z): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.
+
+        z are the internal states of network struts (none for struts of springs,
+        dampers and inerters in parallel). Returns (A, Br, Bd, Cy, Dr, Dd) with Cy, Dr,
+        Dd dicts keyed by output name.
         """
-        M, C, K, Kr, Cr = self.matrices()
-        n = len(self.dofs)
+        M, C, K, Kr, Cr = self.matrices(internal=True)
+        Az, Zq, Zr, Fz = self.internal_realisation()
+        n, nz = len(self.dofs), Az.shape[0]
         Minv = np.linalg.inv(M)
-        A = np.zeros((2 * n, 2 * n))
-        A[:n, n:] = np.eye(n)
-        A[n:, :n] = -Minv @ K
-        A[n:, n:] = -Minv @ C
-        Br = np.vstack([np.zeros_like(Kr), Minv @ Kr])
-        Bd = np.vstack([np.zeros_like(Cr), Minv @ Cr])
+        A = np.zeros((2 * n + nz, 2 * n + nz))
+        A[:n, n : 2 * n] = np.eye(n)
+        A[n : 2 * n, :n] = -Minv @ K
+        A[n : 2 * n, n : 2 * n] = -Minv @ C
+        A[n : 2 * n, 2 * n :] = -Minv @ Fz
+        A[2 * n :, :n] = Zq
+        A[2 * n :, 2 * n :] = Az
+        Br = np.vstack([np.zeros_like(Kr), Minv @ Kr, -Zr])
+        Bd = np.vstack([np.zeros_like(Cr), Minv @ Cr, np.zeros_like(Zr)])
         Cy, Dr, Dd = {}, {}, {}
         for name, o in self.outputs.items():
-            Cy[name] = np.concatenate([o.P - o.G @ Minv @ K, o.V - o.G @ Minv @ C])
+            Cy[name] = np.concatenate([o.P - o.G @ Minv @ K, o.V - o.G @ Minv @ C, -o.G @ Minv @ Fz])
             Dr[name] = o.R + o.G @ Minv @ Kr
             Dd[name] = o.S + o.G @ Minv @ Cr
         return A, Br, Bd, Cy, Dr, Dd
@@ -187,13 +227,25 @@ class LinearVehicle:
 
     # -- statics and modes ---------------------------------------------------------------
     def static_tyre_loads(self) -> dict:
-        """Static contact force of each wheel station [N], from K q0 = weights."""
-        _, _, K, _, _ = self.matrices()
-        q0 = np.linalg.solve(K, self.gravity_force)
+        """Static contact force of each wheel station [N], from K0 q0 = weights, K0
+        assembled from each law's static stiffness Z(0)."""
+        n = len(self.dofs)
+        K0 = np.zeros((n, n))
+        for con in self.connections:
+            K0 += con.law.static_stiffness() * np.outer(con.u, con.u)
+        try:
+            if np.linalg.cond(K0) > 1e12:
+                raise np.linalg.LinAlgError
+            q0 = np.linalg.solve(K0, self.gravity_force)
+        except np.linalg.LinAlgError:
+            raise ParameterError(
+                "struts", "no static stiffness", "a suspension that carries the car at rest "
+                "(a network whose springs all sit in series with a damper has Z(0) = 0)"
+            ) from None
         out = {}
         for con in self.connections:
             if con.name.endswith("_tyre"):
-                b, c, k = con.law.mck()
+                k = con.law.static_stiffness()
                 out[con.name[: -len("_tyre")]] = float(-k * con.u @ q0)
         return out
 

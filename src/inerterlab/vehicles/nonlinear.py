@@ -62,7 +62,8 @@ def _tables(
     friction: float = 0.0,
     friction_velocity: float = 1e-3,
 ):
-    M, _, _, _, _ = vehicle.matrices()
+    M, _, _, _, _ = vehicle.matrices(internal=True)
+    Az, Zq, Zr, Fz = vehicle.internal_realisation()
     static = vehicle.static_tyre_loads()
     U = np.array([c.u for c in vehicle.connections])
     V = np.array([c.v for c in vehicle.connections])
@@ -77,6 +78,13 @@ def _tables(
         k[j] = kk
         c_ext[j] = c_cmp[j] = c
         if con.name.endswith("_strut"):
+            if (rebound != 1.0 or compression != 1.0) and hasattr(con.law, "network"):
+                raise ParameterError(
+                    "rebound/compression",
+                    (rebound, compression),
+                    f"1 with the network strut {con.name} ({con.law.network}): an "
+                    "asymmetric damper needs a Strut, whose damper is one element",
+                )
             c_ext[j], c_cmp[j] = rebound * c, compression * c
             fric[j] = friction
         if con.name.endswith("_tyre"):
@@ -94,7 +102,7 @@ def _tables(
     rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, 16))
     me0 = np.array(me0, dtype=float)
     return (np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-            afw, rows, me0, np.ascontiguousarray(M))  # fmt: skip
+            afw, rows, me0, np.ascontiguousarray(M), Az, Zq, Zr, Fz)  # fmt: skip
 
 
 @njit(cache=True)
@@ -151,11 +159,25 @@ def _solve_spd(A, b, L, out):
 
 @njit(cache=True)
 def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-           afw, rows, me0, M0, Mw, Lw, gen, f, out):  # fmt: skip
+           afw, rows, me0, M0, Az, Zq, Zr, Fz, Mw, Lw, gen, f, out):  # fmt: skip
     n = Minv.shape[0]
-    _forces(x[:n], x[n:], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, f, gen)
+    _forces(x[:n], x[n : 2 * n], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
+            f, gen)  # fmt: skip
     for i in range(n):
         out[i] = x[n + i]
+    # internal states of network struts: z' = Az z + Zq q - Zr r, force -Fz z on q
+    nz = Az.shape[0]
+    for a in range(nz):
+        t = 0.0
+        for b in range(nz):
+            t += Az[a, b] * x[2 * n + b]
+        for b in range(n):
+            t += Zq[a, b] * x[b]
+        for b in range(rr.size):
+            t -= Zr[a, b] * rr[b]
+        out[2 * n + a] = t
+        for i in range(n):
+            gen[i] -= Fz[i, a] * x[2 * n + a]
     if afw.size == 0:
         for a in range(n):
             t = 0.0
@@ -182,20 +204,21 @@ def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv
 
 @njit(cache=True)
 def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-         afw, rows, me0, M0):  # fmt: skip
+         afw, rows, me0, M0, Az, Zq, Zr, Fz):  # fmt: skip
     n = Minv.shape[0]
     nt = r.shape[0]
-    xs = np.empty((nt, 2 * n))
+    nx = x0.size
+    xs = np.empty((nt, nx))
     fs = np.empty((nt, U.shape[0]))
     acc = np.empty((nt, n))
     x = x0.copy()
     h = dt / sub
     f = np.empty(U.shape[0])
-    k1 = np.empty(2 * n)
-    k2 = np.empty(2 * n)
-    k3 = np.empty(2 * n)
-    k4 = np.empty(2 * n)
-    xt = np.empty(2 * n)
+    k1 = np.empty(nx)
+    k2 = np.empty(nx)
+    k3 = np.empty(nx)
+    k4 = np.empty(nx)
+    xt = np.empty(nx)
     Mw = np.empty((n, n))
     Lw = np.zeros((n, n))
     gen = np.empty(n)
@@ -214,6 +237,10 @@ def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric,
         rows,
         me0,
         M0,
+        Az,
+        Zq,
+        Zr,
+        Fz,
         Mw,
         Lw,
         gen,
@@ -227,23 +254,23 @@ def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric,
         xs[it] = x
         _deriv(x, r[it], slope, *args, k1)
         fs[it] = f
-        acc[it] = k1[n:]
+        acc[it] = k1[n : 2 * n]
         if it + 1 == nt:
             break
         for s in range(sub):
             r0 = r[it] + slope * (s * h)
             if s > 0:
                 _deriv(x, r0, slope, *args, k1)
-            for i in range(2 * n):
+            for i in range(nx):
                 xt[i] = x[i] + 0.5 * h * k1[i]
             _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k2)
-            for i in range(2 * n):
+            for i in range(nx):
                 xt[i] = x[i] + 0.5 * h * k2[i]
             _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k3)
-            for i in range(2 * n):
+            for i in range(nx):
                 xt[i] = x[i] + h * k3[i]
             _deriv(xt, r0 + h * slope, slope, *args, k4)
-            for i in range(2 * n):
+            for i in range(nx):
                 x[i] = x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     return xs, fs, acc
 
@@ -282,7 +309,7 @@ def simulate_nonlinear(
     if friction > 0.0:
         # below v_f the friction is a damper of rate F_f / v_f: RK4 is stable for
         # h c / m < 2.78; the lightest mass of the model sets the limit
-        M = vehicle.matrices()[0]
+        M = vehicle.matrices(internal=True)[0]
         m_min = float(np.min(np.diag(M)[np.diag(M) > 0]))
         h_max = 2.0 * m_min * v_f / friction
         if dt / substeps > h_max:
@@ -297,7 +324,7 @@ def simulate_nonlinear(
     x0 = -np.linalg.solve(A, Br @ r[0])
     xs, fs, qdd = _run(x0, r, dt, substeps, *tables)
     n = len(vehicle.dofs)
-    q, qd = xs[:, :n], xs[:, n:]
+    q, qd = xs[:, :n], xs[:, n : 2 * n]
     rdot = np.vstack([np.diff(r, axis=0) / dt, (r[-1:] - r[-2:-1]) / dt])
     outputs = {}
     for name, o in vehicle.outputs.items():

@@ -13,9 +13,11 @@ from __future__ import annotations
 from dataclasses import dataclass, replace
 from typing import Any
 
+import numpy as np
+
 from ..errors import ParameterError, check_finite, check_nonnegative, check_positive
 
-__all__ = ["Strut", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
+__all__ = ["Strut", "NetworkStrut", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
 
 GRAVITY = 9.81  # [m/s^2]
 
@@ -87,6 +89,10 @@ class Strut:
         """Extra states the law needs in a state space (0: purely polynomial)."""
         return 0
 
+    def static_stiffness(self) -> float:
+        """k [N/m]."""
+        return float(self.stiffness)
+
     def scaled(self, factor: float) -> Strut:
         """The same law with every coefficient times ``factor`` (struts in parallel)."""
         if self.adaptive is not None:
@@ -108,6 +114,123 @@ class Strut:
             inertance=self.inertance * factor,
             adaptive=adaptive,
         )
+
+
+@dataclass(frozen=True)
+class NetworkStrut:
+    """Suspension law of one corner given as a linear two-terminal network.
+
+    ``network`` is a network text of springs ``k``, dampers ``c`` and inerters ``b``
+    (:mod:`inerterlab.networks`, e.g. ``"k | (c - b)"``) and ``values`` its element
+    values by name (N/m, N s/m, kg). The force pushing body and wheel apart is
+    -Z(s) x, x the strut's extension and Z(s) = s Y(s) its dynamic stiffness, Y the
+    network's admittance.
+
+    For the state space Z is split exactly (polynomial division) into a polynomial
+    part b s^2 + c s + k, which joins the mass, damping and stiffness matrices as a
+    :class:`Strut` would, and a strictly proper rest R(s) = N(s)/D(s) whose poles are
+    the network's internal modes (the motion of its massless internal nodes). R is
+    realised as ``internal_states()`` extra states z' = A z + B x with force C z
+    (controllable canonical form, :meth:`realisation`). Z has no pole at s = 0 for
+    any passive network, so the static stiffness Z(0) is finite; it may be zero (a
+    damper in series with the only spring), which a static solve reports.
+
+    Examples
+    --------
+    >>> law = NetworkStrut("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0})
+    >>> law.internal_states(), round(law.static_stiffness())
+    (1, 28000)
+    """
+
+    network: str
+    values: Any
+
+    def __post_init__(self) -> None:
+        from ..networks import NetworkError, parse_network
+
+        try:
+            net = parse_network(self.network)
+            net.require_linear()
+            vec = net.parameter_vector(dict(self.values))
+        except NetworkError as e:
+            raise ParameterError("network", self.network, str(e)) from None
+        object.__setattr__(self, "network", net.text)
+        object.__setattr__(self, "values", tuple(zip(net.names, map(float, vec), strict=True)))
+
+    @property
+    def parameters(self) -> dict:
+        """Element values by name."""
+        return dict(self.values)
+
+    @property
+    def adaptive(self):
+        """A network strut has no adaptive-flywheel inerter (None)."""
+        return None
+
+    def dynamic_stiffness(self, s):
+        """Z(s) = s Y(s) [N/m], Y evaluated on the network tree (no polynomials)."""
+        from ..networks import admittance_at
+
+        s = np.asarray(s, dtype=complex)
+        return s * admittance_at(self.network, self.parameters, s)
+
+    def _split(self):
+        """(b, c, k, rest numerator, rest denominator): Z = b s^2 + c s + k + N/D,
+        highest power first, D monic, deg N < deg D."""
+        from ..networks import admittance
+
+        num, den = admittance(self.network, self.parameters)
+        zn = np.append(num, 0.0)  # s * num
+        zd = den.copy()
+        while zn.size > 1 and zd.size > 1 and zn[-1] == 0.0 and zd[-1] == 0.0:
+            zn, zd = zn[:-1], zd[:-1]  # common factors s
+        lead = zd[0]
+        zn, zd = zn / lead, zd / lead
+        if zn.size < zd.size:
+            q, r = np.zeros(1), zn
+        else:
+            q, r = np.polydiv(zn, zd)
+        q = np.concatenate([np.zeros(max(0, 3 - q.size)), q])
+        if q.size > 3 or np.any(q[:-3]):
+            raise ParameterError("network", self.network, "a dynamic stiffness of degree <= 2")
+        r = np.atleast_1d(r)
+        r = np.concatenate([np.zeros(max(0, zd.size - 1 - r.size)), r])[-(zd.size - 1) :]
+        if zd.size == 1:
+            r = np.zeros(0)
+        return float(q[-3]), float(q[-2]), float(q[-1]), r, zd
+
+    def mck(self) -> tuple[float, float, float]:
+        """(b [kg], c [N s/m], k [N/m]) of the polynomial part of Z(s) (k may be < 0
+        when the internal states carry part of the static stiffness)."""
+        b, c, k, _, _ = self._split()
+        return (b, c, k)
+
+    def internal_states(self) -> int:
+        """Number of internal states of the state-space realisation."""
+        return int(self._split()[4].size - 1)
+
+    def realisation(self):
+        """(A, B, C) of the rest R(s) = C (sI - A)^-1 B: z' = A z + B x, force C z."""
+        _, _, _, r, d = self._split()
+        n = d.size - 1
+        A = np.zeros((n, n))
+        if n:
+            A[:-1, 1:] = np.eye(n - 1)
+            A[-1, :] = -d[1:][::-1]
+        B = np.zeros(n)
+        if n:
+            B[-1] = 1.0
+        C = r[::-1].copy() if n else np.zeros(0)
+        return A, B, C
+
+    def static_stiffness(self) -> float:
+        """Z(0) [N/m]."""
+        b, c, k, r, d = self._split()
+        return k + (float(r[-1] / d[-1]) if d.size > 1 else 0.0)
+
+    def scaled(self, factor: float) -> NetworkStrut:
+        """The same network with every element value times ``factor`` (Y scales so)."""
+        return NetworkStrut(self.network, {n: v * factor for n, v in self.values})
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -139,6 +262,10 @@ class Tyre:
     def internal_states(self) -> int:
         return 0
 
+    def static_stiffness(self) -> float:
+        """k_t [N/m]."""
+        return float(self.stiffness)
+
     def scaled(self, factor: float) -> Tyre:
         return Tyre(stiffness=self.stiffness * factor, damping=self.damping * factor)
 
@@ -157,8 +284,8 @@ class Corner:
 
     def __post_init__(self) -> None:
         check_positive("unsprung_mass", self.unsprung_mass, "kg")
-        if not isinstance(self.strut, Strut):
-            raise ParameterError("strut", self.strut, "a Strut")
+        if not isinstance(self.strut, Strut | NetworkStrut):
+            raise ParameterError("strut", self.strut, "a Strut or a NetworkStrut")
         if not isinstance(self.tyre, Tyre):
             raise ParameterError("tyre", self.tyre, "a Tyre")
 

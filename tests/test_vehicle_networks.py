@@ -1,0 +1,239 @@
+"""Network struts in the half and full car: any linear network at each corner.
+
+Checks are cross-method: the state-space realisation of each network (polynomial part
+in M, C, K plus internal states) against the network's admittance evaluated on its tree
+(frequency response), the decoupled half car against the model core's quarter car built
+by the node formulation, the spectral RMS against the Lyapunov H2, and the compiled
+RK4 against the exact discretisation of the linear model.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from inerterlab.errors import DataFileError, ParameterError
+from inerterlab.vehicles import (
+    Corner,
+    FullCar,
+    HalfCar,
+    NetworkStrut,
+    Strut,
+    Tyre,
+    build,
+    example_vehicle_path,
+    loads_vehicle,
+)
+from inerterlab.vehicles.nonlinear import simulate_nonlinear
+from inerterlab.vehicles.roads import generate_tracks, road_spectrum
+from inerterlab.vehicles.spectral import output_psd, road_inputs, simulate, white_velocity_h2
+
+NETWORKS = [  # (text, values): each with internal nodes (internal states >= 1)
+    ("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0}),
+    ("k | (b - (k1 | c))", {"k": 28e3, "k1": 9e3, "c": 2500.0, "b": 120.0}),
+    ("k | (c - (b | k2))", {"k": 28e3, "c": 2400.0, "b": 90.0, "k2": 15e3}),
+    ("(k | c) - k2", {"k": 30e3, "c": 2200.0, "k2": 300e3}),
+    ("k | c | (b - k2)", {"k": 26e3, "c": 1800.0, "b": 60.0, "k2": 40e3}),
+    ("k | ((c - b) | (c2 - k2))", {"k": 27e3, "c": 2000.0, "b": 80.0, "c2": 900.0, "k2": 20e3}),
+]
+
+
+def _tyre():
+    return Tyre(stiffness=200e3, damping=80.0)
+
+
+def _full(front, rear=None):
+    rear = rear or Strut(stiffness=25e3, damping=2000.0)
+    return FullCar(
+        sprung_mass=1200.0,
+        pitch_inertia=1800.0,
+        roll_inertia=450.0,
+        cg_to_front=1.15,
+        cg_to_rear=1.45,
+        front_track=1.52,
+        rear_track=1.50,
+        front=Corner(unsprung_mass=40.0, strut=front, tyre=_tyre()),
+        rear=Corner(unsprung_mass=38.0, strut=rear, tyre=_tyre()),
+        front_anti_roll=12e3,
+        rear_anti_roll=4e3,
+    )
+
+
+def _ss_frf(car, f, name):
+    A, Br, Bd, Cy, Dr, Dd = car.state_space()
+    out = []
+    for s in 2j * math.pi * np.asarray(f):
+        x = np.linalg.solve(s * np.eye(A.shape[0]) - A, Br + s * Bd)
+        out.append(Cy[name] @ x + Dr[name] + s * Dd[name])
+    return np.array(out)
+
+
+@pytest.mark.parametrize("text,values", NETWORKS)
+def test_realisation_equals_the_admittance_on_the_tree(text, values):
+    law = NetworkStrut(text, values)
+    assert law.internal_states() >= 1
+    s = 2j * math.pi * np.geomspace(0.05, 200.0, 25)
+    b, c, k = law.mck()
+    A, B, C = law.realisation()
+    rest = np.array([C @ np.linalg.solve(si * np.eye(A.shape[0]) - A, B) for si in s])
+    np.testing.assert_allclose(b * s**2 + c * s + k + rest, law.dynamic_stiffness(s), rtol=1e-10)
+    assert law.static_stiffness() == pytest.approx(law.dynamic_stiffness(1e-9j).real, rel=1e-6)
+    car = build(_full(law))
+    f = np.array([0.3, 1.1, 3.0, 9.5, 14.0, 40.0])
+    frf = car.frequency_response(f)  # dynamic stiffness on the tree, no state space
+    for name in ("bounce_acc", "pitch_acc", "roll_acc", "front_left_deflection",
+                 "front_right_tyre_load", "rear_left_deflection"):  # fmt: skip
+        ref = frf[name]
+        np.testing.assert_allclose(_ss_frf(car, f, name), ref, rtol=1e-9, atol=1e-12 * abs(ref).max())
+    assert np.linalg.eigvals(car.state_space()[0]).real.max() < 0
+
+
+def test_parallel_network_equals_the_strut_exactly():
+    net = NetworkStrut("k | c | b", {"k": 28e3, "c": 2200.0, "b": 60.0})
+    strut = Strut(stiffness=28e3, damping=2200.0, inertance=60.0)
+    a, b = build(_full(net)), build(_full(strut))
+    assert net.internal_states() == 0 and net.mck() == pytest.approx(strut.mck(), rel=1e-15)
+    ha, hb = white_velocity_h2(a), white_velocity_h2(b)
+    for key, v in hb.items():
+        assert (ha[key] is None) == (v is None)
+        if v is not None:
+            assert ha[key] == pytest.approx(v, rel=1e-12), key
+    assert a.static_tyre_loads() == pytest.approx(b.static_tyre_loads(), rel=1e-12)
+
+
+@pytest.mark.parametrize("text,values", NETWORKS[:4])
+def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
+    """I_y = m a b decouples the axles; each must equal the model core's quarter car
+    with the same network, built independently by the node formulation."""
+    from inerterlab.systems import quarter_car
+
+    m, a, b = 1200.0, 1.2, 1.4
+    law = NetworkStrut(text, values)
+    tyre = Tyre(stiffness=2.4e5, damping=200.0)
+    corner = Corner(unsprung_mass=45.0, strut=law, tyre=tyre)
+    half = build(HalfCar(sprung_mass=m, pitch_inertia=m * a * b, cg_to_front=a, cg_to_rear=b,
+                         front=corner, rear=corner))  # fmt: skip
+    f = np.geomspace(0.2, 40.0, 30)
+    s = 2j * math.pi * f
+    H = half.frequency_response(f)
+    body = {"front": H["bounce_acc"] - a * H["pitch_acc"], "rear": H["bounce_acc"] + b * H["pitch_acc"]}
+    for j, (axle, share) in enumerate((("front", b), ("rear", a))):
+        qc = quarter_car(text, values, car={"sprung_mass": m * share / (a + b),
+                                            "unsprung_mass": 45.0, "tyre_stiffness": 2.4e5,
+                                            "tyre_damping": 200.0})  # fmt: skip
+        # the core's transfers are per road velocity: times s for per road height
+        np.testing.assert_allclose(body[axle][:, j], s * qc.transfer(2 * math.pi * f, "body.a"),
+                                   rtol=1e-8)  # fmt: skip
+        defl = s * (qc.transfer(2 * math.pi * f, "body.x") - qc.transfer(2 * math.pi * f, "wheel.x"))
+        np.testing.assert_allclose(H[f"{axle}_deflection"][:, j], defl, rtol=1e-8)
+
+
+def _h2_by_spectrum(vehicle, outputs):
+    f = np.geomspace(1e-4, 1e5, 40001)
+    m = len(vehicle.inputs)
+    fac = np.zeros((f.size, m, m), complex)
+    for i in range(m):
+        fac[:, i, i] = math.sqrt(2.0) / (2 * math.pi * f)
+    psd = output_psd(vehicle, f, fac, outputs)
+    return {k: math.sqrt(np.trapezoid(p * f, np.log(f)) + p[-1] * f[-1] + p[0] * f[0])
+            for k, p in psd.items()}  # fmt: skip
+
+
+def test_spectral_rms_equals_lyapunov_h2_with_networks():
+    corner = Corner(unsprung_mass=80.0, strut=NetworkStrut(*NETWORKS[1]),
+                    tyre=Tyre(stiffness=4e5, damping=0.0))  # fmt: skip
+    car = build(HalfCar(sprung_mass=1200, pitch_inertia=1800, cg_to_front=1.2,
+                        cg_to_rear=1.4, front=corner, rear=corner))  # fmt: skip
+    h2 = white_velocity_h2(car)
+    finite = [k for k, v in h2.items() if v is not None]
+    assert "bounce_acc" in finite
+    spec = _h2_by_spectrum(car, finite)
+    for k in finite:
+        assert spec[k] == pytest.approx(h2[k], rel=2e-5), k
+
+
+def test_full_car_equals_half_car_with_networks():
+    from inerterlab.vehicles.spectral import spectral_response
+
+    car = _full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[2]))
+    road = road_spectrum("C", coherence="identical")
+    rf = spectral_response(build(car), road, 20.0)
+    rh = spectral_response(build(car.half_car()), road, 20.0)
+    assert rf.rms["bounce_acc"] == pytest.approx(rh.rms["bounce_acc"], rel=1e-9)
+    assert rf.rms["front_left_deflection"] == pytest.approx(rh.rms["front_deflection"], rel=1e-9)
+    assert rf.static_load["rear_right"] == pytest.approx(0.5 * rh.static_load["rear"], rel=1e-9)
+
+
+def test_compiled_rk4_agrees_with_the_exact_linear_simulation():
+    car = build(_full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[1])))
+    speed, dt = 20.0, 1e-3
+    x, zl, zr = generate_tracks(road_spectrum("B"), length=120.0, step=speed * dt, seed=3)
+    r = road_inputs(car, x, zl, zr, speed, dt)[:3001]
+    exact = simulate(car, r, dt)
+    rk = simulate_nonlinear(car, r, dt, tyre_lift_off=False).outputs
+    for name in ("bounce_acc", "front_left_deflection", "rear_right_deflection", "pitch_acc"):
+        err = np.abs(rk[name] - exact[name]).max() / np.abs(exact[name]).max()
+        assert err < 2e-4, (name, err)
+
+
+def test_static_loads_use_the_static_stiffness():
+    # k | (c - b) carries the car on k alone: the same static loads as the plain strut
+    a = build(_full(NetworkStrut("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0})))
+    b = build(_full(Strut(stiffness=28e3, damping=2200.0)))
+    assert a.static_tyre_loads() == pytest.approx(b.static_tyre_loads(), rel=1e-9)
+    # a spring in series with a damper carries nothing at rest: a clear error
+    maxwell = NetworkStrut("k - c", {"k": 28e3, "c": 2200.0})
+    with pytest.raises(ParameterError, match="carries the car at rest"):
+        build(_full(maxwell, maxwell)).static_tyre_loads()
+
+
+def test_state_space_only_analyses_refuse_a_network_by_name():
+    car = build(_full(NetworkStrut(*NETWORKS[0])))
+    with pytest.raises(ParameterError, match="front_left_strut"):
+        car.natural_frequencies()
+    with pytest.raises(ParameterError, match="asymmetric damper needs a Strut"):
+        r = np.zeros((10, 4))
+        simulate_nonlinear(car, r, 1e-3, rebound=1.5)
+
+
+def test_bad_network_values_name_the_parameter():
+    with pytest.raises(ParameterError, match="missing parameter"):
+        NetworkStrut("k | (c - b)", {"k": 1.0, "c": 1.0})
+    with pytest.raises(ParameterError, match="nonlinear element"):
+        NetworkStrut("k | afw", {"k": 1.0})
+    with pytest.raises(ParameterError, match="> 0"):
+        NetworkStrut("k | c", {"k": 1.0, "c": -3.0})
+
+
+def _toml(front_strut: str) -> str:
+    text = example_vehicle_path().read_text()
+    old = 'stiffness = "28 kN/m"         # wheel rate\ndamping = "2200 N s/m"\ninertance = "0 kg"'
+    assert old in text
+    return text.replace(old, front_strut, 1)
+
+
+def test_vehicle_file_takes_a_network_per_axle():
+    car = loads_vehicle(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    law = car.front.strut
+    assert isinstance(law, NetworkStrut) and law.network == "k | (c - b)"
+    assert law.parameters == {"k": 28e3, "c": 2200.0, "b": 150.0}
+    assert isinstance(car.rear.strut, Strut)
+    assert build(car).state_space()[0].shape == (18, 18)  # 16 + one state per front wheel
+
+
+@pytest.mark.parametrize(
+    "strut,match",
+    [
+        ('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2200 N s/m"', r"\[front\] b: missing"),
+        ('network = "k | c"\nk = "28 kN/m"\nc = "2200 kg"', r"\[front\] c:"),
+        ('network = "k | c"\nk = "28 kN/m"\nc = "2200 N s/m"\ndamping = "1 N s/m"',
+         r"\[front\] damping: not with network"),
+        ('network = "k | (c -"\nk = "28 kN/m"', r"\[front\] network:"),
+    ],
+)
+def test_vehicle_file_network_errors_name_key_and_line(strut, match):
+    with pytest.raises(DataFileError, match=match) as e:
+        loads_vehicle(_toml(strut), source="car.toml")
+    assert "car.toml" in str(e.value)
