@@ -237,3 +237,51 @@ def test_vehicle_file_network_errors_name_key_and_line(strut, match):
     with pytest.raises(DataFileError, match=match) as e:
         loads_vehicle(_toml(strut), source="car.toml")
     assert "car.toml" in str(e.value)
+
+
+def test_damped_modes_match_the_undamped_ones_as_damping_vanishes():
+    light = Strut(stiffness=28e3, damping=1e-6)
+    car = build(
+        FullCar(
+            sprung_mass=1200.0, pitch_inertia=1800.0, roll_inertia=450.0, cg_to_front=1.15,
+            cg_to_rear=1.45, front_track=1.52, rear_track=1.50,
+            front=Corner(unsprung_mass=40.0, strut=light, tyre=Tyre(stiffness=2e5)),
+            rear=Corner(unsprung_mass=38.0, strut=Strut(stiffness=25e3, damping=1e-6),
+                        tyre=Tyre(stiffness=2e5)),
+        )
+    )  # fmt: skip
+    fn, zeta = car.damped_modes()
+    np.testing.assert_allclose(fn, car.natural_frequencies(rigid_tyres=False), rtol=1e-9)
+    assert np.all(zeta < 1e-5)
+
+
+def test_strut_only_analyses_refuse_network_struts_by_name(tmp_path):
+    from inerterlab.vehicles.design import vehicle_with
+    from inerterlab.vehicles.stochastic import statistical_linearisation
+
+    path = tmp_path / "car.toml"
+    path.write_text(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    with pytest.raises(ParameterError, match="the front strut is the network 'k | \\(c - b\\)'"):
+        statistical_linearisation(vehicle=str(path), rebound=1.5)
+    with pytest.raises(ParameterError, match="front_damping"):
+        vehicle_with(loads_vehicle(path.read_text()), front_damping=3000.0)
+
+
+def test_cli_modes_and_spectral_take_a_network_file(tmp_path):
+    import json
+    import subprocess
+    import sys
+
+    path = tmp_path / "car.toml"
+    path.write_text(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    run = [sys.executable, "-m", "inerterlab", "vehicle"]
+    out = subprocess.run(run + ["modes", "--vehicle", str(path), "--json"],
+                         capture_output=True, text=True, check=True)  # fmt: skip
+    data = json.loads(out.stdout)
+    assert data["rigid_tyres_hz"] is None and len(data["damped_modes"]) == 8
+    fn, _ = build(loads_vehicle(path.read_text())).damped_modes()
+    assert [m["frequency_hz"] for m in data["damped_modes"]] == pytest.approx(fn.tolist())
+    out = subprocess.run(run + ["spectral", "--vehicle", str(path), "--json"],
+                         capture_output=True, text=True, check=True)  # fmt: skip
+    rms = json.loads(out.stdout)
+    assert "bounce_acc" in json.dumps(rms)

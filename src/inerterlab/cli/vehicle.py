@@ -116,18 +116,39 @@ def modes_command(
     model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
-    """Undamped natural frequencies [Hz]: body (and seat) on rigid tyres, and the whole car.
+    """Natural frequencies [Hz]: undamped (body and seat on rigid tyres, whole car) and
+    the damped modes with their damping ratios.
+
+    A car with network struts that have internal nodes has no undamped mass-spring
+    model: only its damped modes (eigenvalues of the state space) are printed.
 
     Example: inerterlab vehicle modes --vehicle car.toml
     """
     params, veh = _load(vehicle, model)
-    rigid = veh.natural_frequencies(rigid_tyres=True).tolist()
-    whole = veh.natural_frequencies(rigid_tyres=False).tolist()
+    plain = not any(c.law.internal_states() for c in veh.connections)
+    rigid = veh.natural_frequencies(rigid_tyres=True).tolist() if plain else None
+    whole = veh.natural_frequencies(rigid_tyres=False).tolist() if plain else None
+    fn, zeta = veh.damped_modes()
     if json_out:
-        emit_json({"model": veh.kind, "rigid_tyres_hz": rigid, "whole_car_hz": whole})
+        emit_json(
+            {
+                "model": veh.kind,
+                "rigid_tyres_hz": rigid,
+                "whole_car_hz": whole,
+                "damped_modes": [
+                    {"frequency_hz": float(f), "damping_ratio": float(z)}
+                    for f, z in zip(fn, zeta, strict=True)
+                ],
+            }
+        )
         return
-    print("rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
-    print("whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
+    if plain:
+        print("rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
+        print("whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
+    print(
+        "damped modes [Hz (damping ratio)]: "
+        + ", ".join(f"{f:.3f} ({z:.2f})" for f, z in zip(fn, zeta, strict=True))
+    )
 
 
 def road_command(

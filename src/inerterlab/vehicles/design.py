@@ -45,6 +45,17 @@ SPECTRAL_METRICS = (
 )
 
 
+def _require_strut(strut, axle: str, field: str) -> None:
+    network = getattr(strut, "network", None)
+    if network is not None:
+        raise ParameterError(
+            f"{axle}_{field}",
+            network,
+            f"a {axle} strut of spring, damper and inerter in parallel; the {axle} axle "
+            f"has the network strut {network!r}, whose element values the vehicle file sets",
+        )
+
+
 def vehicle_with(params, **overrides):
     """Vehicle parameters with per-axle strut values replaced (``front_damping=...``)."""
     changes: dict[str, dict] = {"front": {}, "rear": {}}
@@ -57,6 +68,7 @@ def vehicle_with(params, **overrides):
     for axle, ch in changes.items():
         if ch:
             c = getattr(params, axle)
+            _require_strut(c.strut, axle, next(iter(ch)))
             out[axle] = dataclasses.replace(c, strut=dataclasses.replace(c.strut, **ch))
     return dataclasses.replace(params, **out) if out else params
 
@@ -179,6 +191,7 @@ def optimize_vehicle(
     lo, hi = [], []
     for n in names:
         axle, field = n.split("_", 1)
+        _require_strut(getattr(base, axle).strut, axle, field)
         v0 = float(getattr(getattr(base, axle).strut, field))
         b = (bounds or {}).get(n)
         if b is None:

@@ -464,6 +464,16 @@ def statistical_linearisation(
     road = road_spectrum(road_class)
     corners = _HALF_CORNERS  # axles; the left corner stands for a full car's axle
     probe = {a: (a if vehicle_lin.kind == "half" else f"{a}_left") for a in corners}
+    for c in corners:
+        network = getattr(getattr(params, c).strut, "network", None)
+        if network is not None:
+            raise ParameterError(
+                "vehicle",
+                vehicle or "(example)",
+                f"struts of spring, damper and inerter for the statistical linearisation; "
+                f"the {c} strut is the network {network!r}, linear already: its spectral "
+                "response is exact (inerterlab vehicle spectral)",
+            )
     base = {c: getattr(params, c).strut.damping for c in corners}
     adaptive = {c: getattr(params, c).strut.adaptive for c in corners}
     inertance = {c: (0.0 if a is None else a.inertance_min) for c, a in adaptive.items()}
