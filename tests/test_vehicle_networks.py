@@ -285,3 +285,27 @@ def test_cli_modes_and_spectral_take_a_network_file(tmp_path):
                          capture_output=True, text=True, check=True)  # fmt: skip
     rms = json.loads(out.stdout)
     assert "bounce_acc" in json.dumps(rms)
+
+
+def test_design_over_network_elements(tmp_path):
+    from inerterlab.vehicles.design import design_parameters, optimize_vehicle, spectral_metrics, vehicle_with
+
+    path = tmp_path / "car.toml"
+    path.write_text(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    base = loads_vehicle(path.read_text())
+    names = design_parameters(base)
+    assert names["front_b"] == "kg" and names["front_c"] == "N s/m" and "rear_damping" in names
+    assert "front_damping" not in names
+    moved = vehicle_with(base, front_b=80.0, rear_damping=1500.0)
+    assert moved.front.strut.parameters["b"] == 80.0 and moved.rear.strut.damping == 1500.0
+    with pytest.raises(ParameterError, match="front_k, front_c, front_b"):
+        vehicle_with(base, front_x=1.0)
+    res = optimize_vehicle(vehicle=str(path), parameters=("front_b",),
+                           bounds={"front_b": (10.0, 1000.0)}, starts=2)  # fmt: skip
+    # no point of a log grid over the bounds is better than the optimum
+    grid = np.geomspace(10.0, 1000.0, 41)
+    best = min(spectral_metrics(vehicle_with(base, front_b=b))["comfort_wk"] for b in grid)
+    assert res.value <= best * (1 + 1e-9)
+    assert res.value == pytest.approx(
+        spectral_metrics(vehicle_with(base, front_b=res.parameters["front_b"]))["comfort_wk"]
+    )

@@ -503,8 +503,9 @@ def optimize_command(
     parameter: Annotated[
         list[str] | None,
         typer.Option(
-            help="Design parameter (repeatable): front_/rear_ + stiffness, damping, inertance; "
-            "default front_damping and rear_damping."
+            help="Design parameter (repeatable): front_/rear_ + stiffness, damping, inertance, "
+            "or + an element name of a network strut (front_b); default front_damping and "
+            "rear_damping."
         ),
     ] = None,
     bound: Annotated[
@@ -555,9 +556,11 @@ def optimize_command(
     if json_out:
         emit_json(res.to_dict())
         return
-    from ..vehicles.design import DESIGN_PARAMETERS
+    from ..vehicles.config import example_vehicle_path, load_vehicle
+    from ..vehicles.design import design_parameters
 
-    rows = [(f"{k} [{DESIGN_PARAMETERS[k]}]", f"{v:.5g}") for k, v in res.parameters.items()]
+    units = design_parameters(load_vehicle(vehicle or example_vehicle_path()))
+    rows = [(f"{k} [{units[k]}]", f"{v:.5g}") for k, v in res.parameters.items()]
     rows += [
         (f"{k} (file's value)", f"{res.metrics[k]:.5g} ({res.baseline[k]:.5g})")
         for k in res.metrics

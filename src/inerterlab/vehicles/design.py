@@ -26,7 +26,7 @@ from ..errors import ParameterError
 from ..studies.points import ParameterSpec, PointFunction, register_point_function
 
 __all__ = ["DESIGN_PARAMETERS", "SPECTRAL_METRICS", "vehicle_with", "spectral_metrics",
-           "optimize_vehicle", "VehicleOptimum"]  # fmt: skip
+           "optimize_vehicle", "VehicleOptimum", "design_parameters"]  # fmt: skip
 
 _FIELDS = {"stiffness": "N/m", "damping": "N s/m", "inertance": "kg"}
 #: design parameters: name -> unit
@@ -56,20 +56,72 @@ def _require_strut(strut, axle: str, field: str) -> None:
         )
 
 
+def _network_element(params, name: str):
+    """(axle, element, unit) if ``name`` is ``<axle>_<element>`` of a network strut of
+    ``params``, else None."""
+    from ..networks import UNITS
+
+    axle, _, elem = name.partition("_")
+    if axle not in ("front", "rear") or not hasattr(params, axle):
+        return None
+    strut = getattr(params, axle).strut
+    values = getattr(strut, "parameters", None)
+    if values is None or elem not in values:
+        return None
+    kind = dict(zip([n for n, _ in strut.values], _kinds(strut), strict=True))
+    return axle, elem, UNITS[kind[elem]]
+
+
+def _kinds(strut) -> list:
+    from ..networks import parse_network
+
+    return list(parse_network(strut.network).kinds)
+
+
+def design_parameters(params) -> dict:
+    """Every design parameter of the vehicle ``params``: name -> unit. A Strut axle has
+    ``<axle>_stiffness``, ``_damping``, ``_inertance``; a network axle one per element
+    (``front_k``, ``front_c``, ``front_b`` for ``k | (c - b)``)."""
+    out = {}
+    for axle in ("front", "rear"):
+        strut = getattr(params, axle).strut
+        if getattr(strut, "network", None) is None:
+            out.update({f"{axle}_{f}": u for f, u in _FIELDS.items()})
+        else:
+            from ..networks import UNITS
+
+            for (n, _), kind in zip(strut.values, _kinds(strut), strict=True):
+                out[f"{axle}_{n}"] = UNITS[kind]
+    return out
+
+
 def vehicle_with(params, **overrides):
-    """Vehicle parameters with per-axle strut values replaced (``front_damping=...``)."""
+    """Vehicle parameters with per-axle strut values replaced (``front_damping=...``;
+    for a network strut its elements by name, ``front_b=...``)."""
     changes: dict[str, dict] = {"front": {}, "rear": {}}
+    net_changes: dict[str, dict] = {"front": {}, "rear": {}}
     for k, v in overrides.items():
-        if k not in DESIGN_PARAMETERS:
-            raise ParameterError(k, v, "one of " + ", ".join(DESIGN_PARAMETERS))
-        axle, field = k.split("_", 1)
-        changes[axle][field] = float(v)
+        if k in DESIGN_PARAMETERS:
+            axle, field = k.split("_", 1)
+            changes[axle][field] = float(v)
+        elif _network_element(params, k) is not None:
+            axle, elem, _ = _network_element(params, k)
+            net_changes[axle][elem] = float(v)
+        else:
+            raise ParameterError(k, v, "one of " + ", ".join(design_parameters(params)))
     out = {}
     for axle, ch in changes.items():
         if ch:
             c = getattr(params, axle)
             _require_strut(c.strut, axle, next(iter(ch)))
             out[axle] = dataclasses.replace(c, strut=dataclasses.replace(c.strut, **ch))
+    for axle, ch in net_changes.items():
+        if ch:
+            from .parameters import NetworkStrut
+
+            c = getattr(params, axle)
+            strut = NetworkStrut(c.strut.network, {**c.strut.parameters, **ch})
+            out[axle] = dataclasses.replace(c, strut=strut)
     return dataclasses.replace(params, **out) if out else params
 
 
@@ -177,22 +229,26 @@ def optimize_vehicle(
     names = list(parameters)
     if not names:
         raise ParameterError("parameters", names, "at least one design parameter")
+    base = _load(vehicle)
+    valid = design_parameters(base)
     for n in names:
-        if n not in DESIGN_PARAMETERS:
-            raise ParameterError("parameters", n, "one of " + ", ".join(DESIGN_PARAMETERS))
+        if n not in valid:
+            raise ParameterError("parameters", n, "one of " + ", ".join(valid))
     limits = dict(limits or {})
     for k, v in limits.items():
         if k not in SPECTRAL_METRICS:
             raise ParameterError("limit", k, "one of " + ", ".join(SPECTRAL_METRICS))
         if not (isinstance(v, int | float) and v > 0 and math.isfinite(v)):
             raise ParameterError(f"limit {k}", v, "a positive number")
-    base = _load(vehicle)
     defaults = {"inertance": 500.0, "damping": 1e4, "stiffness": 1e5}
     lo, hi = [], []
     for n in names:
         axle, field = n.split("_", 1)
-        _require_strut(getattr(base, axle).strut, axle, field)
-        v0 = float(getattr(getattr(base, axle).strut, field))
+        strut = getattr(base, axle).strut
+        if getattr(strut, "network", None) is not None:
+            v0 = float(strut.parameters[field])  # elements are > 0
+        else:
+            v0 = float(getattr(strut, field))
         b = (bounds or {}).get(n)
         if b is None:
             b = (0.25 * v0, 4.0 * v0) if v0 > 0 else (0.0, defaults[field])
