@@ -12,8 +12,8 @@ property of a connection:
   (m_e(v) - m_e(0)) u u^T to the mass matrix, m_e the inertance of its law at the
   strut's extension rate v (laws ``thesis`` and ``momentum`` of
   :mod:`inerterlab.elements.adaptive_flywheel`, the same compiled code every system
-  uses); the accelerations then solve the small symmetric positive definite system by
-  Cholesky at every stage. ``thesis`` and ``momentum`` make the force from the
+  uses); the accelerations follow from the rest mass matrix's inverse by the Woodbury
+  identity (a 4 x 4 system for four adaptive corners) at every stage. ``thesis`` and ``momentum`` make the force from the
   inertance alone (no extra velocity-squared term), so the mass matrix carries it all.
 * **Strut friction.** A Coulomb force of size ``friction`` against the strut's
   extension rate, regularised as F_f tanh(delta' / v_f) with ``friction_velocity``
@@ -101,177 +101,183 @@ def _tables(
     afw = np.array(afw, dtype=np.int64)
     rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, 16))
     me0 = np.array(me0, dtype=float)
-    return (np.linalg.inv(M), U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-            afw, rows, me0, np.ascontiguousarray(M), Az, Zq, Zr, Fz)  # fmt: skip
+    Minv = np.linalg.inv(M)
+    Ua = U[afw]
+    W = np.ascontiguousarray(Minv @ Ua.T)
+    S = np.ascontiguousarray(Ua @ Minv @ Ua.T)
+    return (Minv, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload, unilateral, fric, fv,
+            afw, rows, me0, W, S, Az, Zq, Zr, Fz)  # fmt: skip
+
+
+def _csr(U):
+    """(row pointers, column indices, values) of the nonzeros of ``U``, rows in order."""
+    ptr, idx, val = [0], [], []
+    for row in U:
+        nz = np.flatnonzero(row)
+        idx.extend(nz.tolist())
+        val.extend(row[nz].tolist())
+        ptr.append(len(idx))
+    return (np.array(ptr, dtype=np.int64), np.array(idx, dtype=np.int64),
+            np.array(val, dtype=float))  # fmt: skip
 
 
 @njit(cache=True)
-def _forces(q, qd, r, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv, out_f, gen):
-    """Generalised forces into ``gen``; ``out_f`` receives each connection's tension."""
-    n = q.size
-    gen[:] = 0.0
-    for j in range(U.shape[0]):
-        d = 0.0
-        dd = 0.0
-        for i in range(n):
-            d += U[j, i] * q[i]
-            dd += U[j, i] * qd[i]
-        for i in range(r.size):
-            d -= V[j, i] * r[i]
-            dd -= V[j, i] * rd[i]
-        c = c_ext[j] if dd > 0.0 else c_cmp[j]
-        f = k[j] * d + c * dd
-        if fric[j] != 0.0:
-            f += fric[j] * math.tanh(dd / fv[0])
-        if unilateral[j] == 1 and preload[j] - f < 0.0:
-            f = preload[j]  # the contact force F0 - f is held at 0
-        out_f[j] = f
-        for i in range(n):
-            gen[i] -= U[j, i] * f
-    return gen
+def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
+         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz):  # fmt: skip
+    """RK4 over the road samples; returns (states, connection tensions, accelerations)
+    at every sample.
 
-
-@njit(cache=True)
-def _solve_spd(A, b, L, out):
-    """out = A^-1 b for a small symmetric positive definite A (Cholesky; L is work)."""
-    n = A.shape[0]
-    for j in range(n):
-        s = A[j, j]
-        for m in range(j):
-            s -= L[j, m] * L[j, m]
-        L[j, j] = math.sqrt(s)
-        for i in range(j + 1, n):
-            t = A[i, j]
-            for m in range(j):
-                t -= L[i, m] * L[j, m]
-            L[i, j] = t / L[j, j]
-    for i in range(n):
-        t = b[i]
-        for m in range(i):
-            t -= L[i, m] * out[m]
-        out[i] = t / L[i, i]
-    for i in range(n - 1, -1, -1):
-        t = out[i]
-        for m in range(i + 1, n):
-            t -= L[m, i] * out[m]
-        out[i] = t / L[i, i]
-
-
-@njit(cache=True)
-def _deriv(x, rr, rd, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-           afw, rows, me0, M0, Az, Zq, Zr, Fz, Mw, Lw, gen, f, out):  # fmt: skip
-    n = Minv.shape[0]
-    _forces(x[:n], x[n : 2 * n], rr, rd, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-            f, gen)  # fmt: skip
-    for i in range(n):
-        out[i] = x[n + i]
-    # internal states of network struts: z' = Az z + Zq q - Zr r, force -Fz z on q
-    nz = Az.shape[0]
-    for a in range(nz):
-        t = 0.0
-        for b in range(nz):
-            t += Az[a, b] * x[2 * n + b]
-        for b in range(n):
-            t += Zq[a, b] * x[b]
-        for b in range(rr.size):
-            t -= Zr[a, b] * rr[b]
-        out[2 * n + a] = t
-        for i in range(n):
-            gen[i] -= Fz[i, a] * x[2 * n + a]
-    if afw.size == 0:
-        for a in range(n):
-            t = 0.0
-            for b in range(n):
-                t += Minv[a, b] * gen[b]
-            out[n + a] = t
-        return
-    # adaptive inerters: M(q') = M0 + sum_j (m_e,j(v_j) - m_e,j(0)) u_j u_j^T
-    for a in range(n):
-        for b in range(n):
-            Mw[a, b] = M0[a, b]
-    for jj in range(afw.size):
-        j = afw[jj]
-        v = 0.0
-        for i in range(n):
-            v += U[j, i] * x[n + i]
-        me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
-        d = me - me0[jj]
-        for a in range(n):
-            for b in range(n):
-                Mw[a, b] += d * U[j, a] * U[j, b]
-    _solve_spd(Mw, gen, Lw, out[n:])
-
-
-@njit(cache=True)
-def _run(x0, r, dt, sub, Minv, U, V, k, c_ext, c_cmp, preload, unilateral, fric, fv,
-         afw, rows, me0, M0, Az, Zq, Zr, Fz):  # fmt: skip
+    One function with the right-hand side written once inside the stage loop: a call
+    per stage passing some thirty arrays cost three times the arithmetic (measured,
+    docs/decisions.md). Connections are sparse rows (CSR: uptr, uidx, uval of u; vptr,
+    vidx, vval of v). Adaptive inerters change the mass matrix by sum_j d_j u_j u_j^T
+    (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations follow by the Woodbury identity from
+    the rest mass matrix's inverse: a = y - W w, y = M0^-1 g, (I + D S) w = D U y, with
+    W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed).
+    """
     n = Minv.shape[0]
     nt = r.shape[0]
+    m = r.shape[1]
     nx = x0.size
+    nz = Az.shape[0]
     xs = np.empty((nt, nx))
-    fs = np.empty((nt, U.shape[0]))
+    fs = np.empty((nt, k.size))
     acc = np.empty((nt, n))
     x = x0.copy()
     h = dt / sub
-    f = np.empty(U.shape[0])
-    k1 = np.empty(nx)
-    k2 = np.empty(nx)
-    k3 = np.empty(nx)
-    k4 = np.empty(nx)
+    f = np.empty(k.size)
+    K = np.empty((4, nx))
     xt = np.empty(nx)
-    Mw = np.empty((n, n))
-    Lw = np.zeros((n, n))
-    gen = np.empty(n)
-    args = (
-        Minv,
-        U,
-        V,
-        k,
-        c_ext,
-        c_cmp,
-        preload,
-        unilateral,
-        fric,
-        fv,
-        afw,
-        rows,
-        me0,
-        M0,
-        Az,
-        Zq,
-        Zr,
-        Fz,
-        Mw,
-        Lw,
-        gen,
-        f,
-    )
+    na = afw.size
+    Mw = np.empty((max(na, 1), max(na, 1)))
+    gen = np.empty(max(n, na))
+    slope = np.empty(m)
+    rs = np.empty(m)
     for it in range(nt):
-        if it + 1 < nt:
-            slope = (r[it + 1] - r[it]) / dt
-        else:
-            slope = (r[it] - r[it - 1]) / dt
-        xs[it] = x
-        _deriv(x, r[it], slope, *args, k1)
-        fs[it] = f
-        acc[it] = k1[n : 2 * n]
-        if it + 1 == nt:
-            break
+        last = it + 1 == nt
+        for i in range(m):
+            if not last:
+                slope[i] = (r[it + 1, i] - r[it, i]) / dt
+            else:
+                slope[i] = (r[it, i] - r[it - 1, i]) / dt
+        for i in range(nx):
+            xs[it, i] = x[i]
         for s in range(sub):
-            r0 = r[it] + slope * (s * h)
-            if s > 0:
-                _deriv(x, r0, slope, *args, k1)
+            for st in range(4):
+                if last and (s > 0 or st > 0):
+                    break
+                cst = 0.0 if st == 0 else (1.0 if st == 3 else 0.5)
+                for i in range(m):
+                    rs[i] = r[it, i] + slope[i] * (s * h)
+                    if st > 0:
+                        rs[i] = rs[i] + cst * h * slope[i]
+                if st == 0:
+                    for i in range(nx):
+                        xt[i] = x[i]
+                else:
+                    for i in range(nx):
+                        xt[i] = x[i] + cst * h * K[st - 1, i]
+                # ---- right-hand side at (xt, rs, slope) into K[st] ----
+                for i in range(n):
+                    gen[i] = 0.0
+                    K[st, i] = xt[n + i]
+                for j in range(k.size):
+                    d = 0.0
+                    dd = 0.0
+                    for p in range(uptr[j], uptr[j + 1]):
+                        i = uidx[p]
+                        d += uval[p] * xt[i]
+                        dd += uval[p] * xt[n + i]
+                    for p in range(vptr[j], vptr[j + 1]):
+                        i = vidx[p]
+                        d -= vval[p] * rs[i]
+                        dd -= vval[p] * slope[i]
+                    c = c_ext[j] if dd > 0.0 else c_cmp[j]
+                    fj = k[j] * d + c * dd
+                    if fric[j] != 0.0:
+                        fj += fric[j] * math.tanh(dd / fv[0])
+                    if unilateral[j] == 1 and preload[j] - fj < 0.0:
+                        fj = preload[j]
+                    f[j] = fj
+                    for p in range(uptr[j], uptr[j + 1]):
+                        gen[uidx[p]] -= uval[p] * fj
+                for a in range(nz):
+                    t = 0.0
+                    for b in range(nz):
+                        t += Az[a, b] * xt[2 * n + b]
+                    for b in range(n):
+                        t += Zq[a, b] * xt[b]
+                    for b in range(m):
+                        t -= Zr[a, b] * rs[b]
+                    K[st, 2 * n + a] = t
+                    for i in range(n):
+                        gen[i] -= Fz[i, a] * xt[2 * n + a]
+                if afw.size == 0:
+                    for a in range(n):
+                        t = 0.0
+                        for b in range(n):
+                            t += Minv[a, b] * gen[b]
+                        K[st, n + a] = t
+                else:
+                    # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g,
+                    # (I + D S) w = D U y, W = M0^-1 U', S = U M0^-1 U'
+                    for a in range(n):
+                        t = 0.0
+                        for b in range(n):
+                            t += Minv[a, b] * gen[b]
+                        K[st, n + a] = t
+                    for jj in range(na):
+                        j = afw[jj]
+                        v = 0.0
+                        uy = 0.0
+                        for p in range(uptr[j], uptr[j + 1]):
+                            v += uval[p] * xt[n + uidx[p]]
+                            uy += uval[p] * K[st, n + uidx[p]]
+                        me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
+                        dlt = me - me0[jj]
+                        for q in range(na):
+                            Mw[jj, q] = dlt * S[jj, q]
+                        Mw[jj, jj] += 1.0
+                        gen[jj] = dlt * uy
+                    # Gaussian elimination with partial pivoting on the na x na system
+                    for a in range(na):
+                        piv = a
+                        for b in range(a + 1, na):
+                            if abs(Mw[b, a]) > abs(Mw[piv, a]):
+                                piv = b
+                        if piv != a:
+                            for q in range(na):
+                                tmp = Mw[a, q]
+                                Mw[a, q] = Mw[piv, q]
+                                Mw[piv, q] = tmp
+                            tmp = gen[a]
+                            gen[a] = gen[piv]
+                            gen[piv] = tmp
+                        for b in range(a + 1, na):
+                            fct = Mw[b, a] / Mw[a, a]
+                            for q in range(a, na):
+                                Mw[b, q] -= fct * Mw[a, q]
+                            gen[b] -= fct * gen[a]
+                    for a in range(na - 1, -1, -1):
+                        t = gen[a]
+                        for q in range(a + 1, na):
+                            t -= Mw[a, q] * gen[q]
+                        gen[a] = t / Mw[a, a]
+                    for a in range(n):
+                        t = K[st, n + a]
+                        for q in range(na):
+                            t -= W[a, q] * gen[q]
+                        K[st, n + a] = t
+                # ---- end ----
+                if s == 0 and st == 0:
+                    for j in range(k.size):
+                        fs[it, j] = f[j]
+                    for i in range(n):
+                        acc[it, i] = K[0, n + i]
+            if last:
+                break
             for i in range(nx):
-                xt[i] = x[i] + 0.5 * h * k1[i]
-            _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k2)
-            for i in range(nx):
-                xt[i] = x[i] + 0.5 * h * k2[i]
-            _deriv(xt, r0 + 0.5 * h * slope, slope, *args, k3)
-            for i in range(nx):
-                xt[i] = x[i] + h * k3[i]
-            _deriv(xt, r0 + h * slope, slope, *args, k4)
-            for i in range(nx):
-                x[i] = x[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
+                x[i] = x[i] + h / 6.0 * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
     return xs, fs, acc
 
 
@@ -323,22 +329,25 @@ def simulate_nonlinear(
     A, Br, _, _, _, _ = vehicle.state_space()
     x0 = -np.linalg.solve(A, Br @ r[0])
     xs, fs, qdd = _run(x0, r, dt, substeps, *tables)
+    preload = tables[10]
     n = len(vehicle.dofs)
-    q, qd = xs[:, :n], xs[:, n : 2 * n]
     rdot = np.vstack([np.diff(r, axis=0) / dt, (r[-1:] - r[-2:-1]) / dt])
-    outputs = {}
-    for name, o in vehicle.outputs.items():
-        if name.endswith("_tyre_load"):
-            continue
-        outputs[name] = q @ o.P + qd @ o.V + qdd @ o.G + r @ o.R + rdot @ o.S
+    names = [k for k in vehicle.outputs if not k.endswith("_tyre_load")]
+    outs = [vehicle.outputs[k] for k in names]
+    # every output in one product: y = [q q' q'' r r'] [P V G R S]^T
+    coef = np.vstack([np.column_stack([o.P for o in outs]), np.column_stack([o.V for o in outs]),
+                      np.column_stack([o.G for o in outs]), np.column_stack([o.R for o in outs]),
+                      np.column_stack([o.S for o in outs])])  # fmt: skip
+    Y = np.hstack([xs[:, : 2 * n], qdd, r, rdot]) @ coef
+    outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}
     for j, con in enumerate(vehicle.connections):
         if con.name.endswith("_tyre"):
             corner = con.name[: -len("_tyre")]
-            total = tables[6][j] - fs[:, j]
+            total = preload[j] - fs[:, j]
             contact[corner] = total
-            outputs[f"{corner}_tyre_load"] = total - tables[6][j]
-            lift[corner] = float(np.mean(total <= 1e-9 * tables[6][j]))
+            outputs[f"{corner}_tyre_load"] = total - preload[j]
+            lift[corner] = float(np.mean(total <= 1e-9 * preload[j]))
     return NonlinearResult(
         time=dt * np.arange(r.shape[0]),
         outputs=outputs,
