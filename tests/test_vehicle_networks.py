@@ -86,7 +86,9 @@ def test_realisation_equals_the_admittance_on_the_tree(text, values):
     for name in ("bounce_acc", "pitch_acc", "roll_acc", "front_left_deflection",
                  "front_right_tyre_load", "rear_left_deflection"):  # fmt: skip
         ref = frf[name]
-        np.testing.assert_allclose(_ss_frf(car, f, name), ref, rtol=1e-9, atol=1e-12 * abs(ref).max())
+        np.testing.assert_allclose(
+            _ss_frf(car, f, name), ref, rtol=1e-9, atol=1e-12 * abs(ref).max()
+        )
     assert np.linalg.eigvals(car.state_space()[0]).real.max() < 0
 
 
@@ -118,7 +120,10 @@ def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
     f = np.geomspace(0.2, 40.0, 30)
     s = 2j * math.pi * f
     H = half.frequency_response(f)
-    body = {"front": H["bounce_acc"] - a * H["pitch_acc"], "rear": H["bounce_acc"] + b * H["pitch_acc"]}
+    body = {
+        "front": H["bounce_acc"] - a * H["pitch_acc"],
+        "rear": H["bounce_acc"] + b * H["pitch_acc"],
+    }
     for j, (axle, share) in enumerate((("front", b), ("rear", a))):
         qc = quarter_car(text, values, car={"sprung_mass": m * share / (a + b),
                                             "unsprung_mass": 45.0, "tyre_stiffness": 2.4e5,
@@ -126,7 +131,9 @@ def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
         # the core's transfers are per road velocity: times s for per road height
         np.testing.assert_allclose(body[axle][:, j], s * qc.transfer(2 * math.pi * f, "body.a"),
                                    rtol=1e-8)  # fmt: skip
-        defl = s * (qc.transfer(2 * math.pi * f, "body.x") - qc.transfer(2 * math.pi * f, "wheel.x"))
+        defl = s * (
+            qc.transfer(2 * math.pi * f, "body.x") - qc.transfer(2 * math.pi * f, "wheel.x")
+        )
         np.testing.assert_allclose(H[f"{axle}_deflection"][:, j], defl, rtol=1e-8)
 
 
@@ -215,7 +222,9 @@ def _toml(front_strut: str) -> str:
 
 
 def test_vehicle_file_takes_a_network_per_axle():
-    car = loads_vehicle(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    car = loads_vehicle(
+        _toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"')
+    )
     law = car.front.strut
     assert isinstance(law, NetworkStrut) and law.network == "k | (c - b)"
     assert law.parameters == {"k": 28e3, "c": 2200.0, "b": 150.0}
@@ -228,8 +237,10 @@ def test_vehicle_file_takes_a_network_per_axle():
     [
         ('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2200 N s/m"', r"\[front\] b: missing"),
         ('network = "k | c"\nk = "28 kN/m"\nc = "2200 kg"', r"\[front\] c:"),
-        ('network = "k | c"\nk = "28 kN/m"\nc = "2200 N s/m"\ndamping = "1 N s/m"',
-         r"\[front\] damping: not with network"),
+        (
+            'network = "k | c"\nk = "28 kN/m"\nc = "2200 N s/m"\ndamping = "1 N s/m"',
+            r"\[front\] damping: not with network",
+        ),
         ('network = "k | (c -"\nk = "28 kN/m"', r"\[front\] network:"),
     ],
 )
@@ -288,7 +299,12 @@ def test_cli_modes_and_spectral_take_a_network_file(tmp_path):
 
 
 def test_design_over_network_elements(tmp_path):
-    from inerterlab.vehicles.design import design_parameters, optimize_vehicle, spectral_metrics, vehicle_with
+    from inerterlab.vehicles.design import (
+        design_parameters,
+        optimize_vehicle,
+        spectral_metrics,
+        vehicle_with,
+    )
 
     path = tmp_path / "car.toml"
     path.write_text(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))

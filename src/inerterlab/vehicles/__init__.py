@@ -13,8 +13,8 @@ from .model import build as build
 from .parameters import Corner as Corner
 from .parameters import FullCar as FullCar
 from .parameters import HalfCar as HalfCar
-from .parameters import Seat as Seat
 from .parameters import NetworkStrut as NetworkStrut
+from .parameters import Seat as Seat
 from .parameters import Strut as Strut
 from .parameters import Tyre as Tyre
 from .roads import RoadSpectrum as RoadSpectrum

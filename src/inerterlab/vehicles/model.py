@@ -196,7 +196,9 @@ class LinearVehicle:
         Bd = np.vstack([np.zeros_like(Cr), Minv @ Cr, np.zeros_like(Zr)])
         Cy, Dr, Dd = {}, {}, {}
         for name, o in self.outputs.items():
-            Cy[name] = np.concatenate([o.P - o.G @ Minv @ K, o.V - o.G @ Minv @ C, -o.G @ Minv @ Fz])
+            Cy[name] = np.concatenate(
+                [o.P - o.G @ Minv @ K, o.V - o.G @ Minv @ C, -o.G @ Minv @ Fz]
+            )
             Dr[name] = o.R + o.G @ Minv @ Kr
             Dd[name] = o.S + o.G @ Minv @ Cr
         return A, Br, Bd, Cy, Dr, Dd
@@ -239,8 +241,10 @@ class LinearVehicle:
             q0 = np.linalg.solve(K0, self.gravity_force)
         except np.linalg.LinAlgError:
             raise ParameterError(
-                "struts", "no static stiffness", "a suspension that carries the car at rest "
-                "(a network whose springs all sit in series with a damper has Z(0) = 0)"
+                "struts",
+                "no static stiffness",
+                "a suspension that carries the car at rest "
+                "(a network whose springs all sit in series with a damper has Z(0) = 0)",
             ) from None
         out = {}
         for con in self.connections:

@@ -39,6 +39,7 @@ from numba import njit
 
 from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
+from ..systems._kernel import _solve
 from .model import LinearVehicle
 
 __all__ = ["NonlinearResult", "simulate_nonlinear"]
@@ -149,7 +150,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     K = np.empty((4, nx))
     xt = np.empty(nx)
     na = afw.size
-    Mw = np.empty((max(na, 1), max(na, 1)))
+    Mw = np.empty(max(na * na, 1))
     gen = np.empty(max(n, na))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -236,33 +237,10 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                         me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
                         dlt = me - me0[jj]
                         for q in range(na):
-                            Mw[jj, q] = dlt * S[jj, q]
-                        Mw[jj, jj] += 1.0
+                            Mw[jj * na + q] = dlt * S[jj, q]
+                        Mw[jj * na + jj] += 1.0
                         gen[jj] = dlt * uy
-                    # Gaussian elimination with partial pivoting on the na x na system
-                    for a in range(na):
-                        piv = a
-                        for b in range(a + 1, na):
-                            if abs(Mw[b, a]) > abs(Mw[piv, a]):
-                                piv = b
-                        if piv != a:
-                            for q in range(na):
-                                tmp = Mw[a, q]
-                                Mw[a, q] = Mw[piv, q]
-                                Mw[piv, q] = tmp
-                            tmp = gen[a]
-                            gen[a] = gen[piv]
-                            gen[piv] = tmp
-                        for b in range(a + 1, na):
-                            fct = Mw[b, a] / Mw[a, a]
-                            for q in range(a, na):
-                                Mw[b, q] -= fct * Mw[a, q]
-                            gen[b] -= fct * gen[a]
-                    for a in range(na - 1, -1, -1):
-                        t = gen[a]
-                        for q in range(a + 1, na):
-                            t -= Mw[a, q] * gen[q]
-                        gen[a] = t / Mw[a, a]
+                    _solve(Mw, gen, na)  # (I + D S) is nonsingular: d >= 0, S > 0
                     for a in range(n):
                         t = K[st, n + a]
                         for q in range(na):
