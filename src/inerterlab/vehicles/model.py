@@ -228,13 +228,19 @@ class LinearVehicle:
         return out
 
     # -- statics and modes ---------------------------------------------------------------
-    def static_tyre_loads(self) -> dict:
-        """Static contact force of each wheel station [N], from K0 q0 = weights, K0
-        assembled from each law's static stiffness Z(0)."""
+    def static_stiffness_matrix(self) -> np.ndarray:
+        """K0 = sum_j Z_j(0) u_j u_j^T: the stiffness the car rests on (network struts
+        with their static stiffness, not the polynomial part of Z)."""
         n = len(self.dofs)
         K0 = np.zeros((n, n))
         for con in self.connections:
             K0 += con.law.static_stiffness() * np.outer(con.u, con.u)
+        return K0
+
+    def static_tyre_loads(self) -> dict:
+        """Static contact force of each wheel station [N], from K0 q0 = weights, K0
+        assembled from each law's static stiffness Z(0)."""
+        K0 = self.static_stiffness_matrix()
         try:
             if np.linalg.cond(K0) > 1e12:
                 raise np.linalg.LinAlgError

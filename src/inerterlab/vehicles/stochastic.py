@@ -417,9 +417,22 @@ def _adaptive_gain(adaptive, sigma: float) -> float:
 
 def _with_damping(params, damping: dict, inertance: dict | None = None):
     """Vehicle parameters with each axle's strut damping replaced (``front``, ``rear``)
-    and, where ``inertance`` gives one, the adaptive inerter replaced by a constant one."""
+    and, where ``inertance`` gives one, the adaptive inerter replaced by a constant one.
+    A network strut gets ``damping`` as a damper in parallel (its friction's equivalent)."""
 
     def corner(c, name):
+        network = getattr(c.strut, "network", None)
+        if network is not None:
+            if damping[name] <= 0.0:
+                return c
+            from .parameters import NetworkStrut
+
+            values = c.strut.parameters
+            extra = "c_friction"
+            while extra in values:
+                extra += "_"
+            strut = NetworkStrut(f"({network}) | {extra}", {**values, extra: damping[name]})
+            return dataclasses.replace(c, strut=strut)
         strut = dataclasses.replace(c.strut, damping=damping[name])
         if inertance is not None and c.strut.adaptive is not None:
             strut = dataclasses.replace(
@@ -464,17 +477,17 @@ def statistical_linearisation(
     road = road_spectrum(road_class)
     corners = _HALF_CORNERS  # axles; the left corner stands for a full car's axle
     probe = {a: (a if vehicle_lin.kind == "half" else f"{a}_left") for a in corners}
-    for c in corners:
-        network = getattr(getattr(params, c).strut, "network", None)
-        if network is not None:
-            raise ParameterError(
-                "vehicle",
-                vehicle or "(example)",
-                f"struts of spring, damper and inerter for the statistical linearisation; "
-                f"the {c} strut is the network {network!r}, linear already: its spectral "
-                "response is exact (inerterlab vehicle spectral)",
-            )
-    base = {c: getattr(params, c).strut.damping for c in corners}
+    networks = [c for c in corners if getattr(getattr(params, c).strut, "network", None)]
+    if networks and (rebound != 1.0 or compression != 1.0):
+        raise ParameterError(
+            "rebound/compression",
+            (rebound, compression),
+            f"1 with the network strut at {networks[0]} ("
+            f"{getattr(params, networks[0]).strut.network}): an asymmetric damper needs a "
+            "Strut, whose damper is one element",
+        )
+    # a network strut's friction becomes a damper in parallel with the network
+    base = {c: 0.0 if c in networks else getattr(params, c).strut.damping for c in corners}
     adaptive = {c: getattr(params, c).strut.adaptive for c in corners}
     inertance = {c: (0.0 if a is None else a.inertance_min) for c, a in adaptive.items()}
     damping = {c: base[c] * 0.5 * (rebound + compression) for c in corners}
@@ -517,7 +530,7 @@ def statistical_linearisation(
             break
     # mean offset from the rectified part of the asymmetric damper: a constant
     # tension f_j = c (rebound - compression) sigma_v / sqrt(2 pi) in every strut
-    M, C, K, Kr, Cr = veh.matrices()
+    K = veh.static_stiffness_matrix()
     gen = np.zeros(K.shape[0])
     for con in veh.connections:
         if con.name.endswith("_strut"):
