@@ -345,7 +345,9 @@ def test_statistical_linearisation_of_network_struts(tmp_path):
     for k in ("bounce_acc", "front_left_deflection", "rear_right_tyre_load"):
         assert b.spectral.rms[k] == pytest.approx(a.spectral.rms[k], rel=1e-8), k
     series = tmp_path / "series.toml"
-    series.write_text(_toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"'))
+    series.write_text(
+        _toml('network = "k | (c - b)"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"')
+    )
     lin = statistical_linearisation(vehicle=str(series), points=800)
     car = build(loads_vehicle(series.read_text()))
     exact = spectral_response(car, road_spectrum("C"), 20.0, freq=lin.spectral.freq)
