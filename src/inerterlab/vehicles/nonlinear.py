@@ -124,9 +124,9 @@ def _csr(U):
 
 @njit(cache=True)
 def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
-         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz):  # fmt: skip
-    """RK4 over the road samples; returns (states, connection tensions, accelerations)
-    at every sample.
+         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, CY, CA, CR, CS):  # fmt: skip
+    """RK4 over the road samples; returns (states, connection tensions, outputs) at
+    every sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope).
 
     One function with the right-hand side written once inside the stage loop: a call
     per stage passing some thirty arrays cost three times the arithmetic (measured,
@@ -143,7 +143,8 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     nz = Az.shape[0]
     xs = np.empty((nt, nx))
     fs = np.empty((nt, k.size))
-    acc = np.empty((nt, n))
+    no = CY.shape[0]
+    ys = np.empty((nt, no))
     x = x0.copy()
     h = dt / sub
     f = np.empty(k.size)
@@ -250,13 +251,20 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 if s == 0 and st == 0:
                     for j in range(k.size):
                         fs[it, j] = f[j]
-                    for i in range(n):
-                        acc[it, i] = K[0, n + i]
+                    for o in range(no):
+                        t = 0.0
+                        for i in range(nx):
+                            t += CY[o, i] * x[i]
+                        for i in range(n):
+                            t += CA[o, i] * K[0, n + i]
+                        for i in range(m):
+                            t += CR[o, i] * r[it, i] + CS[o, i] * slope[i]
+                        ys[it, o] = t
             if last:
                 break
             for i in range(nx):
                 x[i] = x[i] + h / 6.0 * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
-    return xs, fs, acc
+    return xs, fs, ys
 
 
 def simulate_nonlinear(
@@ -306,17 +314,16 @@ def simulate_nonlinear(
             )
     A, Br, _, _, _, _ = vehicle.state_space()
     x0 = -np.linalg.solve(A, Br @ r[0])
-    xs, fs, qdd = _run(x0, r, dt, substeps, *tables)
-    preload = tables[10]
     n = len(vehicle.dofs)
-    rdot = np.vstack([np.diff(r, axis=0) / dt, (r[-1:] - r[-2:-1]) / dt])
     names = [k for k in vehicle.outputs if not k.endswith("_tyre_load")]
     outs = [vehicle.outputs[k] for k in names]
-    # every output in one product: y = [q q' q'' r r'] [P V G R S]^T
-    coef = np.vstack([np.column_stack([o.P for o in outs]), np.column_stack([o.V for o in outs]),
-                      np.column_stack([o.G for o in outs]), np.column_stack([o.R for o in outs]),
-                      np.column_stack([o.S for o in outs])])  # fmt: skip
-    Y = np.hstack([xs[:, : 2 * n], qdd, r, rdot]) @ coef
+    nz = x0.size - 2 * n
+    CY = np.array([np.concatenate([o.P, o.V, np.zeros(nz)]) for o in outs]).reshape(len(outs), -1)
+    CA = np.array([o.G for o in outs]).reshape(len(outs), n)
+    CR = np.array([o.R for o in outs]).reshape(len(outs), r.shape[1])
+    CS = np.array([o.S for o in outs]).reshape(len(outs), r.shape[1])
+    xs, fs, Y = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
+    preload = tables[10]
     outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}
     for j, con in enumerate(vehicle.connections):
