@@ -352,3 +352,14 @@ def test_statistical_linearisation_of_network_struts(tmp_path):
     car = build(loads_vehicle(series.read_text()))
     exact = spectral_response(car, road_spectrum("C"), 20.0, freq=lin.spectral.freq)
     assert lin.spectral.rms["bounce_acc"] == pytest.approx(exact.rms["bounce_acc"], rel=1e-12)
+
+
+def test_default_design_parameters_are_the_dampers(tmp_path):
+    from inerterlab.vehicles.design import default_parameters
+
+    text = _toml(
+        'network = "k | (c - b) | c2"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nb = "150 kg"\nc2 = "300 N s/m"'
+    )
+    assert default_parameters(loads_vehicle(text)) == ["front_c", "front_c2", "rear_damping"]
+    plain = loads_vehicle(example_vehicle_path().read_text())
+    assert default_parameters(plain) == ["front_damping", "rear_damping"]

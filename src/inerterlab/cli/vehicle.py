@@ -504,8 +504,8 @@ def optimize_command(
         list[str] | None,
         typer.Option(
             help="Design parameter (repeatable): front_/rear_ + stiffness, damping, inertance, "
-            "or + an element name of a network strut (front_b); default front_damping and "
-            "rear_damping."
+            "or + an element name of a network strut (front_b); default the dampers of both "
+            "axles (front_damping, or front_c... of a network)."
         ),
     ] = None,
     bound: Annotated[
@@ -547,7 +547,7 @@ def optimize_command(
     res = optimize_vehicle(
         vehicle="" if vehicle is None else str(vehicle),
         objective=objective,
-        parameters=tuple(parameter or ("front_damping", "rear_damping")),
+        parameters=tuple(parameter) if parameter else None,
         bounds=bounds,
         limits=limits,
         road_class=road_class,

@@ -26,7 +26,7 @@ from ..errors import ParameterError
 from ..studies.points import ParameterSpec, PointFunction, register_point_function
 
 __all__ = ["DESIGN_PARAMETERS", "SPECTRAL_METRICS", "vehicle_with", "spectral_metrics",
-           "optimize_vehicle", "VehicleOptimum", "design_parameters"]  # fmt: skip
+           "optimize_vehicle", "VehicleOptimum", "design_parameters", "default_parameters"]  # fmt: skip
 
 _FIELDS = {"stiffness": "N/m", "damping": "N s/m", "inertance": "kg"}
 #: design parameters: name -> unit
@@ -92,6 +92,20 @@ def design_parameters(params) -> dict:
 
             for (n, _), kind in zip(strut.values, _kinds(strut), strict=True):
                 out[f"{axle}_{n}"] = UNITS[kind]
+    return out
+
+
+def default_parameters(params) -> list:
+    """The dampers of both axles: ``<axle>_damping`` of a Strut, each damper element
+    ``<axle>_c...`` of a network strut."""
+    out = []
+    for axle in ("front", "rear"):
+        strut = getattr(params, axle).strut
+        if getattr(strut, "network", None) is None:
+            out.append(f"{axle}_damping")
+        else:
+            out += [f"{axle}_{n}" for (n, _), kind in zip(strut.values, _kinds(strut),
+                                                          strict=True) if kind == "damper"]  # fmt: skip
     return out
 
 
@@ -207,7 +221,7 @@ def optimize_vehicle(
     *,
     vehicle: str = "",
     objective: str = "comfort_wk",
-    parameters=("front_damping", "rear_damping"),
+    parameters=None,
     bounds: Mapping[str, tuple[float, float]] | None = None,
     limits: Mapping[str, float] | None = None,
     road_class: str = "C",
@@ -217,7 +231,9 @@ def optimize_vehicle(
 ) -> VehicleOptimum:
     """Minimise ``objective`` (one of :data:`SPECTRAL_METRICS`) over ``parameters``.
 
-    ``bounds``: name -> (low, high), default 0.25-4 times the file's value (a zero value
+    ``parameters`` defaults to the dampers of both axles: ``front_damping`` and
+    ``rear_damping`` of a Strut axle, every damper element (``front_c``, ...) of a
+    network axle (:func:`default_parameters`). ``bounds``: name -> (low, high), default 0.25-4 times the file's value (a zero value
     gets 0 to 500 kg / 1e4 N s/m / 1e5 N/m). ``limits``: metric -> upper limit. SLSQP in
     log-scaled coordinates from the ``starts`` best points of a Sobol sample.
     """
@@ -226,10 +242,10 @@ def optimize_vehicle(
 
     if objective not in SPECTRAL_METRICS:
         raise ParameterError("objective", objective, "one of " + ", ".join(SPECTRAL_METRICS))
-    names = list(parameters)
+    base = _load(vehicle)
+    names = list(default_parameters(base) if parameters is None else parameters)
     if not names:
         raise ParameterError("parameters", names, "at least one design parameter")
-    base = _load(vehicle)
     valid = design_parameters(base)
     for n in names:
         if n not in valid:
