@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from inerterlab.errors import ParameterError
-from inerterlab.vehicles import Corner, FullCar, HalfCar, Seat, Strut, Tyre, build
+from inerterlab.vehicles import Corner, FullCar, HalfCar, NetworkStrut, Seat, Strut, Tyre, build
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
 from inerterlab.vehicles.spectral import (
     input_factor,
@@ -224,11 +224,18 @@ def _h2_by_spectrum(vehicle, outputs):
     return out
 
 
-@pytest.mark.parametrize("inertance,tyre_damping", [(60.0, 0.0), (0.0, 200.0)])
-def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping):
+@pytest.mark.parametrize(
+    "inertance,tyre_damping,network",
+    [(60.0, 0.0, None), (0.0, 200.0, None), (0.0, 0.0, "k | (b - (k1 | c))")],
+)
+def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping, network):
+    if network is None:
+        strut = Strut(stiffness=50e3, damping=3000.0, inertance=inertance)
+    else:  # a network strut with internal states (tests/test_vehicle_networks.py)
+        strut = NetworkStrut(network, {"k": 50e3, "k1": 9e3, "c": 2500.0, "b": 120.0})
     corner = Corner(
         unsprung_mass=80.0,
-        strut=Strut(stiffness=50e3, damping=3000.0, inertance=inertance),
+        strut=strut,
         tyre=Tyre(stiffness=4e5, damping=tyre_damping),
     )
     car = HalfCar(

@@ -57,19 +57,13 @@ def _require_strut(strut, axle: str, field: str) -> None:
 
 
 def _network_element(params, name: str):
-    """(axle, element, unit) if ``name`` is ``<axle>_<element>`` of a network strut of
+    """(axle, element) if ``name`` is ``<axle>_<element>`` of a network strut of
     ``params``, else None."""
-    from ..networks import UNITS
-
     axle, _, elem = name.partition("_")
     if axle not in ("front", "rear") or not hasattr(params, axle):
         return None
-    strut = getattr(params, axle).strut
-    values = getattr(strut, "parameters", None)
-    if values is None or elem not in values:
-        return None
-    kind = dict(zip([n for n, _ in strut.values], _kinds(strut), strict=True))
-    return axle, elem, UNITS[kind[elem]]
+    values = getattr(getattr(params, axle).strut, "parameters", None)
+    return (axle, elem) if values is not None and elem in values else None
 
 
 def _kinds(strut) -> list:
@@ -115,11 +109,12 @@ def vehicle_with(params, **overrides):
     changes: dict[str, dict] = {"front": {}, "rear": {}}
     net_changes: dict[str, dict] = {"front": {}, "rear": {}}
     for k, v in overrides.items():
+        element = _network_element(params, k)
         if k in DESIGN_PARAMETERS:
             axle, field = k.split("_", 1)
             changes[axle][field] = float(v)
-        elif _network_element(params, k) is not None:
-            axle, elem, _ = _network_element(params, k)
+        elif element is not None:
+            axle, elem = element
             net_changes[axle][elem] = float(v)
         else:
             raise ParameterError(k, v, "one of " + ", ".join(design_parameters(params)))

@@ -125,8 +125,8 @@ def _csr(U):
 @njit(cache=True)
 def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
          unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, CY, CA, CR, CS):  # fmt: skip
-    """RK4 over the road samples; returns (states, connection tensions, outputs) at
-    every sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope).
+    """RK4 over the road samples; returns (connection tensions, outputs) at every
+    sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope).
 
     One function with the right-hand side written once inside the stage loop: a call
     per stage passing some thirty arrays cost three times the arithmetic (measured,
@@ -141,7 +141,6 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     m = r.shape[1]
     nx = x0.size
     nz = Az.shape[0]
-    xs = np.empty((nt, nx))
     fs = np.empty((nt, k.size))
     no = CY.shape[0]
     ys = np.empty((nt, no))
@@ -162,8 +161,6 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 slope[i] = (r[it + 1, i] - r[it, i]) / dt
             else:
                 slope[i] = (r[it, i] - r[it - 1, i]) / dt
-        for i in range(nx):
-            xs[it, i] = x[i]
         for s in range(sub):
             for st in range(4):
                 if last and (s > 0 or st > 0):
@@ -264,7 +261,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 break
             for i in range(nx):
                 x[i] = x[i] + h / 6.0 * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
-    return xs, fs, ys
+    return fs, ys
 
 
 def simulate_nonlinear(
@@ -322,7 +319,7 @@ def simulate_nonlinear(
     CA = np.array([o.G for o in outs]).reshape(len(outs), n)
     CR = np.array([o.R for o in outs]).reshape(len(outs), r.shape[1])
     CS = np.array([o.S for o in outs]).reshape(len(outs), r.shape[1])
-    xs, fs, Y = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
+    fs, Y = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
     preload = tables[10]
     outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}
