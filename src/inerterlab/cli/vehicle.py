@@ -293,9 +293,10 @@ def simulate_command(
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
     [m/s^2], VDV [m/s^1.75] and crest factor [-]; on a generated road also the
     spectral RMS for comparison. The first 5 s (start-up) are left out. With
-    --lift-off, --rebound or --compression the nonlinear model runs (fourth-order
-    Runge-Kutta, 4 steps per sample) and the fraction of time each tyre is off the
-    road [-] is printed too.
+    --lift-off, --rebound or --compression, or a device at a corner ([front.device] in
+    the vehicle file), the nonlinear model runs (fourth-order Runge-Kutta, 4 steps per
+    sample) and the fraction of time each tyre is off the road [-] is printed too; a
+    device has no spectral comparison.
 
     Example: inerterlab vehicle simulate --vehicle car.toml --road-class C --speed 20
     """
@@ -322,7 +323,8 @@ def simulate_command(
         if x.size > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
-    nonlinear = lift_off or rebound != 1.0 or compression != 1.0
+    devices = any(getattr(c.law, "nonlinear_device", None) for c in veh.connections)
+    nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices
     lift = None
     if nonlinear:
         from ..vehicles.nonlinear import simulate_nonlinear
@@ -348,7 +350,7 @@ def simulate_command(
     if lift is not None:
         out["lift_off_fraction"] = lift
     spec = None
-    if road is not None:
+    if road is not None and not devices:
         spec = spectral_response(veh, road, v).rms
         out["spectral_rms"] = {k: spec[k] for k in rms}
         out[f"{acc}_wk_spectral"] = spec[f"{acc}_wk"]

@@ -256,6 +256,65 @@ def _adaptive(table, where: str, fail):
         fail(where, name, f"{getattr(e, 'value', '')!r}: expected {getattr(e, 'valid', e)}")
 
 
+def _device(table, where: str, fail):
+    """A core element from a ``[front.device]`` table: ``kind`` (an element name of
+    :data:`inerterlab.elements.ELEMENTS`, e.g. ``hyd``, ``rect``, ``screw``, ``fluid``)
+    and its parameters by name, physical ones with units (``"700 kN/m"``), choices as
+    text, dimensionless ones as numbers. Missing parameters take the element's defaults
+    (for the thesis devices: their identified values)."""
+    from ..elements import ELEMENTS
+
+    if not isinstance(table, dict):
+        fail(where.split(".")[0], "device", "a table [.device] with kind and parameters")
+    kind = table.get("kind")
+    if kind not in ELEMENTS:
+        fail(where, "kind", f"{kind!r}: expected one of {', '.join(sorted(ELEMENTS))}")
+    cls = ELEMENTS[kind]
+    params = {p.name: p for p in cls.PARAMETERS}
+    values = {}
+    for key, value in table.items():
+        if key == "kind":
+            continue
+        if key not in params:
+            fail(where, key, "unknown parameter of a " + cls.description + "; expected one of "
+                 + ", ".join(params))  # fmt: skip
+        p = params[key]
+        if p.choices is not None or isinstance(value, str) and not p.unit:
+            values[key] = value
+            continue
+        if not p.unit:
+            if isinstance(value, bool) or not isinstance(value, int | float):
+                fail(where, key, f"{value!r}: expected a number")
+            values[key] = float(value)
+            continue
+        try:
+            factor, dims = parse_unit(p.unit)
+            values[key] = _quantity_in(value, dims, p.unit)
+        except ParameterError as e:
+            fail(where, key, f"{value!r}: expected {e.valid}")
+    try:
+        return cls(**values)
+    except ParameterError as e:
+        fail(where, e.name, f"{e.value!r}: expected {e.valid}")
+    except TypeError:
+        missing = [p.name for p in cls.PARAMETERS if p.name not in values]
+        fail(where, missing[0] if missing else "kind", "missing (required)")
+
+
+def _quantity_in(value, dims, unit: str) -> float:
+    """SI value of ``value`` (text or {value, unit}) whose unit must have ``dims``."""
+    for name, d in DIMENSIONS.items():
+        if tuple(d) == tuple(dims):
+            return parse_quantity(value, name)
+    if isinstance(value, str):
+        m = re.match(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$", value)
+        if m and m.group(2):
+            f, d = parse_unit(m.group(2))
+            if tuple(d) == tuple(dims):
+                return float(m.group(1)) * f
+    raise ParameterError("value", value, f"a value with a unit like {unit!r}")
+
+
 _ELEMENT_DIMENSION = {"spring": "stiffness", "damper": "damping", "inerter": "inertance"}
 
 
@@ -330,6 +389,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
             keys.pop("anti_roll")
         values = dict(data[axle])
         adaptive_table = values.pop("adaptive", None)
+        device_table = values.pop("device", None)
         network = values.pop("network", None)
         elements = {}
         if network is not None:
@@ -340,11 +400,16 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                          "value under its own name")  # fmt: skip
             if adaptive_table is not None:
                 fail(axle, "adaptive", "not with a network (an adaptive inerter is a Strut's)")
+            if device_table is not None:
+                fail(axle, "device", "not with a network (a device is a Strut's)")
             values = {k: v for k, v in values.items() if k not in elements}
         q = quantities(axle, values, keys)
         adaptive = None
         if adaptive_table is not None:
             adaptive = _adaptive(adaptive_table, f"{axle}.adaptive", fail)
+        device = None
+        if device_table is not None:
+            device = _device(device_table, f"{axle}.device", fail)
         required = ("unsprung_mass", "tyre_stiffness")
         if network is None:
             required += ("stiffness", "damping")
@@ -360,6 +425,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                     damping=q["damping"],
                     inertance=q.get("inertance", 0.0),
                     adaptive=adaptive,
+                    device=device,
                 )
             corners[axle] = Corner(
                 unsprung_mass=q["unsprung_mass"],

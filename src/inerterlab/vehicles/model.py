@@ -174,13 +174,30 @@ class LinearVehicle:
             i += k
         return Az, Zq, Zr, Fz
 
-    def state_space(self):
+    def require_linear(self, what: str) -> None:
+        """ParameterError naming the first strut whose device is nonlinear (``what``:
+        the analysis that cannot take it)."""
+        for con in self.connections:
+            dev = getattr(con.law, "nonlinear_device", None)
+            if dev is not None:
+                raise ParameterError(
+                    con.name,
+                    dev.source,
+                    f"a linear strut for {what}: this device has internal nodes or "
+                    "friction, which only the nonlinear time simulation "
+                    "(simulate_nonlinear, vehicle simulate, vehicle monte-carlo) integrates",
+                )
+
+    def state_space(self, devices: bool = False):
         """x = (q, q', z): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.
 
         z are the internal states of network struts (none for struts of springs,
         dampers and inerters in parallel). Returns (A, Br, Bd, Cy, Dr, Dd) with Cy, Dr,
-        Dd dicts keyed by output name.
+        Dd dicts keyed by output name. A strut with a nonlinear device is refused
+        unless ``devices`` (then its rig part is left out: the nonlinear model's use).
         """
+        if not devices:
+            self.require_linear("the state space")
         M, C, K, Kr, Cr = self.matrices(internal=True)
         Az, Zq, Zr, Fz = self.internal_realisation()
         n, nz = len(self.dofs), Az.shape[0]
@@ -209,6 +226,7 @@ class LinearVehicle:
 
         Returns name -> complex array (n_freq, n_inputs).
         """
+        self.require_linear("the frequency response")
         f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
         s = 2j * math.pi * f
         n, m = len(self.dofs), len(self.inputs)
@@ -275,6 +293,7 @@ class LinearVehicle:
         ``rigid_tyres=True``: the wheels are held (the body, and seat, on the struts'
         springs and inerters alone); otherwise the whole undamped system.
         """
+        self.require_linear("natural frequencies")
         M, _, K, _, _ = self.matrices()
         keep = [i for i, d in enumerate(self.dofs) if not (rigid_tyres and d.startswith("wheel_"))]
         from scipy.linalg import eigh

@@ -15,6 +15,10 @@ property of a connection:
   uses); the accelerations follow from the rest mass matrix's inverse by the Woodbury
   identity (a 4 x 4 system for four adaptive corners) at every stage. ``thesis`` and ``momentum`` make the force from the
   inertance alone (no extra velocity-squared term), so the mass matrix carries it all.
+* **Devices.** A strut's device (``Strut.device``, :mod:`inerterlab.vehicles.devices`):
+  its parts straight across the strut are in the matrices above; the rest is a core rig
+  driven by the strut's extension, whose states join the vehicle's and whose force adds
+  to the strut's. Its fastest rate at rest must be resolved by the step (checked).
 * **Strut friction.** A Coulomb force of size ``friction`` against the strut's
   extension rate, regularised as F_f tanh(delta' / v_f) with ``friction_velocity``
   v_f (default 1 mm/s): below v_f the friction acts as a damper of rate F_f / v_f, so
@@ -39,7 +43,7 @@ from numba import njit
 
 from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
-from ..systems._kernel import _solve
+from ..systems._kernel import _solve, evaluate
 from .model import LinearVehicle
 
 __all__ = ["NonlinearResult", "simulate_nonlinear"]
@@ -94,7 +98,7 @@ def _tables(
     fv = np.array([friction_velocity])
     afw, rows, me0 = [], [], []
     for j, con in enumerate(vehicle.connections):
-        adaptive = getattr(con.law, "adaptive", None)
+        adaptive = getattr(con.law, "adaptive_inerter", None)
         if adaptive is not None:
             afw.append(j)
             rows.append(adaptive.row())
@@ -107,7 +111,45 @@ def _tables(
     W = np.ascontiguousarray(Minv @ Ua.T)
     S = np.ascontiguousarray(Ua @ Minv @ Ua.T)
     return (Minv, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload, unilateral, fric, fv,
-            afw, rows, me0, W, S, Az, Zq, Zr, Fz)  # fmt: skip
+            afw, rows, me0, W, S, Az, Zq, Zr, Fz,
+            *_device_tables(vehicle, 2 * M.shape[0] + Az.shape[0]))  # fmt: skip
+
+
+def _device_tables(vehicle: LinearVehicle, offset: int):
+    """The rig parts of the corners' devices, packed for the kernel: per connection the
+    device index or -1; the devices' integer and float tables concatenated with their
+    offsets; each device's first state in x (from ``offset``, the end of the vehicle's
+    own states; the last entry is the end); the elements at its driven terminal (CSR
+    rows of indices and signs); and the largest node and element counts."""
+    from ..systems import _kernel
+
+    devof = np.full(len(vehicle.connections), -1, dtype=np.int64)
+    itabs, ftabs = [], []
+    ioff, foff, xoff, dptr, delem, dsign = [0], [0], [offset], [0], [], []
+    size = np.zeros(2, dtype=np.int64)
+    for j, con in enumerate(vehicle.connections):
+        dev = getattr(con.law, "nonlinear_device", None)
+        if dev is None:
+            continue
+        devof[j] = len(itabs)
+        itab, ftab = dev.system.tables
+        itabs.append(itab)
+        ftabs.append(ftab)
+        ioff.append(ioff[-1] + itab.size)
+        foff.append(foff[-1] + ftab.size)
+        xoff.append(xoff[-1] + dev.n_states)
+        for e, sign in dev.drive_elements:
+            delem.append(e)
+            dsign.append(sign)
+        dptr.append(len(delem))
+        size[0] = max(size[0], int(itab[_kernel.I_NN]))
+        size[1] = max(size[1], int(itab[_kernel.I_NE]))
+    cat_i = np.concatenate(itabs) if itabs else np.zeros(0, dtype=np.int64)
+    cat_f = np.concatenate(ftabs) if ftabs else np.zeros(0)
+    return (devof, cat_i.astype(np.int64), cat_f, np.array(ioff, dtype=np.int64),
+            np.array(foff, dtype=np.int64), np.array(xoff, dtype=np.int64),
+            np.array(dptr, dtype=np.int64), np.array(delem, dtype=np.int64),
+            np.array(dsign, dtype=float), size)  # fmt: skip
 
 
 def _csr(U):
@@ -124,7 +166,8 @@ def _csr(U):
 
 @njit(cache=True)
 def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
-         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, CY, CA, CR, CS):  # fmt: skip
+         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, devof, ditab, dftab, ioff,
+         foff, xoff, dptr, delem, dsign, dsize, CY, CA, CR, CS):  # fmt: skip
     """RK4 over the road samples; returns (connection tensions, outputs) at every
     sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope).
 
@@ -135,6 +178,10 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations follow by the Woodbury identity from
     the rest mass matrix's inverse: a = y - W w, y = M0^-1 g, (I + D S) w = D U y, with
     W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed).
+    Devices (:mod:`inerterlab.vehicles.devices`): the core rig of connection j, driven
+    by its extension and rate, gives its states' derivatives and a force added to the
+    connection's (the core's compiled :func:`~inerterlab.systems._kernel.evaluate`).
+    Returns also a status: 0, or 1 + the sample where a device's balance failed.
     """
     n = Minv.shape[0]
     nt = r.shape[0]
@@ -154,6 +201,13 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     gen = np.empty(max(n, na))
     slope = np.empty(m)
     rs = np.empty(m)
+    DX = np.empty(dsize[0])
+    DV = np.empty(dsize[0])
+    DA = np.empty(dsize[0])
+    DF = np.empty(dsize[1])
+    road3 = np.zeros(3)
+    noimp = np.empty(0)
+    status = 0
     for it in range(nt):
         last = it + 1 == nt
         for i in range(m):
@@ -195,6 +249,19 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                     fj = k[j] * d + c * dd
                     if fric[j] != 0.0:
                         fj += fric[j] * math.tanh(dd / fv[0])
+                    dv = devof[j]
+                    if dv >= 0:
+                        road3[0] = d
+                        road3[1] = dd
+                        a0 = xoff[dv]
+                        a1 = xoff[dv + 1]
+                        ok = evaluate(0.0, xt[a0:a1], road3, ditab[ioff[dv] : ioff[dv + 1]],
+                                      dftab[foff[dv] : foff[dv + 1]], DX, DV, DA, DF,
+                                      K[st, a0:a1], noimp)  # fmt: skip
+                        if not ok and status == 0:
+                            status = it + 1
+                        for p in range(dptr[dv], dptr[dv + 1]):
+                            fj += dsign[p] * DF[delem[p]]
                     if unilateral[j] == 1 and preload[j] - fj < 0.0:
                         fj = preload[j]
                     f[j] = fj
@@ -261,7 +328,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 break
             for i in range(nx):
                 x[i] = x[i] + h / 6.0 * (K[0, i] + 2.0 * K[1, i] + 2.0 * K[2, i] + K[3, i])
-    return fs, ys
+    return fs, ys, status
 
 
 def simulate_nonlinear(
@@ -309,17 +376,40 @@ def simulate_nonlinear(
                 f"(rate {friction / v_f:.3g} N s/m) needs steps below {h_max:.3g} s; "
                 "or raise friction_velocity",
             )
-    A, Br, _, _, _, _ = vehicle.state_space()
+    A, Br, _, _, _, _ = vehicle.state_space(devices=True)
     x0 = -np.linalg.solve(A, Br @ r[0])
     n = len(vehicle.dofs)
+    devices = [
+        (con, con.law.nonlinear_device)
+        for con in vehicle.connections
+        if getattr(con.law, "nonlinear_device", None) is not None
+    ]
+    for con, dev in devices:
+        rate = dev.fastest_rate()
+        if rate * dt / substeps > 2.5:  # RK4 is stable for |h lambda| < 2.78 (real axis)
+            raise ParameterError(
+                "substeps",
+                substeps,
+                f"at least {math.ceil(rate * dt / 2.5)}: the device at {con.name} "
+                f"({dev.source}) has a rate of {rate:.4g} 1/s, which needs steps below "
+                f"{2.5 / rate:.3g} s",
+            )
+        extension = float(con.u @ x0[:n] - con.v @ r[0])
+        x0 = np.concatenate([x0, dev.initial_state(extension)])
+    nz = x0.size - 2 * n
     names = [k for k in vehicle.outputs if not k.endswith("_tyre_load")]
     outs = [vehicle.outputs[k] for k in names]
-    nz = x0.size - 2 * n
     CY = np.array([np.concatenate([o.P, o.V, np.zeros(nz)]) for o in outs]).reshape(len(outs), -1)
     CA = np.array([o.G for o in outs]).reshape(len(outs), n)
     CR = np.array([o.R for o in outs]).reshape(len(outs), r.shape[1])
     CS = np.array([o.S for o in outs]).reshape(len(outs), r.shape[1])
-    fs, Y = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
+    fs, Y, status = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
+    if status:
+        raise ParameterError(
+            "substeps",
+            substeps,
+            f"more: a device's force balance could not be solved at t = {(status - 1) * dt:.6g} s",
+        )
     preload = tables[10]
     outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}

@@ -49,12 +49,24 @@ class Strut:
         linear model (spectral method, modes) uses its rest inertance r^2 I_min, and
         :func:`~inerterlab.vehicles.stochastic.statistical_linearisation` its Gaussian
         equivalent.
+    device : element or network text, optional
+        A device of the model core in parallel with the strut: an element of
+        :mod:`inerterlab.elements` (``HydraulicElement()``, ``RectifierElement()``,
+        ``ScrewElement()``, ...) or a core network text whose element values come with
+        ``device_parameters``. Its springs, linear dampers and inerters straight across
+        the strut join k, c and b; the rest (internal nodes, friction) is integrated by
+        the nonlinear model only (:mod:`inerterlab.vehicles.devices`). A strut with such
+        a part is nonlinear: the linear analyses refuse it, naming the corner.
+    device_parameters : dict, optional
+        Element values by name for a ``device`` given as network text.
     """
 
     stiffness: float
     damping: float
     inertance: float = 0.0
     adaptive: Any = None
+    device: Any = None
+    device_parameters: Any = None
 
     def __post_init__(self) -> None:
         check_nonnegative("stiffness", self.stiffness, "N/m")
@@ -69,29 +81,80 @@ class Strut:
                 raise ParameterError(
                     "adaptive.law", self.adaptive.law, "'thesis' or 'momentum' in a vehicle"
                 )
+        if self.device is not None:
+            from .devices import corner_device
+
+            dev = corner_device(self.device, self.device_parameters)
+            object.__setattr__(self, "device", dev)
+            object.__setattr__(self, "device_parameters", None)
+            if dev.adaptive is not None and self.adaptive is not None:
+                raise ParameterError(
+                    "device",
+                    dev.source,
+                    "a device without an adaptive inerter straight across it when the strut "
+                    "has one (adaptive)",
+                )
+        elif self.device_parameters is not None:
+            raise ParameterError("device_parameters", self.device_parameters, "None without a device")
+
+    @property
+    def adaptive_inerter(self):
+        """The adaptive-flywheel inerter across the strut: ``adaptive`` or the device's."""
+        if self.adaptive is not None or self.device is None:
+            return self.adaptive
+        return self.device.adaptive
+
+    @property
+    def nonlinear_device(self):
+        """The device part that only the nonlinear model integrates (a
+        :class:`~inerterlab.vehicles.devices.CornerDevice` with a rig part), or None."""
+        if self.device is not None and self.device.system is not None:
+            return self.device
+        return None
 
     @property
     def linear_inertance(self) -> float:
-        """b plus the adaptive inerter's rest inertance [kg] (the linear model's)."""
-        extra = 0.0 if self.adaptive is None else self.adaptive.inertance_min
+        """b plus the adaptive inerter's rest inertance [kg] (the linear model's),
+        a device's direct inerters included."""
+        a = self.adaptive_inerter
+        extra = 0.0 if a is None else a.inertance_min
+        if self.device is not None:
+            extra += self.device.inertance
         return float(self.inertance) + extra
+
+    def _kc(self) -> tuple[float, float]:
+        if self.device is None:
+            return float(self.stiffness), float(self.damping)
+        return (float(self.stiffness + self.device.stiffness),
+                float(self.damping + self.device.damping))  # fmt: skip
 
     def dynamic_stiffness(self, s):
         """k + c s + b s^2 [N/m] at complex frequency ``s`` [rad/s] (b: the linear
-        inertance, an adaptive inerter at rest)."""
-        return self.stiffness + self.damping * s + self.linear_inertance * s * s
+        inertance, an adaptive inerter at rest). A nonlinear device is refused."""
+        if self.nonlinear_device is not None:
+            raise ParameterError(
+                "device",
+                self.device.source,
+                "a linear strut for a linear analysis; this device is nonlinear (use the "
+                "nonlinear time simulation or the Monte Carlo)",
+            )
+        k, c = self._kc()
+        return k + c * s + self.linear_inertance * s * s
 
     def mck(self) -> tuple[float, float, float]:
-        """(b [kg], c [N s/m], k [N/m]); b includes an adaptive inerter at rest."""
-        return (self.linear_inertance, float(self.damping), float(self.stiffness))
+        """(b [kg], c [N s/m], k [N/m]); b includes an adaptive inerter at rest and k, c,
+        b a device's direct parts (its rig part is not here: see ``nonlinear_device``)."""
+        k, c = self._kc()
+        return (self.linear_inertance, c, k)
 
     def internal_states(self) -> int:
         """Extra states the law needs in a state space (0: purely polynomial)."""
         return 0
 
     def static_stiffness(self) -> float:
-        """k [N/m]."""
-        return float(self.stiffness)
+        """k [N/m] (a device's direct springs included; its rig part carries no static
+        load)."""
+        return self._kc()[0]
 
     def scaled(self, factor: float) -> Strut:
         """The same law with every coefficient times ``factor`` (struts in parallel)."""
@@ -113,6 +176,7 @@ class Strut:
             damping=self.damping * factor,
             inertance=self.inertance * factor,
             adaptive=adaptive,
+            device=None if self.device is None else self.device.scaled(factor),
         )
 
 

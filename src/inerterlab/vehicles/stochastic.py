@@ -477,6 +477,15 @@ def statistical_linearisation(
     road = road_spectrum(road_class)
     corners = _HALF_CORNERS  # axles; the left corner stands for a full car's axle
     probe = {a: (a if vehicle_lin.kind == "half" else f"{a}_left") for a in corners}
+    devices = [c for c in corners if getattr(getattr(params, c).strut, "device", None)]
+    if devices:
+        raise ParameterError(
+            f"{devices[0]}.device",
+            getattr(params, devices[0]).strut.device.source,
+            "no device: the statistical linearisation covers asymmetric dampers, strut "
+            "friction and adaptive inerters; a device's response comes from the Monte "
+            "Carlo (vehicle monte-carlo)",
+        )
     networks = [c for c in corners if getattr(getattr(params, c).strut, "network", None)]
     if networks and (rebound != 1.0 or compression != 1.0):
         raise ParameterError(
