@@ -250,3 +250,24 @@ def test_half_and_full_car_types_keep_devices():
     half = p.half_car()
     assert isinstance(half, HalfCar)
     assert half.front.strut.device.source.startswith("2 x")
+
+
+def test_cli_monte_carlo_of_a_device_car_skips_the_linearisation(tmp_path):
+    import json
+
+    from typer.testing import CliRunner
+
+    from inerterlab.cli import app
+
+    path = tmp_path / "car.toml"
+    path.write_text(example_vehicle_path().read_text() + VEHICLE_DEVICE)
+    res = CliRunner().invoke(
+        app,
+        ["vehicle", "monte-carlo", "--vehicle", str(path), "--roads", "2", "--length", "120",
+         "--warmup", "1", "--backend", "serial", "--out", str(tmp_path / "mc.zarr"), "--json"],
+    )  # fmt: skip
+    assert res.exit_code == 0, res.output
+    out = json.loads(res.output)
+    assert out["linearised"] is None
+    assert out["realisations"] == 2
+    assert out["rms"]["front_left_deflection"]["value"] > 0

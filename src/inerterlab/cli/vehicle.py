@@ -408,7 +408,8 @@ def monte_carlo_command(
     (Gaussian equivalent) linearisation of the same vehicle.
 
     Prints per output the Monte Carlo RMS [SI units] with its 95 % interval, the
-    linearisation's RMS and its error in percent; per corner the fraction of time off
+    linearisation's RMS and its error in percent (not for a vehicle with a device at a
+    corner, which has no Gaussian equivalent here); per corner the fraction of time off
     the road and the probability that a road lifts the tyre at least once.
 
     Example: inerterlab vehicle monte-carlo --roads 1000 --workers 2 --out mc.zarr
@@ -427,6 +428,8 @@ def monte_carlo_command(
     if length / (v * h) > 5_000_000:
         raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
     path = "" if vehicle is None else str(vehicle)
+    _, veh = _load(vehicle, model)
+    devices = any(getattr(c.law, "nonlinear_device", None) for c in veh.connections)
     settings = dict(
         road_class=road_class,
         speed=v,
@@ -454,24 +457,29 @@ def monte_carlo_command(
         )
     except SweepInterrupted as exc:
         raise Interrupted(str(exc)) from None
-    lin = statistical_linearisation(
-        vehicle=path,
-        model=model,
-        road_class=road_class,
-        speed=v,
-        rebound=rebound,
-        compression=compression,
-        friction=friction,
-        friction_velocity=friction_velocity,
-    )
     result = mc.to_dict()
-    result["linearised"] = {
-        "rms": {k: lin.rms[k] for k in mc.rms},
-        "error_percent": {k: 100.0 * (lin.rms[k] / mc.rms[k][0] - 1.0) for k in mc.rms},
-        "damping": lin.damping,
-        "lift_off_probability_gaussian": lin.spectral.lift_off,
-        "converged": lin.converged,
-    }
+    lin = None
+    if devices:
+        # no Gaussian equivalent of a device's internal dynamics: Monte Carlo alone
+        result["linearised"] = None
+    else:
+        lin = statistical_linearisation(
+            vehicle=path,
+            model=model,
+            road_class=road_class,
+            speed=v,
+            rebound=rebound,
+            compression=compression,
+            friction=friction,
+            friction_velocity=friction_velocity,
+        )
+        result["linearised"] = {
+            "rms": {k: lin.rms[k] for k in mc.rms},
+            "error_percent": {k: 100.0 * (lin.rms[k] / mc.rms[k][0] - 1.0) for k in mc.rms},
+            "damping": lin.damping,
+            "lift_off_probability_gaussian": lin.spectral.lift_off,
+            "converged": lin.converged,
+        }
     if json_out:
         emit_json(result)
         return
@@ -479,13 +487,11 @@ def monte_carlo_command(
     rows = []
     for k, (val, (lo, hi)) in mc.rms.items():
         unit = units.get(k, "m" if k.endswith("deflection") else "N")
-        err = result["linearised"]["error_percent"][k]
-        rows.append(
-            (
-                f"{k} [{unit}]",
-                f"{val:.4g} ({lo:.4g}-{hi:.4g}); linearised {lin.rms[k]:.4g} ({err:+.1f} %)",
-            )
-        )
+        cell = f"{val:.4g} ({lo:.4g}-{hi:.4g})"
+        if lin is not None:
+            err = result["linearised"]["error_percent"][k]
+            cell += f"; linearised {lin.rms[k]:.4g} ({err:+.1f} %)"
+        rows.append((f"{k} [{unit}]", cell))
     for c, (val, (lo, hi)) in mc.lift_off_fraction.items():
         p, (plo, phi) = mc.lift_off_probability[c]
         rows.append(
