@@ -35,7 +35,7 @@ __all__ = ["AdaptiveFlywheelInerter", "inertia_law", "flywheel_inertance", "slid
 LAW_CODES = {"thesis": 0.0, "momentum": 1.0, "slider-dynamics": 2.0}
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
     """I, dI/dw, d2I/dw2 at speed w >= 0 [rad/s] for I = I_rest + coef l(w)^power."""
     if w < w_sat:
@@ -53,7 +53,7 @@ def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
 
 
 # row layout: law, r, I_rest, coef, k_s, m_s, l_min, l_max, w_sat, power, n, c_s, k_c, c_c
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def flywheel_inertance(row, v, l, ld):
     """(m_e [kg], extra force g [N]) at relative velocity v; l, l' the slider states
     (used by ``slider-dynamics`` only)."""

@@ -164,12 +164,13 @@ def _csr(U):
             np.array(val, dtype=float))  # fmt: skip
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
          unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, devof, ditab, dftab, ioff,
-         foff, xoff, dptr, delem, dsign, dsize, CY, CA, CR, CS):  # fmt: skip
+         foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
     """RK4 over the road samples; returns (connection tensions, outputs) at every
-    sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope).
+    sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope), given as
+    sparse rows (optr, oidx, oval) over z = (x, q'', r, r').
 
     One function with the right-hand side written once inside the stage loop: a call
     per stage passing some thirty arrays cost three times the arithmetic (measured,
@@ -189,7 +190,8 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     nx = x0.size
     nz = Az.shape[0]
     fs = np.empty((nt, k.size))
-    no = CY.shape[0]
+    no = optr.size - 1
+    zo = np.empty(x0.size + Minv.shape[0] + 2 * r.shape[1])
     ys = np.empty((nt, no))
     x = x0.copy()
     h = dt / sub
@@ -315,14 +317,17 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 if s == 0 and st == 0:
                     for j in range(k.size):
                         fs[it, j] = f[j]
+                    for i in range(nx):
+                        zo[i] = x[i]
+                    for i in range(n):
+                        zo[nx + i] = K[0, n + i]
+                    for i in range(m):
+                        zo[nx + n + i] = r[it, i]
+                        zo[nx + n + m + i] = slope[i]
                     for o in range(no):
                         t = 0.0
-                        for i in range(nx):
-                            t += CY[o, i] * x[i]
-                        for i in range(n):
-                            t += CA[o, i] * K[0, n + i]
-                        for i in range(m):
-                            t += CR[o, i] * r[it, i] + CS[o, i] * slope[i]
+                        for p in range(optr[o], optr[o + 1]):
+                            t += oval[p] * zo[oidx[p]]
                         ys[it, o] = t
             if last:
                 break
@@ -403,7 +408,7 @@ def simulate_nonlinear(
     CA = np.array([o.G for o in outs]).reshape(len(outs), n)
     CR = np.array([o.R for o in outs]).reshape(len(outs), r.shape[1])
     CS = np.array([o.S for o in outs]).reshape(len(outs), r.shape[1])
-    fs, Y, status = _run(x0, r, dt, substeps, *tables, CY, CA, CR, CS)
+    fs, Y, status = _run(x0, r, dt, substeps, *tables, *_csr(np.hstack([CY, CA, CR, CS])))
     if status:
         raise ParameterError(
             "substeps",
