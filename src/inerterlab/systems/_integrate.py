@@ -56,7 +56,7 @@ from ..suspension._kernels import (
     E6,
     E7,
 )  # fmt: skip
-from ._kernel import I_NE, I_NN, evaluate
+from ._kernel import I_ND, I_NE, I_NN, I_NV, evaluate
 
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
@@ -92,7 +92,7 @@ def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
     V = work[3 + nn : 3 + 2 * nn]
     A = work[3 + 2 * nn : 3 + 3 * nn]
     F = work[3 + 3 * nn : 3 + 3 * nn + ne]
-    return evaluate(t, y, road, itab, ftab, X, V, A, F, dy, imp)
+    return evaluate(t, y, road, itab, ftab, X, V, A, F, dy, imp, work[3 + 3 * nn + ne :])
 
 
 @nb.njit(cache=True)
@@ -103,7 +103,8 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
     Returns (status, k, h)."""
     n = y.size
     nn = itab[I_NN]
-    work = np.empty(3 + 3 * nn + itab[I_NE])
+    nd, nv = itab[I_ND], itab[I_NV]
+    work = np.empty(3 + 3 * nn + itab[I_NE] + nd * nd + nd + itab[I_NE] + nv * nv + 3 * nv)
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)

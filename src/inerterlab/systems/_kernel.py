@@ -133,18 +133,26 @@ def _vel_residual(itab, ftab, X, V, G, J, nv, want_j):
                     J[bi * nv + ti] += d
 
 
+def work_size(itab) -> int:
+    """Length of the scratch array :func:`evaluate` takes as ``work`` (so that a caller
+    evaluating many times allocates once)."""
+    nd, ne, nv = int(itab[I_ND]), int(itab[I_NE]), int(itab[I_NV])
+    return nd * nd + nd + ne + nv * nv + 3 * nv
+
+
 @nb.njit(cache=True)
-def _velocities(itab, ftab, X, V):
+def _velocities(itab, ftab, X, V, work):
     """Velocities of the massless velocity nodes from their force balance (Newton; the
-    balance is strictly decreasing in each node's velocity). Returns False on failure."""
+    balance is strictly decreasing in each node's velocity). Returns False on failure.
+    ``work``: scratch of at least nv^2 + 3 nv floats."""
     nv = itab[I_NV]
     if nv == 0:
         return True
     vo = itab[I_VEL]
-    G = np.empty(nv)
-    J = np.empty(nv * nv)
-    dv = np.empty(nv)
-    v0 = np.empty(nv)
+    G = work[0:nv]
+    J = work[nv : nv + nv * nv]
+    dv = work[nv + nv * nv : 2 * nv + nv * nv]
+    v0 = work[2 * nv + nv * nv : 3 * nv + nv * nv]
     for i in range(nv):
         V[itab[vo + i]] = 0.0
     if nv == 1:
@@ -214,13 +222,19 @@ def _velocities(itab, ftab, X, V):
 
 
 @nb.njit(cache=True)
-def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp):
+def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
     """Node displacements X, velocities V, accelerations A (NaN where not defined: the
     massless nodes), element forces F and the state derivative dx. Returns False if a
     balance could not be solved. With a non-empty ``imp`` (one impulse per dynamic node)
     dx is instead the impulse flow M(x)^-1 imp on the dynamic nodes' velocities (zero
     elsewhere): integrated over a unit interval it applies the impulse exactly, whatever
-    the velocity dependence of the inertances."""
+    the velocity dependence of the inertances. ``work``: scratch of :func:`work_size`
+    floats, or None to allocate it here."""
+    if work is None:
+        work = np.empty(
+            itab[I_ND] * itab[I_ND] + itab[I_ND] + itab[I_NE] + itab[I_NV] * itab[I_NV]
+            + 3 * itab[I_NV]
+        )  # fmt: skip
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
@@ -258,7 +272,8 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp):
         for j in range(nn):
             s += ftab[fr + i * nn + j] * X[j]
         X[p] = s
-    ok = _velocities(itab, ftab, X, V)
+    nde = nd * nd + nd + ne
+    ok = _velocities(itab, ftab, X, V, work[nde:])
     for i in range(npn):
         p = itab[po + i]
         s = 0.0
@@ -266,9 +281,11 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp):
             s += ftab[fr + i * nn + j] * V[j]
         V[p] = s
     # forces and the mass matrix of the dynamic nodes
-    M = np.zeros(nd * nd)
-    r = np.zeros(nd)
-    ME = np.zeros(ne)
+    M = work[0 : nd * nd]
+    r = work[nd * nd : nd * nd + nd]
+    ME = work[nd * nd + nd : nde]
+    for i in range(nde):
+        work[i] = 0.0
     for n in range(nn):
         b = no + NODE_W * n
         if itab[b] == DYN:

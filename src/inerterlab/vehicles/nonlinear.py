@@ -120,13 +120,14 @@ def _device_tables(vehicle: LinearVehicle, offset: int):
     device index or -1; the devices' integer and float tables concatenated with their
     offsets; each device's first state in x (from ``offset``, the end of the vehicle's
     own states; the last entry is the end); the elements at its driven terminal (CSR
-    rows of indices and signs); and the largest node and element counts."""
+    rows of indices and signs); and the largest node count, element count and
+    scratch size of :func:`~inerterlab.systems._kernel.evaluate`."""
     from ..systems import _kernel
 
     devof = np.full(len(vehicle.connections), -1, dtype=np.int64)
     itabs, ftabs = [], []
     ioff, foff, xoff, dptr, delem, dsign = [0], [0], [offset], [0], [], []
-    size = np.zeros(2, dtype=np.int64)
+    size = np.zeros(3, dtype=np.int64)
     for j, con in enumerate(vehicle.connections):
         dev = getattr(con.law, "nonlinear_device", None)
         if dev is None:
@@ -144,6 +145,7 @@ def _device_tables(vehicle: LinearVehicle, offset: int):
         dptr.append(len(delem))
         size[0] = max(size[0], int(itab[_kernel.I_NN]))
         size[1] = max(size[1], int(itab[_kernel.I_NE]))
+        size[2] = max(size[2], _kernel.work_size(itab))
     cat_i = np.concatenate(itabs) if itabs else np.zeros(0, dtype=np.int64)
     cat_f = np.concatenate(ftabs) if ftabs else np.zeros(0)
     return (devof, cat_i.astype(np.int64), cat_f, np.array(ioff, dtype=np.int64),
@@ -207,6 +209,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     DV = np.empty(dsize[0])
     DA = np.empty(dsize[0])
     DF = np.empty(dsize[1])
+    DW = np.empty(dsize[2])
     road3 = np.zeros(3)
     noimp = np.empty(0)
     status = 0
@@ -259,7 +262,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                         a1 = xoff[dv + 1]
                         ok = evaluate(0.0, xt[a0:a1], road3, ditab[ioff[dv] : ioff[dv + 1]],
                                       dftab[foff[dv] : foff[dv + 1]], DX, DV, DA, DF,
-                                      K[st, a0:a1], noimp)  # fmt: skip
+                                      K[st, a0:a1], noimp, DW)  # fmt: skip
                         if not ok and status == 0:
                             status = it + 1
                         for p in range(dptr[dv], dptr[dv + 1]):
