@@ -43,7 +43,7 @@ from numba import njit
 
 from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
-from ..systems._kernel import _solve, evaluate
+from ..systems._kernel import evaluate
 from .model import LinearVehicle
 
 __all__ = ["NonlinearResult", "simulate_nonlinear"]
@@ -180,7 +180,8 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     vidx, vval of v). Adaptive inerters change the mass matrix by sum_j d_j u_j u_j^T
     (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations follow by the Woodbury identity from
     the rest mass matrix's inverse: a = y - W w, y = M0^-1 g, (I + D S) w = D U y, with
-    W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed).
+    W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed), the
+    small system solved in its symmetric form I + E S E (E = D^(1/2)) by Cholesky.
     Devices (:mod:`inerterlab.vehicles.devices`): the core rig of connection j, driven
     by its extension and rate, gives its states' derivatives and a force added to the
     connection's (the core's compiled :func:`~inerterlab.systems._kernel.evaluate`).
@@ -202,6 +203,7 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     xt = np.empty(nx)
     na = afw.size
     Mw = np.empty(max(na * na, 1))
+    ev = np.empty(max(na, 1))
     gen = np.empty(max(n, na))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -291,7 +293,8 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                         K[st, n + a] = t
                 else:
                     # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g,
-                    # (I + D S) w = D U y, W = M0^-1 U', S = U M0^-1 U'
+                    # w = E (I + E S E)^-1 E U y with E = D^(1/2) (D >= 0), W = M0^-1 U',
+                    # S = U M0^-1 U'; I + E S E is symmetric positive definite: Cholesky
                     for a in range(n):
                         t = 0.0
                         for b in range(n):
@@ -305,16 +308,31 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                             v += uval[p] * xt[n + uidx[p]]
                             uy += uval[p] * K[st, n + uidx[p]]
                         me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
-                        dlt = me - me0[jj]
-                        for q in range(na):
-                            Mw[jj * na + q] = dlt * S[jj, q]
-                        Mw[jj * na + jj] += 1.0
-                        gen[jj] = dlt * uy
-                    _solve(Mw, gen, na)  # (I + D S) is nonsingular: d >= 0, S > 0
+                        ev[jj] = math.sqrt(max(me - me0[jj], 0.0))
+                        gen[jj] = ev[jj] * uy
+                    for a in range(na):  # lower Cholesky factor of I + E S E into Mw
+                        for b in range(a + 1):
+                            t = ev[a] * S[a, b] * ev[b] + (1.0 if a == b else 0.0)
+                            for q in range(b):
+                                t -= Mw[a * na + q] * Mw[b * na + q]
+                            if a == b:
+                                Mw[a * na + a] = math.sqrt(t)
+                            else:
+                                Mw[a * na + b] = t / Mw[b * na + b]
+                    for a in range(na):  # forward, then back substitution
+                        t = gen[a]
+                        for q in range(a):
+                            t -= Mw[a * na + q] * gen[q]
+                        gen[a] = t / Mw[a * na + a]
+                    for a in range(na - 1, -1, -1):
+                        t = gen[a]
+                        for q in range(a + 1, na):
+                            t -= Mw[q * na + a] * gen[q]
+                        gen[a] = t / Mw[a * na + a]
                     for a in range(n):
                         t = K[st, n + a]
                         for q in range(na):
-                            t -= W[a, q] * gen[q]
+                            t -= W[a, q] * (ev[q] * gen[q])
                         K[st, n + a] = t
                 # ---- end ----
                 if s == 0 and st == 0:
