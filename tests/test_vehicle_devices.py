@@ -271,3 +271,10 @@ def test_cli_monte_carlo_of_a_device_car_skips_the_linearisation(tmp_path):
     assert out["linearised"] is None
     assert out["realisations"] == 2
     assert out["rms"]["front_left_deflection"]["value"] > 0
+
+
+def test_vehicle_file_device_error_names_the_line():
+    text = example_vehicle_path().read_text() + '\n[rear.device]\nkind = "rect"\nstiffness = "5 kg"\n'
+    with pytest.raises(DataFileError) as e:
+        loads_vehicle(text)
+    assert e.value.line == len(text.splitlines())

@@ -203,7 +203,7 @@ def _find_line(text: str, table: str | None, key: str | None) -> int | None:
     header_line = None
     for i, line in enumerate(text.splitlines(), start=1):
         s = line.strip()
-        m = re.match(r"^\[\s*([A-Za-z0-9_\-]+)\s*\]", s)
+        m = re.match(r"^\[\s*([A-Za-z0-9_\-.]+)\s*\]", s)
         if m:
             current = m.group(1)
             if current == table:
