@@ -323,7 +323,7 @@ def simulate_command(
         if x.size > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
-    devices = any(getattr(c.law, "nonlinear_device", None) for c in veh.connections)
+    devices = bool(veh.nonlinear_devices())
     nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices
     lift = None
     if nonlinear:
@@ -429,7 +429,7 @@ def monte_carlo_command(
         raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
     path = "" if vehicle is None else str(vehicle)
     _, veh = _load(vehicle, model)
-    devices = any(getattr(c.law, "nonlinear_device", None) for c in veh.connections)
+    devices = bool(veh.nonlinear_devices())
     settings = dict(
         road_class=road_class,
         speed=v,

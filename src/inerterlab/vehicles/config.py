@@ -164,7 +164,8 @@ def _dim_text(d) -> str:
 
 
 def parse_quantity(value, dimension: str) -> float:
-    """SI value of ``"1200 kg"`` or ``{value=1200, unit="kg"}`` in ``dimension``."""
+    """SI value of ``"1200 kg"`` or ``{value=1200, unit="kg"}`` in ``dimension`` (a name
+    of :data:`DIMENSIONS`, or a unit such as ``"rad/m"`` whose dimension it must have)."""
     if isinstance(value, dict):
         extra = set(value) - {"value", "unit"}
         if extra or "value" not in value or "unit" not in value:
@@ -188,7 +189,7 @@ def parse_quantity(value, dimension: str) -> float:
     else:
         raise ParameterError("value", value, "a string '<number> <unit>' or {value, unit}")
     factor, dims = parse_unit(unit)
-    want = DIMENSIONS[dimension]
+    want = DIMENSIONS[dimension] if dimension in DIMENSIONS else parse_unit(dimension)[1]
     if tuple(dims) != tuple(want):
         raise ParameterError("unit", unit, f"a unit of {dimension}, not of {_dim_text(dims)}")
     x = float(number) * factor
@@ -288,8 +289,7 @@ def _device(table, where: str, fail):
             values[key] = float(value)
             continue
         try:
-            factor, dims = parse_unit(p.unit)
-            values[key] = _quantity_in(value, dims, p.unit)
+            values[key] = parse_quantity(value, p.unit)
         except ParameterError as e:
             fail(where, key, f"{value!r}: expected {e.valid}")
     try:
@@ -299,20 +299,6 @@ def _device(table, where: str, fail):
     except TypeError:
         missing = [p.name for p in cls.PARAMETERS if p.name not in values]
         fail(where, missing[0] if missing else "kind", "missing (required)")
-
-
-def _quantity_in(value, dims, unit: str) -> float:
-    """SI value of ``value`` (text or {value, unit}) whose unit must have ``dims``."""
-    for name, d in DIMENSIONS.items():
-        if tuple(d) == tuple(dims):
-            return parse_quantity(value, name)
-    if isinstance(value, str):
-        m = re.match(r"^\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*(.*?)\s*$", value)
-        if m and m.group(2):
-            f, d = parse_unit(m.group(2))
-            if tuple(d) == tuple(dims):
-                return float(m.group(1)) * f
-    raise ParameterError("value", value, f"a value with a unit like {unit!r}")
 
 
 _ELEMENT_DIMENSION = {"spring": "stiffness", "damper": "damping", "inerter": "inertance"}

@@ -174,19 +174,29 @@ class LinearVehicle:
             i += k
         return Az, Zq, Zr, Fz
 
-    def require_linear(self, what: str) -> None:
-        """ParameterError naming the first strut whose device is nonlinear (``what``:
-        the analysis that cannot take it)."""
+    def nonlinear_devices(self) -> list:
+        """(connection, device) of every strut whose device only the nonlinear model
+        integrates (:attr:`Strut.nonlinear_device`), in connection order."""
+        out = []
         for con in self.connections:
             dev = getattr(con.law, "nonlinear_device", None)
             if dev is not None:
-                raise ParameterError(
-                    con.name,
-                    dev.source,
-                    f"a linear strut for {what}: this device has internal nodes or "
-                    "friction, which only the nonlinear time simulation "
-                    "(simulate_nonlinear, vehicle simulate, vehicle monte-carlo) integrates",
-                )
+                out.append((con, dev))
+        return out
+
+    def require_linear(self, what: str) -> None:
+        """ParameterError naming the first strut whose device is nonlinear (``what``:
+        the analysis that cannot take it)."""
+        devices = self.nonlinear_devices()
+        if devices:
+            con, dev = devices[0]
+            raise ParameterError(
+                con.name,
+                dev.source,
+                f"a linear strut for {what}: this device has internal nodes or "
+                "friction, which only the nonlinear time simulation "
+                "(simulate_nonlinear, vehicle simulate, vehicle monte-carlo) integrates",
+            )
 
     def state_space(self, devices: bool = False):
         """x = (q, q', z): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.

@@ -128,11 +128,9 @@ def _device_tables(vehicle: LinearVehicle, offset: int):
     itabs, ftabs = [], []
     ioff, foff, xoff, dptr, delem, dsign = [0], [0], [offset], [0], [], []
     size = np.zeros(3, dtype=np.int64)
-    for j, con in enumerate(vehicle.connections):
-        dev = getattr(con.law, "nonlinear_device", None)
-        if dev is None:
-            continue
-        devof[j] = len(itabs)
+    index = {id(con): j for j, con in enumerate(vehicle.connections)}
+    for con, dev in vehicle.nonlinear_devices():
+        devof[index[id(con)]] = len(itabs)
         itab, ftab = dev.system.tables
         itabs.append(itab)
         ftabs.append(ftab)
@@ -405,12 +403,7 @@ def simulate_nonlinear(
     A, Br, _, _, _, _ = vehicle.state_space(devices=True)
     x0 = -np.linalg.solve(A, Br @ r[0])
     n = len(vehicle.dofs)
-    devices = [
-        (con, con.law.nonlinear_device)
-        for con in vehicle.connections
-        if getattr(con.law, "nonlinear_device", None) is not None
-    ]
-    for con, dev in devices:
+    for con, dev in vehicle.nonlinear_devices():
         rate = dev.fastest_rate()
         if rate * dt / substeps > 2.5:  # RK4 is stable for |h lambda| < 2.78 (real axis)
             raise ParameterError(
