@@ -53,20 +53,23 @@ def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
 
 
 # row layout: law, r, I_rest, coef, k_s, m_s, l_min, l_max, w_sat, power, n, c_s, k_c, c_c
-@nb.njit(cache=True, error_model="numpy")
-def flywheel_inertance(row, v, l, ld):
-    """(m_e [kg], extra force g [N]) at relative velocity v; l, l' the slider states
-    (used by ``slider-dynamics`` only)."""
-    r = row[1]
-    if row[0] == 2.0:
-        me = r * r * (row[2] + row[3] * l * l)
-        return me, 2.0 * row[3] * r * r * l * ld * v
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def flywheel_inertance(tab, o, v, l, ld):
+    """(m_e [kg], extra force g [N]) at relative velocity v of the row starting at
+    ``tab[o]``; l, l' the slider states (used by ``slider-dynamics`` only). The row is
+    read in place (a table and an offset, not a slice: a slice per call costs a view)."""
+    r = tab[o + 1]
+    if tab[o] == 2.0:
+        me = r * r * (tab[o + 2] + tab[o + 3] * l * l)
+        return me, 2.0 * tab[o + 3] * r * r * l * ld * v
+    w = abs(r * v)
     i0, i1, _ = inertia_law(
-        abs(r * v), row[2], row[3], row[4], row[5], row[6], row[7], row[8], int(row[9])
-    )
-    if row[0] == 0.0:
+        w, tab[o + 2], tab[o + 3], tab[o + 4], tab[o + 5], tab[o + 6], tab[o + 7], tab[o + 8],
+        int(tab[o + 9]),
+    )  # fmt: skip
+    if tab[o] == 0.0:
         return r * r * i0, 0.0
-    return r * r * (i0 + abs(r * v) * i1), 0.0
+    return r * r * (i0 + w * i1), 0.0
 
 
 @nb.njit(cache=True)

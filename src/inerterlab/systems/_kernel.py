@@ -309,11 +309,11 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
         else:
             so = itab[b + 4]
             if so >= 0:
-                me, f = flywheel_inertance(row, v, x[so], x[so + 1])
+                me, f = flywheel_inertance(ftab, itab[b + 3], v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
                 dx[so + 1] = slider_derivative(row, x[so], x[so + 1], v)
             else:
-                me, f = flywheel_inertance(row, v, 0.0, 0.0)
+                me, f = flywheel_inertance(ftab, itab[b + 3], v, 0.0, 0.0)
         F[e] = f
         ME[e] = me
         tb = no + NODE_W * top

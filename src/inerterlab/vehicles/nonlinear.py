@@ -41,6 +41,7 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
+from ..elements._base import NPAR
 from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
 from ..systems._kernel import evaluate
@@ -103,16 +104,29 @@ def _tables(
             afw.append(j)
             rows.append(adaptive.row())
             me0.append(adaptive.inertance_min)
-    afw = np.array(afw, dtype=np.int64)
-    rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, 16))
+    afw = np.array(afw, dtype=np.uint64)
+    rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, NPAR))
+    rows = rows.ravel()
     me0 = np.array(me0, dtype=float)
     Minv = np.linalg.inv(M)
     Ua = U[afw]
     W = np.ascontiguousarray(Minv @ Ua.T)
     S = np.ascontiguousarray(Ua @ Minv @ Ua.T)
-    return (Minv, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload, unilateral, fric, fv,
-            afw, rows, me0, W, S, Az, Zq, Zr, Fz,
-            *_device_tables(vehicle, 2 * M.shape[0] + Az.shape[0]))  # fmt: skip
+    dev = _device_tables(vehicle, 2 * M.shape[0] + Az.shape[0])
+    devof = dev[0]
+    # the linear part of every connection (damping rate c_ext) as one matrix on
+    # (q, q', r, r'); the connections that depart from it are evaluated one by one
+    # and corrected through M^-1 u: tyres (whose forces are returned), asymmetric or
+    # rubbing struts, devices
+    G = Minv @ np.hstack([-(U.T * k) @ U, -(U.T * c_ext) @ U, (U.T * k) @ V, (U.T * c_ext) @ V])
+    tyre = np.array([con.name.endswith("_tyre") for con in vehicle.connections], dtype=bool)
+    departs = tyre | (c_ext != c_cmp) | (fric != 0.0) | (devof >= 0)
+    nl = np.flatnonzero(departs).astype(np.uint64)
+    MU = np.ascontiguousarray((Minv @ U[nl].T).T) if nl.size else np.zeros((0, M.shape[0]))
+    MFz = np.ascontiguousarray(Minv @ Fz)
+    args = (np.ascontiguousarray(G), nl, MU, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload,
+            unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, *dev)  # fmt: skip
+    return args, nl
 
 
 def _device_tables(vehicle: LinearVehicle, offset: int):
@@ -160,24 +174,29 @@ def _csr(U):
         idx.extend(nz.tolist())
         val.extend(row[nz].tolist())
         ptr.append(len(idx))
-    return (np.array(ptr, dtype=np.int64), np.array(idx, dtype=np.int64),
+    return (np.array(ptr, dtype=np.uint64), np.array(idx, dtype=np.uint64),
             np.array(val, dtype=float))  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy")
-def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp, preload,
-         unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, Fz, devof, ditab, dftab, ioff,
-         foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
-    """RK4 over the road samples; returns (connection tensions, outputs) at every
-    sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's slope), given as
-    sparse rows (optr, oidx, oval) over z = (x, q'', r, r').
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
+def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
+         preload, unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, devof, ditab,
+         dftab, ioff, foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
+    """RK4 over the road samples; returns (tensions of the connections ``nl``, outputs)
+    at every sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's
+    slope), given as sparse rows (optr, oidx, oval) over z = (x, q'', r, r').
 
     One function with the right-hand side written once inside the stage loop: a call
     per stage passing some thirty arrays cost three times the arithmetic (measured,
-    docs/decisions.md). Connections are sparse rows (CSR: uptr, uidx, uval of u; vptr,
-    vidx, vval of v). Adaptive inerters change the mass matrix by sum_j d_j u_j u_j^T
-    (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations follow by the Woodbury identity from
-    the rest mass matrix's inverse: a = y - W w, y = M0^-1 g, (I + D S) w = D U y, with
+    docs/decisions.md). The accelerations at the rest mass matrix M0 are
+    y = G (q, q', r, r') - M0^-1 Fz z + sum_j M0^-1 u_j (f_lin,j - f_j): G carries every
+    connection as linear (damping rate c_ext), and the connections ``nl`` that depart
+    from that (tyres, asymmetric or rubbing struts, devices) are evaluated one by one,
+    f_j their force, f_lin,j its linear part, M0^-1 u_j the rows of MU. Connections are
+    sparse rows (CSR: uptr, uidx, uval of u; vptr, vidx, vval of v), indexed unsigned
+    (numba then skips the negative-index wraparound). Adaptive inerters change the
+    mass matrix by sum_j d_j u_j u_j^T (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations
+    follow by the Woodbury identity: a = y - W w, (I + D S) w = D U y, with
     W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed), the
     small system solved in its symmetric form I + E S E (E = D^(1/2)) by Cholesky.
     Devices (:mod:`inerterlab.vehicles.devices`): the core rig of connection j, driven
@@ -185,26 +204,31 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
     connection's (the core's compiled :func:`~inerterlab.systems._kernel.evaluate`).
     Returns also a status: 0, or 1 + the sample where a device's balance failed.
     """
-    n = Minv.shape[0]
+    n = MU.shape[1]
+    nu = np.uint64(n)
+    n2 = 2 * n
     nt = r.shape[0]
     m = r.shape[1]
     nx = x0.size
     nz = Az.shape[0]
-    fs = np.empty((nt, k.size))
+    nn = nl.size
+    fs = np.empty((nt, nn))
     no = optr.size - 1
-    zo = np.empty(x0.size + Minv.shape[0] + 2 * r.shape[1])
+    zo = np.empty(nx + n + 2 * m)
     ys = np.empty((nt, no))
     x = x0.copy()
     h = dt / sub
-    f = np.empty(k.size)
+    f = np.empty(max(nn, 1))
     K = np.empty((4, nx))
     xt = np.empty(nx)
     na = afw.size
     Mw = np.empty(max(na * na, 1))
     ev = np.empty(max(na, 1))
-    gen = np.empty(max(n, na))
+    rd = np.empty(max(na, 1))
+    gen = np.empty(max(na, 1))
     slope = np.empty(m)
     rs = np.empty(m)
+    gs = np.empty(n)
     DX = np.empty(dsize[0])
     DV = np.empty(dsize[0])
     DA = np.empty(dsize[0])
@@ -220,6 +244,11 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                 slope[i] = (r[it + 1, i] - r[it, i]) / dt
             else:
                 slope[i] = (r[it, i] - r[it - 1, i]) / dt
+        for a in range(n):  # the road-rate part of the linear accelerations
+            t = 0.0
+            for i in range(m):
+                t += G[a, n2 + m + i] * slope[i]
+            gs[a] = t
         for s in range(sub):
             for st in range(4):
                 if last and (s > 0 or st > 0):
@@ -236,22 +265,41 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                     for i in range(nx):
                         xt[i] = x[i] + cst * h * K[st - 1, i]
                 # ---- right-hand side at (xt, rs, slope) into K[st] ----
-                for i in range(n):
-                    gen[i] = 0.0
-                    K[st, i] = xt[n + i]
-                for j in range(k.size):
+                for a in range(n):
+                    K[st, a] = xt[n + a]
+                    t = gs[a]
+                    for b in range(n2):
+                        t += G[a, b] * xt[b]
+                    for i in range(m):
+                        t += G[a, n2 + i] * rs[i]
+                    K[st, n + a] = t
+                for a in range(nz):
+                    t = 0.0
+                    for b in range(nz):
+                        t += Az[a, b] * xt[n2 + b]
+                    for b in range(n):
+                        t += Zq[a, b] * xt[b]
+                    for b in range(m):
+                        t -= Zr[a, b] * rs[b]
+                    K[st, n2 + a] = t
+                    for i in range(n):
+                        K[st, n + i] -= MFz[i, a] * xt[n2 + a]
+                for jj in range(nn):
+                    j = nl[jj]
                     d = 0.0
                     dd = 0.0
                     for p in range(uptr[j], uptr[j + 1]):
                         i = uidx[p]
                         d += uval[p] * xt[i]
-                        dd += uval[p] * xt[n + i]
+                        dd += uval[p] * xt[nu + i]
                     for p in range(vptr[j], vptr[j + 1]):
                         i = vidx[p]
                         d -= vval[p] * rs[i]
                         dd -= vval[p] * slope[i]
-                    c = c_ext[j] if dd > 0.0 else c_cmp[j]
-                    fj = k[j] * d + c * dd
+                    flin = k[j] * d + c_ext[j] * dd
+                    fj = flin
+                    if dd <= 0.0:
+                        fj = k[j] * d + c_cmp[j] * dd
                     if fric[j] != 0.0:
                         fj += fric[j] * math.tanh(dd / fv[0])
                     dv = devof[j]
@@ -269,64 +317,44 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                             fj += dsign[p] * DF[delem[p]]
                     if unilateral[j] == 1 and preload[j] - fj < 0.0:
                         fj = preload[j]
-                    f[j] = fj
-                    for p in range(uptr[j], uptr[j + 1]):
-                        gen[uidx[p]] -= uval[p] * fj
-                for a in range(nz):
-                    t = 0.0
-                    for b in range(nz):
-                        t += Az[a, b] * xt[2 * n + b]
-                    for b in range(n):
-                        t += Zq[a, b] * xt[b]
-                    for b in range(m):
-                        t -= Zr[a, b] * rs[b]
-                    K[st, 2 * n + a] = t
-                    for i in range(n):
-                        gen[i] -= Fz[i, a] * xt[2 * n + a]
-                if afw.size == 0:
-                    for a in range(n):
-                        t = 0.0
-                        for b in range(n):
-                            t += Minv[a, b] * gen[b]
-                        K[st, n + a] = t
-                else:
-                    # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g,
+                    f[jj] = fj
+                    delta = flin - fj
+                    if delta != 0.0:
+                        for a in range(n):
+                            K[st, n + a] += MU[jj, a] * delta
+                if na > 0:
+                    # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g (above),
                     # w = E (I + E S E)^-1 E U y with E = D^(1/2) (D >= 0), W = M0^-1 U',
                     # S = U M0^-1 U'; I + E S E is symmetric positive definite: Cholesky
-                    for a in range(n):
-                        t = 0.0
-                        for b in range(n):
-                            t += Minv[a, b] * gen[b]
-                        K[st, n + a] = t
                     for jj in range(na):
                         j = afw[jj]
                         v = 0.0
                         uy = 0.0
                         for p in range(uptr[j], uptr[j + 1]):
-                            v += uval[p] * xt[n + uidx[p]]
-                            uy += uval[p] * K[st, n + uidx[p]]
-                        me, _ = flywheel_inertance(rows[jj], v, 0.0, 0.0)
+                            v += uval[p] * xt[nu + uidx[p]]
+                            uy += uval[p] * K[st, nu + uidx[p]]
+                        me, _ = flywheel_inertance(rows, jj * NPAR, v, 0.0, 0.0)
                         ev[jj] = math.sqrt(max(me - me0[jj], 0.0))
                         gen[jj] = ev[jj] * uy
-                    for a in range(na):  # lower Cholesky factor of I + E S E into Mw
-                        for b in range(a + 1):
+                    for a in range(na):  # lower Cholesky factor of I + E S E into Mw,
+                        for b in range(a + 1):  # its diagonal's reciprocals into rd
                             t = ev[a] * S[a, b] * ev[b] + (1.0 if a == b else 0.0)
                             for q in range(b):
                                 t -= Mw[a * na + q] * Mw[b * na + q]
                             if a == b:
-                                Mw[a * na + a] = math.sqrt(t)
+                                rd[a] = 1.0 / math.sqrt(t)
                             else:
-                                Mw[a * na + b] = t / Mw[b * na + b]
+                                Mw[a * na + b] = t * rd[b]
                     for a in range(na):  # forward, then back substitution
                         t = gen[a]
                         for q in range(a):
                             t -= Mw[a * na + q] * gen[q]
-                        gen[a] = t / Mw[a * na + a]
+                        gen[a] = t * rd[a]
                     for a in range(na - 1, -1, -1):
                         t = gen[a]
                         for q in range(a + 1, na):
                             t -= Mw[q * na + a] * gen[q]
-                        gen[a] = t / Mw[a * na + a]
+                        gen[a] = t * rd[a]
                     for a in range(n):
                         t = K[st, n + a]
                         for q in range(na):
@@ -334,8 +362,8 @@ def _run(x0, r, dt, sub, Minv, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_c
                         K[st, n + a] = t
                 # ---- end ----
                 if s == 0 and st == 0:
-                    for j in range(k.size):
-                        fs[it, j] = f[j]
+                    for jj in range(nn):
+                        fs[it, jj] = f[jj]
                     for i in range(nx):
                         zo[i] = x[i]
                     for i in range(n):
@@ -383,7 +411,7 @@ def simulate_nonlinear(
         raise ParameterError("substeps", substeps, "an integer >= 1")
     check_nonnegative("friction", friction, "N")
     v_f = check_positive("friction_velocity", friction_velocity, "m/s")
-    tables = _tables(
+    tables, nl = _tables(
         vehicle, float(rebound), float(compression), bool(tyre_lift_off), float(friction), v_f
     )
     if friction > 0.0:
@@ -429,13 +457,14 @@ def simulate_nonlinear(
             substeps,
             f"more: a device's force balance could not be solved at t = {(status - 1) * dt:.6g} s",
         )
-    preload = tables[10]
+    preload = tables[12]
     outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}
-    for j, con in enumerate(vehicle.connections):
+    for col, j in enumerate(nl.tolist()):
+        con = vehicle.connections[j]
         if con.name.endswith("_tyre"):
             corner = con.name[: -len("_tyre")]
-            total = preload[j] - fs[:, j]
+            total = preload[j] - fs[:, col]
             contact[corner] = total
             outputs[f"{corner}_tyre_load"] = total - preload[j]
             lift[corner] = float(np.mean(total <= 1e-9 * preload[j]))

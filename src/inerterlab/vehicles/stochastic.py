@@ -407,10 +407,10 @@ def _adaptive_gain(adaptive, sigma: float) -> float:
 
     row = adaptive.row()
     if sigma <= 0.0:
-        return float(flywheel_inertance(row, 0.0, 0.0, 0.0)[0])
+        return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
     # m_e is smooth except for a kink at the saturation speed: a fine trapezoid
     v = np.linspace(-9.0 * sigma, 9.0 * sigma, 4001)
-    me = np.array([flywheel_inertance(row, float(x), 0.0, 0.0)[0] for x in v])
+    me = np.array([flywheel_inertance(row, 0, float(x), 0.0, 0.0)[0] for x in v])
     pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2.0 * math.pi))
     return float(np.trapezoid(me * pdf, v))
 
