@@ -225,6 +225,7 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     Mw = np.empty(max(na * na, 1))
     ev = np.empty(max(na, 1))
     rd = np.empty(max(na, 1))
+    evf = np.full(max(na, 1), np.nan)  # E of the factor in Mw, rd (NaN: none yet)
     gen = np.empty(max(na, 1))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -336,8 +337,13 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                         me, _ = flywheel_inertance(rows, jj * NPAR, v, 0.0, 0.0)
                         ev[jj] = math.sqrt(max(me - me0[jj], 0.0))
                         gen[jj] = ev[jj] * uy
-                    for a in range(na):  # lower Cholesky factor of I + E S E into Mw,
-                        for b in range(a + 1):  # its diagonal's reciprocals into rd
+                    same = True  # E as at the last factorisation (saturated flywheels)
+                    for a in range(na):
+                        if ev[a] != evf[a]:
+                            same = False
+                            evf[a] = ev[a]
+                    for a in range(0 if same else na):  # lower Cholesky factor of
+                        for b in range(a + 1):  # I + E S E into Mw, diagonal reciprocals rd
                             t = ev[a] * S[a, b] * ev[b] + (1.0 if a == b else 0.0)
                             for q in range(b):
                                 t -= Mw[a * na + q] * Mw[b * na + q]
