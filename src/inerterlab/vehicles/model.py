@@ -131,10 +131,8 @@ class LinearVehicle:
         Without it such a strut is refused, naming it.
         """
         n, m = len(self.dofs), len(self.inputs)
-        M = self.mass.copy()
-        C, K = np.zeros((n, n)), np.zeros((n, n))
-        Kr, Cr = np.zeros((n, m)), np.zeros((n, m))
-        for con in self.connections:
+        law = np.zeros((len(self.connections), 3))  # b, c, k of each connection
+        for j, con in enumerate(self.connections):
             if con.law.internal_states() and not internal:
                 raise ParameterError(
                     con.name,
@@ -144,14 +142,15 @@ class LinearVehicle:
                     "space, the frequency response, the spectral method and the linear "
                     "and nonlinear time simulations",
                 )
-            b, c, k = con.law.mck()
+            b, c, k = law[j] = con.law.mck()
             if b and np.any(con.v):
                 raise ParameterError(con.name, b, "no inertance on an element touching the road")
-            M += b * np.outer(con.u, con.u)
-            C += c * np.outer(con.u, con.u)
-            K += k * np.outer(con.u, con.u)
-            Kr += k * np.outer(con.u, con.v)
-            Cr += c * np.outer(con.u, con.v)
+        U = np.array([con.u for con in self.connections]).reshape(-1, n)
+        V = np.array([con.v for con in self.connections]).reshape(-1, m)
+        b, c, k = law.T
+        M = self.mass + (U.T * b) @ U
+        C, K = (U.T * c) @ U, (U.T * k) @ U
+        Kr, Cr = (U.T * k) @ V, (U.T * c) @ V
         return M, C, K, Kr, Cr
 
     def internal_realisation(self):
