@@ -178,7 +178,7 @@ def _csr(U):
             np.array(val, dtype=float))  # fmt: skip
 
 
-@njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
+@njit(cache=True, error_model="numpy")
 def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
          preload, unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, devof, ditab,
          dftab, ioff, foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
