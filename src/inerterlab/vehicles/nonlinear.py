@@ -178,6 +178,23 @@ def _csr(U):
             np.array(val, dtype=float))  # fmt: skip
 
 
+@njit(cache=True, error_model="numpy", fastmath={"reassoc", "contract"})
+def _linear_part(G, gs, xt, rs, out, n, m):
+    """out[:n] = q', out[n:2n] = G (q, q', r) + gs: the accelerations of every
+    connection's linear part (gs the road-rate part). A leaf (it calls no compiled
+    function), so its fastmath flags cannot reach another kernel's callees
+    (tests/test_numba_flags.py): the sums may be vectorised, round-off only."""
+    n2 = 2 * n
+    for a in range(n):
+        out[a] = xt[n + a]
+        t = gs[a]
+        for b in range(n2):
+            t += G[a, b] * xt[b]
+        for i in range(m):
+            t += G[a, n2 + i] * rs[i]
+        out[n + a] = t
+
+
 @njit(cache=True, error_model="numpy")
 def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
          preload, unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, devof, ditab,
@@ -266,14 +283,7 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                     for i in range(nx):
                         xt[i] = x[i] + cst * h * K[st - 1, i]
                 # ---- right-hand side at (xt, rs, slope) into K[st] ----
-                for a in range(n):
-                    K[st, a] = xt[n + a]
-                    t = gs[a]
-                    for b in range(n2):
-                        t += G[a, b] * xt[b]
-                    for i in range(m):
-                        t += G[a, n2 + i] * rs[i]
-                    K[st, n + a] = t
+                _linear_part(G, gs, xt, rs, K[st], n, m)
                 for a in range(nz):
                     t = 0.0
                     for b in range(nz):
