@@ -195,7 +195,7 @@ def _linear_part(G, gs, xt, rs, out, n, m):
         out[n + a] = t
 
 
-@njit(cache=True, error_model="numpy")
+@njit(cache=True)
 def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
          preload, unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, devof, ditab,
          dftab, ioff, foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
