@@ -126,7 +126,7 @@ def _tables(
     MFz = np.ascontiguousarray(Minv @ Fz)
     args = (np.ascontiguousarray(G), nl, MU, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload,
             unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, *dev)  # fmt: skip
-    return args, nl
+    return args, nl, preload
 
 
 def _device_tables(vehicle: LinearVehicle, offset: int):
@@ -427,7 +427,7 @@ def simulate_nonlinear(
         raise ParameterError("substeps", substeps, "an integer >= 1")
     check_nonnegative("friction", friction, "N")
     v_f = check_positive("friction_velocity", friction_velocity, "m/s")
-    tables, nl = _tables(
+    tables, nl, preload = _tables(
         vehicle, float(rebound), float(compression), bool(tyre_lift_off), float(friction), v_f
     )
     if friction > 0.0:
@@ -473,7 +473,6 @@ def simulate_nonlinear(
             substeps,
             f"more: a device's force balance could not be solved at t = {(status - 1) * dt:.6g} s",
         )
-    preload = tables[12]
     outputs = {k: Y[:, i] for i, k in enumerate(names)}
     contact, lift = {}, {}
     for col, j in enumerate(nl.tolist()):
