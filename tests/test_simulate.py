@@ -331,3 +331,31 @@ def test_result_to_pandas_and_errors():
         SimulationOptions(backend="julia")
     with pytest.raises(ParameterError, match="excitation"):
         simulate(quarter_car("traditional"), "drop", 1.0)
+
+
+def test_exact_step_setup_is_built_once_per_system_and_never_stale():
+    # the set-up is kept between runs (per thread) and rebuilt only when the linear
+    # system or the road kind changes: a sequence of runs over three cars gives exactly
+    # the numbers of the same runs each made with an empty cache (a new thread)
+    import threading
+
+    cars = [quarter_car("afw", changing_ratio=0.2), quarter_car("afw", changing_ratio=0.4),
+            quarter_car("cfw")]  # fmt: skip
+    # consecutive runs on different cars with the same road kind: only the key's car
+    # part tells them apart
+    order = [(c, r) for c in cars for r in (drop(), bump())] + [(c, sine()) for c in cars]
+
+    def run(car, road):
+        r = simulate(car, road, 2.0, output="metrics")
+        return r.metrics(), r.stats["exact_setups"]
+
+    seq = [run(c, r) for c, r in order]
+    # drop: a new system; bump: the same system and road kind (reused); sine: new each
+    assert [s for _, s in seq] == [1, 0] * len(cars) + [1] * len(cars)
+    for i, (c, r) in enumerate(order):
+        out = {}
+        th = threading.Thread(target=lambda c=c, r=r: out.setdefault("m", run(c, r)))
+        th.start()
+        th.join()
+        assert out["m"][1] == 1
+        assert out["m"][0] == seq[i][0]

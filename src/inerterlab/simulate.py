@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import math
 import sys
+import threading
 import time
 import types
 from collections.abc import Callable
@@ -364,6 +365,23 @@ def _wk_sections():
     return _WK["sections"]
 
 
+_XBUF = threading.local()
+
+
+def _exact_step_buffers(n_p: int, n_wk: int, dtype: str):
+    """The exact-step set-up kept between runs of this thread (K.x_buffers): the kernel
+    rebuilds it only when the linear system or the road kind changes, so a sweep whose
+    points share a system (inputs, seeds) builds it once. Per thread: a set-up is
+    written by one kernel call at a time."""
+    from .suspension import _kernels as K
+
+    key = (n_p, n_wk, dtype)
+    buf = getattr(_XBUF, "buffers", None)
+    if buf is None or _XBUF.key != key:
+        _XBUF.buffers, _XBUF.key = K.x_buffers(n_p, n_wk), key
+    return _XBUF.buffers
+
+
 def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     from .suspension import _kernels as K
 
@@ -383,13 +401,14 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     out_y = np.empty((ts.size, y.size))
     out_a3 = np.empty(ts.size)
     peaks = np.empty(K.N_PEAKS)
-    stats = np.zeros(6, dtype=np.int64)
+    stats = np.zeros(7, dtype=np.int64)
     jumps = np.zeros(len(segs))
     status = K.integrate(
         model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
         wk, ts, out_y, out_a3, peaks, stats, jumps, ROAD_JUMP_RTOL * road_scale(segs),
         bool(options.refine_peaks),
         int(options.max_steps), bool(options.exact_steps),
+        *_exact_step_buffers(model.kernel_parameters.size, wk.size, str(model.kernel_parameters.dtype)),
     )  # fmt: skip
     if status != K.OK:
         why = {
@@ -411,6 +430,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
         "kink_restarts": int(stats[3]),
         "exact_steps": int(stats[4]),
         "kink_steps": int(stats[5]),
+        "exact_setups": int(stats[6]),
         "segments": len(segs),
     }
     samples = (ts, out_y, out_a3) if want_series else None

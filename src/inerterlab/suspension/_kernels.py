@@ -1324,17 +1324,68 @@ def _exact_metrics(F, lev, h, y, n, peaks, refine_peaks):
                     peaks[k] = f
 
 
+def x_buffers(n_p, n_wk):
+    """Empty buffers for :func:`integrate`'s exact-step set-up, to keep between calls:
+    (xkey, M, rows, E, P, RT, T) for ``n_p`` packed parameters and a Wk table of
+    ``n_wk`` values; xkey all NaN (matches no set-up)."""
+    return (
+        np.full(n_p + 3 + n_wk, np.nan),
+        np.empty((X_NZ, X_NZ)),
+        np.empty((X_NO, X_NZ)),
+        np.empty((X_N_LEVELS, X_NZ, X_NZ)),
+        np.empty((2 ** (X_N_LEVELS - 1) + 1, X_NZ, X_NZ)),
+        np.empty((X_N_LEVELS, X_NZ, X_N_POINTS_MAX * X_NO)),
+        np.empty((X_N_TAYLOR, X_NO, X_NZ)),
+    )
+
+
+@leaf
+def _x_key_matches(xkey, p, me, alpha, omega, wk, n_p, n_wk):
+    """Whether ``xkey`` is the key of (p but its branch slot, me, alpha, omega, wk)."""
+    if xkey.size != n_p + 3 + n_wk:
+        return False
+    for i in range(n_p):
+        if i != P_BRANCH and xkey[i] != p[i]:
+            return False
+    if xkey[n_p] != me or xkey[n_p + 1] != alpha or xkey[n_p + 2] != omega:
+        return False
+    c = n_p + 3
+    for i in range(wk.shape[0]):
+        for j in range(wk.shape[1]):
+            if xkey[c] != wk[i, j]:
+                return False
+            c += 1
+    return True
+
+
+@leaf
+def _x_key_store(xkey, p, me, alpha, omega, wk, n_p, n_wk):
+    for i in range(n_p):
+        xkey[i] = p[i]
+    xkey[P_BRANCH] = 0.0
+    xkey[n_p] = me
+    xkey[n_p + 1] = alpha
+    xkey[n_p + 2] = omega
+    c = n_p + 3
+    for i in range(wk.shape[0]):
+        for j in range(wk.shape[1]):
+            xkey[c] = wk[i, j]
+            c += 1
+
+
 @nb.njit(cache=True)
 def integrate(
     p, segs, y0, x1_initial, t_end, rtol, atol, wk, sample_times, out_y, out_a3,
     peaks, stats, jumps, jump_tol, refine_peaks, max_steps, exact,
+    xkey, Mx, rows_x, E_x, P_x, R_x, T_x,
 ):  # fmt: skip
     """Integrate from t = 0 to ``t_end`` segment by segment; return a status code.
 
     ``y0`` (physical + metric states) is overwritten with the final state. Samples
     at ``sample_times`` (sorted) go to ``out_y``/``out_a3``; ``peaks`` (7 values,
     see ``N_PEAKS``) receives the maxima; ``stats`` = [steps, rejected, rhs calls,
-    attempts redone to end on a kink, exact steps, steps ended on a kink]. A sample on
+    attempts redone to end on a kink, exact steps, steps ended on a kink, exact-step
+    set-ups built]. A sample on
     a segment edge gets the value after the edge. ``exact``: take exact steps through
     the linear phases.
 
@@ -1346,8 +1397,17 @@ def integrate(
     input vector times the velocity jump (section by section: B_s = [0, w0_s] times
     the direct gains of the sections before it), so a_w, int a_w^2 and int a_w^4 stay
     exact. int a3^2 and the peak of a3 are then not finite; the driver reports them so.
+
+    ``xkey, Mx, rows_x, E_x, P_x, R_x, T_x`` hold the exact-step set-up
+    (:func:`x_setup`) between calls (:func:`x_buffers`): ``xkey`` is what it was built
+    from (p but its branch slot, m_e, the road's alpha and omega, the Wk sections), and
+    it is rebuilt only when that differs, so a sweep computes it once per distinct
+    linear system and road kind, not once per point.
     """
     n = y0.size
+    # the key of the set-up the caller's buffers hold, before p's branch slot is used
+    n_p = p.size
+    n_wk = wk.size
     y = y0
     # a private copy: the integrator sets the inertia law's branch, P_BRANCH
     p = p.copy()
@@ -1415,21 +1475,15 @@ def integrate(
     me_lin = 0.0
     if p[P_KIND] == 1.0:
         me_lin = p[P_R2] * (p[P_IREST] if p[P_LAW] == 3.0 else inertia(p, p[P_WSAT]))
-    Mx = np.empty((X_NZ, X_NZ))
-    rows_x = np.empty((X_NO, X_NZ))
-    E_x = np.empty((X_N_LEVELS, X_NZ, X_NZ))
-    R_x = np.empty((X_N_LEVELS, X_NZ, X_N_POINTS_MAX * X_NO))
-    P_x = np.empty((2 ** (X_N_LEVELS - 1) + 1, X_NZ, X_NZ))
-    T_x = np.empty((X_N_TAYLOR, X_NO, X_NZ))
     w1_x = np.empty((X_NZ, X_NZ))
     w2_x = np.empty((X_NO, X_NZ))
     z_x = np.empty(X_NZ)
     zn_x = np.empty(X_NZ)
     F_x = np.empty(X_N_POINTS_MAX * X_NO)
-    key_alpha, key_omega = -1.0, -1.0
     need_k1 = False
     nexact = 0
     nkink_steps = 0
+    nsetup = 0  # exact-step set-ups built by this call
     i_wk = n - 13 + 3
     n_phys = n - 13
     h_event = 0.0
@@ -1499,9 +1553,11 @@ def integrate(
             if lev < X_N_LEVELS:
                 alpha = 1.0 if seg[2] == 0.0 else 0.0
                 omega = 0.0 if seg[2] == 0.0 else seg[6]
-                if alpha != key_alpha or omega != key_omega:
+                if not _x_key_matches(xkey, p, me_lin, alpha, omega, wk, n_p, n_wk):
+                    xkey[n_p] = np.nan  # no valid set-up until the key is stored
                     x_setup(p, wk, me_lin, alpha, omega, Mx, rows_x, E_x, P_x, R_x, T_x, w2_x, w1_x)
-                    key_alpha, key_omega = alpha, omega
+                    _x_key_store(xkey, p, me_lin, alpha, omega, wk, n_p, n_wk)
+                    nsetup += 1
                 for i in range(4):
                     z_x[i] = y[i]
                 for i in range(8):
@@ -1804,4 +1860,5 @@ def integrate(
     stats[3] = nevents_redo
     stats[4] = nexact
     stats[5] = nkink_steps
+    stats[6] = nsetup
     return status
