@@ -354,7 +354,7 @@ def test_exact_step_setup_is_built_once_per_system_and_never_stale():
     assert [s for _, s in seq] == [1, 0] * len(cars) + [1] * len(cars)
     for i, (c, r) in enumerate(order):
         out = {}
-        th = threading.Thread(target=lambda c=c, r=r: out.setdefault("m", run(c, r)))
+        th = threading.Thread(target=lambda c=c, r=r, o=out: o.setdefault("m", run(c, r)))
         th.start()
         th.join()
         assert out["m"][1] == 1
