@@ -21,12 +21,14 @@ the ideal switching instant (default 2 % of the period). Outside the ramps the
 displacement equals the ideal triangle; inside, it is the matching parabola.
 
 ``samples``
-    A measured record (t_i, x_i, v_i), interpolated by the cubic Hermite polynomial
-    through the displacements with the velocities as slopes, so v(t) = dx/dt exactly and
-    x, v pass through every sample. The acceleration is taken at the samples from the
-    fourth-order formula a_i = 2 (x_{i+1} - 2 x_i + x_{i-1}) / h^2 - (v_{i+1} - v_{i-1}) / (2 h)
-    (exact for quartics; the Hermite's own second derivative is only second order and
-    discontinuous at the samples) and interpolated linearly in between.
+    A measured record (t_i, x_i, v_i), interpolated by the quintic Hermite polynomial
+    that takes the displacement, velocity and acceleration (x_i, v_i, a_i) at both ends
+    of each interval, so v(t) = dx/dt and a(t) = dv/dt exactly and all three pass
+    through the samples. The acceleration at the samples comes from the fourth-order
+    formula a_i = 2 (x_{i+1} - 2 x_i + x_{i-1}) / h^2 - (v_{i+1} - v_{i-1}) / (2 h)
+    (exact for quartics). On a 10 Hz sine sampled at 200 Hz the interpolated
+    acceleration is within 3e-5 of its amplitude (tests/test_devices.py); the cubic
+    Hermite used before, with the acceleration linear between samples, was within 1.2 %.
 """
 
 from __future__ import annotations
@@ -287,7 +289,7 @@ def motion_at(t, kind, par, tn, xn, vn):
                 x = s_before * amp - s_before * vel * (0.25 * tau + du * du / tau)
                 acc = -2.0 * s_before * vel / tau
         return x, v, acc
-    # sampled: cubic Hermite through (t_i, x_i) with slopes v_i (vn holds v_i, then a_i)
+    # sampled: quintic Hermite through (t_i, x_i, v_i, a_i) (vn holds v_i, then a_i)
     n = tn.shape[0]
     if t <= tn[0]:
         return xn[0] + vn[0] * (t - tn[0]), vn[0], vn[n]
@@ -298,22 +300,19 @@ def motion_at(t, kind, par, tn, xn, vn):
         i = 0
     h = tn[i + 1] - tn[i]
     s = (t - tn[i]) / h
-    x0, x1, m0, m1 = xn[i], xn[i + 1], vn[i] * h, vn[i + 1] * h
-    s2, s3 = s * s, s * s * s
-    x = (
-        (2 * s3 - 3 * s2 + 1) * x0
-        + (s3 - 2 * s2 + s) * m0
-        + (-2 * s3 + 3 * s2) * x1
-        + (s3 - s2) * m1
-    )
-    dx = (
-        (6 * s2 - 6 * s) * x0
-        + (3 * s2 - 4 * s + 1) * m0
-        + (-6 * s2 + 6 * s) * x1
-        + (3 * s2 - 2 * s) * m1
-    )
-    acc = (1.0 - s) * vn[n + i] + s * vn[n + i + 1]
-    return x, dx / h, acc
+    x0, x1 = xn[i], xn[i + 1]
+    m0, m1 = vn[i] * h, vn[i + 1] * h
+    c0, c1 = vn[n + i] * h * h, vn[n + i + 1] * h * h
+    # x(s) = x0 + m0 s + c0 s^2 / 2 + k3 s^3 + k4 s^4 + k5 s^5 in s = (t - t_i) / h,
+    # k3..k5 from x, x' and x'' at s = 1
+    d = x1 - x0
+    k3 = 10.0 * d - 6.0 * m0 - 4.0 * m1 - 1.5 * c0 + 0.5 * c1
+    k4 = -15.0 * d + 8.0 * m0 + 7.0 * m1 + 1.5 * c0 - c1
+    k5 = 6.0 * d - 3.0 * m0 - 3.0 * m1 - 0.5 * c0 + 0.5 * c1
+    x = x0 + s * (m0 + s * (0.5 * c0 + s * (k3 + s * (k4 + s * k5))))
+    dx = m0 + s * (c0 + s * (3.0 * k3 + s * (4.0 * k4 + s * 5.0 * k5)))
+    ddx = c0 + s * (6.0 * k3 + s * (12.0 * k4 + s * 20.0 * k5))
+    return x, dx / h, ddx / (h * h)
 
 
 @nb.njit(cache=True)
