@@ -223,43 +223,6 @@ def test_sampled_motion_matches_analytic():
     assert np.abs(a.force - b.force).max() < 1e-4 * np.abs(a.force).max()
 
 
-@pytest.mark.parametrize("rate", [200.0, 400.0, 800.0])
-def test_sampled_motion_interpolant_is_high_order(rate):
-    # a 10 Hz sine sampled at `rate`: between the samples the interpolant's x, v and a
-    # are the analytic ones to high order (x within 3e-9, a within 7e-6 of their
-    # amplitudes at 200 Hz), a is v's own derivative, and x and v pass through the samples
-    w = 2 * np.pi * 10.0
-    t = np.arange(0.0, 1.0 + 0.5 / rate, 1.0 / rate)
-    mot = motion_from_samples(t, np.sin(w * t), w * np.cos(w * t))
-    tt = np.linspace(0.1, 0.9, 20001)
-    x, v, a = mot.evaluate(tt)
-    q = 200.0 / rate
-    assert np.abs(x - np.sin(w * tt)).max() < 5e-9 * q**3
-    assert np.abs(v - w * np.cos(w * tt)).max() / w < 4e-7 * q**6
-    assert np.abs(a + w * w * np.sin(w * tt)).max() / w**2 < 1e-5 * q**5
-    dt = tt[1] - tt[0]
-    np.testing.assert_allclose(np.gradient(v, dt)[1:-1], a[1:-1], atol=1e-5 * w * w)
-    xs, vs, _ = mot.evaluate(t[10:-10])
-    np.testing.assert_allclose(xs, np.sin(w * t[10:-10]), atol=1e-15)
-    np.testing.assert_allclose(vs, w * np.cos(w * t[10:-10]), atol=1e-12)
-
-
-def test_sampled_motion_keeps_displacement_noise_out_of_velocity_and_acceleration():
-    # v and a come from the velocity samples alone: noise on the displacement samples
-    # moves x only (a second difference of x would turn 1e-6 m of noise into
-    # ~0.2 m/s^2 at 200 Hz, thousands of newtons through the rectifier's flywheel)
-    w = 2 * np.pi * 2.0
-    t = np.arange(0.0, 2.0, 0.005)
-    x, v = 0.02 * np.sin(w * t), 0.02 * w * np.cos(w * t)
-    noisy = x + 1e-6 * np.random.default_rng(0).standard_normal(t.size)
-    tt = np.linspace(0.05, 1.95, 3001)
-    a_clean = motion_from_samples(t, x, v).evaluate(tt)
-    a_noisy = motion_from_samples(t, noisy, v).evaluate(tt)
-    np.testing.assert_array_equal(a_clean[1], a_noisy[1])
-    np.testing.assert_array_equal(a_clean[2], a_noisy[2])
-    assert 0 < np.abs(a_clean[0] - a_noisy[0]).max() < 5e-6  # x: its own noise only
-
-
 def test_triangle_is_square_velocity():
     a = Motion.triangle(frequency=0.5, amplitude=0.01)
     b = Motion.square(frequency=0.5, velocity_amplitude=0.02)

@@ -21,15 +21,12 @@ the ideal switching instant (default 2 % of the period). Outside the ramps the
 displacement equals the ideal triangle; inside, it is the matching parabola.
 
 ``samples``
-    A measured record (t_i, x_i, v_i). The acceleration a_i and jerk j_i at the samples
-    come from the velocities alone (seven-point central differences, sixth order). The
-    velocity between samples is the quintic Hermite through (v_i, a_i, j_i) at both
-    ends of the interval and the acceleration its derivative, so both are smooth and
-    pass through the samples; the displacement is the quintic Hermite through
-    (x_i, v_i, a_i). On a 10 Hz sine sampled at 200 Hz, x, v and a are within 3e-9, 3e-7
-    and 7e-6 of their amplitudes (tests/test_devices.py). Noise on the displacement samples reaches
-    x only: a second difference of x would multiply 1e-6 m of noise into about
-    0.2 m/s^2 of acceleration at 200 Hz (docs/decisions.md, "Sampled motions").
+    A measured record (t_i, x_i, v_i), interpolated by the cubic Hermite polynomial
+    through the displacements with the velocities as slopes, so v(t) = dx/dt exactly and
+    x, v pass through every sample. The acceleration is taken at the samples from the
+    fourth-order formula a_i = 2 (x_{i+1} - 2 x_i + x_{i-1}) / h^2 - (v_{i+1} - v_{i-1}) / (2 h)
+    (exact for quartics; the Hermite's own second derivative is only second order and
+    discontinuous at the samples) and interpolated linearly in between.
 """
 
 from __future__ import annotations
@@ -165,7 +162,7 @@ class Motion:
         )
         if kind == 2:
             tn, xn, vn = (np.ascontiguousarray(a, dtype=float) for a in self.samples)
-            vn = np.concatenate([vn, *_node_derivatives(tn, vn)])
+            vn = np.concatenate([vn, _node_acceleration(tn, xn, vn)])
         else:
             tn = xn = vn = np.zeros(1)
         return kind, par, tn, xn, vn
@@ -211,42 +208,16 @@ class Motion:
         return t[(t >= 0) & (t <= duration)]
 
 
-def _node_derivatives(t, v):
-    """(a, j): acceleration [m/s^2] and jerk [m/s^3] at the samples from the velocities
-    alone, by seven-point central differences (sixth order on uniform spacing), five
-    and three points nearer the ends and linear extrapolation at them. The displacements are
-    left out: their second difference multiplies the displacement noise by about
-    5 / h^2 (0.2 m/s^2 for 1e-6 m at 200 Hz)."""
-    n = t.size
-    a = np.empty_like(v)
-    j = np.zeros_like(v)
-    if n < 3:
+def _node_acceleration(t, x, v):
+    """Acceleration [m/s^2] at the samples, fourth order on uniform spacing."""
+    a = np.empty_like(x)
+    if t.size < 3:
         a[:] = (v[-1] - v[0]) / (t[-1] - t[0])
-        return a, j
-    hl, hr = t[1:-1] - t[:-2], t[2:] - t[1:-1]
-    a[1:-1] = (v[2:] - v[:-2]) / (hl + hr)
-    j[1:-1] = 2.0 * ((v[2:] - v[1:-1]) / hr - (v[1:-1] - v[:-2]) / hl) / (hl + hr)
-    if n >= 5:
-        h = 0.25 * (t[4:] - t[:-4])
-        a[2:-2] = (-v[4:] + 8.0 * v[3:-1] - 8.0 * v[1:-3] + v[:-4]) / (12.0 * h)
-        j[2:-2] = (-v[4:] + 16.0 * v[3:-1] - 30.0 * v[2:-2] + 16.0 * v[1:-3] - v[:-4]) / (
-            12.0 * h * h
-        )
-    if n >= 7:  # seven points (sixth order) inside
-        h = (t[6:] - t[:-6]) / 6.0
-        a[3:-3] = (
-            v[6:] - 9.0 * v[5:-1] + 45.0 * v[4:-2] - 45.0 * v[2:-4] + 9.0 * v[1:-5] - v[:-6]
-        ) / (60.0 * h)
-        j[3:-3] = (
-            2.0 * (v[6:] + v[:-6])
-            - 27.0 * (v[5:-1] + v[1:-5])
-            + 270.0 * (v[4:-2] + v[2:-4])
-            - 490.0 * v[3:-3]
-        ) / (180.0 * h * h)
-    for arr in (a, j):  # linear extrapolation to the ends
-        arr[0] = 2.0 * arr[1] - arr[2]
-        arr[-1] = 2.0 * arr[-2] - arr[-3]
-    return a, j
+        return a
+    h = 0.5 * (t[2:] - t[:-2])
+    a[1:-1] = 2.0 * (x[2:] - 2.0 * x[1:-1] + x[:-2]) / h**2 - (v[2:] - v[:-2]) / (2.0 * h)
+    a[0], a[-1] = 2.0 * a[1] - a[2], 2.0 * a[-2] - a[-3]  # linear extrapolation
+    return a
 
 
 def _amplitude(amplitude, velocity_amplitude, factor) -> float:
@@ -316,7 +287,7 @@ def motion_at(t, kind, par, tn, xn, vn):
                 x = s_before * amp - s_before * vel * (0.25 * tau + du * du / tau)
                 acc = -2.0 * s_before * vel / tau
         return x, v, acc
-    # sampled (vn holds v_i, then a_i, then j_i)
+    # sampled: cubic Hermite through (t_i, x_i) with slopes v_i (vn holds v_i, then a_i)
     n = tn.shape[0]
     if t <= tn[0]:
         return xn[0] + vn[0] * (t - tn[0]), vn[0], vn[n]
@@ -327,27 +298,22 @@ def motion_at(t, kind, par, tn, xn, vn):
         i = 0
     h = tn[i + 1] - tn[i]
     s = (t - tn[i]) / h
-    # quintic Hermites in s = (t - t_i) / h: x through (x_i, v_i, a_i) and v through
-    # (v_i, a_i, j_i); a = v'. Each is f0 + m0 s + c0 s^2 / 2 + k3 s^3 + k4 s^4 + k5 s^5
-    # with k3..k5 from f, f' and f'' at s = 1 (_quintic)
-    x = _quintic(s, xn[i], xn[i + 1], vn[i] * h, vn[i + 1] * h,
-                 vn[n + i] * h * h, vn[n + i + 1] * h * h)[0]  # fmt: skip
-    v, dv = _quintic(s, vn[i], vn[i + 1], vn[n + i] * h, vn[n + i + 1] * h,
-                     vn[2 * n + i] * h * h, vn[2 * n + i + 1] * h * h)  # fmt: skip
-    return x, v, dv / h
-
-
-@nb.njit(cache=True, inline="always")
-def _quintic(s, f0, f1, m0, m1, c0, c1):
-    """(f, df/ds) at s of the quintic with f, df/ds, d2f/ds2 = (f0, m0, c0) at s = 0 and
-    (f1, m1, c1) at s = 1."""
-    d = f1 - f0
-    k3 = 10.0 * d - 6.0 * m0 - 4.0 * m1 - 1.5 * c0 + 0.5 * c1
-    k4 = -15.0 * d + 8.0 * m0 + 7.0 * m1 + 1.5 * c0 - c1
-    k5 = 6.0 * d - 3.0 * m0 - 3.0 * m1 - 0.5 * c0 + 0.5 * c1
-    f = f0 + s * (m0 + s * (0.5 * c0 + s * (k3 + s * (k4 + s * k5))))
-    df = m0 + s * (c0 + s * (3.0 * k3 + s * (4.0 * k4 + s * 5.0 * k5)))
-    return f, df
+    x0, x1, m0, m1 = xn[i], xn[i + 1], vn[i] * h, vn[i + 1] * h
+    s2, s3 = s * s, s * s * s
+    x = (
+        (2 * s3 - 3 * s2 + 1) * x0
+        + (s3 - 2 * s2 + s) * m0
+        + (-2 * s3 + 3 * s2) * x1
+        + (s3 - s2) * m1
+    )
+    dx = (
+        (6 * s2 - 6 * s) * x0
+        + (3 * s2 - 4 * s + 1) * m0
+        + (-6 * s2 + 6 * s) * x1
+        + (3 * s2 - 2 * s) * m1
+    )
+    acc = (1.0 - s) * vn[n + i] + s * vn[n + i + 1]
+    return x, dx / h, acc
 
 
 @nb.njit(cache=True)
