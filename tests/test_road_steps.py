@@ -16,7 +16,7 @@ import pytest
 
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
-from inerterlab.excitation import bump, road_steps
+from inerterlab.excitation import bump, drop, road_steps, sine
 from inerterlab.simulate import SimulationOptions, simulate
 from inerterlab.suspension import quarter_car
 
@@ -124,6 +124,31 @@ def test_road_steps_and_round_off():
     # and the simulation takes none there either (the same threshold in both backends)
     smooth = bump(edge="ramp", edge_width=1e-3)
     assert simulate(quarter_car("cfw"), smooth, 0.1, output="metrics").body_velocity_jumps == ()
+
+
+@pytest.mark.parametrize(
+    "road",
+    [
+        drop(),
+        bump(),
+        bump(height=-0.03, start=0.2, duration=0.05),
+        bump(edge="ramp", edge_width=1e-3),
+        bump(edge="half-cosine", edge_width=2e-3),
+        bump(shape="1-cos", duration=0.1),
+        sine(),
+    ],
+)
+@pytest.mark.parametrize("initial", [0.0, 0.05, -0.01])
+def test_road_helpers_small_path_equals_the_array_path(monkeypatch, road, initial):
+    # a few segments are handled element by element in Python (a sweep point's
+    # overhead); the results are the same floats as the array path's
+    import inerterlab.excitation as ex
+
+    segs = road.segments(1.0)
+    fast = (ex.road_scale(segs), ex.road_steps(segs, initial, 1.0), ex.road_steps(segs, initial, 0.005))
+    monkeypatch.setattr(ex, "_SMALL", -1)
+    slow = (ex.road_scale(segs), ex.road_steps(segs, initial, 1.0), ex.road_steps(segs, initial, 0.005))
+    assert fast == slow
 
 
 def test_bad_edge_options_are_refused():

@@ -491,9 +491,16 @@ def road_displacement(segments: np.ndarray, t) -> tuple[np.ndarray, np.ndarray]:
 ROAD_JUMP_RTOL = 1e-12
 
 
+#: below this many segments the road helpers loop in Python: numpy's per-call cost on
+#: arrays of one to a few rows was most of a sweep point's overhead (docs/decisions.md)
+_SMALL = 16
+
+
 def road_scale(segments: np.ndarray) -> float:
     """A bound on |X1| over the segments [m]: the scale a road jump is measured against."""
     s = np.asarray(segments, dtype=float)
+    if s.shape[0] <= _SMALL:  # the same operations, element by element
+        return float(max(abs(r[3]) + abs(r[5]) + abs(r[4]) * (r[1] - r[0]) for r in s.tolist()))
     return float(np.max(np.abs(s[:, 3]) + np.abs(s[:, 5]) + np.abs(s[:, 4]) * (s[:, 1] - s[:, 0])))
 
 
@@ -509,6 +516,16 @@ def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> lis
     """
     segs = np.asarray(segments, dtype=float)
     tol = ROAD_JUMP_RTOL * road_scale(segs)
+    if segs.shape[0] <= _SMALL and not segs[:, 2].any():
+        # linear segments only (drop, bump, ramps): plain floats, the same arithmetic
+        rows = segs.tolist()
+        out, prev = [], float(initial_road)
+        for r in rows:
+            jump = r[3] - prev
+            if abs(jump) > tol and r[0] < horizon:
+                out.append((r[0], jump))
+            prev = r[3] + r[4] * (r[1] - r[0])
+        return out
     start, _ = _road_on(segs, segs[:, 0])
     end, _ = _road_on(segs, segs[:, 1])
     prev = np.concatenate([[float(initial_road)], end[:-1]])

@@ -368,14 +368,14 @@ def _wk_sections():
 _XBUF = threading.local()
 
 
-def _exact_step_buffers(n_p: int, n_wk: int, dtype: str):
+def _exact_step_buffers(n_p: int, n_wk: int):
     """The exact-step set-up kept between runs of this thread (K.x_buffers): the kernel
     rebuilds it only when the linear system or the road kind changes, so a sweep whose
     points share a system (inputs, seeds) builds it once. Per thread: a set-up is
     written by one kernel call at a time."""
     from .suspension import _kernels as K
 
-    key = (n_p, n_wk, dtype)
+    key = (n_p, n_wk)
     buf = getattr(_XBUF, "buffers", None)
     if buf is None or _XBUF.key != key:
         _XBUF.buffers, _XBUF.key = K.x_buffers(n_p, n_wk), key
@@ -408,7 +408,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
         wk, ts, out_y, out_a3, peaks, stats, jumps, ROAD_JUMP_RTOL * road_scale(segs),
         bool(options.refine_peaks),
         int(options.max_steps), bool(options.exact_steps),
-        *_exact_step_buffers(model.kernel_parameters.size, wk.size, str(model.kernel_parameters.dtype)),
+        *_exact_step_buffers(model.kernel_parameters.size, wk.size),
     )  # fmt: skip
     if status != K.OK:
         why = {
