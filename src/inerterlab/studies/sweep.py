@@ -207,7 +207,7 @@ class _ZarrStore:
             self._lock_fd = None
 
     def status(self) -> np.ndarray:
-        return np.asarray(self.group["status"][:])
+        return np.asarray(self._arrays["status"][:])
 
     def write(self, idx: np.ndarray, res: ChunkResult) -> None:
         contiguous = idx[-1] - idx[0] + 1 == len(idx)
@@ -226,8 +226,8 @@ class _ZarrStore:
         put("status", res.status)  # last: marks the points as done
 
     def read(self):
-        values = np.stack([np.asarray(self.group[m][:]) for m in self.metrics], axis=1)
-        return values, self.status(), _decode_reasons(np.asarray(self.group["reason"][:]))
+        values = np.stack([np.asarray(self._arrays[m][:]) for m in self.metrics], axis=1)
+        return values, self.status(), _decode_reasons(np.asarray(self._arrays["reason"][:]))
 
 
 def _lock_store(path: Path) -> int:

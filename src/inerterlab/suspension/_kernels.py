@@ -1359,7 +1359,7 @@ def _x_key_matches(xkey, p, me, alpha, omega, wk, n_p, n_wk):
 
 
 @leaf
-def _x_key_store(xkey, p, me, alpha, omega, wk, n_p, n_wk):
+def _x_key_store(xkey, p, me, alpha, omega, wk, n_p):
     for i in range(n_p):
         xkey[i] = p[i]
     xkey[P_BRANCH] = 0.0
@@ -1556,7 +1556,7 @@ def integrate(
                 if not _x_key_matches(xkey, p, me_lin, alpha, omega, wk, n_p, n_wk):
                     xkey[n_p] = np.nan  # no valid set-up until the key is stored
                     x_setup(p, wk, me_lin, alpha, omega, Mx, rows_x, E_x, P_x, R_x, T_x, w2_x, w1_x)
-                    _x_key_store(xkey, p, me_lin, alpha, omega, wk, n_p, n_wk)
+                    _x_key_store(xkey, p, me_lin, alpha, omega, wk, n_p)
                     nsetup += 1
                 for i in range(4):
                     z_x[i] = y[i]
