@@ -215,7 +215,9 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     mass matrix by sum_j d_j u_j u_j^T (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations
     follow by the Woodbury identity: a = y - W w, (I + D S) w = D U y, with
     W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed), the
-    small system solved in its symmetric form I + E S E (E = D^(1/2)) by Cholesky.
+    small system factorised by LU without pivoting (no square roots; it is similar to
+    the symmetric I + E S E, E = D^(1/2), whose Schur complements are all >= 1), and
+    the factors kept while D stays the same (saturated flywheels).
     Devices (:mod:`inerterlab.vehicles.devices`): the core rig of connection j, driven
     by its extension and rate, gives its states' derivatives and a force added to the
     connection's (the core's compiled :func:`~inerterlab.systems._kernel.evaluate`).
@@ -242,7 +244,7 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     Mw = np.empty(max(na * na, 1))
     ev = np.empty(max(na, 1))
     rd = np.empty(max(na, 1))
-    evf = np.full(max(na, 1), np.nan)  # E of the factor in Mw, rd (NaN: none yet)
+    evf = np.full(max(na, 1), np.nan)  # D of the factor in Mw, rd (NaN: none yet)
     gen = np.empty(max(na, 1))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -307,10 +309,11 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                         i = vidx[p]
                         d -= vval[p] * rs[i]
                         dd -= vval[p] * slope[i]
-                    flin = k[j] * d + c_ext[j] * dd
-                    fj = flin
-                    if dd <= 0.0:
-                        fj = k[j] * d + c_cmp[j] * dd
+                    kd = k[j] * d
+                    ce = c_ext[j]
+                    cm = c_cmp[j]  # both loaded: a select, not a branch on the sign of dd
+                    flin = kd + ce * dd
+                    fj = kd + (cm if dd <= 0.0 else ce) * dd
                     if fric[j] != 0.0:
                         fj += fric[j] * math.tanh(dd / fv[0])
                     dv = devof[j]
@@ -335,8 +338,10 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                             K[st, n + a] += MU[jj, a] * delta
                 if na > 0:
                     # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g (above),
-                    # w = E (I + E S E)^-1 E U y with E = D^(1/2) (D >= 0), W = M0^-1 U',
-                    # S = U M0^-1 U'; I + E S E is symmetric positive definite: Cholesky
+                    # w = (I + D S)^-1 D U y, W = M0^-1 U', S = U M0^-1 U'. I + D S is
+                    # similar to the symmetric I + E S E (E = D^(1/2)), whose Schur
+                    # complements are all >= 1: LU without pivoting is safe and needs no
+                    # square roots (L below the diagonal of Mw, U above, 1/pivots in rd)
                     for jj in range(na):
                         j = afw[jj]
                         v = 0.0
@@ -345,36 +350,39 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                             v += uval[p] * xt[nu + uidx[p]]
                             uy += uval[p] * K[st, nu + uidx[p]]
                         me, _ = flywheel_inertance(rows, jj * NPAR, v, 0.0, 0.0)
-                        ev[jj] = math.sqrt(max(me - me0[jj], 0.0))
+                        ev[jj] = max(me - me0[jj], 0.0)
                         gen[jj] = ev[jj] * uy
-                    same = True  # E as at the last factorisation (saturated flywheels)
+                    same = True  # D as at the last factorisation (saturated flywheels)
                     for a in range(na):
                         if ev[a] != evf[a]:
                             same = False
                             evf[a] = ev[a]
-                    for a in range(0 if same else na):  # lower Cholesky factor of
-                        for b in range(a + 1):  # I + E S E into Mw, diagonal reciprocals rd
-                            t = ev[a] * S[a, b] * ev[b] + (1.0 if a == b else 0.0)
-                            for q in range(b):
-                                t -= Mw[a * na + q] * Mw[b * na + q]
-                            if a == b:
-                                rd[a] = 1.0 / math.sqrt(t)
-                            else:
-                                Mw[a * na + b] = t * rd[b]
-                    for a in range(na):  # forward, then back substitution
+                    if not same:
+                        for a in range(na):
+                            for b in range(na):
+                                Mw[a * na + b] = ev[a] * S[a, b] + (1.0 if a == b else 0.0)
+                        for q in range(na):
+                            piv = 1.0 / Mw[q * na + q]
+                            rd[q] = piv
+                            for a in range(q + 1, na):
+                                el = Mw[a * na + q] * piv
+                                Mw[a * na + q] = el
+                                for b in range(q + 1, na):
+                                    Mw[a * na + b] -= el * Mw[q * na + b]
+                    for a in range(na):  # forward (unit lower), then back substitution
                         t = gen[a]
                         for q in range(a):
                             t -= Mw[a * na + q] * gen[q]
-                        gen[a] = t * rd[a]
+                        gen[a] = t
                     for a in range(na - 1, -1, -1):
                         t = gen[a]
                         for q in range(a + 1, na):
-                            t -= Mw[q * na + a] * gen[q]
+                            t -= Mw[a * na + q] * gen[q]
                         gen[a] = t * rd[a]
                     for a in range(n):
                         t = K[st, n + a]
                         for q in range(na):
-                            t -= W[a, q] * (ev[q] * gen[q])
+                            t -= W[a, q] * gen[q]
                         K[st, n + a] = t
                 # ---- end ----
                 if s == 0 and st == 0:
