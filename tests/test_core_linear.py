@@ -21,6 +21,13 @@ NETWORKS = {
     "k | (k1 - c1) | b": {"k": 70e3, "k1": 60e3, "c1": 6e3, "b": 80.0},
     "k | (k1 - c - b)": {"k": 90e3, "k1": 50e3, "c": 5e3, "b": 250.0},
     "k | (k1 - k2 - c)": {"k": 90e3, "k1": 100e3, "k2": 150e3, "c": 4e3},
+    # an inerter, a damper, between two massless nodes as written: built with the
+    # series chain arranged (docs/model.md, "Networks")
+    "k | c | (k1 - b - k2)": {"k": 90e3, "c": 4e3, "k1": 60e3, "b": 150.0, "k2": 120e3},
+    "k | (k1 - c1 - k2)": {"k": 90e3, "k1": 100e3, "c1": 4e3, "k2": 150e3},
+    "k | c | (k1 - (b | c1) - k2 - b2)": dict(
+        k=90e3, c=3e3, k1=80e3, b=100.0, c1=2e3, k2=2e5, b2=300.0
+    ),
 }
 RAMP_BUMP = bump(edge="ramp", edge_width=0.003)
 
@@ -162,10 +169,12 @@ def test_fluid_energy_balance():
 def test_ill_posed_networks_name_the_sub_network():
     with pytest.raises(NetworkError, match=r"friction.*fric - k1"):
         quarter_car("k | c | (fric - k1)", {"k": 1e5, "c": 1e3, "fric": 100.0, "k1": 1e4})
-    with pytest.raises(NetworkError, match=r"k1 - c1 - k2"):
-        quarter_car("k | (k1 - c1 - k2)", {"k": 1e5, "k1": 1e4, "c1": 1e3, "k2": 2e4})
-    with pytest.raises(NetworkError, match=r"free sub-network.*k1 - b - k2"):
-        quarter_car("k | c | (k1 - b - k2)", {"k": 1e5, "c": 1e3, "k1": 1e4, "b": 10.0, "k2": 2e4})
+    # three chains that each carry an inerter but tie neither end by inertance, in one
+    # series chain: the middle one sits between two massless nodes in every order
+    three = "k | c | ((k1 | (k2 - b1)) - (k3 | (k4 - b2)) - (k5 | (k6 - b3)))"
+    vals = dict(k=1e5, c=1e3, k1=1e4, k2=2e4, b1=10.0, k3=3e4, k4=4e4, b2=20.0)
+    with pytest.raises(NetworkError, match=r"free sub-network.*rearranged.*k2 - b1"):
+        quarter_car(three, dict(vals, k5=5e4, k6=6e4, b3=30.0))
     with pytest.raises(NetworkError, match="unknown element"):
         quarter_car("k | q", {"k": 1e5})
 
@@ -188,3 +197,31 @@ def test_road_step_metrics_not_finite_where_the_body_velocity_jumps():
     assert direct.metrics["rms_body_acc_wk"] > 0
     behind = quarter_car("k | (c - b)", NETWORKS["k | (c - b)"]).simulate(bump(), 0.5)
     assert behind.metrics["rms_body_acc"] > 0 and "rms_body_acc" not in behind.not_finite
+
+
+def test_adaptive_inerter_between_massless_nodes_equals_the_springs_combined():
+    """k1 - afw - k2 puts the adaptive inerter between two massless nodes; the chain is
+    built arranged. Two springs in series are one of stiffness k1 k2 / (k1 + k2): the
+    network written that way (one massless node fewer, never arranged) must give the
+    same motion, and the rig the same force."""
+    k1, k2 = 60e3, 120e3
+    keq = k1 * k2 / (k1 + k2)
+    afw = {"flywheel": "nylon", "changing_ratio": 0.285}
+    a = quarter_car("k | c | (k1 - afw - k2)", {"k": 9e4, "c": 3e3, "k1": k1, "k2": k2, "afw": afw})
+    b = quarter_car("k | c | (k_eq - afw)", {"k": 9e4, "c": 3e3, "k_eq": keq, "afw": afw})
+    assert a.info.get("arranged") and not b.info.get("arranged")
+    ra = a.simulate(RAMP_BUMP, 1.0, rtol=1e-11, sample_rate=1000)
+    rb = b.simulate(RAMP_BUMP, 1.0, rtol=1e-11, sample_rate=1000)
+    for k in ("body_acc", "deflection"):
+        scale = np.abs(rb.outputs[k]).max()
+        assert scale > 0
+        assert np.abs(ra.outputs[k] - rb.outputs[k]).max() <= 1e-7 * scale, k
+    # the rig: the same prescribed motion, the same force
+    from inerterlab.systems import rig
+
+    params = {"k1": k1, "k2": k2, "afw": afw}
+    drive = sine(frequency=2.0, amplitude=0.01)
+    fa = rig("k1 - afw - k2", params).simulate(drive, 1.0)
+    fb = rig("k_eq - afw", {"k_eq": keq, "afw": afw}).simulate(drive, 1.0)
+    scale = np.abs(fb.outputs["force"]).max()
+    assert np.abs(fa.outputs["force"] - fb.outputs["force"]).max() <= 1e-6 * scale

@@ -207,7 +207,32 @@ def _derived_row(sys, output, C, D):
 # building
 
 
-def _check_singular(Mat: np.ndarray, nodes: list, lay: Layout, what: str, hint: str) -> None:
+class _Unarranged(NetworkError):
+    """A massless node the classification cannot integrate in the order written (an
+    inertance or a damper between massless nodes); laying the series chains out again
+    (:class:`~inerterlab.systems._network.Layout` ``arrange``) may remove it."""
+
+
+def _laid_out(kind: str, description: str, make, info: dict) -> tuple[System, Layout]:
+    """Build from ``make(arrange)`` (a filled Layout): in the order written, and if that
+    leaves an inertance or damper between massless nodes, with the series chains
+    arranged (the same network seen from its terminals); the first error if both fail."""
+    lay = make(False)
+    try:
+        return build(kind, description, lay, info), lay
+    except _Unarranged as first:
+        lay = make(True)
+        try:
+            sys = build(kind, description, lay, info)
+        except _Unarranged:
+            raise NetworkError(str(first)) from None
+        sys.info["arranged"] = True
+        return sys, lay
+
+
+def _check_singular(
+    Mat: np.ndarray, nodes: list, lay: Layout, what: str, hint: str, error=NetworkError
+) -> None:
     if Mat.shape[0] == 0:
         return
     w, v = np.linalg.eigh(0.5 * (Mat + Mat.T))
@@ -217,7 +242,7 @@ def _check_singular(Mat: np.ndarray, nodes: list, lay: Layout, what: str, hint: 
         vec = v[:, bad[0]]
         idx = [nodes[i] for i in np.flatnonzero(np.abs(vec) > 1e-8)]
         where = "; ".join(sorted({lay.nodes[i]["origin"] or lay.nodes[i]["name"] for i in idx}))
-        raise NetworkError(f"ill-posed network: {what} at {where}. {hint}")
+        raise error(f"ill-posed network: {what} at {where}. {hint}")
 
 
 def build(kind: str, description: str, lay: Layout, info: dict) -> System:
@@ -285,8 +310,10 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
         Md,
         dyn,
         lay,
-        "the inertances form a free sub-network (no mass or terminal fixes its motion)",
+        "the inertances form a free sub-network (no mass or terminal fixes its motion, "
+        "even with the series elements rearranged)",
         "Attach a mass, or combine the springs around the inerter into one",
+        _Unarranged,
     )
     _check_singular(
         Dv,
@@ -295,6 +322,7 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
         "massless nodes joined only through dampers whose common motion only "
         "springs hold (a differential-algebraic loop)",
         "Write the springs in series next to each other (e.g. 'k1 - k2 - c' for 'k1 - c - k2')",
+        _Unarranged,
     )
     # spring-only nodes from the others: X_p = R X
     R = np.zeros((len(pos), nn))
@@ -688,11 +716,16 @@ def rig(device_or_network, params: dict | None = None) -> System:
     applies."""
     text, params = _as_network(device_or_network, params)
     tree, els = elements_of(text, params)
-    lay = Layout()
-    top = lay.node("drive", "road")
-    bot = lay.node("ground", "ground")
-    lay.place(tree, top, bot, els)
-    sys = build("rig", f"rig with {text!r}", lay, {"network": text})
+
+    def make(arrange):
+        lay = Layout(arrange)
+        top = lay.node("drive", "road")
+        bot = lay.node("ground", "ground")
+        # arranged toward the ground: the drive's velocity may jump (a sine from rest)
+        lay.place(tree, top, bot, els, fixed=(False, True))
+        return lay
+
+    sys, lay = _laid_out("rig", f"rig with {text!r}", make, {"network": text})
     sys.info["edges"] = tuple(lay.edges)
     return sys
 
@@ -701,11 +734,16 @@ def base_excited(mass: float, network: str, params: dict | None = None) -> Syste
     """A body of ``mass`` [kg] on ``network`` over a moving base (the ch. 7 system)."""
     m = check_positive("mass", mass, "kg")
     tree, els = elements_of(network, params)
-    lay = Layout()
-    body = lay.node("body", "mass", m)
-    base = lay.node("base", "road")
-    lay.place(tree, body, base, els)
-    return build("base_excited", f"base-excited body on {network!r}", lay, {"network": network})
+
+    def make(arrange):
+        lay = Layout(arrange)
+        body = lay.node("body", "mass", m)
+        base = lay.node("base", "road")
+        lay.place(tree, body, base, els, fixed=(True, False))  # arranged toward the body
+        return lay
+
+    desc = f"base-excited body on {network!r}"
+    return _laid_out("base_excited", desc, make, {"network": network})[0]
 
 
 QUARTER_CAR_PRESETS = {
@@ -790,15 +828,20 @@ def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, *
             raise ParameterError(k, preset[k], "no value: only the named presets take it")
         text, p = network, params
     tree, els = elements_of(text, p)
-    lay = Layout()
-    road = lay.node("road", "road")
-    wheel = lay.node("wheel", "mass", c["unsprung_mass"])
-    body = lay.node("body", "mass", c["sprung_mass"])
-    lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
-    if c["tyre_damping"] > 0:
-        lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
-    lay.place(tree, body, wheel, els)
-    sys = build("quarter_car", f"quarter car with {network!r}", lay, {"network": text, "car": c})
+
+    def make(arrange):
+        lay = Layout(arrange)
+        road = lay.node("road", "road")
+        wheel = lay.node("wheel", "mass", c["unsprung_mass"])
+        body = lay.node("body", "mass", c["sprung_mass"])
+        lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
+        if c["tyre_damping"] > 0:
+            lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
+        lay.place(tree, body, wheel, els)
+        return lay
+
+    desc = f"quarter car with {network!r}"
+    sys = _laid_out("quarter_car", desc, make, {"network": text, "car": c})[0]
     if c["tyre_damping"] == 0:
         raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
     return sys
