@@ -516,15 +516,20 @@ def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> lis
     """
     segs = np.asarray(segments, dtype=float)
     tol = ROAD_JUMP_RTOL * road_scale(segs)
-    if segs.shape[0] <= _SMALL and not segs[:, 2].any():
-        # linear segments only (drop, bump, ramps): plain floats, the same arithmetic
-        rows = segs.tolist()
+    if segs.shape[0] <= _SMALL:
+        # a few segments (drop, bumps, sine): plain floats, the arithmetic of _road_on
         out, prev = [], float(initial_road)
-        for r in rows:
-            jump = r[3] - prev
+        for r in segs.tolist():
+            if r[2] == 0:
+                start = r[3] + r[4] * (r[0] - r[0])
+                end = r[3] + r[4] * (r[1] - r[0])
+            else:
+                start = r[3] + r[5] * math.sin(r[6] * r[0] + r[7])
+                end = r[3] + r[5] * math.sin(r[6] * r[1] + r[7])
+            jump = start - prev
             if abs(jump) > tol and r[0] < horizon:
                 out.append((r[0], jump))
-            prev = r[3] + r[4] * (r[1] - r[0])
+            prev = end
         return out
     start, _ = _road_on(segs, segs[:, 0])
     end, _ = _road_on(segs, segs[:, 1])
