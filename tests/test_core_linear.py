@@ -225,3 +225,29 @@ def test_adaptive_inerter_between_massless_nodes_equals_the_springs_combined():
     fb = rig("k_eq - afw", {"k_eq": keq, "afw": afw}).simulate(drive, 1.0)
     scale = np.abs(fb.outputs["force"]).max()
     assert np.abs(fa.outputs["force"] - fb.outputs["force"]).max() <= 1e-6 * scale
+
+
+def test_road_velocity_jump_at_an_inertance_on_the_road_warns():
+    """An inertance attached to the road would pass an impulse where the road velocity
+    jumps; the integration does not apply it, so the user is told (a sine from rest, a
+    ramped bump) and not told where there is nothing to miss."""
+    import warnings
+
+    from inerterlab.systems import RoadVelocityJumpWarning, rig
+
+    kcb = base_excited(100.0, "k | c | b", {"k": 4e4, "c": 100.0, "b": 100.0})
+    with pytest.warns(RoadVelocityJumpWarning, match=r"first at t = 0 s, by 0\.1257 m/s.*\bb\b"):
+        kcb.simulate(sine(frequency=2.0, amplitude=0.01), 0.1)
+    ramp = bump(edge="ramp", edge_width=0.005)
+    with pytest.warns(RoadVelocityJumpWarning, match=r"jumps 4 time\(s\).*afw is attached"):
+        rig("afw - k", {"k": 4e4}).simulate(ramp, 0.1)
+    quiet = [
+        (base_excited(100.0, "k | c", {"k": 4e4, "c": 100.0}), sine(frequency=2.0)),
+        (quarter_car("k | c | b", {"k": 9e4, "c": 5e3, "b": 100.0}), sine()),
+        (rig("b - k", {"b": 100.0, "k": 4e4}), bump(edge="half-cosine", edge_width=0.005)),
+        (kcb, drop()),
+    ]
+    for system, road in quiet:
+        with warnings.catch_warnings():
+            warnings.simplefilter("error")
+            system.simulate(road, 0.1)

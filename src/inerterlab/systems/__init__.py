@@ -51,6 +51,7 @@ from __future__ import annotations
 from .core import (
     QUARTER_CAR_PRESETS,
     CoreResult,
+    RoadVelocityJumpWarning,
     System,
     base_excited,
     linear_equivalent,
@@ -68,4 +69,5 @@ __all__ = [
     "preset_parameters",
     "QUARTER_CAR_PRESETS",
     "linear_equivalent",
+    "RoadVelocityJumpWarning",
 ]

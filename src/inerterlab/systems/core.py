@@ -407,6 +407,13 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
             else:
                 imp[cls[other]] += el.damping
     linear = all(not _nonlinear(el) for _, el, _, _ in edges)
+    # inertances with an end on the road: a road velocity jump would pass them an
+    # impulse, which the integration does not apply (_simulate warns)
+    road_inertances = tuple(
+        name
+        for name, el, t, b in edges
+        if el.code in (INERTER, FLYWHEEL) and ROAD in (types[t], types[b])
+    )
     # velocity jump of each dynamic node per unit road step (nominal inertances; only
     # whether it is zero is used: a body whose velocity jumps has a Dirac acceleration)
     dv_unit = np.linalg.solve(Md, imp) if len(dyn) and jump_ok else np.zeros(len(dyn))
@@ -428,7 +435,13 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
         linear=linear,
         imp_unit=imp,
         jump_ok=jump_ok,
-        info=dict(info, spring_laplacian=L, types=types, velocity_jump_per_step=node_jump),
+        info=dict(
+            info,
+            spring_laplacian=L,
+            types=types,
+            velocity_jump_per_step=node_jump,
+            road_inertances=road_inertances,
+        ),
     )
 
 
@@ -471,6 +484,50 @@ def _sample_times(horizon: float, rate: float) -> np.ndarray:
     return np.arange(n + 1) / rate
 
 
+class RoadVelocityJumpWarning(UserWarning):
+    """The road's velocity jumps where an inertance is attached to the road."""
+
+
+def _road_velocity(row, t: float) -> float:
+    if row[2] == 0:
+        return row[4]
+    return row[5] * row[6] * math.cos(row[6] * t + row[7])
+
+
+def _warn_road_velocity_jumps(sys, segs: np.ndarray, T: float, from_rest: bool) -> None:
+    """Warn when the road velocity jumps (at t = 0 from rest, or where two segments
+    meet) in a system with an inertance attached to the road: the impulse the inertance
+    would pass there is not applied (docs/model.md, "Networks")."""
+    rows = segs.tolist()
+    vel = [(_road_velocity(r, r[0]), _road_velocity(r, r[1])) for r in rows]
+    scale = max(abs(r[4]) + abs(r[5] * r[6]) for r in rows)  # the road's speed scale
+    if scale == 0.0:
+        return
+    kinks = []
+    if from_rest and abs(vel[0][0]) > 1e-9 * scale:
+        kinks.append((rows[0][0], vel[0][0]))
+    for i in range(1, len(rows)):
+        dv = vel[i][0] - vel[i - 1][1]
+        if abs(dv) > 1e-9 * scale and rows[i][0] < T:
+            kinks.append((rows[i][0], dv))
+    if kinks:
+        import warnings
+
+        t0, dv = kinks[0]
+        names = ", ".join(sys.info["road_inertances"])
+        warnings.warn(
+            RoadVelocityJumpWarning(
+                f"{sys.description}: the road velocity jumps {len(kinks)} time(s) (first "
+                f"at t = {t0:.6g} s, by {dv:.4g} m/s) and {names} is attached to the "
+                "road. The impulse an inertance passes at a velocity jump is not "
+                "applied, so the transient after it is not the physical one (steady "
+                "states are). Smooth the road (bump edge='half-cosine') or start from a "
+                "state that moves with it (x0)."
+            ),
+            stacklevel=4,
+        )
+
+
 def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0) -> CoreResult:
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
@@ -488,6 +545,8 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     excitation.check_horizon(T, stacklevel=3)
     segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
     x1 = float(excitation.initial_road(T))
+    if sys.info.get("road_inertances"):
+        _warn_road_velocity_jumps(sys, segs, T, from_rest=x0 is None)
     if x0 is None:
         fixed = {}
         du, ds = excitation.initial_displacements
