@@ -521,7 +521,7 @@ def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> lis
         out, prev = [], float(initial_road)
         for r in segs.tolist():
             if r[2] == 0:
-                start = r[3] + r[4] * (r[0] - r[0])
+                start = r[3]
                 end = r[3] + r[4] * (r[1] - r[0])
             else:
                 start = r[3] + r[5] * math.sin(r[6] * r[0] + r[7])

@@ -169,6 +169,7 @@ class Layout:
                 parts = ranked[::-1]
             else:
                 parts = ranked
+        tied = [ranks[id(p)] == 0 for p in parts] if ranks is not None else None
         for i, part in enumerate(parts):
             if i == len(parts) - 1:
                 nxt = bot
@@ -179,8 +180,7 @@ class Layout:
                     origin=f"the node after {left!s} in the series {where}",
                 )
             ends = fixed
-            if ranks is not None:
-                tied = [ranks[id(p)] == 0 for p in parts]
+            if tied is not None:
                 ends = (
                     fixed[0] and all(tied[:i]) or fixed[1] and all(tied[i:]),
                     fixed[0] and all(tied[: i + 1]) or fixed[1] and all(tied[i + 1 :]),

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -488,37 +489,26 @@ class RoadVelocityJumpWarning(UserWarning):
     """The road's velocity jumps where an inertance is attached to the road."""
 
 
-def _road_velocity(row, t: float) -> float:
-    if row[2] == 0:
-        return row[4]
-    return row[5] * row[6] * math.cos(row[6] * t + row[7])
-
-
 def _warn_road_velocity_jumps(sys, segs: np.ndarray, T: float, from_rest: bool) -> None:
     """Warn when the road velocity jumps (at t = 0 from rest, or where two segments
     meet) in a system with an inertance attached to the road: the impulse the inertance
     would pass there is not applied (docs/model.md, "Networks")."""
-    rows = segs.tolist()
-    vel = [(_road_velocity(r, r[0]), _road_velocity(r, r[1])) for r in rows]
-    scale = max(abs(r[4]) + abs(r[5] * r[6]) for r in rows)  # the road's speed scale
+    from ..excitation import _road_on
+
+    _, v_start = _road_on(segs, segs[:, 0])
+    _, v_end = _road_on(segs, segs[:, 1])
+    scale = float(np.max(np.abs(segs[:, 4]) + np.abs(segs[:, 5] * segs[:, 6])))  # speed
     if scale == 0.0:
         return
-    kinks = []
-    if from_rest and abs(vel[0][0]) > 1e-9 * scale:
-        kinks.append((rows[0][0], vel[0][0]))
-    for i in range(1, len(rows)):
-        dv = vel[i][0] - vel[i - 1][1]
-        if abs(dv) > 1e-9 * scale and rows[i][0] < T:
-            kinks.append((rows[i][0], dv))
-    if kinks:
-        import warnings
-
-        t0, dv = kinks[0]
+    dv = v_start - np.concatenate([[0.0 if from_rest else v_start[0]], v_end[:-1]])
+    kinks = np.flatnonzero((np.abs(dv) > 1e-9 * scale) & (segs[:, 0] < T))
+    if kinks.size:
+        t0, dv0 = float(segs[kinks[0], 0]), float(dv[kinks[0]])
         names = ", ".join(sys.info["road_inertances"])
         warnings.warn(
             RoadVelocityJumpWarning(
-                f"{sys.description}: the road velocity jumps {len(kinks)} time(s) (first "
-                f"at t = {t0:.6g} s, by {dv:.4g} m/s) and {names} is attached to the "
+                f"{sys.description}: the road velocity jumps {kinks.size} time(s) (first "
+                f"at t = {t0:.6g} s, by {dv0:.4g} m/s) and {names} is attached to the "
                 "road. The impulse an inertance passes at a velocity jump is not "
                 "applied, so the transient after it is not the physical one (steady "
                 "states are). Smooth the road (bump edge='half-cosine') or start from a "

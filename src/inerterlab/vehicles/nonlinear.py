@@ -242,9 +242,9 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     xt = np.empty(nx)
     na = afw.size
     Mw = np.empty(max(na * na, 1))
-    ev = np.empty(max(na, 1))
+    dg = np.empty(max(na, 1))  # D: m_e - m_e(0) of each adaptive inerter
     rd = np.empty(max(na, 1))
-    evf = np.full(max(na, 1), np.nan)  # D of the factor in Mw, rd (NaN: none yet)
+    dgf = np.full(max(na, 1), np.nan)  # D of the factor in Mw, rd (NaN: none yet)
     gen = np.empty(max(na, 1))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -350,17 +350,17 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                             v += uval[p] * xt[nu + uidx[p]]
                             uy += uval[p] * K[st, nu + uidx[p]]
                         me, _ = flywheel_inertance(rows, jj * NPAR, v, 0.0, 0.0)
-                        ev[jj] = max(me - me0[jj], 0.0)
-                        gen[jj] = ev[jj] * uy
+                        dg[jj] = max(me - me0[jj], 0.0)
+                        gen[jj] = dg[jj] * uy
                     same = True  # D as at the last factorisation (saturated flywheels)
                     for a in range(na):
-                        if ev[a] != evf[a]:
+                        if dg[a] != dgf[a]:
                             same = False
-                            evf[a] = ev[a]
+                            dgf[a] = dg[a]
                     if not same:
                         for a in range(na):
                             for b in range(na):
-                                Mw[a * na + b] = ev[a] * S[a, b] + (1.0 if a == b else 0.0)
+                                Mw[a * na + b] = dg[a] * S[a, b] + (1.0 if a == b else 0.0)
                         for q in range(na):
                             piv = 1.0 / Mw[q * na + q]
                             rd[q] = piv
