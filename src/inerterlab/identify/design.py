@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError, check_positive
-from .fit import PARAMETERS, REVERSAL_WINDOW, _prepare, _raw_jacobian, _residuals
+from .fit import PARAMETERS, REVERSAL_WINDOW, RTOL, _prepare, _raw_jacobian, _residuals
 from .simulator import TestSpec, simulate_rig, test_matrix
 
 __all__ = ["CampaignDesign", "campaign_information", "design_campaign"]
@@ -123,7 +123,7 @@ def campaign_information(
     max_duration: float | None = None,
     reversal_window: float = REVERSAL_WINDOW,
     fixed: tuple = (),
-    rtol: float = 1e-8,
+    rtol: float = RTOL,
 ) -> np.ndarray:
     """Fisher information J_g^T J_g / noise^2 of each test of ``tests`` for the free
     parameters of ``device`` (the fit's Jacobian on a noise-free run of the test)."""
