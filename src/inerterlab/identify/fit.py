@@ -45,9 +45,10 @@ loss). Two choices of the meat M (``interval``):
     differentiated twice, whose power sits at high frequencies; a Bartlett window
     leaks it into the low frequencies the parameters live at (intervals 2-2.5 x too
     wide) and an unbiased flat-top window estimates it so noisily that the intervals
-    undercover. In the 200-campaign coverage study (docs/guide/identification.md) it
-    is calibrated for the screw and the hydraulic device and about 15 % too narrow
-    for the rectifier, so it is not the default.
+    undercover. In the 200-campaign coverage study at 500 Hz
+    (docs/guide/identification.md) it is calibrated for the hydraulic device and for
+    the stiffness and friction of the screw and the rectifier, and too narrow for
+    their damping (coverage 78.5 % and 89.5 %), so it is not the default.
 ``jackknife`` (default)
     With at least eight identification tests, the jackknife over tests (CR3) of the
     one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1 s_g, s_g the
@@ -1102,8 +1103,9 @@ def identify(
         ``jackknife`` (default) over tests with Satterthwaite degrees of freedom,
         conservative; ``sandwich`` the M-estimator sandwich with an autoregressive
         noise model within tests and the normal quantile, calibrated in the coverage
-        study for the screw and the hydraulic device but too narrow for the rectifier
-        (docs/guide/identification.md, "Calibrated intervals"). Both are kept on the
+        study for the hydraulic device and the stiffness and friction of the screw
+        and the rectifier but too narrow for their damping
+        (docs/guide/identification.md, "After the tolerance fix, at 500 Hz"). Both are kept on the
         result: :meth:`FitResult.with_intervals`.
 
     Returns
