@@ -99,6 +99,7 @@ REVERSAL_WINDOW = 0.16
 # the scale of the statistical precision (the rectifier's fit then stopped up to 0.8
 # standard errors away depending on where it started; docs/decisions.md)
 RTOL = 1e-10
+PRE_RTOL = 1e-8  # the plain least-squares start of a robust fit
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -936,7 +937,10 @@ def _fit_stage(
         # 20 % error). Plain least squares converges in a few Gauss-Newton steps; it
         # only supplies the start, loosely converged, and the robust fit below then
         # solves the same problem as before to the same tolerance.
-        pre = _solve(fun, x0, lb, ub, "linear", f_scale, max_nfev, jac, tol=1e-4)
+        # Only a start, so its model may be loose (PRE_RTOL): the tolerance matters
+        # where the robust fit compares costs that differ by a fraction of the noise.
+        loose, _ = _residuals(device, names, preps, max(rtol, PRE_RTOL), affine)
+        pre = _solve(loose, x0, lb, ub, "linear", f_scale, max_nfev, jac, tol=1e-4)
         x0 = pre.x
         nfev += pre.nfev
         # started that close, a first trust region of 1 % saves the evaluations a full
