@@ -12,8 +12,9 @@ property of a connection:
   (m_e(v) - m_e(0)) u u^T to the mass matrix, m_e the inertance of its law at the
   strut's extension rate v (laws ``thesis`` and ``momentum`` of
   :mod:`inerterlab.elements.adaptive_flywheel`, the same compiled code every system
-  uses); the accelerations follow from the rest mass matrix's inverse by the Woodbury
-  identity (a 4 x 4 system for four adaptive corners) at every stage. ``thesis`` and ``momentum`` make the force from the
+  uses); the accelerations follow by the Woodbury identity from the inverse of the
+  mass matrix with every flywheel saturated, so only the flywheels below saturation
+  enter a small system (at most 4 x 4 for four adaptive corners) at a stage. ``thesis`` and ``momentum`` make the force from the
   inertance alone (no extra velocity-squared term), so the mass matrix carries it all.
 * **Devices.** A strut's device (``Strut.device``, :mod:`inerterlab.vehicles.devices`):
   its parts straight across the strut are in the matrices above; the rest is a core rig
@@ -108,8 +109,13 @@ def _tables(
     rows = np.array(rows, dtype=float).reshape(len(afw), -1) if len(afw) else np.zeros((0, NPAR))
     rows = rows.ravel()
     me0 = np.array(me0, dtype=float)
-    Minv = np.linalg.inv(M)
     Ua = U[afw]
+    # the base mass matrix holds every adaptive inerter at its saturated inertance
+    # (computed by the kernel's own law, so a saturated flywheel's departure from it
+    # is exactly zero and drops out of the Woodbury system)
+    mb = _base_inertance(rows, me0)
+    M = M + (Ua.T * (mb - me0)) @ Ua
+    Minv = np.linalg.inv(M)
     W = np.ascontiguousarray(Minv @ Ua.T)
     S = np.ascontiguousarray(Ua @ Minv @ Ua.T)
     dev = _device_tables(vehicle, 2 * M.shape[0] + Az.shape[0])
@@ -125,7 +131,7 @@ def _tables(
     MU = np.ascontiguousarray((Minv @ U[nl].T).T) if nl.size else np.zeros((0, M.shape[0]))
     MFz = np.ascontiguousarray(Minv @ Fz)
     args = (np.ascontiguousarray(G), nl, MU, *_csr(U), *_csr(V), k, c_ext, c_cmp, preload,
-            unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, *dev)  # fmt: skip
+            unilateral, fric, fv, afw, rows, me0, mb, W, S, Az, Zq, Zr, MFz, *dev)  # fmt: skip
     return args, nl, preload
 
 
@@ -166,6 +172,21 @@ def _device_tables(vehicle: LinearVehicle, offset: int):
             np.array(dsign, dtype=float), size)  # fmt: skip
 
 
+@njit(cache=True)
+def _base_inertance(rows, me0):
+    """Inertance [kg] of each adaptive inerter above its flywheel's saturation speed
+    (its rest inertance where the flywheel never saturates), by the kernel's law."""
+    na = me0.size
+    out = me0.copy()
+    for jj in range(na):
+        o = jj * NPAR
+        w_sat = rows[o + 8]
+        r = abs(rows[o + 1])
+        if math.isfinite(w_sat) and r > 0.0:
+            out[jj], _ = flywheel_inertance(rows, o, 2.0 * w_sat / r + 1.0, 0.0, 0.0)
+    return out
+
+
 def _csr(U):
     """(row pointers, column indices, values) of the nonzeros of ``U``, rows in order."""
     ptr, idx, val = [0], [], []
@@ -197,7 +218,7 @@ def _linear_part(G, gs, xt, rs, out, n, m):
 
 @njit(cache=True)
 def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
-         preload, unilateral, fric, fv, afw, rows, me0, W, S, Az, Zq, Zr, MFz, devof, ditab,
+         preload, unilateral, fric, fv, afw, rows, me0, mb, W, S, Az, Zq, Zr, MFz, devof, ditab,
          dftab, ioff, foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
     """RK4 over the road samples; returns (tensions of the connections ``nl``, outputs)
     at every sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's
@@ -205,19 +226,21 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
 
     One function with the right-hand side written once inside the stage loop: a call
     per stage passing some thirty arrays cost three times the arithmetic (measured,
-    docs/decisions.md). The accelerations at the rest mass matrix M0 are
-    y = G (q, q', r, r') - M0^-1 Fz z + sum_j M0^-1 u_j (f_lin,j - f_j): G carries every
+    docs/decisions.md). The accelerations at the base mass matrix Mb (every adaptive
+    inerter at its saturated inertance m_b) are
+    y = G (q, q', r, r') - Mb^-1 Fz z + sum_j Mb^-1 u_j (f_lin,j - f_j): G carries every
     connection as linear (damping rate c_ext), and the connections ``nl`` that depart
     from that (tyres, asymmetric or rubbing struts, devices) are evaluated one by one,
-    f_j their force, f_lin,j its linear part, M0^-1 u_j the rows of MU. Connections are
+    f_j their force, f_lin,j its linear part, Mb^-1 u_j the rows of MU. Connections are
     sparse rows (CSR: uptr, uidx, uval of u; vptr, vidx, vval of v), indexed unsigned
     (numba then skips the negative-index wraparound). Adaptive inerters change the
-    mass matrix by sum_j d_j u_j u_j^T (d_j = m_e,j(v_j) - m_e,j(0)); the accelerations
-    follow by the Woodbury identity: a = y - W w, (I + D S) w = D U y, with
-    W = M0^-1 U^T and S = U M0^-1 U^T over the adaptive connections (precomputed), the
-    small system factorised by LU without pivoting (no square roots; it is similar to
-    the symmetric I + E S E, E = D^(1/2), whose Schur complements are all >= 1), and
-    the factors kept while D stays the same (saturated flywheels).
+    mass matrix by sum_j d_j u_j u_j^T, d_j = max(m_e,j(v_j), m_e,j(0)) - m_b,j, zero
+    for a saturated flywheel; the accelerations follow by the Woodbury identity over
+    the inerters with d_j != 0 only: a = y - W w, (I + D S) w = D U y, with
+    W = Mb^-1 U^T and S = U Mb^-1 U^T (precomputed over all adaptive connections, the
+    rows and columns of the active ones picked), the small system factorised by LU
+    without pivoting (its leading minors are ratios of determinants of mass matrices,
+    all positive), and the factors kept while the active set and D stay the same.
     Devices (:mod:`inerterlab.vehicles.devices`): the core rig of connection j, driven
     by its extension and rate, gives its states' derivatives and a force added to the
     connection's (the core's compiled :func:`~inerterlab.systems._kernel.evaluate`).
@@ -242,9 +265,12 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     xt = np.empty(nx)
     na = afw.size
     Mw = np.empty(max(na * na, 1))
-    dg = np.empty(max(na, 1))  # D: m_e - m_e(0) of each adaptive inerter
+    dg = np.empty(max(na, 1))  # D: m_e - m_e,sat of the inerters below saturation
     rd = np.empty(max(na, 1))
     dgf = np.full(max(na, 1), np.nan)  # D of the factor in Mw, rd (NaN: none yet)
+    act = np.zeros(max(na, 1), dtype=np.int64)  # the inerters below saturation
+    actf = np.full(max(na, 1), -1, dtype=np.int64)  # ... of the factor
+    kf = 0
     gen = np.empty(max(na, 1))
     slope = np.empty(m)
     rs = np.empty(m)
@@ -337,53 +363,67 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                         for a in range(n):
                             K[st, n + a] += MU[jj, a] * delta
                 if na > 0:
-                    # Woodbury: (M0 + U' D U)^-1 g = y - W w, y = M0^-1 g (above),
-                    # w = (I + D S)^-1 D U y, W = M0^-1 U', S = U M0^-1 U'. I + D S is
-                    # similar to the symmetric I + E S E (E = D^(1/2)), whose Schur
-                    # complements are all >= 1: LU without pivoting is safe and needs no
-                    # square roots (L below the diagonal of Mw, U above, 1/pivots in rd)
+                    # Woodbury: (Mb + U' D U)^-1 g = y - W w, y = Mb^-1 g (above),
+                    # w = (I + D S)^-1 D U y, W = Mb^-1 U', S = U Mb^-1 U', Mb the mass
+                    # matrix with every flywheel saturated, D = m_e - m_e,sat: only the
+                    # inerters whose flywheel is below saturation (D != 0) enter. Every
+                    # leading block of I + D S has det(Mb + U_p' D_p U_p) / det(Mb) > 0
+                    # (a mass matrix with inertances >= the rest ones), so LU without
+                    # pivoting meets positive pivots (L below the diagonal of Mw, U
+                    # above, 1/pivots in rd); factors kept while the set and D stay
+                    kk = 0
                     for jj in range(na):
                         j = afw[jj]
                         v = 0.0
-                        uy = 0.0
                         for p in range(uptr[j], uptr[j + 1]):
                             v += uval[p] * xt[nu + uidx[p]]
-                            uy += uval[p] * K[st, nu + uidx[p]]
                         me, _ = flywheel_inertance(rows, jj * NPAR, v, 0.0, 0.0)
-                        dg[jj] = max(me - me0[jj], 0.0)
-                        gen[jj] = dg[jj] * uy
-                    same = True  # D as at the last factorisation (saturated flywheels)
-                    for a in range(na):
-                        if dg[a] != dgf[a]:
-                            same = False
+                        dj = max(me, me0[jj]) - mb[jj]
+                        if dj != 0.0:
+                            uy = 0.0
+                            for p in range(uptr[j], uptr[j + 1]):
+                                uy += uval[p] * K[st, nu + uidx[p]]
+                            act[kk] = jj
+                            dg[kk] = dj
+                            gen[kk] = dj * uy
+                            kk += 1
+                    if kk > 0:
+                        same = kk == kf
+                        for a in range(kk):
+                            if act[a] != actf[a] or dg[a] != dgf[a]:
+                                same = False
+                            actf[a] = act[a]
                             dgf[a] = dg[a]
-                    if not same:
-                        for a in range(na):
-                            for b in range(na):
-                                Mw[a * na + b] = dg[a] * S[a, b] + (1.0 if a == b else 0.0)
-                        for q in range(na):
-                            piv = 1.0 / Mw[q * na + q]
-                            rd[q] = piv
-                            for a in range(q + 1, na):
-                                el = Mw[a * na + q] * piv
-                                Mw[a * na + q] = el
-                                for b in range(q + 1, na):
-                                    Mw[a * na + b] -= el * Mw[q * na + b]
-                    for a in range(na):  # forward (unit lower), then back substitution
-                        t = gen[a]
-                        for q in range(a):
-                            t -= Mw[a * na + q] * gen[q]
-                        gen[a] = t
-                    for a in range(na - 1, -1, -1):
-                        t = gen[a]
-                        for q in range(a + 1, na):
-                            t -= Mw[a * na + q] * gen[q]
-                        gen[a] = t * rd[a]
-                    for a in range(n):
-                        t = K[st, n + a]
-                        for q in range(na):
-                            t -= W[a, q] * gen[q]
-                        K[st, n + a] = t
+                        kf = kk
+                        if not same:
+                            for a in range(kk):
+                                for b in range(kk):
+                                    Mw[a * kk + b] = dg[a] * S[act[a], act[b]] + (
+                                        1.0 if a == b else 0.0
+                                    )
+                            for q in range(kk):
+                                piv = 1.0 / Mw[q * kk + q]
+                                rd[q] = piv
+                                for a in range(q + 1, kk):
+                                    el = Mw[a * kk + q] * piv
+                                    Mw[a * kk + q] = el
+                                    for b in range(q + 1, kk):
+                                        Mw[a * kk + b] -= el * Mw[q * kk + b]
+                        for a in range(kk):  # forward (unit lower), then back substitution
+                            t = gen[a]
+                            for q in range(a):
+                                t -= Mw[a * kk + q] * gen[q]
+                            gen[a] = t
+                        for a in range(kk - 1, -1, -1):
+                            t = gen[a]
+                            for q in range(a + 1, kk):
+                                t -= Mw[a * kk + q] * gen[q]
+                            gen[a] = t * rd[a]
+                        for a in range(n):
+                            t = K[st, n + a]
+                            for q in range(kk):
+                                t -= W[a, act[q]] * gen[q]
+                            K[st, n + a] = t
                 # ---- end ----
                 if s == 0 and st == 0:
                     for jj in range(nn):
