@@ -84,10 +84,14 @@ def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
     road = work[0:3]
     if mode == 0:
         road_at(seg, t, road)
-    else:
+    elif mode == 1:
         road[0] = road_fixed[0]
         road[1] = road_fixed[1]
         road[2] = 0.0
+    else:  # a road velocity jump: v from road_fixed[1] by road_fixed[2] over t in [0, 1]
+        road[0] = road_fixed[0]
+        road[1] = road_fixed[1] + t * road_fixed[2]
+        road[2] = road_fixed[2]
     X = work[3 : 3 + nn]
     V = work[3 + nn : 3 + 2 * nn]
     A = work[3 + 2 * nn : 3 + 3 * nn]
@@ -98,7 +102,8 @@ def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
 @nb.njit(cache=True)
 def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol, t_out,
              out_y, k, stats, max_steps):  # fmt: skip
-    """Integrate from t to t_end (one road segment, or the impulse flow when mode = 1),
+    """Integrate from t to t_end (one road segment; the impulse flow of a road step when
+    mode = 1, of a road velocity jump when mode = 2),
     writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
     Returns (status, k, h)."""
     n = y.size
@@ -199,16 +204,22 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
 
 @nb.njit(cache=True)
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
-              t_out, out_y, stats, jumps, max_steps):  # fmt: skip
+              t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
     receives the road step at the start of segment i. ``imp_unit`` is the impulse per
     unit road step on each dynamic node, ``jump_ok`` False where a step has no finite
-    response (an inerter or a quadratic damper to the road, a rig)."""
+    response (an inerter or a quadratic damper to the road, a rig). Where the road
+    velocity jumps by more than ``vjump_tol`` (at the start of a segment; at t = 0 from
+    ``v_before``, NaN for none) the impulses of the inertances attached to the road are
+    applied by the flow of :data:`._kernel.ROAD_JERK`, and the jump goes to
+    ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road."""
     k = 0
     h = 0.0
     prev = x1_before
+    prev_v = v_before
+    jerk = np.array([np.nan])
     road = np.empty(3)
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
@@ -221,6 +232,15 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         if t0 >= t_end and s > 0:
             break
         road_at(seg, t0, road)
+        if math.isfinite(prev_v) and abs(road[1] - prev_v) > vjump_tol:
+            vjumps[s] = road[1] - prev_v
+            rf[0] = prev
+            rf[1] = prev_v
+            rf[2] = road[1] - prev_v
+            st, _, _ = _advance(2, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, jerk, rf,
+                                IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
+            if st != OK:
+                return st, k
         jump = road[0] - prev
         if abs(jump) > jump_tol:
             jumps[s] = jump
@@ -245,6 +265,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             return st, k
         road_at(seg, t1, road)
         prev = road[0]
+        prev_v = road[1]
         if last:
             break
     return OK, k

@@ -45,6 +45,8 @@ HEADER = 16
 #: status of the velocity solve (written to the last slot of ``out`` by :func:`evaluate`)
 SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
+#: ``imp`` of :func:`evaluate` for the flow of a road velocity jump
+ROAD_JERK = np.array([np.nan])
 
 
 @nb.njit(cache=True)
@@ -228,8 +230,13 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
     balance could not be solved. With a non-empty ``imp`` (one impulse per dynamic node)
     dx is instead the impulse flow M(x)^-1 imp on the dynamic nodes' velocities (zero
     elsewhere): integrated over a unit interval it applies the impulse exactly, whatever
-    the velocity dependence of the inertances. ``work``: scratch of :func:`work_size`
-    floats, or None to allocate it here."""
+    the velocity dependence of the inertances. With ``imp`` = [NaN] (:data:`ROAD_JERK`)
+    it is the flow of a road velocity jump: road[2] holds the jump, the forces are left
+    out (finite, they pass no impulse in no time) and dx = M(x)^-1 (the inertances'
+    coupling to the road times the jump); integrated over a unit interval with the road
+    velocity moving linearly through the jump it applies the impulses the inertances on
+    the road pass, whatever their velocity dependence. ``work``: scratch of
+    :func:`work_size` floats, or None to allocate it here."""
     if work is None:
         work = np.empty(
             itab[I_ND] * itab[I_ND] + itab[I_ND] + itab[I_NE] + itab[I_NV] * itab[I_NV]
@@ -238,6 +245,7 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
+    jerk = imp.size == 1 and math.isnan(imp[0])
     npn = itab[I_NP]
     no = itab[I_NODE]
     eo = itab[I_ELEM]
@@ -314,6 +322,8 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
                 dx[so + 1] = slider_derivative(row, x[so], x[so + 1], v)
             else:
                 me, f = flywheel_inertance(ftab, itab[b + 3], v, 0.0, 0.0)
+        if jerk:
+            f = 0.0
         F[e] = f
         ME[e] = me
         tb = no + NODE_W * top
@@ -337,7 +347,7 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
                     M[bi * nd + ti] -= me
                 else:
                     r[bi] += me * A[top]
-    if imp.size > 0:
+    if imp.size > 0 and not jerk:
         for i in range(nd):
             r[i] = imp[i]
     if nd > 0 and not _solve(M, r, nd):

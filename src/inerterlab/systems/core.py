@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import math
-import warnings
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -486,36 +485,15 @@ def _sample_times(horizon: float, rate: float) -> np.ndarray:
 
 
 class RoadVelocityJumpWarning(UserWarning):
-    """The road's velocity jumps where an inertance is attached to the road."""
+    """Kept for compatibility: road velocity jumps now pass their impulses
+    (docs/model.md, "Networks"), and nothing issues this warning."""
 
 
-def _warn_road_velocity_jumps(sys, segs: np.ndarray, T: float, from_rest: bool) -> None:
-    """Warn when the road velocity jumps (at t = 0 from rest, or where two segments
-    meet) in a system with an inertance attached to the road: the impulse the inertance
-    would pass there is not applied (docs/model.md, "Networks")."""
-    from ..excitation import _road_on
-
-    _, v_start = _road_on(segs, segs[:, 0])
-    _, v_end = _road_on(segs, segs[:, 1])
-    scale = float(np.max(np.abs(segs[:, 4]) + np.abs(segs[:, 5] * segs[:, 6])))  # speed
-    if scale == 0.0:
-        return
-    dv = v_start - np.concatenate([[0.0 if from_rest else v_start[0]], v_end[:-1]])
-    kinks = np.flatnonzero((np.abs(dv) > 1e-9 * scale) & (segs[:, 0] < T))
-    if kinks.size:
-        t0, dv0 = float(segs[kinks[0], 0]), float(dv[kinks[0]])
-        names = ", ".join(sys.info["road_inertances"])
-        warnings.warn(
-            RoadVelocityJumpWarning(
-                f"{sys.description}: the road velocity jumps {kinks.size} time(s) (first "
-                f"at t = {t0:.6g} s, by {dv0:.4g} m/s) and {names} is attached to the "
-                "road. The impulse an inertance passes at a velocity jump is not "
-                "applied, so the transient after it is not the physical one (steady "
-                "states are). Smooth the road (bump edge='half-cosine') or start from a "
-                "state that moves with it (x0)."
-            ),
-            stacklevel=4,
-        )
+def _velocity_jump_tolerance(segs: np.ndarray) -> float:
+    """Smallest road velocity jump [m/s] taken as a jump: 1e-9 of the road's largest
+    speed (segment rates and sine amplitudes), or inf on a road at rest."""
+    scale = float(np.max(np.abs(segs[:, 4]) + np.abs(segs[:, 5] * segs[:, 6])))
+    return 1e-9 * scale if scale > 0.0 else math.inf
 
 
 def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0) -> CoreResult:
@@ -535,8 +513,6 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     excitation.check_horizon(T, stacklevel=3)
     segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
     x1 = float(excitation.initial_road(T))
-    if sys.info.get("road_inertances"):
-        _warn_road_velocity_jumps(sys, segs, T, from_rest=x0 is None)
     if x0 is None:
         fixed = {}
         du, ds = excitation.initial_displacements
@@ -564,12 +540,17 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     )
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
+    # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
+    # through the inertances attached to the road
+    vjumps = np.zeros(len(segs))
+    vjump_tol = _velocity_jump_tolerance(segs) if sys.info.get("road_inertances") else math.inf
+    v_before = 0.0 if x0 is None else math.nan
     if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
         Y = np.empty((ts.size, 0))
         stats = {"steps": 0}
         meth = "adaptive" if not use_exact else "exact"
     elif use_exact:
-        Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol)
+        Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps)
         meth = "exact"
     else:
         atol = r * np.maximum(sys.state_scales, 1e-12)
@@ -577,7 +558,7 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
         st = np.zeros(4, dtype=np.int64)
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
-            ts, Y, st, jumps, int(max_steps),
+            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps,
         )  # fmt: skip
         if status != _integrate.OK:
             why = {
@@ -637,16 +618,20 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     steps = tuple(
         (float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps) if segs[i, 0] < T
     )
+    if np.any(vjumps):
+        stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
     return CoreResult(
         system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
         stats=stats, road_steps=steps, not_finite=not_finite,
     )  # fmt: skip
 
 
-def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol):
+def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
     """Matrix-exponential steps of a linear system on a piecewise-linear road: on each
     segment the input u = (X1, X1', 0) has a constant rate, so z = (x, u, u') obeys a
-    constant linear equation and e^{Ah} propagates it exactly."""
+    constant linear equation and e^{Ah} propagates it exactly. Road steps and road
+    velocity jumps pass their impulses as in the adaptive driver (constant inertances:
+    the flows are constant, one Euler step of each is exact)."""
     from scipy.linalg import expm
 
     A, B, _, _ = sys.linear_state_space()
@@ -668,6 +653,7 @@ def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol):
     Y = np.empty((ts.size, n))
     k = 0
     prev = x1
+    prev_v = v_before
     nexp = 0
     x = y.copy()
     for s, seg in enumerate(segs):
@@ -676,6 +662,12 @@ def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol):
             break
         a, b = seg[3], seg[4]
         start = a
+        if math.isfinite(prev_v) and abs(b - prev_v) > vjump_tol:
+            vjumps[s] = b - prev_v
+            dx = np.empty(n)
+            _impulse(x, np.array([prev, prev_v, b - prev_v]), sys.itab, sys.ftab,
+                     _kernel.ROAD_JERK, dx)  # fmt: skip
+            x = x + dx
         jump = start - prev
         if abs(jump) > jump_tol:
             jumps[s] = jump
@@ -713,6 +705,7 @@ def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol):
             else:
                 break
         prev = a + b * (t1 - t0)
+        prev_v = b
         if last:
             break
     return Y, {"exact_steps": nexp, "distinct_step_sizes": len(cache)}
