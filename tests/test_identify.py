@@ -207,6 +207,18 @@ def test_reversal_profile_shows_spike_tails_beyond_the_window():
     assert np.abs(z[tau >= 0.16]).max() < 4.0  # nothing after the spike's end
 
 
+
+def test_reversal_profile_skips_a_test_without_reversals():
+    # a 0.1 Hz triangle cut to 2 s never reverses; the profile used to fail on it
+    # (zip of its empty reversals with one "next reversal"), now it counts the others
+    dev = device_preset("hydraulic")
+    tests = _four_tests(duration=2.0, triangle_frequencies=(0.1, 1.0))
+    fit = identify(simulate_rig(dev, matrix=tests, seed=2), dev)
+    counts = [tv.reversals.size for tv in fit.tests if tv.purpose == "identification"]
+    assert 0 in counts and sum(counts) > 0
+    prof = fit.reversal_profile(bin_width=0.05, horizon=0.2)
+    assert prof["reversals"].iloc[0] == sum(counts)
+
 def _cauchy_regressions(draws, *, seed=7, tests=12, n=100, scale=3.0):
     """Cauchy M-estimates of a linear model y = X theta + N(0, 1) noise, fitted by
     iteratively reweighted least squares, and their intervals from ``_sandwich``. Column

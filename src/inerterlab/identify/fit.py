@@ -399,6 +399,8 @@ class FitResult:
             if tv.purpose != "identification":
                 continue
             res = tv.residual
+            if tv.reversals.size == 0:  # a record shorter than half a period
+                continue
             ends = np.append(tv.reversals[1:], np.inf)
             for tr, sg, end in zip(tv.reversals, tv.reversal_signs, ends, strict=True):
                 lo, hi = np.searchsorted(tv.t, [tr, min(tr + horizon, end)])
