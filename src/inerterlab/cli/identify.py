@@ -145,8 +145,12 @@ def identify_command(
         int, typer.Option(help="Bootstrap refits over the identification tests.")
     ] = 0,
     reversal_window: Annotated[
-        str, typer.Option(help="Leave out this time [s] after each velocity reversal (spikes).")
-    ] = "0.16",
+        str | None,
+        typer.Option(
+            help="Leave out this time [s] after each velocity reversal (spikes); default "
+            "the device's: 0.24 s hydraulic and rectifier, 0.16 s screw."
+        ),
+    ] = None,
     interval: Annotated[
         str,
         typer.Option(
@@ -192,7 +196,9 @@ def identify_command(
         loss=loss,
         fixed=tuple(fix or ()),
         bootstrap=bootstrap,
-        reversal_window=parse_float("reversal-window", reversal_window),
+        reversal_window=(
+            None if reversal_window is None else parse_float("reversal-window", reversal_window)
+        ),
         interval=interval,
     )
     out = fit.to_dict()

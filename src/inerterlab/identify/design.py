@@ -28,7 +28,7 @@ import math
 import numpy as np
 
 from ..errors import ParameterError, check_positive
-from .fit import PARAMETERS, REVERSAL_WINDOW, RTOL, _prepare, _raw_jacobian, _residuals
+from .fit import PARAMETERS, RTOL, _prepare, _raw_jacobian, _residuals, default_reversal_window
 from .simulator import TestSpec, simulate_rig, test_matrix
 
 __all__ = ["CampaignDesign", "campaign_information", "design_campaign"]
@@ -121,13 +121,15 @@ def campaign_information(
     noise: float = 5.0,
     sample_rate: float = 500.0,
     max_duration: float | None = None,
-    reversal_window: float = REVERSAL_WINDOW,
+    reversal_window: float | None = None,
     fixed: tuple = (),
     rtol: float = RTOL,
 ) -> np.ndarray:
     """Fisher information J_g^T J_g / noise^2 of each test of ``tests`` for the free
     parameters of ``device`` (the fit's Jacobian on a noise-free run of the test)."""
     check_positive("noise", noise, "N")
+    if reversal_window is None:
+        reversal_window = default_reversal_window(device)
     names = [n for n in PARAMETERS if n not in fixed]
     data = simulate_rig(
         device,
@@ -196,7 +198,7 @@ def design_campaign(
     noise: float = 5.0,
     sample_rate: float = 500.0,
     max_duration: float | None = None,
-    reversal_window: float = REVERSAL_WINDOW,
+    reversal_window: float | None = None,
     fixed: tuple = (),
     information: np.ndarray | None = None,
 ) -> CampaignDesign:
@@ -215,7 +217,7 @@ def design_campaign(
     noise : float
         Force-noise standard deviation [N] (scales every standard error alike).
     sample_rate, max_duration, reversal_window
-        As for the rig and the fit; ``max_duration`` shortens every candidate (quick
+        As for the rig and the fit (``reversal_window`` None: the device's default); ``max_duration`` shortens every candidate (quick
         designs; the information then is that of the shortened tests).
     information : ndarray, optional
         Precomputed :func:`campaign_information` of the candidates.

@@ -20,7 +20,8 @@ Methods
     damping and friction jointly over the sinusoidal identification tests ((5.10),
     (5.13)).
 
-Spikes and robust scale: by default the samples within ``reversal_window`` = 0.16 s
+Spikes and robust scale: by default the samples within ``reversal_window`` (0.24 s for
+the hydraulic device and the rectifier, 0.16 s for the screw, :data:`REVERSAL_WINDOWS`)
 after every reversal of the measured velocity are left out (the thesis also set the
 spikes aside, ch. 5.3); the robust loss handles what is left. Its scale starts at three
 times the force-sensor noise and, after a first pass, is set to three times the robust
@@ -92,9 +93,19 @@ __all__ = ["identify", "FitResult", "ParameterEstimate", "TestValidation", "pred
 
 PARAMETERS = ("stiffness", "damping", "friction")
 LOSSES = ("linear", "soft_l1", "huber", "cauchy")
-# default time [s] left out after each velocity reversal: the whole simulated spike
+# time [s] left out after each velocity reversal: at least the whole simulated spike
 # (8 widths of 20 ms, simulate_rig); 0.1 s left its tail in and biased the damping
 REVERSAL_WINDOW = 0.16
+#: default reversal window [s] per device model, chosen by the coverage study at 500 Hz
+#: (docs/decisions.md, "The reversal window per device"): 0.24 s calibrates the
+#: hydraulic device's and the rectifier's damping, and makes the screw's worse
+REVERSAL_WINDOWS = {"HydraulicDevice": 0.24, "RectifierDevice": 0.24, "ScrewDevice": 0.16}
+
+
+def default_reversal_window(device) -> float:
+    """The default reversal window [s] of ``device``'s model (REVERSAL_WINDOW for a model
+    the coverage study has not seen)."""
+    return REVERSAL_WINDOWS.get(type(device).__name__, REVERSAL_WINDOW)
 # tolerance of the model integration inside the fit: at 1e-8 the objective is jagged on
 # the scale of the statistical precision (the rectifier's fit then stopped up to 0.8
 # standard errors away depending on where it started; docs/decisions.md)
@@ -1056,7 +1067,7 @@ def identify(
     bootstrap: int = 0,
     seed: int = 0,
     settle_time: float | None = None,
-    reversal_window: float = REVERSAL_WINDOW,
+    reversal_window: float | None = None,
     derivative_window: float = 0.02,
     detrend: str = "constant",
     rtol: float = RTOL,
@@ -1089,9 +1100,10 @@ def identify(
         reversal (default: five decay times 2 m_e,max / b_ah of the starting model).
     reversal_window : float
         Leave out of the objective the samples within this time [s] after each
-        reversal of the measured velocity, where the rig's spikes sit (default 0.16 s,
-        the whole spike of :func:`simulate_rig`; the thesis also set the spikes aside,
-        ch. 5.3). Check it on real data with :meth:`FitResult.reversal_profile`. 0 keeps every sample and leaves
+        reversal of the measured velocity, where the rig's spikes sit (default: the
+        device model's, :data:`REVERSAL_WINDOWS`: 0.24 s for the hydraulic device and
+        the rectifier, 0.16 s for the screw; 0.16 s is the whole spike of
+        :func:`simulate_rig`; the thesis also set the spikes aside, ch. 5.3). Check it on real data with :meth:`FitResult.reversal_profile`. 0 keeps every sample and leaves
         the spikes to the robust loss, which cannot separate them when they are not
         much larger than the residual spread. A test shorter than the window per half
         period contributes nothing.
@@ -1129,6 +1141,8 @@ def identify(
     ident = dataset.select("identification")
     if not ident:
         raise DataFileError(dataset.source or "dataset", "no test has purpose 'identification'")
+    if reversal_window is None:
+        reversal_window = default_reversal_window(device)
     check_nonnegative("reversal_window", reversal_window, "s")
     preps = {
         id(t): _prepare(
