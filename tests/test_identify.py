@@ -207,7 +207,6 @@ def test_reversal_profile_shows_spike_tails_beyond_the_window():
     assert np.abs(z[tau >= 0.16]).max() < 4.0  # nothing after the spike's end
 
 
-
 def test_reversal_profile_skips_a_test_without_reversals():
     # a 0.1 Hz triangle cut to 2 s never reverses; the profile used to fail on it
     # (zip of its empty reversals with one "next reversal"), now it counts the others
@@ -218,6 +217,7 @@ def test_reversal_profile_skips_a_test_without_reversals():
     assert 0 in counts and sum(counts) > 0
     prof = fit.reversal_profile(bin_width=0.05, horizon=0.2)
     assert prof["reversals"].iloc[0] == sum(counts)
+
 
 def _cauchy_regressions(draws, *, seed=7, tests=12, n=100, scale=3.0):
     """Cauchy M-estimates of a linear model y = X theta + N(0, 1) noise, fitted by
@@ -411,3 +411,22 @@ def test_interval_choice_is_checked():
     assert fit.with_intervals("sandwich").parameters["damping"].interval.startswith("sandwich")
     with pytest.raises(ParameterError, match="interval"):
         fit.with_intervals("profile")
+
+
+def test_default_reversal_window_is_the_device_models():
+    from inerterlab.identify.fit import REVERSAL_WINDOWS, default_reversal_window
+
+    assert REVERSAL_WINDOWS == {
+        "HydraulicDevice": 0.24,
+        "RectifierDevice": 0.24,
+        "ScrewDevice": 0.16,
+    }
+    for name, w in (("hydraulic", 0.24), ("rectifier", 0.24), ("screw", 0.16)):
+        assert default_reversal_window(device_preset(name)) == w
+    # identify uses it when none is given, and records the window it used
+    dev = device_preset("screw")
+    data = simulate_rig(
+        dev, matrix=_four_tests(duration=2.0, triangle_frequencies=(1.0, 2.0)), seed=4
+    )
+    assert identify(data, dev).reversal_window == 0.16
+    assert identify(data, dev, reversal_window=0.05).reversal_window == 0.05
