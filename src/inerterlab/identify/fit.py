@@ -46,10 +46,11 @@ loss). Two choices of the meat M (``interval``):
     differentiated twice, whose power sits at high frequencies; a Bartlett window
     leaks it into the low frequencies the parameters live at (intervals 2-2.5 x too
     wide) and an unbiased flat-top window estimates it so noisily that the intervals
-    undercover. In the 200-campaign coverage study at 500 Hz
-    (docs/guide/identification.md) it is calibrated for the hydraulic device and for
-    the stiffness and friction of the screw and the rectifier, and too narrow for
-    their damping (coverage 78.5 % and 89.5 %), so it is not the default.
+    undercover. In the 200-campaign coverage study at 500 Hz with each device's
+    default reversal window (docs/guide/identification.md) it is calibrated for every
+    parameter of the hydraulic device and the rectifier and for the screw's stiffness.
+    It is too narrow for the screw's damping (coverage 78.5 %), so it is not the
+    default.
 ``jackknife`` (default)
     With at least eight identification tests, the jackknife over tests (CR3) of the
     one-step estimate: the spread of theta_(-g) - theta = -(H - H_g)^-1 s_g, s_g the
