@@ -217,8 +217,9 @@ def design_campaign(
     noise : float
         Force-noise standard deviation [N] (scales every standard error alike).
     sample_rate, max_duration, reversal_window
-        As for the rig and the fit (``reversal_window`` None: the device's default); ``max_duration`` shortens every candidate (quick
-        designs; the information then is that of the shortened tests).
+        As for the rig and the fit (``reversal_window`` None: the device's default);
+        ``max_duration`` shortens every candidate (quick designs; the information then
+        is that of the shortened tests).
     information : ndarray, optional
         Precomputed :func:`campaign_information` of the candidates.
     """

@@ -107,6 +107,8 @@ def default_reversal_window(device) -> float:
     """The default reversal window [s] of ``device``'s model (REVERSAL_WINDOW for a model
     the coverage study has not seen)."""
     return REVERSAL_WINDOWS.get(type(device).__name__, REVERSAL_WINDOW)
+
+
 # tolerance of the model integration inside the fit: at 1e-8 the objective is jagged on
 # the scale of the statistical precision (the rectifier's fit then stopped up to 0.8
 # standard errors away depending on where it started; docs/decisions.md)
@@ -410,9 +412,9 @@ class FitResult:
         for tv in self.tests:
             if tv.purpose != "identification":
                 continue
-            res = tv.residual
             if tv.reversals.size == 0:  # a record shorter than half a period
                 continue
+            res = tv.residual
             ends = np.append(tv.reversals[1:], np.inf)
             for tr, sg, end in zip(tv.reversals, tv.reversal_signs, ends, strict=True):
                 lo, hi = np.searchsorted(tv.t, [tr, min(tr + horizon, end)])
@@ -1104,8 +1106,9 @@ def identify(
         reversal of the measured velocity, where the rig's spikes sit (default: the
         device model's, :data:`REVERSAL_WINDOWS`: 0.24 s for the hydraulic device and
         the rectifier, 0.16 s for the screw; 0.16 s is the whole spike of
-        :func:`simulate_rig`; the thesis also set the spikes aside, ch. 5.3). Check it on real data with :meth:`FitResult.reversal_profile`. 0 keeps every sample and leaves
-        the spikes to the robust loss, which cannot separate them when they are not
+        :func:`simulate_rig`; the thesis also set the spikes aside, ch. 5.3). Check it
+        on real data with :meth:`FitResult.reversal_profile`. 0 keeps every sample and
+        leaves the spikes to the robust loss, which cannot separate them when they are not
         much larger than the residual spread. A test shorter than the window per half
         period contributes nothing.
     derivative_window, detrend

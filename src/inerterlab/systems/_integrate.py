@@ -56,7 +56,7 @@ from ..suspension._kernels import (
     E6,
     E7,
 )  # fmt: skip
-from ._kernel import I_ND, I_NE, I_NN, I_NV, evaluate
+from ._kernel import I_ND, I_NE, I_NN, I_NV, ROAD_JERK, evaluate
 
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
@@ -219,7 +219,6 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     h = 0.0
     prev = x1_before
     prev_v = v_before
-    jerk = np.array([np.nan])
     road = np.empty(3)
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
@@ -237,7 +236,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[0] = prev
             rf[1] = prev_v
             rf[2] = road[1] - prev_v
-            st, _, _ = _advance(2, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, jerk, rf,
+            st, _, _ = _advance(2, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, ROAD_JERK, rf,
                                 IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
             if st != OK:
                 return st, k
