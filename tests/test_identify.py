@@ -93,13 +93,13 @@ def test_round_trip_screw_short_campaign():
     # the whole appendix-a2 matrix cut to 2 s per test at 200 Hz, identify defaults
     fit, truth = _round_trip("screw", max_duration=2.0, sample_rate=200)
     _assert_recovered(fit, truth)
-    assert fit.interval_method == "jackknife"
-    assert fit.parameters["damping"].interval.startswith("jackknife (CR3)")
-    # the sandwich with an autoregressive noise model is on the same fit
-    sand = fit.with_intervals("sandwich")
-    assert sand.parameters["damping"].interval.startswith("sandwich, AR(")
-    assert sand.parameters["damping"].value == fit.parameters["damping"].value
-    assert sand.interval_method == "sandwich" and sand.covariance[1, 1] > 0
+    assert fit.interval_method == "sandwich"
+    assert fit.parameters["damping"].interval.startswith("sandwich, AR(")
+    # the jackknife over tests is on the same fit
+    jack = fit.with_intervals("jackknife")
+    assert jack.parameters["damping"].interval.startswith("jackknife (CR3)")
+    assert jack.parameters["damping"].value == fit.parameters["damping"].value
+    assert jack.interval_method == "jackknife" and jack.covariance[1, 1] > 0
 
 
 @pytest.mark.slow
@@ -107,9 +107,11 @@ def test_round_trip_screw_full_campaign_defaults():
     # exactly `rig-simulate --device screw --matrix appendix-a2 --seed 1` + `identify`
     fit, truth = _round_trip("screw")
     _assert_recovered(fit, truth)
-    # the robust scale follows the residuals, which the screw's inertance times the
-    # twice-differentiated displacement noise makes far wider than the 5 N force noise
-    assert fit.f_scale > 5.0 * fit.noise_estimate
+    # the robust scale (3 x the residuals' robust spread) is near 3 x the 5 N force
+    # noise: the inertance multiplies the acceleration differentiated from the velocity
+    # channel. From the displacement channel twice differentiated (1 um noise at
+    # 500 Hz) the residual was some 10 x the force noise
+    assert 2.5 * fit.noise_estimate < fit.f_scale < 4.0 * fit.noise_estimate
 
 
 @pytest.mark.slow
@@ -257,9 +259,8 @@ def test_jackknife_intervals_cover_in_a_linear_model():
 
 
 def test_reversal_window_removes_spike_bias():
-    # spikes of 300 N are no outliers next to the screw's ~80 N residual spread, so the
-    # robust loss alone leaves the friction biased; leaving out 0.1 s after every
-    # reversal (the default) removes the bias
+    # under plain least squares the spikes (which follow the sign of the new velocity)
+    # bias the friction; leaving out 0.1 s after every reversal removes the bias
     dev = device_preset("screw")
     tests = [
         TestSpec(
@@ -275,7 +276,7 @@ def test_reversal_window_removes_spike_bias():
     data = simulate_rig(dev, matrix=tests, seed=4, spike_size=1000.0)
     err = {}
     for window in (0.0, 0.1):
-        fit = identify(data, dev, reversal_window=window)
+        fit = identify(data, dev, reversal_window=window, loss="linear")
         err[window] = abs(fit.parameters["friction"].value / 80.0 - 1.0)
     assert err[0.0] > 0.02
     assert err[0.1] < 0.1 * err[0.0]

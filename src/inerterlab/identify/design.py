@@ -15,8 +15,8 @@ chosen test for an unchosen one while that raises log det), which finds the best
 subset or one very close to it for three parameters.
 
 The predicted standard errors sqrt(diag F_S^-1) are those of plain least squares with
-white noise; the fit's jackknife intervals can be wider when noise is correlated in
-time or the model misses something within a test (see "Coverage" in the guide).
+white noise; the fit's intervals can be wider when noise is correlated in time or
+the model misses something within a test (see "Coverage" in the guide).
 """
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..devices import device_preset
 from ..identify import identify, simulate_rig, test_matrix
+from ..identify.fit import default_reversal_window
 from ._memo import Memo, memo
 from .registry import FigureResult, ReproduceSettings, TableResult
 
@@ -61,7 +62,9 @@ def _fit(device: str, quick: bool):
     start = dataclasses.replace(
         dev, stiffness=dev.stiffness * 1.2, damping=dev.damping * 0.9, friction=dev.friction * 1.1
     )
-    fit = identify(data, start, method="joint", reversal_window=0.1)
+    # the library's defaults: each device's reversal window and the sandwich intervals,
+    # the pair the coverage study calibrated (docs/decisions.md)
+    fit = identify(data, start, method="joint")
     return fit, s, len(tests)
 
 
@@ -109,7 +112,10 @@ def table_identified(settings: ReproduceSettings) -> TableResult:
             **s,
             "method": "joint",
             "loss": "cauchy",
-            "reversal_window_s": 0.1,
+            "reversal_window_s": {
+                d: default_reversal_window(device_preset(d)) for d in _THESIS
+            },
+            "interval": "sandwich",
             "seed": 5,
             "quick": settings.quick,
         },
