@@ -6,7 +6,7 @@ and identified with the ``identify`` defaults (joint fit, Cauchy loss, the devic
 reversal window: 0.24 s hydraulic and rectifier, 0.16 s screw, ``--reversal-window``;
 starting from the true values as the CLI does from the
 thesis values). Per device, parameter and interval method (``sandwich`` and
-``jackknife``, the default, both from the same fit) it prints
+``jackknife``, both from the same fit; the sandwich is the default) it prints
 
 * coverage: the fraction of campaigns whose 95 % interval holds the true value;
 * mean error in standard errors: mean of (estimate - truth) / std_error (bias
