@@ -2,7 +2,7 @@
 
 :data:`ELEMENTS` maps a name prefix (as written in a network text, ``k2``, ``afw_front``)
 to the element class. A primitive element (spring, damper, inerter, friction, adaptive
-flywheel) has a compiled force law the system right-hand side calls; a composite element
+flywheel, backlash) has a compiled force law the system right-hand side calls; a composite element
 (hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
 Adding an element is one module and one line below (docs/decisions.md, "Model core").
 """
@@ -14,6 +14,7 @@ import re
 from ..networks import NetworkError
 from ._base import ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
+from .backlash import Backlash
 from .damper import Damper
 from .fluid_inerter import FluidInerter
 from .friction import Friction
@@ -39,6 +40,7 @@ __all__ = [
     "ScrewElement",
     "RectifierElement",
     "FluidInerter",
+    "Backlash",
 ]
 
 ELEMENTS: dict[str, type[ElementBase]] = {
@@ -51,6 +53,7 @@ ELEMENTS: dict[str, type[ElementBase]] = {
     "screw": ScrewElement,
     "rect": RectifierElement,
     "fluid": FluidInerter,
+    "gap": Backlash,
 }
 
 _SUFFIX = r"(?:\d*|_[A-Za-z0-9_]+)"

@@ -1,4 +1,4 @@
-"""Linear spring: F = k (x_top - x_bottom)."""
+"""Linear spring: F = k (x_top - x_bottom); with free play (backlash), see backlash.py."""
 
 from __future__ import annotations
 
@@ -13,8 +13,17 @@ __all__ = ["Spring", "spring_force"]
 
 @nb.njit(cache=True)
 def spring_force(row, x):
-    """F [N] at relative displacement x [m]."""
-    return row[0] * x
+    """F [N] at relative displacement x [m]: k x, or with a half play g = row[1] > 0
+    (:class:`~inerterlab.elements.backlash.Backlash`) k (x - g) beyond +g, k (x + g)
+    beyond -g and 0 between."""
+    g = row[1]
+    if g == 0.0:
+        return row[0] * x
+    if x > g:
+        return row[0] * (x - g)
+    if x < -g:
+        return row[0] * (x + g)
+    return 0.0
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -271,6 +271,14 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
                 "force. Add a damper in parallel with the friction (or a mass)"
             )
         else:
+            played = [edges[e][0] for e in attached[i] if _nonlinear(edges[e][1])]
+            if played:
+                raise NetworkError(
+                    f"ill-posed network: backlash ({played[0]}) at "
+                    f"{nd['origin'] or nd['name']}, a massless node held only by springs: "
+                    "inside the free play its position is not determined. Add a damper "
+                    "beside it, or a mass or an inerter at the node"
+                )
             types.append(POS)
     dyn = [i for i in range(nn) if types[i] == DYN]
     vel = [i for i in range(nn) if types[i] == VEL]
@@ -906,7 +914,11 @@ def linear_equivalent(network: str, params: dict | None) -> tuple[str, dict]:
                     f"network {network!r}: {name!r} ({el.description}) is not linear; H2 "
                     "norms need springs, linear dampers and ideal inerters"
                 )
-            out[name] = lin[1]
+            if el.prefix in ("k", "c", "b"):
+                out[name] = lin[1]
+            else:  # a primitive that is linear here under another name (gap with no play)
+                repl[name] = f"{lin[0]}_{name}"
+                out[repl[name]] = lin[1]
             continue
         sub = el.linear_network()
         if sub is None:

@@ -133,9 +133,9 @@ class CornerDevice:
 
 
 def _scale_primitive(el, f: float):
-    from ..elements import AdaptiveFlywheelInerter, Damper, Friction, Inerter, Spring
+    from ..elements import AdaptiveFlywheelInerter, Backlash, Damper, Friction, Inerter, Spring
 
-    if isinstance(el, Spring):
+    if isinstance(el, Spring | Backlash):  # parallel copies moving together: same play
         return replace(el, stiffness=el.stiffness * f)
     if isinstance(el, Damper):
         return replace(el, damping=el.damping * f, quadratic=el.quadratic * f)
