@@ -22,6 +22,13 @@ former default, the error of the sampled motion alone biased the screw's stiffne
 -0.2 standard errors; docs/decisions.md). ``--full`` uses the whole records (1-5 min
 per hydraulic or rectifier campaign).
 
+``--design B``: the study of a designed campaign. For each device, the D-optimal choice of
+B tests of its matrix (:func:`inerterlab.identify.design_campaign` at the true values,
+with the study's record length and rate) is made once and stored in
+OUT/<device>/design.json; every campaign then runs only those tests, all used for the
+identification. The summary adds the mean interval width, to set beside a run of the
+full matrix (the same command without ``--design``, another OUT).
+
 Each campaign's result is written as JSON (atomically) to
 OUT/<device>/seed_<seed>.json; a rerun with the same OUT and settings only computes
 the campaigns that are missing, so an interrupted run resumes. The settings are stored
@@ -29,11 +36,13 @@ in OUT/settings.json and a rerun with other settings is refused.
 
     python benchmarks/bench_identify_coverage.py --campaigns 200 --workers 2 --out cov
     python benchmarks/bench_identify_coverage.py --campaigns 10 --devices screw
+    python benchmarks/bench_identify_coverage.py --campaigns 200 --workers 2 --design 8 --out cov_d8
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import math
 import os
@@ -47,7 +56,12 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 import numpy as np  # noqa: E402
 
 from inerterlab.devices import device_preset  # noqa: E402
-from inerterlab.identify import identify, simulate_rig  # noqa: E402
+from inerterlab.identify import (  # noqa: E402
+    design_campaign,
+    identify,
+    simulate_rig,
+    test_matrix,
+)
 from inerterlab.identify.fit import INTERVALS  # noqa: E402
 from inerterlab.io import atomic_write_text  # noqa: E402
 
@@ -57,16 +71,24 @@ PARAMS = ("stiffness", "damping", "friction")
 
 def run_campaign(device: str, seed: int, settings: dict) -> dict:
     dev = device_preset(device)
+    matrix = MATRIX[device]
+    if settings.get("design"):
+        matrix = _design_tests(device, settings["design_tests"][device])
     data = simulate_rig(
         dev,
-        matrix=MATRIX[device],
+        matrix=matrix,
         seed=seed,
         sample_rate=settings["sample_rate"],
         max_duration=settings["max_duration"],
     )
     t0 = time.perf_counter()
     fit = identify(data, dev, reversal_window=settings.get("reversal_window", 0.1))
-    out = {"device": device, "seed": seed, "seconds": time.perf_counter() - t0}
+    out = {
+        "device": device,
+        "seed": seed,
+        "seconds": time.perf_counter() - t0,
+        "tests": [t.number for t in matrix] if settings.get("design") else None,
+    }
     # the default interval method at the top level, every method under "intervals"
     # (computed from the same fit)
     out["intervals"] = {}
@@ -86,6 +108,53 @@ def run_campaign(device: str, seed: int, settings: dict) -> dict:
         if m == fit.interval_method:
             out.update(rec)
     return out
+
+
+def _design_tests(device: str, numbers: list) -> list:
+    """The designed campaign: the chosen tests of the device's matrix, each used for the
+    identification."""
+    by_number = {t.number: t for t in test_matrix(MATRIX[device])}
+    return [dataclasses.replace(by_number[n], purpose="identification") for n in numbers]
+
+
+def _design(device: str, budget: int, settings: dict, out: Path) -> list:
+    """Test numbers of the D-optimal campaign of ``budget`` tests (computed once, then
+    read from OUT/<device>/design.json)."""
+    path = out / device / "design.json"
+    if path.exists():
+        rec = json.loads(path.read_text())
+        if rec["budget"] == budget:
+            return rec["tests"]
+    t0 = time.perf_counter()
+    d = design_campaign(
+        device_preset(device),
+        budget,
+        matrix=MATRIX[device],
+        sample_rate=settings["sample_rate"],
+        max_duration=settings["max_duration"],
+        reversal_window=settings.get("reversal_window"),
+    )
+    numbers = [t.number for t in d.chosen]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    atomic_write_text(
+        path,
+        json.dumps(
+            {
+                "budget": budget,
+                "tests": numbers,
+                "efficiency": d.efficiency(),
+                "predicted_se_ratio": dict(
+                    zip(
+                        d.names,
+                        map(float, d.standard_errors("chosen") / d.standard_errors("full")),
+                        strict=True,
+                    )
+                ),
+                "seconds": time.perf_counter() - t0,
+            }
+        ),
+    )
+    return numbers
 
 
 def _cache(out: Path, device: str, seed: int) -> Path:
@@ -124,6 +193,7 @@ def summarise(results: list, interval: str | None = None) -> list:
                 "coverage": cover,
                 "mean_error_se": float(np.nanmean(z)),
                 "width_ratio": width / spread if spread > 0 else math.nan,
+                "mean_width": width,
             }
         )
     return rows
@@ -138,6 +208,13 @@ def main(argv=None) -> int:
     ap.add_argument("--full", action="store_true", help="whole records at 500 Hz")
     ap.add_argument("--max-duration", type=float, default=2.0, help="[s], reduced campaign")
     ap.add_argument("--sample-rate", type=float, default=500.0, help="[Hz], reduced campaign")
+    ap.add_argument(
+        "--design",
+        type=int,
+        default=None,
+        metavar="B",
+        help="study the D-optimal campaign of B tests of each matrix instead of the whole matrix",
+    )
     ap.add_argument(
         "--reversal-window",
         type=float,
@@ -157,6 +234,10 @@ def main(argv=None) -> int:
         else {"max_duration": args.max_duration, "sample_rate": args.sample_rate}
     )
     settings["reversal_window"] = args.reversal_window
+    if args.design is not None:
+        if args.design < 3:
+            ap.error("--design must be at least 3 (the free parameters)")
+        settings["design"] = args.design
     args.out.mkdir(parents=True, exist_ok=True)
     sfile = args.out / "settings.json"
     if sfile.exists():
@@ -169,6 +250,18 @@ def main(argv=None) -> int:
             return 2
     else:
         atomic_write_text(sfile, json.dumps(settings))
+    if args.design is not None:
+        settings["design_tests"] = {}
+        for d in devices:
+            settings["design_tests"][d] = _design(d, args.design, settings, args.out)
+            rec = json.loads((args.out / d / "design.json").read_text())
+            print(
+                f"{d}: designed campaign of {args.design} tests {rec['tests']} "
+                f"(D-efficiency {rec['efficiency']:.3f}; predicted standard errors "
+                + ", ".join(f"{k} {v:.2f}" for k, v in rec["predicted_se_ratio"].items())
+                + " x the whole matrix's)",
+                flush=True,
+            )
     results = {d: [] for d in devices}
     todo = []
     for d in devices:
@@ -204,7 +297,7 @@ def main(argv=None) -> int:
     print(f"wall time {time.perf_counter() - t0:.0f} s", flush=True)
     print(
         f"{'device':10s} {'parameter':10s} {'N':>4s} {'coverage':>9s} {'mean err/se':>12s} "
-        f"{'width ratio':>12s}  interval"
+        f"{'width ratio':>12s} {'mean width':>12s}  interval"
     )
     for d in devices:
         rs = sorted(results[d], key=lambda r: r["seed"])
@@ -212,7 +305,8 @@ def main(argv=None) -> int:
             for row in summarise(rs, m):
                 print(
                     f"{d:10s} {row['parameter']:10s} {row['campaigns']:4d} {row['coverage']:9.3f} "
-                    f"{row['mean_error_se']:+12.3f} {row['width_ratio']:12.3f}  {m}"
+                    f"{row['mean_error_se']:+12.3f} {row['width_ratio']:12.3f} "
+                    f"{row['mean_width']:12.5g}  {m}"
                 )
         secs = [r["seconds"] for r in rs]
         print(f"{d:10s} identify: median {np.median(secs):.1f} s per campaign")

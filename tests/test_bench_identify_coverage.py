@@ -48,3 +48,39 @@ def test_coverage_benchmark_runs_caches_and_resumes(tmp_path):
     # other settings into the same folder are refused
     bad = subprocess.run(cmd[:-1] + ["200"], capture_output=True, text=True)
     assert bad.returncode == 2 and "settings" not in bad.stdout and "another --out" in bad.stderr
+
+
+@pytest.mark.slow
+def test_coverage_benchmark_studies_a_designed_campaign(tmp_path):
+    out = tmp_path / "cov_design"
+    cmd = [
+        sys.executable,
+        str(BENCH),
+        "--campaigns",
+        "2",
+        "--devices",
+        "screw",
+        "--out",
+        str(out),
+        "--max-duration",
+        "0.5",
+        "--sample-rate",
+        "100",
+        "--design",
+        "3",
+    ]
+    first = subprocess.run(cmd, capture_output=True, text=True)
+    assert first.returncode == 0, first.stderr
+    design = json.loads((out / "screw" / "design.json").read_text())
+    assert design["budget"] == 3 and len(set(design["tests"])) == 3
+    assert 0.0 < design["efficiency"] < 1.0
+    # the predicted standard errors of fewer tests are no smaller than the whole matrix's
+    assert all(r >= 1.0 - 1e-9 for r in design["predicted_se_ratio"].values())
+    assert f"designed campaign of 3 tests {design['tests']}" in first.stdout
+    for f in sorted((out / "screw").glob("seed_*.json")):
+        assert json.loads(f.read_text())["tests"] == design["tests"]
+    rows = [ln.split() for ln in first.stdout.splitlines() if ln.startswith("screw ")]
+    assert all(float(r[6]) > 0 for r in rows[:6])  # the mean interval width
+    # a rerun reads the stored design and every campaign from the cache
+    second = subprocess.run(cmd, capture_output=True, text=True)
+    assert second.returncode == 0 and "2 cached, 0 to run" in second.stdout
