@@ -23,6 +23,7 @@ import math
 import numba as nb
 import numpy as np
 
+from ..elements.adaptive_flywheel import inertia_law
 from ..slider_dynamics import rotor_torque, slider_state_derivative, stored_energy
 from .motion import motion_at
 
@@ -45,25 +46,26 @@ def _slider_l(w, P):
 
 
 @nb.njit(cache=True)
+def _law(w, P):
+    """I, dI/d|omega|, d2I/d|omega|2 at |omega| from the flywheel slots of ``P``: the law
+    of :func:`inerterlab.elements.adaptive_flywheel.inertia_law`, written once."""
+    return inertia_law(
+        abs(w), P[FW0], P[FW0 + 1], P[FW0 + 2], P[FW0 + 3], P[FW0 + 4], P[FW0 + 5], P[FW0 + 6],
+        int(P[FW0 + 7]),
+    )  # fmt: skip
+
+
+@nb.njit(cache=True)
 def inertia(w, P):
     """I(|omega|) [kg m^2] of the quasi-static law."""
-    l = _slider_l(w, P)
-    return P[FW0] + P[FW0 + 1] * l ** P[FW0 + 7]
+    return _law(w, P)[0]
 
 
 @nb.njit(cache=True)
 def momentum_inertia(w, P):
     """I + |omega| dI/d|omega| [kg m^2]."""
-    w = abs(w)
-    l = _slider_l(w, P)
-    i = P[FW0] + P[FW0 + 1] * l ** P[FW0 + 7]
-    if w >= P[FW0 + 6]:
-        return i
-    k, m = P[FW0 + 2], P[FW0 + 3]
-    d = k - m * w * w
-    dl = 2.0 * k * P[FW0 + 4] * m * w / (d * d)
-    p = P[FW0 + 7]
-    return i + w * P[FW0 + 1] * p * l ** (p - 1.0) * dl
+    i0, i1, _ = _law(w, P)
+    return i0 + abs(w) * i1
 
 
 @nb.njit(cache=True)
