@@ -15,8 +15,8 @@ control resolves; there is no impact loss (add a damper in parallel for one). A
 massless node held only by springs and backlash has no unique rest position inside the
 play, so the system builder refuses such a node (it needs a mass, an inertance or a
 damper at it). In series with an inerter (``gap - b``) the inerter is disengaged while
-the play is open, the common model of the thesis's screw backlash (3.36)-(3.37) in a
-network.
+the play is open. (The thesis's screw device has its own backlash rule, (3.36)-(3.37),
+which stays in the device models of :mod:`inerterlab.devices`.)
 """
 
 from __future__ import annotations
