@@ -10,23 +10,17 @@ import pytest
 BENCH = Path(__file__).resolve().parents[1] / "benchmarks" / "bench_identify_coverage.py"
 
 
+def _tiny_run(out, *extra) -> list:
+    """Two screw campaigns of 0.5 s records at 100 Hz into ``out``; ``--sample-rate``
+    comes last so a test can change it."""
+    return [sys.executable, str(BENCH), "--campaigns", "2", "--devices", "screw",
+            "--out", str(out), *extra, "--max-duration", "0.5", "--sample-rate", "100"]  # fmt: skip
+
+
 @pytest.mark.slow
 def test_coverage_benchmark_runs_caches_and_resumes(tmp_path):
     out = tmp_path / "cov"
-    cmd = [
-        sys.executable,
-        str(BENCH),
-        "--campaigns",
-        "2",
-        "--devices",
-        "screw",
-        "--out",
-        str(out),
-        "--max-duration",
-        "0.5",
-        "--sample-rate",
-        "100",
-    ]
+    cmd = _tiny_run(out)
     first = subprocess.run(cmd, capture_output=True, text=True)
     assert first.returncode == 0, first.stderr
     assert "2 to run" in first.stdout
@@ -53,22 +47,7 @@ def test_coverage_benchmark_runs_caches_and_resumes(tmp_path):
 @pytest.mark.slow
 def test_coverage_benchmark_studies_a_designed_campaign(tmp_path):
     out = tmp_path / "cov_design"
-    cmd = [
-        sys.executable,
-        str(BENCH),
-        "--campaigns",
-        "2",
-        "--devices",
-        "screw",
-        "--out",
-        str(out),
-        "--max-duration",
-        "0.5",
-        "--sample-rate",
-        "100",
-        "--design",
-        "3",
-    ]
+    cmd = _tiny_run(out, "--design", "3")
     first = subprocess.run(cmd, capture_output=True, text=True)
     assert first.returncode == 0, first.stderr
     design = json.loads((out / "screw" / "design.json").read_text())
