@@ -4,7 +4,12 @@ Every excitation describes the road displacement X1(t) [m] as a list of segments
 which X1 is smooth (docs/model.md §5). A segment is a row ``[t0, t1, kind, a, b, A, w, phi]``:
 
 * ``kind = 0``: X1 = a + b (t - t0) (flat or linear piece);
-* ``kind = 1``: X1 = a + A sin(w t + phi) (sine, the 1 - cos bump).
+* ``kind = 1``: X1 = a + A sin(w t + phi) (sine, the 1 - cos bump);
+* ``kind = 2`` (a measured drive, :class:`DriveSeries`; rows of nine numbers
+  ``[t0, t1, 2, x0, v0, c2, c3, a0, a1]``): X1 = x0 + v0 s + c2 s^2 + c3 s^3 with
+  s = t - t0 (the cubic Hermite through the samples), and the acceleration read
+  separately, linear from a0 to a1 (the acceleration channel, not the cubic's second
+  derivative). Only the core systems (:mod:`inerterlab.systems`) take it.
 
 The integrators restart at every segment edge and never step across one. Where X1
 jumps at an edge (the rectangular bump), the tyre damper C_t passes an impulse
@@ -40,12 +45,14 @@ __all__ = [
     "Bump",
     "Sine",
     "RoadSeries",
+    "DriveSeries",
     "ISO8608Road",
     "drop",
     "bump",
     "sine",
     "iso8608",
     "road_series",
+    "drive_series",
     "read_road_csv",
     "road_displacement",
     "road_steps",
@@ -76,9 +83,16 @@ class Excitation:
     """
 
     name = "excitation"
+    #: False for inputs only the core systems (:mod:`inerterlab.systems`) can run
+    quarter_car_kernels = True
 
     def initial_road(self, horizon: float) -> float:
         """X1 just before t = 0 [m]: the car starts in equilibrium on this level."""
+        return 0.0
+
+    def initial_road_velocity(self, horizon: float) -> float:
+        """X1' just before t = 0 [m/s]: 0 (the road at rest), so a road that starts
+        moving passes the impulse of its velocity jump through the inertances on it."""
         return 0.0
 
     @property
@@ -344,6 +358,110 @@ class RoadSeries(Excitation):
         return _clip(np.vstack(parts), horizon)
 
 
+@dataclass(frozen=True, kw_only=True)
+class DriveSeries(Excitation):
+    """A measured drive: displacement, velocity and acceleration samples.
+
+    The drive of a rig test (the relative motion across a device) or of a shaker, as
+    the identification reads it: x and v follow the cubic Hermite through the
+    displacement and velocity samples (x and v continuous, so no impulse anywhere) and
+    the acceleration, which the inertances read, is interpolated linearly between the
+    acceleration samples. Each sample interval is a segment (kind 2, see the module
+    notes). Before the first sample the drive moves at the first velocity (it was
+    moving when the record started: no velocity jump at t = 0), after the last at the
+    last velocity. Only the core systems take it (``rig(...).simulate(drive, ...)``).
+
+    Parameters
+    ----------
+    time : array
+        Sample times [s], strictly increasing, >= 0.
+    displacement, velocity, acceleration : arrays
+        x [m], v [m/s] and a [m/s^2] at those times, finite.
+    label : str
+        Where the data came from.
+    """
+
+    time: np.ndarray
+    displacement: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    label: str = "drive"
+    name = "drive"
+    quarter_car_kernels = False
+
+    def __post_init__(self) -> None:
+        arrays = {}
+        for key in ("time", "displacement", "velocity", "acceleration"):
+            a = np.array(getattr(self, key), dtype=float)
+            if a.ndim != 1 or a.size < 2:
+                raise ParameterError(key, f"array of shape {a.shape}", "a 1-D array of >= 2 samples")
+            if not np.all(np.isfinite(a)):
+                raise ParameterError(key, "non-finite values", "finite numbers")
+            arrays[key] = a
+        n = arrays["time"].size
+        for key, a in arrays.items():
+            if a.size != n:
+                raise ParameterError(key, f"{a.size} samples", f"{n} samples, as many as time")
+        t = arrays["time"]
+        if t[0] < 0 or np.any(np.diff(t) <= 0):
+            raise ParameterError("time", "unordered samples", "times >= 0, strictly increasing")
+        for key, a in arrays.items():
+            a.setflags(write=False)
+            object.__setattr__(self, key, a)
+
+    def _at_zero(self) -> tuple[float, float]:
+        t0, x0, v0 = float(self.time[0]), float(self.displacement[0]), float(self.velocity[0])
+        return x0 - v0 * t0, v0
+
+    def initial_road(self, horizon: float) -> float:
+        return self._at_zero()[0]
+
+    def initial_road_velocity(self, horizon: float) -> float:
+        return self._at_zero()[1]
+
+    def end_time(self) -> float:
+        return float(self.time[-1])
+
+    def check_horizon(self, horizon: float, *, stacklevel: int = 2) -> bool:
+        end = self.end_time()
+        if end >= horizon * (1 - 1e-12):
+            return True
+        warnings.warn(
+            f"the drive {self.label} ends at {end:g} s, before the horizon {horizon:g} s; "
+            "it goes on at its last velocity from there",
+            RoadTooShortWarning,
+            stacklevel=stacklevel + 1,
+        )
+        return False
+
+    def describe(self) -> dict:
+        return {
+            "input": "drive",
+            "label": self.label,
+            "samples": int(self.time.size),
+            "duration": float(self.time[-1] - self.time[0]),
+        }
+
+    def segments(self, horizon: float) -> np.ndarray:
+        t, x, v, a = self.time, self.displacement, self.velocity, self.acceleration
+        h = np.diff(t)
+        dx = np.diff(x)
+        seg = np.zeros((t.size - 1, 9))
+        seg[:, 0], seg[:, 1], seg[:, 2] = t[:-1], t[1:], 2.0
+        seg[:, 3], seg[:, 4] = x[:-1], v[:-1]
+        seg[:, 5] = (3.0 * dx / h - 2.0 * v[:-1] - v[1:]) / h
+        seg[:, 6] = (v[:-1] + v[1:] - 2.0 * dx / h) / (h * h)
+        seg[:, 7], seg[:, 8] = a[:-1], a[1:]
+        parts = []
+        if t[0] > 0:
+            x_0, v_0 = self._at_zero()
+            parts.append(np.array([[0.0, t[0], 0.0, x_0, v_0, 0.0, 0.0, 0.0, 0.0]]))
+        parts.append(seg)
+        if t[-1] < horizon:
+            parts.append(np.array([[t[-1], horizon, 0.0, x[-1], v[-1], 0.0, 0.0, 0.0, 0.0]]))
+        return _clip(np.vstack(parts), horizon)
+
+
 def _clip(seg: np.ndarray, horizon: float) -> np.ndarray:
     """Keep the segments inside [0, horizon], cutting the last one at the horizon."""
     keep = seg[:, 0] < horizon
@@ -477,13 +595,7 @@ def road_displacement(segments: np.ndarray, t) -> tuple[np.ndarray, np.ndarray]:
     t = np.atleast_1d(np.asarray(t, dtype=float))
     idx = np.searchsorted(segments[:, 0], t, side="right") - 1
     idx = np.clip(idx, 0, len(segments) - 1)
-    s = segments[idx]
-    lin = s[:, 2] == 0
-    x = np.where(
-        lin, s[:, 3] + s[:, 4] * (t - s[:, 0]), s[:, 3] + s[:, 5] * np.sin(s[:, 6] * t + s[:, 7])
-    )
-    v = np.where(lin, s[:, 4], s[:, 5] * s[:, 6] * np.cos(s[:, 6] * t + s[:, 7]))
-    return x, v
+    return _road_on(segments[idx], t)
 
 
 #: road jumps up to this size relative to the road's largest level are round-off
@@ -499,6 +611,11 @@ _SMALL = 16
 def road_scale(segments: np.ndarray) -> float:
     """A bound on |X1| over the segments [m]: the scale a road jump is measured against."""
     s = np.asarray(segments, dtype=float)
+    if s.shape[1] > 8:  # a measured drive: bound each cubic piece by its coefficients
+        d = s[:, 1] - s[:, 0]
+        cubic = s[:, 2] == 2
+        c2 = np.where(cubic, np.abs(s[:, 5]) * d * d + np.abs(s[:, 6]) * d**3, np.abs(s[:, 5]))
+        return float(np.max(np.abs(s[:, 3]) + np.abs(s[:, 4]) * d + c2))
     if s.shape[0] <= _SMALL:  # the same operations, element by element
         return float(max(abs(r[3]) + abs(r[5]) + abs(r[4]) * (r[1] - r[0]) for r in s.tolist()))
     return float(np.max(np.abs(s[:, 3]) + np.abs(s[:, 5]) + np.abs(s[:, 4]) * (s[:, 1] - s[:, 0])))
@@ -516,7 +633,7 @@ def road_steps(segments: np.ndarray, initial_road: float, horizon: float) -> lis
     """
     segs = np.asarray(segments, dtype=float)
     tol = ROAD_JUMP_RTOL * road_scale(segs)
-    if segs.shape[0] <= _SMALL:
+    if segs.shape[0] <= _SMALL and segs.shape[1] == 8:
         # a few segments (drop, bumps, sine): plain floats, the arithmetic of _road_on
         out, prev = [], float(initial_road)
         for r in segs.tolist():
@@ -546,6 +663,12 @@ def _road_on(s: np.ndarray, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         lin, s[:, 3] + s[:, 4] * (t - s[:, 0]), s[:, 3] + s[:, 5] * np.sin(s[:, 6] * t + s[:, 7])
     )
     v = np.where(lin, s[:, 4], s[:, 5] * s[:, 6] * np.cos(s[:, 6] * t + s[:, 7]))
+    cubic = s[:, 2] == 2
+    if np.any(cubic):  # a measured drive's Hermite pieces (nine columns)
+        c = s[cubic]
+        u = (t - s[:, 0])[cubic]
+        x[cubic] = c[:, 3] + u * (c[:, 4] + u * (c[:, 5] + u * c[:, 6]))
+        v[cubic] = c[:, 4] + u * (2.0 * c[:, 5] + 3.0 * u * c[:, 6])
     return x, v
 
 
@@ -607,6 +730,32 @@ def road_series(time, displacement, *, label: str = "series") -> RoadSeries:
     return RoadSeries(
         time=np.asarray(time, float), displacement=np.asarray(displacement, float), label=label
     )
+
+
+def drive_series(time, displacement, velocity, acceleration=None, *, label: str = "drive"):
+    """A measured drive (:class:`DriveSeries`) from x [m] and v [m/s] at ``time`` [s].
+
+    Without ``acceleration`` [m/s^2] it is taken from the velocity samples alone, as the
+    identification does (five-point differences, docs/model.md): a difference of the
+    displacement would turn displacement sensor noise into acceleration noise of order
+    noise / h^2.
+
+    >>> d = drive_series([0.0, 0.1, 0.2], [0.0, 0.001, 0.0], [0.02, 0.0, -0.02])
+    >>> d.segments(0.2).shape
+    (2, 9)
+    """
+    if acceleration is None:
+        from .devices.motion import _node_acceleration
+
+        t = np.asarray(time, dtype=float)
+        v = np.asarray(velocity, dtype=float)
+        if t.shape != v.shape:
+            raise ParameterError("velocity", f"shape {v.shape}", f"shape {t.shape}, as time")
+        acceleration = _node_acceleration(t, np.asarray(displacement, float), v)
+    return DriveSeries(
+        time=time, displacement=displacement, velocity=velocity, acceleration=acceleration,
+        label=label,
+    )  # fmt: skip
 
 
 #: header spellings of the road file's columns

@@ -634,6 +634,13 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
         raise ParameterError(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), iso8608(), ...)"
         )
+    if not excitation.quarter_car_kernels:
+        raise ParameterError(
+            "excitation",
+            excitation.name,
+            "a road input (drop, bump, sine, ISO 8608, series); a measured drive runs on "
+            "the core systems: inerterlab.systems.rig(...).simulate(drive, ...)",
+        )
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     check_choice("output", output, OUTPUTS)

@@ -69,6 +69,11 @@ def road_at(seg, t, out):
         out[0] = seg[3] + seg[4] * (t - seg[0])
         out[1] = seg[4]
         out[2] = 0.0
+    elif seg[2] == 2.0:  # a measured drive: cubic x, v; the acceleration channel, linear
+        u = t - seg[0]
+        out[0] = seg[3] + u * (seg[4] + u * (seg[5] + u * seg[6]))
+        out[1] = seg[4] + u * (2.0 * seg[5] + 3.0 * u * seg[6])
+        out[2] = seg[7] + (seg[8] - seg[7]) * (u / (seg[1] - seg[0]))
     else:
         s = math.sin(seg[6] * t + seg[7])
         out[0] = seg[3] + seg[5] * s
@@ -77,13 +82,20 @@ def road_at(seg, t, out):
 
 
 @nb.njit(cache=True)
-def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
+def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
     stats[2] += 1
     nn = itab[I_NN]
     ne = itab[I_NE]
     road = work[0:3]
     if mode == 0:
-        road_at(seg, t, road)
+        # the segment of rng[0] <= i < rng[1] that holds t, from the last one used (rng[2])
+        i = rng[2]
+        while i + 1 < rng[1] and segs[i + 1, 0] <= t:
+            i += 1
+        while i > rng[0] and segs[i, 0] > t:
+            i -= 1
+        rng[2] = i
+        road_at(segs[i], t, road)
     elif mode == 1:
         road[0] = road_fixed[0]
         road[1] = road_fixed[1]
@@ -100,10 +112,12 @@ def _f(mode, seg, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
 
 
 @nb.njit(cache=True)
-def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol, t_out,
-             out_y, k, stats, max_steps):  # fmt: skip
-    """Integrate from t to t_end (one road segment; the impulse flow of a road step when
-    mode = 1, of a road velocity jump when mode = 2),
+def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
+             t_out, out_y, k, stats, max_steps):  # fmt: skip
+    """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
+    measured-drive pieces, whose edges the steps end on without a restart: the first
+    stage reuses the last, and the step size carries over; the impulse flow of a road
+    step when mode = 1, of a road velocity jump when mode = 2),
     writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
     Returns (status, k, h)."""
     n = y.size
@@ -119,7 +133,7 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
     k7 = np.empty(n)
     yt = np.empty(n)
     yn = np.empty(n)
-    if not _f(mode, seg, t, y, itab, ftab, imp, road_fixed, k1, work, stats):
+    if not _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, k1, work, stats):
         return BALANCE_FAILED, k, h
     span = t_end - t
     if span <= 0.0:
@@ -130,31 +144,41 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k, h
-        if t + h >= t_end or t + 1.01 * h >= t_end:
-            h = t_end - t
-            tn = t_end
+        lim = t_end
+        if rng[1] - rng[0] > 1:  # the next edge of the measured drive
+            i = rng[2]
+            while i + 1 < rng[1] and segs[i + 1, 0] <= t:
+                i += 1
+            while i > rng[0] and segs[i, 0] > t:
+                i -= 1
+            if i + 1 < rng[1] and segs[i + 1, 0] < t_end:
+                lim = segs[i + 1, 0]
+        h_free = h
+        if t + h >= lim or t + 1.01 * h >= lim:
+            h = lim - t
+            tn = lim
         else:
             tn = t + h
         if h <= 1e-15 * max(abs(t), 1.0):
             return STEP_TOO_SMALL, k, h
         for i in range(n):
             yt[i] = y[i] + h * A21 * k1[i]
-        ok = _f(mode, seg, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, work, stats)
+        ok = _f(mode, segs, rng, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-        ok &= _f(mode, seg, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, work, stats)
+        ok &= _f(mode, segs, rng, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        ok &= _f(mode, seg, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, work, stats)
+        ok &= _f(mode, segs, rng, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        ok &= _f(mode, seg, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, work, stats)
+        ok &= _f(mode, segs, rng, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-        ok &= _f(mode, seg, tn, yt, itab, ftab, imp, road_fixed, k6, work, stats)
+        ok &= _f(mode, segs, rng, tn, yt, itab, ftab, imp, road_fixed, k6, work, stats)
         for i in range(n):
             yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-        ok &= _f(mode, seg, tn, yn, itab, ftab, imp, road_fixed, k7, work, stats)
+        ok &= _f(mode, segs, rng, tn, yn, itab, ftab, imp, road_fixed, k7, work, stats)
         err = 0.0
         for i in range(n):
             sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
@@ -195,6 +219,8 @@ def _advance(mode, seg, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
                 fac = min(fac, 1.0)
             reject_prev = False
             h = h * fac
+            if lim < t_end and fac >= 1.0:
+                h = max(h, h_free)  # a step cut short by an edge: keep the free size
         else:
             stats[1] += 1
             reject_prev = True
@@ -225,18 +251,29 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     for i in range(y.size):
         atol_imp[i] = 1e-3 * atol[i]
     nseg = segs.shape[0]
-    for s in range(nseg):
+    rng = np.zeros(3, dtype=np.int64)
+    s = 0
+    while s < nseg:
         seg = segs[s]
         t0 = seg[0]
         if t0 >= t_end and s > 0:
             break
+        # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
+        # across their edges, so no jump checks and no restarts between them)
+        e = s + 1
+        if seg[2] == 2.0:
+            while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
+                e += 1
+        rng[0] = s
+        rng[1] = e
+        rng[2] = s
         road_at(seg, t0, road)
         if math.isfinite(prev_v) and abs(road[1] - prev_v) > vjump_tol:
             vjumps[s] = road[1] - prev_v
             rf[0] = prev
             rf[1] = prev_v
             rf[2] = road[1] - prev_v
-            st, _, _ = _advance(2, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, ROAD_JERK, rf,
+            st, _, _ = _advance(2, segs, rng, 0.0, 1.0, y, 0.0, False, itab, ftab, ROAD_JERK, rf,
                                 IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
             if st != OK:
                 return st, k
@@ -248,7 +285,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             imp = imp_unit * jump
             rf[0] = road[0]
             rf[1] = road[1]
-            st, _, _ = _advance(1, seg, 0.0, 1.0, y, 0.0, False, itab, ftab, imp, rf,
+            st, _, _ = _advance(1, segs, rng, 0.0, 1.0, y, 0.0, False, itab, ftab, imp, rf,
                                 IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
             if st != OK:
                 return st, k
@@ -256,17 +293,19 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             for i in range(y.size):
                 out_y[k, i] = y[i]
             k += 1
-        t1 = min(seg[1], t_end)
-        last = s == nseg - 1 or seg[1] >= t_end
-        st, k, h = _advance(0, seg, t0, t1, y, h, last, itab, ftab, np.empty(0), rf, rtol, atol,
-                            t_out, out_y, k, stats, max_steps)  # fmt: skip
+        end = segs[e - 1]
+        t1 = min(end[1], t_end)
+        last = e == nseg or end[1] >= t_end
+        st, k, h = _advance(0, segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf, rtol,
+                            atol, t_out, out_y, k, stats, max_steps)  # fmt: skip
         if st != OK:
             return st, k
-        road_at(seg, t1, road)
+        road_at(end, t1, road)
         prev = road[0]
         prev_v = road[1]
         if last:
             break
+        s = e
     return OK, k
 
 

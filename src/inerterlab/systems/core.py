@@ -500,7 +500,8 @@ class RoadVelocityJumpWarning(UserWarning):
 def _velocity_jump_tolerance(segs: np.ndarray) -> float:
     """Smallest road velocity jump [m/s] taken as a jump: 1e-9 of the road's largest
     speed (segment rates and sine amplitudes), or inf on a road at rest."""
-    scale = float(np.max(np.abs(segs[:, 4]) + np.abs(segs[:, 5] * segs[:, 6])))
+    sine_rate = np.where(segs[:, 2] == 1.0, np.abs(segs[:, 5] * segs[:, 6]), 0.0)
+    scale = float(np.max(np.abs(segs[:, 4]) + sine_rate))
     return 1e-9 * scale if scale > 0.0 else math.inf
 
 
@@ -552,7 +553,7 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
     # through the inertances attached to the road
     vjumps = np.zeros(len(segs))
     vjump_tol = _velocity_jump_tolerance(segs) if sys.info.get("road_inertances") else math.inf
-    v_before = 0.0 if x0 is None else math.nan
+    v_before = float(excitation.initial_road_velocity(T)) if x0 is None else math.nan
     if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
         Y = np.empty((ts.size, 0))
         stats = {"steps": 0}
