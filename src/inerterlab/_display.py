@@ -47,13 +47,24 @@ def distinct(values, min_digits: int = 4, max_digits: int = 12) -> list[str]:
     >>> distinct([1.97e6, 1.9699e6, 1.9701e6])
     ['1.97e+06', '1.9699e+06', '1.9701e+06']
     >>> distinct([190.0, 189.86, 190.13])
-    ['190', '189.9', '190.1']
+    ['190.0', '189.9', '190.1']
+    >>> distinct([80.0022, 79.979, 80.0254], min_digits=6)
+    ['80.0022', '79.9790', '80.0254']
+
+    Between 1e-3 and 1e6 the values share one number of decimals (no trailing zero is
+    dropped, so their digits line up); outside it they keep the ``g`` format.
     """
     vals = [float(v) for v in values]
     want = len(set(vals))
     texts = [f"{v:.{max_digits}g}" for v in vals]
+    finite = [abs(v) for v in vals if math.isfinite(v)]
+    top = max(finite, default=0.0)
     for d in range(min_digits, max_digits + 1):
-        t = [f"{v:.{d}g}" for v in vals]
+        if 1e-3 <= top < 1e6:
+            places = max(d - 1 - math.floor(math.log10(top)), 0)
+            t = [f"{v:.{places}f}" if math.isfinite(v) else str(v) for v in vals]
+        else:
+            t = [f"{v:.{d}g}" for v in vals]
         if len(set(t)) == want:
             return t
     return texts
