@@ -169,11 +169,28 @@ def identify_command(
             "of this quarter car with the identified device."
         ),
     ] = None,
+    network: Annotated[
+        str | None,
+        typer.Option(
+            help="Fit a network instead of a device, on the model core's rig, e.g. "
+            "'k | c | b' (with --param and --free)."
+        ),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option(help="With --network: name=value (repeatable), e.g. k=90000."),
+    ] = None,
+    free: Annotated[
+        list[str] | None,
+        typer.Option(help="With --network: a parameter to fit (repeatable or k,c,b)."),
+    ] = None,
 ) -> None:
     """Identify stiffness [N/m], damping [N s/m] and friction [N] from rig data.
 
     Starts from the thesis's identified values of the device.
-    Example: inerterlab identify --device hydraulic --flywheel metal --data DIR --json
+    Example: inerterlab identify --device hydraulic --flywheel metal --data DIR --json.
+    With --network, the named parameters of any network instead:
+    inerterlab identify --network "k | c | b" --param k=2e6,c=7000,b=100 --free k,c,b
     """
     from ..devices import device_preset
     from ..errors import ParameterError
@@ -181,6 +198,18 @@ def identify_command(
 
     if bootstrap < 0:
         raise ParameterError("bootstrap", bootstrap, "an integer >= 0")
+    if network is not None:
+        _identify_network(
+            network, param, free, data, loss, reversal_window, interval, json_out,
+            other={"--method": method != "joint", "--fix": bool(fix),
+                   "--bootstrap": bootstrap > 0, "--propagate": propagate is not None,
+                   "--report": report is not None, "--flywheel": flywheel is not None},
+        )  # fmt: skip
+        return
+    if param or free:
+        raise ParameterError(
+            "param" if param else "free", (param or free)[0], "used only with --network"
+        )
     dev = device_preset(device, flywheel_preset=flywheel, law=law)
     car_file = None
     if propagate is not None:
@@ -251,6 +280,35 @@ def identify_command(
             text = f"{v['value']:.6g}  (95 %: {ci[0]:.6g} .. {ci[1]:.6g})"
         rows.append((k, text))
     print_table(f"identify: {device}, {method} method, {loss} loss", rows)
+
+
+def _identify_network(network, param, free, data, loss, reversal_window, interval, json_out,
+                      other) -> None:  # fmt: skip
+    """``identify --network``: :func:`inerterlab.identify.identify_network`."""
+    from ..errors import ParameterError
+    from ..identify import identify_network, load_rig_data
+    from .simulate import _parse_params
+
+    for option, given in other.items():
+        if given:
+            raise ParameterError(
+                option.lstrip("-"), "given", f"not with --network ({option} is for devices)"
+            )
+    names = [n.strip() for item in free or [] for n in str(item).split(",") if n.strip()]
+    if not names:
+        raise ParameterError("free", None, "at least one --free name with --network")
+    params = _parse_params(param)
+    ds = load_rig_data(data)
+    _check_fit_size(ds, 0)
+    kw = {}
+    if reversal_window is not None:
+        kw["reversal_window"] = parse_float("reversal-window", reversal_window)
+    fit = identify_network(ds, network, params, free=names, loss=loss, interval=interval, **kw)
+    if json_out:
+        emit_json(fit.to_dict())
+        return
+    title, rows = fit._summary()
+    print_table(title, rows)
 
 
 def register(app: typer.Typer) -> None:

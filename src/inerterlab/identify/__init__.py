@@ -12,6 +12,8 @@ from .filters import velocity_from_displacement as velocity_from_displacement
 from .fit import FitResult as FitResult
 from .fit import ParameterEstimate as ParameterEstimate
 from .fit import identify as identify
+from .network import NetworkFitResult as NetworkFitResult
+from .network import identify_network as identify_network
 from .propagate import linearised_car as linearised_car
 from .propagate import propagate as propagate
 from .propagate import propagate_function as propagate_function

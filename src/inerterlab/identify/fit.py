@@ -922,29 +922,11 @@ def _solve(fun, x0, lb, ub, loss, f_scale, max_nfev, jac=None, tol=1e-8, radius=
     return sol
 
 
-def _fit_stage(
-    device,
-    names,
-    preps,
-    *,
-    loss,
-    f_scale,
-    lower,
-    upper,
-    rtol,
-    max_nfev,
-    affine=None,
-    adapt_scale=True,
-):
-    x0 = np.array([getattr(device, n) for n in names], dtype=float)
-    lb = np.array([lower.get(n, 0.0) for n in names])
-    ub = np.array([upper.get(n, np.inf) for n in names])
-    x0 = np.clip(x0, lb + 1e-12 * np.maximum(1.0, np.abs(lb)), ub)
-    if affine is not None:
-        for p in preps:
-            if id(p) not in affine:
-                affine[id(p)] = _affine_terms(device, p)
-    fun, jac = _residuals(device, names, preps, rtol, affine)
+def _robust_fit(residuals, x0, lb, ub, *, loss, f_scale, rtol, max_nfev, adapt_scale=True):
+    """Least squares of the residuals, robust after a plain start, with the robust scale
+    adapted to the residuals. ``residuals(rtol)`` gives (fun, jac or None) with the
+    model at that tolerance. Returns (solution, raw Jacobian at it, f_scale, nfev)."""
+    fun, jac = residuals(rtol)
     nfev = 0
     if loss != "linear" and jac is None:
         # a robust loss far from the optimum sees every residual as an outlier: its
@@ -954,7 +936,7 @@ def _fit_stage(
         # solves the same problem as before to the same tolerance.
         # Only a start, so its model may be loose (PRE_RTOL): the tolerance matters
         # where the robust fit compares costs that differ by a fraction of the noise.
-        loose, _ = _residuals(device, names, preps, max(rtol, PRE_RTOL), affine)
+        loose, _ = residuals(max(rtol, PRE_RTOL))
         pre = _solve(loose, x0, lb, ub, "linear", f_scale, max_nfev, jac, tol=1e-4)
         x0 = pre.x
         nfev += pre.nfev
@@ -977,6 +959,36 @@ def _fit_stage(
     # the Jacobian least_squares returns is scaled by the robust loss; the sandwich
     # needs the derivative of the residuals themselves
     J = _raw_jacobian(fun, sol.x, sol.fun, lb, ub, jac)
+    return sol, J, f_scale, nfev
+
+
+def _fit_stage(
+    device,
+    names,
+    preps,
+    *,
+    loss,
+    f_scale,
+    lower,
+    upper,
+    rtol,
+    max_nfev,
+    affine=None,
+    adapt_scale=True,
+):
+    x0 = np.array([getattr(device, n) for n in names], dtype=float)
+    lb = np.array([lower.get(n, 0.0) for n in names])
+    ub = np.array([upper.get(n, np.inf) for n in names])
+    x0 = np.clip(x0, lb + 1e-12 * np.maximum(1.0, np.abs(lb)), ub)
+    if affine is not None:
+        for p in preps:
+            if id(p) not in affine:
+                affine[id(p)] = _affine_terms(device, p)
+    sol, J, f_scale, nfev = _robust_fit(
+        lambda tol: _residuals(device, names, preps, tol, affine),
+        x0, lb, ub, loss=loss, f_scale=f_scale, rtol=rtol, max_nfev=max_nfev,
+        adapt_scale=adapt_scale,
+    )  # fmt: skip
     sizes = [int(p.mask.sum()) for p in preps]
     spread = _spreads(J, sol.fun, loss, f_scale, sizes, [p.mask for p in preps])
     dev = dataclasses.replace(device, **dict(zip(names, sol.x, strict=True)))

@@ -167,15 +167,21 @@ class System:
         method: str = "auto",
         max_steps: int = 10_000_000,
         x0: np.ndarray | None = None,
+        times=None,
     ) -> CoreResult:
         """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
+
+        Samples at ``times`` [s] (increasing, in [0, horizon]) when given, else every
+        1/``sample_rate`` from 0.
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
         ISO 8608 and file roads) or ``auto`` (exact for a linear system on a
         piecewise-linear road of at most :data:`EXACT_MAX_SEGMENTS` segments, adaptive
         otherwise)."""
-        return _simulate(self, excitation, horizon, rtol, sample_rate, method, max_steps, x0)
+        return _simulate(
+            self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
+        )
 
 
 def _nonlinear(e: ElementBase) -> bool:
@@ -505,7 +511,9 @@ def _velocity_jump_tolerance(segs: np.ndarray) -> float:
     return 1e-9 * scale if scale > 0.0 else math.inf
 
 
-def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0) -> CoreResult:
+def _simulate(
+    sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times=None
+) -> CoreResult:
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
     if not isinstance(excitation, Excitation):
@@ -534,7 +542,21 @@ def _simulate(sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0
         y = np.array(x0, dtype=float)
         if y.shape != (sys.n_states,):
             raise ParameterError("x0", x0, f"{sys.n_states} states")
-    ts = _sample_times(T, sample_rate)
+    if times is None:
+        ts = _sample_times(T, sample_rate)
+    else:
+        ts = np.array(times, dtype=float)
+        if (
+            ts.ndim != 1
+            or ts.size < 1
+            or not np.all(np.isfinite(ts))
+            or np.any(np.diff(ts) <= 0)
+            or ts[0] < 0
+            or ts[-1] > T
+        ):
+            raise ParameterError(
+                "times", "array", f"increasing finite sample times in [0, horizon={T:g}] s"
+            )
     piecewise_linear = bool(np.all(segs[:, 2] == 0.0))
     if method == "exact" and not (sys.linear and piecewise_linear):
         raise ParameterError(
