@@ -29,6 +29,12 @@ OUT/<device>/design.json; every campaign then runs only those tests, all used fo
 identification. The summary adds the mean interval width, to set beside a run of the
 full matrix (the same command without ``--design``, another OUT).
 
+``--engine network``: each campaign is fitted with
+:func:`inerterlab.identify.identify_network` instead, the device written as its
+composite element on the model core's rig (:func:`inerterlab.systems.device_network`),
+with the same reversal window: the calibration of the network fit's intervals, with its
+initial state projected out per internal state.
+
 Each campaign's result is written as JSON (atomically) to
 OUT/<device>/seed_<seed>.json; a rerun with the same OUT and settings only computes
 the campaigns that are missing, so an interrupted run resumes. The settings are stored
@@ -37,6 +43,7 @@ in OUT/settings.json and a rerun with other settings is refused.
     python benchmarks/bench_identify_coverage.py --campaigns 200 --workers 2 --out cov
     python benchmarks/bench_identify_coverage.py --campaigns 10 --devices screw
     python benchmarks/bench_identify_coverage.py --campaigns 200 --workers 2 --design 8 --out cov_d8
+    python benchmarks/bench_identify_coverage.py --campaigns 40 --engine network --out cov_net
 """
 
 from __future__ import annotations
@@ -59,11 +66,13 @@ from inerterlab.devices import device_preset  # noqa: E402
 from inerterlab.identify import (  # noqa: E402
     design_campaign,
     identify,
+    identify_network,
     simulate_rig,
     test_matrix,
 )
-from inerterlab.identify.fit import INTERVALS  # noqa: E402
+from inerterlab.identify.fit import INTERVALS, default_reversal_window  # noqa: E402
 from inerterlab.io import atomic_write_text  # noqa: E402
+from inerterlab.systems import device_network  # noqa: E402
 
 MATRIX = {"hydraulic": "appendix-a1", "screw": "appendix-a2", "rectifier": "appendix-a2"}
 PARAMS = ("stiffness", "damping", "friction")
@@ -82,7 +91,20 @@ def run_campaign(device: str, seed: int, settings: dict) -> dict:
         max_duration=settings["max_duration"],
     )
     t0 = time.perf_counter()
-    fit = identify(data, dev, reversal_window=settings.get("reversal_window", 0.1))
+    key = str  # the fit's name of each parameter
+    if settings.get("engine") == "network":
+        # the device as a composite element on the model core's rig
+        text, params = device_network(dev)
+        window = settings.get("reversal_window")
+        fit = identify_network(
+            data, text, params, free=[f"{text}.{n}" for n in PARAMS],
+            reversal_window=default_reversal_window(dev) if window is None else window,
+        )  # fmt: skip
+
+        def key(n, text=text):
+            return f"{text}.{n}"
+    else:
+        fit = identify(data, dev, reversal_window=settings.get("reversal_window", 0.1))
     out = {
         "device": device,
         "seed": seed,
@@ -96,7 +118,7 @@ def run_campaign(device: str, seed: int, settings: dict) -> dict:
         f = fit.with_intervals(m)
         rec = {}
         for n in PARAMS:
-            p = f.parameters[n]
+            p = f.parameters[key(n)]
             rec[n] = {
                 "truth": float(getattr(dev, n)),
                 "value": p.value,
@@ -221,6 +243,13 @@ def main(argv=None) -> int:
         default=None,
         help="[s] left out after each velocity reversal (default: identify's, per device)",
     )
+    ap.add_argument(
+        "--engine",
+        choices=("device", "network"),
+        default="device",
+        help="fit with identify (the device kernel) or identify_network (the device as a "
+        "composite element on the model core's rig)",
+    )
     args = ap.parse_args(argv)
     devices = [d.strip() for d in args.devices.split(",") if d.strip()]
     for d in devices:
@@ -234,6 +263,8 @@ def main(argv=None) -> int:
         else {"max_duration": args.max_duration, "sample_rate": args.sample_rate}
     )
     settings["reversal_window"] = args.reversal_window
+    if args.engine == "network":
+        settings["engine"] = "network"
     if args.design is not None:
         if args.design < 3:
             ap.error("--design must be at least 3 (the free parameters)")

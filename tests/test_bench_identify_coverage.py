@@ -63,3 +63,19 @@ def test_coverage_benchmark_studies_a_designed_campaign(tmp_path):
     # a rerun reads the stored design and every campaign from the cache
     second = subprocess.run(cmd, capture_output=True, text=True)
     assert second.returncode == 0 and "2 cached, 0 to run" in second.stdout
+
+
+@pytest.mark.slow
+def test_coverage_benchmark_runs_the_network_engine(tmp_path):
+    """--engine network fits the device as a composite element with identify_network:
+    on the screw (affine, no internal state) it gives the device kernel's estimates."""
+    runs = {}
+    for engine in ("device", "network"):
+        out = tmp_path / engine
+        done = subprocess.run(_tiny_run(out, "--engine", engine), capture_output=True, text=True)
+        assert done.returncode == 0, done.stderr
+        runs[engine] = json.loads((out / "screw" / "seed_0001.json").read_text())
+    assert json.loads((tmp_path / "network" / "settings.json").read_text())["engine"] == "network"
+    for n in ("stiffness", "damping", "friction"):
+        a, b = runs["device"][n], runs["network"][n]
+        assert abs(a["value"] - b["value"]) <= 1e-3 * a["std_error"], n

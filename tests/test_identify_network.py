@@ -10,7 +10,7 @@ from inerterlab.errors import ParameterError
 from inerterlab.excitation import drive_series
 from inerterlab.identify import RigDataSet, RigTest, identify, identify_network, simulate_rig
 from inerterlab.identify.fit import _prepare
-from inerterlab.systems import rig
+from inerterlab.systems import device_network, rig
 
 FS = 500.0
 
@@ -33,14 +33,8 @@ def test_screw_as_a_network_equals_the_device_fit(screw_data):
     whole 2 s campaign)."""
     dev = device_preset("screw")
     a = identify(screw_data, dev)
-    from inerterlab.elements import ScrewElement
-
-    e = ScrewElement(
-        stiffness=dev.stiffness, damping=dev.damping, friction=dev.friction,
-        friction_velocity=dev.friction_velocity, flywheel=dev.flywheel,
-        ratio=dev.transmission.ratio, law=dev.law,
-    )  # fmt: skip
-    params = {f"screw.{k}": v for k, v in e.parameters().items()}
+    text, params = device_network(dev)
+    assert text == "screw"
     names = ("stiffness", "damping", "friction")
     b = identify_network(
         screw_data, "screw", params, free=[f"screw.{n}" for n in names],

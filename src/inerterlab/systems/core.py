@@ -783,6 +783,22 @@ def _as_network(device_or_network, params):
     )
 
 
+def device_network(device) -> tuple[str, dict]:
+    """(network text, parameters by ``"name.parameter"``) of a device of
+    :mod:`inerterlab.devices` as a composite element: what :func:`rig` and
+    :func:`inerterlab.identify.identify_network` take, each parameter settable by name.
+
+    >>> from inerterlab.devices import device_preset
+    >>> text, params = device_network(device_preset("screw"))
+    >>> text, params["screw.stiffness"]
+    ('screw', 1970000.0)
+    """
+    if isinstance(device, str):
+        raise ParameterError("device", device, "a device of inerterlab.devices or an element")
+    text, prm = _as_network(device, None)
+    return text, {f"{text}.{k}": v for k, v in prm[text].parameters().items()}
+
+
 def rig(device_or_network, params: dict | None = None) -> System:
     """A test rig: the network between a driven terminal (``drive``, the road input is
     its prescribed displacement) and the ground. Output ``force`` is the force the rig
