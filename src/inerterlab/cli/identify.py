@@ -184,6 +184,13 @@ def identify_command(
         list[str] | None,
         typer.Option(help="With --network: a parameter to fit (repeatable or k,c,b)."),
     ] = None,
+    initial_state: Annotated[
+        str,
+        typer.Option(
+            help="With --network: project out every internal state's free response (all) "
+            "or the internal displacements only (displacements: nodes start with the drive)."
+        ),
+    ] = "all",
 ) -> None:
     """Identify stiffness [N/m], damping [N s/m] and friction [N] from rig data.
 
@@ -201,15 +208,15 @@ def identify_command(
     if network is not None:
         _identify_network(
             network, param, free, data, loss, reversal_window, interval, json_out,
+            initial_state,
             other={"--method": method != "joint", "--fix": bool(fix),
                    "--bootstrap": bootstrap > 0, "--propagate": propagate is not None,
                    "--report": report is not None, "--flywheel": flywheel is not None},
         )  # fmt: skip
         return
-    if param or free:
-        raise ParameterError(
-            "param" if param else "free", (param or free)[0], "used only with --network"
-        )
+    if param or free or initial_state != "all":
+        what = "param" if param else "free" if free else "initial-state"
+        raise ParameterError(what, (param or free or [initial_state])[0], "used only with --network")
     dev = device_preset(device, flywheel_preset=flywheel, law=law)
     car_file = None
     if propagate is not None:
@@ -283,7 +290,7 @@ def identify_command(
 
 
 def _identify_network(network, param, free, data, loss, reversal_window, interval, json_out,
-                      other) -> None:  # fmt: skip
+                      initial_state, other) -> None:  # fmt: skip
     """``identify --network``: :func:`inerterlab.identify.identify_network`."""
     from ..errors import ParameterError
     from ..identify import identify_network, load_rig_data
@@ -303,7 +310,10 @@ def _identify_network(network, param, free, data, loss, reversal_window, interva
     kw = {}
     if reversal_window is not None:
         kw["reversal_window"] = parse_float("reversal-window", reversal_window)
-    fit = identify_network(ds, network, params, free=names, loss=loss, interval=interval, **kw)
+    fit = identify_network(
+        ds, network, params, free=names, loss=loss, interval=interval,
+        initial_state=initial_state, **kw,
+    )  # fmt: skip
     if json_out:
         emit_json(fit.to_dict())
         return
