@@ -115,3 +115,19 @@ def test_drive_bad_input_and_refusal_outside_the_core():
 
     with pytest.raises(ParameterError, match="core systems"):
         simulate(kernel_quarter_car("traditional"), drive_series(t, x, v), horizon=0.1)
+
+
+@pytest.mark.parametrize("method", ["exact", "adaptive"])
+def test_explicit_sample_times_equal_the_uniform_samples(method):
+    from inerterlab.excitation import bump
+    from inerterlab.systems import quarter_car
+
+    car = quarter_car("k | (c - b)", {"k": 9e4, "c": 3e3, "b": 200.0})
+    every = car.simulate(bump(), 1.0, method=method)
+    some = car.simulate(bump(), 1.0, method=method, times=[0.1, 0.2, 0.55, 1.0])
+    ref = every.outputs["body.x"][[100, 200, 550, 1000]]
+    assert np.abs(some.outputs["body.x"] - ref).max() <= 1e-15
+    assert some.metrics is None and every.metrics["rms_body_acc"] > 0
+    for bad in ([0.5, 0.2], [0.1, 2.0], [-0.1, 0.2], [np.nan]):
+        with pytest.raises(ParameterError, match="times"):
+            car.simulate(bump(), 1.0, times=bad)

@@ -172,7 +172,8 @@ class System:
         """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
 
         Samples at ``times`` [s] (increasing, in [0, horizon]) when given, else every
-        1/``sample_rate`` from 0.
+        1/``sample_rate`` from 0; with ``times`` a quarter car's ``metrics`` are None
+        (they are computed from uniform samples from t = 0).
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
@@ -619,6 +620,7 @@ def _simulate(
         outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
         from ..metrics import series_metrics
 
+    if sys.kind == "quarter_car" and times is None:  # the metrics need uniform samples
         metrics = series_metrics(
             ts, outs["body_acc"], outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"]
         )
