@@ -106,3 +106,14 @@ def test_frozen_and_hashable():
     assert hash(fw) == hash(AdaptiveFlywheel(**VALID[AdaptiveFlywheel]))
     with pytest.raises(dataclasses.FrozenInstanceError):
         fw.slider_mass = 1.0  # type: ignore[misc]
+
+
+@pytest.mark.parametrize("cls, name", CASES, ids=[f"{c.__name__}.{n}" for c, n in CASES])
+def test_numeric_text_is_not_a_number(cls, name):
+    """A number written as text ("1") is refused at the Python interface, naming the
+    field (it used to pass the check and fail later in arithmetic)."""
+    kwargs = dict(VALID[cls])
+    kwargs[name] = "1"
+    with pytest.raises(ParameterError) as e:
+        cls(**kwargs)
+    assert name in str(e.value)

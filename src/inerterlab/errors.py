@@ -72,7 +72,9 @@ class LockedError(InerterlabError):
 
 
 def _as_float(name: str, value: Any, valid: str) -> float:
-    if isinstance(value, bool):
+    # text is not a number here, even "1": a value read from a file or typed on the
+    # command line is converted where it is read, naming the file, line or option
+    if isinstance(value, bool | str | bytes):
         raise ParameterError(name, value, valid)
     try:
         x = float(value)
