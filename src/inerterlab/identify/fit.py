@@ -131,10 +131,17 @@ class ParameterEstimate:
 
     def __str__(self) -> str:
         """Value, unit and interval with enough digits to tell them apart."""
+        return self._text(f" {self.unit}" if self.unit else "")
+
+    def value_text(self) -> str:
+        """Value and interval without the unit (for a table whose row names it)."""
+        return self._text("")
+
+    def _text(self, unit: str) -> str:
         from .._display import distinct
 
         v, lo, hi = distinct([self.value, *self.ci95], min_digits=6)
-        return f"{v} {self.unit} (95 %: {lo} .. {hi})" + (" fixed" if self.fixed else "")
+        return f"{v}{unit} (95 %: {lo} .. {hi})" + (" fixed" if self.fixed else "")
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -248,7 +255,7 @@ class FitResult:
 
         rows = []
         for name, p in self.parameters.items():
-            rows.append((f"{name} [{p.unit}]", str(p).replace(f"{p.unit} ", "", 1)))
+            rows.append((f"{name} [{p.unit}]", p.value_text()))
         val = self.validation()
         rows.append(
             (

@@ -26,10 +26,12 @@ import numpy as np
 
 from ..elements import element_class
 from ..errors import ParameterError, check_choice, check_nonnegative
+from ..networks import NetworkError
 from .data import RigDataSet
 from .fit import (
     INTERVALS,
     LOSSES,
+    REVERSAL_WINDOW,
     RTOL,
     ParameterEstimate,
     TestValidation,
@@ -42,16 +44,12 @@ from .fit import (
 
 __all__ = ["NetworkFitResult", "identify_network"]
 
-#: reversal window [s] by default: the whole spike of the rig model (:func:`simulate_rig`)
-NETWORK_REVERSAL_WINDOW = 0.16
-
-
 def _unit(name: str) -> str:
     """Unit of a network parameter name (``k``, ``hyd.stiffness``), or ""."""
     base, _, sub = name.partition(".")
     try:
         cls = element_class(base)
-    except Exception:  # noqa: BLE001 - an unknown prefix is refused by the rig builder
+    except NetworkError:  # an unknown prefix: the rig builder refuses it, naming it
         return ""
     for p in cls.PARAMETERS:
         if p.name == (sub or cls.PARAMETERS[0].name):
@@ -131,7 +129,7 @@ class NetworkFitResult:
         }
 
     def _summary(self) -> tuple[str, list[tuple[str, str]]]:
-        rows = [(f"{n} [{p.unit}]" if p.unit else n, f"{_value_text(p)}")
+        rows = [(f"{n} [{p.unit}]" if p.unit else n, p.value_text())
                 for n, p in self.parameters.items()]  # fmt: skip
         val = [t for t in self.tests if t.purpose == "validation"]
         if val:
@@ -145,13 +143,6 @@ class NetworkFitResult:
         title, rows = self._summary()
         w = max(len(k) for k, _ in rows)
         return "\n".join([title, *(f"  {k:<{w}}  {v}" for k, v in rows)])
-
-
-def _value_text(p: ParameterEstimate) -> str:
-    from .._display import distinct
-
-    v, lo, hi = distinct([p.value, *p.ci95], min_digits=6)
-    return f"{v} (95 %: {lo} .. {hi})"
 
 
 class _Runner:
@@ -265,7 +256,7 @@ def identify_network(
     f_scale: float | None = None,
     lower: dict | None = None,
     upper: dict | None = None,
-    reversal_window: float = NETWORK_REVERSAL_WINDOW,
+    reversal_window: float = REVERSAL_WINDOW,
     derivative_window: float = 0.02,
     detrend: str = "constant",
     rtol: float = RTOL,

@@ -81,6 +81,19 @@ def road_at(seg, t, out):
         out[2] = -seg[5] * seg[6] * seg[6] * s
 
 
+@nb.njit(cache=True, inline="always")
+def _segment_at(segs, rng, t):
+    """The segment of rng[0] <= i < rng[1] that holds t (right-continuous), walking from
+    the last one found (rng[2], updated)."""
+    i = rng[2]
+    while i + 1 < rng[1] and segs[i + 1, 0] <= t:
+        i += 1
+    while i > rng[0] and segs[i, 0] > t:
+        i -= 1
+    rng[2] = i
+    return i
+
+
 @nb.njit(cache=True)
 def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
     stats[2] += 1
@@ -88,14 +101,7 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
     ne = itab[I_NE]
     road = work[0:3]
     if mode == 0:
-        # the segment of rng[0] <= i < rng[1] that holds t, from the last one used (rng[2])
-        i = rng[2]
-        while i + 1 < rng[1] and segs[i + 1, 0] <= t:
-            i += 1
-        while i > rng[0] and segs[i, 0] > t:
-            i -= 1
-        rng[2] = i
-        road_at(segs[i], t, road)
+        road_at(segs[_segment_at(segs, rng, t)], t, road)
     elif mode == 1:
         road[0] = road_fixed[0]
         road[1] = road_fixed[1]
@@ -146,11 +152,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             return TOO_MANY_STEPS, k, h
         lim = t_end
         if rng[1] - rng[0] > 1:  # the next edge of the measured drive
-            i = rng[2]
-            while i + 1 < rng[1] and segs[i + 1, 0] <= t:
-                i += 1
-            while i > rng[0] and segs[i, 0] > t:
-                i -= 1
+            i = _segment_at(segs, rng, t)
             if i + 1 < rng[1] and segs[i + 1, 0] < t_end:
                 lim = segs[i + 1, 0]
         h_free = h
