@@ -73,10 +73,11 @@ def flywheel_inertance(tab, o, v, l, ld):
 
 
 @nb.njit(cache=True)
-def slider_derivative(row, l, ld, v):
+def slider_derivative(tab, o, l, ld, v):
     """l'' [m/s^2] of the sliders at relative velocity v (``slider-dynamics``)."""
     ldd, _ = slider_state_derivative(
-        l, ld, row[1] * v, row[10], row[5], row[4], row[6], row[7], row[11], row[12], row[13]
+        l, ld, tab[o + 1] * v, tab[o + 10], tab[o + 5], tab[o + 4], tab[o + 6], tab[o + 7], tab[o + 11],
+        tab[o + 12], tab[o + 13],
     )
     return ldd
 

@@ -11,11 +11,12 @@ from ._base import DAMPER, ElementBase, Param
 __all__ = ["Damper", "damper_force"]
 
 
-@nb.njit(cache=True)
-def damper_force(row, v):
+@nb.njit(cache=True, inline='always')
+def damper_force(tab, o, v):
     """(F [N], dF/dv [N s/m]) at relative velocity v [m/s]."""
     a = abs(v)
-    return row[0] * v + row[1] * v * a, row[0] + 2.0 * row[1] * a
+    c, c2 = tab[o], tab[o + 1]
+    return c * v + c2 * v * a, c + 2.0 * c2 * a
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -20,7 +20,7 @@ from ._base import FRICTION, ElementBase, Param
 __all__ = ["Friction", "friction_force"]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, inline='always')
 def friction_force(force, v_eps, v):
     """(F, dF/dv) of the regularised friction at relative velocity v [m/s]."""
     th = math.tanh(v / v_eps)

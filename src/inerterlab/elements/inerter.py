@@ -12,9 +12,9 @@ __all__ = ["Inerter", "inerter_inertance"]
 
 
 @nb.njit(cache=True)
-def inerter_inertance(row):
+def inerter_inertance(tab, o):
     """b [kg]: F = b (a_top - a_bottom)."""
-    return row[0]
+    return tab[o]
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -11,18 +11,19 @@ from ._base import SPRING, ElementBase, Param
 __all__ = ["Spring", "spring_force"]
 
 
-@nb.njit(cache=True)
-def spring_force(row, x):
+@nb.njit(cache=True, inline='always')
+def spring_force(tab, o, x):
     """F [N] at relative displacement x [m]: k x, or with a half play g = row[1] > 0
     (:class:`~inerterlab.elements.backlash.Backlash`) k (x - g) beyond +g, k (x + g)
     beyond -g and 0 between."""
-    g = row[1]
+    k = tab[o]
+    g = tab[o + 1]
     if g == 0.0:
-        return row[0] * x
+        return k * x
     if x > g:
-        return row[0] * (x - g)
+        return k * (x - g)
     if x < -g:
-        return row[0] * (x + g)
+        return k * (x + g)
     return 0.0
 
 

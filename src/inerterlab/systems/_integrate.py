@@ -56,29 +56,35 @@ from ..suspension._kernels import (
     E6,
     E7,
 )  # fmt: skip
-from ._kernel import I_ND, I_NE, I_NN, I_NV, ROAD_JERK, evaluate
+from ._kernel import I_NE, I_NN, ROAD_JERK, _work_size, evaluate
 
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
 
 
 @nb.njit(cache=True)
-def road_at(seg, t, out):
-    """Road displacement, velocity, acceleration on segment ``seg`` at time t."""
-    if seg[2] == 0.0:
-        out[0] = seg[3] + seg[4] * (t - seg[0])
-        out[1] = seg[4]
+def road_at(segs, i, t, out):
+    """Road displacement, velocity, acceleration on segment ``segs[i]`` at time t (the
+    table and a row number, not a row: a slice per call costs a view)."""
+    kind = segs[i, 2]
+    t0 = segs[i, 0]
+    if kind == 0.0:
+        out[0] = segs[i, 3] + segs[i, 4] * (t - t0)
+        out[1] = segs[i, 4]
         out[2] = 0.0
-    elif seg[2] == 2.0:  # a measured drive: cubic x, v; the acceleration channel, linear
-        u = t - seg[0]
-        out[0] = seg[3] + u * (seg[4] + u * (seg[5] + u * seg[6]))
-        out[1] = seg[4] + u * (2.0 * seg[5] + 3.0 * u * seg[6])
-        out[2] = seg[7] + (seg[8] - seg[7]) * (u / (seg[1] - seg[0]))
+    elif kind == 2.0:  # a measured drive: cubic x, v; the acceleration channel, linear
+        u = t - t0
+        c1, c2, c3 = segs[i, 4], segs[i, 5], segs[i, 6]
+        a0 = segs[i, 7]
+        out[0] = segs[i, 3] + u * (c1 + u * (c2 + u * c3))
+        out[1] = c1 + u * (2.0 * c2 + 3.0 * u * c3)
+        out[2] = a0 + (segs[i, 8] - a0) * (u / (segs[i, 1] - t0))
     else:
-        s = math.sin(seg[6] * t + seg[7])
-        out[0] = seg[3] + seg[5] * s
-        out[1] = seg[5] * seg[6] * math.cos(seg[6] * t + seg[7])
-        out[2] = -seg[5] * seg[6] * seg[6] * s
+        w, ph, amp = segs[i, 6], segs[i, 7], segs[i, 5]
+        s = math.sin(w * t + ph)
+        out[0] = segs[i, 3] + amp * s
+        out[1] = amp * w * math.cos(w * t + ph)
+        out[2] = -amp * w * w * s
 
 
 @nb.njit(cache=True, inline="always")
@@ -95,13 +101,10 @@ def _segment_at(segs, rng, t):
 
 
 @nb.njit(cache=True)
-def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
+def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
     stats[2] += 1
-    nn = itab[I_NN]
-    ne = itab[I_NE]
-    road = work[0:3]
     if mode == 0:
-        road_at(segs[_segment_at(segs, rng, t)], t, road)
+        road_at(segs, _segment_at(segs, rng, t), t, road)
     elif mode == 1:
         road[0] = road_fixed[0]
         road[1] = road_fixed[1]
@@ -110,11 +113,7 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, work, stats):
         road[0] = road_fixed[0]
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
-    X = work[3 : 3 + nn]
-    V = work[3 + nn : 3 + 2 * nn]
-    A = work[3 + 2 * nn : 3 + 3 * nn]
-    F = work[3 + 3 * nn : 3 + 3 * nn + ne]
-    return evaluate(t, y, road, itab, ftab, X, V, A, F, dy, imp, work[3 + 3 * nn + ne :])
+    return evaluate(t, y, road, itab, ftab, work, dy, imp)
 
 
 @nb.njit(cache=True)
@@ -127,9 +126,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
     Returns (status, k, h)."""
     n = y.size
-    nn = itab[I_NN]
-    nd, nv = itab[I_ND], itab[I_NV]
-    work = np.empty(3 + 3 * nn + itab[I_NE] + nd * nd + nd + itab[I_NE] + nv * nv + 3 * nv)
+    work = np.empty(_work_size(itab))
+    road = np.empty(3)
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)
@@ -139,7 +137,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     k7 = np.empty(n)
     yt = np.empty(n)
     yn = np.empty(n)
-    if not _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, k1, work, stats):
+    if not _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, k1, road, work, stats):
         return BALANCE_FAILED, k, h
     span = t_end - t
     if span <= 0.0:
@@ -165,22 +163,22 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             return STEP_TOO_SMALL, k, h
         for i in range(n):
             yt[i] = y[i] + h * A21 * k1[i]
-        ok = _f(mode, segs, rng, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, work, stats)
+        ok = _f(mode, segs, rng, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, road, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-        ok &= _f(mode, segs, rng, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, work, stats)
+        ok &= _f(mode, segs, rng, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, road, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        ok &= _f(mode, segs, rng, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, work, stats)
+        ok &= _f(mode, segs, rng, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, road, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        ok &= _f(mode, segs, rng, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, work, stats)
+        ok &= _f(mode, segs, rng, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, road, work, stats)
         for i in range(n):
             yt[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-        ok &= _f(mode, segs, rng, tn, yt, itab, ftab, imp, road_fixed, k6, work, stats)
+        ok &= _f(mode, segs, rng, tn, yt, itab, ftab, imp, road_fixed, k6, road, work, stats)
         for i in range(n):
             yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-        ok &= _f(mode, segs, rng, tn, yn, itab, ftab, imp, road_fixed, k7, work, stats)
+        ok &= _f(mode, segs, rng, tn, yn, itab, ftab, imp, road_fixed, k7, road, work, stats)
         err = 0.0
         for i in range(n):
             sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
@@ -256,20 +254,19 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     rng = np.zeros(3, dtype=np.int64)
     s = 0
     while s < nseg:
-        seg = segs[s]
-        t0 = seg[0]
+        t0 = segs[s, 0]
         if t0 >= t_end and s > 0:
             break
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
-        if seg[2] == 2.0:
+        if segs[s, 2] == 2.0:
             while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
         rng[1] = e
         rng[2] = s
-        road_at(seg, t0, road)
+        road_at(segs, s, t0, road)
         if math.isfinite(prev_v) and abs(road[1] - prev_v) > vjump_tol:
             vjumps[s] = road[1] - prev_v
             rf[0] = prev
@@ -295,14 +292,13 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             for i in range(y.size):
                 out_y[k, i] = y[i]
             k += 1
-        end = segs[e - 1]
-        t1 = min(end[1], t_end)
-        last = e == nseg or end[1] >= t_end
+        t1 = min(segs[e - 1, 1], t_end)
+        last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(0, segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf, rtol,
                             atol, t_out, out_y, k, stats, max_steps)  # fmt: skip
         if st != OK:
             return st, k
-        road_at(end, t1, road)
+        road_at(segs, e - 1, t1, road)
         prev = road[0]
         prev_v = road[1]
         if last:
@@ -318,23 +314,17 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     nn = itab[I_NN]
     ne = itab[I_NE]
     road = np.empty(3)
-    X = np.empty(nn)
-    V = np.empty(nn)
-    A = np.empty(nn)
-    F = np.empty(ne)
+    W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
+    imp = np.empty(0)
     s = 0
     ok = True
     for j in range(t_out.size):
         t = t_out[j]
         while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
             s += 1
-        road_at(segs[s], t, road)
-        ok &= evaluate(t, Y[j], road, itab, ftab, X, V, A, F, dx, np.empty(0))
-        for i in range(nn):
-            O[j, i] = X[i]
-            O[j, nn + i] = V[i]
-            O[j, 2 * nn + i] = A[i]
-        for e in range(ne):
-            O[j, 3 * nn + e] = F[e]
+        road_at(segs, s, t, road)
+        ok &= evaluate(t, Y[j], road, itab, ftab, W, dx, imp)
+        for i in range(3 * nn + ne):
+            O[j, i] = W[i]
     return ok

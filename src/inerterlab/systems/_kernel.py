@@ -27,7 +27,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ..elements._base import DAMPER, FRICTION, INERTER, NPAR, SPRING
+from ..elements._base import DAMPER, FRICTION, INERTER, SPRING
 from ..elements.adaptive_flywheel import flywheel_inertance, slider_derivative
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
@@ -49,61 +49,79 @@ _NO_IMPULSE = np.empty(0)
 ROAD_JERK = np.array([np.nan])
 
 
-@nb.njit(cache=True)
-def _solve(M, r, n):
-    """Solve M x = r (n x n, row-major in M) in place by Gaussian elimination with partial
-    pivoting; x in r. Returns False if M is singular."""
+@nb.njit(cache=True, inline="always")
+def _solve(M, m0, r, r0, n):
+    """Solve M x = r (n x n, row-major in M from M[m0]; r from r[r0]) in place by Gaussian
+    elimination with partial pivoting; x in r. Returns False if M is singular. Offsets,
+    not slices: a slice per call costs a view."""
     for k in range(n):
         p = k
-        big = abs(M[k * n + k])
+        big = abs(M[m0 + k * n + k])
         for i in range(k + 1, n):
-            if abs(M[i * n + k]) > big:
-                big = abs(M[i * n + k])
+            if abs(M[m0 + i * n + k]) > big:
+                big = abs(M[m0 + i * n + k])
                 p = i
         if big == 0.0 or not math.isfinite(big):
             return False
         if p != k:
             for j in range(n):
-                tmp = M[k * n + j]
-                M[k * n + j] = M[p * n + j]
-                M[p * n + j] = tmp
-            tmp = r[k]
-            r[k] = r[p]
-            r[p] = tmp
-        piv = M[k * n + k]
+                tmp = M[m0 + k * n + j]
+                M[m0 + k * n + j] = M[m0 + p * n + j]
+                M[m0 + p * n + j] = tmp
+            tmp = r[r0 + k]
+            r[r0 + k] = r[r0 + p]
+            r[r0 + p] = tmp
+        piv = M[m0 + k * n + k]
         for i in range(k + 1, n):
-            f = M[i * n + k] / piv
+            f = M[m0 + i * n + k] / piv
             if f != 0.0:
                 for j in range(k + 1, n):
-                    M[i * n + j] -= f * M[k * n + j]
-                r[i] -= f * r[k]
+                    M[m0 + i * n + j] -= f * M[m0 + k * n + j]
+                r[r0 + i] -= f * r[r0 + k]
     for k in range(n - 1, -1, -1):
-        s = r[k]
+        s = r[r0 + k]
         for j in range(k + 1, n):
-            s -= M[k * n + j] * r[j]
-        r[k] = s / M[k * n + k]
+            s -= M[m0 + k * n + j] * r[r0 + j]
+        r[r0 + k] = s / M[m0 + k * n + k]
     return True
 
 
-@nb.njit(cache=True)
-def _dissipative(code, row, v):
-    """(F, dF/dv) of a velocity-dependent element at relative velocity v."""
+@nb.njit(cache=True, inline="always")
+def _dissipative(code, tab, o, v):
+    """(F, dF/dv) of a velocity-dependent element at relative velocity v (its parameter
+    row from ``tab[o]``)."""
     if code == DAMPER:
-        return damper_force(row, v)
-    return friction_force(row[0], row[1], v)
+        return damper_force(tab, o, v)
+    return friction_force(tab[o], tab[o + 1], v)
+
+
+def work_size(itab) -> int:
+    """Length of the work array :func:`evaluate` takes (so that a caller evaluating many
+    times allocates once): node displacements, velocities and accelerations, element
+    forces, then scratch."""
+    nn, nd, ne, nv = int(itab[I_NN]), int(itab[I_ND]), int(itab[I_NE]), int(itab[I_NV])
+    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv
+
+
+@nb.njit(cache=True, inline="always")
+def _work_size(itab):
+    nn, nd, ne, nv = itab[I_NN], itab[I_ND], itab[I_NE], itab[I_NV]
+    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv
 
 
 @nb.njit(cache=True)
-def _vel_residual(itab, ftab, X, V, G, J, nv, want_j):
-    """Force balance G of the velocity nodes (and its Jacobian J if want_j)."""
+def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
+    """Force balance G = W[gi:gi+nv] of the velocity nodes (and its Jacobian J =
+    W[ji:ji+nv*nv] if want_j); X = W[0:nn], V = W[nn:2nn]."""
     ne = itab[I_NE]
+    nn = itab[I_NN]
     eo = itab[I_ELEM]
     no = itab[I_NODE]
     for i in range(nv):
-        G[i] = 0.0
+        W[gi + i] = 0.0
     if want_j:
         for i in range(nv * nv):
-            J[i] = 0.0
+            W[ji + i] = 0.0
     for e in range(ne):
         b = eo + ELEM_W * e
         code = itab[b]
@@ -113,67 +131,61 @@ def _vel_residual(itab, ftab, X, V, G, J, nv, want_j):
         bi = itab[no + NODE_W * bot + 3] if itab[no + NODE_W * bot] == VEL else -1
         if ti < 0 and bi < 0:
             continue
-        row = ftab[itab[b + 3] : itab[b + 3] + NPAR]
+        o = itab[b + 3]
         if code == SPRING:
-            f = spring_force(row, X[top] - X[bot])
+            f = spring_force(ftab, o, W[top] - W[bot])
             d = 0.0
         elif code == DAMPER or code == FRICTION:
-            f, d = _dissipative(code, row, V[top] - V[bot])
+            f, d = _dissipative(code, ftab, o, W[nn + top] - W[nn + bot])
         else:
             continue  # inertial elements never touch a velocity node
         if ti >= 0:
-            G[ti] -= f
+            W[gi + ti] -= f
             if want_j:
-                J[ti * nv + ti] -= d
+                W[ji + ti * nv + ti] -= d
                 if bi >= 0:
-                    J[ti * nv + bi] += d
+                    W[ji + ti * nv + bi] += d
         if bi >= 0:
-            G[bi] += f
+            W[gi + bi] += f
             if want_j:
-                J[bi * nv + bi] -= d
+                W[ji + bi * nv + bi] -= d
                 if ti >= 0:
-                    J[bi * nv + ti] += d
-
-
-def work_size(itab) -> int:
-    """Length of the scratch array :func:`evaluate` takes as ``work`` (so that a caller
-    evaluating many times allocates once)."""
-    nd, ne, nv = int(itab[I_ND]), int(itab[I_NE]), int(itab[I_NV])
-    return nd * nd + nd + ne + nv * nv + 3 * nv
+                    W[ji + bi * nv + ti] += d
 
 
 @nb.njit(cache=True)
-def _velocities(itab, ftab, X, V, work):
-    """Velocities of the massless velocity nodes from their force balance (Newton; the
-    balance is strictly decreasing in each node's velocity). Returns False on failure.
-    ``work``: scratch of at least nv^2 + 3 nv floats."""
+def _velocities(itab, ftab, W, s0):
+    """Velocities of the massless velocity nodes (in W[nn:2nn]) from their force balance
+    (Newton; the balance is strictly decreasing in each node's velocity). Returns False
+    on failure. Scratch: W[s0:s0 + nv^2 + 3 nv]."""
     nv = itab[I_NV]
     if nv == 0:
         return True
+    nn = itab[I_NN]
     vo = itab[I_VEL]
-    G = work[0:nv]
-    J = work[nv : nv + nv * nv]
-    dv = work[nv + nv * nv : 2 * nv + nv * nv]
-    v0 = work[2 * nv + nv * nv : 3 * nv + nv * nv]
+    gi = s0
+    ji = s0 + nv
+    di = s0 + nv + nv * nv
+    v0 = s0 + 2 * nv + nv * nv
     for i in range(nv):
-        V[itab[vo + i]] = 0.0
+        W[nn + itab[vo + i]] = 0.0
     if nv == 1:
         # safeguarded Newton on a bracket (G is decreasing in v)
-        n = itab[vo]
+        n = nn + itab[vo]
         lo = -math.inf
         hi = math.inf
         u = 0.0
         for _ in range(400):
-            V[n] = u
-            _vel_residual(itab, ftab, X, V, G, J, 1, True)
-            g = G[0]
+            W[n] = u
+            _vel_residual(itab, ftab, W, gi, ji, 1, True)
+            g = W[gi]
             if g > 0.0:
                 lo = u
             elif g < 0.0:
                 hi = u
             else:
                 return True
-            un = u - g / J[0] if J[0] < 0.0 else math.nan
+            un = u - g / W[ji] if W[ji] < 0.0 else math.nan
             if not (lo < un < hi):
                 if math.isfinite(lo) and math.isfinite(hi):
                     un = 0.5 * (lo + hi)
@@ -181,67 +193,64 @@ def _velocities(itab, ftab, X, V, work):
                     step = max(1.0, 2.0 * abs(u))
                     un = u + step if g > 0.0 else u - step
             if abs(un - u) <= 2e-16 * abs(un) + 1e-300:
-                V[n] = un
+                W[n] = un
                 return True
             u = un
-        V[n] = u
+        W[n] = u
         return False
     # several nodes: Newton with backtracking on |G|
     for _it in range(200):
-        _vel_residual(itab, ftab, X, V, G, J, nv, True)
+        _vel_residual(itab, ftab, W, gi, ji, nv, True)
         g2 = 0.0
         for i in range(nv):
-            g2 += G[i] * G[i]
-            dv[i] = -G[i]
-            v0[i] = V[itab[vo + i]]
+            g2 += W[gi + i] * W[gi + i]
+            W[di + i] = -W[gi + i]
+            W[v0 + i] = W[nn + itab[vo + i]]
         if g2 == 0.0:
             return True
-        if not _solve(J, dv, nv):
+        if not _solve(W, ji, W, di, nv):
             return False
         step = 1.0
         done = False
         for _ in range(60):
             small = True
             for i in range(nv):
-                V[itab[vo + i]] = v0[i] + step * dv[i]
-                if abs(step * dv[i]) > 2e-16 * abs(v0[i]) + 1e-300:
+                W[nn + itab[vo + i]] = W[v0 + i] + step * W[di + i]
+                if abs(step * W[di + i]) > 2e-16 * abs(W[v0 + i]) + 1e-300:
                     small = False
             if small:
                 return True
-            _vel_residual(itab, ftab, X, V, G, J, nv, False)
+            _vel_residual(itab, ftab, W, gi, ji, nv, False)
             n2 = 0.0
             for i in range(nv):
-                n2 += G[i] * G[i]
+                n2 += W[gi + i] * W[gi + i]
             if n2 < g2:
                 done = True
                 break
             step *= 0.5
         if not done:
             for i in range(nv):
-                V[itab[vo + i]] = v0[i]
+                W[nn + itab[vo + i]] = W[v0 + i]
             return True
     return True
 
 
 @nb.njit(cache=True)
-def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
-    """Node displacements X, velocities V, accelerations A (NaN where not defined: the
-    massless nodes), element forces F and the state derivative dx. Returns False if a
-    balance could not be solved. With a non-empty ``imp`` (one impulse per dynamic node)
-    dx is instead the impulse flow M(x)^-1 imp on the dynamic nodes' velocities (zero
-    elsewhere): integrated over a unit interval it applies the impulse exactly, whatever
-    the velocity dependence of the inertances. With ``imp`` = [NaN] (:data:`ROAD_JERK`)
-    it is the flow of a road velocity jump: road[2] holds the jump, the forces are left
-    out (finite, they pass no impulse in no time) and dx = M(x)^-1 (the inertances'
-    coupling to the road times the jump); integrated over a unit interval with the road
-    velocity moving linearly through the jump it applies the impulses the inertances on
-    the road pass, whatever their velocity dependence. ``work``: scratch of
-    :func:`work_size` floats, or None to allocate it here."""
-    if work is None:
-        work = np.empty(
-            itab[I_ND] * itab[I_ND] + itab[I_ND] + itab[I_NE] + itab[I_NV] * itab[I_NV]
-            + 3 * itab[I_NV]
-        )  # fmt: skip
+def evaluate(t, x, road, itab, ftab, W, dx, imp):
+    """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
+    X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
+    defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
+    the state derivative. Returns False if a balance could not be solved. With a
+    non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
+    M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
+    interval it applies the impulse exactly, whatever the velocity dependence of the
+    inertances. With ``imp`` = [NaN] (:data:`ROAD_JERK`) it is the flow of a road
+    velocity jump: road[2] holds the jump, the forces are left out (finite, they pass no
+    impulse in no time) and dx = M(x)^-1 (the inertances' coupling to the road times the
+    jump); integrated over a unit interval with the road velocity moving linearly
+    through the jump it applies the impulses the inertances on the road pass, whatever
+    their velocity dependence. The work array is read by offset, never sliced: a slice
+    costs a view per call."""
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
@@ -250,27 +259,33 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
     no = itab[I_NODE]
     eo = itab[I_ELEM]
     fm = itab[I_FMASS]
+    iv = nn  # velocities
+    ia = 2 * nn  # accelerations
+    iF = 3 * nn  # element forces
+    im = iF + ne  # mass matrix of the dynamic nodes
+    ir = im + nd * nd  # right-hand side, then the accelerations
+    ie = ir + nd  # inertance of each element
     for n in range(nn):
         b = no + NODE_W * n
         typ = itab[b]
-        A[n] = math.nan
+        W[ia + n] = math.nan
         if typ == GROUND:
-            X[n] = 0.0
-            V[n] = 0.0
-            A[n] = 0.0
+            W[n] = 0.0
+            W[iv + n] = 0.0
+            W[ia + n] = 0.0
         elif typ == ROAD:
-            X[n] = road[0]
-            V[n] = road[1]
-            A[n] = road[2]
+            W[n] = road[0]
+            W[iv + n] = road[1]
+            W[ia + n] = road[2]
         elif typ == DYN:
-            X[n] = x[itab[b + 1]]
-            V[n] = x[itab[b + 2]]
+            W[n] = x[itab[b + 1]]
+            W[iv + n] = x[itab[b + 2]]
         elif typ == VEL:
-            X[n] = x[itab[b + 1]]
-            V[n] = 0.0
+            W[n] = x[itab[b + 1]]
+            W[iv + n] = 0.0
         else:
-            X[n] = 0.0
-            V[n] = 0.0
+            W[n] = 0.0
+            W[iv + n] = 0.0
     # spring-only nodes: X_p = R X (R has zero columns for spring-only nodes)
     po = itab[I_POS]
     fr = itab[I_FR]
@@ -278,89 +293,85 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
         p = itab[po + i]
         s = 0.0
         for j in range(nn):
-            s += ftab[fr + i * nn + j] * X[j]
-        X[p] = s
-    nde = nd * nd + nd + ne
-    ok = _velocities(itab, ftab, X, V, work[nde:])
+            s += ftab[fr + i * nn + j] * W[j]
+        W[p] = s
+    ok = _velocities(itab, ftab, W, ie + ne)
     for i in range(npn):
         p = itab[po + i]
         s = 0.0
         for j in range(nn):
-            s += ftab[fr + i * nn + j] * V[j]
-        V[p] = s
+            s += ftab[fr + i * nn + j] * W[iv + j]
+        W[iv + p] = s
     # forces and the mass matrix of the dynamic nodes
-    M = work[0 : nd * nd]
-    r = work[nd * nd : nd * nd + nd]
-    ME = work[nd * nd + nd : nde]
-    for i in range(nde):
-        work[i] = 0.0
+    for i in range(im, ie + ne):
+        W[i] = 0.0
     for n in range(nn):
         b = no + NODE_W * n
         if itab[b] == DYN:
             k = itab[b + 3]
-            M[k * nd + k] += ftab[fm + n]
+            W[im + k * nd + k] += ftab[fm + n]
     for e in range(ne):
         b = eo + ELEM_W * e
         code = itab[b]
         top = itab[b + 1]
         bot = itab[b + 2]
-        row = ftab[itab[b + 3] : itab[b + 3] + NPAR]
-        v = V[top] - V[bot]
+        o = itab[b + 3]
+        v = W[iv + top] - W[iv + bot]
         me = 0.0
         if code == SPRING:
-            f = spring_force(row, X[top] - X[bot])
+            f = spring_force(ftab, o, W[top] - W[bot])
         elif code == DAMPER or code == FRICTION:
-            f, _ = _dissipative(code, row, v)
+            f, _ = _dissipative(code, ftab, o, v)
         elif code == INERTER:
             f = 0.0
-            me = inerter_inertance(row)
+            me = inerter_inertance(ftab, o)
         else:
             so = itab[b + 4]
             if so >= 0:
-                me, f = flywheel_inertance(ftab, itab[b + 3], v, x[so], x[so + 1])
+                me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
-                dx[so + 1] = slider_derivative(row, x[so], x[so + 1], v)
+                dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
             else:
-                me, f = flywheel_inertance(ftab, itab[b + 3], v, 0.0, 0.0)
+                me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
         if jerk:
             f = 0.0
-        F[e] = f
-        ME[e] = me
+        W[iF + e] = f
+        W[ie + e] = me
         tb = no + NODE_W * top
         bb = no + NODE_W * bot
         ti = itab[tb + 3] if itab[tb] == DYN else -1
         bi = itab[bb + 3] if itab[bb] == DYN else -1
         if ti >= 0:
-            r[ti] -= f
+            W[ir + ti] -= f
         if bi >= 0:
-            r[bi] += f
+            W[ir + bi] += f
         if me != 0.0:
             if ti >= 0:
-                M[ti * nd + ti] += me
+                W[im + ti * nd + ti] += me
                 if bi >= 0:
-                    M[ti * nd + bi] -= me
+                    W[im + ti * nd + bi] -= me
                 else:
-                    r[ti] += me * A[bot]
+                    W[ir + ti] += me * W[ia + bot]
             if bi >= 0:
-                M[bi * nd + bi] += me
+                W[im + bi * nd + bi] += me
                 if ti >= 0:
-                    M[bi * nd + ti] -= me
+                    W[im + bi * nd + ti] -= me
                 else:
-                    r[bi] += me * A[top]
+                    W[ir + bi] += me * W[ia + top]
     if imp.size > 0 and not jerk:
         for i in range(nd):
-            r[i] = imp[i]
-    if nd > 0 and not _solve(M, r, nd):
+            W[ir + i] = imp[i]
+    if nd > 0 and not _solve(W, im, W, ir, nd):
         ok = False
     for n in range(nn):
         b = no + NODE_W * n
         typ = itab[b]
         if typ == DYN:
-            A[n] = r[itab[b + 3]]
-            dx[itab[b + 1]] = V[n]
-            dx[itab[b + 2]] = A[n]
+            W[ia + n] = W[ir + itab[b + 3]]
+            dx[itab[b + 1]] = W[iv + n]
+            dx[itab[b + 2]] = W[ia + n]
         elif typ == VEL:
-            dx[itab[b + 1]] = V[n]
+            dx[itab[b + 1]] = W[iv + n]
     if imp.size > 0:
         for i in range(x.size):
             if i >= itab[I_NS] - itab[I_NI]:
@@ -373,9 +384,9 @@ def evaluate(t, x, road, itab, ftab, X, V, A, F, dx, imp, work=None):
                 dx[itab[b + 1]] = 0.0
         return ok
     for e in range(ne):
-        if ME[e] != 0.0:
+        if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
-            F[e] += ME[e] * (A[itab[b + 1]] - A[itab[b + 2]])
+            W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
     return ok
 
 
@@ -384,13 +395,8 @@ def rhs(t, x, road, itab, ftab, out):
     """out = dx/dt at time t, state x, road (displacement, velocity, acceleration).
 
     Returns True, or False where a force balance could not be solved."""
-    nn = itab[I_NN]
-    ne = itab[I_NE]
-    X = np.empty(nn)
-    V = np.empty(nn)
-    A = np.empty(nn)
-    F = np.empty(ne)
-    return evaluate(t, x, road, itab, ftab, X, V, A, F, out, _NO_IMPULSE)
+    W = np.empty(_work_size(itab))
+    return evaluate(t, x, road, itab, ftab, W, out, _NO_IMPULSE)
 
 
 @nb.njit(cache=True)
@@ -398,16 +404,9 @@ def outputs(t, x, road, itab, ftab, out):
     """out = [X (nodes), V (nodes), A (nodes, NaN at massless nodes), F (elements)]."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    X = np.empty(nn)
-    V = np.empty(nn)
-    A = np.empty(nn)
-    F = np.empty(ne)
+    W = np.empty(_work_size(itab))
     dx = np.empty(x.size)
-    ok = evaluate(t, x, road, itab, ftab, X, V, A, F, dx, _NO_IMPULSE)
-    for i in range(nn):
-        out[i] = X[i]
-        out[nn + i] = V[i]
-        out[2 * nn + i] = A[i]
-    for e in range(ne):
-        out[3 * nn + e] = F[e]
+    ok = evaluate(t, x, road, itab, ftab, W, dx, _NO_IMPULSE)
+    for i in range(3 * nn + ne):
+        out[i] = W[i]
     return ok

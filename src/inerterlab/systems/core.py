@@ -745,10 +745,7 @@ def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps
 
 
 def _impulse(x, road, itab, ftab, imp, dx):
-    nn = int(itab[_kernel.I_NN])
-    ne = int(itab[_kernel.I_NE])
-    X, V, A, F = np.empty(nn), np.empty(nn), np.empty(nn), np.empty(ne)
-    _kernel.evaluate(0.0, x, road, itab, ftab, X, V, A, F, dx, imp)
+    _kernel.evaluate(0.0, x, road, itab, ftab, np.empty(_kernel.work_size(itab)), dx, imp)
 
 
 # ---------------------------------------------------------------------------------------

@@ -94,13 +94,12 @@ class CornerDevice:
         if self.system is None:
             return 0.0
         itab, ftab = self.system.tables
-        nn, ne = int(itab[_kernel.I_NN]), int(itab[_kernel.I_NE])
-        X, V, A, F = np.empty(nn), np.empty(nn), np.empty(nn), np.empty(ne)
+        nn = int(itab[_kernel.I_NN])
+        W = np.empty(_kernel.work_size(itab))
         dx = np.empty(self.n_states)
         road = np.array([extension, rate, 0.0])
-        _kernel.evaluate(0.0, np.asarray(x, float), road, itab, ftab, X, V, A, F, dx,
-                         _kernel._NO_IMPULSE)  # fmt: skip
-        return float(sum(s * F[e] for e, s in self.drive_elements))
+        _kernel.evaluate(0.0, np.asarray(x, float), road, itab, ftab, W, dx, _kernel._NO_IMPULSE)
+        return float(sum(s * W[3 * nn + e] for e, s in self.drive_elements))
 
     def fastest_rate(self) -> float:
         """Largest |eigenvalue| [1/s] of the rig part's dynamics at rest, the drive

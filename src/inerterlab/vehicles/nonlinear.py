@@ -45,7 +45,7 @@ from numba import njit
 from ..elements._base import NPAR
 from ..elements.adaptive_flywheel import flywheel_inertance
 from ..errors import ParameterError, check_nonnegative, check_positive
-from ..systems._kernel import evaluate
+from ..systems._kernel import I_NN, evaluate
 from .model import LinearVehicle
 
 __all__ = ["NonlinearResult", "simulate_nonlinear"]
@@ -141,7 +141,7 @@ def _device_tables(vehicle: LinearVehicle, offset: int):
     offsets; each device's first state in x (from ``offset``, the end of the vehicle's
     own states; the last entry is the end); the elements at its driven terminal (CSR
     rows of indices and signs); and the largest node count, element count and
-    scratch size of :func:`~inerterlab.systems._kernel.evaluate`."""
+    work size of :func:`~inerterlab.systems._kernel.evaluate`."""
     from ..systems import _kernel
 
     devof = np.full(len(vehicle.connections), -1, dtype=np.int64)
@@ -275,10 +275,6 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     slope = np.empty(m)
     rs = np.empty(m)
     gs = np.empty(n)
-    DX = np.empty(dsize[0])
-    DV = np.empty(dsize[0])
-    DA = np.empty(dsize[0])
-    DF = np.empty(dsize[1])
     DW = np.empty(dsize[2])
     road3 = np.zeros(3)
     noimp = np.empty(0)
@@ -349,12 +345,13 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
                         a0 = xoff[dv]
                         a1 = xoff[dv + 1]
                         ok = evaluate(0.0, xt[a0:a1], road3, ditab[ioff[dv] : ioff[dv + 1]],
-                                      dftab[foff[dv] : foff[dv + 1]], DX, DV, DA, DF,
-                                      K[st, a0:a1], noimp, DW)  # fmt: skip
+                                      dftab[foff[dv] : foff[dv + 1]], DW, K[st, a0:a1],
+                                      noimp)  # fmt: skip
                         if not ok and status == 0:
                             status = it + 1
+                        fo = 3 * ditab[ioff[dv] + I_NN]  # the element forces in DW
                         for p in range(dptr[dv], dptr[dv + 1]):
-                            fj += dsign[p] * DF[delem[p]]
+                            fj += dsign[p] * DW[fo + delem[p]]
                     if unilateral[j] == 1 and preload[j] - fj < 0.0:
                         fj = preload[j]
                     f[jj] = fj
