@@ -8,11 +8,13 @@ import pytest
 from scipy.linalg import expm
 
 from inerterlab.elements import FluidInerter, make_element
+from inerterlab.elements._base import INERTER, SPRING
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, sine
 from inerterlab.networks import NetworkError
 from inerterlab.suspension.network_linear import network_quarter_car
 from inerterlab.systems import base_excited, linear_equivalent, quarter_car
+from inerterlab.systems._kernel import ELEM_W, I_ELEM
 
 NETWORKS = {
     "k | (c - b)": {"k": 90e3, "c": 5e3, "b": 200.0},
@@ -27,6 +29,20 @@ NETWORKS = {
     "k | (k1 - c1 - k2)": {"k": 90e3, "k1": 100e3, "c1": 4e3, "k2": 150e3},
     "k | c | (k1 - (b | c1) - k2 - b2)": dict(
         k=90e3, c=3e3, k1=80e3, b=100.0, c1=2e3, k2=2e5, b2=300.0
+    ),
+    # members that each hold an inerter between springs, three in series: in every order
+    # an inerter lies between massless nodes, a floating inertance component whose
+    # common motion the springs (first) or the dampers (second, third) set
+    "k | c | ((k1 | (k2 - b1)) - (k3 | (k4 - b2)) - (k5 | (k6 - b3)))": dict(
+        k=1e5, c=1e3, k1=1e4, k2=2e4, b1=10.0, k3=3e4, k4=4e4, b2=20.0, k5=5e4, k6=6e4,
+        b3=30.0,
+    ),
+    "k | ((c1 | (k2 - b1)) - (c3 | (k4 - b2)) - (c5 | (k6 - b3)))": dict(
+        k=9e4, c1=3e3, k2=2e4, b1=50.0, c3=4e3, k4=4e4, b2=80.0, c5=5e3, k6=6e4, b3=120.0
+    ),
+    "k | c | ((k1 | (k2 - b1)) - (c2 | (k3 - b2)) - (k4 | (c4 - b3)))": dict(
+        k=9e4, c=2e3, k1=5e4, k2=2e4, b1=40.0, c2=3e3, k3=4e4, b2=60.0, k4=7e4, c4=2e3,
+        b3=90.0,
     ),
 }
 RAMP_BUMP = bump(edge="ramp", edge_width=0.003)
@@ -169,12 +185,11 @@ def test_fluid_energy_balance():
 def test_ill_posed_networks_name_the_sub_network():
     with pytest.raises(NetworkError, match=r"friction.*fric - k1"):
         quarter_car("k | c | (fric - k1)", {"k": 1e5, "c": 1e3, "fric": 100.0, "k1": 1e4})
-    # three chains that each carry an inerter but tie neither end by inertance, in one
-    # series chain: the middle one sits between two massless nodes in every order
-    three = "k | c | ((k1 | (k2 - b1)) - (k3 | (k4 - b2)) - (k5 | (k6 - b3)))"
-    vals = dict(k=1e5, c=1e3, k1=1e4, k2=2e4, b1=10.0, k3=3e4, k4=4e4, b2=20.0)
-    with pytest.raises(NetworkError, match=r"free sub-network.*rearranged.*k2 - b1"):
-        quarter_car(three, dict(vals, k5=5e4, k6=6e4, b3=30.0))
+    # a floating inertance component held by friction and springs only
+    held = "k | c | ((k1 | (k2 - b1)) - (fric | (k4 - b2)) - (k5 | (k6 - b3)))"
+    vals = dict(k=1e5, c=1e3, k1=1e4, k2=2e4, b1=10.0, fric=50.0, k4=4e4, b2=20.0)
+    with pytest.raises(NetworkError, match=r"ill-posed network: friction with no damper"):
+        quarter_car(held, dict(vals, k5=5e4, k6=6e4, b3=30.0))
     with pytest.raises(NetworkError, match="unknown element"):
         quarter_car("k | q", {"k": 1e5})
 
@@ -301,3 +316,46 @@ def test_road_velocity_jump_through_an_adaptive_flywheel_conserves_momentum():
     vb = brentq(lambda v: m * v + P(v - V), 0.0, V, xtol=1e-15)
     assert 0.05 * V < vb < 0.95 * V  # the flywheel does matter here
     assert res.outputs["body.v"][0] == pytest.approx(vb, rel=1e-8)
+
+
+def test_floating_inertance_components_energy_balance():
+    """A nonlinear network with floating inertance components (a quadratic damper, the
+    middle member's inerter between massless nodes): over each element the work its
+    force does on the relative motion equals its stored energy (springs, inerters) or
+    is dissipated (dampers), and the base's work balances them with the body's."""
+    net = "k | ((c1 | (k2 - b1)) - (k3 | (c4 - b2)) - (c5 | (k6 - b3)))"
+    p = dict(
+        k=9e4, c1={"damping": 1e3, "quadratic": 3e4}, k2=2e4, b1=50.0, k3=4e4, c4=4e3,
+        b2=80.0, c5=5e3, k6=6e4, b3=120.0,
+    )  # fmt: skip
+    sys_ = base_excited(300.0, net, p)
+    assert any(n.endswith(".x_rel") for n in sys_.state_names)
+    res = sys_.simulate(sine(0.02, 2.0), 1.0, rtol=1e-11, sample_rate=40000.0)
+    o, t = res.outputs, res.time
+    eo = int(sys_.itab[I_ELEM])
+
+    def simpson(y):
+        return float(np.sum((y[0:-1:2] + 4 * y[1::2] + y[2::2]) * (t[2] - t[0]) / 6.0))
+
+    absorbed = 0.0
+    on_base = np.zeros(t.size)
+    for e, (name, el) in enumerate(zip(sys_.element_names, sys_.elements, strict=True)):
+        top = sys_.node_names[int(sys_.itab[eo + ELEM_W * e + 1])]
+        bot = sys_.node_names[int(sys_.itab[eo + ELEM_W * e + 2])]
+        f = o[f"{name}.force"]
+        on_base += -f if top == "base" else f if bot == "base" else 0.0
+        dv = o[f"{top}.v"] - o[f"{bot}.v"]
+        dx = o[f"{top}.x"] - o[f"{bot}.x"]
+        work = simpson(f * dv)
+        absorbed += work
+        if el.code == SPRING:
+            stored = 0.5 * el.stiffness * (dx[-1] ** 2 - dx[0] ** 2)
+        elif el.code == INERTER:
+            stored = 0.5 * el.inertance * (dv[-1] ** 2 - dv[0] ** 2)
+        else:
+            assert work > 0, name
+            continue
+        assert abs(work - stored) <= 1e-6 * max(abs(stored), 1e-2), (name, work, stored)
+    body = 0.5 * 300.0 * (o["body.v"][-1] ** 2 - o["body.v"][0] ** 2)
+    base_work = simpson(-on_base * o["base.v"])
+    assert abs(base_work - absorbed - body) <= 1e-6 * base_work

@@ -5,7 +5,8 @@ tables (see :mod:`inerterlab.systems` for the public contract).
 
 Integer table ``itab`` (int64): a header of :data:`HEADER` entries (counts and offsets,
 the ``I_*`` indices), then one block of :data:`NODE_W` per node
-(type, displacement state, velocity state, index within its type), one block of
+(type, displacement state, velocity state, index within its type, reference node of its
+floating inertance component or -1), one block of
 :data:`ELEM_W` per primitive element (kernel code, top node, bottom node, offset of its
 parameter row in ``ftab``, offset of its own states or -1) and the node lists of each
 type. Float table ``ftab`` (float64): the node masses, the matrix that gives the
@@ -18,6 +19,16 @@ states), velocity (massless, no inertance, a damper attached: displacement is a 
 velocity follows from the force balance) and spring-only (massless, only springs:
 displacement follows from the spring balance). An element's force F acts on its top
 node as -F and on its bottom node as +F (a stretched spring pulls its ends together).
+
+Floating inertance components: massless nodes joined by inertances to each other only
+(no mass, no terminal), as in a series chain of members that each hold an inerter
+between two springs. Their common motion carries no inertia: it is set by the force
+balance of the whole component, like a massless node. One node of the component, the
+reference, is a velocity node (dampers attached to the component; its balance sums the
+forces on every node of the component) or a spring-only node (springs only). The others
+are relative nodes (type REL): their displacement and velocity relative to the
+reference are states, and their accelerations relative to it follow from the mass
+matrix with the reference taken as fixed (the inertances act on relative motion only).
 """
 
 from __future__ import annotations
@@ -34,13 +45,13 @@ from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
 from ..elements.spring import spring_force
 
-GROUND, ROAD, DYN, VEL, POS = 0, 1, 2, 3, 4
-NODE_W = 4
+GROUND, ROAD, DYN, VEL, POS, REL = 0, 1, 2, 3, 4, 5
+NODE_W = 5
 ELEM_W = 5
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
-    I_NI,
-) = range(14)  # fmt: skip
+    I_NI, I_NR,
+) = range(15)  # fmt: skip
 HEADER = 16
 #: status of the velocity solve (written to the last slot of ``out`` by :func:`evaluate`)
 SOLVE_OK, SOLVE_FAILED = 0, 1
@@ -109,6 +120,31 @@ def _work_size(itab):
     return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv
 
 
+@nb.njit(cache=True, inline="always")
+def _slot(itab, no, n):
+    """Index of the velocity unknown whose balance node n belongs to, or -1: a velocity
+    node's own, or for a relative node its component reference's, if that is one."""
+    b = no + NODE_W * n
+    typ = itab[b]
+    if typ == VEL:
+        return itab[b + 3]
+    if typ == REL:
+        rb = no + NODE_W * itab[b + 4]
+        if itab[rb] == VEL:
+            return itab[rb + 3]
+    return -1
+
+
+@nb.njit(cache=True, inline="always")
+def _vnode(itab, no, W, nn, n):
+    """Velocity of node n while the balances are solved: a relative node's velocity is
+    held relative to its reference until the references are known."""
+    b = no + NODE_W * n
+    if itab[b] == REL:
+        return W[nn + n] + W[nn + itab[b + 4]]
+    return W[nn + n]
+
+
 @nb.njit(cache=True)
 def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
     """Force balance G = W[gi:gi+nv] of the velocity nodes (and its Jacobian J =
@@ -127,8 +163,8 @@ def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
         code = itab[b]
         top = itab[b + 1]
         bot = itab[b + 2]
-        ti = itab[no + NODE_W * top + 3] if itab[no + NODE_W * top] == VEL else -1
-        bi = itab[no + NODE_W * bot + 3] if itab[no + NODE_W * bot] == VEL else -1
+        ti = _slot(itab, no, top)
+        bi = _slot(itab, no, bot)
         if ti < 0 and bi < 0:
             continue
         o = itab[b + 3]
@@ -136,7 +172,9 @@ def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
             f = spring_force(ftab, o, W[top] - W[bot])
             d = 0.0
         elif code == DAMPER or code == FRICTION:
-            f, d = _dissipative(code, ftab, o, W[nn + top] - W[nn + bot])
+            f, d = _dissipative(
+                code, ftab, o, _vnode(itab, no, W, nn, top) - _vnode(itab, no, W, nn, bot)
+            )
         else:
             continue  # inertial elements never touch a velocity node
         if ti >= 0:
@@ -283,10 +321,14 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         elif typ == VEL:
             W[n] = x[itab[b + 1]]
             W[iv + n] = 0.0
+        elif typ == REL:  # relative to the reference until it is known
+            W[n] = x[itab[b + 1]]
+            W[iv + n] = x[itab[b + 2]]
         else:
             W[n] = 0.0
             W[iv + n] = 0.0
-    # spring-only nodes: X_p = R X (R has zero columns for spring-only nodes)
+    # spring-only nodes: X_p = R X (R has zero columns for spring-only nodes; relative
+    # nodes enter with their relative displacement)
     po = itab[I_POS]
     fr = itab[I_FR]
     for i in range(npn):
@@ -295,6 +337,12 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         for j in range(nn):
             s += ftab[fr + i * nn + j] * W[j]
         W[p] = s
+    nrel = itab[I_NR]
+    if nrel > 0:
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == REL:
+                W[n] += W[itab[b + 4]]
     ok = _velocities(itab, ftab, W, ie + ne)
     for i in range(npn):
         p = itab[po + i]
@@ -302,6 +350,13 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         for j in range(nn):
             s += ftab[fr + i * nn + j] * W[iv + j]
         W[iv + p] = s
+    if nrel > 0:
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == REL:
+                W[iv + n] += W[iv + itab[b + 4]]
+            elif itab[b + 4] == n:  # a reference: fixed for the relative accelerations
+                W[ia + n] = 0.0
     # forces and the mass matrix of the dynamic nodes
     for i in range(im, ie + ne):
         W[i] = 0.0
@@ -339,8 +394,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         W[ie + e] = me
         tb = no + NODE_W * top
         bb = no + NODE_W * bot
-        ti = itab[tb + 3] if itab[tb] == DYN else -1
-        bi = itab[bb + 3] if itab[bb] == DYN else -1
+        ti = itab[tb + 3] if itab[tb] == DYN or itab[tb] == REL else -1
+        bi = itab[bb + 3] if itab[bb] == DYN or itab[bb] == REL else -1
         if ti >= 0:
             W[ir + ti] -= f
         if bi >= 0:
@@ -372,22 +427,39 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             dx[itab[b + 2]] = W[ia + n]
         elif typ == VEL:
             dx[itab[b + 1]] = W[iv + n]
+        elif typ == REL:
+            W[ia + n] = W[ir + itab[b + 3]]
+            dx[itab[b + 1]] = x[itab[b + 2]]
+            dx[itab[b + 2]] = W[ia + n]
     if imp.size > 0:
         for i in range(x.size):
             if i >= itab[I_NS] - itab[I_NI]:
                 dx[i] = 0.0
         for n in range(nn):
             b = no + NODE_W * n
-            if itab[b] == DYN:
+            if itab[b] == DYN or itab[b] == REL:
                 dx[itab[b + 1]] = 0.0
             elif itab[b] == VEL:
                 dx[itab[b + 1]] = 0.0
+        _relative_unknown(itab, W, ia, nn, nrel)
         return ok
     for e in range(ne):
         if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
             W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
+    _relative_unknown(itab, W, ia, nn, nrel)
     return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _relative_unknown(itab, W, ia, nn, nrel):
+    """The absolute accelerations of a floating component's nodes are not defined (its
+    common motion is massless): NaN, as at every massless node."""
+    if nrel > 0:
+        no = itab[I_NODE]
+        for n in range(nn):
+            if itab[no + NODE_W * n + 4] >= 0:
+                W[ia + n] = math.nan
 
 
 @nb.njit(cache=True)

@@ -14,7 +14,7 @@ from ..elements.spring import Spring
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
-from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, ROAD, VEL
+from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, ROAD, VEL
 from ._network import Layout, elements_of
 
 _TYPE = {"ground": GROUND, "road": ROAD}
@@ -232,8 +232,16 @@ def _laid_out(kind: str, description: str, make, info: dict) -> tuple[System, La
         try:
             sys = build(kind, description, lay, info)
         except _Unarranged:
+            pass
+        else:
+            sys.info["arranged"] = True
+            return sys, lay
+        # last: floating inertance components, their common motion a massless node
+        lay = make(False)
+        try:
+            sys = build(kind, description, lay, info, floating=True)
+        except _Unarranged:
             raise NetworkError(str(first)) from None
-        sys.info["arranged"] = True
         return sys, lay
 
 
@@ -252,8 +260,41 @@ def _check_singular(
         raise error(f"ill-posed network: {what} at {where}. {hint}")
 
 
-def build(kind: str, description: str, lay: Layout, info: dict) -> System:
-    """Classify the nodes, check the network is well posed and pack the tables."""
+def _floating_components(lay: Layout, types: list, attached: list) -> list[list[int]]:
+    """Node sets joined by inertances to each other only: no mass, no inertance to a
+    terminal (their nominal mass matrix is singular along their common motion)."""
+    edges = lay.edges
+    seen: set[int] = set()
+    comps = []
+    for start in range(len(types)):
+        if types[start] != DYN or start in seen:
+            continue
+        comp, stack, anchored = [], [start], False
+        seen.add(start)
+        while stack:
+            i = stack.pop()
+            comp.append(i)
+            anchored |= lay.nodes[i]["mass"] > 0
+            for e in attached[i]:
+                _, el, t, b = edges[e]
+                if el.code not in (INERTER, FLYWHEEL):
+                    continue
+                j = b if t == i else t
+                if types[j] != DYN:
+                    anchored = True
+                elif j not in seen:
+                    seen.add(j)
+                    stack.append(j)
+        if not anchored:
+            comps.append(sorted(comp))
+    return comps
+
+
+def build(kind: str, description: str, lay: Layout, info: dict, floating: bool = False) -> System:
+    """Classify the nodes, check the network is well posed and pack the tables. With
+    ``floating``, inertance components that no mass or terminal holds get their common
+    motion from their force balance (a reference node of velocity or spring-only type,
+    the others relative to it) instead of being refused."""
     nn = len(lay.nodes)
     edges = lay.edges
     attached: list[list[int]] = [[] for _ in range(nn)]
@@ -287,7 +328,40 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
                     "beside it, or a mass or an inerter at the node"
                 )
             types.append(POS)
-    dyn = [i for i in range(nn) if types[i] == DYN]
+    ref = [-1] * nn  # the reference node of each node's floating component
+    if floating:
+        comps = _floating_components(lay, types, attached)
+        if not comps:
+            raise _Unarranged("no floating inertance component")
+        for comp in comps:
+            cs = set(comp)
+            r = comp[0]
+            outside = [
+                edges[e][1] for i in comp for e in attached[i] if not {edges[e][2], edges[e][3]} <= cs
+            ]
+            codes = {el.code for el in outside}
+            where = lay.nodes[r]["origin"] or lay.nodes[r]["name"]
+            if DAMPER in codes:
+                types[r] = VEL
+            elif FRICTION in codes:
+                raise NetworkError(
+                    f"ill-posed network: friction with no damper beside it at {where}, a "
+                    "chain of inerters between massless nodes held by friction and springs. "
+                    "Add a damper in parallel with the friction (or a mass)"
+                )
+            elif any(_nonlinear(el) for el in outside):
+                raise NetworkError(
+                    f"ill-posed network: backlash at {where}, a chain of inerters between "
+                    "massless nodes held only by springs: inside the free play its position "
+                    "is not determined. Add a damper beside it, or a mass"
+                )
+            else:
+                types[r] = POS
+            for i in comp:
+                ref[i] = r
+                if i != r:
+                    types[i] = REL
+    dyn = [i for i in range(nn) if types[i] in (DYN, REL)]
     vel = [i for i in range(nn) if types[i] == VEL]
     pos = [i for i in range(nn) if types[i] == POS]
     cls = {}
@@ -299,6 +373,14 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
     for i in dyn:
         Md[cls[i], cls[i]] += lay.nodes[i]["mass"]
     Dv = np.zeros((len(vel), len(vel)))
+
+    def slot(i):  # the velocity unknown whose balance node i is part of
+        if types[i] == VEL:
+            return cls[i]
+        if types[i] == REL and types[ref[i]] == VEL:
+            return cls[ref[i]]
+        return -1
+
     L = np.zeros((nn, nn))  # spring Laplacian
     for _, el, t, b in edges:
         if el.code == SPRING:
@@ -310,17 +392,18 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
         if el.code in (INERTER, FLYWHEEL):
             me = el.inertance if el.code == INERTER else el.inertance_min
             for a_, c_ in ((t, b), (b, t)):
-                if types[a_] == DYN:
+                if types[a_] in (DYN, REL):
                     Md[cls[a_], cls[a_]] += me
-                    if types[c_] == DYN:
+                    if types[c_] in (DYN, REL):
                         Md[cls[a_], cls[c_]] -= me
         if el.code == DAMPER:
             w = 1.0
             for a_, c_ in ((t, b), (b, t)):
-                if types[a_] == VEL:
-                    Dv[cls[a_], cls[a_]] += w
-                    if types[c_] == VEL:
-                        Dv[cls[a_], cls[c_]] -= w
+                sa, sc = slot(a_), slot(c_)
+                if sa >= 0:
+                    Dv[sa, sa] += w
+                    if sc >= 0:
+                        Dv[sa, sc] -= w
     _check_singular(
         Md,
         dyn,
@@ -341,11 +424,13 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
     )
     # spring-only nodes from the others: X_p = R X
     R = np.zeros((len(pos), nn))
-    if pos:
+    if pos and not any(r >= 0 for r in ref):
         Lpp = L[np.ix_(pos, pos)]
         others = [i for i in range(nn) if types[i] != POS]
         _check_singular(Lpp, pos, lay, "spring-only nodes not held", "")
         R[:, others] = -np.linalg.solve(Lpp, L[np.ix_(pos, others)])
+    elif pos:
+        R = _spring_map(L, types, ref, pos, lay)
     # states
     names: list[str] = []
     xs = [-1] * nn
@@ -363,6 +448,12 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
             xs[i] = len(names)
             names.append(f"{nm}.x")
             scales.append(1e-2)
+        elif types[i] == REL:
+            xs[i] = len(names)
+            names.append(f"{nm}.x_rel")
+            vs[i] = len(names)
+            names.append(f"{nm}.v_rel")
+            scales += [1e-2, 1e-1]
     n_node_states = len(names)
     so = []
     x0 = []
@@ -387,6 +478,7 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
     itab[_kernel.I_NP] = len(pos)
     itab[_kernel.I_NS] = len(names)
     itab[_kernel.I_NI] = len(names) - n_node_states
+    itab[_kernel.I_NR] = sum(1 for t in types if t == REL)
     itab[_kernel.I_NODE] = no
     itab[_kernel.I_ELEM] = eo
     itab[_kernel.I_DYN] = lo
@@ -400,7 +492,9 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
     itab[_kernel.I_FMASS] = fmass
     itab[_kernel.I_FR] = fr
     for i in range(nn):
-        itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (types[i], xs[i], vs[i], cls.get(i, -1))
+        itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (
+            types[i], xs[i], vs[i], cls.get(i, -1), ref[i]
+        )  # fmt: skip
         ftab[fmass + i] = lay.nodes[i]["mass"]
     ftab[fr:fe] = R.ravel()
     for e, (_, el, t, b) in enumerate(edges):
@@ -454,10 +548,42 @@ def build(kind: str, description: str, lay: Layout, info: dict) -> System:
             info,
             spring_laplacian=L,
             types=types,
+            references=ref,
             velocity_jump_per_step=node_jump,
             road_inertances=road_inertances,
         ),
     )
+
+
+def _spring_map(L, types, ref, pos, lay) -> np.ndarray:
+    """R with X_u = R X for the spring-only unknowns u (spring-only nodes and the
+    references of spring-only floating components), X holding the relative
+    displacement at relative nodes. X_abs = T X + U X_u; the rows are each spring-only
+    node's balance and each spring-only component's summed balance."""
+    nn = len(types)
+    col = {p: j for j, p in enumerate(pos)}
+    T = np.zeros((nn, nn))
+    U = np.zeros((nn, len(pos)))
+    for i in range(nn):
+        if i in col:
+            U[i, col[i]] = 1.0
+        elif types[i] == REL:
+            T[i, i] = 1.0
+            if ref[i] in col:
+                U[i, col[ref[i]]] = 1.0
+            else:
+                T[i, ref[i]] = 1.0
+        else:
+            T[i, i] = 1.0
+    S = np.zeros((len(pos), nn))
+    for j, p in enumerate(pos):
+        if ref[p] == p:
+            S[j, [i for i in range(nn) if ref[i] == p]] = 1.0
+        else:
+            S[j, p] = 1.0
+    A = S @ L @ U
+    _check_singular(A, pos, lay, "spring-only nodes not held", "")
+    return -np.linalg.solve(A, S @ L @ T)
 
 
 def _initial(sys: System, fixed: dict, road0: float) -> np.ndarray:
@@ -483,10 +609,13 @@ def _initial(sys: System, fixed: dict, road0: float) -> np.ndarray:
         eps = 1e-13 * max(np.max(np.abs(np.diag(L))), 1.0)
         X[inner] = np.linalg.solve(Lii + eps * np.eye(len(inner)), rhs + eps * x_def)
     x = sys.x0_template.copy()
+    ref = sys.info.get("references") or [-1] * nn
     for i in range(nn):
         nm = names[i]
         if f"{nm}.x" in sys.state_names:
             x[sys.state_names.index(f"{nm}.x")] = X[i]
+        elif f"{nm}.x_rel" in sys.state_names:
+            x[sys.state_names.index(f"{nm}.x_rel")] = X[i] - X[ref[i]]
     return x
 
 
