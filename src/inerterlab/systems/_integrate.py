@@ -56,7 +56,7 @@ from ..suspension._kernels import (
     E6,
     E7,
 )  # fmt: skip
-from ._kernel import I_NE, I_NN, ROAD_JERK, _work_size, evaluate
+from ._kernel import I_NE, I_NN, _work_size, evaluate
 
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
@@ -252,6 +252,13 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         atol_imp[i] = 1e-3 * atol[i]
     nseg = segs.shape[0]
     rng = np.zeros(3, dtype=np.int64)
+    jerk = np.full(1, np.nan)  # ROAD_JERK, as a local array: a global one is typed
+    # read-only, and every function it reaches would be compiled a second time.
+    # The modes, the first sample and "not last" are read from an array for the same
+    # reason: numba compiles a function once per literal constant it is called with
+    # (three copies of _advance and of everything it reaches, 10 s at first use)
+    modes = np.arange(3)
+    flow = modes[1] < 0  # False, not a literal
     s = 0
     while s < nseg:
         t0 = segs[s, 0]
@@ -272,8 +279,9 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[0] = prev
             rf[1] = prev_v
             rf[2] = road[1] - prev_v
-            st, _, _ = _advance(2, segs, rng, 0.0, 1.0, y, 0.0, False, itab, ftab, ROAD_JERK, rf,
-                                IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
+            st, _, _ = _advance(modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
+                                rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
+                                max_steps)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -284,8 +292,9 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             imp = imp_unit * jump
             rf[0] = road[0]
             rf[1] = road[1]
-            st, _, _ = _advance(1, segs, rng, 0.0, 1.0, y, 0.0, False, itab, ftab, imp, rf,
-                                IMPULSE_RTOL, atol_imp, t_out, out_y, 0, stats, max_steps)  # fmt: skip
+            st, _, _ = _advance(modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
+                                rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
+                                max_steps)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -294,8 +303,8 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             k += 1
         t1 = min(segs[e - 1, 1], t_end)
         last = e == nseg or segs[e - 1, 1] >= t_end
-        st, k, h = _advance(0, segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf, rtol,
-                            atol, t_out, out_y, k, stats, max_steps)  # fmt: skip
+        st, k, h = _advance(modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
+                            rtol, atol, t_out, out_y, k, stats, max_steps)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)

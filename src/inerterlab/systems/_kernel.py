@@ -201,6 +201,7 @@ def _velocities(itab, ftab, W, s0):
         return True
     nn = itab[I_NN]
     vo = itab[I_VEL]
+    yes = nv > 0  # True, not a literal: one compiled _vel_residual, not three
     gi = s0
     ji = s0 + nv
     di = s0 + nv + nv * nv
@@ -215,7 +216,7 @@ def _velocities(itab, ftab, W, s0):
         u = 0.0
         for _ in range(400):
             W[n] = u
-            _vel_residual(itab, ftab, W, gi, ji, 1, True)
+            _vel_residual(itab, ftab, W, gi, ji, nv, yes)
             g = W[gi]
             if g > 0.0:
                 lo = u
@@ -238,7 +239,7 @@ def _velocities(itab, ftab, W, s0):
         return False
     # several nodes: Newton with backtracking on |G|
     for _it in range(200):
-        _vel_residual(itab, ftab, W, gi, ji, nv, True)
+        _vel_residual(itab, ftab, W, gi, ji, nv, yes)
         g2 = 0.0
         for i in range(nv):
             g2 += W[gi + i] * W[gi + i]
@@ -258,7 +259,7 @@ def _velocities(itab, ftab, W, s0):
                     small = False
             if small:
                 return True
-            _vel_residual(itab, ftab, W, gi, ji, nv, False)
+            _vel_residual(itab, ftab, W, gi, ji, nv, not yes)
             n2 = 0.0
             for i in range(nv):
                 n2 += W[gi + i] * W[gi + i]
@@ -468,7 +469,7 @@ def rhs(t, x, road, itab, ftab, out):
 
     Returns True, or False where a force balance could not be solved."""
     W = np.empty(_work_size(itab))
-    return evaluate(t, x, road, itab, ftab, W, out, _NO_IMPULSE)
+    return evaluate(t, x, road, itab, ftab, W, out, np.empty(0))
 
 
 @nb.njit(cache=True)
@@ -478,7 +479,7 @@ def outputs(t, x, road, itab, ftab, out):
     ne = itab[I_NE]
     W = np.empty(_work_size(itab))
     dx = np.empty(x.size)
-    ok = evaluate(t, x, road, itab, ftab, W, dx, _NO_IMPULSE)
+    ok = evaluate(t, x, road, itab, ftab, W, dx, np.empty(0))
     for i in range(3 * nn + ne):
         out[i] = W[i]
     return ok
