@@ -237,12 +237,17 @@ def _laid_out(kind: str, description: str, make, info: dict) -> tuple[System, La
             sys.info["arranged"] = True
             return sys, lay
         # last: floating inertance components, their common motion a massless node
-        lay = make(False)
-        try:
-            sys = build(kind, description, lay, info, floating=True)
-        except _Unarranged:
-            raise NetworkError(str(first)) from None
-        return sys, lay
+        # (in the arranged order, which also repairs damper chains, then as written)
+        for arrange in (True, False):
+            lay = make(arrange)
+            try:
+                sys = build(kind, description, lay, info, floating=True)
+            except _Unarranged:
+                continue
+            if arrange:
+                sys.info["arranged"] = True
+            return sys, lay
+        raise NetworkError(str(first)) from None
 
 
 def _check_singular(
