@@ -43,6 +43,10 @@ NETWORKS = {
     "k | c | ((k1 | (k2 - b1)) - (c2 | (k3 - b2)) - (k4 | (c4 - b3)))": dict(
         k=9e4, c=2e3, k1=5e4, k2=2e4, b1=40.0, c2=3e3, k3=4e4, b2=60.0, k4=7e4, c4=2e3,
         b3=90.0,
+    ),    # dampers between massless nodes whose common motion only springs hold, in the order
+    # that arranging leaves: a floating damper component (found by the random test below)
+    "k0 | (((k1 - c1) | (k2 - c2 - b1)) - ((k3 - c3) - (c4 - c5)))": dict(
+        k0=3e4, k1=5e4, c1=2e3, k2=8e4, c2=1e3, b1=120.0, k3=6e4, c3=3e3, c4=2e3, c5=4e3
     ),
 }
 RAMP_BUMP = bump(edge="ramp", edge_width=0.003)
@@ -318,17 +322,27 @@ def test_road_velocity_jump_through_an_adaptive_flywheel_conserves_momentum():
     assert res.outputs["body.v"][0] == pytest.approx(vb, rel=1e-8)
 
 
-def test_floating_inertance_components_energy_balance():
-    """A nonlinear network with floating inertance components (a quadratic damper, the
-    middle member's inerter between massless nodes): over each element the work its
-    force does on the relative motion equals its stored energy (springs, inerters) or
-    is dissipated (dampers), and the base's work balances them with the body's."""
-    net = "k | ((c1 | (k2 - b1)) - (k3 | (c4 - b2)) - (c5 | (k6 - b3)))"
-    p = dict(
+FLOATING_NONLINEAR = {
+    # floating inertance components; a quadratic damper
+    "k | ((c1 | (k2 - b1)) - (k3 | (c4 - b2)) - (c5 | (k6 - b3)))": dict(
         k=9e4, c1={"damping": 1e3, "quadratic": 3e4}, k2=2e4, b1=50.0, k3=4e4, c4=4e3,
         b2=80.0, c5=5e3, k6=6e4, b3=120.0,
-    )  # fmt: skip
-    sys_ = base_excited(300.0, net, p)
+    ),
+    # a floating damper component holding a quadratic damper
+    "k0 | (((k1 - c1) | (k2 - c2 - b1)) - ((k3 - c3) - (c4 - c5)))": dict(
+        k0=3e4, k1=5e4, c1=2e3, k2=8e4, c2=1e3, b1=120.0, k3=6e4, c3=3e3,
+        c4={"damping": 2e3, "quadratic": 5e4}, c5=4e3,
+    ),
+}
+
+
+@pytest.mark.parametrize("net", list(FLOATING_NONLINEAR))
+def test_floating_components_energy_balance(net):
+    """Nonlinear networks with floating components (nodes whose common motion carries
+    no inertia or no damping): over each element the work its force does on the
+    relative motion equals its stored energy (springs, inerters) or is dissipated
+    (dampers), and the base's work balances them with the body's."""
+    sys_ = base_excited(300.0, net, FLOATING_NONLINEAR[net])
     assert any(n.endswith(".x_rel") for n in sys_.state_names)
     res = sys_.simulate(sine(0.02, 2.0), 1.0, rtol=1e-11, sample_rate=40000.0)
     o, t = res.outputs, res.time
@@ -359,3 +373,37 @@ def test_floating_inertance_components_energy_balance():
     body = 0.5 * 300.0 * (o["body.v"][-1] ** 2 - o["body.v"][0] ** 2)
     base_work = simpson(-on_base * o["base.v"])
     assert abs(base_work - absorbed - body) <= 1e-6 * base_work
+
+
+def _random_network(rng, depth, count):
+    if depth == 0 or rng.random() < 0.3:
+        kind = rng.choice("kcb")
+        count[kind] += 1
+        return f"{kind}{count[kind]}"
+    op = rng.choice([" | ", " - "])
+    parts = [_random_network(rng, depth - 1, count) for _ in range(rng.choice([2, 2, 3]))]
+    return "(" + op.join(parts) + ")"
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_random_linear_networks_match_their_admittance(seed):
+    """Random series-parallel networks of springs, dampers and inerters (up to three
+    levels deep, in parallel with a spring): every one builds in the core, and its
+    transfer functions equal those of the admittance-based realisation (1e-7). Found the
+    floating damper component above."""
+    import random
+
+    rng = random.Random(seed)
+    om = np.array([0.7, 5.0, 30.0, 150.0])
+    for _ in range(25):
+        count = {"k": 0, "c": 0, "b": 0}
+        text = f"k0 | {_random_network(rng, 3, count)}"
+        p = {"k0": 3e4}
+        for kind, lo, hi in (("k", 1e4, 2e5), ("c", 5e2, 5e3), ("b", 10.0, 300.0)):
+            for i in range(1, count[kind] + 1):
+                p[f"{kind}{i}"] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+        car = quarter_car(text, p)
+        ref = network_quarter_car(text).transfer(p, om)
+        for k in ("body_acc", "suspension_deflection", "tyre_deflection"):
+            got = car.transfer(om, k)
+            assert np.allclose(got, ref[k], rtol=1e-7, atol=0), (text, k)

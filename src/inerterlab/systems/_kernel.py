@@ -29,6 +29,11 @@ forces on every node of the component) or a spring-only node (springs only). The
 are relative nodes (type REL): their displacement and velocity relative to the
 reference are states, and their accelerations relative to it follow from the mass
 matrix with the reference taken as fixed (the inertances act on relative motion only).
+Floating damper components, massless velocity nodes joined by dampers to each other
+only, are split the same way: the reference is a spring-only node (the springs set the
+common motion), the others relative velocity nodes (type RELV: the displacement
+relative to the reference is a state, the relative velocity solves the node's balance,
+in which only dampers inside the component act).
 """
 
 from __future__ import annotations
@@ -45,7 +50,7 @@ from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
 from ..elements.spring import spring_force
 
-GROUND, ROAD, DYN, VEL, POS, REL = 0, 1, 2, 3, 4, 5
+GROUND, ROAD, DYN, VEL, POS, REL, RELV = 0, 1, 2, 3, 4, 5, 6
 NODE_W = 5
 ELEM_W = 5
 (
@@ -126,7 +131,7 @@ def _slot(itab, no, n):
     node's own, or for a relative node its component reference's, if that is one."""
     b = no + NODE_W * n
     typ = itab[b]
-    if typ == VEL:
+    if typ == VEL or typ == RELV:
         return itab[b + 3]
     if typ == REL:
         rb = no + NODE_W * itab[b + 4]
@@ -325,6 +330,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         elif typ == REL:  # relative to the reference until it is known
             W[n] = x[itab[b + 1]]
             W[iv + n] = x[itab[b + 2]]
+        elif typ == RELV:  # relative displacement; the relative velocity is solved
+            W[n] = x[itab[b + 1]]
+            W[iv + n] = 0.0
         else:
             W[n] = 0.0
             W[iv + n] = 0.0
@@ -342,7 +350,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if nrel > 0:
         for n in range(nn):
             b = no + NODE_W * n
-            if itab[b] == REL:
+            if itab[b] == REL or itab[b] == RELV:
                 W[n] += W[itab[b + 4]]
     ok = _velocities(itab, ftab, W, ie + ne)
     for i in range(npn):
@@ -354,7 +362,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if nrel > 0:
         for n in range(nn):
             b = no + NODE_W * n
-            if itab[b] == REL:
+            if itab[b] == REL or itab[b] == RELV:
                 W[iv + n] += W[iv + itab[b + 4]]
             elif itab[b + 4] == n:  # a reference: fixed for the relative accelerations
                 W[ia + n] = 0.0
@@ -432,6 +440,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             W[ia + n] = W[ir + itab[b + 3]]
             dx[itab[b + 1]] = x[itab[b + 2]]
             dx[itab[b + 2]] = W[ia + n]
+        elif typ == RELV:
+            dx[itab[b + 1]] = W[iv + n] - W[iv + itab[b + 4]]
     if imp.size > 0:
         for i in range(x.size):
             if i >= itab[I_NS] - itab[I_NI]:
@@ -440,7 +450,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             b = no + NODE_W * n
             if itab[b] == DYN or itab[b] == REL:
                 dx[itab[b + 1]] = 0.0
-            elif itab[b] == VEL:
+            elif itab[b] == VEL or itab[b] == RELV:
                 dx[itab[b + 1]] = 0.0
         _relative_unknown(itab, W, ia, nn, nrel)
         return ok

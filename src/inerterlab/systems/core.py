@@ -14,7 +14,7 @@ from ..elements.spring import Spring
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
-from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, ROAD, VEL
+from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
 
 _TYPE = {"ground": GROUND, "road": ROAD}
@@ -295,6 +295,37 @@ def _floating_components(lay: Layout, types: list, attached: list) -> list[list[
     return comps
 
 
+def _floating_damper_components(lay: Layout, types: list, ref: list, attached: list):
+    """Velocity nodes joined by dampers to each other only (no damper to any other node,
+    no friction leaving them): the springs alone set their common motion."""
+    edges = lay.edges
+    plain = [i for i in range(len(types)) if types[i] == VEL and ref[i] < 0]
+    seen: set[int] = set()
+    comps = []
+    for start in plain:
+        if start in seen:
+            continue
+        comp, stack, anchored = [], [start], False
+        seen.add(start)
+        while stack:
+            i = stack.pop()
+            comp.append(i)
+            for e in attached[i]:
+                _, el, t, b = edges[e]
+                j = b if t == i else t
+                if el.code == DAMPER:
+                    if types[j] != VEL or ref[j] >= 0:
+                        anchored = True
+                    elif j not in seen:
+                        seen.add(j)
+                        stack.append(j)
+                elif el.code == FRICTION:
+                    anchored = True  # not split: its balance would need the common motion
+        if not anchored and len(comp) > 1:
+            comps.append(sorted(comp))
+    return comps
+
+
 def build(kind: str, description: str, lay: Layout, info: dict, floating: bool = False) -> System:
     """Classify the nodes, check the network is well posed and pack the tables. With
     ``floating``, inertance components that no mass or terminal holds get their common
@@ -336,8 +367,6 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     ref = [-1] * nn  # the reference node of each node's floating component
     if floating:
         comps = _floating_components(lay, types, attached)
-        if not comps:
-            raise _Unarranged("no floating inertance component")
         for comp in comps:
             cs = set(comp)
             r = comp[0]
@@ -366,8 +395,18 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
                 ref[i] = r
                 if i != r:
                     types[i] = REL
+        dcomps = _floating_damper_components(lay, types, ref, attached)
+        if not comps and not dcomps:
+            raise _Unarranged("no floating component")
+        for comp in dcomps:
+            r = comp[0]
+            types[r] = POS
+            for i in comp:
+                ref[i] = r
+                if i != r:
+                    types[i] = RELV
     dyn = [i for i in range(nn) if types[i] in (DYN, REL)]
-    vel = [i for i in range(nn) if types[i] == VEL]
+    vel = [i for i in range(nn) if types[i] in (VEL, RELV)]
     pos = [i for i in range(nn) if types[i] == POS]
     cls = {}
     for lst in (dyn, vel, pos):
@@ -380,7 +419,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     Dv = np.zeros((len(vel), len(vel)))
 
     def slot(i):  # the velocity unknown whose balance node i is part of
-        if types[i] == VEL:
+        if types[i] in (VEL, RELV):
             return cls[i]
         if types[i] == REL and types[ref[i]] == VEL:
             return cls[ref[i]]
@@ -459,6 +498,10 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             vs[i] = len(names)
             names.append(f"{nm}.v_rel")
             scales += [1e-2, 1e-1]
+        elif types[i] == RELV:
+            xs[i] = len(names)
+            names.append(f"{nm}.x_rel")
+            scales.append(1e-2)
     n_node_states = len(names)
     so = []
     x0 = []
@@ -483,7 +526,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     itab[_kernel.I_NP] = len(pos)
     itab[_kernel.I_NS] = len(names)
     itab[_kernel.I_NI] = len(names) - n_node_states
-    itab[_kernel.I_NR] = sum(1 for t in types if t == REL)
+    itab[_kernel.I_NR] = sum(1 for t in types if t in (REL, RELV))
     itab[_kernel.I_NODE] = no
     itab[_kernel.I_ELEM] = eo
     itab[_kernel.I_DYN] = lo
@@ -572,7 +615,7 @@ def _spring_map(L, types, ref, pos, lay) -> np.ndarray:
     for i in range(nn):
         if i in col:
             U[i, col[i]] = 1.0
-        elif types[i] == REL:
+        elif types[i] in (REL, RELV):
             T[i, i] = 1.0
             if ref[i] in col:
                 U[i, col[ref[i]]] = 1.0
