@@ -265,65 +265,59 @@ def _check_singular(
         raise error(f"ill-posed network: {what} at {where}. {hint}")
 
 
-def _floating_components(lay: Layout, types: list, attached: list) -> list[list[int]]:
-    """Node sets joined by inertances to each other only: no mass, no inertance to a
-    terminal (their nominal mass matrix is singular along their common motion)."""
+def _unheld_components(lay: Layout, attached: list, inside, joins, holds) -> list[list[int]]:
+    """Connected sets of the nodes with ``inside(i)``, joined by the elements with
+    ``joins(el)``, that nothing holds: no such element leaves the set, no element with
+    ``holds(el)`` touches it and no node of it has a mass."""
     edges = lay.edges
     seen: set[int] = set()
     comps = []
-    for start in range(len(types)):
-        if types[start] != DYN or start in seen:
+    for start in range(len(lay.nodes)):
+        if not inside(start) or start in seen:
             continue
-        comp, stack, anchored = [], [start], False
+        comp, stack, held = [], [start], False
         seen.add(start)
         while stack:
             i = stack.pop()
             comp.append(i)
-            anchored |= lay.nodes[i]["mass"] > 0
+            held |= lay.nodes[i]["mass"] > 0
             for e in attached[i]:
                 _, el, t, b = edges[e]
-                if el.code not in (INERTER, FLYWHEEL):
+                held |= holds(el)
+                if not joins(el):
                     continue
                 j = b if t == i else t
-                if types[j] != DYN:
-                    anchored = True
+                if not inside(j):
+                    held = True
                 elif j not in seen:
                     seen.add(j)
                     stack.append(j)
-        if not anchored:
+        if not held:
             comps.append(sorted(comp))
     return comps
+
+
+def _floating_components(lay: Layout, types: list, attached: list) -> list[list[int]]:
+    """Node sets joined by inertances to each other only: no mass, no inertance to a
+    terminal (their nominal mass matrix is singular along their common motion)."""
+    return _unheld_components(
+        lay, attached, lambda i: types[i] == DYN, lambda el: el.code in (INERTER, FLYWHEEL),
+        lambda el: False,
+    )  # fmt: skip
 
 
 def _floating_damper_components(lay: Layout, types: list, ref: list, attached: list):
     """Velocity nodes joined by dampers to each other only (no damper to any other node,
-    no friction leaving them): the springs alone set their common motion."""
-    edges = lay.edges
-    plain = [i for i in range(len(types)) if types[i] == VEL and ref[i] < 0]
-    seen: set[int] = set()
-    comps = []
-    for start in plain:
-        if start in seen:
-            continue
-        comp, stack, anchored = [], [start], False
-        seen.add(start)
-        while stack:
-            i = stack.pop()
-            comp.append(i)
-            for e in attached[i]:
-                _, el, t, b = edges[e]
-                j = b if t == i else t
-                if el.code == DAMPER:
-                    if types[j] != VEL or ref[j] >= 0:
-                        anchored = True
-                    elif j not in seen:
-                        seen.add(j)
-                        stack.append(j)
-                elif el.code == FRICTION:
-                    anchored = True  # not split: its balance would need the common motion
-        if not anchored and len(comp) > 1:
-            comps.append(sorted(comp))
-    return comps
+    no friction at them, which would need the common motion): the springs alone set
+    their common motion."""
+    return [
+        c
+        for c in _unheld_components(
+            lay, attached, lambda i: types[i] == VEL and ref[i] < 0,
+            lambda el: el.code == DAMPER, lambda el: el.code == FRICTION,
+        )  # fmt: skip
+        if len(c) > 1
+    ]
 
 
 def build(kind: str, description: str, lay: Layout, info: dict, floating: bool = False) -> System:
@@ -480,28 +474,20 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     xs = [-1] * nn
     vs = [-1] * nn
     scales = []
+    # the node states by type: displacement, velocity (None: from a balance)
+    suffix = {DYN: (".x", ".v"), VEL: (".x", None), REL: (".x_rel", ".v_rel"), RELV: (".x_rel", None)}
     for i in range(nn):
+        if types[i] not in suffix:
+            continue
         nm = lay.nodes[i]["name"]
-        if types[i] == DYN:
-            xs[i] = len(names)
-            names.append(f"{nm}.x")
+        sx, sv = suffix[types[i]]
+        xs[i] = len(names)
+        names.append(nm + sx)
+        scales.append(1e-2)
+        if sv:
             vs[i] = len(names)
-            names.append(f"{nm}.v")
-            scales += [1e-2, 1e-1]
-        elif types[i] == VEL:
-            xs[i] = len(names)
-            names.append(f"{nm}.x")
-            scales.append(1e-2)
-        elif types[i] == REL:
-            xs[i] = len(names)
-            names.append(f"{nm}.x_rel")
-            vs[i] = len(names)
-            names.append(f"{nm}.v_rel")
-            scales += [1e-2, 1e-1]
-        elif types[i] == RELV:
-            xs[i] = len(names)
-            names.append(f"{nm}.x_rel")
-            scales.append(1e-2)
+            names.append(nm + sv)
+            scales.append(1e-1)
     n_node_states = len(names)
     so = []
     x0 = []
