@@ -444,3 +444,30 @@ def test_random_nonlinear_networks_close_their_energy_balance(seed):
         for i in range(1, count["b"] + 1):
             p[f"b{i}"] = float(np.exp(rng.uniform(np.log(10.0), np.log(300.0))))
         _check_energy(base_excited(300.0, text, p))
+
+
+@pytest.mark.parametrize("seed", range(2))
+def test_rig_force_transfer_is_the_admittance(seed):
+    """A rig's force per unit drive velocity from the core's linear analysis equals the
+    network's admittance Y(j omega) of :mod:`inerterlab.networks` (1e-7), for random
+    series-parallel networks and for floating components."""
+    import random
+
+    from inerterlab.networks import admittance_at
+    from inerterlab.systems import rig
+
+    rng = random.Random(50 + seed)
+    om = np.array([0.7, 5.0, 30.0, 150.0])
+    cases = [(t, p) for t, p in NETWORKS.items() if "_rel" in "".join(rig(t, p).state_names)]
+    assert len(cases) >= 3
+    for _ in range(25):
+        count = {"k": 0, "c": 0, "b": 0}
+        text = f"k0 | {_random_network(rng, 3, count)}"
+        p = {"k0": 3e4}
+        for kind, lo, hi in (("k", 1e4, 2e5), ("c", 5e2, 5e3), ("b", 10.0, 300.0)):
+            for i in range(1, count[kind] + 1):
+                p[f"{kind}{i}"] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+        cases.append((text, p))
+    for text, p in cases:
+        got = rig(text, p).transfer(om, "force")
+        assert np.allclose(got, admittance_at(text, p, 1j * om), rtol=1e-7, atol=0), text

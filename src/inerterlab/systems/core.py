@@ -144,7 +144,10 @@ class System:
         return A, B, np.nan_to_num(C), np.nan_to_num(D)
 
     def transfer(self, omega, output: str):
-        """H(j omega) from road velocity to ``output`` (linear systems)."""
+        """H(j omega) from road velocity to ``output`` (linear systems): any name of
+        :attr:`output_names`; for a quarter car also ``body_acc``,
+        ``suspension_deflection`` and ``tyre_deflection``; for a rig ``force``, the force
+        at the drive per unit drive velocity (the network's admittance Y(j omega))."""
         A, B, C, D = self.linear_state_space()
         i = self.output_names.index(output) if output in self.output_names else None
         c, d = _derived_row(self, output, C, D) if i is None else (C[i], D[i])
@@ -207,7 +210,15 @@ def _derived_row(sys, output, C, D):
             cw, dw = row("wheel.x")
             cr, dr = row("road.x")
             return cw - cr, dw - dr
-    raise ParameterError("output", output, "one of the output names")
+    if sys.kind == "rig" and output == "force":  # the force at the drive (its admittance)
+        rows = [
+            names.index(f"{n}.force")
+            for n, (_, _, t, _) in zip(sys.element_names, sys.info["edges"], strict=True)
+            if t == 0
+        ]
+        return C[rows].sum(axis=0), D[rows].sum(axis=0)
+    extra = {"quarter_car": ", body_acc, suspension_deflection, tyre_deflection", "rig": ", force"}
+    raise ParameterError("output", output, f"one of the output names{extra.get(sys.kind, '')}")
 
 
 # ---------------------------------------------------------------------------------------
