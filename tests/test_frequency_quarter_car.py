@@ -216,3 +216,34 @@ def test_cli_network(capsys):
     assert set(out["outputs"]) == set(out["output_units"]) == {
         "body_displacement", "body_acceleration", "suspension_deflection", "tyre_force"
     }  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    "text, params",
+    [
+        ("k | c | ((k1 | (k2 - b1)) - (k3 | (k4 - b2)) - (k5 | (k6 - b3)))",
+         dict(k=1e5, c=1e3, k1=1e4, k2=2e4, b1=10.0, k3=3e4, k4=4e4, b2=20.0, k5=5e4,
+              k6=6e4, b3=30.0)),
+        ("k0 | (((k1 - c1) | (k2 - c2 - b1)) - ((k3 - c3) - (c4 - c5)))",
+         dict(k0=3e4, k1=5e4, c1=2e3, k2=8e4, c2=1e3, b1=120.0, k3=6e4, c3=3e3, c4=2e3,
+              c5=4e3)),
+    ],
+)  # fmt: skip
+def test_floating_components_harmonic_balance_equals_the_admittance(text, params):
+    """Networks whose internal nodes form floating components (docs/model.md): the
+    harmonic balance of the core quarter car equals |H(j omega)| x omega x amplitude
+    with H from the admittance realisation of network_linear (1e-9)."""
+    from inerterlab.suspension.network_linear import network_quarter_car
+    from inerterlab.systems import quarter_car as core_car
+
+    core = core_car(text, params)
+    assert any(n.endswith("_rel") for n in core.state_names)
+    f = np.array([0.7, 1.5, 3.0, 9.0, 15.0])
+    fr = frequency_response(core, "mhb", freq_hz=f, amplitude=0.01)
+    assert fr.converged.all() and fr.stable.all()
+    w = 2 * np.pi * f
+    ref = network_quarter_car(text).transfer(params, w)
+    got = fr.outputs["body_acceleration"].data
+    np.testing.assert_allclose(got, np.abs(ref["body_acc"]) * w * 0.01, rtol=1e-9)
+    got = fr.outputs["suspension_deflection"].data
+    np.testing.assert_allclose(got, np.abs(ref["suspension_deflection"]) * w * 0.01, rtol=1e-9)
