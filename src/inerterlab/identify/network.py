@@ -145,6 +145,10 @@ class NetworkFitResult:
         return "\n".join([title, *(f"  {k:<{w}}  {v}" for k, v in rows)])
 
 
+#: relative singular-value cutoff of the initial-state projection
+PROJECTION_RCOND = 1e-9
+
+
 class _Runner:
     """Rig runs of one network on the prepared tests, with the initial-state projection."""
 
@@ -231,7 +235,13 @@ class _Runner:
                 if m == n or tail <= 1e-6 * np.abs(h).max():
                     break
         m = p.mask
-        coef, *_ = np.linalg.lstsq(H[m], (p.force - base)[m], rcond=None)
+        # columns scaled to unit norm; directions the record hardly sees (a state whose
+        # free response dies within a sample or two) are left at zero, not fitted to
+        # round-off with a huge correction
+        norm = np.linalg.norm(H[m], axis=0)
+        norm[norm == 0.0] = 1.0
+        coef, *_ = np.linalg.lstsq(H[m] / norm, (p.force - base)[m], rcond=PROJECTION_RCOND)
+        coef = coef / norm
         x1 = x0.copy()
         x1[probe] += coef
         return base + H @ coef, x1
