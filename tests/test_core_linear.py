@@ -400,6 +400,18 @@ def _random_network(rng, depth, count):
     return "(" + op.join(parts) + ")"
 
 
+def _random_linear_case(rng):
+    """(text, params): k0 in parallel with a random network three levels deep, values
+    log-uniform (springs 1e4-2e5 N/m, dampers 5e2-5e3 N s/m, inerters 10-300 kg)."""
+    count = {"k": 0, "c": 0, "b": 0}
+    text = f"k0 | {_random_network(rng, 3, count)}"
+    p = {"k0": 3e4}
+    for kind, lo, hi in (("k", 1e4, 2e5), ("c", 5e2, 5e3), ("b", 10.0, 300.0)):
+        for i in range(1, count[kind] + 1):
+            p[f"{kind}{i}"] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+    return text, p
+
+
 @pytest.mark.parametrize("seed", range(4))
 def test_random_linear_networks_match_their_admittance(seed):
     """Random series-parallel networks of springs, dampers and inerters (up to three
@@ -411,12 +423,7 @@ def test_random_linear_networks_match_their_admittance(seed):
     rng = random.Random(seed)
     om = np.array([0.7, 5.0, 30.0, 150.0])
     for _ in range(25):
-        count = {"k": 0, "c": 0, "b": 0}
-        text = f"k0 | {_random_network(rng, 3, count)}"
-        p = {"k0": 3e4}
-        for kind, lo, hi in (("k", 1e4, 2e5), ("c", 5e2, 5e3), ("b", 10.0, 300.0)):
-            for i in range(1, count[kind] + 1):
-                p[f"{kind}{i}"] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
+        text, p = _random_linear_case(rng)
         car = quarter_car(text, p)
         ref = network_quarter_car(text).transfer(p, om)
         for k in ("body_acc", "suspension_deflection", "tyre_deflection"):
@@ -461,13 +468,7 @@ def test_rig_force_transfer_is_the_admittance(seed):
     cases = [(t, p) for t, p in NETWORKS.items() if "_rel" in "".join(rig(t, p).state_names)]
     assert len(cases) >= 3
     for _ in range(25):
-        count = {"k": 0, "c": 0, "b": 0}
-        text = f"k0 | {_random_network(rng, 3, count)}"
-        p = {"k0": 3e4}
-        for kind, lo, hi in (("k", 1e4, 2e5), ("c", 5e2, 5e3), ("b", 10.0, 300.0)):
-            for i in range(1, count[kind] + 1):
-                p[f"{kind}{i}"] = float(np.exp(rng.uniform(np.log(lo), np.log(hi))))
-        cases.append((text, p))
+        cases.append(_random_linear_case(rng))
     for text, p in cases:
         got = rig(text, p).transfer(om, "force")
         assert np.allclose(got, admittance_at(text, p, 1j * om), rtol=1e-7, atol=0), text
