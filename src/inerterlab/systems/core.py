@@ -192,6 +192,14 @@ def _nonlinear(e: ElementBase) -> bool:
     return e.linear() is None
 
 
+def _drive_elements(sys) -> list[str]:
+    """Names of a rig's elements with their top end at the drive (node 0): their forces
+    add up to the force at the drive."""
+    return [
+        n for n, (_, _, t, _) in zip(sys.element_names, sys.info["edges"], strict=True) if t == 0
+    ]
+
+
 def _derived_row(sys, output, C, D):
     names = list(sys.output_names)
     if sys.kind == "quarter_car":
@@ -211,11 +219,7 @@ def _derived_row(sys, output, C, D):
             cr, dr = row("road.x")
             return cw - cr, dw - dr
     if sys.kind == "rig" and output == "force":  # the force at the drive (its admittance)
-        rows = [
-            names.index(f"{n}.force")
-            for n, (_, _, t, _) in zip(sys.element_names, sys.info["edges"], strict=True)
-            if t == 0
-        ]
+        rows = [names.index(f"{n}.force") for n in _drive_elements(sys)]
         return C[rows].sum(axis=0), D[rows].sum(axis=0)
     extra = {"quarter_car": ", body_acc, suspension_deflection, tyre_deflection", "rig": ", force"}
     raise ParameterError("output", output, f"one of the output names{extra.get(sys.kind, '')}")
@@ -333,9 +337,9 @@ def _floating_damper_components(lay: Layout, types: list, ref: list, attached: l
 
 def build(kind: str, description: str, lay: Layout, info: dict, floating: bool = False) -> System:
     """Classify the nodes, check the network is well posed and pack the tables. With
-    ``floating``, inertance components that no mass or terminal holds get their common
-    motion from their force balance (a reference node of velocity or spring-only type,
-    the others relative to it) instead of being refused."""
+    ``floating``, node sets joined by inertances (or by dampers) that nothing else holds
+    get their common motion from their summed force balance (a reference node of
+    velocity or spring-only type, the others relative to it) instead of being refused."""
     nn = len(lay.nodes)
     edges = lay.edges
     attached: list[list[int]] = [[] for _ in range(nn)]
@@ -817,11 +821,7 @@ def _simulate(
             for k in not_finite:
                 metrics[k] = None
     if sys.kind == "rig":
-        outs["force"] = sum(
-            outs[f"{n}.force"]
-            for n, (_, _, t, _) in zip(sys.element_names, sys.info["edges"], strict=True)
-            if t == 0
-        )
+        outs["force"] = sum(outs[f"{n}.force"] for n in _drive_elements(sys))
     steps = tuple(
         (float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps) if segs[i, 0] < T
     )
