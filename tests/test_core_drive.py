@@ -131,3 +131,59 @@ def test_explicit_sample_times_equal_the_uniform_samples(method):
     for bad in ([0.5, 0.2], [0.1, 2.0], [-0.1, 0.2], [np.nan]):
         with pytest.raises(ParameterError, match="times"):
             car.simulate(bump(), 1.0, times=bad)
+
+
+@pytest.mark.parametrize("network", ["hyd", "k | (c - b)", "screw"])
+def test_drive_runs_equal_the_simulation_from_the_first_sample(network):
+    """DriveRuns (the identification's repeated runs: force only, segments built once)
+    gives the force System.simulate gives on the same record and start, over the whole
+    record and over its first m samples; for a record starting at 0 the two integrate
+    the same segments, so they agree to round-off."""
+    from inerterlab.systems import DriveRuns
+
+    params = {"k": 5e4, "c": 2e3, "b": 150.0} if network.startswith("k") else None
+    t, x, v = _noisy_sine()
+    drive = drive_series(t, x, v)
+    r = rig(network, params)
+    x0 = np.zeros(r.n_states)
+    for i, name in enumerate(r.state_names):
+        x0[i] = {"x": x[0], "v": v[0]}.get(name.rpartition(".")[2], 0.0)
+    runs = DriveRuns(drive)
+    for m in (t.size, 301):
+        ref = r.simulate(drive, t[m - 1], rtol=1e-9, x0=x0, times=t[:m]).outputs["force"]
+        f = runs.force(r, x0, m, rtol=1e-9)
+        assert f.shape == (m,)
+        assert np.abs(f - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_drive_runs_start_at_the_first_sample_of_a_late_record():
+    """A record starting at 0.25 s: the runs start at its first sample. For the
+    parallel pair k | c the force is algebraic, k x + c v at every sample; for the
+    series pair k - c it starts at the spring force the given state holds."""
+    from inerterlab.systems import DriveRuns
+
+    t, x, v = _noisy_sine(duration=0.5, t0=0.25)
+    runs = DriveRuns(drive_series(t, x, v))
+    f = runs.force(rig("k | c", {"k": 1e4, "c": 100.0}), np.empty(0))
+    assert np.abs(f - (1e4 * x + 100.0 * v)).max() <= 1e-12 * np.abs(f).max()
+    r = rig("k - c", {"k": 1e4, "c": 100.0})
+    f0 = 3.0
+    x0 = np.array([x[0] - f0 / 1e4])
+    f = runs.force(r, x0, rtol=1e-10)
+    assert f[0] == pytest.approx(f0, rel=1e-12)
+
+
+def test_drive_runs_refuse_bad_input():
+    from inerterlab.systems import DriveRuns, quarter_car
+
+    t, x, v = _noisy_sine(duration=0.1)
+    with pytest.raises(ParameterError, match="drive"):
+        DriveRuns(sine(0.01, 1.0))
+    runs = DriveRuns(drive_series(t, x, v))
+    with pytest.raises(ParameterError, match="rig"):
+        runs.force(quarter_car("traditional"), np.zeros(4))
+    r = rig("k - c", {"k": 1e4, "c": 100.0})
+    with pytest.raises(ParameterError, match="m"):
+        runs.force(r, np.zeros(1), 0)
+    with pytest.raises(ParameterError, match="x0"):
+        runs.force(r, np.zeros(3))

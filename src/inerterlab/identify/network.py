@@ -154,6 +154,7 @@ class _Runner:
 
     def __init__(self, network, params, free, preps, initial_state="all"):
         from ..excitation import drive_series
+        from ..systems import DriveRuns
 
         self.initial_state = initial_state
         self.network = network
@@ -162,7 +163,7 @@ class _Runner:
         self.preps = preps
         self.starts: dict = {}
         self.drives = {
-            id(p): drive_series(p.t, p.x, p.v, label=p.test.name) for p in preps
+            id(p): DriveRuns(drive_series(p.t, p.x, p.v, label=p.test.name)) for p in preps
         }
 
     def system(self, theta):
@@ -171,15 +172,14 @@ class _Runner:
         return rig(self.network, {**self.params, **dict(zip(self.free, theta, strict=True))})
 
     def start(self, sys, p):
-        """Springs in equilibrium between drive and ground; internal nodes moving with
-        the drive in the same proportion (the spring map applied to the velocities)."""
+        """State at the first sample (where the runs start): springs in equilibrium
+        between the drive and the ground; internal nodes moving with the drive in the
+        same proportion (the spring map applied to the velocities)."""
         from ..systems.core import _initial
 
-        drive = self.drives[id(p)]
-        horizon = float(p.t[-1])
-        x0 = _initial(sys, {}, drive.initial_road(horizon))
+        x0 = _initial(sys, {}, float(p.x[0]))
         if sys.n_states:
-            v_map = _initial(sys, {}, drive.initial_road_velocity(horizon))
+            v_map = _initial(sys, {}, float(p.v[0]))
             for i, name in enumerate(sys.state_names):
                 if name.endswith(".v"):
                     node = name[:-2]
@@ -205,11 +205,10 @@ class _Runner:
 
     def _project(self, sys, p, rtol, x0):
         """(prediction, corrected initial state) from the start ``x0``."""
-        drive = self.drives[id(p)]
+        runs = self.drives[id(p)]
 
         def run(x, m):
-            res = sys.simulate(drive, float(p.t[m - 1]), rtol=rtol, x0=x, times=p.t[:m])
-            return res.outputs["force"]
+            return runs.force(sys, x, m, rtol=rtol)
 
         n = p.t.size
         base = run(x0, n)

@@ -51,6 +51,7 @@ from __future__ import annotations
 from .core import (
     QUARTER_CAR_PRESETS,
     CoreResult,
+    DriveRuns,
     RoadVelocityJumpWarning,
     System,
     base_excited,
@@ -64,6 +65,7 @@ from .core import (
 __all__ = [
     "System",
     "CoreResult",
+    "DriveRuns",
     "rig",
     "base_excited",
     "device_network",

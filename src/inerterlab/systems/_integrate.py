@@ -58,6 +58,23 @@ from ..suspension._kernels import (
 )  # fmt: skip
 from ._kernel import I_NE, I_NN, _work_size, evaluate
 
+#: the Dormand-Prince pair as arrays (rows of the stages; the last row is the order-5
+#: weights), error weights and dense-output weights, from the named constants
+_TAB_A = np.array(
+    [
+        [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [A21, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [A31, A32, 0.0, 0.0, 0.0, 0.0],
+        [A41, A42, A43, 0.0, 0.0, 0.0],
+        [A51, A52, A53, A54, 0.0, 0.0],
+        [A61, A62, A63, A64, A65, 0.0],
+        [B1, 0.0, B3, B4, B5, B6],
+    ]
+)
+_TAB_C = np.array([0.0, C2, C3, C4, C5, 1.0, 1.0])
+_TAB_E = np.array([E1, 0.0, E3, E4, E5, E6, E7])
+_TAB_D = np.array([D1, 0.0, D3, D4, D5, D6, D7])
+
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
 
@@ -100,7 +117,7 @@ def _segment_at(segs, rng, t):
     return i
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, inline="always")
 def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
     stats[2] += 1
     if mode == 0:
@@ -128,17 +145,13 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     n = y.size
     work = np.empty(_work_size(itab))
     road = np.empty(3)
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
-    k5 = np.empty(n)
-    k6 = np.empty(n)
-    k7 = np.empty(n)
+    K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
+    dy = np.empty(n)
     yt = np.empty(n)
-    yn = np.empty(n)
-    if not _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, k1, road, work, stats):
+    if not _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
         return BALANCE_FAILED, k, h
+    for i in range(n):
+        K[0, i] = dy[i]
     span = t_end - t
     if span <= 0.0:
         return OK, k, h
@@ -161,28 +174,26 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             tn = t + h
         if h <= 1e-15 * max(abs(t), 1.0):
             return STEP_TOO_SMALL, k, h
-        for i in range(n):
-            yt[i] = y[i] + h * A21 * k1[i]
-        ok = _f(mode, segs, rng, t + C2 * h, yt, itab, ftab, imp, road_fixed, k2, road, work, stats)
-        for i in range(n):
-            yt[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i])
-        ok &= _f(mode, segs, rng, t + C3 * h, yt, itab, ftab, imp, road_fixed, k3, road, work, stats)
-        for i in range(n):
-            yt[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i])
-        ok &= _f(mode, segs, rng, t + C4 * h, yt, itab, ftab, imp, road_fixed, k4, road, work, stats)
-        for i in range(n):
-            yt[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i])
-        ok &= _f(mode, segs, rng, t + C5 * h, yt, itab, ftab, imp, road_fixed, k5, road, work, stats)
-        for i in range(n):
-            yt[i] = y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-        ok &= _f(mode, segs, rng, tn, yt, itab, ftab, imp, road_fixed, k6, road, work, stats)
-        for i in range(n):
-            yn[i] = y[i] + h * (B1 * k1[i] + B3 * k3[i] + B4 * k4[i] + B5 * k5[i] + B6 * k6[i])
-        ok &= _f(mode, segs, rng, tn, yn, itab, ftab, imp, road_fixed, k7, road, work, stats)
+        # the stages, one call site (the right-hand side is compiled into this loop
+        # once); the last stage's point is the order-5 solution (first same as last)
+        ok = True
+        for st in range(1, 7):
+            for i in range(n):
+                acc = 0.0
+                for q in range(st):
+                    acc += _TAB_A[st, q] * K[q, i]
+                yt[i] = y[i] + h * acc
+            ts = tn if st >= 5 else t + _TAB_C[st] * h
+            ok &= _f(mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats)
+            for i in range(n):
+                K[st, i] = dy[i]
         err = 0.0
         for i in range(n):
-            sc = atol[i] + rtol * max(abs(y[i]), abs(yn[i]))
-            e = h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
+            sc = atol[i] + rtol * max(abs(y[i]), abs(yt[i]))
+            acc = 0.0
+            for q in range(7):
+                acc += _TAB_E[q] * K[q, i]
+            e = h * acc
             err += (e / sc) ** 2
         err = math.sqrt(err / max(n, 1))
         if not ok or not math.isfinite(err):
@@ -200,18 +211,18 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                     th = (t_out[k] - t) / h
                     th1 = 1.0 - th
                     for i in range(n):
-                        r2 = yn[i] - y[i]
-                        r3 = h * k1[i] - r2
-                        r4 = r2 - h * k7[i] - r3
-                        r5 = h * (
-                            D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i]
-                            + D7 * k7[i]
-                        )  # fmt: skip
+                        r2 = yt[i] - y[i]
+                        r3 = h * K[0, i] - r2
+                        r4 = r2 - h * K[6, i] - r3
+                        acc = 0.0
+                        for q in range(7):
+                            acc += _TAB_D[q] * K[q, i]
+                        r5 = h * acc
                         out_y[k, i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
                     k += 1
             for i in range(n):
-                y[i] = yn[i]
-                k1[i] = k7[i]
+                y[i] = yt[i]
+                K[0, i] = K[6, i]
             t = tn
             fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))

@@ -352,7 +352,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             b = no + NODE_W * n
             if itab[b] == REL or itab[b] == RELV:
                 W[n] += W[itab[b + 4]]
-    ok = _velocities(itab, ftab, W, ie + ne)
+    ok = True
+    if itab[I_NV] > 0:
+        ok = _velocities(itab, ftab, W, ie + ne)
     for i in range(npn):
         p = itab[po + i]
         s = 0.0

@@ -771,17 +771,7 @@ def _simulate(
             ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps,
         )  # fmt: skip
         if status != _integrate.OK:
-            why = {
-                _integrate.TOO_MANY_STEPS: f"more than max_steps={max_steps} steps",
-                _integrate.STEP_TOO_SMALL: "the step size fell below round-off",
-                _integrate.NOT_FINITE: "the solution is not finite (unstable parameters?)",
-                _integrate.ROAD_STEP: "the road steps, and a step has no finite response "
-                "here (an inerter or quadratic damper on the road, or a rig): smooth the "
-                "edges (bump(edge='ramp', edge_width=...))",
-                _integrate.BALANCE_FAILED: "a force balance of the massless nodes could not "
-                "be solved",
-            }[status]
-            raise ConvergenceError(f"{sys.description}: {why}")
+            raise _failure(sys, status, max_steps)
         stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2])}
         meth = "adaptive"
     not_finite: dict = {}
@@ -831,6 +821,86 @@ def _simulate(
         system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
         stats=stats, road_steps=steps, not_finite=not_finite,
     )  # fmt: skip
+
+
+def _failure(sys, status: int, max_steps: int) -> ConvergenceError:
+    """The error of an adaptive integration that stopped with ``status``."""
+    why = {
+        _integrate.TOO_MANY_STEPS: f"more than max_steps={max_steps} steps",
+        _integrate.STEP_TOO_SMALL: "the step size fell below round-off",
+        _integrate.NOT_FINITE: "the solution is not finite (unstable parameters?)",
+        _integrate.ROAD_STEP: "the road steps, and a step has no finite response "
+        "here (an inerter or quadratic damper on the road, or a rig): smooth the "
+        "edges (bump(edge='ramp', edge_width=...))",
+        _integrate.BALANCE_FAILED: "a force balance of the massless nodes could not be solved",
+    }[status]
+    return ConvergenceError(f"{sys.description}: {why}")
+
+
+class DriveRuns:
+    """Many runs of rigs on one measured drive, as an identification makes them.
+
+    The drive's segments are built once, from its first sample: a run starts there,
+    from a state the caller gives (the rig's state at the first sample), and returns
+    only the force the rig applies, at the first ``m`` samples. The integration is that
+    of :meth:`System.simulate` (adaptive Dormand-Prince, ``atol`` = ``rtol`` x the
+    state scales); the drive has no jump (it starts where it is). Used by
+    :func:`inerterlab.identify.identify` for every device the rig represents.
+
+    >>> import numpy as np
+    >>> from inerterlab.excitation import drive_series
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> runs = DriveRuns(drive_series(t, 0.01 * np.sin(t), 0.01 * np.cos(t)))
+    >>> f = runs.force(rig("k | c", {"k": 1e4, "c": 100.0}), np.empty(0))
+    >>> bool(abs(f[-1] - (1e4 * 0.01 * np.sin(1.0) + 1.0 * np.cos(1.0))) < 1e-9)
+    True
+    """
+
+    def __init__(self, drive) -> None:
+        from ..excitation import DriveSeries
+
+        if not isinstance(drive, DriveSeries):
+            raise ParameterError("drive", drive, "a DriveSeries (excitation.drive_series)")
+        t = drive.time
+        segs = drive.segments(float(t[-1]))
+        self.time = t
+        self.segments = np.ascontiguousarray(segs[segs[:, 0] >= t[0]])
+        self.start = float(drive.displacement[0])
+
+    def force(self, sys: System, x0, m: int | None = None, *, rtol: float = 1e-8,
+              max_steps: int = 10_000_000) -> np.ndarray:  # fmt: skip
+        """Force [N] the rig ``sys`` applies at the first ``m`` samples (all by
+        default), starting from the state ``x0`` at the first sample."""
+        if sys.kind != "rig":
+            raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
+        n = self.time.size if m is None else int(m)
+        if not 1 <= n <= self.time.size:
+            raise ParameterError("m", m, f"a sample count in [1, {self.time.size}]")
+        ts = self.time[:n]
+        segs = self.segments
+        Y = np.empty((n, sys.n_states))
+        if sys.n_states:
+            y = np.array(x0, dtype=float)
+            if y.shape != (sys.n_states,):
+                raise ParameterError("x0", x0, f"{sys.n_states} states")
+            atol = rtol * np.maximum(sys.state_scales, 1e-12)
+            st = np.zeros(4, dtype=np.int64)
+            nseg = len(segs)
+            status, _ = _integrate.integrate(
+                sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
+                sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
+                int(max_steps), math.nan, math.inf, np.zeros(nseg),
+            )  # fmt: skip
+            if status != _integrate.OK:
+                raise _failure(sys, status, max_steps)
+        O = np.empty((n, len(sys.output_names)))
+        _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
+        cols = sys.info.get("drive_force_columns")
+        if cols is None:
+            names = sys.output_names
+            cols = [names.index(f"{e}.force") for e in _drive_elements(sys)]
+            sys.info["drive_force_columns"] = cols
+        return O[:, cols].sum(axis=1)
 
 
 def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
