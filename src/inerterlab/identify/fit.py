@@ -70,6 +70,7 @@ and refitted). Each parameter states which interval it carries
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -486,6 +487,7 @@ class _Prepared:
     force: np.ndarray
     motion: object
     mask: np.ndarray  # samples used in the objective
+    runs: object = None  # the record as a drive of the model core's rig (DriveRuns)
 
 
 def _reversal_times(t: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -505,7 +507,73 @@ def _prepare(test: RigTest, *, window: float, detrend: str, reversal_window: flo
     if reversal_window > 0:
         for tr in _reversal_times(test.t, v):
             mask &= ~((test.t >= tr) & (test.t < tr + reversal_window))
-    return _Prepared(test, test.t, x, v, test.force, motion_from_samples(test.t, x, v), mask)
+    from ..excitation import drive_series
+    from ..systems import DriveRuns
+
+    motion = motion_from_samples(test.t, x, v)
+    runs = DriveRuns(drive_series(test.t, x, v, label=test.name))
+    return _Prepared(test, test.t, x, v, test.force, motion, mask, runs)
+
+
+def core_represents(device) -> bool:
+    """True when the model core's rig (:func:`inerterlab.systems.rig`) holds the device
+    exactly: a coupled flywheel (no free-wheeling), no backlash, no bearing drag. Such a
+    device is identified on the core; the others on the device model's own compiled
+    integration (:func:`inerterlab.devices.device_force`), the only one that has those
+    three."""
+    return (
+        not getattr(device, "freewheel", False)
+        and getattr(device, "backlash", 0.0) == 0.0
+        and getattr(device, "flywheel_drag", 0.0) == 0.0
+    )
+
+
+def _core_state(device, sys, prep: _Prepared, initial_force: float | None) -> np.ndarray:
+    """The rig's state at the first sample that the device model starts from: the
+    series spring carrying ``initial_force`` (its deflection x_k = F / k, the internal
+    node at x - x_k, moving with the drive), the sliders where the device model puts
+    them (:func:`inerterlab.devices.force._initial_state`, one source for both)."""
+    from ..devices.force import _initial_state, parameter_vector
+
+    x0, v0 = float(prep.x[0]), float(prep.v[0])
+    y = _initial_state(device, parameter_vector(device), x0, v0, 0.0)
+    if initial_force is not None and device.series:
+        y[0] = initial_force / device.stiffness
+    state = np.zeros(sys.n_states)
+    for i, name in enumerate(sys.state_names):
+        if name.endswith(".slider_radius"):
+            state[i] = y[2]
+        elif name.endswith(".slider_rate"):
+            state[i] = y[3]
+        elif name.endswith(".x"):
+            state[i] = x0 - y[0]
+        elif name.endswith(".v"):
+            state[i] = y[1]
+    return state
+
+
+@functools.lru_cache(maxsize=16)
+def _device_rig(device):
+    """The core rig of a device (the base run and the probes of a prediction use the
+    same device; the devices are frozen, so equal devices share one rig)."""
+    from ..systems import rig
+
+    return rig(device)
+
+
+def _model_force(device, prep: _Prepared, *, rtol: float, m: int | None = None,
+                 initial_force: float | None = None) -> np.ndarray:  # fmt: skip
+    """Force [N] of the device model at the first ``m`` samples of ``prep``: on the model
+    core's rig where it represents the device (:func:`core_represents`), else on the
+    device model's integration."""
+    n = prep.t.size if m is None else m
+    if core_represents(device):
+        sys = _device_rig(device)
+        return prep.runs.force(sys, _core_state(device, sys, prep, initial_force), n, rtol=rtol)
+    return device_force(
+        device, prep.motion, t=prep.t[:n], rtol=rtol, h_max=0.01, initial_force=initial_force,
+        force_only=True,
+    )  # fmt: skip
 
 
 def _initial_force_guess(prep: _Prepared) -> float:
@@ -529,7 +597,7 @@ def _affine_terms(device, prep: _Prepared):
     """
     phi = np.column_stack([prep.x, prep.v, np.tanh(prep.v / device.friction_velocity)])
     theta = np.array([getattr(device, n) for n in PARAMETERS], dtype=float)
-    base = device_force(device, prep.motion, t=prep.t, rtol=1e-8, h_max=0.01).force
+    base = _model_force(device, prep, rtol=1e-8)
     return phi, base - phi @ theta
 
 
@@ -554,24 +622,14 @@ def predict_test(device, prep: _Prepared, *, rtol: float = RTOL) -> np.ndarray:
     has not died out by then.
     """
     f0 = _initial_force_guess(prep)
-    base = device_force(
-        device, prep.motion, t=prep.t, rtol=rtol, h_max=0.01, initial_force=f0, force_only=True
-    )
+    base = _model_force(device, prep, rtol=rtol, initial_force=f0)
     if not device.series:
         return base
     probe = max(1.0, 1e-3 * float(np.abs(prep.force).max()))
     n = int(np.searchsorted(prep.t, prep.t[0] + _transient_horizon(device))) + 1
     h = np.zeros_like(base)
     for m in (min(n, prep.t.size), prep.t.size):
-        moved = device_force(
-            device,
-            prep.motion,
-            t=prep.t[:m],
-            rtol=rtol,
-            h_max=0.01,
-            initial_force=f0 + probe,
-            force_only=True,
-        )
+        moved = _model_force(device, prep, rtol=rtol, m=m, initial_force=f0 + probe)
         h[:m] = (moved - base[:m]) / probe
         tail = np.abs(h[m - max(1, m // 10) : m]).max()
         if m == prep.t.size or tail <= 1e-6 * np.abs(h[:m]).max():
@@ -582,6 +640,10 @@ def predict_test(device, prep: _Prepared, *, rtol: float = RTOL) -> np.ndarray:
         return base
     delta = float(h[m] @ (prep.force[m] - base[m])) / hh
     return base + delta * h
+
+
+#: residual vectors a fit keeps for points it may ask for again
+_SEEN = 8
 
 
 def _residuals(device, names, preps, rtol, affine=None):
@@ -601,9 +663,22 @@ def _residuals(device, names, preps, rtol, affine=None):
 
         return fun_affine, lambda th: jac_free
 
+    # the solver, the robust restarts and the intervals ask again for points already
+    # computed (about one call in ten on a campaign): the last few are kept
+    seen: dict = {}
+
     def fun(theta):
-        dev = dataclasses.replace(device, **dict(zip(names, theta, strict=True)))
-        return np.concatenate([(predict_test(dev, p, rtol=rtol) - p.force)[p.mask] for p in preps])
+        key = np.asarray(theta, dtype=float).tobytes()
+        r = seen.get(key)
+        if r is None:
+            dev = dataclasses.replace(device, **dict(zip(names, theta, strict=True)))
+            r = np.concatenate(
+                [(predict_test(dev, p, rtol=rtol) - p.force)[p.mask] for p in preps]
+            )
+            if len(seen) >= _SEEN:
+                seen.pop(next(iter(seen)))
+            seen[key] = r
+        return r.copy()
 
     return fun, None
 

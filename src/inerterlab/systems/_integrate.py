@@ -18,6 +18,8 @@ import math
 import numba as nb
 import numpy as np
 
+from ..elements._base import SPRING
+from ..elements.spring import spring_force
 from ..suspension._kernels import (
     A21,
     A31,
@@ -56,7 +58,19 @@ from ..suspension._kernels import (
     E6,
     E7,
 )  # fmt: skip
-from ._kernel import I_NE, I_NN, _work_size, evaluate
+from ._kernel import (
+    ELEM_W,
+    GROUND,
+    I_ELEM,
+    I_NE,
+    I_NN,
+    I_NODE,
+    NODE_W,
+    ROAD,
+    _dissipative,
+    _work_size,
+    evaluate,
+)
 
 #: the Dormand-Prince pair as arrays (rows of the stages; the last row is the order-5
 #: weights), error weights and dense-output weights, from the named constants
@@ -347,4 +361,57 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
         ok &= evaluate(t, Y[j], road, itab, ftab, W, dx, imp)
         for i in range(3 * nn + ne):
             O[j, i] = W[i]
+    return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _node_xv(itab, n, Y, j, road):
+    """(x, v) of node n at sample j: the ground, the drive (road), or a node whose
+    displacement and velocity are states (the only kinds :func:`drive_forces` reads)."""
+    b = itab[I_NODE] + NODE_W * n
+    typ = itab[b]
+    if typ == GROUND:
+        return 0.0, 0.0
+    if typ == ROAD:
+        return road[0], road[1]
+    return Y[j, itab[b + 1]], Y[j, itab[b + 2]]
+
+
+@nb.njit(cache=True)
+def drive_forces(t_out, Y, segs, itab, ftab, elems, direct, out):
+    """The summed force of the elements ``elems`` at every sample into ``out`` (a rig's
+    force at its drive). With ``direct`` (springs, dampers and friction between the
+    drive, the ground and nodes whose displacement and velocity are states) each force
+    is read from the states, as :func:`._kernel.evaluate` computes it; otherwise from a
+    full evaluation at each sample."""
+    nn = itab[I_NN]
+    eo = itab[I_ELEM]
+    road = np.empty(3)
+    W = np.empty(_work_size(itab))
+    dx = np.empty(Y.shape[1])
+    imp = np.empty(0)
+    s = 0
+    ok = True
+    for j in range(t_out.size):
+        t = t_out[j]
+        while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
+            s += 1
+        road_at(segs, s, t, road)
+        if not direct:
+            ok &= evaluate(t, Y[j], road, itab, ftab, W, dx, imp)
+        acc = 0.0
+        for q in range(elems.size):
+            e = elems[q]
+            if direct:
+                b = eo + ELEM_W * e
+                xt, vt = _node_xv(itab, itab[b + 1], Y, j, road)
+                xb, vb = _node_xv(itab, itab[b + 2], Y, j, road)
+                if itab[b] == SPRING:
+                    f = spring_force(ftab, itab[b + 3], xt - xb)
+                else:
+                    f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
+            else:
+                f = W[3 * nn + e]
+            acc = f if q == 0 else acc + f
+        out[j] = acc
     return ok

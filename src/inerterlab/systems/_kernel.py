@@ -8,7 +8,8 @@ the ``I_*`` indices), then one block of :data:`NODE_W` per node
 (type, displacement state, velocity state, index within its type, reference node of its
 floating inertance component or -1), one block of
 :data:`ELEM_W` per primitive element (kernel code, top node, bottom node, offset of its
-parameter row in ``ftab``, offset of its own states or -1) and the node lists of each
+parameter row in ``ftab``, offset of its own states or -1, and the rows of its top and
+bottom nodes in the mass matrix, or -1 where they have none) and the node lists of each
 type. Float table ``ftab`` (float64): the node masses, the matrix that gives the
 displacements of spring-only nodes from the others, and one row of
 :data:`inerterlab.elements._base.NPAR` parameters per element.
@@ -52,7 +53,7 @@ from ..elements.spring import spring_force
 
 GROUND, ROAD, DYN, VEL, POS, REL, RELV = 0, 1, 2, 3, 4, 5, 6
 NODE_W = 5
-ELEM_W = 5
+ELEM_W = 7
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
     I_NI, I_NR,
@@ -371,11 +372,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     # forces and the mass matrix of the dynamic nodes
     for i in range(im, ie + ne):
         W[i] = 0.0
-    for n in range(nn):
-        b = no + NODE_W * n
-        if itab[b] == DYN:
-            k = itab[b + 3]
-            W[im + k * nd + k] += ftab[fm + n]
+    dl = itab[I_DYN]
+    for k in range(nd):  # the dynamic nodes' own masses (none at a relative node)
+        n = itab[dl + k]
+        W[im + k * nd + k] += ftab[fm + n]
     for e in range(ne):
         b = eo + ELEM_W * e
         code = itab[b]
@@ -403,10 +403,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             f = 0.0
         W[iF + e] = f
         W[ie + e] = me
-        tb = no + NODE_W * top
-        bb = no + NODE_W * bot
-        ti = itab[tb + 3] if itab[tb] == DYN or itab[tb] == REL else -1
-        bi = itab[bb + 3] if itab[bb] == DYN or itab[bb] == REL else -1
+        ti = itab[b + 5]
+        bi = itab[b + 6]
         if ti >= 0:
             W[ir + ti] -= f
         if bi >= 0:
@@ -427,7 +425,12 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
-    if nd > 0 and not _solve(W, im, W, ir, nd):
+    if nd == 1:  # what _solve does for one unknown, without its loops
+        if W[im] == 0.0 or not math.isfinite(W[im]):
+            ok = False
+        else:
+            W[ir] = W[ir] / W[im]
+    elif nd > 1 and not _solve(W, im, W, ir, nd):
         ok = False
     for n in range(nn):
         b = no + NODE_W * n

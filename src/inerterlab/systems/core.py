@@ -547,7 +547,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         ftab[fmass + i] = lay.nodes[i]["mass"]
     ftab[fr:fe] = R.ravel()
     for e, (_, el, t, b) in enumerate(edges):
-        itab[eo + ELEM_W * e : eo + ELEM_W * (e + 1)] = (el.code, t, b, fe + NPAR * e, so[e])
+        ti = cls[t] if types[t] in (DYN, REL) else -1  # rows in the mass matrix, or -1
+        bi = cls[b] if types[b] in (DYN, REL) else -1
+        itab[eo + ELEM_W * e : eo + ELEM_W * (e + 1)] = (
+            el.code, t, b, fe + NPAR * e, so[e], ti, bi
+        )  # fmt: skip
         ftab[fe + NPAR * e : fe + NPAR * (e + 1)] = el.row()
     # impulse of a unit road step
     imp = np.zeros(len(dyn))
@@ -893,14 +897,26 @@ class DriveRuns:
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
-        O = np.empty((n, len(sys.output_names)))
-        _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
-        cols = sys.info.get("drive_force_columns")
-        if cols is None:
-            names = sys.output_names
-            cols = [names.index(f"{e}.force") for e in _drive_elements(sys)]
-            sys.info["drive_force_columns"] = cols
-        return O[:, cols].sum(axis=1)
+        plan = sys.info.get("drive_force_plan")
+        if plan is None:
+            plan = sys.info["drive_force_plan"] = _drive_force_plan(sys)
+        out = np.empty(n)
+        _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, plan[0], plan[1], out)
+        return out
+
+
+def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
+    """(indices of a rig's drive elements, whether their forces can be read from the
+    states alone: springs, dampers and friction whose ends are the drive, the ground or
+    nodes with displacement and velocity states)."""
+    names = _drive_elements(sys)
+    idx = np.array([sys.element_names.index(e) for e in names], dtype=np.int64)
+    direct = True
+    for e in idx:
+        _, el, t, b = sys.info["edges"][e]
+        ends_ok = all(sys.node_types[i] in (GROUND, ROAD, DYN) for i in (t, b))
+        direct &= ends_ok and el.code in (SPRING, DAMPER, FRICTION)
+    return idx, bool(direct)
 
 
 def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
