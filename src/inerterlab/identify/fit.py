@@ -5,7 +5,9 @@ predicted force over the samples of the identification tests, minimised by
 ``scipy.optimize.least_squares`` with bounds, fixed parameters and an optional robust
 loss (``soft_l1``, ``huber``, ``cauchy``) whose scale ``f_scale`` defaults to three
 times the force-sensor noise, estimated from the data as the median absolute first
-difference / (0.6745 sqrt 2).
+difference / (0.6745 sqrt 2). The predicted force is the model core's rig driven by
+the record (:class:`inerterlab.systems.DriveRuns`), or the device model's integration
+for a device the core does not represent (:func:`core_represents`).
 
 Methods
 -------
