@@ -341,6 +341,16 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     return OK, k
 
 
+@nb.njit(cache=True, inline="always")
+def _sample_road(segs, s, t, road):
+    """The road at the sample time t into ``road``, walking on from segment s to the one
+    that holds t (right-continuous); returns that segment."""
+    while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
+        s += 1
+    road_at(segs, s, t, road)
+    return s
+
+
 @nb.njit(cache=True)
 def outputs_many(t_out, Y, segs, itab, ftab, O):
     """Outputs (see :func:`._kernel.outputs`) at every sample; the road on the segment
@@ -354,11 +364,8 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     s = 0
     ok = True
     for j in range(t_out.size):
-        t = t_out[j]
-        while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
-            s += 1
-        road_at(segs, s, t, road)
-        ok &= evaluate(t, Y[j], road, itab, ftab, W, dx, imp)
+        s = _sample_road(segs, s, t_out[j], road)
+        ok &= evaluate(t_out[j], Y[j], road, itab, ftab, W, dx, imp)
         for i in range(3 * nn + ne):
             O[j, i] = W[i]
     return ok
@@ -378,40 +385,24 @@ def _node_xv(itab, n, Y, j, road):
 
 
 @nb.njit(cache=True)
-def drive_forces(t_out, Y, segs, itab, ftab, elems, direct, out):
+def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     """The summed force of the elements ``elems`` at every sample into ``out`` (a rig's
-    force at its drive). With ``direct`` (springs, dampers and friction between the
-    drive, the ground and nodes whose displacement and velocity are states) each force
-    is read from the states, as :func:`._kernel.evaluate` computes it; otherwise from a
-    full evaluation at each sample."""
-    nn = itab[I_NN]
+    force at its drive), each read from the states as :func:`._kernel.evaluate` computes
+    it: springs, dampers and friction between the drive, the ground and nodes whose
+    displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
     road = np.empty(3)
-    W = np.empty(_work_size(itab))
-    dx = np.empty(Y.shape[1])
-    imp = np.empty(0)
     s = 0
-    ok = True
     for j in range(t_out.size):
-        t = t_out[j]
-        while s + 1 < segs.shape[0] and segs[s + 1, 0] <= t:
-            s += 1
-        road_at(segs, s, t, road)
-        if not direct:
-            ok &= evaluate(t, Y[j], road, itab, ftab, W, dx, imp)
+        s = _sample_road(segs, s, t_out[j], road)
         acc = 0.0
         for q in range(elems.size):
-            e = elems[q]
-            if direct:
-                b = eo + ELEM_W * e
-                xt, vt = _node_xv(itab, itab[b + 1], Y, j, road)
-                xb, vb = _node_xv(itab, itab[b + 2], Y, j, road)
-                if itab[b] == SPRING:
-                    f = spring_force(ftab, itab[b + 3], xt - xb)
-                else:
-                    f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
+            b = eo + ELEM_W * elems[q]
+            xt, vt = _node_xv(itab, itab[b + 1], Y, j, road)
+            xb, vb = _node_xv(itab, itab[b + 2], Y, j, road)
+            if itab[b] == SPRING:
+                f = spring_force(ftab, itab[b + 3], xt - xb)
             else:
-                f = W[3 * nn + e]
+                f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
             acc = f if q == 0 else acc + f
         out[j] = acc
-    return ok

@@ -900,9 +900,14 @@ class DriveRuns:
         plan = sys.info.get("drive_force_plan")
         if plan is None:
             plan = sys.info["drive_force_plan"] = _drive_force_plan(sys)
-        out = np.empty(n)
-        _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, plan[0], plan[1], out)
-        return out
+        idx, direct = plan
+        if direct:
+            out = np.empty(n)
+            _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, idx, out)
+            return out
+        O = np.empty((n, len(sys.output_names)))
+        _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
+        return O[:, 3 * len(sys.node_names) + idx].sum(axis=1)
 
 
 def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
