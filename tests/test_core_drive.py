@@ -187,3 +187,5 @@ def test_drive_runs_refuse_bad_input():
         runs.force(r, np.zeros(1), 0)
     with pytest.raises(ParameterError, match="x0"):
         runs.force(r, np.zeros(3))
+    with pytest.raises(ParameterError, match="rtol"):
+        runs.force(r, np.zeros(1), rtol=-1.0)

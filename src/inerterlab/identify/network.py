@@ -1,9 +1,9 @@
 """Identification of any network's parameters from rig data, on the model core.
 
 :func:`identify` fits the three devices of the thesis (on the same core rig, with their
-own parameters and start). :func:`identify_network` fits the named parameters of any network text (springs,
-dampers, inerters, the adaptive flywheel, friction, backlash, the fluid inerter, the
-devices as composite elements) with the core's rig (:func:`inerterlab.systems.rig`),
+own parameters and start). :func:`identify_network` fits the named parameters of any
+network text (springs, dampers, inerters, the adaptive flywheel, friction, backlash, the
+fluid inerter, the devices as composite elements) with the core's rig (:func:`inerterlab.systems.rig`),
 driven by each record (:func:`inerterlab.excitation.drive_series`): the same system
 the time simulation, the harmonic balance and the linear analysis use. The objective,
 the robust loss, the reversal window and the intervals are those of :func:`identify`

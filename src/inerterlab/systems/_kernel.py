@@ -71,6 +71,12 @@ def _solve(M, m0, r, r0, n):
     """Solve M x = r (n x n, row-major in M from M[m0]; r from r[r0]) in place by Gaussian
     elimination with partial pivoting; x in r. Returns False if M is singular. Offsets,
     not slices: a slice per call costs a view."""
+    if n == 1:  # the elimination below for one unknown, without its loops
+        piv = M[m0]
+        if piv == 0.0 or not math.isfinite(piv):
+            return False
+        r[r0] = r[r0] / piv
+        return True
     for k in range(n):
         p = k
         big = abs(M[m0 + k * n + k])
@@ -425,12 +431,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
-    if nd == 1:  # what _solve does for one unknown, without its loops
-        if W[im] == 0.0 or not math.isfinite(W[im]):
-            ok = False
-        else:
-            W[ir] = W[ir] / W[im]
-    elif nd > 1 and not _solve(W, im, W, ir, nd):
+    if nd > 0 and not _solve(W, im, W, ir, nd):
         ok = False
     for n in range(nn):
         b = no + NODE_W * n

@@ -877,6 +877,7 @@ class DriveRuns:
         default), starting from the state ``x0`` at the first sample."""
         if sys.kind != "rig":
             raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
+        rtol = check_positive("rtol", rtol)
         n = self.time.size if m is None else int(m)
         if not 1 <= n <= self.time.size:
             raise ParameterError("m", m, f"a sample count in [1, {self.time.size}]")
@@ -897,10 +898,7 @@ class DriveRuns:
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
-        plan = sys.info.get("drive_force_plan")
-        if plan is None:
-            plan = sys.info["drive_force_plan"] = _drive_force_plan(sys)
-        idx, direct = plan
+        idx, direct = _drive_force_plan(sys)
         if direct:
             out = np.empty(n)
             _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, idx, out)
