@@ -24,8 +24,9 @@ def _fake_chapters(calls):
     def table(settings):
         calls.append("t")
         return TableResult(
-            table_id="9.1", title="t", frame=pd.DataFrame({"a": [1.0]}), claim="c", claim_holds=True
-        )
+            table_id="9.1", title="t", frame=pd.DataFrame({"a": [1.0]}), claim="c",
+            claim_holds=True, judges="j",
+        )  # fmt: skip
 
     def broken(settings):
         calls.append("b")
@@ -100,13 +101,14 @@ def test_headline_counts_the_claims_and_marks_a_quick_run():
     from inerterlab.report.registry import ReproduceSettings
 
     recs = [
-        {"ok": True, "id": "4.7", "claim_holds": True, "reason": ""},
-        {"ok": True, "id": "4.2", "claim_holds": False, "reason": "the body velocity jumps"},
-        {"ok": False, "id": "4.3"},
-    ]
+        {"kind": "table", "ok": True, "id": "4.7", "claim_holds": True, "reason": ""},
+        {"kind": "table", "ok": True, "id": "4.2", "claim_holds": False,
+         "reason": "the body velocity jumps"},
+        {"kind": "table", "ok": False, "id": "4.3"},
+    ]  # fmt: skip
     quick = _headline(recs, ReproduceSettings(quick=True))
     assert "Quick run" in quick and "1 of 2 thesis claims hold" in quick
-    assert "(tables 4.7)" in quick and "Wk-weighted" in quick
+    assert "claim holds: 4.7." in quick and "Wk-weighted" in quick
     full = _headline(recs[:1], ReproduceSettings(quick=False))
     assert "Quick run" not in full and "1 of 1" in full and "Wk-weighted" not in full
 
@@ -182,7 +184,7 @@ def test_conclusion_is_computed_from_the_tables():
                for f in found), found  # fmt: skip
     assert any("1.15-1.19 Hz" in f and "0.35-0.68 Hz" in f and "both fall" in f for f in found)
     page = _conclusion(recs)
-    assert "3 of 4 table claims and 0 of 1 figure statements" in page
+    assert "3 of 5 thesis claims hold" in page and "tables 3 of 4, figures 0 of 1" in page
     assert "#f-Fig._7.9" in page and "Laws" not in page  # only the contradicted figure
     # change a number: the finding follows it
     recs[3]["frame"].loc[0, "resonance_hz_ours"] = 1.4

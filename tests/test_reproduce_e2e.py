@@ -176,7 +176,7 @@ def test_report_layout_in_headless_chromium(quick_report):
     # at 800 px the widest tables do not fit: they scroll inside their box instead
     assert seen[800]["scrolling"] > 0
     assert verdicts == n_fig
-    assert "table claims" in conclusion and "figure statements" in conclusion
+    assert "thesis claims hold" in conclusion and "figures" in conclusion
 
 
 def _children(pid: int) -> list[int]:

@@ -135,6 +135,59 @@ def count_items(table_ids: list[str] | None, include_figures: bool) -> int:
 MIN_PARALLEL_ITEMS = 4
 
 
+def _magnitude_pairs(columns) -> dict[str, str]:
+    """Our columns and the thesis's counterparts, found by name: ``<q>_ours`` and
+    ``<q>_thesis``, ``ours`` and ``thesis``, ``<q> ours [u]`` and ``<q> thesis [u]``."""
+    cols = [str(c) for c in columns]
+    pairs = {}
+    for c in cols:
+        if c.endswith("_ours"):
+            other = c[: -len("_ours")] + "_thesis"
+        elif c == "ours":
+            other = "thesis"
+        elif " ours" in c:
+            other = c.replace(" ours", " thesis", 1)
+        else:
+            continue
+        if other in cols:
+            pairs[c] = other
+    return pairs
+
+
+def magnitude_check(frame, tolerance: float, pairs: dict | None = None) -> tuple[bool | None, str]:
+    """Do our values agree in magnitude with the thesis's, within ``tolerance`` (relative)?
+
+    Every finite value of ours is set against its printed counterpart (``pairs``: {our
+    column: the thesis's column}, found by name when None; cells without a thesis value
+    or with a thesis value of 0 are skipped). Returns (True/False, a sentence with the
+    range of ours/thesis and the tolerance), or (None, why nothing was compared).
+    """
+    import numpy as np
+
+    pairs = _magnitude_pairs(frame.columns) if pairs is None else pairs
+    ratios = []
+    for ours, thesis in pairs.items():
+        if ours not in frame.columns or thesis not in frame.columns:
+            continue
+        o = np.asarray(frame[ours].to_numpy(dtype=float, na_value=np.nan), dtype=float)
+        t = np.asarray(frame[thesis].to_numpy(dtype=float, na_value=np.nan), dtype=float)
+        ok = np.isfinite(o) & np.isfinite(t) & (t != 0)
+        ratios.extend((o[ok] / t[ok]).tolist())
+    tol = f"tolerance ±{100 * tolerance:g} %"
+    if not ratios:
+        return None, "no value of ours has a printed counterpart to compare"
+    r = np.array(ratios)
+    lo, hi = float(r.min()), float(r.max())
+    worst = float(np.max(np.abs(r - 1.0)))
+    span = _span(lo, hi) if lo > 0 else f"{lo:.3g} to {hi:.3g}"
+    n = f"{r.size} value{'s' if r.size != 1 else ''}"
+    if worst <= tolerance:
+        return True, f"our {n} agree with the thesis's within {100 * worst:.2g} % ({tol})"
+    return False, (
+        f"ours are {span} times the thesis's over {n}, beyond the {tol}"
+    )
+
+
 def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSettings) -> dict:
     """Compute one item and return its record (a failure is recorded, not raised)."""
     t0 = time.perf_counter()
@@ -147,9 +200,13 @@ def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSetting
                 frame=res.frame,
                 claim=res.claim,
                 claim_holds=res.claim_holds,
+                judges=res.judges,
                 reason=res.reason,
                 settings=res.settings,
                 units=dict(res.units),
+            )
+            rec["magnitude_agrees"], rec["magnitude"] = magnitude_check(
+                res.frame, res.magnitude_tolerance, res.magnitude_pairs
             )
         elif isinstance(res, FigureResult):
             rec.update(
@@ -160,6 +217,7 @@ def compute_item(kind: str, ident: str, fn: Callable, settings: ReproduceSetting
                 statement=res.statement,
                 verdict=res.verdict,
                 holds=res.holds,
+                judges=res.judges,
             )
         else:  # a chapter function returned something unexpected: record, do not guess
             rec.update(ok=False, error=f"returned {type(res).__name__}")
@@ -283,8 +341,30 @@ code,pre{background:#f6f8fa}pre{overflow-x:auto}
 """
 
 
-def _headline(tables: list[dict], settings: ReproduceSettings) -> str:
-    """The report's first lines: a quick run marked as such, and how many claims hold."""
+def claim_count(records: list[dict]) -> str:
+    """How many of the thesis's claims hold, counted once for the whole report.
+
+    A claim is a table's claim or a figure's statement that the report judges (a
+    verdict of holds or does not hold); failed items and items with nothing to judge
+    are not counted. The same sentence opens the report and its conclusion.
+    """
+    tables = [r for r in records if r["kind"] == "table" and r["ok"]]
+    figures = [r for r in records if r["kind"] == "figure" and r["ok"]]
+    jt = [r for r in tables if r.get("claim_holds") is not None]
+    jf = [r for r in figures if r.get("holds") is not None]
+    ht = sum(bool(r["claim_holds"]) for r in jt)
+    hf = sum(bool(r["holds"]) for r in jf)
+    return (
+        f"{ht + hf} of {len(jt) + len(jf)} thesis claims hold in our physics (a claim: each "
+        f"judged table claim and figure statement; tables {ht} of {len(jt)}, figures {hf} "
+        f"of {len(jf)})"
+    )
+
+
+def _headline(records: list[dict], settings: ReproduceSettings) -> str:
+    """The report's first lines: a quick run marked as such, how many claims hold and
+    how many tables differ in magnitude from the thesis's values."""
+    tables = [r for r in records if r["kind"] == "table"]
     parts = []
     if settings.quick:
         parts.append(
@@ -293,11 +373,19 @@ def _headline(tables: list[dict], settings: ReproduceSettings) -> str:
         )
     judged = [r for r in tables if r["ok"] and r.get("claim_holds") is not None]
     held = [r for r in judged if r["claim_holds"]]
+    compared = [r for r in tables if r["ok"] and r.get("magnitude_agrees") is not None]
+    apart = [r for r in compared if not r["magnitude_agrees"]]
     if judged:
         ids = ", ".join(html.escape(r["id"]) for r in held) or "none"
         parts.append(
-            f"<p class='claim'><b>{len(held)} of {len(judged)} thesis claims hold in our "
-            f"physics</b> (tables {ids}); the rest do not, each table says why."
+            f"<p class='claim'><b>{html.escape(claim_count(records))}</b>; tables whose claim "
+            f"holds: {ids}. Each verdict says what it judges and why it fails."
+            + (
+                f" {len(apart)} of the {len(compared)} tables with printed values differ from "
+                "them in magnitude beyond the stated tolerance, flagged beside their verdicts."
+                if compared
+                else ""
+            )
             + (
                 " Across the rectangular bump an inerter straight between wheel and body "
                 "passes part of the tyre impulse to the body, so plain RMS accelerations "
@@ -334,14 +422,28 @@ def _verdict(v) -> str:
     return '<span class="na">not judged</span>'
 
 
+def _judged(r: dict, verdict_key: str) -> str:
+    """The verdict, what it judges, and a magnitude disagreement beside it (HTML)."""
+    out = _verdict(r.get(verdict_key))
+    if r.get("judges"):
+        out += f" <small>(judged: {html.escape(r['judges'])})</small>"
+    if r.get("magnitude_agrees") is False:
+        out += (
+            "; <span class='no'>magnitude differs</span>: "
+            f"{html.escape(r.get('magnitude', ''))}"
+        )
+    return out
+
+
 def _markdown_to_html(text: str) -> str:
     """Tiny Markdown subset (headings, bullets, paragraphs, code spans) for the errata."""
-    out, in_list = [], False
+    out, in_list, in_para = [], False, False
     for raw in text.splitlines():
         line = html.escape(raw.rstrip())
         line = re.sub(r"`([^`]+)`", r"<code>\1</code>", line)
         line = re.sub(r"\*\*([^*]+)\*\*", r"<b>\1</b>", line)
         if line.startswith("- "):
+            in_para = False
             if not in_list:
                 out.append("<ul>")
                 in_list = True
@@ -356,18 +458,78 @@ def _markdown_to_html(text: str) -> str:
         if line.startswith("#"):
             level = min(len(line) - len(line.lstrip("#")) + 2, 6)
             out.append(f"<h{level}>{line.lstrip('#').strip()}</h{level}>")
-        elif line.strip():
-            out.append(f"<p>{line}</p>")
+            in_para = False
+        elif not line.strip():
+            in_para = False
+        elif in_para:  # a paragraph runs on until a blank line, as in Markdown
+            out[-1] = out[-1][:-4] + " " + line.strip() + "</p>"
+        else:
+            out.append(f"<p>{line.strip()}</p>")
+            in_para = True
     if in_list:
         out.append("</ul>")
     return "\n".join(out)
 
 
+def source_revision(package_dir: str | os.PathLike | None = None) -> str:
+    """The git commit the package's source is from, read from the repository's files
+    (no program is run): "<40 hex digits>", or a sentence saying why there is none (not
+    a git checkout, e.g. an installed wheel; or a state this reader does not follow).
+
+    Only a repository whose ``src/inerterlab`` is this package counts, so a checkout
+    that merely contains an installed copy is not mistaken for its source.
+    """
+    pkg = Path(package_dir) if package_dir is not None else Path(__file__).resolve().parents[1]
+    root = pkg.parent.parent  # <root>/src/inerterlab
+    dotgit = root / ".git"
+    try:
+        if pkg.name != "inerterlab" or pkg.parent.name != "src" or not dotgit.exists():
+            return "not a git checkout"
+        if dotgit.is_file():  # a worktree: "gitdir: <path>"
+            text = dotgit.read_text().strip()
+            if not text.startswith("gitdir:"):
+                return "not a git checkout"
+            gitdir = (root / text.split(":", 1)[1].strip()).resolve()
+        else:
+            gitdir = dotgit
+        common = gitdir
+        if (gitdir / "commondir").is_file():
+            common = (gitdir / (gitdir / "commondir").read_text().strip()).resolve()
+        head = (gitdir / "HEAD").read_text().strip()
+        if re.fullmatch(r"[0-9a-f]{40}", head):
+            return head
+        if not head.startswith("ref:"):
+            return "unknown (unreadable HEAD)"
+        ref = head.split(":", 1)[1].strip()
+        for base in (gitdir, common):
+            loose = base / ref
+            if loose.is_file():
+                sha = loose.read_text().strip()
+                if re.fullmatch(r"[0-9a-f]{40}", sha):
+                    return sha
+        packed = common / "packed-refs"
+        if packed.is_file():
+            for line in packed.read_text().splitlines():
+                parts = line.split()
+                if len(parts) == 2 and parts[1] == ref and re.fullmatch(r"[0-9a-f]{40}", parts[0]):
+                    return parts[0]
+        return f"unknown (branch {ref} not found)"
+    except (OSError, UnicodeDecodeError) as e:
+        return f"unknown ({type(e).__name__})"
+
+
 def _versions() -> dict:
     import importlib.metadata as md
 
-    out = {"python": platform.python_version(), "platform": platform.platform()}
-    for pkg in ("inerterlab", "numpy", "scipy", "numba", "pandas", "xarray", "matplotlib"):
+    from .. import __version__
+
+    out = {
+        "inerterlab": __version__,
+        "inerterlab git commit (HEAD)": source_revision(),
+        "python": platform.python_version(),
+        "platform": platform.platform(),
+    }
+    for pkg in ("numpy", "scipy", "numba", "pandas", "xarray", "matplotlib"):
         try:
             out[pkg] = md.version(pkg)
         except md.PackageNotFoundError:
@@ -516,13 +678,9 @@ def _findings(records: list[dict]) -> list[str]:
 def _conclusion(records: list[dict]) -> str:
     tables = [r for r in records if r["kind"] == "table" and r["ok"]]
     figures = [r for r in records if r["kind"] == "figure" and r["ok"]]
-    jt = [r for r in tables if r.get("claim_holds") is not None]
-    jf = [r for r in figures if r.get("holds") is not None]
     parts = ["<h2 id='conclusion'>Conclusion</h2>"]
     parts.append(
-        f"<p>{sum(bool(r['claim_holds']) for r in jt)} of {len(jt)} table claims and "
-        f"{sum(bool(r['holds']) for r in jf)} of {len(jf)} figure statements of the thesis "
-        "hold in our physics"
+        f"<p>{html.escape(claim_count(records))}"
         + (
             f"; {len(records) - len(tables) - len(figures)} item(s) failed"
             if len(tables) + len(figures) < len(records)
@@ -548,7 +706,7 @@ def _figure_verdict(r: dict) -> str:
     if r.get("statement"):
         return (
             f"<div class='claim'><b>Thesis:</b> {html.escape(r['statement'])}<br>"
-            f"<b>The data:</b> {_verdict(r.get('holds'))}. {verdict}</div>"
+            f"<b>The data:</b> {_judged(r, 'holds')}. {verdict}</div>"
         )
     return f"<div class='claim'><b>Not in the thesis</b> (ours). {verdict}</div>"
 
@@ -575,7 +733,7 @@ def render(
         "<title>inerterlab: thesis reproduction report</title>",
         f"<style>{_CSS}</style></head><body>",
         "<h1>Thesis reproduction report</h1>",
-        _headline(tables, settings),
+        _headline(records, settings),
         "<p>Every thesis table and figure that carries information, regenerated by inerterlab "
         "beside the thesis's own numbers. Differences are expected: the thesis's MATLAB code "
         "never adapts the flywheel and leaves several settings unstated (see the errata). "
@@ -592,7 +750,7 @@ def render(
             parts.append(
                 f"<tr><td><a href='#t-{_slug(r['id'])}'>Table {html.escape(r['id'])}</a></td>"
                 f"<td>{html.escape(r['title'])}</td><td>{html.escape(r['claim'])}</td>"
-                f"<td>{_verdict(r['claim_holds'])}</td></tr>"
+                f"<td>{_judged(r, 'claim_holds')}</td></tr>"
             )
         else:
             parts.append(
@@ -605,7 +763,7 @@ def render(
             parts.append(
                 f"<tr><td>{link}</td><td>{html.escape(r['title'])}</td>"
                 f"<td>{html.escape(r.get('statement') or '(not in the thesis)')}</td>"
-                f"<td>{_verdict(r.get('holds'))}: {html.escape(r.get('verdict', ''))}</td></tr>"
+                f"<td>{_judged(r, 'holds')}: {html.escape(r.get('verdict', ''))}</td></tr>"
             )
         else:
             parts.append(
@@ -629,7 +787,13 @@ def render(
         parts.append(f"<p>{html.escape(r['title'])}</p>")
         parts.append(
             f"<div class='claim'><b>Thesis claim:</b> {html.escape(r['claim'])}<br>"
-            f"<b>In our physics:</b> {_verdict(r['claim_holds'])}. {html.escape(r['reason'])}</div>"
+            f"<b>In our physics:</b> {_judged(r, 'claim_holds')}. {html.escape(r['reason'])}"
+            + (
+                f"<br><b>Magnitude against the thesis:</b> {html.escape(r['magnitude'])}."
+                if r.get("magnitude")
+                else ""
+            )
+            + "</div>"
         )
         frame = _numeric_none(r["frame"])
         units = r.get("units") or {}
@@ -682,6 +846,11 @@ def render(
             | {"reused": bool(r.get("reused", False))}
             | ({"error": r["error"]} if not r["ok"] else {})
             | ({"claim_holds": r["claim_holds"]} if r["ok"] and r["kind"] == "table" else {})
+            | (
+                {"magnitude_agrees": r.get("magnitude_agrees")}
+                if r["ok"] and r["kind"] == "table"
+                else {}
+            )
             | ({"holds": r.get("holds")} if r["ok"] and r["kind"] == "figure" else {})
             for r in records
         ],

@@ -56,10 +56,12 @@ def table_check_values(settings: ReproduceSettings) -> TableResult:
     for preset, qty, thesis, where in _THESIS_CH3:
         pub = _ours(preset, "published", qty)
         geo = _ours(preset, "geometry", qty)
+        name, unit = qty.split(" [")
         rows.append(
             {
                 "flywheel": preset,
-                "quantity": qty,
+                "quantity": name,
+                "unit": unit.rstrip("]"),
                 "source": where,
                 "thesis": thesis,
                 "ours_published_law": pub,
@@ -81,6 +83,7 @@ def table_check_values(settings: ReproduceSettings) -> TableResult:
         frame=frame,
         claim="The metal flywheel changes its inertia by 11.67 %, the nylon one by 28.5 %.",
         claim_holds=holds,
+        judges="the two changing ratios against the printed ones, to the printed digits",
         reason=f"Our changing ratios {'agree' if holds else 'do not agree'} with the printed "
         "ones to the printed digits ("
         + ", ".join(f"{v:.4g} %" for v in ratios.ours_published_law)
@@ -88,7 +91,7 @@ def table_check_values(settings: ReproduceSettings) -> TableResult:
         "Table 3.1 gives a constant of 8.03e-4 kg m^2, not the printed 8.83e-4, hence a "
         "larger ratio with the geometry law; the nylon geometry reproduces its law.",
         settings={"laws": "published and geometry"},
-        units=dict.fromkeys(("thesis", "ours_published_law", "ours_geometry_law"), "of quantity"),
+        magnitude_pairs={"ours_published_law": "thesis"},
     )
 
 
@@ -129,6 +132,7 @@ def table_equivalent_mass(settings: ReproduceSettings) -> TableResult:
         claim="The metal flywheel on the hydraulic device gives about 0.88-1.0 t of "
         "equivalent mass; the nylon one about 0.21-0.29 t.",
         claim_holds=holds,
+        judges="every equivalent mass with a printed counterpart, to the printed digits",
         reason=f"Our {len(pairs)} values with a printed counterpart "
         f"{'agree' if holds else 'do not all agree'} with it to the printed digits; they "
         "follow from the ratios of Tables 3.2, 3.4, 5.3.",
@@ -198,6 +202,8 @@ def figure_flywheel_laws(settings: ReproduceSettings) -> FigureResult:
         f"stops at {stops}; inertia against l^2 is a straight line to "
         f"{max(v['affine'] for v in seen.values()):.1g} of its maximum.",
         holds=holds,
+        judges="the shape of the laws: the slider radius never falls with speed and the "
+        "inertia is a straight line in l^2 (to 1e-9 of its maximum), not the values",
     )
 
 
@@ -300,6 +306,8 @@ def table_force_laws(settings: ReproduceSettings) -> TableResult:
         frame=pd.DataFrame(rows),
         claim="(beyond the thesis) Only an energy-consistent law conserves work = stored + dissipated.",
         claim_holds=holds,
+        judges="the work balance of each law: imbalance above 1 % of the work for the "
+        "thesis law, below 0.1 % for the others (the thesis prints no values here)",
         reason="Imbalance in % of the work: "
         + ", ".join(f"{k} {v:.2g}" for k, v in imb.items())
         + " (judged: above 1 % for the thesis law, below 0.1 % for the others). The thesis law F = m_e(v) dv/dt omits the d(I)/dt omega term and the spring energy, "

@@ -52,6 +52,17 @@ _TITLE_OF = {
     "rms_deflection": "RMS suspension deflection (4.25)-(4.26) [m]",
 }
 _UNIT_OF = {"rms_body_acc": "m/s^2", "rms_tyre_grip": "-", "rms_deflection": "m"}
+#: short axis labels of the figures (quantity and unit)
+_AXIS_OF = {
+    "rms_body_acc": "RMS body acceleration [m/s$^2$]",
+    "rms_tyre_grip": "RMS tyre grip index [-]",
+    "rms_deflection": "RMS deflection [m]",
+}
+_SHORT_OF = {
+    "rms_body_acc": "RMS body acceleration",
+    "rms_tyre_grip": "RMS tyre grip index",
+    "rms_deflection": "RMS deflection",
+}
 _FIGURE_OF = {
     **{f"4.{i}": f"Fig. 4.{i + 3}" for i in range(1, 10)},
     **{f"6.{i}": f"Fig. 6.{i + 2}" for i in range(1, 10)},
@@ -144,6 +155,20 @@ def _settings(chapter: str, input_name: str, quick: bool) -> dict:
         "backend": "numba Dormand-Prince 5(4), rtol 1e-8",
         "quick": quick,
     }
+
+
+def _judges(table_id: str) -> str:
+    """What the verdict of table ``table_id`` judges, in words."""
+    _, orders, equals, falls = CLAIMS[table_id]
+    parts = []
+    if orders:
+        parts.append("the ordering of the suspensions at every mass")
+    if equals:
+        parts.append("whether the suspensions the thesis calls about equal lie within 10 % of each other")
+    if falls:
+        parts.append("that every value falls with mass")
+    head = ", ".join(parts[:-1]) + (" and " if len(parts) > 1 else "") + parts[-1]
+    return head + ", not the values"
 
 
 def _judge(table_id: str, frame, masses) -> tuple[bool, str]:
@@ -255,9 +280,15 @@ def _make_table(table_id: str):
             frame=frame,
             claim=CLAIMS[table_id][0],
             claim_holds=holds,
+            judges=_judges(table_id),
             reason=reason,
             settings=_settings(chapter, input_name, settings.quick),
             units={c: _UNIT_OF[metric] for c in frame.columns if c != "body_mass_kg"},
+            # the thesis's plain RMS against ours of the same quantity: where ours is the
+            # Wk-weighted value, the plain RMS on the smoothed pulse
+            magnitude_pairs={f"{s}_smoothed_plain_rms": f"{s}_thesis" for s in SUSPENSIONS[chapter]}
+            if infinite
+            else None,
         )
 
     table.__doc__ = f"Table {table_id}: {_TITLE_OF[metric]} under {input_name}."
@@ -297,55 +328,87 @@ def _mass_trend(v) -> str:
 def _make_figure(table_id: str):
     fig_id = _FIGURE_OF[table_id]
     table_fn = TABLES[table_id]
+    chapter, num = table_id.split(".")
+    metric = _METRIC_OF[(int(num) - 1) // 3]
+    input_name = _INPUT_OF[(int(num) - 1) % 3 + 1]
 
     def figure(settings: ReproduceSettings) -> FigureResult:
+        from matplotlib.lines import Line2D
+
         from ..plotting import _plt
 
         t = table_fn(settings)
         df = t.frame
         plt = _plt()
-        fig, ax = plt.subplots(figsize=(6.5, 4))
         smoothed = any(c.endswith("_smoothed_plain_rms") for c in df.columns)
-        for s in SUSPENSIONS[table_id[0]]:
-            (ln,) = ax.plot(
-                df.body_mass_kg,
-                df[f"{s}_ours"],
-                "o-",
-                label=f"{LABELS[s]} (ours{', Wk-weighted' if smoothed else ''})",
-            )
-            ax.plot(
-                df.body_mass_kg,
-                df[f"{s}_thesis"],
-                "x--",
-                c=ln.get_color(),
-                label=f"{LABELS[s]} (thesis{', plain RMS' if smoothed else ''})",
-            )
+        # the thesis's values share an axis only with ours of the same quantity; where
+        # ours is Wk-weighted (plain RMS infinite across the steps) it gets its own panel
+        if smoothed:
+            fig, (ax, ax_wk) = plt.subplots(1, 2, figsize=(6.5, 4), sharex=True)
+        else:
+            fig, ax = plt.subplots(figsize=(6.5, 4))
+            ax_wk = None
+        colours = {}
+        for s in SUSPENSIONS[chapter]:
+            th = ax.plot(df.body_mass_kg, df[f"{s}_thesis"], "x--", label=f"{LABELS[s]}, thesis")
+            colours[s] = th[0].get_color()
             if smoothed:
-                ax.plot(
-                    df.body_mass_kg,
-                    df[f"{s}_smoothed_plain_rms"],
-                    "^:",
-                    c=ln.get_color(),
-                    label=f"{LABELS[s]} (ours, plain RMS, {1e3 * SMOOTH_EDGE:g} ms edges)",
-                )
+                ax.plot(df.body_mass_kg, df[f"{s}_smoothed_plain_rms"], "^:", c=colours[s],
+                        label=f"{LABELS[s]}, ours, {1e3 * SMOOTH_EDGE:g} ms edges")  # fmt: skip
+                ax_wk.plot(df.body_mass_kg, df[f"{s}_ours"], "o-", c=colours[s],
+                           label=f"{LABELS[s]}, ours, Wk-weighted")  # fmt: skip
+            else:
+                ax.plot(df.body_mass_kg, df[f"{s}_ours"], "o-", c=colours[s],
+                        label=f"{LABELS[s]}, ours")  # fmt: skip
         ax.set_xlabel("body mass M_v [kg]")
-        ax.set_ylabel(t.title.split(",")[0])
-        ax.set_title(f"{fig_id}: {t.title}", fontsize=9)
-        ax.legend(fontsize=7)
+        ax.set_ylabel(_AXIS_OF[metric])
+        ax.grid(alpha=0.3)
+        mark = [Line2D([], [], ls="--", marker="x", c="k", label="thesis")]
+        if smoothed:
+            mark.append(Line2D([], [], ls=":", marker="^", c="k",
+                               label=f"ours, {1e3 * SMOOTH_EDGE:g} ms edges"))  # fmt: skip
+            ax.set_title("plain RMS (4.15)", fontsize=8)
+            ax_wk.set_title("ours, ISO 2631 Wk-weighted RMS", fontsize=8)
+            ax_wk.set_xlabel("body mass M_v [kg]")
+            ax_wk.set_ylabel("Wk-weighted RMS body acc. [m/s$^2$]")
+            ax_wk.grid(alpha=0.3)
+        else:
+            mark.append(Line2D([], [], ls="-", marker="o", c="k", label="ours"))
+        handles = [Line2D([], [], c=colours[s], label=LABELS[s]) for s in colours] + mark
+        ax.legend(handles=handles, fontsize=6 if smoothed else 7)
+        fig.suptitle(
+            f"{fig_id}: {_SHORT_OF[metric]}, {input_name} input, ch. {chapter}", fontsize=9
+        )
         fig.tight_layout()
         seen = _what_the_data_show(table_id, df)
+        masses = f"M_v = {int(df.body_mass_kg.min())}-{int(df.body_mass_kg.max())} kg"
+        if smoothed:
+            caption = (
+                f"Left, the plain RMS (4.15), the thesis's metric, at {masses}: the thesis's "
+                "values (crosses, dashed) and ours with the pulse's edges smoothed over "
+                f"{1e3 * SMOOTH_EDGE:g} ms (triangles, dotted), since on the rectangular pulse "
+                "the plain RMS of an inerter straight between wheel and body is infinite. "
+                "Right, on its own axis: ours, the ISO 2631 Wk-weighted RMS on the rectangular "
+                "pulse (circles), which the thesis does not give. Colours: the suspensions. "
+                f"Wk-weighted: {seen}."
+            )
+        else:
+            caption = (
+                f"Ours (circles, solid) and the thesis's (crosses, dashed) at {masses}, "
+                f"colours the suspensions: {seen}."
+            )
         return FigureResult(
             figure_id=fig_id,
             title=t.title,
             figure=fig,
             data=df,
-            caption=f"Ours (circles) and the thesis's (crosses) at M_v = "
-            f"{int(df.body_mass_kg.min())}-{int(df.body_mass_kg.max())} kg: {seen}.",
+            caption=caption,
             statement=t.claim,
             verdict=f"{seen[0].upper()}{seen[1:]}"
             + ("" if t.claim_holds else f"; against the claim: {t.reason.split('.')[0]}")
             + ".",
             holds=t.claim_holds,
+            judges=t.judges,
         )
 
     return figure

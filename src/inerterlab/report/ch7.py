@@ -154,6 +154,8 @@ def table_7_1(settings: ReproduceSettings) -> TableResult:
         claim="The resonance frequency falls and the peak transmissibility grows as the input "
         "amplitude grows.",
         claim_holds=falls and grows,
+        judges="the trends with the amplitude B (resonance falls, peak X1/B grows), not the "
+        "values",
         reason=f"Resonance falls with B: {'yes' if falls else 'no'}; peak X1/B grows with B: "
         f"{'yes' if grows else 'no'} (ours {', '.join(f'{x:.3f}' for x in ratio)}). Our "
         "resonances sit near 1.1-1.2 Hz, not 0.35-0.68 Hz: with m_e = r^2 I between 882 and "
@@ -217,6 +219,7 @@ def _nrmse_table(table_id: str, method: str, quantity: str, title: str, claim: s
             frame=frame,
             claim=claim,
             claim_holds=holds,
+            judges=_JUDGES[method],
             reason=reason,
             settings=_settings(settings.quick),
         )
@@ -278,6 +281,17 @@ def _gap_text(gaps: dict) -> str:
 
 
 #: what the thesis says about each comparison figure (the claims of tables 7.2-7.4)
+_JUDGES = {
+    "shb": "whether our error grows with B at every step (not its size)",
+    "mhb": "our error below 15 % at every B",
+    "sihb": "our SIHB error at most our MHB error at every B",
+}
+_JUDGES_FIGURE = {
+    "shb": "whether the largest gap to brute force grows with B at every step",
+    "mhb": "the largest gap to brute force, below 15 % at every B",
+    "sihb": "whether the largest gap to brute force is never larger than multi-harmonic "
+    "balance's at the same B",
+}
 _STATEMENT = {
     "shb": "The error of single harmonic balance against brute force grows with the input "
     "amplitude (Fig. 7.2, Table 7.2).",
@@ -358,6 +372,7 @@ def _comparison_figure(fig_id: str, method: str, title: str):
             statement=_STATEMENT[method],
             verdict=verdict[0].upper() + verdict[1:],
             holds=holds,
+            judges=_JUDGES_FIGURE[method],
         )
 
     return figure
@@ -418,6 +433,7 @@ def figure_7_9(settings: ReproduceSettings) -> FigureResult:
         "traditional suspension (Fig. 7.9).",
         verdict=f"At B = {span} cm the adaptive flywheel {moves}.",
         holds=lowers,
+        judges="whether the adaptive flywheel lowers the resonance frequency at every B shown",
     )
 
 

@@ -24,6 +24,9 @@ VARIANTS = (
     "screw",
     "fluid",
 )
+#: comfort gain [points of %] over the better bracketing constant inerter from which
+#: adaptivity counts as helping
+HELPS_POINTS = 0.5
 LAYOUT_NAMES = ("series", "series-spring")
 INPUT_NAMES = ("bump", "iso-c")
 
@@ -77,12 +80,8 @@ def figure_layouts(settings: ReproduceSettings) -> FigureResult:
     axes[0].set_ylabel("comfort gain vs optimised k | c [%]\n(ISO 2631 Wk RMS, + is better)")
     axes[0].legend(fontsize=7)
     caption, margin = _caption(data)
-    holds = bool(margin >= 0.5)
-    verdict = (
-        f"adaptivity adds at most {margin:+.2f} points of comfort over the better of the two "
-        "constant inerters that bracket its inertance, in both optimised layouts and on both "
-        "inputs: " + ("it helps somewhere." if holds else "it does not help.")
-    )
+    holds = bool(margin >= HELPS_POINTS)
+    verdict = adaptivity_verdict(margin)
     return FigureResult(
         figure_id="Layouts",
         title="Which layout lets an inerter pay: ideal, adaptive and real inerters in the "
@@ -92,9 +91,31 @@ def figure_layouts(settings: ReproduceSettings) -> FigureResult:
         caption=caption,
         statement="an adaptive flywheel improves ride comfort (the thesis's premise), tested "
         "here beyond the thesis's layout, in the H2-optimal series layouts",
-        verdict=verdict[0].upper() + verdict[1:],
+        verdict=verdict,
         holds=holds,
+        judges=f"whether an adaptive flywheel beats the better of the two constant inerters "
+        f"that bracket its inertance by at least {HELPS_POINTS:g} points of comfort",
     )
+
+
+def adaptivity_verdict(margin: float) -> str:
+    """The verdict on the best comfort margin [points] of an adaptive flywheel over the
+    better of its two bracketing constant inerters, worded for its sign."""
+    where = (
+        "the better of the two constant inerters that bracket its inertance, in both "
+        "optimised layouts and on both inputs"
+    )
+    if margin < 0:
+        return (
+            f"Adaptivity never beats {where}: at best it is {-margin:.2f} points of comfort "
+            "behind; it does not help."
+        )
+    if margin < HELPS_POINTS:
+        return (
+            f"Adaptivity adds at most {margin:.2f} points of comfort over {where}, less than "
+            f"the {HELPS_POINTS:g} points counted as a gain; it does not help."
+        )
+    return f"Adaptivity adds up to {margin:.2f} points of comfort over {where}: it helps somewhere."
 
 
 def _caption(data: pd.DataFrame) -> tuple[str, float]:
@@ -113,7 +134,7 @@ def _caption(data: pd.DataFrame) -> tuple[str, float]:
                 margins.append((d[(v, i)] - ref, v, i))
         best = max(margins)
         overall = max(overall, best[0])
-        if best[0] < 0.5:
+        if best[0] < HELPS_POINTS:
             verdict = (
                 "no adaptive flywheel beats the better of the two constant inerters that "
                 f"bracket its inertance (best {best[0]:+.2f} points, {best[1]}, {best[2]})"
