@@ -1,7 +1,8 @@
 """Progress of a run of named items on standard error.
 
 On a terminal: a live bar naming the item being computed, with elapsed time and an
-estimate of the time left. Otherwise (a log file, CI, a pipe): plain lines, one when the
+estimate of the time left (:class:`inerterlab.report.timeleft.TimeLeft`: measured task
+costs and the speed of this run; it says when it cannot estimate). Otherwise (a log file, CI, a pipe): plain lines, one when the
 run starts and then one every ``interval`` seconds, each naming the running item, so a
 long item still shows signs of life; and a last line when the run ends.
 """
@@ -40,10 +41,15 @@ class RunProgress:
     live : bool, optional
         Force the live bar (True) or plain lines (False); by default the bar only if
         ``stream`` is a terminal.
+    estimator : TimeLeft, optional
+        Follows the run's tasks and gives the time left (a fresh one by default; pass
+        the same object to the run).
     """
 
     def __init__(self, total: int, *, label: str, stream=None, interval: float = 10.0,
-                 live: bool | None = None):  # fmt: skip
+                 live: bool | None = None, estimator=None):  # fmt: skip
+        from ..report.timeleft import TimeLeft
+
         self.total = int(total)
         self.label = label
         self.stream = stream if stream is not None else sys.stderr
@@ -52,13 +58,11 @@ class RunProgress:
             isatty = getattr(self.stream, "isatty", None)
             live = bool(isatty and isatty())
         self.live = live
+        self.estimator = estimator if estimator is not None else TimeLeft()
         self.completed = 0
-        self.computed = 0  # items computed (not reused), for the estimate
-        self.reused_seconds = 0.0  # time spent on reused items (near zero)
         self.current: str | None = None
         self.current_since = 0.0
         self.t0 = time.perf_counter()
-        self._last_event = self.t0
         self._lock = threading.Lock()
         self._stop = threading.Event()
         self._thread = None
@@ -66,14 +70,16 @@ class RunProgress:
         self._task = None
 
     # -- estimate ----------------------------------------------------------------
-    def eta(self) -> float | None:
-        """Seconds left: the time per item computed so far (reused items not counted)
-        times the items left (None before the first computed item)."""
-        if self.computed == 0:
-            return None
-        left = self.total - self.completed
-        elapsed = time.perf_counter() - self.t0 - self.reused_seconds
-        return max(0.0, left * elapsed / self.computed)
+    def eta(self) -> tuple[float | None, str]:
+        """(seconds left, how obtained) or (None, why not): see :class:`TimeLeft`."""
+        return self.estimator.estimate()
+
+    def left_text(self) -> str:
+        """The time left in words, saying how it was obtained or why it cannot be."""
+        eta, how = self.eta()
+        if eta is None:
+            return f"time left unknown ({how})"
+        return f"about {_duration(eta)} left ({how})"
 
     def line(self) -> str:
         """One plain progress line."""
@@ -82,8 +88,7 @@ class RunProgress:
         if self.current:
             parts.append(f"running {self.current} ({_duration(now - self.current_since)})")
         parts.append(f"elapsed {_duration(now - self.t0)}")
-        eta = self.eta()
-        parts.append(f"about {_duration(eta)} left" if eta is not None else "estimating time left")
+        parts.append(self.left_text())
         return ", ".join(parts)
 
     # -- events ------------------------------------------------------------------
@@ -96,18 +101,12 @@ class RunProgress:
             self._bar.update(self._task, description=f"running {name}")
 
     def done(self, name: str) -> None:
-        reused = name.endswith("(reused)")
         with self._lock:
-            if reused:
-                if self.current is None:  # time since the last event went on reading it
-                    self.reused_seconds += time.perf_counter() - self._last_event
-            else:
-                self.computed += 1
             self.completed += 1
             self.current = None
-            self._last_event = time.perf_counter()
         if self._bar is not None:
-            self._bar.update(self._task, advance=1, description=f"done {name}")
+            self._bar.update(self._task, advance=1, description=f"done {name}",
+                             left=self.left_text())  # fmt: skip
 
     def note(self, text: str) -> None:
         """A message that must be seen now (e.g. how Ctrl-C is handled)."""
@@ -126,7 +125,6 @@ class RunProgress:
                 Progress,
                 TextColumn,
                 TimeElapsedColumn,
-                TimeRemainingColumn,
             )
 
             self._bar = Progress(
@@ -134,18 +132,17 @@ class RunProgress:
                 BarColumn(),
                 TextColumn("{task.completed}/{task.total}"),
                 TimeElapsedColumn(),
-                TextColumn("left"),
-                TimeRemainingColumn(),
+                TextColumn("{task.fields[left]}"),
                 TextColumn("{task.description}"),
                 transient=True,
                 console=Console(file=self.stream, force_terminal=True),
             )
             self._bar.__enter__()
-            self._task = self._bar.add_task("starting", total=self.total)
+            self._task = self._bar.add_task("starting", total=self.total, left=self.left_text())
         else:
             self._write(f"{self.label}: {self.total} item{'' if self.total == 1 else 's'}")
-            self._thread = threading.Thread(target=self._beat, daemon=True)
-            self._thread.start()
+        self._thread = threading.Thread(target=self._beat, daemon=True)
+        self._thread.start()
         return self
 
     def __exit__(self, *exc) -> None:
@@ -161,7 +158,10 @@ class RunProgress:
             )
 
     def _beat(self) -> None:
-        while not self._stop.wait(self.interval):
+        while not self._stop.wait(1.0 if self._bar is not None else self.interval):
+            if self._bar is not None:  # the live bar's time left, kept current
+                self._bar.update(self._task, left=self.left_text())
+                continue
             with self._lock:
                 text = self.line()
             self._write(text)

@@ -71,8 +71,12 @@ def reproduce_command(
     settings = ReproduceSettings(quick=quick, workers=check_workers("--workers", workers))
     resolve_report_target(out)  # refuse a bad --out before any progress line
     ids = parse_table_selection(tables, list(_load_chapters()[0])) if tables is not None else None
+    from ..report.timeleft import TimeLeft
+
     total = count_items(ids, ids is None)
-    with RunProgress(total, label="reproduce", interval=progress_interval) as bar:
+    tracker = TimeLeft()
+    with RunProgress(total, label="reproduce", interval=progress_interval,
+                     estimator=tracker) as bar:  # fmt: skip
         # first Ctrl-C: finish the current item, keep everything, stop; second: stop now.
         # Raising inside the handler could land in a native callback (numba compiling)
         # that swallows it, so the first one only sets a flag polled between items.
@@ -93,6 +97,7 @@ def reproduce_command(
                 progress=bar.done,
                 on_start=bar.start,
                 should_stop=lambda: stop["requested"],
+                tracker=tracker,
             )
         finally:
             signal.signal(signal.SIGINT, previous)

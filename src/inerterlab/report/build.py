@@ -244,6 +244,7 @@ def run_items(
     should_stop: Callable[[], bool] | None = None,
     on_start: Callable[[str], None] | None = None,
     timeline: list | None = None,
+    tracker=None,
 ) -> list[dict]:
     """Compute (or reuse from ``work_dir``) every selected item; returns item records.
 
@@ -252,6 +253,7 @@ def run_items(
     ``on_start`` is called with the name of each item about to be computed,
     ``progress`` with the name of each item done. ``timeline`` (a list) receives the
     tasks of a parallel run with their times (:func:`.parallel.run_parallel`).
+    ``tracker`` (a :class:`.timeleft.TimeLeft`) follows the tasks for the time left.
     """
     tables, figures = _load_chapters()
     chosen_tables = table_ids if table_ids is not None else sorted(tables, key=_table_key)
@@ -301,7 +303,10 @@ def run_items(
             done=arrived,
             should_stop=should_stop,
             timeline=timeline,
+            tracker=tracker,
         )
+    elif tracker is not None:
+        tracker.plan([f"{k} {i}" for k, i, _ in todo], 1)
     for kind, ident, fn in items:
         if should_stop is not None and should_stop():
             raise KeyboardInterrupt
@@ -314,7 +319,11 @@ def run_items(
             continue
         if on_start and not from_worker:
             on_start(f"{kind} {ident}")
+        if tracker is not None and not from_worker:
+            tracker.begin(f"{kind} {ident}")
         rec = pre.pop((kind, ident)) if from_worker else compute_item(kind, ident, fn, settings)
+        if tracker is not None and not from_worker:
+            tracker.end(f"{kind} {ident}")
         if not from_worker:
             save(rec)
         records.append(rec)
@@ -717,11 +726,14 @@ def render(
     elapsed: float,
     errata: str,
     timeline: list | None = None,
+    task_costs: tuple[str, dict] | None = None,
 ) -> dict:
     """Build the files of the report in memory: {relative path: bytes}.
 
     ``timeline``: the tasks of a parallel run with their times, kept in the manifest
-    (``parallel_tasks``) to show where the wall time went."""
+    (``parallel_tasks``) to show where the wall time went. ``task_costs``: ("serial" or
+    "parallel", {task key: seconds}), kept (``task_mode``, ``task_seconds``) for the next
+    run's estimate of the time left (:mod:`.timeleft`)."""
     files: dict[str, bytes] = {}
     versions = _versions()
     tables = [r for r in records if r["kind"] == "table"]
@@ -857,6 +869,8 @@ def render(
     }
     if timeline:
         manifest["parallel_tasks"] = timeline
+    if task_costs is not None:
+        manifest["task_mode"], manifest["task_seconds"] = task_costs
     files["manifest.json"] = json.dumps(manifest, indent=2).encode()
     return files
 
@@ -978,6 +992,7 @@ def reproduce(
     errata_path: str | os.PathLike | None = None,
     should_stop: Callable[[], bool] | None = None,
     on_start: Callable[[str], None] | None = None,
+    tracker=None,
 ) -> dict:
     """Run the reproduction and write the report to ``out``; returns the manifest.
 
@@ -990,7 +1005,12 @@ def reproduce(
     tables : str, optional
         Selection such as "4.1-4.9,6.1-6.9"; with a selection, figures are skipped
         unless ``figures`` is True and no selection is given.
+    tracker : TimeLeft, optional
+        Given the measured costs of an earlier run (:func:`.timeleft.known_costs`) and
+        the tasks as they run, for the progress line's time left.
     """
+    from .timeleft import TimeLeft, known_costs
+
     settings = settings or ReproduceSettings()
     out = resolve_report_target(out)
     t0 = time.perf_counter()
@@ -1001,16 +1021,23 @@ def reproduce(
         clean_stale_temporaries(out)
         out = resolve_report_target(out)  # checked again now that no one else writes it
         timeline: list = []
+        tracker = tracker if tracker is not None else TimeLeft()
+        costs, source = known_costs(out, settings.quick, settings.workers > 1)
+        tracker.set_costs(costs, source)
         records = run_items(
-            settings, ids, figures and ids is None, work, progress, should_stop, on_start, timeline
-        )
-        manifest = _finish(out, records, settings, t0, errata_path, timeline)
+            settings, ids, figures and ids is None, work, progress, should_stop, on_start,
+            timeline, tracker,
+        )  # fmt: skip
+        mode = "parallel" if tracker.workers > 1 else "serial"
+        measured = {**costs, **tracker.finished} if ids is None else None
+        manifest = _finish(out, records, settings, t0, errata_path, timeline,
+                           (mode, measured) if measured else None)  # fmt: skip
         clean_work_dir(work)
     return manifest
 
 
-def _finish(out, records, settings, t0, errata_path, timeline=None) -> dict:
+def _finish(out, records, settings, t0, errata_path, timeline=None, task_costs=None) -> dict:
     errata = read_errata(errata_path)
-    files = render(records, settings, time.perf_counter() - t0, errata, timeline)
+    files = render(records, settings, time.perf_counter() - t0, errata, timeline, task_costs)
     write_report_atomically(out, files)
     return json.loads(files["manifest.json"])

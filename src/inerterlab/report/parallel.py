@@ -131,6 +131,7 @@ def run_parallel(
     done: Callable[[dict], None] | None = None,
     should_stop: Callable[[], bool] | None = None,
     timeline: list | None = None,
+    tracker=None,
 ) -> dict[tuple[str, str], dict]:
     """Compute ``items`` (kind, id, function) in ``workers`` processes.
 
@@ -141,6 +142,8 @@ def run_parallel(
     the running ones finish and are delivered, then ``KeyboardInterrupt`` is raised.
     ``timeline`` (a list) receives one dict per task: its label and the seconds from the
     start of the pool at which it was handed out and at which its result came back.
+    ``tracker`` (a :class:`~.timeleft.TimeLeft`) is given the tasks' keys (a piece's
+    label; an item task's module and item ids) as they are planned, start and finish.
     """
     import time
 
@@ -176,8 +179,10 @@ def run_parallel(
             deps = {(name, n, k) for n, k, _, m in entries if k not in m.cache}
             label = f"{short} {group[0][1]}" if len(group) == 1 else f"{short} {len(group)} items"
             cost = sum(ITEM_COST_OF.get(i, ITEM_COST.get(name, 1.0)) for _, i in group)
+            key = f"{short} " + ", ".join(i for _, i in group)
             tasks.append([cost, len(tasks), label, _items, (name, group, inner),
-                          ("items", name, [(n, k) for n, k, _, _ in entries]), deps])  # fmt: skip
+                          ("items", name, [(n, k) for n, k, _, _ in entries], key),
+                          deps])  # fmt: skip
     # rank of a task: its cost plus the largest rank of the tasks waiting for it, so a
     # cheap piece that the costliest items wait for goes before costlier loose work
     rank = {id(t): t[0] for t in tasks}
@@ -189,6 +194,12 @@ def run_parallel(
     records: dict[tuple[str, str], dict] = {}
     done_pieces: set = set()
     pending: dict = {}
+
+    def key_of(task) -> str:
+        return task[5][3] if task[5][0] == "items" else task[2]
+
+    if tracker is not None:
+        tracker.plan([key_of(t) for t in tasks], workers)
 
     def next_task():
         """The ready task (all its pieces done) of highest rank: longest first keeps the
@@ -211,6 +222,8 @@ def run_parallel(
                     seeds.setdefault(memo_name, {})[key] = memo.cache[key]
             args = (*args, seeds)
         pending[pool.submit(fn, *args)] = (label, meta, time.perf_counter() - t0)
+        if tracker is not None:
+            tracker.begin(key_of(task))
 
     # the workers start on demand and read these when they start; the parent has loaded
     # its libraries already, so it keeps its own settings
@@ -240,6 +253,8 @@ def run_parallel(
             finished, _ = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
             for fut in finished:
                 label, meta, started = pending.pop(fut)
+                if tracker is not None:
+                    tracker.end(meta[3] if meta[0] == "items" else label)
                 if timeline is not None:
                     end = time.perf_counter() - t0
                     timeline.append({"task": label, "start_s": started, "end_s": end})
