@@ -27,7 +27,8 @@ def test_declared_package_data_exists():
     for pat in patterns:
         assert list(pkg.glob(pat)), f"package data {pat!r} matches no file"
     # every file the code reads through importlib.resources is declared
-    for name in ("errata.md", "appendix_a.csv", "thesis_ch4_6.csv", "thesis_ch7.csv"):
+    for name in ("errata.md", "appendix_a.csv", "thesis_ch4_6.csv", "thesis_ch7.csv",
+                 "reproduce_costs.json"):
         assert any((pkg / "data" / name).match(f"*/{p}") for p in patterns), name
 
 

@@ -59,7 +59,9 @@ def test_time_left_from_measured_costs_and_the_observed_speed():
     est.begin("a")
     clock.t = 4.0
     left, how = est.estimate()
-    assert left == 36.0 and "reference speed" in how
+    assert left == 36.0 and "reference costs, none finished" in how
+    clock.t = 15.0  # a overran its 10 s: this machine is at least 1.5 times slower
+    assert est.estimate()[0] == 0.0 + 15.0 + 30.0
     # a finished at twice its cost: this machine is twice as slow, the rest scales
     clock.t = 20.0
     est.end("a")

@@ -8,8 +8,8 @@ table shipped in ``data/reproduce_costs.json`` (measured once; its provenance is
 the file). The speed of this run is the measured time of the finished tasks over their
 expected cost; the time left is the expected cost of what is left, scaled by that
 speed and shared among the workers, and never less than the longest running task's
-own rest. Before any task has finished the estimate is at the reference speed and
-says so; with no cost known for the tasks it says it cannot estimate.
+own rest. Before any task has finished the estimate is at the reference speed (or
+slower, if a running task has already overrun its cost) and says so; with no cost known for the tasks it says it cannot estimate.
 """
 
 from __future__ import annotations
@@ -89,9 +89,12 @@ class TimeLeft:
             if done:
                 speed = sum(s for _, s in done) / sum(self._expected(t) for t, _ in done)
                 how = "from measured costs and this run's speed"
-            else:
-                speed = 1.0
-                how = "at the reference speed, none finished yet"
+            else:  # at least as slow as a running task that overran its cost
+                speed = max(
+                    [1.0]
+                    + [(now - t0) / c for t, t0 in self.running.items() if (c := self._expected(t))]
+                )
+                how = "from the reference costs, none finished yet"
             rest = 0.0
             longest = 0.0
             for t in self.tasks:
