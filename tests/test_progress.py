@@ -54,6 +54,8 @@ def test_time_left_from_measured_costs_and_the_observed_speed():
     clock = FakeClock()
     est = TimeLeft({"a": 10.0, "b": 10.0, "c": 20.0}, clock=clock)
     assert est.estimate() == (None, "no tasks planned yet")
+    est.plan([], workers=1)
+    assert est.estimate() == (0.0, "nothing to compute, every item reused")
     est.plan(["a", "b", "c"], workers=1)
     # nothing finished: the reference costs, said so, less what the running task did
     est.begin("a")

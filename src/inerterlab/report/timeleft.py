@@ -43,7 +43,7 @@ class TimeLeft:
         self.source = source
         self.clock = clock
         self.workers = 1
-        self.tasks: list[str] = []
+        self.tasks: list[str] | None = None  # None: not planned yet
         self.running: dict[str, float] = {}
         self.finished: dict[str, float] = {}
         self._lock = threading.Lock()
@@ -80,8 +80,10 @@ class TimeLeft:
     def estimate(self) -> tuple[float | None, str]:
         """(seconds left, how it was obtained) or (None, why it cannot be estimated)."""
         with self._lock:
-            if not self.tasks:
+            if self.tasks is None:
                 return None, "no tasks planned yet"
+            if not self.tasks:
+                return 0.0, "nothing to compute, every item reused"
             if not any(t in self.costs for t in self.tasks):
                 return None, "no measured cost for these tasks yet"
             now = self.clock()
