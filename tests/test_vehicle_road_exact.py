@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from scipy.stats import t
 
 from inerterlab.errors import ParameterError
 from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
@@ -81,15 +82,21 @@ def test_time_simulation_equals_the_steady_state_of_the_road_series():
 
 @pytest.mark.slow
 def test_monte_carlo_of_a_linear_car_converges_to_the_spectral_value():
-    # bilateral tyres, symmetric dampers: the linear car. 100 roads of 600 m put the tyre
-    # loads' 95 % interval at +-0.4 %; the road joined by straight lines (front wheels
-    # interpolated twice) was 0.7-0.9 % low there, outside it
+    # bilateral tyres, symmetric dampers: the linear car, whose Monte Carlo must converge
+    # to the spectral value. 100 roads of 600 m put the tyre loads' 95 % interval at
+    # +-0.35 %; the road joined by straight lines (front wheels interpolated twice) was
+    # 1.0 % (rear) and 2.0 % (front) low there, 6 and 11 standard errors.
     mc = monte_carlo(model="half", roads=100, lift_off="off", road_class="C", speed=SPEED,
                      length=600.0, dt=DT, substeps=2, warmup=3.0)  # fmt: skip
     spec = spectral_response(build(load_vehicle(example_vehicle_path()).half_car()),
                              road_spectrum("C"), SPEED).rms  # fmt: skip
-    for k, (val, (lo, hi)) in mc.rms.items():
-        assert lo <= spec[k] <= hi, (k, val, (lo, hi), spec[k])
+    # each printed interval is a 95 % one; over all seven outputs at once the test asks
+    # for 95 % jointly (Bonferroni: each interval widened to 1 - 0.05/7)
+    n = mc.realisations
+    widen = t.ppf(1 - 0.025 / len(mc.rms), n - 1) / t.ppf(0.975, n - 1)
+    for k, (val, (_lo, hi)) in mc.rms.items():
+        half = widen * (hi**2 - val**2)  # the interval is on the mean square
+        assert abs(spec[k] ** 2 - val**2) <= half, (k, val, spec[k], math.sqrt(val**2 + half))
     for axle in ("front", "rear"):
         val, (lo, hi) = mc.rms[f"{axle}_tyre_load"]
         assert (hi - lo) / 2 < 0.005 * val
