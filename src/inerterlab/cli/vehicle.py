@@ -403,11 +403,15 @@ def simulate_command(
         ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
         ("crest factor [-]", f"{out['crest_factor']:.3g}"),
     ]
-    what = "time off the road" if lift_off else "time linear tyre pulls (contact < 0)"
     for c, val in frac.items():
         text = f"{val:.3g}" + (f" (Gaussian {gauss[c]:.3g})" if gauss else "")
-        rows.append((f"{c} {what} [-]", text))
-    _table(f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up", rows)
+        rows.append((f"{c}_{frac_key} [-]", text))
+    what = "time off the road" if lift_off else "negative contact: time the linear tyre pulls"
+    _table(
+        f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up "
+        f"(fractions: {what})",
+        rows,
+    )
 
 
 def monte_carlo_command(
@@ -543,7 +547,10 @@ def monte_carlo_command(
             )
         else:
             rows.append(
-                (f"{c} time linear tyre pulls [-]", f"{val:.3g} ({lo:.3g}-{hi:.3g}){gauss}")
+                (
+                    f"{c} negative contact (linear tyre pulls) [-]",
+                    f"time {val:.3g} ({lo:.3g}-{hi:.3g}){gauss}",
+                )
             )
     _table(f"Monte Carlo over {mc.realisations} roads, 95 % intervals", rows)
 

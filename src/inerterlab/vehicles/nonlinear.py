@@ -54,7 +54,8 @@ __all__ = ["NonlinearResult", "simulate_nonlinear"]
 
 @dataclass(frozen=True)
 class NonlinearResult:
-    """Outputs (name -> array over the road samples), contact forces and lift-off."""
+    """Outputs (name -> array over the road samples), contact forces and, per corner,
+    the fraction of all samples (the start-up included) with the tyre off the road."""
 
     time: np.ndarray
     outputs: dict

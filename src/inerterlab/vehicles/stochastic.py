@@ -71,7 +71,8 @@ def _metric_names(corners) -> tuple[str, ...]:
 #: metrics of the ``half-car-road`` point: mean squares (``ms_``, SI units squared) of
 #: bounce and pitch acceleration, of the Wk-weighted seat (or bounce) acceleration, and
 #: per axle of the suspension deflection and dynamic tyre load, plus the fraction of
-#: time each tyre is off the road [-].
+#: time each tyre's contact force is zero or below [-] (off the road; with ``lift_off``
+#: "off", the linear tyre pulling), all after the start-up.
 HALF_CAR_METRICS = _metric_names(_HALF_CORNERS)
 #: metrics of the ``full-car-road`` point (the half car's, per corner).
 FULL_CAR_METRICS = _metric_names(_FULL_CORNERS)
