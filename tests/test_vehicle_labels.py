@@ -96,7 +96,7 @@ def test_monte_carlo_without_lift_off_reports_no_lift_off_probability(capsys):
         assert v["value"] == pytest.approx(lin[c], rel=0.5)
     rc = main([*args[:-1]])
     text = capsys.readouterr().out
-    assert rc == 0 and "negative contact (linear tyre pulls)" in text and "; roads" not in text
+    assert rc == 0 and "rear_negative_contact_fraction" in text and "; roads" not in text
 
 
 def test_simulate_adaptive_car_is_nonlinear_beside_its_linearisation(capsys, tmp_path):

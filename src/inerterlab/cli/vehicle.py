@@ -547,12 +547,12 @@ def monte_carlo_command(
             )
         else:
             rows.append(
-                (
-                    f"{c} negative contact (linear tyre pulls) [-]",
-                    f"time {val:.3g} ({lo:.3g}-{hi:.3g}){gauss}",
-                )
+                (f"{c}_negative_contact_fraction [-]", f"{val:.3g} ({lo:.3g}-{hi:.3g}){gauss}")
             )
-    _table(f"Monte Carlo over {mc.realisations} roads, 95 % intervals", rows)
+    title = f"Monte Carlo over {mc.realisations} roads, 95 % intervals"
+    if not mc.lift_off:
+        title += " (linear tyres: negative contact = time the tyre pulls)"
+    _table(title, rows)
 
 
 def optimize_command(
