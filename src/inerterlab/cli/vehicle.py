@@ -320,7 +320,8 @@ def simulate_command(
     nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices or adaptive
     substeps = 4
     if road_file is None:
-        # the road at every stage: 8 heights and 8 rates per sample and wheel
+        # the road at every stage: 8 heights and 8 rates per sample and wheel, at most
+        # 8e6 per wheel (0.5 GB for four wheels)
         if length / (v * h) > 1_000_000:
             raise ParameterError(
                 "length", length, f"at most {1e6 * v * h:g} m at this speed and dt"
@@ -467,8 +468,17 @@ def monte_carlo_command(
     h = check_positive("dt", dt, "s")
     if not 2 <= roads <= 1_000_000:
         raise ParameterError("roads", roads, "an integer in [2, 1000000]")
-    if length / (v * h) > 5_000_000:
-        raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
+    if not isinstance(substeps, int) or substeps < 1:
+        raise ParameterError("substeps", substeps, "an integer >= 1")
+    # each road is held at every Runge-Kutta stage: 2 x substeps heights and rates per
+    # sample and wheel, at most 8e6 per wheel (0.5 GB for four wheels) per worker
+    most = 8e6 / (2 * substeps)
+    if length / (v * h) > most:
+        raise ParameterError(
+            "length",
+            length,
+            f"at most {most * v * h:g} m at this speed, dt and {substeps} substeps",
+        )
     path = "" if vehicle is None else str(vehicle)
     _, veh = _load(vehicle, model)
     devices = bool(veh.nonlinear_devices())
