@@ -453,7 +453,10 @@ def monte_carlo_command(
     Prints per output the Monte Carlo RMS [SI units] with its 95 % interval, the
     linearisation's RMS and its error in percent (not for a vehicle with a device at a
     corner, which has no Gaussian equivalent here); per corner the fraction of time off
-    the road and the probability that a road lifts the tyre at least once.
+    the road and the probability that a road lifts the tyre at least once, beside the
+    one-sided Gaussian probability of the linearised contact force going negative. With
+    --no-lift-off the tyres are linear: the fraction of time each pulls (negative
+    contact force) instead, and no lift-off probability.
 
     Example: inerterlab vehicle monte-carlo --roads 1000 --workers 2 --out mc.zarr
     """
