@@ -264,8 +264,8 @@ def generated_road(
     Runge-Kutta stage time; the rates are the series of 2 pi i n_k V Z_k. Joining
     samples by straight lines instead (:func:`road_inputs`) takes power out of the top
     of the band (the triangle kernel's sinc^2), and a second time for the front wheels,
-    which sit between the samples: the Monte Carlo RMS fell 0.3 % (bounce) to 1.3 %
-    (tyre load) below the spectral value (docs/decisions.md). The rear wheels start at
+    which sit between the samples: the Monte Carlo tyre loads fell 0.7-2 % and the
+    accelerations up to 0.7 % below the spectral value (docs/decisions.md). The rear wheels start at
     x = 0, the front wheels a wheelbase ahead, and the run ends when the front wheels
     reach the end of the period, as in :func:`road_inputs`.
     """
