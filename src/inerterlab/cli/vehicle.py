@@ -385,6 +385,7 @@ def simulate_command(
                 compression=compression,
             )
             ref, ref_name, gauss = lin.rms, "linearised", lin.lift_off
+            out["linearisation_converged"] = lin.converged
         else:
             spec = spectral_response(veh, road, v)
             ref, ref_name, gauss = spec.rms, "spectral", spec.lift_off
@@ -395,8 +396,12 @@ def simulate_command(
         emit_json(out)
         return
 
+    label = ref_name
+    if out.get("linearisation_converged") is False:
+        label = "linearised, NOT converged"
+
     def cell(k, value):
-        return f"{value:.4g}" + (f" ({ref_name} {ref[k]:.4g})" if ref else "")
+        return f"{value:.4g}" + (f" ({label} {ref[k]:.4g})" if ref else "")
 
     rows = [(f"{k} [{veh.outputs[k].unit}]", cell(k, rms[k])) for k in rms]
     rows += [
