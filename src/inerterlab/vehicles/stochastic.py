@@ -4,7 +4,9 @@ statistical (Gaussian equivalent) linearisation.
 Monte Carlo
     Each road realisation is one point of a sweep (:mod:`inerterlab.studies`) over the
     road ``seed``: the point functions ``half-car-road`` and ``full-car-road`` generate
-    an ISO 8608 road (left/right coherence of :mod:`inerterlab.vehicles.roads`), drive
+    an ISO 8608 road (left/right coherence of :mod:`inerterlab.vehicles.roads`),
+    evaluated exactly at the wheels and every Runge-Kutta stage
+    (:func:`~inerterlab.vehicles.spectral.generated_road`), drive
     the nonlinear vehicle of :mod:`inerterlab.vehicles.nonlinear` over it and return,
     after a start-up that is left out, the mean square of every output and the fraction
     of time each tyre is off the road. So a Monte Carlo study runs serially, in
@@ -502,7 +504,9 @@ def statistical_linearisation(
 
     Fixed-point iteration on the strut damping, c_eq = c (rebound + compression) / 2
     + friction gain(sigma_v), sigma_v from the spectral response of the current
-    linear vehicle (the RMS of each corner's deflection rate). See the module docstring.
+    linear vehicle (the RMS of the axle's strut extension rate; a full car's axle uses
+    its left corner's, since both corners share the axle's parameters). See the module
+    docstring.
     """
     from .model import build
     from .roads import road_spectrum
