@@ -84,6 +84,10 @@ def test_afw_matches_brute_force():
             y = br.outputs[name].data
             err = np.sqrt(np.sum((x - y) ** 2) / np.sum(y**2))
             assert err <= 1e-3, (d, name, err)
+            # and every point on its own (the default H = 13: at most 0.062 % measured;
+            # H = 9 was 0.25 % off at 5 Hz)
+            rel = np.abs(x / y - 1.0)
+            assert rel.max() <= 1e-3, (d, name, float(rel.max()), h.freq_hz[order][rel.argmax()])
     # the flywheel makes a difference the balance resolves: afw is not the cfw response
     cfw = frequency_response(quarter_car("cfw"), "mhb", freq_hz=freqs, amplitude=amp)
     rel = np.abs(cfw.amplitude_m.data / br.amplitude_m.data - 1)

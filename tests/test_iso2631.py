@@ -115,8 +115,7 @@ def test_foh_filter_equals_continuous_filter():
 
     rng = np.random.default_rng(1)
     fs = 200.0
-    x = rng.standard_normal(2000)
-    x[0] = 0.0  # the digital filter takes the signal as a ramp from 0 before the first sample
+    x = rng.standard_normal(2000)  # x[0] != 0: both filters start from rest there
     t = np.arange(x.size) / fs
     np.testing.assert_allclose(
         iso2631.weight(x, fs, "Wk"), weighted_acceleration(t, x), rtol=0, atol=1e-7
@@ -142,3 +141,58 @@ def test_total_value_and_errors():
         iso2631.weighting("Wz")
     with pytest.raises(ParameterError, match="Wx.q4"):
         iso2631.Weighting(name="Wx", f4=1.0)
+
+
+def _annex_a_tf(name):
+    """Numerator and denominator of the weighting as polynomials in s, multiplied out
+    here from the Annex A formula (independent of the package's sections)."""
+    w = iso2631.weighting(name)
+    r2 = math.sqrt(2.0)
+    num, den = np.array([1.0]), np.array([1.0])
+
+    def mul(b, a):
+        return np.polymul(num, b), np.polymul(den, a)
+
+    if w.f1 is not None:
+        w1 = 2 * math.pi * w.f1  # s^2 / (s^2 + sqrt2 w1 s + w1^2)
+        num, den = mul([1.0, 0.0, 0.0], [1.0, r2 * w1, w1**2])
+    if w.f2 is not None:
+        w2 = 2 * math.pi * w.f2
+        num, den = mul([w2**2], [1.0, r2 * w2, w2**2])
+    if w.f4 is not None:
+        w4 = 2 * math.pi * w.f4
+        b = [w4**2] if w.f3 is None else [w4**2 / (2 * math.pi * w.f3), w4**2]
+        num, den = mul(b, [1.0, w4 / w.q4, w4**2])
+    if w.f5 is not None:
+        w5, w6 = 2 * math.pi * w.f5, 2 * math.pi * w.f6
+        num, den = mul([1.0, w5 / w.q5, w5**2], [1.0, w6 / w.q6, w6**2])
+    return num, den
+
+
+@pytest.mark.parametrize("name", ["Wk", "Wf", "Wd"])
+def test_filters_start_from_rest_like_scipy(name):
+    # a signal that starts far from zero: the start convention shows for seconds (Wf's
+    # 0.08 Hz high pass). Reference: scipy's lsim on the transfer function from a zero
+    # state (exact for a signal linear between samples); the bilinear transform against
+    # the trapezoidal rule written out on scipy's tf2ss realisation from a zero state
+    from scipy.signal import lsim, tf2ss
+
+    fs = 100.0
+    t = np.arange(3000) / fs
+    x = 1.0 + 0.5 * np.sin(2 * np.pi * 0.7 * t) + 0.2 * np.cos(2 * np.pi * 9.0 * t)
+    num, den = _annex_a_tf(name)
+    _, ref, _ = lsim((num, den), x, t, interp=True, X0=None)
+    got = iso2631.weight(x, fs, name)
+    np.testing.assert_allclose(got, ref, rtol=0, atol=1e-9 * np.max(np.abs(ref)))
+    A, B, C, D = tf2ss(num, den)
+    h = 1.0 / fs
+    left = np.eye(A.shape[0]) - 0.5 * h * A
+    right = np.eye(A.shape[0]) + 0.5 * h * A
+    state = np.zeros(A.shape[0])
+    tr = np.empty_like(x)
+    for k in range(x.size):
+        tr[k] = C[0] @ state + D[0, 0] * x[k]
+        if k + 1 < x.size:
+            state = np.linalg.solve(left, right @ state + 0.5 * h * B[:, 0] * (x[k] + x[k + 1]))
+    got = iso2631.weight(x, fs, name, method="bilinear")
+    np.testing.assert_allclose(got, tr, rtol=0, atol=1e-9 * np.max(np.abs(tr)))

@@ -23,7 +23,9 @@ Values computed here (ISO 2631-1 clauses 6 to 8 and 9 for motion sickness):
   RMS with the linear 1 s window, MTVV).
 
 Discrete filtering uses the exact discretisation of the analog filter for a signal
-linear between samples (first-order hold, the default) or the bilinear transform.
+linear between samples (first-order hold, the default) or the bilinear transform, and
+starts from rest: the analog filter's states are zero at the first sample (nothing is
+assumed before it).
 ``inerterlab.metrics`` keeps its own Wk (same parameters) for the quarter-car
 backends; ``tests/test_iso2631.py`` checks that the two agree.
 """
@@ -185,22 +187,24 @@ class Weighting:
             D = d2 @ D
         return A, B, C, D
 
-    def sos(self, fs: float) -> np.ndarray:
-        """Digital second-order sections at ``fs`` [Hz] by the bilinear transform (no prewarping)."""
-        from scipy.signal import bilinear, tf2sos
-
-        fs = check_positive("fs", fs, "Hz")
-        return np.array([tf2sos(*bilinear(b, a, fs=fs))[0] for b, a in self.sections()])
-
     def filter(self, signal, fs: float, method: str = "foh") -> np.ndarray:
-        """Weighted signal of ``signal`` sampled at ``fs`` [Hz], filter at rest before it.
+        """Weighted signal of ``signal`` sampled at ``fs`` [Hz]; the filter starts from
+        rest at the first sample.
 
-        ``"foh"``: exact discretisation of the whole cascade for a signal linear between
-        samples (and rising linearly from 0 over the sample before the first one), run
-        in modal form, one first-order complex recursion per pole, so no high-order
-        polynomial is ever formed. ``"bilinear"``: Tustin transform per section.
+        From rest: every state of the analog filter is zero at t = 0, when the signal
+        starts at its first sample (a step from 0 to x[0] if x[0] != 0), as an analog
+        weighting switched on at the first sample would see it; nothing is assumed
+        before t = 0. ``"foh"``: exact discretisation of the whole cascade for a signal
+        linear between samples; ``"bilinear"``: the Tustin transform of the whole
+        cascade (the same as per section, without prewarping). Either is run in modal
+        form, one first-order complex recursion per pole, so no high-order polynomial
+        is ever formed, each mode started from the discrete state that is the analog
+        filter at rest: for the first-order hold xi_0 = -G1 x[0] (G1 the hold's ramp
+        term, since the discrete state is x(t_k) - G1 x_k), for Tustin
+        xi_0 = -(h/2) B x[0].
         """
-        from scipy.signal import cont2discrete, lfilter, sosfilt
+        from scipy.linalg import expm
+        from scipy.signal import lfilter
 
         fs = check_positive("fs", fs, "Hz")
         check_choice("method", method, ("foh", "bilinear"))
@@ -209,19 +213,39 @@ class Weighting:
             raise ParameterError(
                 "signal", f"array of shape {x.shape}", "a finite 1-D array of >= 2 samples"
             )
-        if method == "bilinear":
-            return sosfilt(self.sos(fs), x)
         A, B, C, D = self.state_space()
-        Ad, Bd, Cd, Dd, _ = cont2discrete((A, B, C, D), 1.0 / fs, method="foh")
+        n = A.shape[0]
+        h = 1.0 / fs
+        if method == "foh":
+            # x(t_k+1) = Phi x(t_k) + G0 u_k + G1 (u_k+1 - u_k); state xi_k = x(t_k) - G1 u_k
+            E = np.zeros((n + 2, n + 2))
+            E[:n, :n] = A * h
+            E[:n, n : n + 1] = B * h
+            E[n, n + 1] = 1.0
+            F = expm(E)
+            Ad, G0, G1 = F[:n, :n], F[:n, n : n + 1], F[:n, n + 1 :]
+            Bd = G0 - G1 + Ad @ G1
+            Cd, Dd = C, D + C @ G1
+            xi0 = -G1[:, 0] * x[0]
+        else:
+            # Tustin, state xi_k = (I - hA/2) x(t_k) - (h/2) B u_k
+            ima = np.eye(n) - 0.5 * h * A
+            Ad = np.linalg.solve(ima, np.eye(n) + 0.5 * h * A)
+            Bd = np.linalg.solve(ima, h * B)
+            Cd = np.linalg.solve(ima.T, C.T).T
+            Dd = D + 0.5 * C @ Bd
+            xi0 = -0.5 * h * B[:, 0] * x[0]
         lam, V = np.linalg.eig(Ad)
         b = np.linalg.solve(V, Bd[:, 0])
+        s0 = np.linalg.solve(V, xi0.astype(complex))
         c = Cd[0] @ V
         y = Dd[0, 0] * x
         done = np.zeros(lam.size, bool)
         for i in range(lam.size):  # complex pairs: one recursion and twice its real part
             if done[i]:
                 continue
-            mode = c[i] * lfilter([0.0, b[i]], [1.0, -lam[i]], x.astype(complex))
+            mode, _ = lfilter([0.0, b[i]], [1.0, -lam[i]], x.astype(complex), zi=[s0[i]])
+            mode = c[i] * mode
             if abs(lam[i].imag) > 0:
                 gap = np.abs(lam - lam[i].conj())
                 gap[done] = np.inf

@@ -271,7 +271,7 @@ def simulate_command(
     ] = None,
     speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
     length: Annotated[float, typer.Option(help="Generated road length [m].")] = 2000.0,
-    dt: Annotated[float, typer.Option(help="Time step [s] of the exact discretisation.")] = 0.002,
+    dt: Annotated[float, typer.Option(help="Road sample interval [s].")] = 0.002,
     seed: Annotated[int, typer.Option(help="Random seed of the road [-].")] = 0,
     lift_off: Annotated[
         bool,
@@ -291,51 +291,69 @@ def simulate_command(
     """Time simulation on a generated or a given road (a check on the spectral RMS values).
 
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
-    [m/s^2], VDV [m/s^1.75] and crest factor [-]; on a generated road also the
-    spectral RMS for comparison. The first 5 s (start-up) are left out. With
-    --lift-off, --rebound or --compression, or a device at a corner ([front.device] in
-    the vehicle file), the nonlinear model runs (fourth-order Runge-Kutta, 4 steps per
-    sample) and the fraction of time each tyre is off the road [-] is printed too; a
-    device has no spectral comparison.
+    [m/s^2], VDV [m/s^1.75] and crest factor [-]. The first 5 s (start-up) are left out
+    of every number. A generated road is driven exactly (its Fourier series at every
+    Runge-Kutta stage, 4 steps per sample); a road file is linear between its samples
+    (exact steps for a linear car). Beside each value on a generated road: the
+    spectral RMS of the linear car, or, when the car is nonlinear (--lift-off,
+    --rebound/--compression, adaptive inerters), the RMS of its Gaussian-equivalent
+    (statistical) linearisation, labelled "linearised". Per corner: with --lift-off the
+    fraction of time the tyre is off the road [-]; without it, the fraction of time
+    the linear tyre's contact force is negative (it would lift off) [-], beside the
+    Gaussian probability of that. A device at a corner has no linear comparison.
 
     Example: inerterlab vehicle simulate --vehicle car.toml --road-class C --speed 20
     """
+    import numpy as np
+
     from .. import iso2631
     from ..errors import ParameterError, check_positive
-    from ..vehicles.roads import generate_tracks, road_spectrum
-    from ..vehicles.spectral import road_inputs, simulate, spectral_response
+    from ..vehicles.roads import road_spectrum
+    from ..vehicles.spectral import generated_road, road_inputs, simulate, spectral_response
 
     params, veh = _load(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
     width = 0.5 * (params.front_track + params.rear_track) if veh.kind == "full" else 1.5
+    adaptive = any(getattr(c.law, "adaptive_inerter", None) for c in veh.connections)
+    devices = bool(veh.nonlinear_devices())
+    nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices or adaptive
+    substeps = 4
     if road_file is None:
-        if length / (v * h) > 5_000_000:
+        # the road at every stage: 8 heights and 8 rates per sample and wheel, at most
+        # 8e6 per wheel (0.5 GB for four wheels)
+        if length / (v * h) > 1_000_000:
             raise ParameterError(
-                "length", length, f"at most {5e6 * v * h:g} m at this speed and dt"
+                "length", length, f"at most {1e6 * v * h:g} m at this speed and dt"
             )
         road = road_spectrum(road_class)
-        x, zl, zr = generate_tracks(road, length=length, step=v * h, track=width, seed=seed)
-        r = road_inputs(veh, x, zl, zr, v, h)
+        r = generated_road(
+            veh, road, length=length, speed=v, dt=h, substeps=substeps, track=width, seed=seed
+        )
+        nt = r.samples.shape[0]
     else:
         road = None
         x, zl, zr = _read_tracks(road_file, width, v * h)
         if x.size > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
-    devices = bool(veh.nonlinear_devices())
-    nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices
-    lift = None
-    if nonlinear:
+        nt = r.shape[0]
+    if nonlinear or road is not None:
         from ..vehicles.nonlinear import simulate_nonlinear
 
         res = simulate_nonlinear(
-            veh, r, h, tyre_lift_off=lift_off, rebound=rebound, compression=compression, substeps=4
+            veh,
+            r,
+            h,
+            tyre_lift_off=lift_off,
+            rebound=rebound,
+            compression=compression,
+            substeps=substeps,
         )
-        y, lift = res.outputs, res.lift_off_fraction
+        y = res.outputs
     else:
         y = simulate(veh, r, h)
-    keep = slice(min(int(5.0 / h), r.shape[0] // 2), None)
+    keep = slice(min(int(5.0 / h), nt // 2), None)
     rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
     acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
     aw = iso2631.weight(y[acc], 1.0 / h, "Wk")[keep]
@@ -347,19 +365,43 @@ def simulate_command(
         "duration_s": float(aw.size * h),
         "model": "nonlinear" if nonlinear else "linear",
     }
-    if lift is not None:
-        out["lift_off_fraction"] = lift
-    spec = None
+    # contact force = static load + dynamic tyre load; 0 while a one-sided tyre is off
+    static = veh.static_tyre_loads()
+    contact = {c: static[c] + y[f"{c}_tyre_load"][keep] for c in veh.corners}
+    frac = {c: float(np.mean(f <= 0.0)) for c, f in contact.items()}
+    frac_key = "lift_off_fraction" if lift_off else "negative_contact_fraction"
+    out[frac_key] = frac
+    ref, ref_name, gauss = None, None, None
     if road is not None and not devices:
-        spec = spectral_response(veh, road, v).rms
-        out["spectral_rms"] = {k: spec[k] for k in rms}
-        out[f"{acc}_wk_spectral"] = spec[f"{acc}_wk"]
+        if nonlinear:
+            from ..vehicles.stochastic import statistical_linearisation
+
+            lin = statistical_linearisation(
+                vehicle="" if vehicle is None else str(vehicle),
+                model=veh.kind,
+                road_class=road_class,
+                speed=v,
+                rebound=rebound,
+                compression=compression,
+            )
+            ref, ref_name, gauss = lin.rms, "linearised", lin.lift_off
+            out["linearisation_converged"] = lin.converged
+        else:
+            spec = spectral_response(veh, road, v)
+            ref, ref_name, gauss = spec.rms, "spectral", spec.lift_off
+        out[f"{ref_name}_rms"] = {k: ref[k] for k in rms}
+        out[f"{acc}_wk_{ref_name}"] = ref[f"{acc}_wk"]
+        out["lift_off_probability_gaussian"] = gauss
     if json_out:
         emit_json(out)
         return
 
+    label = ref_name
+    if out.get("linearisation_converged") is False:
+        label = "linearised, NOT converged"
+
     def cell(k, value):
-        return f"{value:.4g}" + (f" (spectral {spec[k]:.4g})" if spec else "")
+        return f"{value:.4g}" + (f" ({label} {ref[k]:.4g})" if ref else "")
 
     rows = [(f"{k} [{veh.outputs[k].unit}]", cell(k, rms[k])) for k in rms]
     rows += [
@@ -367,9 +409,15 @@ def simulate_command(
         ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
         ("crest factor [-]", f"{out['crest_factor']:.3g}"),
     ]
-    if lift is not None:
-        rows += [(f"{c}_lift_off_fraction [-]", f"{v:.3g}") for c, v in lift.items()]
-    _table(f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up", rows)
+    for c, val in frac.items():
+        text = f"{val:.3g}" + (f" (Gaussian {gauss[c]:.3g})" if gauss else "")
+        rows.append((f"{c}_{frac_key} [-]", text))
+    what = "time off the road" if lift_off else "negative contact: time the linear tyre pulls"
+    _table(
+        f"{out['model']} time simulation, {out['duration_s']:.0f} s after the start-up "
+        f"(fractions: {what})",
+        rows,
+    )
 
 
 def monte_carlo_command(
@@ -410,7 +458,10 @@ def monte_carlo_command(
     Prints per output the Monte Carlo RMS [SI units] with its 95 % interval, the
     linearisation's RMS and its error in percent (not for a vehicle with a device at a
     corner, which has no Gaussian equivalent here); per corner the fraction of time off
-    the road and the probability that a road lifts the tyre at least once.
+    the road and the probability that a road lifts the tyre at least once, beside the
+    one-sided Gaussian probability of the linearised contact force going negative. With
+    --no-lift-off the tyres are linear: the fraction of time each pulls (negative
+    contact force) instead, and no lift-off probability.
 
     Example: inerterlab vehicle monte-carlo --roads 1000 --workers 2 --out mc.zarr
     """
@@ -425,8 +476,17 @@ def monte_carlo_command(
     h = check_positive("dt", dt, "s")
     if not 2 <= roads <= 1_000_000:
         raise ParameterError("roads", roads, "an integer in [2, 1000000]")
-    if length / (v * h) > 5_000_000:
-        raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
+    if not isinstance(substeps, int) or substeps < 1:
+        raise ParameterError("substeps", substeps, "an integer >= 1")
+    # each road is held at every Runge-Kutta stage: 2 x substeps heights and rates per
+    # sample and wheel, at most 8e6 per wheel (0.5 GB for four wheels) per worker
+    most = 8e6 / (2 * substeps)
+    if length / (v * h) > most:
+        raise ParameterError(
+            "length",
+            length,
+            f"at most {most * v * h:g} m at this speed, dt and {substeps} substeps",
+        )
     path = "" if vehicle is None else str(vehicle)
     _, veh = _load(vehicle, model)
     devices = bool(veh.nonlinear_devices())
@@ -477,7 +537,7 @@ def monte_carlo_command(
             "rms": {k: lin.rms[k] for k in mc.rms},
             "error_percent": {k: 100.0 * (lin.rms[k] / mc.rms[k][0] - 1.0) for k in mc.rms},
             "damping": lin.damping,
-            "lift_off_probability_gaussian": lin.spectral.lift_off,
+            "lift_off_probability_gaussian": lin.lift_off,
             "converged": lin.converged,
         }
     if json_out:
@@ -493,14 +553,24 @@ def monte_carlo_command(
             cell += f"; linearised {lin.rms[k]:.4g} ({err:+.1f} %)"
         rows.append((f"{k} [{unit}]", cell))
     for c, (val, (lo, hi)) in mc.lift_off_fraction.items():
-        p, (plo, phi) = mc.lift_off_probability[c]
-        rows.append(
-            (
-                f"{c} lift-off [-]",
-                f"time {val:.3g} ({lo:.3g}-{hi:.3g}); roads {p:.3g} ({plo:.3g}-{phi:.3g})",
+        gauss = "" if lin is None else f"; Gaussian {lin.lift_off[c]:.3g}"
+        if mc.lift_off:
+            p, (plo, phi) = mc.lift_off_probability[c]
+            rows.append(
+                (
+                    f"{c} lift-off [-]",
+                    f"time {val:.3g} ({lo:.3g}-{hi:.3g}){gauss}; "
+                    f"roads {p:.3g} ({plo:.3g}-{phi:.3g})",
+                )
             )
-        )
-    _table(f"Monte Carlo over {mc.realisations} roads, 95 % intervals", rows)
+        else:
+            rows.append(
+                (f"{c}_negative_contact_fraction [-]", f"{val:.3g} ({lo:.3g}-{hi:.3g}){gauss}")
+            )
+    title = f"Monte Carlo over {mc.realisations} roads, 95 % intervals"
+    if not mc.lift_off:
+        title += " (linear tyres: negative contact = time the tyre pulls)"
+    _table(title, rows)
 
 
 def optimize_command(

@@ -41,7 +41,7 @@ from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_s
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
 METHODS = ("brute", "shb", "mhb", "sihb", "continuation")
-FIRST_ORDER_HARMONICS = 9  # default H of a first-order system (docs/decisions.md: accuracy)
+FIRST_ORDER_HARMONICS = 13  # default H of a first-order system (docs/decisions.md: accuracy)
 DIRECTIONS = ("down", "up", "both")
 
 
@@ -406,7 +406,7 @@ def frequency_response(
         First-order systems: harmonics 0..this of the Hill matrix used for stability
         (default 1; the exponents converge much faster than the response).
 
-    For a first-order system the harmonics default to 9 (1 for ``shb``), every state is
+    For a first-order system the harmonics default to 13 (1 for ``shb``), every state is
     balanced, and ``outputs`` holds the half peak-to-peak of each named output
     (quarter car: body displacement [m], body acceleration [m/s^2], suspension
     deflection [m], tyre force [N]); ``amplitude_m`` is the body displacement.

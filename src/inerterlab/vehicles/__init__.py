@@ -2,7 +2,8 @@
 
 See docs/guide/vehicles.md. Main entry points: :func:`load_vehicle` (TOML file),
 :func:`build` (parameters -> :class:`LinearVehicle`), :func:`road_spectrum`,
-:func:`spectral_response`, :func:`simulate`, :func:`iri`, :func:`fit_iso8608`.
+:func:`spectral_response`, :func:`simulate`, :func:`generated_road` (a generated road,
+exact at the wheels), :func:`iri`, :func:`fit_iso8608`.
 """
 
 from .config import example_vehicle_path as example_vehicle_path
@@ -24,6 +25,8 @@ from .roads import iri as iri
 from .roads import isotropic_coherence as isotropic_coherence
 from .roads import road_spectrum as road_spectrum
 from .spectral import SpectralResult as SpectralResult
+from .spectral import StageRoad as StageRoad
+from .spectral import generated_road as generated_road
 from .spectral import road_inputs as road_inputs
 from .spectral import simulate as simulate
 from .spectral import spectral_response as spectral_response

@@ -28,10 +28,11 @@ property of a connection:
 
 Coordinates, outputs and their units are those of the linear model, measured from
 static equilibrium; constant inerters keep the mass matrix constant. The equations are
-integrated by the classical fourth-order Runge-Kutta method with a fixed step, the
-road linear between its samples (so the road velocity is constant on each sample
-interval and the steps never straddle a change of slope), compiled with numba.
-Outputs are sampled at the road samples.
+integrated by the classical fourth-order Runge-Kutta method with a fixed step,
+compiled with numba. A road of samples is linear between them (so the road velocity is
+constant on each sample interval and the steps never straddle a change of slope); a
+generated road (:class:`~inerterlab.vehicles.spectral.StageRoad`) is read exactly, its
+height and rate at every stage time. Outputs are sampled at the road samples.
 """
 
 from __future__ import annotations
@@ -53,7 +54,8 @@ __all__ = ["NonlinearResult", "simulate_nonlinear"]
 
 @dataclass(frozen=True)
 class NonlinearResult:
-    """Outputs (name -> array over the road samples), contact forces and lift-off."""
+    """Outputs (name -> array over the road samples), contact forces and, per corner,
+    the fraction of all samples (the start-up included) with the tyre off the road."""
 
     time: np.ndarray
     outputs: dict
@@ -217,10 +219,12 @@ def _linear_part(G, gs, xt, rs, out, n, m):
 
 
 @njit(cache=True)
-def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
+def _run(x0, r, dt, sub, rf, vf, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext, c_cmp,
          preload, unilateral, fric, fv, afw, rows, me0, mb, W, S, Az, Zq, Zr, MFz, devof, ditab,
          dftab, ioff, foff, xoff, dptr, delem, dsign, dsize, optr, oidx, oval):  # fmt: skip
-    """RK4 over the road samples; returns (tensions of the connections ``nl``, outputs)
+    """RK4 over the road samples; the road linear between them, or, when ``rf`` has
+    rows, read at every stage from ``rf`` (heights) and ``vf`` (rates) given every half
+    step (a road known exactly between its samples, :class:`~.spectral.StageRoad`); returns (tensions of the connections ``nl``, outputs)
     at every sample, the outputs y = CY x + CA q'' + CR r + CS r' (r' the sample's
     slope), given as sparse rows (optr, oidx, oval) over z = (x, q'', r, r').
 
@@ -279,27 +283,40 @@ def _run(x0, r, dt, sub, G, nl, MU, uptr, uidx, uval, vptr, vidx, vval, k, c_ext
     road3 = np.zeros(3)
     noimp = np.empty(0)
     status = 0
+    exact = rf.shape[0] > 0
     for it in range(nt):
         last = it + 1 == nt
-        for i in range(m):
-            if not last:
-                slope[i] = (r[it + 1, i] - r[it, i]) / dt
-            else:
-                slope[i] = (r[it, i] - r[it - 1, i]) / dt
-        for a in range(n):  # the road-rate part of the linear accelerations
-            t = 0.0
+        if not exact:
             for i in range(m):
-                t += G[a, n2 + m + i] * slope[i]
-            gs[a] = t
+                if not last:
+                    slope[i] = (r[it + 1, i] - r[it, i]) / dt
+                else:
+                    slope[i] = (r[it, i] - r[it - 1, i]) / dt
+            for a in range(n):  # the road-rate part of the linear accelerations
+                t = 0.0
+                for i in range(m):
+                    t += G[a, n2 + m + i] * slope[i]
+                gs[a] = t
         for s in range(sub):
             for st in range(4):
                 if last and (s > 0 or st > 0):
                     break
                 cst = 0.0 if st == 0 else (1.0 if st == 3 else 0.5)
-                for i in range(m):
-                    rs[i] = r[it, i] + slope[i] * (s * h)
-                    if st > 0:
-                        rs[i] = rs[i] + cst * h * slope[i]
+                if exact:
+                    row = (it * sub + s) * 2 + (0 if st == 0 else (2 if st == 3 else 1))
+                    for i in range(m):
+                        rs[i] = rf[row, i]
+                        slope[i] = vf[row, i]
+                    for a in range(n):
+                        t = 0.0
+                        for i in range(m):
+                            t += G[a, n2 + m + i] * slope[i]
+                        gs[a] = t
+                else:
+                    for i in range(m):
+                        rs[i] = r[it, i] + slope[i] * (s * h)
+                        if st > 0:
+                            rs[i] = rs[i] + cst * h * slope[i]
                 if st == 0:
                     for i in range(nx):
                         xt[i] = x[i]
@@ -458,12 +475,29 @@ def simulate_nonlinear(
 ) -> NonlinearResult:
     """Simulate ``vehicle`` over wheel heights ``r`` (n_t, n_inputs) sampled every ``dt``.
 
+    ``r`` is either an array, joined by straight lines between its samples, or a
+    :class:`~inerterlab.vehicles.spectral.StageRoad` (a generated road, exact at every
+    Runge-Kutta stage; its ``dt`` and ``substeps`` must be these).
     ``substeps`` Runge-Kutta steps per road sample. ``friction`` [N] is the Coulomb
     friction of every strut, regularised over ``friction_velocity`` [m/s]. Starts at rest in static equilibrium
     on the first road heights (computed with the linear model, where every tyre presses).
     """
+    from .spectral import StageRoad
+
     dt = check_positive("dt", dt, "s")
-    r = np.ascontiguousarray(np.asarray(r, dtype=float))
+    if isinstance(r, StageRoad):
+        if r.substeps != substeps or not math.isclose(r.dt, dt, rel_tol=1e-12):
+            raise ParameterError(
+                "substeps/dt",
+                (substeps, dt),
+                f"those the road was evaluated for ({r.substeps}, {r.dt:g} s)",
+            )
+        rf = np.ascontiguousarray(r.heights, dtype=float)
+        vf = np.ascontiguousarray(r.rates, dtype=float)
+        r = np.ascontiguousarray(r.samples, dtype=float)
+    else:
+        r = np.ascontiguousarray(np.asarray(r, dtype=float))
+        rf = vf = np.zeros((0, r.shape[1] if r.ndim == 2 else 1))
     if r.ndim != 2 or r.shape[1] != len(vehicle.inputs) or r.shape[0] < 2:
         raise ParameterError("r", f"array of shape {r.shape}", f"(n_t >= 2, {len(vehicle.inputs)})")
     for name, val in (("rebound", rebound), ("compression", compression)):
@@ -511,7 +545,7 @@ def simulate_nonlinear(
     CA = np.array([o.G for o in outs]).reshape(len(outs), n)
     CR = np.array([o.R for o in outs]).reshape(len(outs), r.shape[1])
     CS = np.array([o.S for o in outs]).reshape(len(outs), r.shape[1])
-    fs, Y, status = _run(x0, r, dt, substeps, *tables, *_csr(np.hstack([CY, CA, CR, CS])))
+    fs, Y, status = _run(x0, r, dt, substeps, rf, vf, *tables, *_csr(np.hstack([CY, CA, CR, CS])))
     if status:
         raise ParameterError(
             "substeps",

@@ -44,6 +44,7 @@ __all__ = [
     "iso8608_class",
     "class_bounds",
     "generate_tracks",
+    "track_coefficients",
     "fit_iso8608",
     "iri",
     "GOLDEN_CAR",
@@ -152,7 +153,7 @@ def road_spectrum(road_class: str = "C", **kwargs) -> RoadSpectrum:
     return RoadSpectrum(gd_n0=ISO8608_CLASSES[road_class], **kwargs)
 
 
-def generate_tracks(
+def track_coefficients(
     spectrum: RoadSpectrum,
     *,
     length: float,
@@ -160,12 +161,18 @@ def generate_tracks(
     track: float = 1.5,
     seed: int | None = 0,
 ):
-    """Left and right road profiles (x, z_left, z_right) [m], periodic with period ``length``.
+    """The random Fourier coefficients of a generated left/right track pair.
 
-    Gaussian stationary process on the FFT grid n_k = k/L: complex Gaussian
-    coefficients with E|Z_k|^2 matching Gd(n_k) dn (random amplitudes and phases), the
-    right track Z_R = rho Z_L + sqrt(1 - rho^2) Z', Z' independent, so its auto-PSD is
-    Gd and its cross-PSD with the left track rho Gd.
+    Returns (dx, n, Z_left, Z_right): the sample spacing dx [m] (``length`` rounded to
+    an even number of steps, period L = count dx), the spatial frequencies n_k = k/L
+    [cycle/m] and the coefficients in the scaling of :func:`numpy.fft.irfft` on
+    ``count`` samples. The profile z(x) = irfft(Z) at x = j dx is the value of the
+    trigonometric series (1/count)(Z_0 + 2 Re sum_k Z_k exp(2 pi i n_k x)), which
+    :func:`inerterlab.vehicles.spectral.generated_road` evaluates anywhere, not only on the sample grid.
+    Gaussian stationary process: complex Gaussian coefficients with E|Z_k|^2 matching
+    Gd(n_k) dn (random amplitudes and phases), the right track
+    Z_R = rho Z_L + sqrt(1 - rho^2) Z', Z' independent, so its auto-PSD is Gd and its
+    cross-PSD with the left track rho Gd. The constant and the Nyquist term are 0.
     """
     L = check_positive("length", length, "m")
     dx = check_positive("step", step, "m")
@@ -185,6 +192,21 @@ def generate_tracks(
     zl, zi = draw(), draw()
     rho = spectrum.rho(n, track)
     zr = rho * zl + np.sqrt(np.clip(1.0 - rho * rho, 0.0, None)) * zi
+    return dx, n, zl, zr
+
+
+def generate_tracks(
+    spectrum: RoadSpectrum,
+    *,
+    length: float,
+    step: float = 0.05,
+    track: float = 1.5,
+    seed: int | None = 0,
+):
+    """Left and right road profiles (x, z_left, z_right) [m], periodic with period ``length``:
+    the series of :func:`track_coefficients` sampled every ``step``."""
+    dx, n, zl, zr = track_coefficients(spectrum, length=length, step=step, track=track, seed=seed)
+    count = 2 * (n.size - 1)
     x = dx * np.arange(count)
     return x, np.fft.irfft(zl, n=count), np.fft.irfft(zr, n=count)
 

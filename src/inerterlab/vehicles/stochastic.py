@@ -4,7 +4,9 @@ statistical (Gaussian equivalent) linearisation.
 Monte Carlo
     Each road realisation is one point of a sweep (:mod:`inerterlab.studies`) over the
     road ``seed``: the point functions ``half-car-road`` and ``full-car-road`` generate
-    an ISO 8608 road (left/right coherence of :mod:`inerterlab.vehicles.roads`), drive
+    an ISO 8608 road (left/right coherence of :mod:`inerterlab.vehicles.roads`),
+    evaluated exactly at the wheels and every Runge-Kutta stage
+    (:func:`~inerterlab.vehicles.spectral.generated_road`), drive
     the nonlinear vehicle of :mod:`inerterlab.vehicles.nonlinear` over it and return,
     after a start-up that is left out, the mean square of every output and the fraction
     of time each tyre is off the road. So a Monte Carlo study runs serially, in
@@ -71,7 +73,8 @@ def _metric_names(corners) -> tuple[str, ...]:
 #: metrics of the ``half-car-road`` point: mean squares (``ms_``, SI units squared) of
 #: bounce and pitch acceleration, of the Wk-weighted seat (or bounce) acceleration, and
 #: per axle of the suspension deflection and dynamic tyre load, plus the fraction of
-#: time each tyre is off the road [-].
+#: time each tyre's contact force is zero or below [-] (off the road; with ``lift_off``
+#: "off", the linear tyre pulling), all after the start-up.
 HALF_CAR_METRICS = _metric_names(_HALF_CORNERS)
 #: metrics of the ``full-car-road`` point (the half car's, per corner).
 FULL_CAR_METRICS = _metric_names(_FULL_CORNERS)
@@ -93,17 +96,22 @@ def _load_vehicle(path: str, kind: str):
 
 
 def _tracks(vehicle, params: Mapping[str, Any], seed: int):
-    from .roads import generate_tracks, road_spectrum
-    from .spectral import road_inputs
+    """The road of realisation ``seed``, exact at every Runge-Kutta stage."""
+    from .roads import road_spectrum
+    from .spectral import generated_road
 
-    v, dt = float(params["speed"]), float(params["dt"])
     p = vehicle.parameters
     width = 0.5 * (p.front_track + p.rear_track) if vehicle.kind == "full" else 1.5
-    spectrum = road_spectrum(params["road_class"])
-    x, zl, zr = generate_tracks(
-        spectrum, length=float(params["length"]), step=v * dt, track=width, seed=seed
+    return generated_road(
+        vehicle,
+        road_spectrum(params["road_class"]),
+        length=float(params["length"]),
+        speed=float(params["speed"]),
+        dt=float(params["dt"]),
+        substeps=int(params["substeps"]),
+        track=width,
+        seed=seed,
     )
-    return road_inputs(vehicle, x, zl, zr, v, dt)
 
 
 def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
@@ -124,7 +132,7 @@ def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
         friction_velocity=float(params["friction_velocity"]),
         substeps=int(params["substeps"]),
     )
-    keep = slice(min(int(float(params["warmup"]) / dt), r.shape[0] // 2), None)
+    keep = slice(min(int(float(params["warmup"]) / dt), r.samples.shape[0] // 2), None)
     y = res.outputs
     acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
     aw = iso2631.weight(y[acc], 1.0 / dt, "Wk")[keep]
@@ -137,8 +145,7 @@ def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
         out[f"ms_{c}_deflection"] = float(np.mean(y[f"{c}_deflection"][keep] ** 2))
         out[f"ms_{c}_tyre_load"] = float(np.mean(y[f"{c}_tyre_load"][keep] ** 2))
         contact = res.contact_force[c][keep]
-        static = vehicle.static_tyre_loads()[c]
-        out[f"{c}_lift_off_fraction"] = float(np.mean(contact <= 1e-9 * static))
+        out[f"{c}_lift_off_fraction"] = float(np.mean(contact <= 0.0))
     return out
 
 
@@ -231,32 +238,46 @@ class MonteCarloResult:
         [rad/s^2], ``seat_acc_wk`` or ``bounce_acc_wk`` [m/s^2], ``<corner>_deflection``
         [m], ``<corner>_tyre_load`` [N]).
     lift_off_fraction : dict
-        Corner -> (mean fraction of time off the road, (low, high)) [-].
-    lift_off_probability : dict
+        Corner -> (mean fraction of time the contact force is zero or below, (low,
+        high)) [-], after the start-up. With ``lift_off`` the time off the road; without
+        it the time the linear (two-sided) tyre pulls, where a real one would lift off.
+    lift_off_probability : dict or None
         Corner -> (fraction of realisations in which the tyre leaves the road at least
-        once, (low, high) Wilson 95 %) [-].
+        once, (low, high) Wilson 95 %) [-]; None without ``lift_off`` (a linear tyre
+        never leaves the road).
     realisations : int
         Number of road realisations that succeeded.
     dataset : xarray.Dataset
         The per-road metrics (dimension ``seed``), as stored by the sweep.
+    lift_off : bool
+        Whether the tyres were one-sided.
     """
 
     rms: dict
     lift_off_fraction: dict
-    lift_off_probability: dict
+    lift_off_probability: dict | None
     realisations: int
     dataset: Any
+    lift_off: bool = True
 
     def to_dict(self) -> dict:
+        """JSON-ready summary. Without lift-off the time fraction is named
+        ``negative_contact_fraction`` and there is no ``lift_off_probability``."""
+
         def pair(v):
             return {"value": v[0], "ci95": list(v[1])}
 
-        return {
+        out = {
             "realisations": self.realisations,
             "rms": {k: pair(v) for k, v in self.rms.items()},
-            "lift_off_fraction": {k: pair(v) for k, v in self.lift_off_fraction.items()},
-            "lift_off_probability": {k: pair(v) for k, v in self.lift_off_probability.items()},
         }
+        frac = {k: pair(v) for k, v in self.lift_off_fraction.items()}
+        if self.lift_off:
+            out["lift_off_fraction"] = frac
+            out["lift_off_probability"] = {k: pair(v) for k, v in self.lift_off_probability.items()}
+        else:
+            out["negative_contact_fraction"] = frac
+        return out
 
     def __repr__(self) -> str:
         parts = ", ".join(f"{k}={v[0]:.4g}" for k, v in list(self.rms.items())[:3])
@@ -332,8 +353,14 @@ def monte_carlo(
         frac[c] = (float(f.mean()), (max(0.0, float(f.mean()) - half), float(f.mean()) + half))
         k = int((f > 0).sum())
         prob[c] = (k / n, _wilson(k, n))
+    lift_off = settings.get("lift_off", _DEFAULTS["lift_off"]) == "on"
     return MonteCarloResult(
-        rms=rms, lift_off_fraction=frac, lift_off_probability=prob, realisations=n, dataset=ds
+        rms=rms,
+        lift_off_fraction=frac,
+        lift_off_probability=prob if lift_off else None,
+        realisations=n,
+        dataset=ds,
+        lift_off=lift_off,
     )
 
 
@@ -371,6 +398,20 @@ class LinearisationResult:
     mean: dict
     iterations: int
     converged: bool
+
+    @property
+    def lift_off(self) -> dict:
+        """Corner -> P(contact force < 0) [-] of the equivalent linear tyre: the Gaussian
+        tail of its dynamic load, shifted by the load's mean offset."""
+        from .spectral import lift_off_probability
+
+        res = self.spectral
+        return {
+            c: lift_off_probability(
+                res.static_load[c], res.rms[f"{c}_tyre_load"], self.mean.get(f"{c}_tyre_load", 0.0)
+            )
+            for c in res.static_load
+        }
 
     @property
     def rms(self) -> dict:
@@ -463,7 +504,9 @@ def statistical_linearisation(
 
     Fixed-point iteration on the strut damping, c_eq = c (rebound + compression) / 2
     + friction gain(sigma_v), sigma_v from the spectral response of the current
-    linear vehicle (the RMS of each corner's deflection rate). See the module docstring.
+    linear vehicle (the RMS of the axle's strut extension rate; a full car's axle uses
+    its left corner's, since both corners share the axle's parameters). See the module
+    docstring.
     """
     from .model import build
     from .roads import road_spectrum

@@ -1,0 +1,123 @@
+"""What `vehicle simulate` and `vehicle monte-carlo` print beside their values: the
+linearisation of a nonlinear car, and lift-off as the one-sided event it is."""
+
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from scipy.stats import norm
+
+from inerterlab.cli import main
+from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
+from inerterlab.vehicles.nonlinear import simulate_nonlinear
+from inerterlab.vehicles.roads import road_spectrum
+from inerterlab.vehicles.spectral import generated_road, spectral_response
+from inerterlab.vehicles.stochastic import statistical_linearisation
+
+ADAPTIVE = 'adaptive = { flywheel = "nylon", changing_ratio = 0.285, rest_inertance = "150 kg" }\n'
+
+
+def _json(capsys, args):
+    rc = main(args)
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    return json.loads(cap.out)
+
+
+def test_spectral_lift_off_is_the_one_sided_gaussian_tail():
+    car = build(load_vehicle(example_vehicle_path()).half_car())
+    res = spectral_response(car, road_spectrum("E"), 20.0)
+    for c in car.corners:
+        f0, sigma = res.static_load[c], res.rms[f"{c}_tyre_load"]
+        # P(F0 + F_dyn < 0) for F_dyn ~ N(0, sigma^2), by scipy's normal distribution
+        assert res.lift_off[c] == pytest.approx(norm.cdf(-f0 / sigma), rel=1e-12)
+        assert 1e-3 < res.lift_off[c] < 0.2  # a road where the tail is measurable
+
+
+@pytest.mark.slow
+def test_linear_tyre_pulls_as_often_as_the_gaussian_tail_says():
+    # a linear car on a class E road: the fraction of time its contact force is negative,
+    # simulated over 6 roads, against the spectral (Gaussian, one-sided) probability;
+    # the two-sided value is twice as large and far outside
+    p = load_vehicle(example_vehicle_path()).half_car()
+    car = build(p)
+    road = road_spectrum("E")
+    spec = spectral_response(car, road, 20.0)
+    static = car.static_tyre_loads()
+    fr = {c: [] for c in car.corners}
+    for seed in range(6):
+        g = generated_road(car, road, length=2000.0, speed=20.0, dt=0.002, substeps=2,
+                           track=1.5, seed=seed)  # fmt: skip
+        res = simulate_nonlinear(car, g, 0.002, tyre_lift_off=False, substeps=2)
+        for c in car.corners:
+            load = res.outputs[f"{c}_tyre_load"][2500:]
+            fr[c].append(np.mean(static[c] + load < 0.0))
+    for c in car.corners:
+        vals = np.array(fr[c])
+        se = vals.std(ddof=1) / math.sqrt(vals.size)
+        assert abs(vals.mean() - spec.lift_off[c]) < 4 * se + 0.05 * spec.lift_off[c], (c, vals)
+
+
+def test_simulate_fractions_leave_out_the_start_up_and_say_what_they_are(capsys, tmp_path):
+    base = ["vehicle", "simulate", "--model", "half", "--road-class", "F", "--length", "200",
+            "--json"]  # fmt: skip
+    one = _json(capsys, [*base, "--lift-off"])
+    # recomputed here: the same road, 4 Runge-Kutta steps per sample, after 5 s
+    car = build(load_vehicle(example_vehicle_path()).half_car())
+    g = generated_road(car, road_spectrum("F"), length=200.0, speed=20.0, dt=0.002,
+                       substeps=4, track=1.5, seed=0)  # fmt: skip
+    res = simulate_nonlinear(car, g, 0.002, tyre_lift_off=True, substeps=4)
+    keep = slice(min(2500, g.samples.shape[0] // 2), None)
+    for c in car.corners:
+        want = float(np.mean(res.contact_force[c][keep] <= 0.0))
+        assert one["lift_off_fraction"][c] == pytest.approx(want, abs=1e-12)
+        assert one["lift_off_fraction"][c] != pytest.approx(res.lift_off_fraction[c], abs=1e-9)
+    # a nonlinear car with two-sided tyres: no lift-off fraction, the linear tyre's
+    # negative-force fraction under its own name, and the Gaussian one beside it
+    two = _json(capsys, [*base, "--rebound", "1.6", "--compression", "0.6"])
+    assert "lift_off_fraction" not in two
+    assert set(two["negative_contact_fraction"]) == {"front", "rear"}
+    assert set(two["lift_off_probability_gaussian"]) == {"front", "rear"}
+
+
+@pytest.mark.slow
+def test_monte_carlo_without_lift_off_reports_no_lift_off_probability(capsys):
+    args = ["vehicle", "monte-carlo", "--model", "half", "--road-class", "E", "--length",
+            "300", "--roads", "4", "--backend", "serial", "--no-lift-off", "--json"]  # fmt: skip
+    out = _json(capsys, args)
+    assert "lift_off_probability" not in out and "lift_off_fraction" not in out
+    lin = out["linearised"]["lift_off_probability_gaussian"]
+    for c, v in out["negative_contact_fraction"].items():
+        # the linear tyre pulls a few per cent of the time, as the Gaussian tail says
+        assert 0.0 < v["value"] < 0.5
+        assert v["value"] == pytest.approx(lin[c], rel=0.5)
+    rc = main([*args[:-1]])
+    text = capsys.readouterr().out
+    assert rc == 0 and "rear_negative_contact_fraction" in text and "; roads" not in text
+
+
+def test_simulate_adaptive_car_is_nonlinear_beside_its_linearisation(capsys, tmp_path):
+    text = example_vehicle_path().read_text()
+    car_file = tmp_path / "afw.toml"
+    car_file.write_text(text.replace('inertance = "0 kg"\n', 'inertance = "0 kg"\n' + ADAPTIVE))
+    args = ["vehicle", "simulate", "--vehicle", str(car_file), "--road-class", "C",
+            "--length", "400", "--json"]  # fmt: skip
+    out = _json(capsys, args)
+    # the adaptive law runs even without --lift-off; the value beside it is the
+    # Gaussian-equivalent linearisation, not the car at the rest inertance
+    assert out["model"] == "nonlinear"
+    assert "spectral_rms" not in out
+    lin = statistical_linearisation(vehicle=str(car_file), model="full", road_class="C")
+    for k, v in out["linearised_rms"].items():
+        assert v == pytest.approx(lin.rms[k], rel=1e-12)
+    # one 15 s road: the linearisation within 6 % of the simulation on comfort, where
+    # the car at rest inertance is far below
+    sim, eq = out["seat_acc_wk"], out["seat_acc_wk_linearised"]
+    assert abs(eq / sim - 1.0) < 0.06
+    rest = spectral_response(build(load_vehicle(car_file)), road_spectrum("C"), 20.0).rms
+    assert rest["seat_acc_wk"] < 0.9 * sim
+    main(args[:-1])
+    assert "linearised" in capsys.readouterr().out
