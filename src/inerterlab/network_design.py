@@ -25,6 +25,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
+from .h2 import h2_rational, h2_rational_gradient
 from .networks import UNITS, NetworkError, enumerate_networks, parse_network
 from .suspension.network_linear import (
     MAXC,
@@ -32,9 +33,6 @@ from .suspension.network_linear import (
     NetworkQuarterCar,
     _assemble,
     _car_polys,
-    _h2_polys,
-    _lyap_system,
-    _sym_index,
     h2_squared_many,
     network_quarter_car,
 )
@@ -60,65 +58,6 @@ _BIG = 1e30
 
 
 @nb.njit(cache=True)
-def _lyap_general(A, R):
-    """Solve A X + X A^T + R = 0 for symmetric X (R symmetric), small n."""
-    n = A.shape[0]
-    idx, m = _sym_index(n)
-    M = _lyap_system(A, idx, m)
-    rhs = np.zeros(m)
-    for i in range(n):
-        for j in range(i, n):
-            rhs[idx[i, j]] = -R[i, j]
-    x = np.linalg.solve(M, rhs)
-    X = np.empty((n, n))
-    for i in range(n):
-        for j in range(n):
-            X[i, j] = x[idx[i, j]]
-    return X
-
-
-@nb.njit(cache=True)
-def _coef_grad(polys, n, which, g):
-    """d(||row/Delta||^2)/d(coefficients of Delta and of row ``which``) into g[0], g[1]."""
-    an = polys[0, n]
-    w0 = (polys[0, 0] / an) ** (1.0 / n)
-    at = np.empty(n + 1)
-    sc = np.empty(n + 1)
-    for i in range(n + 1):
-        sc[i] = 1.0 / (an * w0 ** (n - i))
-        at[i] = polys[0, i] * sc[i]
-    A = np.zeros((n, n))
-    for i in range(n - 1):
-        A[i, i + 1] = 1.0
-    for j in range(n):
-        A[n - 1, j] = -at[j]
-    R = np.zeros((n, n))
-    R[n - 1, n - 1] = 1.0
-    P = _lyap_general(A, R)
-    c = np.empty(n)
-    for i in range(n):
-        c[i] = polys[which, i] * sc[i]
-    Q = _lyap_general(A.T.copy(), np.outer(c, c))
-    PQ = P @ Q
-    Pc = P @ c
-    J = 0.0
-    for i in range(n):
-        J += c[i] * Pc[i]
-    # scaled problem: dJ~/d at_j = -2 (P Q)[j, n-1], dJ~/dc_j = 2 (P c)_j; J = w0 J~
-    # (w0 is only the choice of realisation: held fixed while differentiating)
-    g[:, :] = 0.0
-    for j in range(n):
-        g[0, j] = w0 * (-2.0 * PQ[j, n - 1]) * sc[j]
-        g[1, j] = w0 * 2.0 * Pc[j] * sc[j]
-    # a_n scales every at_j and c_j by 1/a_n
-    s = 0.0
-    for j in range(n):
-        s += -2.0 * PQ[j, n - 1] * at[j] + 2.0 * Pc[j] * c[j]
-    g[0, n] = -w0 * s / an
-    return w0 * J
-
-
-@nb.njit(cache=True)
 def _grad_batch(prog, theta, car, which, grad):
     """Squared norm of output ``which`` (1..3) and its derivatives in log-parameters."""
     num = np.zeros(MAXC)
@@ -127,12 +66,12 @@ def _grad_batch(prog, theta, car, which, grad):
     base = np.zeros((4, MAXC))
     n = _car_polys(num, ln, den, ld, car[0], car[1], car[2], car[3], base)
     sq = np.empty(3)
-    _h2_polys(base, n, sq)
+    h2_rational(base, n, sq)
     if not np.isfinite(sq[which - 1]):
         grad[:] = np.nan
         return sq[which - 1]
     g = np.zeros((2, n + 1))
-    _coef_grad(base, n, which, g)
+    h2_rational_gradient(base, n, which, g)
     pert = np.zeros((4, MAXC))
     th = theta.copy()
     for k in range(theta.shape[0]):

@@ -115,10 +115,17 @@ class AdaptiveFlywheelInerter(ElementBase):
         Param("flywheel", choices=FLYWHEEL_PRESETS),
         Param("inertia_law", choices=INERTIA_LAWS),
         Param("changing_ratio", "", 0.0, 1.0, optional=True),
-        Param("ratio", "rad/m"),
+        Param("ratio", "rad/m", design=(50.0, 5000.0)),
         Param("law", choices=FORCE_LAWS),
     )
+    ROLE = "inertial"
     code = FLYWHEEL
+    is_linear = False
+
+    def rest_network(self):
+        """An ideal inerter of the inertance at rest r^2 I_min (every force law: the
+        speed-dependent part and the slider force are of second order about rest)."""
+        return "b", {"b": self.inertance_min}
 
     def __post_init__(self) -> None:
         if isinstance(self.flywheel, AdaptiveFlywheel):

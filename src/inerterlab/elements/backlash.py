@@ -38,11 +38,18 @@ class Backlash(ElementBase):
 
     prefix = "gap"
     description = "spring with free play (backlash)"
+    ROLE = "elastic"
     PARAMETERS = (Param("stiffness", "N/m"), Param("free_play", "m", low_open=False))
     code = SPRING
 
     def row(self):
         return self._row(self.stiffness, 0.5 * self.free_play)
 
-    def linear(self):
-        return ("k", self.stiffness) if self.free_play == 0.0 else None
+    @property
+    def is_linear(self):
+        return self.free_play == 0.0
+
+    def rest_network(self):
+        """At rest the terminals sit in the middle of the play: no force for small
+        motions (an open circuit); with no play, the contact spring."""
+        return ("k", {"k": self.stiffness}) if self.free_play == 0.0 else None

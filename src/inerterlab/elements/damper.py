@@ -32,8 +32,10 @@ class Damper(ElementBase):
 
     prefix = "c"
     description = "damper"
+    ROLE = "dissipative"
+    ADMITTANCE = 0
     PARAMETERS = (
-        Param("damping", "N s/m", low_open=False),
+        Param("damping", "N s/m", low_open=False, design=(10.0, 1e5)),
         Param("quadratic", "N s^2/m^2", low_open=False),
     )
     code = DAMPER
@@ -48,5 +50,10 @@ class Damper(ElementBase):
     def row(self):
         return self._row(self.damping, self.quadratic)
 
-    def linear(self):
-        return ("c", self.damping) if self.quadratic == 0.0 else None
+    @property
+    def is_linear(self):
+        return self.quadratic == 0.0
+
+    def rest_network(self):
+        """c: the quadratic term has no slope at rest (an open circuit if c = 0)."""
+        return ("c", {"c": self.damping}) if self.damping > 0 else None

@@ -46,7 +46,7 @@ class FluidInerter(ElementBase):
     description = "fluid inerter"
     PARAMETERS = (
         Param("density", "kg/m^3"),
-        Param("length", "m"),
+        Param("length", "m", design=(0.01, 100.0)),
         Param("piston_area", "m^2"),
         Param("channel_area", "m^2"),
         Param("damping", "N s/m", low_open=False),

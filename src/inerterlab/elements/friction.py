@@ -36,8 +36,15 @@ class Friction(ElementBase):
 
     prefix = "fric"
     description = "Coulomb friction"
-    PARAMETERS = (Param("force", "N"), Param("velocity", "m/s"))
+    ROLE = "dissipative"
+    PARAMETERS = (Param("force", "N", design=(1.0, 1e4)), Param("velocity", "m/s"))
     code = FRICTION
 
     def row(self):
         return self._row(self.force, self.velocity)
+
+    is_linear = False
+
+    def rest_network(self):
+        """The slope at rest, a damper c = F_c / v_eps."""
+        return "c", {"c": self.force / self.velocity}

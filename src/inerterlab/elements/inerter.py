@@ -25,11 +25,15 @@ class Inerter(ElementBase):
 
     prefix = "b"
     description = "ideal inerter"
-    PARAMETERS = (Param("inertance", "kg"),)
+    ROLE = "inertial"
+    ADMITTANCE = 1
+    PARAMETERS = (Param("inertance", "kg", design=(0.1, 2000.0)),)
     code = INERTER
 
     def row(self):
         return self._row(self.inertance)
 
-    def linear(self):
-        return ("b", self.inertance)
+    is_linear = True
+
+    def rest_network(self):
+        return "b", {"b": self.inertance}

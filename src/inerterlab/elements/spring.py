@@ -35,11 +35,15 @@ class Spring(ElementBase):
 
     prefix = "k"
     description = "linear spring"
-    PARAMETERS = (Param("stiffness", "N/m"),)
+    ROLE = "elastic"
+    ADMITTANCE = -1
+    PARAMETERS = (Param("stiffness", "N/m", design=(1e3, 1e7)),)
     code = SPRING
 
     def row(self):
         return self._row(self.stiffness)
 
-    def linear(self):
-        return ("k", self.stiffness)
+    is_linear = True
+
+    def rest_network(self):
+        return "k", {"k": self.stiffness}

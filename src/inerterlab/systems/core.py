@@ -189,7 +189,7 @@ class System:
 
 
 def _nonlinear(e: ElementBase) -> bool:
-    return e.linear() is None
+    return not e.is_linear
 
 
 def _drive_elements(sys) -> list[str]:
@@ -1196,45 +1196,3 @@ def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, *
     if c["tyre_damping"] == 0:
         raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
     return sys
-
-
-def linear_equivalent(network: str, params: dict | None) -> tuple[str, dict]:
-    """The same network written with springs, dampers and inerters only (for the
-    admittance-based analysis of :mod:`inerterlab.suspension.network_linear`): composite
-    elements are replaced by their linear networks. NetworkError naming a nonlinear one."""
-    import re
-
-    tree, els = elements_of(network, params)
-    repl: dict[str, str] = {}
-    out: dict[str, float] = {}
-    for name, el in els.items():
-        if el.expansion() is None:
-            lin = el.linear()
-            if lin is None:
-                raise NetworkError(
-                    f"network {network!r}: {name!r} ({el.description}) is not linear; H2 "
-                    "norms need springs, linear dampers and ideal inerters"
-                )
-            if el.prefix in ("k", "c", "b"):
-                out[name] = lin[1]
-            else:  # a primitive that is linear here under another name (gap with no play)
-                repl[name] = f"{lin[0]}_{name}"
-                out[repl[name]] = lin[1]
-            continue
-        sub = el.linear_network()
-        if sub is None:
-            raise NetworkError(
-                f"network {network!r}: {name!r} ({el.description}) is not linear with these "
-                "parameters; H2 norms need springs, linear dampers and ideal inerters"
-            )
-        stext, sparams = sub
-        ren = {k: f"{k}_{name}" for k in sparams}
-        stext = re.sub(
-            r"[A-Za-z_][A-Za-z0-9_]*", lambda m, ren=ren: ren.get(m.group(0), m.group(0)), stext
-        )
-        repl[name] = f"({stext})"
-        out.update({ren[k]: v for k, v in sparams.items()})
-    text = re.sub(
-        r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), tree.text()
-    )
-    return text, out
