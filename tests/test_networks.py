@@ -387,13 +387,10 @@ def test_optimum_is_reproducible_local_and_start_independent(text, objective):
 
 
 def _inside(text, p):
-    from inerterlab.network_design import DEFAULT_BOUNDS
+    from inerterlab.network_design import design_parameters
 
-    net = parse_network(text)
     return all(
-        DEFAULT_BOUNDS[kd][0] <= p[n] <= DEFAULT_BOUNDS[kd][1]
-        for n, kd in zip(net.names, net.kinds, strict=True)
-        if n != "k"
+        q.design[0] <= p[n] <= q.design[1] for n, q in design_parameters(text).items() if n != "k"
     )
 
 

@@ -109,10 +109,34 @@ def lyapunov_packed(A, R):
     for i in range(n):
         for j in range(i, n):
             rhs[idx[i, j]] = -R[i, j]
-    try:
-        x = np.linalg.solve(M, rhs)
-    except Exception:  # noqa: BLE001 - numba raises a plain Exception for a singular M
-        return np.full((n, n), np.nan)
+    # Gaussian elimination with partial pivoting (in place; for these sizes, m <= a few
+    # hundred, it is about twice as fast as a LAPACK call from compiled code)
+    for col in range(m):
+        piv = col
+        best = abs(M[col, col])
+        for r in range(col + 1, m):
+            if abs(M[r, col]) > best:
+                best = abs(M[r, col])
+                piv = r
+        if best == 0.0:
+            return np.full((n, n), np.nan)
+        if piv != col:
+            for q in range(m):
+                M[col, q], M[piv, q] = M[piv, q], M[col, q]
+            rhs[col], rhs[piv] = rhs[piv], rhs[col]
+        inv = 1.0 / M[col, col]
+        for r in range(col + 1, m):
+            f = M[r, col] * inv
+            if f != 0.0:
+                for q in range(col, m):
+                    M[r, q] -= f * M[col, q]
+                rhs[r] -= f * rhs[col]
+    x = np.zeros(m)
+    for r in range(m - 1, -1, -1):
+        acc = rhs[r]
+        for q in range(r + 1, m):
+            acc -= M[r, q] * x[q]
+        x[r] = acc / M[r, r]
     X = np.empty((n, n))
     for i in range(n):
         for j in range(n):

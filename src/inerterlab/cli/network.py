@@ -18,10 +18,12 @@ from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 network_app = typer.Typer(
     name="network",
-    help="Linear spring/damper/inerter networks as quarter-car suspensions: enumerate "
+    help="Spring/damper/inerter networks as quarter-car suspensions: enumerate "
     "layouts, H2 norms, H2-optimal parameters, Pareto fronts. Networks are text: "
     "'|' parallel, '-' series (binds tighter), parentheses; k.. springs [N/m], "
-    "c.. dampers [N s/m], b.. inerters [kg]. Example: 'k | (k1 - c - b)'.",
+    "c.. dampers [N s/m], b.. inerters [kg] and every registered element (fluid, fric, "
+    "afw, hyd, ...; optimised through its linearisation about rest, parameters "
+    "element.parameter). Example: 'k | (k1 - c - b)'.",
     no_args_is_help=True,
     rich_markup_mode=None,
 )
@@ -232,7 +234,10 @@ def optimize_command(
         return
     r = results[0]
     rows = [("objective " + objective, _fmt(r.objective))]
-    rows += [(f"{k}", f"{v:.6g}") for k, v in r.parameters.items()]
+    rows += [
+        (f"{k} [{r.units[k]}]" if r.units.get(k) else k, f"{v:.6g}")
+        for k, v in r.parameters.items()
+    ]
     rows += [(f"H2 {k}", _fmt(v)) for k, v in r.norms.items()]
     for k, v in r.improvement_vs.items():
         rows.append((f"improvement vs {k} [%]", "n/a" if v is None else f"{v:.3f}"))
@@ -268,6 +273,7 @@ def _short(r) -> dict:
         "network": d["network"],
         "objective": d["objective"],
         "parameters": d["parameters"],
+        "units": d["units"],
         "norms": d["norms"],
         "improvement_vs": d["improvement_vs"],
         "converged": d["converged"],
