@@ -245,9 +245,9 @@ class Network:
         for e in self.tree.elements():
             if not e.linear:
                 raise NetworkError(
-                    f"network {_short(self.text)}: {e.name!r} is a {e.cls.description}; this "
-                    "analysis takes springs, dampers and inerters (write the network about "
-                    "rest with inerterlab.networks.linearise, or 'network h2 --about-rest')"
+                    f"network {_short(self.text)}: {e.name!r} ({e.cls.description}) is not a "
+                    "spring, damper or inerter; this analysis needs its linearisation "
+                    "about rest (inerterlab.networks.linearise)"
                 )
 
     def parameter_vector(self, params: dict) -> np.ndarray:

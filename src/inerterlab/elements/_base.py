@@ -76,6 +76,9 @@ class ElementBase:
     #: :meth:`rest_network`)
     ADMITTANCE: ClassVar[int | None] = None
     PARAMETERS: ClassVar[tuple[Param, ...]] = ()
+    #: parameters of a typical element (the documentation's and the registry test's
+    #: example; {} where every parameter has a default)
+    EXAMPLE: ClassVar[dict | None] = None
     #: kernel code, or None for a composite
     code: ClassVar[int | None] = None
 

@@ -119,6 +119,7 @@ class AdaptiveFlywheelInerter(ElementBase):
         Param("law", choices=FORCE_LAWS),
     )
     ROLE = "inertial"
+    EXAMPLE = {}
     code = FLYWHEEL
     is_linear = False
 

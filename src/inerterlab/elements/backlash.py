@@ -39,6 +39,7 @@ class Backlash(ElementBase):
     prefix = "gap"
     description = "spring with free play (backlash)"
     ROLE = "elastic"
+    EXAMPLE = {"stiffness": 2e5, "free_play": 0.004}
     PARAMETERS = (Param("stiffness", "N/m"), Param("free_play", "m", low_open=False))
     code = SPRING
 

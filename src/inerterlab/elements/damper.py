@@ -33,6 +33,7 @@ class Damper(ElementBase):
     prefix = "c"
     description = "damper"
     ROLE = "dissipative"
+    EXAMPLE = {"damping": 3e3, "quadratic": 1e3}
     ADMITTANCE = 0
     PARAMETERS = (
         Param("damping", "N s/m", low_open=False, design=(10.0, 1e5)),

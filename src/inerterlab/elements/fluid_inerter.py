@@ -44,6 +44,13 @@ class FluidInerter(ElementBase):
 
     prefix = "fluid"
     description = "fluid inerter"
+    EXAMPLE = {
+        "density": 860.0,
+        "length": 3.0,
+        "piston_area": 2e-3,
+        "channel_area": 3e-5,
+        "damping": 300.0,
+    }
     PARAMETERS = (
         Param("density", "kg/m^3"),
         Param("length", "m", design=(0.01, 100.0)),

@@ -37,6 +37,7 @@ class Friction(ElementBase):
     prefix = "fric"
     description = "Coulomb friction"
     ROLE = "dissipative"
+    EXAMPLE = {"force": 50.0}
     PARAMETERS = (Param("force", "N", design=(1.0, 1e4)), Param("velocity", "m/s"))
     code = FRICTION
 

@@ -26,6 +26,7 @@ class Inerter(ElementBase):
     prefix = "b"
     description = "ideal inerter"
     ROLE = "inertial"
+    EXAMPLE = {"inertance": 200.0}
     ADMITTANCE = 1
     PARAMETERS = (Param("inertance", "kg", design=(0.1, 2000.0)),)
     code = INERTER

@@ -36,6 +36,7 @@ class Spring(ElementBase):
     prefix = "k"
     description = "linear spring"
     ROLE = "elastic"
+    EXAMPLE = {"stiffness": 5e4}
     ADMITTANCE = -1
     PARAMETERS = (Param("stiffness", "N/m", design=(1e3, 1e7)),)
     code = SPRING
