@@ -188,6 +188,13 @@ class ElementBase:
             parse_network(text).tree, {local: el.rest_network() for local, el in parts.items()}
         )
 
+    def scaled(self, factor: float) -> ElementBase:
+        """``factor`` identical copies in parallel, moving together, as one element (a
+        vehicle corner's several devices)."""
+        raise ParameterError(
+            self.prefix, self.description, "an element that declares how copies add (scaled)"
+        )
+
     def _row(self, *values: float) -> np.ndarray:
         r = np.zeros(NPAR)
         r[: len(values)] = values

@@ -18,7 +18,7 @@ Force laws (docs/model.md §2), v the relative velocity, w = r|v|:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numba as nb
 
@@ -122,6 +122,18 @@ class AdaptiveFlywheelInerter(ElementBase):
     EXAMPLE = {}
     code = FLYWHEEL
     is_linear = False
+
+    def scaled(self, factor):
+        """``factor`` flywheels at the same speed: one with every inertia (rest, sliders)
+        times ``factor``."""
+        fw = self._fw
+        fw = replace(
+            fw,
+            rest_inertia=fw.rest_inertia * factor,
+            slider_mass=fw.slider_mass * factor,
+            spring_stiffness=fw.spring_stiffness * factor,
+        )
+        return replace(self, flywheel=fw, changing_ratio=None)
 
     def rest_network(self):
         """An ideal inerter of the inertance at rest r^2 I_min (every force law: the

@@ -21,6 +21,7 @@ which stays in the device models of :mod:`inerterlab.devices`.)
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from ._base import SPRING, ElementBase, Param
@@ -45,6 +46,9 @@ class Backlash(ElementBase):
 
     def row(self):
         return self._row(self.stiffness, 0.5 * self.free_play)
+
+    def scaled(self, factor):  # copies moving together share the play
+        return dataclasses.replace(self, stiffness=self.stiffness * factor)
 
     @property
     def is_linear(self):

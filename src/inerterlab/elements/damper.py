@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -50,6 +51,11 @@ class Damper(ElementBase):
 
     def row(self):
         return self._row(self.damping, self.quadratic)
+
+    def scaled(self, factor):
+        return dataclasses.replace(
+            self, damping=self.damping * factor, quadratic=self.quadratic * factor
+        )
 
     @property
     def is_linear(self):

@@ -10,6 +10,7 @@ or an inertance beside the friction).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -45,6 +46,9 @@ class Friction(ElementBase):
         return self._row(self.force, self.velocity)
 
     is_linear = False
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, force=self.force * factor)
 
     def rest_network(self):
         """The slope at rest, a damper c = F_c / v_eps."""

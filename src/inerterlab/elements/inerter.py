@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -35,6 +36,9 @@ class Inerter(ElementBase):
         return self._row(self.inertance)
 
     is_linear = True
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, inertance=self.inertance * factor)
 
     def rest_network(self):
         return "b", {"b": self.inertance}

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -45,6 +46,9 @@ class Spring(ElementBase):
         return self._row(self.stiffness)
 
     is_linear = True
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, stiffness=self.stiffness * factor)
 
     def rest_network(self):
         return "k", {"k": self.stiffness}

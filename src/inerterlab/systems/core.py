@@ -437,7 +437,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     L = np.zeros((nn, nn))  # spring Laplacian
     for _, el, t, b in edges:
         if el.code == SPRING:
-            k = el.stiffness
+            k = el.row()[0]  # the kernel row: any element on the spring's law
             L[t, t] += k
             L[b, b] += k
             L[t, b] -= k
@@ -564,10 +564,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if el.code in (INERTER, FLYWHEEL):
             jump_ok = False
         elif el.code == DAMPER:
-            if el.quadratic > 0 or types[other] != DYN:
+            c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
+            if c_quad > 0 or types[other] != DYN:
                 jump_ok = False
             else:
-                imp[cls[other]] += el.damping
+                imp[cls[other]] += c_lin
     linear = all(not _nonlinear(el) for _, el, _, _ in edges)
     # inertances with an end on the road: a road velocity jump would pass them an
     # impulse, which the integration does not apply (_simulate warns)
