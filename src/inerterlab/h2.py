@@ -145,8 +145,23 @@ def lyapunov_packed(A, R):
 
 
 @nb.njit(cache=True)
-def _companion_gramian(at, n):
-    """Controllability gramian of the monic companion form with coefficients ``at``."""
+def _scaled(polys, n):
+    """Frequency scale w0 = (Delta_0 / Delta_n)^(1/n), the monic scaled denominator
+    coefficients and the factor of each coefficient (s = w0 sigma, divided by Delta_n)."""
+    an = polys[0, n]
+    w0 = (polys[0, 0] / an) ** (1.0 / n)
+    at = np.empty(n + 1)
+    scale = np.empty(n + 1)
+    for i in range(n + 1):
+        scale[i] = 1.0 / (an * w0 ** (n - i))
+        at[i] = polys[0, i] * scale[i]
+    return w0, at, scale
+
+
+@nb.njit(cache=True)
+def _companion(at, n):
+    """The monic companion matrix with coefficients ``at`` and its controllability
+    gramian (input on the last state)."""
     A = np.zeros((n, n))
     for i in range(n - 1):
         A[i, i + 1] = 1.0
@@ -154,7 +169,7 @@ def _companion_gramian(at, n):
         A[n - 1, j] = -at[j]
     R = np.zeros((n, n))
     R[n - 1, n - 1] = 1.0
-    return lyapunov_packed(A, R)
+    return A, lyapunov_packed(A, R)
 
 
 @nb.njit(cache=True)
@@ -187,16 +202,11 @@ def h2_rational(polys, n, out):
     if not (polys[0, 0] > 0.0 and an > 0.0):
         out[:] = np.inf
         return 0.0
-    w0 = (polys[0, 0] / an) ** (1.0 / n)
-    at = np.empty(n + 1)
-    scale = np.empty(n + 1)
-    for i in range(n + 1):
-        scale[i] = 1.0 / (an * w0 ** (n - i))
-        at[i] = polys[0, i] * scale[i]
+    w0, at, scale = _scaled(polys, n)
     if not hurwitz(at, n):
         out[:] = np.inf
         return w0
-    P = _companion_gramian(at, n)
+    _, P = _companion(at, n)
     for o in range(polys.shape[0] - 1):
         row = polys[o + 1]
         lead = row[n] * scale[n]
@@ -225,20 +235,8 @@ def h2_rational_gradient(polys, n, which, g):
     coefficients of Delta and of that row, into g[0], g[1] (adjoint of the Lyapunov
     equation)."""
     an = polys[0, n]
-    w0 = (polys[0, 0] / an) ** (1.0 / n)
-    at = np.empty(n + 1)
-    sc = np.empty(n + 1)
-    for i in range(n + 1):
-        sc[i] = 1.0 / (an * w0 ** (n - i))
-        at[i] = polys[0, i] * sc[i]
-    A = np.zeros((n, n))
-    for i in range(n - 1):
-        A[i, i + 1] = 1.0
-    for j in range(n):
-        A[n - 1, j] = -at[j]
-    R = np.zeros((n, n))
-    R[n - 1, n - 1] = 1.0
-    P = lyapunov_packed(A, R)
+    w0, at, sc = _scaled(polys, n)
+    A, P = _companion(at, n)
     c = np.empty(n)
     for i in range(n):
         c[i] = polys[which, i] * sc[i]
