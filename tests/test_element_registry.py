@@ -339,6 +339,7 @@ def test_fluid_inerter_optimum_is_the_ideal_inerters():
     assert a.units["fluid.length"] == "m"
 
 
+@pytest.mark.slow
 def test_user_elements_in_the_cli_optimiser():
     import json
     import subprocess
