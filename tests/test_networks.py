@@ -605,3 +605,19 @@ def test_cli_limits_and_usage_errors():
         text=True,
     )
     assert run.returncode == 2 and "unknown element name 'q'" in run.stderr
+
+
+def test_deep_nesting_and_long_texts_give_short_one_line_errors():
+    from inerterlab.networks import MAX_NESTING
+
+    with pytest.raises(NetworkError, match=f"deeper than {MAX_NESTING} levels") as e:
+        parse_network("(" * 5000 + "k" + ")" * 5000)
+    assert "position 101" in str(e.value) and len(str(e.value)) < 300
+    parse_network("(" * MAX_NESTING + "k" + ")" * MAX_NESTING)  # the limit itself parses
+    for text in ("k | " + "x" * 100_000, "k_" + "a" * 100_000 + " | ?", "k | (c" + " " * 100_000):
+        with pytest.raises(NetworkError) as e:
+            parse_network(text)
+        msg = str(e.value)
+        assert "\n" not in msg and len(msg) < 300, msg[:200]
+    with pytest.raises(NetworkError, match="position 100006"):
+        parse_network("k_" + "a" * 100_000 + " | ?")
