@@ -226,11 +226,14 @@ class _Design:
     def _linear(self, values: dict):
         try:
             return linearise(self.net, values)
-        except ParameterError as e:  # a required parameter neither fixed nor bounded
-            raise NetworkError(
-                f"network {self.net.text!r}: {e}; hold it with fixed (--fix name=value) "
-                "or search it with bounds (--bound name=low:high)"
-            ) from None
+        except ParameterError as e:
+            hint = (
+                "; hold it with fixed (--fix name=value) or search it with bounds "
+                "(--bound name=low:high)"
+                if e.value is None  # a required parameter neither fixed nor bounded
+                else ""
+            )
+            raise NetworkError(f"network {self.net.text!r}: {e}{hint}") from None
 
     def _leaves(self, u) -> np.ndarray | None:
         """Leaf values of the linear network at ``u``; None if its structure differs."""
