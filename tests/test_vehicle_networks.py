@@ -184,7 +184,7 @@ def test_state_space_only_analyses_refuse_a_network_by_name():
 def test_bad_network_values_name_the_parameter():
     with pytest.raises(ParameterError, match="missing parameter"):
         NetworkStrut("k | (c - b)", {"k": 1.0, "c": 1.0})
-    with pytest.raises(ParameterError, match="nonlinear element"):
+    with pytest.raises(ParameterError, match="not a spring, damper or inerter"):
         NetworkStrut("k | afw", {"k": 1.0})
     with pytest.raises(ParameterError, match="> 0"):
         NetworkStrut("k | c", {"k": 1.0, "c": -3.0})

@@ -15,6 +15,7 @@ __all__ = [
     "ParameterError",
     "DataFileError",
     "ConvergenceError",
+    "NetworkError",
     "Interrupted",
     "LockedError",
     "check_positive",
@@ -57,6 +58,10 @@ class DataFileError(InerterlabError, ValueError):
         self.line = line
         where = f"{self.path}, line {line}" if line is not None else self.path
         super().__init__(f"{where}: {message}")
+
+
+class NetworkError(InerterlabError, ValueError):
+    """A network text, or the parameters given for it, cannot be used."""
 
 
 class ConvergenceError(InerterlabError, RuntimeError):

@@ -359,9 +359,7 @@ def h2_norms_state_space(lin, *, label: str = "model") -> H2Norms:
     (which is formed here with the Wk filter); ``lin`` is a
     :class:`~inerterlab.suspension.linear.LinearQuarterCar` or any object with ``A``,
     ``B``, ``C``, ``D``. ``label`` names the model in errors."""
-    from scipy.linalg import solve_continuous_lyapunov
-
-    from .errors import ConvergenceError
+    from .h2 import gramian
 
     A, B = lin.A, lin.B
     # augment with the Wk filter driven by the body acceleration
@@ -372,18 +370,7 @@ def h2_norms_state_space(lin, *, label: str = "model") -> H2Norms:
     Aa[n:, :n] = np.outer(wb, lin.C["body_acc"])
     Aa[n:, n:] = wa
     Ba = np.concatenate([B, wb * lin.D["body_acc"]])
-    try:
-        with np.errstate(all="ignore"):
-            P = solve_continuous_lyapunov(Aa, -np.outer(Ba, Ba))
-    except (np.linalg.LinAlgError, ValueError) as exc:
-        P, why = None, f"{type(exc).__name__}: {exc}"
-    else:
-        why = "the solution is not finite"
-    if P is None or not np.all(np.isfinite(P)):
-        raise ConvergenceError(
-            f"H2 norms: the Lyapunov equation cannot be solved for these parameters ({why}); "
-            "masses, stiffnesses, damping and inertance are too far apart in scale"
-        )
+    P = gramian(Aa, Ba, what="H2 norms")
     norms, infinite = {}, {}
     outputs = {k: (np.concatenate([c, np.zeros(m)]), lin.D[k]) for k, c in lin.C.items()}
     outputs["body_acc_wk"] = (np.concatenate([np.zeros(n), wc]), 0.0)

@@ -7,8 +7,14 @@ k_t it is the elastic tyre load), ``suspension_deflection`` (working space), or
 ``k | c`` whose damping minimises the body acceleration without tyre damping,
 c = k sqrt((m_s + m_u)/k_t); equal weights by default, so the reference scores 1.
 
-Search. Parameters are searched in logarithms within bounds (defaults per kind below;
-fixed ones, e.g. the main spring, are held). A scrambled Sobol sample of the box is
+Elements. Any element of the registry may stand in the network: springs, dampers and
+inerters are one parameter each; any other element (a fluid inerter, friction, an
+adaptive flywheel, a device, a user's element) enters through its linearisation about
+rest, and its parameters (``fluid.length``) are the variables (:class:`_Design`).
+
+Search. Parameters are searched in logarithms within bounds (defaults: each
+parameter's ``design`` range in the registry; fixed ones, e.g. the main spring, are
+held). A scrambled Sobol sample of the box is
 evaluated in one compiled batch, the best few distinct points are polished by L-BFGS-B
 (unconstrained) or SLSQP (with limits on other norms), and the best polished point wins.
 The gradient for the polish is exact up to rounding and costs one batch call: every
@@ -25,23 +31,22 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from .networks import UNITS, NetworkError, enumerate_networks, parse_network
+from .errors import ParameterError
+from .h2 import h2_rational, h2_rational_gradient
+from .networks import NetworkError, enumerate_networks, linearise, parse_network
 from .suspension.network_linear import (
     MAXC,
     OUTPUTS,
     NetworkQuarterCar,
     _assemble,
     _car_polys,
-    _h2_polys,
-    _lyap_system,
-    _sym_index,
     h2_squared_many,
     network_quarter_car,
 )
 
 __all__ = [
     "OBJECTIVES",
-    "DEFAULT_BOUNDS",
+    "design_parameters",
     "OptimizationResult",
     "optimize_network",
     "optimize_all",
@@ -51,71 +56,11 @@ __all__ = [
 ]
 
 OBJECTIVES = (*OUTPUTS, "weighted")
-DEFAULT_BOUNDS = {"spring": (1e3, 1e7), "damper": (10.0, 1e5), "inerter": (0.1, 2000.0)}
 _BIG = 1e30
 
 
 # ---------------------------------------------------------------------------------------
 # exact gradient: adjoint of the Lyapunov equation through the polynomial coefficients
-
-
-@nb.njit(cache=True)
-def _lyap_general(A, R):
-    """Solve A X + X A^T + R = 0 for symmetric X (R symmetric), small n."""
-    n = A.shape[0]
-    idx, m = _sym_index(n)
-    M = _lyap_system(A, idx, m)
-    rhs = np.zeros(m)
-    for i in range(n):
-        for j in range(i, n):
-            rhs[idx[i, j]] = -R[i, j]
-    x = np.linalg.solve(M, rhs)
-    X = np.empty((n, n))
-    for i in range(n):
-        for j in range(n):
-            X[i, j] = x[idx[i, j]]
-    return X
-
-
-@nb.njit(cache=True)
-def _coef_grad(polys, n, which, g):
-    """d(||row/Delta||^2)/d(coefficients of Delta and of row ``which``) into g[0], g[1]."""
-    an = polys[0, n]
-    w0 = (polys[0, 0] / an) ** (1.0 / n)
-    at = np.empty(n + 1)
-    sc = np.empty(n + 1)
-    for i in range(n + 1):
-        sc[i] = 1.0 / (an * w0 ** (n - i))
-        at[i] = polys[0, i] * sc[i]
-    A = np.zeros((n, n))
-    for i in range(n - 1):
-        A[i, i + 1] = 1.0
-    for j in range(n):
-        A[n - 1, j] = -at[j]
-    R = np.zeros((n, n))
-    R[n - 1, n - 1] = 1.0
-    P = _lyap_general(A, R)
-    c = np.empty(n)
-    for i in range(n):
-        c[i] = polys[which, i] * sc[i]
-    Q = _lyap_general(A.T.copy(), np.outer(c, c))
-    PQ = P @ Q
-    Pc = P @ c
-    J = 0.0
-    for i in range(n):
-        J += c[i] * Pc[i]
-    # scaled problem: dJ~/d at_j = -2 (P Q)[j, n-1], dJ~/dc_j = 2 (P c)_j; J = w0 J~
-    # (w0 is only the choice of realisation: held fixed while differentiating)
-    g[:, :] = 0.0
-    for j in range(n):
-        g[0, j] = w0 * (-2.0 * PQ[j, n - 1]) * sc[j]
-        g[1, j] = w0 * 2.0 * Pc[j] * sc[j]
-    # a_n scales every at_j and c_j by 1/a_n
-    s = 0.0
-    for j in range(n):
-        s += -2.0 * PQ[j, n - 1] * at[j] + 2.0 * Pc[j] * c[j]
-    g[0, n] = -w0 * s / an
-    return w0 * J
 
 
 @nb.njit(cache=True)
@@ -127,12 +72,12 @@ def _grad_batch(prog, theta, car, which, grad):
     base = np.zeros((4, MAXC))
     n = _car_polys(num, ln, den, ld, car[0], car[1], car[2], car[3], base)
     sq = np.empty(3)
-    _h2_polys(base, n, sq)
+    h2_rational(base, n, sq)
     if not np.isfinite(sq[which - 1]):
         grad[:] = np.nan
         return sq[which - 1]
     g = np.zeros((2, n + 1))
-    _coef_grad(base, n, which, g)
+    h2_rational_gradient(base, n, which, g)
     pert = np.zeros((4, MAXC))
     th = theta.copy()
     for k in range(theta.shape[0]):
@@ -183,36 +128,167 @@ def _parse_assignments(items, what: str) -> dict:
     return out
 
 
-def _bounds_for(net, fixed: dict, bounds: dict) -> tuple[list[str], np.ndarray, np.ndarray]:
-    free, lo, hi = [], [], []
-    for name, kind in zip(net.names, net.kinds, strict=True):
-        if name in fixed:
+def design_parameters(network) -> dict:
+    """The numeric parameters of every element of ``network`` that the optimiser can
+    vary, from the element registry: {name: Param}. A spring, damper or inerter is one
+    number under its own name (``k``, ``c2``); any other element's parameters are
+    ``<element>.<parameter>`` (``fluid.length``). Choices (a flywheel preset, a force
+    law) are not design parameters."""
+    out = {}
+    for e in parse_network(network).tree.elements():
+        cls = e.cls
+        if cls.ADMITTANCE is not None:
+            out[e.name] = cls.PARAMETERS[0]
             continue
-        a, b = DEFAULT_BOUNDS[kind]
-        if name in bounds:
-            bd = bounds[name]
-            if isinstance(bd, str):
-                try:
-                    a, b = (float(x) for x in bd.split(":"))
-                except ValueError:
-                    raise NetworkError(
-                        f"bound {name}={bd!r}: expected low:high in {UNITS[kind]}"
-                    ) from None
+        for p in cls.PARAMETERS:
+            if p.choices is None:
+                out[f"{e.name}.{p.name}"] = p
+    return out
+
+
+def _design_name(name: str, params: dict, net) -> str:
+    """``name`` as a key of :func:`design_parameters`; an element name alone stands for
+    its first parameter (as in the core systems' parameters)."""
+    if name in params:
+        return name
+    if "." not in name and name in net.names:
+        first = f"{name}.{parse_network(name).tree.cls.PARAMETERS[0].name}"
+        if first in params:
+            return first
+    known = ", ".join(f"{n} [{p.unit}]" if p.unit else n for n, p in params.items())
+    raise NetworkError(f"{name!r} is no parameter of the elements of {net.text!r} ({known})")
+
+
+class _Design:
+    """The optimiser's variables and how they set the springs, dampers and inerters of
+    the network written about rest (:func:`inerterlab.networks.linearise`).
+
+    A spring, damper or inerter of the network is one leaf of the linear network and
+    its own variable. Any other element contributes the leaves of its linearisation
+    about rest, recomputed from its parameters for every candidate (so any law the
+    element declares is followed exactly); the derivatives of the leaves' logarithms in
+    the variables' logarithms come from central differences."""
+
+    def __init__(self, net, fixed: dict, bounds: dict):
+        self.net = net
+        params = design_parameters(net)
+        fixed = {_design_name(k, params, net): v for k, v in fixed.items()}
+        bounds = {_design_name(k, params, net): v for k, v in bounds.items()}
+        self.fixed = fixed
+        self.free, lo, hi = [], [], []
+        for name, p in params.items():
+            if name in fixed:
+                continue
+            if name in bounds:
+                bd = bounds[name]
+                if isinstance(bd, str):
+                    try:
+                        a, b = (float(x) for x in bd.split(":"))
+                    except ValueError:
+                        raise NetworkError(
+                            f"bound {name}={bd!r}: expected low:high in {p.unit}"
+                        ) from None
+                else:
+                    a, b = (float(x) for x in bd)
+                if not (0 <= a < b < math.inf):
+                    raise NetworkError(f"bound {name}={bd!r}: expected 0 <= low < high")
+                if a == 0.0:
+                    a = b * 1e-6  # log search: 0 stands for "negligible"
+            elif p.design is not None:
+                a, b = p.design
             else:
-                a, b = (float(x) for x in bd)
-            if not (0 <= a < b < math.inf):
-                raise NetworkError(f"bound {name}={bd!r}: expected 0 <= low < high")
-            if a == 0.0:
-                a = b * 1e-6  # log search: 0 stands for "negligible"
-        free.append(name)
-        lo.append(math.log(a))
-        hi.append(math.log(b))
-    for name in list(fixed) + list(bounds):
-        if name not in net.names:
-            raise NetworkError(
-                f"{name!r} names no element of {net.text!r} (elements: {', '.join(net.names)})"
+                continue  # held at the element's default (or required: checked below)
+            self.free.append(name)
+            lo.append(math.log(a))
+            hi.append(math.log(b))
+        self.lo, self.hi = np.array(lo), np.array(hi)
+        self.simple = all(e.linear for e in net.tree.elements())
+        if self.simple:
+            self.lin = net
+            self.free_idx = np.array([net.names.index(n) for n in self.free], dtype=np.int64)
+            self.theta0 = np.array([fixed.get(n, 1.0) for n in net.names])
+            return
+        # the other elements: their parameters by element, and the linear network's
+        # structure at the middle of the box
+        self.groups = {}
+        for e in net.tree.elements():
+            if not e.linear:
+                self.groups[e.name] = [n for n in params if n.split(".", 1)[0] == e.name]
+        self.lin, _ = self._linear(self.values((self.lo + self.hi) / 2))
+        self.index = {n: i for i, n in enumerate(self.lin.names)}
+
+    def values(self, u) -> dict:
+        """{design name: value} at the log-variables ``u`` (fixed ones included)."""
+        out = dict(self.fixed)
+        out.update(zip(self.free, np.exp(u).tolist(), strict=True))
+        return out
+
+    def _linear(self, values: dict):
+        try:
+            return linearise(self.net, values)
+        except ParameterError as e:
+            hint = (
+                "; hold it with fixed (--fix name=value) or search it with bounds "
+                "(--bound name=low:high)"
+                if e.value is None  # a required parameter neither fixed nor bounded
+                else ""
             )
-    return free, np.array(lo), np.array(hi)
+            raise NetworkError(f"network {self.net.text!r}: {e}{hint}") from None
+
+    def _leaves(self, u) -> np.ndarray | None:
+        """Leaf values of the linear network at ``u``; None if its structure differs."""
+        vals = self.values(u)
+        th = np.empty(len(self.lin.names))
+        seen = 0
+        for e in self.net.tree.elements():
+            if e.linear:
+                th[self.index[e.name]] = vals[e.name]
+                seen += 1
+                continue
+            given = {n.split(".", 1)[1]: vals[n] for n in self.groups[e.name] if n in vals}
+            try:
+                rest = e.cls.from_value(e.name, given).rest_network()
+            except ParameterError:
+                return None
+            for k, v in ({} if rest is None else rest[1]).items():
+                i = self.index.get(f"{k}_{e.name}")
+                if i is None:
+                    return None
+                th[i] = v
+                seen += 1
+        return th if seen == len(th) else None
+
+    def thetas(self, U) -> np.ndarray:
+        U = np.atleast_2d(U)
+        if self.simple:
+            T = np.repeat(self.theta0[None, :], U.shape[0], axis=0)
+            T[:, self.free_idx] = np.exp(U)
+            return T
+        T = np.empty((U.shape[0], len(self.lin.names)))
+        for r, u in enumerate(U):
+            th = self._leaves(u)
+            T[r] = np.nan if th is None else th
+        return T
+
+    def chain(self, u, g_leaf: np.ndarray) -> np.ndarray:
+        """Derivatives in the free log-variables from those in the leaves' logarithms."""
+        if self.simple:
+            return g_leaf[self.free_idx]
+        out = np.zeros(len(self.free))
+        h = 1e-5
+        for j in range(len(self.free)):
+            up, dn = u.copy(), u.copy()
+            up[j] += h
+            dn[j] -= h
+            a, b = self._leaves(up), self._leaves(dn)
+            if a is None or b is None:
+                return np.full(len(self.free), np.nan)
+            out[j] = g_leaf @ ((np.log(a) - np.log(b)) / (2 * h))
+        return out
+
+    def units(self) -> dict:
+        params = design_parameters(self.net)
+        return {n: params[n].unit for n in [*self.fixed, *self.free]}
 
 
 def reference_norms(**car) -> dict:
@@ -239,6 +315,8 @@ class OptimizationResult:
     starts_agree: bool = True
     evaluations: int = 0
     reason: str = ""
+    #: unit of each parameter, from the element registry
+    units: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         out = {
@@ -246,6 +324,7 @@ class OptimizationResult:
             "objective_name": self.objective_name,
             "objective": self.objective if math.isfinite(self.objective) else None,
             "parameters": self.parameters,
+            "units": self.units,
             "norms": {k: (v if math.isfinite(v) else None) for k, v in self.norms.items()},
             "improvement_vs": self.improvement_vs,
             "converged": self.converged,
@@ -262,15 +341,16 @@ class _Problem:
     def __init__(self, net, objective, fixed, bounds, constraints, weights, car):
         if objective not in OBJECTIVES:
             raise NetworkError(f"objective {objective!r}: expected one of {', '.join(OBJECTIVES)}")
-        self.q = network_quarter_car(net, **car)
-        self.net = self.q.network
+        self.design = _Design(parse_network(net), fixed, bounds)
+        self.q = network_quarter_car(self.design.lin, **car)
+        self.net = self.design.net
         self.objective = objective
-        self.fixed = {k: float(v) for k, v in fixed.items()}
-        if self.fixed:
+        self.fixed = {k: float(v) for k, v in self.design.fixed.items()}
+        if self.fixed and self.design.simple:
             # validates the fixed values (finite, > 0) with the network's own messages
             probe = {n: self.fixed.get(n, 1.0) for n in self.net.names}
             self.net.parameter_vector(probe)
-        self.free, self.lo, self.hi = _bounds_for(self.net, self.fixed, bounds)
+        self.free, self.lo, self.hi = self.design.free, self.design.lo, self.design.hi
         if not self.free:
             raise NetworkError(f"network {self.net.text!r}: every parameter is fixed")
         self.constraints = {}
@@ -296,8 +376,6 @@ class _Problem:
         else:
             self.wvec = np.array([1.0 if k == objective else 0.0 for k in OUTPUTS])
         self.ref = ref
-        self.free_idx = np.array([self.net.names.index(n) for n in self.free])
-        self.theta0 = np.array([self.fixed.get(n, 1.0) for n in self.net.names])
         self.car = self.q.car_vector
         self.prog = self.q.program
         self.neval = 0
@@ -305,17 +383,29 @@ class _Problem:
         self.clim = np.array([self.constraints[k] ** 2 for k in self.constraints])
 
     def thetas(self, U):
-        U = np.atleast_2d(U)
-        T = np.repeat(self.theta0[None, :], U.shape[0], axis=0)
-        T[:, self.free_idx] = np.exp(U)
-        return T
+        return self.design.thetas(U)
 
     def squares(self, U):
         T = self.thetas(U)
         out = np.empty((T.shape[0], 3))
-        h2_squared_many(self.prog, T, self.car, out)
+        ok = np.all(np.isfinite(T), axis=1)
+        out[~ok] = np.inf
+        if ok.all():
+            h2_squared_many(self.prog, T, self.car, out)
+        elif ok.any():
+            part = np.empty((int(ok.sum()), 3))
+            h2_squared_many(self.prog, T[ok], self.car, part)
+            out[ok] = part
         self.neval += T.shape[0]
         return out
+
+    def parameters(self, u) -> dict:
+        """The design parameters at ``u`` (fixed and free) by name."""
+        return self.design.values(u)
+
+    def linear_parameters(self, u) -> dict:
+        """The springs, dampers and inerters of the linear network at ``u``."""
+        return dict(zip(self.q.network.names, self.thetas(u)[0].tolist(), strict=True))
 
     def scalar(self, sq):
         with np.errstate(invalid="ignore"):
@@ -334,6 +424,8 @@ class _Problem:
         """Scalar objective and its gradient in the free log-parameters."""
         th = self.thetas(u)[0]
         total, grad = 0.0, np.zeros(len(self.free))
+        if not np.all(np.isfinite(th)):
+            return _BIG, grad
         gfull = np.empty(len(th))
         for o in range(3):
             w = self.wvec[o]
@@ -341,10 +433,11 @@ class _Problem:
                 continue
             v = _grad_batch(self.prog, th, self.car, o + 1, gfull)
             self.neval += 1 + len(th)
-            if not np.isfinite(v) or not np.all(np.isfinite(gfull)):
+            g = self.design.chain(u, gfull)
+            if not np.isfinite(v) or not np.all(np.isfinite(g)):
                 return _BIG, np.zeros(len(self.free))
             total += w * v
-            grad += w * gfull[self.free_idx]
+            grad += w * g
         return total, grad
 
     def cons_and_jac(self, u):
@@ -352,13 +445,13 @@ class _Problem:
         vals, jacs = [], []
         gfull = np.empty(len(th))
         for o, lim in zip(self.cidx, self.clim, strict=True):
-            v = _grad_batch(self.prog, th, self.car, o + 1, gfull)
+            v = _grad_batch(self.prog, th, self.car, o + 1, gfull) if np.all(np.isfinite(th)) else np.nan
             if not np.isfinite(v):
                 vals.append(-1e6)
                 jacs.append(np.zeros(len(self.free)))
                 continue
             vals.append(1.0 - v / lim)
-            jacs.append(-gfull[self.free_idx] / lim)
+            jacs.append(-self.design.chain(u, gfull) / lim)
         return np.array(vals), np.array(jacs)
 
     def value(self, sq_row) -> float:
@@ -474,7 +567,10 @@ def optimize_network(
     objective : {"body_acc", "tyre_deflection", "suspension_deflection", "weighted"}
     fixed : dict or list of "name=value", held parameters (e.g. ``{"k": 50e3}``).
     bounds : dict name -> (low, high) or "low:high"; a low of 0 means 1e-6 x high.
-        Defaults per kind: :data:`DEFAULT_BOUNDS`.
+        Defaults: each parameter's ``design`` range in the element registry. Names are
+        those of :func:`design_parameters`: ``k``, ``c2`` for springs, dampers and
+        inerters, ``<element>.<parameter>`` for any other element (its linearisation
+        about rest is what the H2 norms see), e.g. ``fluid.length``.
     constraints : dict output -> upper limit of its H2 norm (constraint form, e.g.
         minimise body_acc with tyre and suspension deflection limits).
     weights : dict output -> weight of the ``weighted`` objective (default equal).
@@ -498,7 +594,7 @@ def optimize_network(
             fixed[k] = float(v)
         except ValueError:
             raise NetworkError(f"fixed parameter {k}={v!r}: not a number") from None
-    pb = _Problem(parse_network(network), objective, fixed, bounds, constraints, weights, car)
+    pb = _Problem(network, objective, fixed, bounds, constraints, weights, car)
     d = len(pb.free)
     m = max(int(samples), 16 * d)
     sob = qmc.Sobol(d, scramble=True, seed=seed)
@@ -545,7 +641,6 @@ def optimize_network(
         finals.append((val, feas))
         if feas and (best is None or val < best[0]):
             best = (val, u, s[0], bool(r.success) or _kkt(pb, u, val))
-    names = pb.net.names
     if best is None:
         reason = (
             "no finite objective anywhere in the bounds (see the norms' reasons: "
@@ -554,24 +649,23 @@ def optimize_network(
             else "no start met the constraints"
         )
         u = (pb.lo + pb.hi) / 2
-        th = pb.thetas(u)[0]
-        params = dict(zip(names, th.tolist(), strict=True))
+        params, lin = pb.parameters(u), pb.linear_parameters(u)
         res = OptimizationResult(
             network=pb.net.text,
             objective_name=objective,
             objective=math.inf,
             parameters=params,
-            norms=pb.q.h2(params),
+            units=pb.design.units(),
+            norms=pb.q.h2(lin),
             converged=False,
             at_bound=[],
             evaluations=pb.neval,
             reason=reason
-            + ("; " + "; ".join(pb.q.h2_reasons(params).values()) if picks == [] else ""),
+            + ("; " + "; ".join(pb.q.h2_reasons(lin).values()) if picks == [] else ""),
         )
     else:
         val, u, srow, ok = best
-        th = pb.thetas(u)[0]
-        params = dict(zip(names, th.tolist(), strict=True))
+        params, lin = pb.parameters(u), pb.linear_parameters(u)
         tol = 1e-4 * span
         at_bound = [
             f"{n}={'low' if u[i] - pb.lo[i] <= tol[i] else 'high'}"
@@ -585,7 +679,8 @@ def optimize_network(
             objective_name=objective,
             objective=math.sqrt(val),
             parameters=params,
-            norms=pb.q.h2(params),
+            units=pb.design.units(),
+            norms=pb.q.h2(lin),
             converged=ok,
             at_bound=at_bound,
             constraints=dict(pb.constraints),
@@ -700,9 +795,10 @@ def pareto_front(
             )
             res.append((r, lims))
         rows.append(res)
-        for n in parse_network(text).names:
-            if n not in all_names:
-                all_names.append(n)
+        for r, _ in res:
+            for n in r.parameters:
+                if n not in all_names:
+                    all_names.append(n)
     npts = max((len(r) for r in rows), default=0)
     data = {o: np.full((len(nets), npts), np.nan) for o in objectives}
     pars = {n: np.full((len(nets), npts), np.nan) for n in all_names}

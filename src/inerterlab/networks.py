@@ -9,20 +9,17 @@ Grammar (whitespace is ignored)::
 so ``-`` binds tighter than ``|``: ``k | c - b`` is ``k | (c - b)``. Printed networks
 always carry the parentheses, so nobody has to remember this.
 
-Element names are a type prefix and an optional suffix of digits or ``_word``:
+Element names are a prefix of the element registry (:data:`inerterlab.elements.ELEMENTS`,
+the only list of element names) and an optional suffix of digits or ``_word``: ``k``,
+``c``, ``b`` (linear spring N/m, damper N s/m, inerter kg; admittances k/s, c, b s),
+``fric``, ``afw``, ``gap``, ``hyd``, ``screw``, ``rect``, ``fluid`` and whatever is
+registered later. Each element class declares its parameters with units and its
+linearisation about rest (:meth:`~inerterlab.elements.ElementBase.rest_network`);
+:func:`linearise` writes any network about rest with springs, dampers and inerters only,
+which is what the admittance and the H2 analyses take.
 
-=========  =====================  ==============  ===============
-prefix     element                parameter       admittance Y(s)
-=========  =====================  ==============  ===============
-``k``      linear spring          stiffness N/m   k / s
-``c``      linear damper          damping N s/m   c
-``b``      ideal inerter          inertance kg    b s
-=========  =====================  ==============  ===============
-
-The prefixes ``afw``, ``hyd``, ``screw``, ``rect`` and ``fluid`` name nonlinear devices
-(adaptive flywheel, hydraulic, screw, rectifier, fluid inerters). They parse into the
-tree so a layout can be written down, but any linear analysis refuses them: it needs a
-linearisation first.
+Nesting is limited to :data:`MAX_NESTING` levels of parentheses, and messages quote at
+most a short excerpt of a long text, with the position.
 
 The admittance (force per unit relative velocity, Laplace domain) of a tree is a ratio
 of polynomials, built exactly: parallel branches add admittances, series branches add
@@ -42,7 +39,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import InerterlabError
+from .errors import NetworkError
 
 __all__ = [
     "NetworkError",
@@ -53,27 +50,30 @@ __all__ = [
     "admittance",
     "enumerate_networks",
     "same_family",
-    "LINEAR_KINDS",
-    "NONLINEAR_PREFIXES",
+    "substitute",
+    "linearise",
+    "MAX_NESTING",
 ]
 
-LINEAR_KINDS = {"k": "spring", "c": "damper", "b": "inerter"}
-UNITS = {"spring": "N/m", "damper": "N s/m", "inerter": "kg"}
-NONLINEAR_PREFIXES = {
-    "afw": "adaptive-flywheel inerter",
-    "hyd": "hydraulic inerter",
-    "screw": "ball-screw inerter",
-    "rect": "rectifying inerter",
-    "fluid": "fluid inerter",
-}
-_SUFFIX = r"(?:\d*|_[A-Za-z0-9_]+)"
-_NONLINEAR_RE = re.compile(rf"^({'|'.join(NONLINEAR_PREFIXES)}){_SUFFIX}$")
-_LINEAR_RE = re.compile(rf"^([kcb]){_SUFFIX}$")
+#: deepest nesting of parentheses a network text may have
+MAX_NESTING = 100
 _TOKEN_RE = re.compile(r"\s*(?:([A-Za-z][A-Za-z0-9_]*)|(\|)|(-)|(\()|(\)))")
 
 
-class NetworkError(InerterlabError, ValueError):
-    """A network text, or the parameters given for it, cannot be used."""
+def _short(text: str, pos: int | None = None, width: int = 60) -> str:
+    """``text`` quoted, or an excerpt of about ``width`` characters around ``pos``."""
+    if len(text) <= width:
+        return repr(text)
+    pos = 0 if pos is None else max(0, min(pos, len(text)))
+    lo = max(0, pos - width // 2)
+    hi = min(len(text), lo + width)
+    lo = max(0, hi - width)
+    return (
+        ("..." if lo > 0 else "")
+        + repr(text[lo:hi])
+        + ("..." if hi < len(text) else "")
+        + f" ({len(text)} characters)"
+    )
 
 
 # ---------------------------------------------------------------------------------------
@@ -82,14 +82,22 @@ class NetworkError(InerterlabError, ValueError):
 
 @dataclass(frozen=True)
 class Element:
-    """One element: ``name`` as written, ``kind`` spring/damper/inerter or a device."""
+    """One element: ``name`` as written, ``kind`` its registry prefix (``k``, ``fluid``)."""
 
     name: str
     kind: str
 
     @property
+    def cls(self):
+        """The element class of the registry."""
+        from .elements import ELEMENTS
+
+        return ELEMENTS[self.kind]
+
+    @property
     def linear(self) -> bool:
-        return self.kind in UNITS
+        """A one-parameter linear element (spring, damper, inerter)."""
+        return self.cls.ADMITTANCE is not None
 
     def text(self) -> str:
         return self.name
@@ -116,16 +124,9 @@ class Combination:
 
 
 def _element(name: str) -> Element:
-    m = _NONLINEAR_RE.match(name)
-    if m:
-        return Element(name, NONLINEAR_PREFIXES[m.group(1)])
-    m = _LINEAR_RE.match(name)
-    if m:
-        return Element(name, LINEAR_KINDS[m.group(1)])
-    raise NetworkError(
-        f"unknown element name {name!r}: expected k..., c..., b... (spring, damper, "
-        f"inerter; e.g. k2, c_front) or a nonlinear device {', '.join(NONLINEAR_PREFIXES)}"
-    )
+    from .elements import element_class
+
+    return Element(name, element_class(name).prefix)
 
 
 def _combine(op: str, parts: list) -> Any:
@@ -144,9 +145,10 @@ def _tokens(text: str) -> list[tuple[str, str, int]]:
     while pos < len(text):
         m = _TOKEN_RE.match(text, pos)
         if not m or m.end() == pos:
+            at = len(text) - len(text[pos:].lstrip())
             raise NetworkError(
-                f"network {text!r}: unexpected character {text[pos:].lstrip()[:1]!r} at "
-                f"position {pos + 1}; use names, '|' (parallel), '-' (series) and parentheses"
+                f"network {_short(text, at)}: unexpected character {text[at]!r} at "
+                f"position {at + 1}; use names, '|' (parallel), '-' (series) and parentheses"
             )
         kinds = ("name", "|", "-", "(", ")")
         for kind, g in zip(kinds, m.groups(), strict=True):
@@ -161,17 +163,20 @@ class _Parser:
         self.text = text
         self.toks = _tokens(text)
         self.i = 0
+        self.depth = 0
 
     def peek(self) -> str | None:
         return self.toks[self.i][0] if self.i < len(self.toks) else None
 
     def fail(self, what: str) -> NetworkError:
+        pos = len(self.text)
         if self.i < len(self.toks):
             _, val, pos = self.toks[self.i]
-            where = f"{val!r} at position {pos + 1}"
+            shown = val if len(val) <= 40 else val[:37] + "..."
+            where = f"{shown!r} at position {pos + 1}"
         else:
             where = "the end"
-        return NetworkError(f"network {self.text!r}: expected {what}, found {where}")
+        return NetworkError(f"network {_short(self.text, pos)}: expected {what}, found {where}")
 
     def network(self) -> Any:
         parts = [self.series()]
@@ -194,8 +199,16 @@ class _Parser:
             self.i += 1
             return _element(name)
         if kind == "(":
+            self.depth += 1
+            if self.depth > MAX_NESTING:
+                pos = self.toks[self.i][2]
+                raise NetworkError(
+                    f"network {_short(self.text, pos)}: parentheses nested deeper than "
+                    f"{MAX_NESTING} levels at position {pos + 1} (the nesting limit)"
+                )
             self.i += 1
             node = self.network()
+            self.depth -= 1
             if self.peek() != ")":
                 raise self.fail("')'")
             self.i += 1
@@ -220,16 +233,21 @@ class Network:
 
     @property
     def is_linear(self) -> bool:
-        return all(k in UNITS for k in self.kinds)
+        """Springs, dampers and inerters only (one number each)."""
+        return all(e.linear for e in self.tree.elements())
+
+    def _units(self, name: str) -> str:
+        return _element(name).cls.PARAMETERS[0].unit
 
     def require_linear(self) -> None:
-        """Raise :class:`NetworkError` naming the first nonlinear element."""
-        for n, k in zip(self.names, self.kinds, strict=True):
-            if k not in UNITS:
+        """Raise :class:`NetworkError` naming the first element that is not a spring,
+        damper or inerter."""
+        for e in self.tree.elements():
+            if not e.linear:
                 raise NetworkError(
-                    f"network {self.text!r}: {n!r} is a nonlinear element ({k}); "
-                    "linear analysis needs a linearisation (replace it by an equivalent "
-                    "spring, damper and inerter, e.g. b for its inertance)"
+                    f"network {_short(self.text)}: {e.name!r} ({e.cls.description}) is not a "
+                    "spring, damper or inerter; this analysis needs its linearisation "
+                    "about rest (inerterlab.networks.linearise)"
                 )
 
     def parameter_vector(self, params: dict) -> np.ndarray:
@@ -238,25 +256,27 @@ class Network:
         missing = [n for n in self.names if n not in params]
         if missing:
             raise NetworkError(
-                f"network {self.text!r}: missing parameter(s) "
-                + ", ".join(f"{n} [{UNITS[self.kinds[self.names.index(n)]]}]" for n in missing)
+                f"network {_short(self.text)}: missing parameter(s) "
+                + ", ".join(f"{n} [{self._units(n)}]" for n in missing)
             )
         extra = sorted(set(params) - set(self.names))
         if extra:
             raise NetworkError(
-                f"network {self.text!r}: parameter(s) {', '.join(extra)} name no element "
+                f"network {_short(self.text)}: parameter(s) {', '.join(extra)} name no element "
                 f"(elements: {', '.join(self.names)})"
             )
         out = np.empty(len(self.names))
-        for i, (n, k) in enumerate(zip(self.names, self.kinds, strict=True)):
+        for i, n in enumerate(self.names):
             try:
                 x = float(params[n])
             except (TypeError, ValueError):
                 raise NetworkError(f"parameter {n}={params[n]!r}: not a number") from None
             if not np.isfinite(x) or x <= 0:
+                cls = _element(n).cls
                 raise NetworkError(
-                    f"parameter {n}={params[n]!r} ({k}): expected a finite number > 0 "
-                    f"{UNITS[k]} (drop the element from the network instead of setting 0)"
+                    f"parameter {n}={params[n]!r} ({cls.description}): expected a finite "
+                    f"number > 0 {self._units(n)} (drop the element from the network "
+                    "instead of setting 0)"
                 )
             out[i] = x
         return out
@@ -268,17 +288,16 @@ class Network:
     def program(self) -> np.ndarray:
         """Post-order program of the tree for the compiled evaluator, rows (op, a, b).
 
-        op 0: push element ``a`` (index into :attr:`names`) of kind ``b`` (0 spring,
-        1 damper, 2 inerter); op 1: replace the top two entries by their parallel
-        connection; op 2: by their series connection.
+        op 0: push element ``a`` (index into :attr:`names`) whose admittance is
+        value * s**(b - 1) (b = 0 spring, 1 damper, 2 inerter); op 1: replace the top two
+        entries by their parallel connection; op 2: by their series connection.
         """
         self.require_linear()
         rows: list[tuple[int, int, int]] = []
-        code = {"spring": 0, "damper": 1, "inerter": 2}
 
         def walk(node):
             if isinstance(node, Element):
-                rows.append((0, self.names.index(node.name), code[node.kind]))
+                rows.append((0, self.names.index(node.name), node.cls.ADMITTANCE + 1))
                 return
             walk(node.parts[0])
             for p in node.parts[1:]:
@@ -296,14 +315,15 @@ def parse_network(text: str | Network) -> Network:
     --------
     >>> n = parse_network("k | (c - b) | k2")
     >>> n.names, n.kinds
-    (('k', 'c', 'b', 'k2'), ('spring', 'damper', 'inerter', 'spring'))
+    (('k', 'c', 'b', 'k2'), ('k', 'c', 'b', 'k'))
     >>> parse_network("k | c - b").text
     'k | (c - b)'
     """
     if isinstance(text, Network):
         return text
     if not isinstance(text, str) or not text.strip():
-        raise NetworkError(f"network {text!r}: empty; write e.g. 'k | c'")
+        shown = _short(text) if isinstance(text, str) else type(text).__name__
+        raise NetworkError(f"network {shown}: empty; write e.g. 'k | c'")
     p = _Parser(text)
     tree = p.network()
     if p.i != len(p.toks):
@@ -312,8 +332,9 @@ def parse_network(text: str | Network) -> Network:
     counts = Counter(e.name for e in elems)
     dup = [n for n, c in counts.items() if c > 1]
     if dup:
+        shown = dup[0] if len(dup[0]) <= 40 else dup[0][:37] + "..."
         raise NetworkError(
-            f"network {text!r}: element {dup[0]!r} appears {counts[dup[0]]} times; "
+            f"network {_short(text)}: element {shown!r} appears {counts[dup[0]]} times; "
             "give every element its own name (k, k2, ...)"
         )
     return Network(tree, tuple(e.name for e in elems), tuple(e.kind for e in elems))
@@ -340,13 +361,13 @@ def _padd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _adm_asc(node, values: dict) -> tuple[np.ndarray, np.ndarray]:
-    if isinstance(node, Element):
-        x = values[node.name]
-        if node.kind == "spring":
-            return np.array([x]), np.array([0.0, 1.0])
-        if node.kind == "damper":
-            return np.array([x]), np.array([1.0])
-        return np.array([0.0, x]), np.array([1.0])
+    if isinstance(node, Element):  # value * s**p
+        p = node.cls.ADMITTANCE
+        lead = np.zeros(abs(p) + 1)
+        lead[-1] = 1.0
+        if p >= 0:
+            return values[node.name] * lead, np.array([1.0])
+        return np.array([values[node.name]]), lead
     num, den = _adm_asc(node.parts[0], values)
     for part in node.parts[1:]:
         n2, d2 = _adm_asc(part, values)
@@ -386,14 +407,121 @@ def admittance_at(network: str | Network, params: dict, s: Any) -> np.ndarray:
 
     def ev(node):
         if isinstance(node, Element):
-            x = vals[node.name]
-            return {"spring": x / s, "damper": x + 0 * s, "inerter": x * s}[node.kind]
+            return vals[node.name] * s ** node.cls.ADMITTANCE
         ys = [ev(p) for p in node.parts]
         if node.op == "|":
             return sum(ys)
         return 1.0 / sum(1.0 / y for y in ys)
 
     return ev(net.tree)
+
+
+# ---------------------------------------------------------------------------------------
+# elements from parameters; linearisation about rest
+
+
+def elements_of(text: str | Network, params: dict | None) -> tuple[Any, dict]:
+    """Parse ``text`` and build each element from ``params``.
+
+    ``params`` maps an element name to a number (its first parameter), a dict of
+    parameters or an element object; ``"name.parameter"`` keys set one parameter.
+    Unknown names are an error naming them; missing values name the element.
+    """
+    from .elements import ElementBase
+    from .errors import ParameterError
+
+    net = parse_network(text)
+    tree, names = net.tree, net.names
+    grouped: dict[str, Any] = {}
+    for key, value in dict(params or {}).items():
+        base, _, sub = str(key).partition(".")
+        if base not in names:
+            raise ParameterError(
+                str(key), value, f"a parameter of an element of {_short(net.text)} "
+                f"({', '.join(names)})"
+            )
+        cur = grouped.get(base)
+        first = _element(base).cls.PARAMETERS[0].name
+        if sub:
+            cur = {} if cur is None else dict(cur) if isinstance(cur, dict) else {first: cur}
+            cur[sub] = value
+            grouped[base] = cur
+        elif isinstance(cur, dict) and not isinstance(value, dict | ElementBase):
+            grouped[base] = {first: value, **cur}
+        else:
+            grouped[base] = value
+    elements = {n: _element(n).cls.from_value(n, grouped.get(n)) for n in names}
+    return tree, elements
+
+
+_NAME_RE = re.compile(r"[A-Za-z][A-Za-z0-9_]*")
+
+
+def substitute(tree, repl: dict) -> tuple[str, dict[str, float]] | None:
+    """Replace every element of ``tree`` by a network of springs, dampers and inerters.
+
+    ``repl`` maps an element name to (text over local names, {local name: value}) or
+    ``None``, an open circuit (no force). A local name becomes ``<local>_<element>``,
+    unless the replacement is one element of the element's own kind (a spring ``k2``
+    stays ``k2``). An open circuit drops out of a parallel connection and opens a series
+    one. Returns (text, values), or None if the whole network is open."""
+    if isinstance(tree, Element):
+        r = repl[tree.name]
+        if r is None:
+            return None
+        text, vals = r
+        if len(vals) == 1 and text.strip() in vals and _element(text.strip()).kind == tree.kind:
+            return tree.name, {tree.name: next(iter(vals.values()))}
+        ren = {k: f"{k}_{tree.name}" for k in vals}
+        return (
+            "(" + _NAME_RE.sub(lambda m: ren.get(m.group(0), m.group(0)), text) + ")",
+            {ren[k]: v for k, v in vals.items()},
+        )
+    subs = [substitute(p, repl) for p in tree.parts]
+    if tree.op == "-" and any(r is None for r in subs):
+        return None
+    subs = [r for r in subs if r is not None]
+    if not subs:
+        return None
+    values: dict[str, float] = {}
+    for _, v in subs:
+        values.update(v)
+    return "(" + f" {tree.op} ".join(t for t, _ in subs) + ")", values
+
+
+def linearise(
+    network: str | Network, params: dict | None = None, *, exact: bool = False
+) -> tuple[Network, dict[str, float]]:
+    """``network`` with ``params`` (as :func:`elements_of` takes them) written about rest
+    with springs, dampers and inerters only: (Network, {name: value}).
+
+    Every element contributes its :meth:`~inerterlab.elements.ElementBase.rest_network`
+    (a composite, its parts'). With ``exact`` an element that is not linear for every
+    motion is refused (NetworkError naming it) instead of being linearised.
+
+    Examples
+    --------
+    >>> net, values = linearise("k | fric", {"k": 5e4, "fric": 20.0})
+    >>> net.text, values
+    ('k | c_fric', {'k': 50000.0, 'c_fric': 20000.0})
+    """
+    tree, els = elements_of(network, params)
+    text = tree.text()
+    if exact:
+        for name, el in els.items():
+            if not el.is_linear:
+                raise NetworkError(
+                    f"network {_short(text)}: {name!r} ({el.description}) is not linear with "
+                    "these parameters; this analysis needs springs, linear dampers and ideal "
+                    "inerters (or the linearisation about rest)"
+                )
+    r = substitute(tree, {n: el.rest_network() for n, el in els.items()})
+    if r is None:
+        raise NetworkError(
+            f"network {_short(text)}: carries no force for small motions about rest (every "
+            "path between its terminals holds an open element, such as a gap with free play)"
+        )
+    return parse_network(r[0]), r[1]
 
 
 # ---------------------------------------------------------------------------------------

@@ -18,10 +18,12 @@ from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
 
 network_app = typer.Typer(
     name="network",
-    help="Linear spring/damper/inerter networks as quarter-car suspensions: enumerate "
+    help="Spring/damper/inerter networks as quarter-car suspensions: enumerate "
     "layouts, H2 norms, H2-optimal parameters, Pareto fronts. Networks are text: "
     "'|' parallel, '-' series (binds tighter), parentheses; k.. springs [N/m], "
-    "c.. dampers [N s/m], b.. inerters [kg]. Example: 'k | (k1 - c - b)'.",
+    "c.. dampers [N s/m], b.. inerters [kg] and every registered element (fluid, fric, "
+    "afw, hyd, ...; optimised through its linearisation about rest, parameters "
+    "element.parameter). Example: 'k | (k1 - c - b)'.",
     no_args_is_help=True,
     rich_markup_mode=None,
 )
@@ -97,17 +99,32 @@ def h2_command(
 ) -> None:
     """H2 norms per unit white road velocity of the quarter car with a network.
 
+    A network with other elements than springs, dampers and inerters is taken about
+    rest (each element's declared linearisation; parameters element.parameter=value).
     Example: inerterlab network h2 --network 'k | c' -p k=90000,c=5000 --json
     """
+    from ..errors import NetworkError
     from ..network_design import _parse_assignments
+    from ..networks import linearise, parse_network
     from ..suspension.network_linear import network_quarter_car
 
-    q = network_quarter_car(
-        network, **_car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
-    )
+    net = parse_network(network)
     params = _parse_assignments(param, "parameter")
+    lin = net
+    if not net.is_linear:
+        values = {}
+        for k, v in params.items():
+            try:
+                values[k] = float(v)
+            except ValueError:
+                raise NetworkError(f"parameter {k}={v!r}: not a number") from None
+        lin, params = linearise(net, values)
+    q = network_quarter_car(lin, **_car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping))
     norms = q.h2(params)
-    out = {"network": q.network.text, **{k: _num(v) for k, v in norms.items()}}
+    out = {"network": net.text, **{k: _num(v) for k, v in norms.items()}}
+    if lin is not net:
+        out["linearised_about_rest"] = lin.text
+        out["linear_parameters"] = params
     reasons = q.h2_reasons(params)
     if reasons:
         out["infinite"] = reasons
@@ -117,7 +134,8 @@ def h2_command(
         return
     rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k in norms]
     rows.append(("states", str(out["states"])))
-    print_table(f"H2 norms, {q.network.text}, unit white road velocity", rows)
+    about = f" linearised about rest as {lin.text}" if lin is not net else ""
+    print_table(f"H2 norms, {net.text}{about}, unit white road velocity", rows)
 
 
 def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt) -> dict:
@@ -232,7 +250,10 @@ def optimize_command(
         return
     r = results[0]
     rows = [("objective " + objective, _fmt(r.objective))]
-    rows += [(f"{k}", f"{v:.6g}") for k, v in r.parameters.items()]
+    rows += [
+        (f"{k} [{r.units[k]}]" if r.units.get(k) else k, f"{v:.6g}")
+        for k, v in r.parameters.items()
+    ]
     rows += [(f"H2 {k}", _fmt(v)) for k, v in r.norms.items()]
     for k, v in r.improvement_vs.items():
         rows.append((f"improvement vs {k} [%]", "n/a" if v is None else f"{v:.3f}"))
@@ -268,6 +289,7 @@ def _short(r) -> dict:
         "network": d["network"],
         "objective": d["objective"],
         "parameters": d["parameters"],
+        "units": d["units"],
         "norms": d["norms"],
         "improvement_vs": d["improvement_vs"],
         "converged": d["converged"],

@@ -354,10 +354,10 @@ def _h2_network(network, params, ms, mu, kt, ct, json_out) -> None:
     inerters)."""
     import math
 
+    from ..networks import linearise
     from ..suspension.network_linear import network_quarter_car
-    from ..systems import linear_equivalent
 
-    text, lin = linear_equivalent(network, params)
+    text, lin = linearise(network, params, exact=True)
     q = network_quarter_car(
         text, sprung_mass=ms, unsprung_mass=mu, tyre_stiffness=kt, tyre_damping=ct
     )

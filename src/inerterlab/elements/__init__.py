@@ -1,7 +1,10 @@
 """Element laws of two-terminal networks, one module each, and their registry.
 
-:data:`ELEMENTS` maps a name prefix (as written in a network text, ``k2``, ``afw_front``)
-to the element class. A primitive element (spring, damper, inerter, friction, adaptive
+:data:`ELEMENTS` is the one registry of element names: it maps a name prefix (as written
+in a network text, ``k2``, ``afw_front``) to the element class, which declares its role,
+its parameters with units (and the optimiser's default search ranges), its law and its
+linearisation about rest. The network grammar (:mod:`inerterlab.networks`) reads names
+through :func:`element_class` only. A primitive element (spring, damper, inerter, friction, adaptive
 flywheel, backlash) has a compiled force law the system right-hand side calls; a composite element
 (hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
 Adding an element is one module and one line below (docs/decisions.md, "Model core").
@@ -9,9 +12,10 @@ Adding an element is one module and one line below (docs/decisions.md, "Model co
 
 from __future__ import annotations
 
+import functools
 import re
 
-from ..networks import NetworkError
+from ..errors import NetworkError
 from ._base import ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
 from .backlash import Backlash
@@ -29,6 +33,7 @@ __all__ = [
     "ElementBase",
     "Param",
     "element_class",
+    "register",
     "make_element",
     "inertia_law",
     "Spring",
@@ -56,16 +61,34 @@ ELEMENTS: dict[str, type[ElementBase]] = {
     "gap": Backlash,
 }
 
+
+def register(cls: type[ElementBase]) -> type[ElementBase]:
+    """Add an element class under its ``prefix`` (usable as a decorator): then the network
+    grammar, the core systems and every analysis know it. A prefix is letters and not
+    taken already; where one prefix starts another, a name goes to the longest match."""
+    from ..errors import ParameterError
+
+    p = getattr(cls, "prefix", "")
+    if not (isinstance(p, str) and p.isalpha() and p.isascii()):
+        raise ParameterError("prefix", p, "letters a-z naming the element in network texts")
+    if p in ELEMENTS and ELEMENTS[p] is not cls:
+        raise ParameterError("prefix", p, f"a prefix not taken (taken by {ELEMENTS[p].__name__})")
+    ELEMENTS[p] = cls
+    element_class.cache_clear()
+    return cls
+
 _SUFFIX = r"(?:\d*|_[A-Za-z0-9_]+)"
 
 
+@functools.lru_cache(maxsize=4096)
 def element_class(name: str) -> type[ElementBase]:
     """The element class a network name belongs to (longest matching prefix)."""
     for prefix in sorted(ELEMENTS, key=len, reverse=True):
         if re.fullmatch(re.escape(prefix) + _SUFFIX, name):
             return ELEMENTS[prefix]
+    shown = name if len(name) <= 40 else name[:37] + "..."
     raise NetworkError(
-        f"unknown element name {name!r}: expected a prefix "
+        f"unknown element name {shown!r}: expected a prefix "
         f"{', '.join(sorted(ELEMENTS))} and an optional suffix (digits or _word), "
         "e.g. k2, c_front, afw"
     )

@@ -1,4 +1,5 @@
-"""What every element says about itself: parameters, states, primitive row, linear part.
+"""What every element says about itself: role, parameters with units, states, primitive
+row, linearisation about rest.
 
 An element is a frozen dataclass. A *primitive* element has a kernel code and packs its
 parameters into one row of :data:`NPAR` floats that the compiled system right-hand side
@@ -11,7 +12,6 @@ substitutes it where the composite's name appears.
 from __future__ import annotations
 
 import dataclasses
-import re
 from dataclasses import dataclass
 from typing import Any, ClassVar
 
@@ -38,6 +38,9 @@ class Param:
     low_open: bool = True
     choices: tuple | None = None
     optional: bool = False
+    #: default search range (low, high) of the H2 optimiser, or None: held unless the
+    #: user gives bounds
+    design: tuple[float, float] | None = None
 
     def check(self, value: Any) -> Any:
         if self.optional and value is None:
@@ -65,7 +68,17 @@ class ElementBase:
 
     prefix: ClassVar[str] = ""
     description: ClassVar[str] = ""
+    #: what the element's force depends on: "elastic" (displacement), "dissipative"
+    #: (velocity), "inertial" (acceleration), or "composite" (a network of primitives)
+    ROLE: ClassVar[str] = "composite"
+    #: one-parameter linear elements: Y(s) = value * s**ADMITTANCE (spring -1, damper 0,
+    #: inerter 1); None for every other element (its admittance comes from
+    #: :meth:`rest_network`)
+    ADMITTANCE: ClassVar[int | None] = None
     PARAMETERS: ClassVar[tuple[Param, ...]] = ()
+    #: parameters of a typical element (the documentation's and the registry test's
+    #: example; {} where every parameter has a default)
+    EXAMPLE: ClassVar[dict | None] = None
     #: kernel code, or None for a composite
     code: ClassVar[int | None] = None
 
@@ -147,36 +160,40 @@ class ElementBase:
     def initial_internal_state(self) -> tuple[float, ...]:
         return ()
 
-    def linear(self) -> tuple[str, float] | None:
-        """Primitive: ("k"|"c"|"b", value) if the element is linear, else None."""
-        return None
-
-    def linear_network(self) -> tuple[str, dict] | None:
-        """(network text of springs, dampers and inerters, parameters) equal to this element,
-        or None where it is not linear (for transfer functions and H2 norms)."""
+    @property
+    def is_linear(self) -> bool:
+        """True if the force is linear in the terminal motion for every motion (then the
+        :meth:`rest_network` is exact, not only a linearisation)."""
         exp = self.expansion()
         if exp is None:
-            lin = self.linear()
-            if lin is None:
-                return None
-            return lin[0], {lin[0]: lin[1]}
-        text, parts = exp
-        params: dict = {}
-        repl = {}
-        for local, el in parts.items():
-            sub = el.linear_network()
-            if sub is None:
-                return None
-            stext, sparams = sub
-            ren = {k: f"{k}_{local}" for k in sparams}
-            for k, v in sparams.items():
-                params[ren[k]] = v
-            stext = re.sub(
-                r"[A-Za-z_][A-Za-z0-9_]*", lambda m, ren=ren: ren.get(m.group(0), m.group(0)), stext
+            return False
+        return all(el.is_linear for el in exp[1].values())
+
+    def rest_network(self) -> tuple[str, dict[str, float]] | None:
+        """The linearisation about rest: (network text of springs ``k``, dampers ``c`` and
+        inerters ``b`` over local names, {local name: value}), or ``None`` where the
+        element carries no force for small motions about rest (an open circuit).
+
+        A primitive declares its own; a composite's is that of its :meth:`expansion`
+        with each part replaced by the part's linearisation."""
+        exp = self.expansion()
+        if exp is None:
+            raise NotImplementedError(
+                f"{type(self).__name__} declares no linearisation about rest (rest_network)"
             )
-            repl[local] = f"({stext})"
-        text = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), text)
-        return text, params
+        from ..networks import parse_network, substitute
+
+        text, parts = exp
+        return substitute(
+            parse_network(text).tree, {local: el.rest_network() for local, el in parts.items()}
+        )
+
+    def scaled(self, factor: float) -> ElementBase:
+        """``factor`` identical copies in parallel, moving together, as one element (a
+        vehicle corner's several devices)."""
+        raise ParameterError(
+            self.prefix, self.description, "an element that declares how copies add (scaled)"
+        )
 
     def _row(self, *values: float) -> np.ndarray:
         r = np.zeros(NPAR)

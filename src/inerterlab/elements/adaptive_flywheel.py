@@ -18,7 +18,7 @@ Force laws (docs/model.md §2), v the relative velocity, w = r|v|:
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numba as nb
 
@@ -115,10 +115,30 @@ class AdaptiveFlywheelInerter(ElementBase):
         Param("flywheel", choices=FLYWHEEL_PRESETS),
         Param("inertia_law", choices=INERTIA_LAWS),
         Param("changing_ratio", "", 0.0, 1.0, optional=True),
-        Param("ratio", "rad/m"),
+        Param("ratio", "rad/m", design=(50.0, 5000.0)),
         Param("law", choices=FORCE_LAWS),
     )
+    ROLE = "inertial"
+    EXAMPLE = {}
     code = FLYWHEEL
+    is_linear = False
+
+    def scaled(self, factor):
+        """``factor`` flywheels at the same speed: one with every inertia (rest, sliders)
+        times ``factor``."""
+        fw = self._fw
+        fw = replace(
+            fw,
+            rest_inertia=fw.rest_inertia * factor,
+            slider_mass=fw.slider_mass * factor,
+            spring_stiffness=fw.spring_stiffness * factor,
+        )
+        return replace(self, flywheel=fw, changing_ratio=None)
+
+    def rest_network(self):
+        """An ideal inerter of the inertance at rest r^2 I_min (every force law: the
+        speed-dependent part and the slider force are of second order about rest)."""
+        return "b", {"b": self.inertance_min}
 
     def __post_init__(self) -> None:
         if isinstance(self.flywheel, AdaptiveFlywheel):

@@ -21,6 +21,7 @@ which stays in the device models of :mod:`inerterlab.devices`.)
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 from ._base import SPRING, ElementBase, Param
@@ -38,11 +39,22 @@ class Backlash(ElementBase):
 
     prefix = "gap"
     description = "spring with free play (backlash)"
+    ROLE = "elastic"
+    EXAMPLE = {"stiffness": 2e5, "free_play": 0.004}
     PARAMETERS = (Param("stiffness", "N/m"), Param("free_play", "m", low_open=False))
     code = SPRING
 
     def row(self):
         return self._row(self.stiffness, 0.5 * self.free_play)
 
-    def linear(self):
-        return ("k", self.stiffness) if self.free_play == 0.0 else None
+    def scaled(self, factor):  # copies moving together share the play
+        return dataclasses.replace(self, stiffness=self.stiffness * factor)
+
+    @property
+    def is_linear(self):
+        return self.free_play == 0.0
+
+    def rest_network(self):
+        """At rest the terminals sit in the middle of the play: no force for small
+        motions (an open circuit); with no play, the contact spring."""
+        return ("k", {"k": self.stiffness}) if self.free_play == 0.0 else None

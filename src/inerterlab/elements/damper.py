@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -32,8 +33,11 @@ class Damper(ElementBase):
 
     prefix = "c"
     description = "damper"
+    ROLE = "dissipative"
+    EXAMPLE = {"damping": 3e3, "quadratic": 1e3}
+    ADMITTANCE = 0
     PARAMETERS = (
-        Param("damping", "N s/m", low_open=False),
+        Param("damping", "N s/m", low_open=False, design=(10.0, 1e5)),
         Param("quadratic", "N s^2/m^2", low_open=False),
     )
     code = DAMPER
@@ -48,5 +52,15 @@ class Damper(ElementBase):
     def row(self):
         return self._row(self.damping, self.quadratic)
 
-    def linear(self):
-        return ("c", self.damping) if self.quadratic == 0.0 else None
+    def scaled(self, factor):
+        return dataclasses.replace(
+            self, damping=self.damping * factor, quadratic=self.quadratic * factor
+        )
+
+    @property
+    def is_linear(self):
+        return self.quadratic == 0.0
+
+    def rest_network(self):
+        """c: the quadratic term has no slope at rest (an open circuit if c = 0)."""
+        return ("c", {"c": self.damping}) if self.damping > 0 else None

@@ -44,9 +44,16 @@ class FluidInerter(ElementBase):
 
     prefix = "fluid"
     description = "fluid inerter"
+    EXAMPLE = {
+        "density": 860.0,
+        "length": 3.0,
+        "piston_area": 2e-3,
+        "channel_area": 3e-5,
+        "damping": 300.0,
+    }
     PARAMETERS = (
         Param("density", "kg/m^3"),
-        Param("length", "m"),
+        Param("length", "m", design=(0.01, 100.0)),
         Param("piston_area", "m^2"),
         Param("channel_area", "m^2"),
         Param("damping", "N s/m", low_open=False),

@@ -10,6 +10,7 @@ or an inertance beside the friction).
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass
 
@@ -36,8 +37,19 @@ class Friction(ElementBase):
 
     prefix = "fric"
     description = "Coulomb friction"
-    PARAMETERS = (Param("force", "N"), Param("velocity", "m/s"))
+    ROLE = "dissipative"
+    EXAMPLE = {"force": 50.0}
+    PARAMETERS = (Param("force", "N", design=(1.0, 1e4)), Param("velocity", "m/s"))
     code = FRICTION
 
     def row(self):
         return self._row(self.force, self.velocity)
+
+    is_linear = False
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, force=self.force * factor)
+
+    def rest_network(self):
+        """The slope at rest, a damper c = F_c / v_eps."""
+        return "c", {"c": self.force / self.velocity}

@@ -57,6 +57,7 @@ class HydraulicElement(ElementBase):
     law: str = _D.law
 
     prefix = "hyd"
+    EXAMPLE = {}
     description = "hydraulic device"
     PARAMETERS = (
         Param("stiffness", "N/m"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -25,11 +26,19 @@ class Inerter(ElementBase):
 
     prefix = "b"
     description = "ideal inerter"
-    PARAMETERS = (Param("inertance", "kg"),)
+    ROLE = "inertial"
+    EXAMPLE = {"inertance": 200.0}
+    ADMITTANCE = 1
+    PARAMETERS = (Param("inertance", "kg", design=(0.1, 2000.0)),)
     code = INERTER
 
     def row(self):
         return self._row(self.inertance)
 
-    def linear(self):
-        return ("b", self.inertance)
+    is_linear = True
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, inertance=self.inertance * factor)
+
+    def rest_network(self):
+        return "b", {"b": self.inertance}

@@ -34,6 +34,7 @@ class RectifierElement(HydraulicElement):
     law: str = _D.law
 
     prefix = "rect"
+    EXAMPLE = {}
     description = "rectifier device"
     PARAMETERS = tuple(
         Param("flywheel", choices=FLYWHEEL_PRESETS) if p.name == "flywheel" else p

@@ -38,6 +38,7 @@ class ScrewElement(ElementBase):
     law: str = _D.law
 
     prefix = "screw"
+    EXAMPLE = {}
     description = "ball-screw device"
     PARAMETERS = (
         Param("stiffness", "N/m"),

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numba as nb
@@ -35,11 +36,19 @@ class Spring(ElementBase):
 
     prefix = "k"
     description = "linear spring"
-    PARAMETERS = (Param("stiffness", "N/m"),)
+    ROLE = "elastic"
+    EXAMPLE = {"stiffness": 5e4}
+    ADMITTANCE = -1
+    PARAMETERS = (Param("stiffness", "N/m", design=(1e3, 1e7)),)
     code = SPRING
 
     def row(self):
         return self._row(self.stiffness)
 
-    def linear(self):
-        return ("k", self.stiffness)
+    is_linear = True
+
+    def scaled(self, factor):
+        return dataclasses.replace(self, stiffness=self.stiffness * factor)
+
+    def rest_network(self):
+        return "k", {"k": self.stiffness}

@@ -181,7 +181,7 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
         raise ParameterError(
             "car", car.suspension, "traditional, cfw, device or device-afw without tyre lift-off"
         )
-    from scipy.linalg import solve_continuous_lyapunov
+    from ..h2 import gramian
 
     scale = _road_scale(road_class, speed)
     b, ff = car.device.damping, car.device.friction
@@ -192,7 +192,7 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
     sigma = math.nan
     for _ in range(100):
         lin = _device_state_space(car, c_eq, m_e)
-        P = solve_continuous_lyapunov(lin.A, -np.outer(lin.B, lin.B))
+        P = gramian(lin.A, lin.B, what="equivalent linearisation")
         cu = lin.C["branch_velocity"]
         sigma = scale * math.sqrt(max(float(cu @ P @ cu), 0.0))
         if sigma <= 0:

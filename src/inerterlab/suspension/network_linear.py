@@ -22,13 +22,11 @@ For generic parameters N/D is coprime (common factors s are cancelled when it is
 built), so deg Delta = deg D + 3 is the number of states of a minimal realisation: the
 four of the car and one per independent energy store of the network.
 
-Realisation and H2 norms. Delta is made monic and the frequency scaled, s = w0 sigma
-with w0 = (Delta_0 / Delta_n)^(1/n), so its roots sit around |sigma| = 1; the scaled
-transfers are realised in controllable canonical form (one A and B, one C per output),
-the Lyapunov equation A P + P A^T + B B^T = 0 is solved for the n(n+1)/2 distinct
-entries of P by Gaussian elimination with partial pivoting (compiled), and
+H2 norms: the transfers over Delta go to the compiled rational route of
+:mod:`inerterlab.h2` (frequency scaling, controllable canonical form, Lyapunov equation
+on the distinct entries of the gramian), so
 
-    ||H||_2^2 = (1/2 pi) int |H(j w)|^2 dw = w0 * C P C^T.
+    ||H||_2^2 = (1/2 pi) int |H(j w)|^2 dw.
 
 Stability is decided first by the Routh test on Delta; an unstable or marginally
 stable car, or an output with direct feed-through (body acceleration when an inerter
@@ -44,6 +42,7 @@ import numba as nb
 import numpy as np
 
 from ..errors import check_nonnegative, check_positive
+from ..h2 import h2_rational, hurwitz
 from ..networks import Network, NetworkError, parse_network
 
 __all__ = ["OUTPUTS", "NetworkQuarterCar", "network_quarter_car", "network_h2"]
@@ -184,142 +183,6 @@ def _car_polys(num, lnum, den, lden, ms, mu, kt, ct, polys):
 
 
 @nb.njit(cache=True)
-def _hurwitz(a, n):
-    """Routh test of the polynomial a[0] + a[1] s + ... + a[n] s^n (a[n] > 0)."""
-    w = n // 2 + 2
-    r0 = np.zeros(w)
-    r1 = np.zeros(w)
-    for q in range(w):
-        i0 = n - 2 * q
-        i1 = n - 1 - 2 * q
-        r0[q] = a[i0] if i0 >= 0 else 0.0
-        r1[q] = a[i1] if i1 >= 0 else 0.0
-    for _ in range(n):
-        if not r1[0] > 0.0:
-            return False
-        r2 = np.zeros(w)
-        for q in range(w - 1):
-            r2[q] = r0[q + 1] - r0[0] * r1[q + 1] / r1[0]
-        r0 = r1
-        r1 = r2
-    return True
-
-
-@nb.njit(cache=True)
-def _sym_index(n):
-    """Packed index of the entries of a symmetric n x n matrix, and their count."""
-    idx = np.empty((n, n), np.int64)
-    c = 0
-    for i in range(n):
-        for j in range(i, n):
-            idx[i, j] = c
-            idx[j, i] = c
-            c += 1
-    return idx, c
-
-
-@nb.njit(cache=True)
-def _lyap_system(A, idx, m):
-    """Matrix of X -> A X + X A^T on the packed entries of a symmetric X."""
-    n = A.shape[0]
-    M = np.zeros((m, m))
-    for i in range(n):
-        for j in range(i, n):
-            e = idx[i, j]
-            for k in range(n):
-                if A[i, k] != 0.0:
-                    M[e, idx[k, j]] += A[i, k]
-                if A[j, k] != 0.0:
-                    M[e, idx[i, k]] += A[j, k]
-    return M
-
-
-@nb.njit(cache=True)
-def _lyap_companion(at, n):
-    """Controllability gramian P of the monic companion form with coefficients ``at``."""
-    idx, m = _sym_index(n)
-    A = np.zeros((n, n))
-    for i in range(n - 1):
-        A[i, i + 1] = 1.0
-    for j in range(n):
-        A[n - 1, j] = -at[j]
-    M = _lyap_system(A, idx, m)
-    rhs = np.zeros(m)
-    rhs[idx[n - 1, n - 1]] = -1.0
-    # Gaussian elimination with partial pivoting
-    for col in range(m):
-        piv = col
-        best = abs(M[col, col])
-        for r in range(col + 1, m):
-            if abs(M[r, col]) > best:
-                best = abs(M[r, col])
-                piv = r
-        if best == 0.0:
-            return np.full((n, n), np.nan)
-        if piv != col:
-            for q in range(m):
-                M[col, q], M[piv, q] = M[piv, q], M[col, q]
-            rhs[col], rhs[piv] = rhs[piv], rhs[col]
-        inv = 1.0 / M[col, col]
-        for r in range(col + 1, m):
-            f = M[r, col] * inv
-            if f != 0.0:
-                for q in range(col, m):
-                    M[r, q] -= f * M[col, q]
-                rhs[r] -= f * rhs[col]
-    x = np.zeros(m)
-    for r in range(m - 1, -1, -1):
-        s = rhs[r]
-        for q in range(r + 1, m):
-            s -= M[r, q] * x[q]
-        x[r] = s / M[r, r]
-    P = np.empty((n, n))
-    for i in range(n):
-        for j in range(n):
-            P[i, j] = x[idx[i, j]]
-    return P
-
-
-@nb.njit(cache=True)
-def _h2_polys(polys, n, out):
-    """Squared H2 norms of rows 1..3 of ``polys`` over Delta (row 0) into ``out``."""
-    an = polys[0, n]
-    if not (polys[0, 0] > 0.0 and an > 0.0):
-        out[:] = np.inf
-        return 0.0
-    w0 = (polys[0, 0] / an) ** (1.0 / n)
-    at = np.empty(n + 1)
-    scale = np.empty(n + 1)
-    for i in range(n + 1):
-        scale[i] = 1.0 / (an * w0 ** (n - i))
-        at[i] = polys[0, i] * scale[i]
-    if not _hurwitz(at, n):
-        out[:] = np.inf
-        return w0
-    P = _lyap_companion(at, n)
-    for o in range(3):
-        row = polys[o + 1]
-        lead = row[n] * scale[n]
-        big = 0.0
-        for i in range(n):
-            big = max(big, abs(row[i] * scale[i]))
-        for i in range(n + 1, MAXC):
-            big = max(big, abs(row[i]))
-        if abs(lead) > 1e-13 * big:
-            out[o] = np.inf
-            continue
-        acc = 0.0
-        for i in range(n):
-            ci = row[i] * scale[i]
-            if ci == 0.0:
-                continue
-            for j in range(n):
-                acc += ci * P[i, j] * row[j] * scale[j]
-        out[o] = w0 * acc
-    return w0
-
-
-@nb.njit(cache=True)
 def h2_squared(prog, theta, car, out):
     """Squared H2 norms [body_acc, tyre_deflection, suspension_deflection] into ``out``.
 
@@ -330,7 +193,7 @@ def h2_squared(prog, theta, car, out):
     lnum, lden = _assemble(prog, theta, num, den)
     polys = np.zeros((4, MAXC))
     n = _car_polys(num, lnum, den, lden, car[0], car[1], car[2], car[3], polys)
-    _h2_polys(polys, n, out)
+    h2_rational(polys, n, out)
 
 
 @nb.njit(cache=True)
@@ -452,7 +315,7 @@ class NetworkQuarterCar:
         norms = self.h2(params)
         p = self.polynomials(params)
         den = p["den"][::-1]
-        stable = bool(_hurwitz(den / den[-1], len(den) - 1)) if den[0] > 0 else False
+        stable = bool(hurwitz(den / den[-1], len(den) - 1)) if den[0] > 0 else False
         out = {}
         why = _instability(self.network, p["admittance"]) if not stable else ""
         for k, v in norms.items():
@@ -481,14 +344,11 @@ def _instability(net: Network, adm) -> str:
             "between its terminals): the body drifts"
         )
 
-    def lossless(node) -> bool:
-        return all(e.kind != "damper" for e in node.elements())
-
     found = []
 
     def walk(node):
-        kinds = {e.kind for e in node.elements()}
-        if lossless(node) and {"spring", "inerter"} <= kinds:
+        roles = {e.cls.ROLE for e in node.elements()}
+        if "dissipative" not in roles and {"elastic", "inertial"} <= roles:
             found.append(node)
             return
         if isinstance(node, Combination):

@@ -56,7 +56,6 @@ from .core import (
     System,
     base_excited,
     device_network,
-    linear_equivalent,
     preset_parameters,
     quarter_car,
     rig,
@@ -72,6 +71,5 @@ __all__ = [
     "quarter_car",
     "preset_parameters",
     "QUARTER_CAR_PRESETS",
-    "linear_equivalent",
     "RoadVelocityJumpWarning",
 ]

@@ -2,81 +2,16 @@
 
 from __future__ import annotations
 
-from collections import Counter
-from typing import Any
-
-from .. import networks as _nw
-from ..elements import ElementBase, element_class
+from ..elements import ElementBase
 from ..elements._base import DAMPER, FLYWHEEL, INERTER
-from ..errors import ParameterError
-from ..networks import NetworkError
+from ..networks import Element, elements_of, parse_network
 
-
-class _Parser(_nw._Parser):
-    """The network grammar of :mod:`inerterlab.networks` with the element registry's names."""
-
-    def factor(self) -> Any:
-        if self.peek() == "name":
-            name = self.toks[self.i][1]
-            self.i += 1
-            return _nw.Element(name, element_class(name).description)
-        return super().factor()
+__all__ = ["Layout", "elements_of", "parse"]
 
 
 def parse(text: str):
-    """The series/parallel tree of ``text`` (names from the element registry)."""
-    if not isinstance(text, str) or not text.strip():
-        raise NetworkError(f"network {text!r}: empty; write e.g. 'k | c'")
-    p = _Parser(text)
-    tree = p.network()
-    if p.i != len(p.toks):
-        raise p.fail("'|', '-' or the end")
-    counts = Counter(e.name for e in tree.elements())
-    dup = [n for n, c in counts.items() if c > 1]
-    if dup:
-        raise NetworkError(
-            f"network {text!r}: element {dup[0]!r} appears {counts[dup[0]]} times; "
-            "give every element its own name (k, k2, ...)"
-        )
-    return tree
-
-
-def elements_of(text: str, params: dict | None) -> tuple[Any, dict[str, ElementBase]]:
-    """Parse ``text`` and build each element from ``params``.
-
-    ``params`` maps an element name to a number (its first parameter), a dict of
-    parameters or an element object; ``"name.parameter"`` keys set one parameter.
-    Unknown names are an error naming them; missing values name the element.
-    """
-    tree = parse(text)
-    names = [e.name for e in tree.elements()]
-    params = dict(params or {})
-    grouped: dict[str, Any] = {}
-    for key, value in params.items():
-        base, _, sub = str(key).partition(".")
-        if base not in names:
-            raise ParameterError(
-                str(key), value, f"a parameter of an element of {text!r} ({', '.join(names)})"
-            )
-        if sub:
-            cur = grouped.get(base)
-            if cur is None:
-                cur = {}
-            elif not isinstance(cur, dict):
-                first = element_class(base).PARAMETERS[0].name
-                cur = {first: cur}
-            cur = dict(cur)
-            cur[sub] = value
-            grouped[base] = cur
-        else:
-            cur = grouped.get(base)
-            if isinstance(cur, dict) and not isinstance(value, dict | ElementBase):
-                first = element_class(base).PARAMETERS[0].name
-                grouped[base] = {first: value, **cur}
-            else:
-                grouped[base] = value
-    elements = {n: element_class(n).from_value(n, grouped.get(n)) for n in names}
-    return tree, elements
+    """The series/parallel tree of ``text`` (the one grammar, :mod:`inerterlab.networks`)."""
+    return parse_network(text).tree
 
 
 def _rank(tree, elements: dict) -> int:
@@ -84,7 +19,7 @@ def _rank(tree, elements: dict) -> int:
     path between them (an inerter, or a parallel branch of them), 1 an inertance
     somewhere inside, 2 a damper or inertance on every path, 3 a damper inside, 4
     springs and friction only."""
-    if isinstance(tree, _nw.Element):
+    if isinstance(tree, Element):
         el = elements[tree.name]
         exp = el.expansion()
         if exp is not None:
@@ -140,7 +75,7 @@ class Layout:
         to one by inertances. A prescribed terminal (a rig's drive, a moving base) is
         not one: its velocity may jump, and an inerter next to it would then be
         started spinning where the chain as written has a spring take the jump."""
-        if isinstance(tree, _nw.Element):
+        if isinstance(tree, Element):
             el = elements[tree.name]
             full = path + tree.name
             exp = el.expansion()
@@ -174,7 +109,7 @@ class Layout:
             if i == len(parts) - 1:
                 nxt = bot
             else:
-                left = part.text() if isinstance(part, _nw.Element) else f"({part.text()})"
+                left = part.text() if isinstance(part, Element) else f"({part.text()})"
                 nxt = self.node(
                     f"{path}n{len(self.nodes)}",
                     origin=f"the node after {left!s} in the series {where}",

@@ -189,7 +189,7 @@ class System:
 
 
 def _nonlinear(e: ElementBase) -> bool:
-    return e.linear() is None
+    return not e.is_linear
 
 
 def _drive_elements(sys) -> list[str]:
@@ -437,7 +437,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     L = np.zeros((nn, nn))  # spring Laplacian
     for _, el, t, b in edges:
         if el.code == SPRING:
-            k = el.stiffness
+            k = el.row()[0]  # the kernel row: any element on the spring's law
             L[t, t] += k
             L[b, b] += k
             L[t, b] -= k
@@ -564,10 +564,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if el.code in (INERTER, FLYWHEEL):
             jump_ok = False
         elif el.code == DAMPER:
-            if el.quadratic > 0 or types[other] != DYN:
+            c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
+            if c_quad > 0 or types[other] != DYN:
                 jump_ok = False
             else:
-                imp[cls[other]] += el.damping
+                imp[cls[other]] += c_lin
     linear = all(not _nonlinear(el) for _, el, _, _ in edges)
     # inertances with an end on the road: a road velocity jump would pass them an
     # impulse, which the integration does not apply (_simulate warns)
@@ -1196,45 +1197,3 @@ def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, *
     if c["tyre_damping"] == 0:
         raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
     return sys
-
-
-def linear_equivalent(network: str, params: dict | None) -> tuple[str, dict]:
-    """The same network written with springs, dampers and inerters only (for the
-    admittance-based analysis of :mod:`inerterlab.suspension.network_linear`): composite
-    elements are replaced by their linear networks. NetworkError naming a nonlinear one."""
-    import re
-
-    tree, els = elements_of(network, params)
-    repl: dict[str, str] = {}
-    out: dict[str, float] = {}
-    for name, el in els.items():
-        if el.expansion() is None:
-            lin = el.linear()
-            if lin is None:
-                raise NetworkError(
-                    f"network {network!r}: {name!r} ({el.description}) is not linear; H2 "
-                    "norms need springs, linear dampers and ideal inerters"
-                )
-            if el.prefix in ("k", "c", "b"):
-                out[name] = lin[1]
-            else:  # a primitive that is linear here under another name (gap with no play)
-                repl[name] = f"{lin[0]}_{name}"
-                out[repl[name]] = lin[1]
-            continue
-        sub = el.linear_network()
-        if sub is None:
-            raise NetworkError(
-                f"network {network!r}: {name!r} ({el.description}) is not linear with these "
-                "parameters; H2 norms need springs, linear dampers and ideal inerters"
-            )
-        stext, sparams = sub
-        ren = {k: f"{k}_{name}" for k in sparams}
-        stext = re.sub(
-            r"[A-Za-z_][A-Za-z0-9_]*", lambda m, ren=ren: ren.get(m.group(0), m.group(0)), stext
-        )
-        repl[name] = f"({stext})"
-        out.update({ren[k]: v for k, v in sparams.items()})
-    text = re.sub(
-        r"[A-Za-z_][A-Za-z0-9_]*", lambda m: repl.get(m.group(0), m.group(0)), tree.text()
-    )
-    return text, out

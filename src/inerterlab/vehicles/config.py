@@ -301,9 +301,6 @@ def _device(table, where: str, fail):
         fail(where, missing[0] if missing else "kind", "missing (required)")
 
 
-_ELEMENT_DIMENSION = {"spring": "stiffness", "damper": "damping", "inerter": "inertance"}
-
-
 def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
     """Element values {name: SI value} of ``network = "..."`` in table ``[axle]``: each
     element's value under its own name, with the unit of its kind."""
@@ -317,11 +314,13 @@ def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
     except NetworkError as e:
         fail(axle, "network", str(e))
     out = {}
-    for name, kind in zip(net.names, net.kinds, strict=True):
+    for e in net.tree.elements():
+        name, cls = e.name, e.cls
         if name not in values:
-            fail(axle, name, f"missing: the value of {kind} {name!r} of network {net.text!r}")
+            fail(axle, name, f"missing: the value of {cls.description} {name!r} of network {net.text!r}")
         try:
-            out[name] = parse_quantity(values[name], keys[_ELEMENT_DIMENSION[kind]])
+            # the quantity is the name of the element's one parameter (stiffness, ...)
+            out[name] = parse_quantity(values[name], keys[cls.PARAMETERS[0].name])
         except ParameterError as e:
             fail(axle, name, f"{values[name]!r}: expected {e.valid}")
     return out

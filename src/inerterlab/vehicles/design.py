@@ -66,10 +66,10 @@ def _network_element(params, name: str):
     return (axle, elem) if values is not None and elem in values else None
 
 
-def _kinds(strut) -> list:
+def _classes(strut) -> list:
     from ..networks import parse_network
 
-    return list(parse_network(strut.network).kinds)
+    return [e.cls for e in parse_network(strut.network).tree.elements()]
 
 
 def design_parameters(params) -> dict:
@@ -82,10 +82,8 @@ def design_parameters(params) -> dict:
         if getattr(strut, "network", None) is None:
             out.update({f"{axle}_{f}": u for f, u in _FIELDS.items()})
         else:
-            from ..networks import UNITS
-
-            for (n, _), kind in zip(strut.values, _kinds(strut), strict=True):
-                out[f"{axle}_{n}"] = UNITS[kind]
+            for (n, _), cls in zip(strut.values, _classes(strut), strict=True):
+                out[f"{axle}_{n}"] = cls.PARAMETERS[0].unit
     return out
 
 
@@ -98,8 +96,8 @@ def default_parameters(params) -> list:
         if getattr(strut, "network", None) is None:
             out.append(f"{axle}_damping")
         else:
-            out += [f"{axle}_{n}" for (n, _), kind in zip(strut.values, _kinds(strut),
-                                                          strict=True) if kind == "damper"]  # fmt: skip
+            out += [f"{axle}_{n}" for (n, _), cls in zip(strut.values, _classes(strut),
+                                                         strict=True) if cls.ROLE == "dissipative"]  # fmt: skip
     return out
 
 

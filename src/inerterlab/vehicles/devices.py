@@ -29,7 +29,7 @@ springs carry the car; the device's series springs relax at rest).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -127,32 +127,8 @@ class CornerDevice:
 
     def scaled(self, factor: float) -> CornerDevice:
         """``factor`` identical devices in parallel, moving together, as one."""
-        edges = tuple((n, _scale_primitive(el, factor), t, b) for n, el, t, b in self.edges)
+        edges = tuple((n, el.scaled(factor), t, b) for n, el, t, b in self.edges)
         return _split(f"{factor:g} x {self.source}", self.nodes, edges)
-
-
-def _scale_primitive(el, f: float):
-    from ..elements import AdaptiveFlywheelInerter, Backlash, Damper, Friction, Inerter, Spring
-
-    if isinstance(el, Spring | Backlash):  # parallel copies moving together: same play
-        return replace(el, stiffness=el.stiffness * f)
-    if isinstance(el, Damper):
-        return replace(el, damping=el.damping * f, quadratic=el.quadratic * f)
-    if isinstance(el, Inerter):
-        return replace(el, inertance=el.inertance * f)
-    if isinstance(el, Friction):
-        return replace(el, force=el.force * f)
-    if isinstance(el, AdaptiveFlywheelInerter):
-        # f flywheels at the same speed: one with every inertia (rest, sliders) times f
-        fw = el.wheel
-        fw = replace(
-            fw,
-            rest_inertia=fw.rest_inertia * f,
-            slider_mass=fw.slider_mass * f,
-            spring_stiffness=fw.spring_stiffness * f,
-        )
-        return replace(el, flywheel=fw, changing_ratio=None)
-    raise ParameterError("device", el, "primitive elements that can be scaled")
 
 
 def corner_device(device, params: dict | None = None) -> CornerDevice:
@@ -183,8 +159,7 @@ def corner_device(device, params: dict | None = None) -> CornerDevice:
 
 
 def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
-    from ..elements import AdaptiveFlywheelInerter, Damper, Inerter, Spring
-    from ..elements._base import FLYWHEEL, INERTER
+    from ..elements._base import FLYWHEEL
     from ..networks import NetworkError
     from ..systems._network import Layout
     from ..systems.core import build
@@ -194,13 +169,15 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
     rest = []
     for name, el, t, bt in edges:
         direct = {t, bt} == {0, 1}
-        if direct and isinstance(el, Spring):
-            k += el.stiffness
-        elif direct and isinstance(el, Damper) and el.quadratic == 0.0:
-            c += el.damping
-        elif direct and isinstance(el, Inerter):
-            b += el.inertance
-        elif direct and isinstance(el, AdaptiveFlywheelInerter):
+        if direct and el.is_linear:  # one spring, damper or inerter by its linear law
+            (kind, value), = el.rest_network()[1].items()
+            if kind == "k":
+                k += value
+            elif kind == "c":
+                c += value
+            else:
+                b += value
+        elif direct and el.code == FLYWHEEL:
             if el.law not in ("thesis", "momentum"):
                 raise ParameterError(
                     f"device {source!r}: {name}.law", el.law, "'thesis' or 'momentum' at a corner"
@@ -212,7 +189,7 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
                 )  # fmt: skip
             adaptive = el
         else:
-            if 0 in (t, bt) and getattr(type(el), "code", None) in (INERTER, FLYWHEEL):
+            if 0 in (t, bt) and el.ROLE == "inertial":
                 raise ParameterError(
                     f"device {source!r}: {name}",
                     el.description,
@@ -251,6 +228,4 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
 
 
 def _largest_spring(edges) -> float:
-    from ..elements import Spring
-
-    return max((el.stiffness for _, el, _, _ in edges if isinstance(el, Spring)), default=0.0)
+    return max((el.row()[0] for _, el, _, _ in edges if el.ROLE == "elastic"), default=0.0)

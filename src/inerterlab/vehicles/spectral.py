@@ -177,12 +177,12 @@ def white_velocity_h2(vehicle: LinearVehicle) -> dict:
     height) and Dd = 0 (no direct feed-through of road velocity). Outputs failing
     either map to None.
     """
-    from scipy.linalg import solve_continuous_lyapunov
+    from ..h2 import gramian
 
     A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
     Ainv_Br = np.linalg.solve(A, Br)
     Bv = Ainv_Br + Bd
-    P = solve_continuous_lyapunov(A, -Bv @ Bv.T)
+    P = gramian(A, Bv, what="vehicle H2 norms")
     out = {}
     for k in Cy:
         dc = Dr[k] - Cy[k] @ Ainv_Br
