@@ -406,3 +406,151 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
                 f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
             acc = f if q == 0 else acc + f
         out[j] = acc
+
+
+# ---------------------------------------------------------------------------------------
+# exact steps of a linear system on a piecewise-linear road
+
+
+@nb.njit(cache=True)
+def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
+               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps):  # fmt: skip
+    """The steps of a linear system from one break point to the next, the break points
+    being the road segment edges and the sample times ``t_out``.
+
+    Without ``apply``: the step lengths go to ``hs``; returns (OK, number of steps).
+    With ``apply``: step i advances the state ``y`` in place by the table row
+    ``idx[i]``: y <- Phi y + GX X1(t) + GB X1' (the road displacement at the step's
+    start and its constant rate on the segment; see :func:`.core._exact_tables`),
+    samples go to ``out_y`` and the road (X1, X1', X1'' = 0) at them to ``out_u``.
+    Road steps and road velocity jumps pass their impulses as in :func:`integrate`
+    (constant inertances: the impulse flows are constant and one Euler step of each
+    is exact); a road step with no finite response returns ROAD_STEP."""
+    n = y.size
+    nseg = segs.shape[0]
+    k = 0
+    m = 0
+    prev = x1_before
+    prev_v = v_before
+    yn = np.empty(n)
+    dx = np.empty(n)
+    road = np.empty(3)
+    W = np.empty(_work_size(itab))
+    jerk = np.full(1, np.nan)
+    imp = np.empty(imp_unit.size)
+    for s in range(nseg):
+        t0 = segs[s, 0]
+        if t0 >= t_end and s > 0:
+            break
+        t1 = min(segs[s, 1], t_end)
+        a = segs[s, 3]
+        b = segs[s, 4]
+        last = s == nseg - 1 or segs[s, 1] >= t_end
+        if apply:
+            if math.isfinite(prev_v) and abs(b - prev_v) > vjump_tol:
+                vjumps[s] = b - prev_v
+                road[0] = prev
+                road[1] = prev_v
+                road[2] = b - prev_v
+                evaluate(0.0, y, road, itab, ftab, W, dx, jerk)
+                for i in range(n):
+                    y[i] += dx[i]
+            jump = a - prev
+            if abs(jump) > jump_tol:
+                jumps[s] = jump
+                if not jump_ok:
+                    return ROAD_STEP, m
+                for i in range(imp.size):
+                    imp[i] = imp_unit[i] * jump
+                road[0] = a
+                road[1] = b
+                road[2] = 0.0
+                evaluate(0.0, y, road, itab, ftab, W, dx, imp)
+                for i in range(n):
+                    y[i] += dx[i]
+        t = t0
+        while k < t_out.size and t_out[k] <= t0:
+            if apply:
+                for i in range(n):
+                    out_y[k, i] = y[i]
+                out_u[k, 0] = a
+                out_u[k, 1] = b
+                out_u[k, 2] = 0.0
+            k += 1
+        while True:
+            sample = k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1))
+            tn = t_out[k] if sample else t1
+            h = tn - t
+            if h > 0.0:
+                if apply:
+                    j = idx[m]
+                    xr = a + b * (t - t0)
+                    for i in range(n):
+                        acc = GX[j, i] * xr + GB[j, i] * b
+                        for q in range(n):
+                            acc += Phi[j, i, q] * y[q]
+                        yn[i] = acc
+                    for i in range(n):
+                        y[i] = yn[i]
+                else:
+                    hs[m] = h
+                m += 1
+            t = tn
+            if not sample:
+                break
+            if apply:
+                for i in range(n):
+                    out_y[k, i] = y[i]
+                out_u[k, 0] = a + b * (tn - t0)
+                out_u[k, 1] = b
+                out_u[k, 2] = 0.0
+            k += 1
+        prev = a + b * (t1 - t0)
+        prev_v = b
+        if last:
+            break
+    return OK, m
+
+
+@nb.njit(cache=True)
+def foh_response(Ad, Bd0, Bd1, C, D, u, out):
+    """out[i] = C x_i + D u_i of x' = A x + B u from rest, u linear between the uniform
+    samples u_i (first-order hold): x_{i+1} = Ad x_i + Bd0 u_i + Bd1 u_{i+1}, the exact
+    discretisation (one input; the matrices from :func:`.core._foh_matrices`)."""
+    n = Ad.shape[0]
+    x = np.zeros(n)
+    xn = np.empty(n)
+    if u.size:
+        out[0] = D * u[0]
+    for i in range(1, u.size):
+        acc = 0.0
+        for r in range(n):
+            s = Bd0[r] * u[i - 1] + Bd1[r] * u[i]
+            for q in range(n):
+                s += Ad[r, q] * x[q]
+            xn[r] = s
+        for r in range(n):
+            x[r] = xn[r]
+            acc += C[r] * x[r]
+        out[i] = acc + D * u[i]
+
+
+@nb.njit(cache=True)
+def linear_outputs(Yt, Ut, C, D, undefined, O):
+    """O = C Yt + D Ut at every sample, state- and output-major (one row per state,
+    input or output; rows run over the samples), NaN in the rows ``undefined``."""
+    for i in range(C.shape[0]):
+        if undefined[i]:
+            O[i, :] = math.nan
+            continue
+        O[i, :] = 0.0
+        for q in range(C.shape[1]):
+            c = C[i, q]
+            if c != 0.0:
+                for j in range(O.shape[1]):
+                    O[i, j] += c * Yt[q, j]
+        for q in range(3):
+            d = D[i, q]
+            if d != 0.0:
+                for j in range(O.shape[1]):
+                    O[i, j] += d * Ut[q, j]
