@@ -70,6 +70,7 @@ from ._kernel import (
     _dissipative,
     _work_size,
     evaluate,
+    switches,
 )
 
 #: the Dormand-Prince pair as arrays (rows of the stages; the last row is the order-5
@@ -147,6 +148,56 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
     return evaluate(t, y, road, itab, ftab, work, dy, imp)
 
 
+@nb.njit(cache=True, inline="always")
+def _dense(y, yt, K, h, th, out):
+    """The order-4 continuous extension of the step y -> yt at theta = th."""
+    th1 = 1.0 - th
+    for i in range(y.size):
+        r2 = yt[i] - y[i]
+        r3 = h * K[0, i] - r2
+        r4 = r2 - h * K[6, i] - r3
+        acc = 0.0
+        for q in range(7):
+            acc += _TAB_D[q] * K[q, i]
+        r5 = h * acc
+        out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+
+
+@nb.njit(cache=True)
+def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
+            work, stats, yd, sw):  # fmt: skip
+    """theta in (0, 1) where element e's switching function, g0 at the step's start and
+    g1 at its end (opposite signs), crosses zero on the continuous extension (Illinois
+    regula falsi to 1e-12 in theta)."""
+    a, b = 0.0, 1.0
+    ga, gb = g0, g1
+    side = 0
+    x = 0.5
+    for _ in range(60):
+        x = (a * gb - b * ga) / (gb - ga)
+        if not (a < x < b):
+            x = 0.5 * (a + b)
+        _dense(y, yt, K, h, x, yd)
+        _f(mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        switches(itab, ftab, work, sw)
+        gx = sw[e]
+        if gx == 0.0:
+            return x
+        if (gx > 0.0) == (ga > 0.0):
+            a, ga = x, gx
+            if side == -1:
+                gb *= 0.5
+            side = -1
+        else:
+            b, gb = x, gx
+            if side == 1:
+                ga *= 0.5
+            side = 1
+        if b - a <= 1e-12:
+            break
+    return b
+
+
 @nb.njit(cache=True)
 def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
              t_out, out_y, k, stats, max_steps):  # fmt: skip
@@ -172,6 +223,17 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     if h <= 0.0 or h > span:
         h = min(span, 1e-3 * max(span, 1.0))
     reject_prev = False
+    # events: the elements' switching functions at t (sw), at the step's end (swn); a
+    # step across a sign change is cut at the crossing (forced: the element whose
+    # crossing it lands on), so no step integrates across a kink of a force law
+    ne = itab[I_NE]
+    sw = np.empty(ne)
+    swn = np.empty(ne)
+    swx = np.empty(ne)
+    yd = np.empty(n)
+    events = mode == 0 and switches(itab, ftab, work, sw) > 0
+    forced = -1
+    h_keep = 0.0
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k, h
@@ -216,7 +278,32 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h *= 0.25
             stats[1] += 1
             reject_prev = True
+            forced = -1
+            h_keep = 0.0
             continue
+        if err <= 1.0 and events:
+            switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
+            if forced < 0:
+                th = 2.0
+                for e in range(ne):
+                    if sw[e] * swn[e] < 0.0:
+                        x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
+                                    ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
+                        if x < th:
+                            th = x
+                            forced = e
+                if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
+                    stats[3] += 1
+                    h_keep = h_free
+                    h = th * h
+                    reject_prev = False
+                    continue  # again, to the crossing
+                h_keep = 0.0
+            for e in range(ne):
+                sw[e] = swn[e]
+            if forced >= 0:
+                sw[forced] = 0.0  # on the kink: the next step starts past it
+            forced = -1
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn]
@@ -246,9 +333,14 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h = h * fac
             if lim < t_end and fac >= 1.0:
                 h = max(h, h_free)  # a step cut short by an edge: keep the free size
+            if h_keep > 0.0 and fac >= 1.0:
+                h = max(h, h_keep)  # a step cut short by an event: the same
+            h_keep = 0.0
         else:
             stats[1] += 1
             reject_prev = True
+            forced = -1
+            h_keep = 0.0
             h = h * max(0.2, 0.9 * err**-0.2)
     return OK, k, h
 

@@ -820,7 +820,10 @@ def _simulate(
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
-        stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2])}
+        stats = {
+            "steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
+            "events": int(st[3]),
+        }  # fmt: skip
         meth = "adaptive"
     not_finite: dict = {}
     if O is None:
