@@ -5,7 +5,9 @@ b = 200 kg; an internal node between damper and inerter) on an ISO 8608 class C 
 (seed 1) at 20 m/s, horizon 10 s, output every 1 ms.
 
 * core: ``System.simulate`` (``method="auto"``: exact matrix-exponential steps, one
-  per road segment edge and sample; the states, every output and the ride metrics);
+  per road segment edge and sample; the states, every output and the ride metrics),
+  with its matrix exponentials kept between runs (as in a sweep over roads or seeds)
+  and, "cold", computed afresh in every run;
 * baseline: ``scipy.signal.lsim`` with first-order hold on the core's own state space
   (``System.linear_state_space``), written with the road displacement as its only input
   (z = x - B_v X1 obeys z' = A z + (A B_v + B_x) X1), so that linear interpolation of
@@ -15,7 +17,7 @@ b = 200 kg; an internal node between damper and inerter) on an ISO 8608 class C 
 * accuracy: the largest state error relative to the state's range, of the core's exact
   steps against lsim and against the core's adaptive steps at rtol 1e-12.
 
-Prints the medians and ``ratio: N`` = median lsim time / median core time (same run).
+Prints the medians (the three timed in turn in every round) and ``ratio: N`` = median lsim time / median core time (same run).
 
 Usage: python benchmarks/bench_exact.py [--runs 21] (one BLAS and one numba thread, as
 the report's workers run)
@@ -36,16 +38,21 @@ from scipy import signal  # noqa: E402
 
 from inerterlab.excitation import iso8608, road_displacement  # noqa: E402
 from inerterlab.systems import quarter_car  # noqa: E402
+from inerterlab.systems.core import _exact_tables_cached  # noqa: E402
 
 
-def _median(fn, runs):
-    fn()
-    ts = []
-    for _ in range(runs):
-        t0 = time.perf_counter()
+def _medians(fns, runs):
+    """Median time of each function, run in turn in every round (a shared machine's
+    load drifts: interleaving exposes the functions to the same load)."""
+    for fn in fns:
         fn()
-        ts.append(time.perf_counter() - t0)
-    return statistics.median(ts)
+    ts = [[] for _ in fns]
+    for _ in range(runs):
+        for fn, out in zip(fns, ts, strict=True):
+            t0 = time.perf_counter()
+            fn()
+            out.append(time.perf_counter() - t0)
+    return [statistics.median(t) for t in ts]
 
 
 def _err(a, b):
@@ -73,15 +80,20 @@ def main() -> None:
         ss = signal.StateSpace(A, (A @ B[:, 1] + B[:, 0])[:, None], np.eye(len(A)), B[:, 1:2])
         return signal.lsim(ss, x1, t, X0=x0 - B[:, 1] * x1[0], interp=True)[1]
 
-    t_lsim = _median(baseline, runs)
-    t_core = _median(lambda: car.simulate(road, T), runs)
+    def cold():  # without the kept matrix exponentials (a new system or road grid)
+        _exact_tables_cached.cache_clear()
+        return car.simulate(road, T)
+
+    t_lsim, t_core, t_cold = _medians((baseline, lambda: car.simulate(road, T), cold), runs)
     ref = car.simulate(road, T, method="adaptive", rtol=1e-12).states
     Y = res.states
     print(f"k | (c - b) / ISO 8608 C at 20 m/s, seed 1 / {T:g} s / samples every 1 ms")
     print(f"  lsim (first-order hold, states):          {t_lsim * 1e3:8.2f} ms (median of {runs})")
     print(f"  core simulate (exact steps, all outputs): {t_core * 1e3:8.2f} ms (median of {runs})")
+    print(f"  the same, exponentials not kept (cold):   {t_cold * 1e3:8.2f} ms (median of {runs})")
     print(f"  core exact vs lsim, largest state error / state range:      {_err(Y, baseline()):.1e}")
     print(f"  core exact vs core adaptive rtol 1e-12, same measure:       {_err(Y, ref):.1e}")
+    print(f"cold ratio: {t_lsim / t_cold:.1f}")
     print(f"ratio: {t_lsim / t_core:.1f}")
 
 

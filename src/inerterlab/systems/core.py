@@ -1018,6 +1018,24 @@ def _exact_plan(sys, segs, T, ts):
 
 
 def _exact_tables(A, B, sizes):
+    """:func:`_exact_tables_of`, kept for the last few (A, B, step lengths) by content: a
+    sweep over roads or seeds of one system computes its exponentials once."""
+    return _exact_tables_cached(
+        A.shape[0], A.tobytes(), B.tobytes(), np.ascontiguousarray(sizes, float).tobytes()
+    )
+
+
+@lru_cache(maxsize=16)
+def _exact_tables_cached(n, a, b, sizes):
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    out = _exact_tables_of(A, B, np.frombuffer(sizes))
+    for x in out:
+        x.setflags(write=False)
+    return out
+
+
+def _exact_tables_of(A, B, sizes):
     """(Phi, GX, GB) per step length h: on a road segment the input u = (X1, X1', 0) has
     a constant rate, so z = (x, u, u') obeys z' = [[A, B, 0], [0, 0, I], [0, 0, 0]] z and
     e^{h [...]} propagates it exactly (first-order hold): x(t + h) = Phi x + GX X1(t) +
