@@ -64,7 +64,9 @@ def _parse_params(items) -> dict:
     return out
 
 
-def _simulate_network(network, params, ex, horizon, car, preset, method, rtol, json_out, save):
+def _simulate_network(
+    network, params, ex, horizon, car, preset, method, rtol, json_out, save, plot=None
+):
     """``simulate --network``: the model core's quarter car."""
     from ..systems import QUARTER_CAR_PRESETS, quarter_car
 
@@ -79,6 +81,8 @@ def _simulate_network(network, params, ex, horizon, car, preset, method, rtol, j
 
         df = pd.DataFrame({"time": res.time, **res.outputs})
         _write(save, df.to_csv(index=False, float_format="%.10g"), option="--save")
+    if plot is not None:
+        atomic_savefig(res.plot(), plot)
     out = {k: m[k] for k in _JSON_KEYS}
     out.update(
         network=network,
@@ -91,6 +95,8 @@ def _simulate_network(network, params, ex, horizon, car, preset, method, rtol, j
     )
     if res.not_finite:
         out["not_finite"] = dict(res.not_finite)
+    if plot is not None:
+        out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
@@ -225,16 +231,17 @@ def simulate_command(
     else:
         ex = read_road_csv(input_, speed=speed)
     if network is not None:
-        if lift_off or plot is not None or backend != "numba":
-            bad = "--lift-off" if lift_off else "--plot" if plot is not None else "--backend"
+        if lift_off or backend != "numba":
+            bad = "--lift-off" if lift_off else "--backend"
             raise _PE(bad, True, "not with --network (the model core)")
         carv = _car_kwargs(
             sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping
         )
         preset = {"law": law, "changing_ratio": changing_ratio}
         _simulate_network(
-            network, _parse_params(param), ex, horizon, carv, preset, method, rtol, json_out, save
-        )
+            network, _parse_params(param), ex, horizon, carv, preset, method, rtol, json_out, save,
+            plot,
+        )  # fmt: skip
         return
     want_series = save is not None or plot is not None
     opts = SimulationOptions(backend=backend, rtol=rtol, time_limit=time_limit)

@@ -30,7 +30,13 @@ from ..transmissions import FORCE_LAWS
 from ..transmissions import hydraulic as hydraulic_transmission
 from ._base import FLYWHEEL, ElementBase, Param
 
-__all__ = ["AdaptiveFlywheelInerter", "inertia_law", "flywheel_inertance", "slider_derivative"]
+__all__ = [
+    "AdaptiveFlywheelInerter",
+    "inertia_law",
+    "flywheel_inertance",
+    "flywheel_switch",
+    "slider_derivative",
+]
 
 LAW_CODES = {"thesis": 0.0, "momentum": 1.0, "slider-dynamics": 2.0}
 
@@ -70,6 +76,17 @@ def flywheel_inertance(tab, o, v, l, ld):
     if tab[o] == 0.0:
         return r * r * i0, 0.0
     return r * r * (i0 + w * i1), 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def flywheel_switch(tab, o, v):
+    """Switching function at relative velocity v [m/s]: r |v| - w_sat [rad/s], changing
+    sign where the sliders reach their stops and the inertia law has a kink (thesis
+    and momentum laws); 1 (never) for ``slider-dynamics``, whose law is smooth in the
+    states."""
+    if tab[o] == 2.0:
+        return 1.0
+    return abs(tab[o + 1] * v) - tab[o + 8]
 
 
 @nb.njit(cache=True)

@@ -10,8 +10,9 @@ stiffness k beyond it:
 
 The law is the spring's (:func:`inerterlab.elements.spring.spring_force`, with the half
 play as the second number of the kernel row); a spring is backlash with no play. The
-force is continuous with a kink at each contact, which the adaptive integrator's error
-control resolves; there is no impact loss (add a damper in parallel for one). A
+force is continuous with a kink at each contact, which the adaptive integrator locates
+(the switching function |x| - p/2 of :func:`~inerterlab.elements.spring.spring_switch`:
+no step integrates across a contact); there is no impact loss (add a damper in parallel for one). A
 massless node held only by springs and backlash has no unique rest position inside the
 play, so the system builder refuses such a node (it needs a mass, an inertance or a
 damper at it). In series with an inerter (``gap - b``) the inerter is disengaged while

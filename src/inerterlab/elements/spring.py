@@ -9,7 +9,7 @@ import numba as nb
 
 from ._base import SPRING, ElementBase, Param
 
-__all__ = ["Spring", "spring_force"]
+__all__ = ["Spring", "spring_force", "spring_switch"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -26,6 +26,15 @@ def spring_force(tab, o, x):
     if x < -g:
         return k * (x + g)
     return 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def spring_switch(tab, o, x):
+    """Switching function of the force law at relative displacement x [m]: |x| - g,
+    changing sign where a spring with free play makes or breaks contact; 1 (never)
+    without play."""
+    g = tab[o + 1]
+    return abs(x) - g if g > 0.0 else 1.0
 
 
 @dataclass(frozen=True, kw_only=True)

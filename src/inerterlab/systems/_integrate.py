@@ -70,6 +70,7 @@ from ._kernel import (
     _dissipative,
     _work_size,
     evaluate,
+    switches,
 )
 
 #: the Dormand-Prince pair as arrays (rows of the stages; the last row is the order-5
@@ -147,6 +148,56 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
     return evaluate(t, y, road, itab, ftab, work, dy, imp)
 
 
+@nb.njit(cache=True, inline="always")
+def _dense(y, yt, K, h, th, out):
+    """The order-4 continuous extension of the step y -> yt at theta = th."""
+    th1 = 1.0 - th
+    for i in range(y.size):
+        r2 = yt[i] - y[i]
+        r3 = h * K[0, i] - r2
+        r4 = r2 - h * K[6, i] - r3
+        acc = 0.0
+        for q in range(7):
+            acc += _TAB_D[q] * K[q, i]
+        r5 = h * acc
+        out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+
+
+@nb.njit(cache=True)
+def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
+            work, stats, yd, sw):  # fmt: skip
+    """theta in (0, 1) where element e's switching function, g0 at the step's start and
+    g1 at its end (opposite signs), crosses zero on the continuous extension (Illinois
+    regula falsi to 1e-12 in theta)."""
+    a, b = 0.0, 1.0
+    ga, gb = g0, g1
+    side = 0
+    x = 0.5
+    for _ in range(60):
+        x = (a * gb - b * ga) / (gb - ga)
+        if not (a < x < b):
+            x = 0.5 * (a + b)
+        _dense(y, yt, K, h, x, yd)
+        _f(mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        switches(itab, ftab, work, sw)
+        gx = sw[e]
+        if gx == 0.0:
+            return x
+        if (gx > 0.0) == (ga > 0.0):
+            a, ga = x, gx
+            if side == -1:
+                gb *= 0.5
+            side = -1
+        else:
+            b, gb = x, gx
+            if side == 1:
+                ga *= 0.5
+            side = 1
+        if b - a <= 1e-12:
+            break
+    return b
+
+
 @nb.njit(cache=True)
 def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
              t_out, out_y, k, stats, max_steps):  # fmt: skip
@@ -172,6 +223,17 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     if h <= 0.0 or h > span:
         h = min(span, 1e-3 * max(span, 1.0))
     reject_prev = False
+    # events: the elements' switching functions at t (sw), at the step's end (swn); a
+    # step across a sign change is cut at the crossing (forced: the element whose
+    # crossing it lands on), so no step integrates across a kink of a force law
+    ne = itab[I_NE]
+    sw = np.empty(ne)
+    swn = np.empty(ne)
+    swx = np.empty(ne)
+    yd = np.empty(n)
+    events = mode == 0 and switches(itab, ftab, work, sw) > 0
+    forced = -1
+    h_keep = 0.0
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k, h
@@ -216,7 +278,32 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h *= 0.25
             stats[1] += 1
             reject_prev = True
+            forced = -1
+            h_keep = 0.0
             continue
+        if err <= 1.0 and events:
+            switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
+            if forced < 0:
+                th = 2.0
+                for e in range(ne):
+                    if sw[e] * swn[e] < 0.0:
+                        x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
+                                    ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
+                        if x < th:
+                            th = x
+                            forced = e
+                if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
+                    stats[3] += 1
+                    h_keep = h_free
+                    h = th * h
+                    reject_prev = False
+                    continue  # again, to the crossing
+                h_keep = 0.0
+            for e in range(ne):
+                sw[e] = swn[e]
+            if forced >= 0:
+                sw[forced] = 0.0  # on the kink: the next step starts past it
+            forced = -1
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn]
@@ -246,9 +333,14 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h = h * fac
             if lim < t_end and fac >= 1.0:
                 h = max(h, h_free)  # a step cut short by an edge: keep the free size
+            if h_keep > 0.0 and fac >= 1.0:
+                h = max(h, h_keep)  # a step cut short by an event: the same
+            h_keep = 0.0
         else:
             stats[1] += 1
             reject_prev = True
+            forced = -1
+            h_keep = 0.0
             h = h * max(0.2, 0.9 * err**-0.2)
     return OK, k, h
 
@@ -406,3 +498,151 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
                 f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
             acc = f if q == 0 else acc + f
         out[j] = acc
+
+
+# ---------------------------------------------------------------------------------------
+# exact steps of a linear system on a piecewise-linear road
+
+
+@nb.njit(cache=True)
+def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
+               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps):  # fmt: skip
+    """The steps of a linear system from one break point to the next, the break points
+    being the road segment edges and the sample times ``t_out``.
+
+    Without ``apply``: the step lengths go to ``hs``; returns (OK, number of steps).
+    With ``apply``: step i advances the state ``y`` in place by the table row
+    ``idx[i]``: y <- Phi y + GX X1(t) + GB X1' (the road displacement at the step's
+    start and its constant rate on the segment; see :func:`.core._exact_tables`),
+    samples go to ``out_y`` and the road (X1, X1', X1'' = 0) at them to ``out_u``.
+    Road steps and road velocity jumps pass their impulses as in :func:`integrate`
+    (constant inertances: the impulse flows are constant and one Euler step of each
+    is exact); a road step with no finite response returns ROAD_STEP."""
+    n = y.size
+    nseg = segs.shape[0]
+    k = 0
+    m = 0
+    prev = x1_before
+    prev_v = v_before
+    yn = np.empty(n)
+    dx = np.empty(n)
+    road = np.empty(3)
+    W = np.empty(_work_size(itab))
+    jerk = np.full(1, np.nan)
+    imp = np.empty(imp_unit.size)
+    for s in range(nseg):
+        t0 = segs[s, 0]
+        if t0 >= t_end and s > 0:
+            break
+        t1 = min(segs[s, 1], t_end)
+        a = segs[s, 3]
+        b = segs[s, 4]
+        last = s == nseg - 1 or segs[s, 1] >= t_end
+        if apply:
+            if math.isfinite(prev_v) and abs(b - prev_v) > vjump_tol:
+                vjumps[s] = b - prev_v
+                road[0] = prev
+                road[1] = prev_v
+                road[2] = b - prev_v
+                evaluate(0.0, y, road, itab, ftab, W, dx, jerk)
+                for i in range(n):
+                    y[i] += dx[i]
+            jump = a - prev
+            if abs(jump) > jump_tol:
+                jumps[s] = jump
+                if not jump_ok:
+                    return ROAD_STEP, m
+                for i in range(imp.size):
+                    imp[i] = imp_unit[i] * jump
+                road[0] = a
+                road[1] = b
+                road[2] = 0.0
+                evaluate(0.0, y, road, itab, ftab, W, dx, imp)
+                for i in range(n):
+                    y[i] += dx[i]
+        t = t0
+        while k < t_out.size and t_out[k] <= t0:
+            if apply:
+                for i in range(n):
+                    out_y[k, i] = y[i]
+                out_u[k, 0] = a
+                out_u[k, 1] = b
+                out_u[k, 2] = 0.0
+            k += 1
+        while True:
+            sample = k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1))
+            tn = t_out[k] if sample else t1
+            h = tn - t
+            if h > 0.0:
+                if apply:
+                    j = idx[m]
+                    xr = a + b * (t - t0)
+                    for i in range(n):
+                        acc = GX[j, i] * xr + GB[j, i] * b
+                        for q in range(n):
+                            acc += Phi[j, i, q] * y[q]
+                        yn[i] = acc
+                    for i in range(n):
+                        y[i] = yn[i]
+                else:
+                    hs[m] = h
+                m += 1
+            t = tn
+            if not sample:
+                break
+            if apply:
+                for i in range(n):
+                    out_y[k, i] = y[i]
+                out_u[k, 0] = a + b * (tn - t0)
+                out_u[k, 1] = b
+                out_u[k, 2] = 0.0
+            k += 1
+        prev = a + b * (t1 - t0)
+        prev_v = b
+        if last:
+            break
+    return OK, m
+
+
+@nb.njit(cache=True)
+def foh_response(Ad, Bd0, Bd1, C, D, u, out):
+    """out[i] = C x_i + D u_i of x' = A x + B u from rest, u linear between the uniform
+    samples u_i (first-order hold): x_{i+1} = Ad x_i + Bd0 u_i + Bd1 u_{i+1}, the exact
+    discretisation (one input; the matrices from :func:`.core._foh_matrices`)."""
+    n = Ad.shape[0]
+    x = np.zeros(n)
+    xn = np.empty(n)
+    if u.size:
+        out[0] = D * u[0]
+    for i in range(1, u.size):
+        acc = 0.0
+        for r in range(n):
+            s = Bd0[r] * u[i - 1] + Bd1[r] * u[i]
+            for q in range(n):
+                s += Ad[r, q] * x[q]
+            xn[r] = s
+        for r in range(n):
+            x[r] = xn[r]
+            acc += C[r] * x[r]
+        out[i] = acc + D * u[i]
+
+
+@nb.njit(cache=True)
+def linear_outputs(Yt, Ut, C, D, undefined, O):
+    """O = C Yt + D Ut at every sample, state- and output-major (one row per state,
+    input or output; rows run over the samples), NaN in the rows ``undefined``."""
+    for i in range(C.shape[0]):
+        if undefined[i]:
+            O[i, :] = math.nan
+            continue
+        O[i, :] = 0.0
+        for q in range(C.shape[1]):
+            c = C[i, q]
+            if c != 0.0:
+                for j in range(O.shape[1]):
+                    O[i, j] += c * Yt[q, j]
+        for q in range(3):
+            d = D[i, q]
+            if d != 0.0:
+                for j in range(O.shape[1]):
+                    O[i, j] += d * Ut[q, j]

@@ -44,12 +44,12 @@ import math
 import numba as nb
 import numpy as np
 
-from ..elements._base import DAMPER, FRICTION, INERTER, SPRING
-from ..elements.adaptive_flywheel import flywheel_inertance, slider_derivative
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING
+from ..elements.adaptive_flywheel import flywheel_inertance, flywheel_switch, slider_derivative
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
-from ..elements.spring import spring_force
+from ..elements.spring import spring_force, spring_switch
 
 GROUND, ROAD, DYN, VEL, POS, REL, RELV = 0, 1, 2, 3, 4, 5, 6
 NODE_W = 5
@@ -499,3 +499,31 @@ def outputs(t, x, road, itab, ftab, out):
     for i in range(3 * nn + ne):
         out[i] = W[i]
     return ok
+
+
+@nb.njit(cache=True)
+def switches(itab, ftab, W, out):
+    """The elements' switching functions (a sign change marks a kink of a force law:
+    flywheel saturation, free-play contact) from the node displacements and velocities
+    of the last :func:`evaluate` (in ``W``) into ``out``; returns how many elements have
+    one (1.0 where an element has none)."""
+    nn = itab[I_NN]
+    eo = itab[I_ELEM]
+    count = 0
+    for e in range(itab[I_NE]):
+        b = eo + ELEM_W * e
+        code = itab[b]
+        top = itab[b + 1]
+        bot = itab[b + 2]
+        o = itab[b + 3]
+        g = 1.0
+        if code == SPRING:
+            g = spring_switch(ftab, o, W[top] - W[bot])
+            if ftab[o + 1] > 0.0:
+                count += 1
+        elif code == FLYWHEEL:
+            g = flywheel_switch(ftab, o, W[nn + top] - W[nn + bot])
+            if ftab[o] != 2.0:
+                count += 1
+        out[e] = g
+    return count

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 from typing import Any
 
 import numpy as np
@@ -18,8 +19,11 @@ from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, 
 from ._network import Layout, elements_of
 
 _TYPE = {"ground": GROUND, "road": ROAD}
-#: ``method="auto"`` takes exact steps on roads of at most this many segments
-EXACT_MAX_SEGMENTS = 64
+#: ``method="auto"`` takes exact steps where they need at most this many distinct step
+#: lengths (one matrix exponential each)
+EXACT_MAX_STEP_SIZES = 256
+#: exact step lengths are rounded to this many seconds per second of horizon
+EXACT_STEP_QUANTUM = 1e-13
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,6 +61,27 @@ class CoreResult:
     road_steps: tuple = ()
     not_finite: dict = field(default_factory=dict)
 
+    def __repr__(self) -> str:
+        t = self.time
+        span = f"{t.size} samples over {t[-1] - t[0]:g} s" if t.size else "no samples"
+        shown = ""
+        if self.metrics:
+            keys = ("rms_body_acc", "rms_body_acc_wk", "rms_deflection", "rms_tyre_grip")
+            shown = ", " + ", ".join(
+                f"{k}={'not finite' if self.metrics[k] is None else format(self.metrics[k], '.4g')}"
+                for k in keys
+            )
+        return f"<CoreResult {self.system.description}: {span}, {self.method} steps{shown}>"
+
+    def plot(self, outputs=None, **kwargs):
+        """Figure of sampled outputs against time, one panel each (``outputs``: names of
+        :attr:`outputs`; by default body acceleration, deflection and tyre force for a
+        quarter car, the force and drive displacement for a rig, the body's displacement
+        and acceleration otherwise). Keywords go to :func:`.plot.plot_result`."""
+        from .plot import plot_result
+
+        return plot_result(self, outputs, **kwargs)
+
 
 @dataclass(frozen=True, eq=False)
 class System:
@@ -80,6 +105,13 @@ class System:
 
     rhs = staticmethod(_kernel.rhs)
     outputs = staticmethod(_kernel.outputs)
+
+    def __repr__(self) -> str:
+        law = "linear" if self.linear else "nonlinear"
+        return (
+            f"<System {self.description}: {self.n_states} states, "
+            f"{len(self.elements)} elements, {law}>"
+        )
 
     @property
     def n_states(self) -> int:
@@ -180,8 +212,9 @@ class System:
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
-        ISO 8608 and file roads) or ``auto`` (exact for a linear system on a
-        piecewise-linear road of at most :data:`EXACT_MAX_SEGMENTS` segments, adaptive
+        ISO 8608 and file roads; first-order hold, exact to round-off) or ``auto``
+        (exact for a linear system on a piecewise-linear road whose edges and samples
+        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths, adaptive
         otherwise)."""
         return _simulate(
             self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
@@ -695,6 +728,38 @@ def _velocity_jump_tolerance(segs: np.ndarray) -> float:
     return 1e-9 * scale if scale > 0.0 else math.inf
 
 
+@lru_cache(maxsize=16)
+def _wk_foh(dt: float):
+    """The first-order-hold discretisation of the ISO 2631-1 Wk filter
+    (:func:`inerterlab.metrics.wk_state_space`) for samples dt [s] apart."""
+    from scipy.linalg import expm
+
+    from ..metrics import wk_state_space
+
+    A, B, C, D = wk_state_space()
+    n = A.shape[0]
+    M = np.zeros((n + 2, n + 2))
+    M[:n, :n] = A * dt
+    M[:n, n] = B * dt
+    M[n, n + 1] = 1.0
+    E = expm(M)
+    Bd1 = np.ascontiguousarray(E[:n, n + 1])
+    return np.ascontiguousarray(E[:n, :n]), np.ascontiguousarray(E[:n, n]) - Bd1, Bd1, C, D
+
+
+def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
+    """Wk-weighted acceleration [m/s^2] of the uniform samples ``acc`` [m/s^2] at ``ts``
+    [s], the filter at rest at ts[0] and the signal linear between samples: the same
+    discretisation as :func:`inerterlab.metrics.weighted_acceleration`, compiled."""
+    out = np.empty(ts.size)
+    if ts.size < 2:
+        out[:] = 0.0
+        return out
+    Ad, Bd0, Bd1, C, D = _wk_foh(float(ts[1] - ts[0]))
+    _integrate.foh_response(Ad, Bd0, Bd1, C, float(D), np.ascontiguousarray(acc, float), out)
+    return out
+
+
 def _simulate(
     sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times=None
 ) -> CoreResult:
@@ -748,11 +813,13 @@ def _simulate(
             "exact",
             "'adaptive' here: exact steps need a linear system and a piecewise-linear road",
         )
-    # exact steps pay one matrix exponential per distinct step length in Python: with
-    # many road segments (sampled roads) the adaptive integration is faster
-    use_exact = method == "exact" or (
-        method == "auto" and sys.linear and piecewise_linear and len(segs) <= EXACT_MAX_SEGMENTS
-    )
+    # exact steps pay one matrix exponential per distinct step length: where the road's
+    # edges and the samples make many (incommensurate grids) the adaptive steps are faster
+    plan = None
+    if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
+        plan = _exact_plan(sys, segs, T, ts)
+        if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
+            plan = None
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
@@ -760,12 +827,17 @@ def _simulate(
     vjumps = np.zeros(len(segs))
     vjump_tol = _velocity_jump_tolerance(segs) if sys.info.get("road_inertances") else math.inf
     v_before = float(excitation.initial_road_velocity(T)) if x0 is None else math.nan
+    O = None
     if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
         Y = np.empty((ts.size, 0))
         stats = {"steps": 0}
-        meth = "adaptive" if not use_exact else "exact"
-    elif use_exact:
-        Y, stats = _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps)
+        meth = "exact" if method == "exact" else "adaptive"
+    elif plan is not None:
+        ss = sys.linear_state_space()
+        Y, U, stats = _exact(
+            sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps
+        )
+        O = _linear_outputs(sys, ss, Y, U)
         meth = "exact"
     else:
         atol = r * np.maximum(sys.state_scales, 1e-12)
@@ -777,26 +849,33 @@ def _simulate(
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
-        stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2])}
+        stats = {
+            "steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
+            "events": int(st[3]),
+        }  # fmt: skip
         meth = "adaptive"
     not_finite: dict = {}
-    O = np.empty((ts.size, len(sys.output_names)))
-    _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
-    outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
+    if O is None:
+        O = np.empty((ts.size, len(sys.output_names)))
+        _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
+        O = np.ascontiguousarray(O.T)
+    outs = {n: O[j] for j, n in enumerate(sys.output_names)}
     metrics = None
     if sys.kind == "quarter_car":
         car = sys.info["car"]
         outs["body_acc"] = outs["body.a"]
         outs["deflection"] = outs["body.x"] - outs["wheel.x"]
-        outs["tyre_force"] = outs["tyre_k.force"] + outs["tyre_c.force"]
+        outs["tyre_force"] = outs["tyre_k.force"] + outs.get("tyre_c.force", 0.0)
         load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
         outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
         from ..metrics import series_metrics
 
     if sys.kind == "quarter_car" and times is None:  # the metrics need uniform samples
+        acc = outs["body_acc"]
         metrics = series_metrics(
-            ts, outs["body_acc"], outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"]
-        )
+            ts, acc, outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"],
+            weighted_acc=weighted_acceleration(ts, acc),
+        )  # fmt: skip
         steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
         if steps_:
             jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
@@ -923,89 +1002,93 @@ def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
     return idx, bool(direct)
 
 
-def _exact(sys, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
-    """Matrix-exponential steps of a linear system on a piecewise-linear road: on each
-    segment the input u = (X1, X1', 0) has a constant rate, so z = (x, u, u') obeys a
-    constant linear equation and e^{Ah} propagates it exactly. Road steps and road
-    velocity jumps pass their impulses as in the adaptive driver (constant inertances:
-    the flows are constant, one Euler step of each is exact)."""
+def _exact_plan(sys, segs, T, ts):
+    """The step lengths of exact steps on this road and these samples, as indices into
+    their distinct values (rounded to :data:`EXACT_STEP_QUANTUM` x max(T, 1 s): a step
+    that long shifts a state by less than 1e-12 of its change over 1 s)."""
+    hs = np.empty(len(segs) + ts.size + 1)
+    z = np.empty(0)
+    _, m = _integrate.exact_walk(
+        False, segs, ts, T, z, 0.0, math.nan, math.inf, math.inf, True, z, sys.itab, sys.ftab,
+        hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)), np.empty((0, 0)),
+        np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
+    )  # fmt: skip
+    q = EXACT_STEP_QUANTUM * max(T, 1.0)
+    keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
+    return keys * q, idx.astype(np.int64)
+
+
+def _exact_tables(A, B, sizes):
+    """:func:`_exact_tables_of`, kept for the last few (A, B, step lengths) by content: a
+    sweep over roads or seeds of one system computes its exponentials once."""
+    return _exact_tables_cached(
+        A.shape[0], A.tobytes(), B.tobytes(), np.ascontiguousarray(sizes, float).tobytes()
+    )
+
+
+@lru_cache(maxsize=16)
+def _exact_tables_cached(n, a, b, sizes):
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    out = _exact_tables_of(A, B, np.frombuffer(sizes))
+    for x in out:
+        x.setflags(write=False)
+    return out
+
+
+def _exact_tables_of(A, B, sizes):
+    """(Phi, GX, GB) per step length h: on a road segment the input u = (X1, X1', 0) has
+    a constant rate, so z = (x, u, u') obeys z' = [[A, B, 0], [0, 0, I], [0, 0, 0]] z and
+    e^{h [...]} propagates it exactly (first-order hold): x(t + h) = Phi x + GX X1(t) +
+    GB X1' with Phi = E[:n, :n], GX = E[:n, n], GB = E[:n, n+1] + E[:n, n+3]. One batched
+    matrix exponential per distinct step length."""
     from scipy.linalg import expm
 
-    A, B, _, _ = sys.linear_state_space()
-    n = sys.n_states
+    n = A.shape[0]
     big = np.zeros((n + 6, n + 6))
     big[:n, :n] = A
     big[:n, n : n + 3] = B
     big[n : n + 3, n + 3 : n + 6] = np.eye(3)
-    cache: dict = {}
+    E = expm(sizes[:, None, None] * big[None])[:, :n]
+    Phi = np.ascontiguousarray(E[:, :, :n])
+    GX = np.ascontiguousarray(E[:, :, n])
+    return Phi, GX, np.ascontiguousarray(E[:, :, n + 1] + E[:, :, n + 3])
 
-    def prop(h):
-        key = round(h, 15)
-        E = cache.get(key)
-        if E is None:
-            E = expm(big * h)[:n]
-            cache[key] = E
-        return E
 
-    Y = np.empty((ts.size, n))
-    k = 0
-    prev = x1
-    prev_v = v_before
-    nexp = 0
-    x = y.copy()
-    for s, seg in enumerate(segs):
-        t0, t1 = seg[0], min(seg[1], T)
-        if t0 >= T and s > 0:
-            break
-        a, b = seg[3], seg[4]
-        start = a
-        if math.isfinite(prev_v) and abs(b - prev_v) > vjump_tol:
-            vjumps[s] = b - prev_v
-            dx = np.empty(n)
-            _impulse(x, np.array([prev, prev_v, b - prev_v]), sys.itab, sys.ftab,
-                     _kernel.ROAD_JERK, dx)  # fmt: skip
-            x = x + dx
-        jump = start - prev
-        if abs(jump) > jump_tol:
-            jumps[s] = jump
-            if not sys.jump_ok:
-                raise ConvergenceError(
-                    f"{sys.description}: the road steps at {t0:g} s and a step has no finite "
-                    "response here; smooth the edges"
-                )
-            # constant inertances: the impulse flow is constant, one Euler step is exact
-            dx = np.empty(n)
-            _impulse(x, np.array([start, b, 0.0]), sys.itab, sys.ftab, sys.imp_unit * jump, dx)
-            x = x + dx
-        last = s == len(segs) - 1 or seg[1] >= T
-        t = t0
-        while k < ts.size and ts[k] <= t0:
-            Y[k] = x
-            k += 1
-        while True:
-            if k < ts.size and (ts[k] < t1 or (last and ts[k] <= t1)):
-                tn = ts[k]
-                sample = True
-            else:
-                tn = t1
-                sample = False
-            h = tn - t
-            if h > 0:
-                E = prop(h)
-                u = np.array([a + b * (t - t0), b, 0.0])
-                x = E @ np.concatenate([x, u, [b, 0.0, 0.0]])
-                nexp += 1
-            t = tn
-            if sample:
-                Y[k] = x
-                k += 1
-            else:
-                break
-        prev = a + b * (t1 - t0)
-        prev_v = b
-        if last:
-            break
-    return Y, {"exact_steps": nexp, "distinct_step_sizes": len(cache)}
+def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
+    """Matrix-exponential steps of a linear system on a piecewise-linear road
+    (:func:`._integrate.exact_walk` with the tables of :func:`_exact_tables`): the
+    states and the road (X1, X1', X1'') at the samples, and the statistics."""
+    A, B, _, _ = ss
+    sizes, idx = plan
+    Phi, GX, GB = _exact_tables(A, B, sizes)
+    Y = np.empty((ts.size, sys.n_states))
+    U = np.zeros((ts.size, 3))
+    status, m = _integrate.exact_walk(
+        True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
+        sys.itab, sys.ftab, np.empty(0), idx, Phi, GX, GB, Y, U, jumps, vjumps,
+    )  # fmt: skip
+    if status != _integrate.OK:
+        t0 = float(segs[np.flatnonzero(jumps)[-1], 0]) if np.any(jumps) else 0.0
+        raise ConvergenceError(
+            f"{sys.description}: the road steps at {t0:g} s and a step has no finite "
+            "response here; smooth the edges"
+        )
+    return Y, U, {"exact_steps": int(m), "distinct_step_sizes": int(sizes.size)}
+
+
+def _linear_outputs(sys, ss, Y, U):
+    """The outputs of a linear system at the samples (one row per output): C x + D u,
+    NaN where the right-hand side leaves them undefined (accelerations of massless
+    nodes)."""
+    _, _, C, D = ss
+    out0 = np.empty(len(sys.output_names))
+    sys.outputs(0.0, np.zeros(sys.n_states), np.zeros(3), sys.itab, sys.ftab, out0)
+    O = np.empty((C.shape[0], Y.shape[0]))
+    _integrate.linear_outputs(
+        np.ascontiguousarray(Y.T), np.ascontiguousarray(U.T), C, D, np.isnan(out0), O
+    )
+    return O
 
 
 def _impulse(x, road, itab, ftab, imp, dx):
@@ -1193,7 +1276,4 @@ def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, *
         return lay
 
     desc = f"quarter car with {network!r}"
-    sys = _laid_out("quarter_car", desc, make, {"network": text, "car": c})[0]
-    if c["tyre_damping"] == 0:
-        raise ParameterError("tyre_damping", 0.0, "a value > 0 N s/m for the core quarter car")
-    return sys
+    return _laid_out("quarter_car", desc, make, {"network": text, "car": c})[0]
