@@ -32,7 +32,6 @@ import hashlib
 import json
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -394,17 +393,10 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     DataFileError
         With the file, the line and the valid values for any problem.
     """
-    from ..io import read_text_limited
+    from ..io import read_toml
 
     p = Path(path)
-    text = read_text_limited(p, "sweep file", limit=16 * 1024**2)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"line (\d+)", str(exc))
-        raise DataFileError(p, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
-    except RecursionError:
-        raise DataFileError(p, "not usable TOML: values nested too deeply") from None
+    text, data = read_toml(p, "sweep file")
     lines = _key_lines(text)
     allowed = {"point", "chunk_size", "parameters", "settings", "weights"}
     for key in data:
