@@ -200,6 +200,22 @@ class _MemoryStore:
         return self.values, self.status_arr, _decode_reasons(self.reasons)
 
 
+def _check_consistent(path, metrics, values, status, reasons) -> None:
+    """A point marked ok has every metric, unless its reason names the missing ones (a
+    chunk file of a metric that went missing reads as NaN)."""
+    ok = np.asarray(status) == STATUS_OK
+    for j, name in enumerate(metrics):
+        lost = ok & np.isnan(values[:, j])
+        if lost.any():
+            unexplained = [i for i in np.flatnonzero(lost) if name not in str(reasons[i])]
+            if unexplained:
+                raise _damaged(
+                    path,
+                    name,
+                    ValueError(f"point {unexplained[0]} is marked done but has no value"),
+                )
+
+
 def _damaged(path, name: str, exc: BaseException) -> DataFileError:
     why = " ".join(str(exc).split())[:160] or type(exc).__name__
     return DataFileError(
@@ -262,6 +278,7 @@ class _ZarrStore:
                     raise _damaged(path, name, exc) from None
                 # read whole once: a truncated or altered chunk is found before any work
                 self._read(name)
+            _check_consistent(path, self.metrics, *self.read())
         except BaseException:
             self.close()
             raise
@@ -371,6 +388,13 @@ def _lock_store(path: Path) -> int:
     return fd
 
 
+def _codecs():
+    """Compression with a checksum of every chunk: a damaged chunk is found, never read."""
+    from zarr.codecs import Crc32cCodec, ZstdCodec
+
+    return [ZstdCodec(level=0), Crc32cCodec()]
+
+
 def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str, metrics):
     """Create a complete empty store beside ``path`` and rename it into place.
 
@@ -412,6 +436,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                     dtype="float64",
                     fill_value=np.nan,
                     dimension_names=["point"],
+                    compressors=_codecs(),
                 )
             group.create_array(
                 "reason",
@@ -420,6 +445,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                 dtype="uint8",
                 fill_value=0,
                 dimension_names=["point", "reason_byte"],
+                compressors=_codecs(),
             )
             group.create_array(
                 "status",
@@ -428,6 +454,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                 dtype="int8",
                 fill_value=STATUS_MISSING,
                 dimension_names=["point"],
+                compressors=_codecs(),
                 attributes={"flag_values": [0, 1, 2], "flag_meanings": _STATUS_MEANINGS},
             )
             group.attrs.update(
@@ -722,6 +749,7 @@ def load_sweep(store: str | os.PathLike):
             raise _damaged(path, name, ValueError(f"{arr.shape[0]} points, not {spec.size}"))
     vals = np.stack([arrays[m] for m in metrics], axis=1)
     reasons = _decode_reasons(arrays["reason"])
+    _check_consistent(path, metrics, vals, arrays["status"], reasons)
     return _to_dataset(spec, vals, arrays["status"], reasons, store=str(path))
 
 
