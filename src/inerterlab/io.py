@@ -250,6 +250,8 @@ def input_size_limit() -> int:
 READ_TIMEOUT = 10.0
 #: the size cap of a text configuration file (vehicle, car, sweep, manifest) [bytes]
 CONFIG_SIZE_LIMIT = 16 * 1024**2
+#: the most read from a FIFO, a pipe or a device, whose size is not known beforehand
+STREAM_SIZE_LIMIT = 64 * 1024**2
 
 
 def _read_timeout() -> float:
@@ -267,7 +269,7 @@ def read_bytes_limited(
 
     A regular file is checked by its size before it is read. Anything else (a FIFO, a
     pipe, a device such as ``/dev/zero``) is opened without blocking and read up to the
-    limit, waiting at most ``timeout`` seconds in all (:data:`READ_TIMEOUT`): a FIFO
+    limit (at most :data:`STREAM_SIZE_LIMIT`), waiting at most ``timeout`` seconds in all (:data:`READ_TIMEOUT`): a FIFO
     nobody writes into, or a device that never ends, is refused instead of blocking
     or filling the memory. Every error names the file.
     """
@@ -298,6 +300,7 @@ def read_bytes_limited(
         if len(data) > limit:  # it grew while being read
             raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
         return data
+    limit = min(limit, STREAM_SIZE_LIMIT)
     try:
         fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)
     except OSError as e:
