@@ -251,8 +251,23 @@ class SweepSpec:
         return tuple(out)
 
     def config_hash(self) -> str:
-        """SHA-256 of the canonical JSON description (chunk size and source excluded)."""
-        text = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+        """SHA-256 of the canonical JSON description (chunk size and source excluded).
+
+        A ``file`` parameter enters by the content of its file (:attr:`inputs`), not by
+        its path: the same file moved or copied elsewhere is the same input, an edited
+        file another one."""
+        d = self.to_dict()
+        pf = self.point_function
+        for name in list(d["settings"]):
+            spec = pf.parameters.get(name)
+            if spec is not None and spec.kind == "file":
+                d["settings"][name] = "(file: see inputs)"
+        for name in list(d["parameters"]):
+            if pf.parameters[name].kind == "file":
+                d["parameters"][name] = [
+                    f"(file {i}: see inputs)" for i in range(len(d["parameters"][name]))
+                ]
+        text = json.dumps(d, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()
 
 
@@ -261,7 +276,7 @@ def _file_values(pf, swept, fixed):
     out = []
     for name, values in swept:
         if pf.parameters[name].kind == "file":
-            out += [(f"{name}={v}", name, v) for v in values]
+            out += [(f"{name}[{i}]", name, v) for i, v in enumerate(values)]
     names = {n for n, _ in swept}
     merged = dict(pf.defaults)
     merged.update(dict(fixed))
