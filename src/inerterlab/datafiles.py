@@ -96,12 +96,15 @@ class ColumnTable:
         Column name -> the unit the file used (or the default it was read in).
     header_line : int or None
         Line of the header (None for a file without one).
+    first_data_line : int or None
+        Line (1-based) of the first data row.
     """
 
     path: Path
     columns: dict
     units: dict
     header_line: int | None
+    first_data_line: int | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[name]
@@ -237,7 +240,7 @@ def read_columns(
     arr = _fast_parse(lines, start, len(cols))
     if arr is not None and arr.shape[0] >= min_rows:
         if key is None or np.all(np.diff(arr[:, cols.index(key)]) > 0):
-            return _table(p, cols, col_units, arr, scale, hline)
+            return _table(p, cols, col_units, arr, scale, hline, _first_row(lines, start))
     rows = []
     for i in range(start, len(lines)):
         ln = lines[i]
@@ -274,7 +277,7 @@ def read_columns(
             (hline if hline is not None else first) + 1,
         )
     arr = np.array([r[1] for r in rows], dtype=float)
-    return _table(p, cols, col_units, arr, scale, hline)
+    return _table(p, cols, col_units, arr, scale, hline, rows[0][0])
 
 
 #: longest line of a column file [characters]: a row holds a few numbers
@@ -303,10 +306,21 @@ def _all_numbers(cells) -> bool:
     return True
 
 
-def _table(p, cols, col_units, arr, scale, hline) -> ColumnTable:
+def _first_row(lines, start: int) -> int | None:
+    for i in range(start, len(lines)):
+        if lines[i].strip() and not lines[i].lstrip().startswith("#"):
+            return i + 1
+    return None
+
+
+def _table(p, cols, col_units, arr, scale, hline, first_row) -> ColumnTable:
     columns = {n: arr[:, j] * scale[n] for j, n in enumerate(cols)}
     return ColumnTable(
-        path=p, columns=columns, units=dict(zip(cols, col_units, strict=True)), header_line=hline
+        path=p,
+        columns=columns,
+        units=dict(zip(cols, col_units, strict=True)),
+        header_line=hline,
+        first_data_line=first_row,
     )
 
 
