@@ -434,3 +434,15 @@ def test_crg_tracks_wider_than_the_file(tmp_path):
     assert run_capped(["vehicle", "generate", "--output", road, "--length", "100"]).rc == 0
     res = run_capped(["vehicle", "simulate", "--road-file", road], seconds=60)
     assert_user_error(res, "track", "[-0.75, 0.75]")
+
+
+def test_rig_output_folder_with_a_fifo_manifest_does_not_block(tmp_path):
+    """Deciding whether ``rig-simulate --out`` may replace a folder reads its manifest
+    only if it is a regular file: a planted FIFO is refused at once, never waited for."""
+    d = tmp_path / "rig"
+    d.mkdir()
+    os.mkfifo(d / "manifest.csv")
+    res = run_capped(["rig-simulate", "--out", d, "--max-duration", "0.2"], seconds=30)
+    assert_user_error(res, "out")
+    assert res.seconds < 20
+    assert sorted(p.name for p in d.iterdir()) == ["manifest.csv"]

@@ -234,13 +234,19 @@ def _replaceable_rig_dir(text: str, d: Path) -> None:
     entries = list(d.iterdir())
     if not entries:
         return
-    try:
-        first = (d / "manifest.csv").read_text().splitlines()[:1]
-    except (OSError, UnicodeDecodeError):
-        first = []
+    from ..io import CONFIG_SIZE_LIMIT, read_text_limited
+
+    mpath = d / "manifest.csv"
+    lines = []
+    if mpath.is_file() and not mpath.is_symlink():  # a FIFO or device is not ours
+        try:
+            lines = read_text_limited(mpath, "manifest", CONFIG_SIZE_LIMIT).splitlines()
+        except DataFileError:
+            lines = []
+    first = lines[:1]
     listed = {"manifest.csv"}
     if first == [_MANIFEST_HEADER]:
-        for row in (d / "manifest.csv").read_text().splitlines()[1:]:
+        for row in lines[1:]:
             listed.add(row.split(",", 1)[0])
     ours = first == [_MANIFEST_HEADER] and all(
         e.name in listed and e.is_file() and not e.is_symlink() for e in entries
