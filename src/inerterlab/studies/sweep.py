@@ -221,8 +221,7 @@ def _damaged(path, name: str, exc: BaseException) -> DataFileError:
     return DataFileError(
         path,
         f"store damaged: array {name!r} cannot be read ({type(exc).__name__}: {why}); "
-        "move the store aside and rerun with a new --out (or the same, after moving it) "
-        "to compute it again",
+        "move the store aside (or choose a new --out) to compute it again",
     )
 
 
