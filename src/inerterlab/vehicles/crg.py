@@ -34,8 +34,11 @@ def _check_crg_file(p: Path) -> None:
     """A regular file within the input size cap (the library reads it whole)."""
     from ..io import input_size_limit
 
+    if not p.exists():
+        raise DataFileError(p, "no such file")
     if not p.is_file():
-        raise DataFileError(p, "no such file (an OpenCRG road must be a regular file)")
+        # the library opens the path itself: only a regular file has a size to check
+        raise DataFileError(p, "is not a regular file; an OpenCRG road must be one")
     size, limit = p.stat().st_size, input_size_limit()
     if size > limit:
         raise DataFileError(p, f"is {size} bytes; a road file may have at most {limit} bytes here")
