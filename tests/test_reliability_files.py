@@ -109,24 +109,24 @@ ALL_READERS = [*TOML_COMMANDS, *COLUMN_COMMANDS, *API_TOML, *API_COLUMNS, *API_A
 # --- not a regular file, unbounded, not text -------------------------------------------
 
 
-def _special(kind: str, tmp_path: Path) -> Path:
+def _special(kind: str, tmp_path: Path, suffix: str = ".csv") -> Path:
     if kind == "/dev/zero":
         return Path("/dev/zero")
     if kind == "fifo without writer":
-        p = tmp_path / "pipe.csv"
+        p = tmp_path / f"pipe{suffix}"
         os.mkfifo(p)
         return p
     if kind == "directory":
-        p = tmp_path / "folder.csv"
+        p = tmp_path / f"folder{suffix}"
         p.mkdir()
         return p
     if kind == "missing":
-        return tmp_path / "nothing.csv"
+        return tmp_path / f"nothing{suffix}"
     if kind == "dangling link":
-        p = tmp_path / "link.csv"
-        p.symlink_to(tmp_path / "gone.csv")
+        p = tmp_path / f"link{suffix}"
+        p.symlink_to(tmp_path / f"gone{suffix}")
         return p
-    p = tmp_path / "file.csv"
+    p = tmp_path / f"file{suffix}"
     if kind == "binary":
         p.write_bytes(np.random.default_rng(0).integers(0, 256, 4096, dtype=np.uint8).tobytes())
     elif kind == "NUL in text":
@@ -186,6 +186,24 @@ def test_a_fifo_with_a_writer_is_read(tmp_path):
     t.join(5)
     assert res.rc == 0, res.err
     assert json.loads(res.out)["whole_car_hz"]
+
+
+CRG_COMMANDS = {
+    "vehicle simulate --road-file (.crg)": ["vehicle", "simulate", "--road-file"],
+    "vehicle road --profile (.crg)": ["vehicle", "road", "--profile"],
+}
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", [k for k in SPECIAL if k != "/dev/zero"])
+@pytest.mark.parametrize("reader", CRG_COMMANDS)
+def test_special_openCRG_files_are_refused(tmp_path, reader, kind):
+    pytest.importorskip("pycrg")
+    path = _special(kind, tmp_path, ".crg")
+    res = run_capped([*CRG_COMMANDS[reader], path], memory_mb=1200, seconds=60, env=FAST)
+    line = assert_user_error(res, path.name)
+    if kind == "fifo without writer":
+        assert res.seconds < 30 and "regular file" in line
 
 
 @pytest.mark.slow
