@@ -38,7 +38,9 @@ initial state projected out per internal state.
 Each campaign's result is written as JSON (atomically) to
 OUT/<device>/seed_<seed>.json; a rerun with the same OUT and settings only computes
 the campaigns that are missing, so an interrupted run resumes. The settings are stored
-in OUT/settings.json and a rerun with other settings is refused.
+in OUT/settings.json with the inputs the campaigns are computed from (a hash of every
+file of the package, code and data, and the versions of the numerical libraries); a
+rerun with other settings or inputs is refused.
 
     python benchmarks/bench_identify_coverage.py --campaigns 200 --workers 2 --out cov
     python benchmarks/bench_identify_coverage.py --campaigns 10 --devices screw
@@ -72,6 +74,7 @@ from inerterlab.identify import (  # noqa: E402
 )
 from inerterlab.identify.fit import INTERVALS, default_reversal_window  # noqa: E402
 from inerterlab.io import atomic_write_text  # noqa: E402
+from inerterlab.report.cache import _library_versions, source_hash  # noqa: E402
 from inerterlab.systems import device_network  # noqa: E402
 
 MATRIX = {"hydraulic": "appendix-a1", "screw": "appendix-a2", "rectifier": "appendix-a2"}
@@ -271,16 +274,29 @@ def main(argv=None) -> int:
         settings["design"] = args.design
     args.out.mkdir(parents=True, exist_ok=True)
     sfile = args.out / "settings.json"
+    inputs = {"package_files": source_hash(), "libraries": _library_versions()}
     if sfile.exists():
         old = json.loads(sfile.read_text())
+        old_inputs = old.pop("inputs", None) if isinstance(old, dict) else None
         if old != settings:
             print(
                 f"{sfile}: results were computed with {old}, not {settings}; use another --out",
                 file=sys.stderr,
             )
             return 2
+        if old_inputs != inputs:
+            changed = (
+                ", ".join(k for k in inputs if (old_inputs or {}).get(k) != inputs[k])
+                or "inputs"
+            )
+            print(
+                f"{sfile}: results were computed from other inputs ({changed} changed since); "
+                "use another --out to compute them with this code and data",
+                file=sys.stderr,
+            )
+            return 2
     else:
-        atomic_write_text(sfile, json.dumps(settings))
+        atomic_write_text(sfile, json.dumps({**settings, "inputs": inputs}))
     if args.design is not None:
         settings["design_tests"] = {}
         for d in devices:

@@ -58,7 +58,7 @@ def test_generate_then_classify(capsys, tmp_path):
     args = ["vehicle", "generate", "--output", str(path), "--road-class", "D"]
     assert main(args + ["--length", "1500", "--seed", "2"]) == 0
     capsys.readouterr()
-    out = _json(capsys, ["vehicle", "road", "--profile", str(path), "--json"])
+    out = _json(capsys, ["vehicle", "road", "--profile", str(path), "--track", "left", "--json"])
     assert out["road_class"] == "D"
     assert out["iri_m_per_km"] > 0
 

@@ -96,12 +96,15 @@ class ColumnTable:
         Column name -> the unit the file used (or the default it was read in).
     header_line : int or None
         Line of the header (None for a file without one).
+    first_data_line : int or None
+        Line (1-based) of the first data row.
     """
 
     path: Path
     columns: dict
     units: dict
     header_line: int | None
+    first_data_line: int | None = None
 
     def __getitem__(self, name: str) -> np.ndarray:
         return self.columns[name]
@@ -119,6 +122,7 @@ def read_columns(
     default_units: dict | None = None,
     headerless: tuple[str, ...] | None = None,
     increasing: str | tuple[str, ...] | None = None,
+    required: tuple[str, ...] = (),
     min_rows: int = 2,
     what: str = "",
 ) -> ColumnTable:
@@ -140,9 +144,12 @@ def read_columns(
         column without either is an error.
     headerless : tuple, optional
         Columns of a file whose first row is already numbers (read in ``default_units``
-        or SI); without it such a file is an error.
+        or SI); without it such a file is an error. A row with fewer values is read as
+        the first columns of this tuple if they hold every ``required`` column.
     increasing : str or tuple, optional
         Column(s) that must increase strictly; the first of them present is checked.
+    required : tuple, optional
+        Columns the file must have.
     min_rows : int
         Fewest data rows accepted.
     what : str
@@ -164,12 +171,17 @@ def read_columns(
             break
     if first is None:
         raise DataFileError(p, "empty file: no header and no data", 1)
-    cells = next(csv.reader([lines[first]]))
+    _check_line(p, lines[first], first)
+    cells = _cells(p, lines[first], first)
     expected = ", ".join(dict.fromkeys(names.values()))
     if headerless is not None and _all_numbers(cells):
         hline = None
         cols = list(headerless)
-        col_units = [units.get(c) or default_units.get(c) or SI_UNITS[quantities.get(c, c)] for c in cols]
+        if len(required) <= len(cells) < len(cols) and set(required) <= set(cols[: len(cells)]):
+            cols = cols[: len(cells)]
+        col_units = [
+            units.get(c) or default_units.get(c) or SI_UNITS[quantities.get(c, c)] for c in cols
+        ]
         if len(cells) != len(cols):
             raise DataFileError(
                 p,
@@ -185,9 +197,7 @@ def read_columns(
                 raise DataFileError(p, f"cannot read column header {cell!r}", hline + 1)
             name, unit = parsed
             if name not in names.values():
-                raise DataFileError(
-                    p, f"unknown column {name!r} (expected {expected})", hline + 1
-                )
+                raise DataFileError(p, f"unknown column {name!r} (expected {expected})", hline + 1)
             if name in cols:
                 raise DataFileError(p, f"column {name!r} appears twice", hline + 1)
             flag = units.get(name)
@@ -206,6 +216,13 @@ def read_columns(
                 )
             cols.append(name)
             col_units.append(unit)
+    missing = [c for c in required if c not in cols]
+    if missing:
+        raise DataFileError(
+            p,
+            f"missing column {missing[0]!r} (expected {expected})",
+            (hline if hline is not None else first) + 1,
+        )
     scale = {}
     for name, unit in zip(cols, col_units, strict=True):
         q = quantities.get(name, name)
@@ -223,13 +240,14 @@ def read_columns(
     arr = _fast_parse(lines, start, len(cols))
     if arr is not None and arr.shape[0] >= min_rows:
         if key is None or np.all(np.diff(arr[:, cols.index(key)]) > 0):
-            return _table(p, cols, col_units, arr, scale, hline)
+            return _table(p, cols, col_units, arr, scale, hline, _first_row(lines, start))
     rows = []
     for i in range(start, len(lines)):
         ln = lines[i]
         if not ln.strip() or ln.lstrip().startswith("#"):
             continue
-        row = next(csv.reader(io.StringIO(ln)), [])
+        _check_line(p, ln, i)
+        row = _cells(p, ln, i)
         if len(row) != len(cols):
             raise DataFileError(p, f"expected {len(cols)} values, found {len(row)}", i + 1)
         vals = []
@@ -259,7 +277,25 @@ def read_columns(
             (hline if hline is not None else first) + 1,
         )
     arr = np.array([r[1] for r in rows], dtype=float)
-    return _table(p, cols, col_units, arr, scale, hline)
+    return _table(p, cols, col_units, arr, scale, hline, rows[0][0])
+
+
+#: longest line of a column file [characters]: a row holds a few numbers
+MAX_LINE = 65536
+
+
+def _check_line(p, line: str, i: int) -> None:
+    if len(line) > MAX_LINE:
+        raise DataFileError(
+            p, f"line of {len(line)} characters; a row of numbers has at most {MAX_LINE}", i + 1
+        )
+
+
+def _cells(p, line: str, i: int) -> list[str]:
+    try:
+        return next(csv.reader([line]), [])
+    except csv.Error as e:
+        raise DataFileError(p, f"cannot read the row ({e})", i + 1) from None
 
 
 def _all_numbers(cells) -> bool:
@@ -270,10 +306,21 @@ def _all_numbers(cells) -> bool:
     return True
 
 
-def _table(p, cols, col_units, arr, scale, hline) -> ColumnTable:
+def _first_row(lines, start: int) -> int | None:
+    for i in range(start, len(lines)):
+        if lines[i].strip() and not lines[i].lstrip().startswith("#"):
+            return i + 1
+    return None
+
+
+def _table(p, cols, col_units, arr, scale, hline, first_row) -> ColumnTable:
     columns = {n: arr[:, j] * scale[n] for j, n in enumerate(cols)}
     return ColumnTable(
-        path=p, columns=columns, units=dict(zip(cols, col_units, strict=True)), header_line=hline
+        path=p,
+        columns=columns,
+        units=dict(zip(cols, col_units, strict=True)),
+        header_line=hline,
+        first_data_line=first_row,
     )
 
 

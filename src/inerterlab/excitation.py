@@ -834,18 +834,5 @@ def read_road_csv(path, *, speed: float | None = None, units: dict | None = None
             )
         t = tab["time"]
         if t[0] < 0:
-            raise DataFileError(p, f"negative time {t[0]!r}", _first_data_line(p))
+            raise DataFileError(p, f"negative time {t[0]!r}", tab.first_data_line)
     return RoadSeries(time=t, displacement=tab["displacement"], label=p.name)
-
-
-def _first_data_line(p: Path) -> int:
-    n = 0
-    for i, ln in enumerate(p.read_text().splitlines(), 1):
-        if ln.strip() and not ln.lstrip().startswith("#"):
-            n += 1
-            try:
-                [float(c) for c in ln.split(",")]
-                return i
-            except ValueError:
-                continue
-    return n

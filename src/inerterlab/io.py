@@ -29,6 +29,9 @@ from pathlib import Path
 
 __all__ = [
     "read_text_limited",
+    "read_bytes_limited",
+    "read_toml",
+    "loads_toml",
     "replace_directory",
     "atomic_path",
     "atomic_write_bytes",
@@ -242,33 +245,156 @@ def input_size_limit() -> int:
     return int(min(1024**3, MEMORY_FRACTION * available_memory() / 16))
 
 
-def read_text_limited(path: str | os.PathLike, what: str, limit: int | None = None) -> str:
-    """Read a UTF-8 text file of at most ``limit`` bytes, or raise ``DataFileError``.
+#: the most a reader waits for a FIFO, a pipe or a device to deliver its data [s]
+#: (environment variable ``INERTERLAB_READ_TIMEOUT`` overrides it)
+READ_TIMEOUT = 10.0
+#: the size cap of a text configuration file (vehicle, car, sweep, manifest) [bytes]
+CONFIG_SIZE_LIMIT = 16 * 1024**2
+#: the most read from a FIFO, a pipe or a device, whose size is not known beforehand
+STREAM_SIZE_LIMIT = 64 * 1024**2
 
-    A regular file is checked by its size before reading; anything else (a FIFO, a
-    device such as ``/dev/zero``) is read only up to the limit. Errors name the file.
+
+def _read_timeout() -> float:
+    try:
+        t = float(os.environ.get("INERTERLAB_READ_TIMEOUT", READ_TIMEOUT))
+    except ValueError:
+        t = READ_TIMEOUT
+    return t if t > 0 and t == t else READ_TIMEOUT
+
+
+def read_bytes_limited(
+    path: str | os.PathLike, what: str, limit: int | None = None, timeout: float | None = None
+) -> bytes:
+    """The bytes of an input file, at most ``limit`` of them, or ``DataFileError``.
+
+    A regular file is checked by its size before it is read. Anything else (a FIFO, a
+    pipe, a device such as ``/dev/zero``) is opened without blocking and read up to the
+    limit (at most :data:`STREAM_SIZE_LIMIT`), waiting at most ``timeout`` seconds in all (:data:`READ_TIMEOUT`): a FIFO
+    nobody writes into, or a device that never ends, is refused instead of blocking
+    or filling the memory. Every error names the file.
     """
+    import select
+    import time
+
     from .errors import DataFileError
 
     p = Path(path)
     limit = input_size_limit() if limit is None else int(limit)
+    timeout = _read_timeout() if timeout is None else float(timeout)
     try:
         st = os.stat(p)
-        if stat.S_ISDIR(st.st_mode):
-            raise DataFileError(p, f"is a directory, not a {what}")
-        if stat.S_ISREG(st.st_mode) and st.st_size > limit:
+    except OSError as e:
+        raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
+    if stat.S_ISDIR(st.st_mode):
+        raise DataFileError(p, f"is a directory, not a {what}")
+    if stat.S_ISREG(st.st_mode):
+        if st.st_size > limit:
             raise DataFileError(
                 p, f"is {st.st_size} bytes; a {what} may have at most {limit} bytes here"
             )
-        with open(p, "rb") as fh:
-            data = fh.read(limit + 1)
+        try:
+            with open(p, "rb") as fh:
+                data = fh.read(limit + 1)
+        except OSError as e:
+            raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
+        if len(data) > limit:  # it grew while being read
+            raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
+        return data
+    limit = min(limit, STREAM_SIZE_LIMIT)
+    try:
+        fd = os.open(p, os.O_RDONLY | os.O_NONBLOCK)
     except OSError as e:
         raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
-    if len(data) > limit:
-        raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
+    buf = bytearray()
+    deadline = time.monotonic() + timeout
+    fifo = stat.S_ISFIFO(st.st_mode)
     try:
-        return data.decode("utf-8")
+        while True:
+            left = deadline - time.monotonic()
+            if left <= 0:
+                got = f"delivered {len(buf)} bytes and no end of file" if buf else "no data"
+                raise DataFileError(
+                    p,
+                    f"{got} within {timeout:g} s (a FIFO or device nobody writes to?); "
+                    f"save the {what} to a regular file",
+                )
+            ready, _, _ = select.select([fd], [], [], min(left, 0.05))
+            if not ready:
+                continue
+            try:
+                chunk = os.read(fd, min(1 << 20, limit + 1 - len(buf)))
+            except BlockingIOError:
+                continue
+            if not chunk:
+                if fifo and not buf:
+                    # no writer yet (reported as end of file): wait for one until the
+                    # deadline rather than take the FIFO for an empty file
+                    time.sleep(min(0.05, max(0.0, left)))
+                    continue
+                break
+            buf += chunk
+            if len(buf) > limit:
+                raise DataFileError(p, f"holds more than {limit} bytes; too large for a {what}")
+    except OSError as e:
+        raise DataFileError(p, f"cannot read the {what} ({e.strerror or e})") from None
+    finally:
+        os.close(fd)
+    return bytes(buf)
+
+
+def read_text_limited(
+    path: str | os.PathLike, what: str, limit: int | None = None, timeout: float | None = None
+) -> str:
+    """The UTF-8 text of an input file, read by :func:`read_bytes_limited`.
+
+    A file that is not UTF-8 text, or holds NUL bytes (a binary file), is refused
+    naming the byte.
+    """
+    from .errors import DataFileError
+
+    p = Path(path)
+    data = read_bytes_limited(p, what, limit, timeout)
+    try:
+        text = data.decode("utf-8")
     except UnicodeDecodeError as e:
         raise DataFileError(
             p, f"not a UTF-8 text file (byte {e.start}); a {what} is text"
         ) from None
+    nul = text.find("\0")
+    if nul >= 0:
+        raise DataFileError(
+            p,
+            f"holds a NUL byte (byte {nul}): a binary file, not a {what}",
+            text.count("\n", 0, nul) + 1,
+        )
+    return text
+
+
+def loads_toml(text: str, source: str, what: str = "file") -> dict:
+    """Parse TOML text, every failure a ``DataFileError`` naming ``source`` (and the line)."""
+    import re
+    import tomllib
+
+    from .errors import DataFileError
+
+    if not isinstance(text, str):
+        raise DataFileError(source, f"expected TOML text, got {type(text).__name__}")
+    try:
+        return tomllib.loads(text)
+    except tomllib.TOMLDecodeError as e:
+        m = re.search(r"line (\d+)", str(e))
+        raise DataFileError(
+            source, f"not valid TOML: {e}", int(m.group(1)) if m else None
+        ) from None
+    except RecursionError:
+        raise DataFileError(
+            source, f"not usable TOML: values nested too deeply for a {what}"
+        ) from None
+
+
+def read_toml(
+    path: str | os.PathLike, what: str, limit: int = CONFIG_SIZE_LIMIT
+) -> tuple[str, dict]:
+    """``(text, data)`` of a TOML file, read size-capped by :func:`read_text_limited`."""
+    text = read_text_limited(path, what, limit=limit)
+    return text, loads_toml(text, str(path), what)

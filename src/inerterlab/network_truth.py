@@ -261,10 +261,39 @@ def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
     return {k: float(res.metrics[k]) for k in TRUTH_METRICS}
 
 
+def truth_inputs() -> dict:
+    """What a truth point reads besides its parameters: the layouts' network texts, the
+    baseline, the fluid inerter's geometry, the devices' identified values and the
+    flywheel: a store of the study is keyed on them (a change is never resumed)."""
+    import dataclasses
+
+    from .devices.models import HydraulicDevice, RectifierDevice, ScrewDevice
+    from .flywheels import flywheel
+
+    def plain(obj):
+        if dataclasses.is_dataclass(obj):
+            return {f.name: repr(getattr(obj, f.name)) for f in dataclasses.fields(obj)}
+        return repr(obj)
+
+    return {
+        "layouts": dict(LAYOUTS),
+        "baseline": BASELINE,
+        "thesis_parallel": dict(THESIS_PARALLEL),
+        "fluid": dict(FLUID),
+        "devices": {
+            "hydraulic": plain(HydraulicDevice()),
+            "rectifier": plain(RectifierDevice()),
+            "screw": plain(ScrewDevice()),
+        },
+        "flywheel": plain(flywheel("nylon")),
+    }
+
+
 TRUTH = register_point_function(
     PointFunction(
         name="network-truth",
         function=truth_point,
+        inputs=truth_inputs,
         parameters={
             "layout": ParameterSpec(kind="choice", choices=(*LAYOUTS, "baseline")),
             "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
@@ -360,6 +389,13 @@ def network_truth(
             raise ParameterError("input", i, f"one of {', '.join(INPUTS)}")
     settings = {"stiffness": float(stiffness), "horizon": float(horizon), "seed": int(seed)}
     common = dict(backend=backend, workers=workers, progress=progress)
+    if store is not None:
+        from pathlib import Path
+
+        from .studies.sweep import claim_store_folder
+
+        # the same rule as every --out of a sweep: only a folder this study made
+        claim_store_folder(Path(store), ("layouts.zarr", "baseline.zarr"))
     ds = sweep(
         {
             "point": "network-truth",

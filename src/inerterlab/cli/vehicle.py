@@ -155,14 +155,22 @@ def road_command(
     profile: Annotated[
         Path,
         typer.Option(
-            help="CSV file (distance [m], elevation [m], evenly spaced) or OpenCRG file "
+            help="Column file (a header 'distance [m],elevation [mm]', units m, cm, mm, km "
+            "for the distance and m, cm, mm for the elevation; evenly spaced) or OpenCRG file "
             "(.crg, the reference line v = 0)."
         ),
     ],
     lateral: Annotated[
         float,
-        typer.Option(help="OpenCRG only: lateral position v of the profile [m], left positive."),
+        typer.Option(
+            help="OpenCRG only: lateral position v of the profile [m], left positive, "
+            "inside the file's lateral range."
+        ),
     ] = 0.0,
+    track: Annotated[
+        str | None,
+        typer.Option(help="Column file with a left and a right track only: left or right."),
+    ] = None,
     free_waviness: Annotated[
         bool, typer.Option(help="Fit the waviness w too (ISO 8608 class uses w = 2).")
     ] = False,
@@ -177,9 +185,17 @@ def road_command(
     if profile.suffix.lower() == ".crg":
         from ..vehicles.crg import read_crg_profile
 
+        if track is not None:
+            from ..errors import ParameterError
+
+            raise ParameterError("track", track, "no --track for an OpenCRG file (use --lateral)")
         x, z = read_crg_profile(profile, lateral=lateral)
     else:
-        x, z = read_profile_csv(profile)
+        if lateral != 0.0:
+            from ..errors import ParameterError
+
+            raise ParameterError("lateral", lateral, "0 for a column file (OpenCRG only)")
+        x, z = read_profile_csv(profile, track=track)
     fit = fit_iso8608(x, z, waviness=None if free_waviness else 2.0)
     out = {**fit, "iri_m_per_km": iri(x, z), "length_m": float(x[-1] - x[0])}
     if json_out:
@@ -216,13 +232,21 @@ def generate_command(
     """
     import numpy as np
 
+    from ..errors import ParameterError
     from ..vehicles.roads import generate_tracks, road_spectrum
     from ._common import atomic_write_text
 
+    kind = output.suffix.lower()
+    if kind not in (".csv", ".crg") and str(output) != "-":
+        raise ParameterError(
+            "output",
+            str(output),
+            "a file name ending in .csv (columns distance, left, right [m]) or .crg (OpenCRG)",
+        )
     x, zl, zr = generate_tracks(
         road_spectrum(road_class), length=length, step=step, track=track, seed=seed
     )
-    if output.suffix.lower() == ".crg":
+    if kind == ".crg":
         from ..io import atomic_path
         from ..vehicles.crg import write_crg_tracks
 
@@ -230,32 +254,8 @@ def generate_command(
             write_crg_tracks(tmp, x, zl, zr, track, comment=f"ISO 8608 class {road_class}")
     else:
         rows = "\n".join(f"{a:.6f},{b:.9e},{c:.9e}" for a, b, c in zip(x, zl, zr, strict=True))
-        atomic_write_text(output, "distance_m,left_m,right_m\n" + rows + "\n")
+        atomic_write_text(output, "distance [m],left [m],right [m]\n" + rows + "\n")
     print(f"wrote {output} ({x.size} samples, rms left {np.std(zl) * 1e3:.3g} mm)")
-
-
-def _read_tracks(path: Path, track: float, step: float):
-    """(x, left, right) from a CRG file or a CSV file of distance, left[, right] [m]."""
-    import numpy as np
-
-    from ..errors import DataFileError
-
-    if path.suffix.lower() == ".crg":
-        from ..vehicles.crg import read_crg_tracks
-
-        return read_crg_tracks(path, track, step)
-    try:
-        data = np.genfromtxt(path, delimiter=",", comments="#", names=None, skip_header=0)
-    except OSError as e:
-        raise DataFileError(path, f"cannot read: {e}") from None
-    data = np.atleast_2d(data)
-    data = data[np.all(np.isfinite(data), axis=1)]  # drops the header line
-    if data.shape[0] < 16 or data.shape[1] < 2:
-        raise DataFileError(path, "expected >= 16 rows of distance, left[, right] in metres")
-    x = data[:, 0]
-    right = data[:, 2] if data.shape[1] > 2 else data[:, 1]
-    grid = np.arange(x[0], x[-1] + 1e-9 * step, step)
-    return grid, np.interp(grid, x, data[:, 1]), np.interp(grid, x, right)
 
 
 def simulate_command(
@@ -265,8 +265,9 @@ def simulate_command(
     road_file: Annotated[
         Path | None,
         typer.Option(
-            help="Drive over this road instead: OpenCRG (.crg, tracks at +/- track/2) or "
-            "CSV (distance, left[, right] [m])."
+            help="Drive over this road instead: OpenCRG (.crg, tracks at +/- track/2) or a "
+            "column file with a header 'distance [m],left [mm],right [mm]' (units m, cm, mm; "
+            "right optional)."
         ),
     ] = None,
     speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
@@ -308,7 +309,7 @@ def simulate_command(
 
     from .. import iso2631
     from ..errors import ParameterError, check_positive
-    from ..vehicles.roads import road_spectrum
+    from ..vehicles.roads import read_track_pair, road_spectrum
     from ..vehicles.spectral import generated_road, road_inputs, simulate, spectral_response
 
     params, veh = _load(vehicle, model)
@@ -333,8 +334,9 @@ def simulate_command(
         nt = r.samples.shape[0]
     else:
         road = None
-        x, zl, zr = _read_tracks(road_file, width, v * h)
-        if x.size > 5_000_000:
+        # the file's own samples: the wheels are read off them once, by linear interpolation
+        x, zl, zr = read_track_pair(road_file, width)
+        if (x[-1] - x[0]) / (v * h) > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
         nt = r.shape[0]

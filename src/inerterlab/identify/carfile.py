@@ -41,7 +41,6 @@ its line.
 from __future__ import annotations
 
 import re
-import tomllib
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -120,18 +119,10 @@ def _lines(text: str) -> dict:
 
 def load_car_file(path) -> CarFile:
     """Read and check a car file (layout in the module docstring)."""
+    from ..io import read_toml
+
     p = Path(path)
-    try:
-        text = p.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise DataFileError(p, f"cannot read the car file: {exc.strerror}") from None
-    except UnicodeDecodeError:
-        raise DataFileError(p, "not a UTF-8 text file; a car file is TOML text") from None
-    try:
-        doc = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"line (\d+)", str(exc))
-        raise DataFileError(p, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
+    text, doc = read_toml(p, "car file")
     lines = _lines(text)
 
     def fail(key, msg):

@@ -31,7 +31,6 @@ import io
 import math
 import os
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -106,9 +105,7 @@ def read_rig_test(path, *, units: dict | None = None, meta: dict | None = None) 
     :func:`inerterlab.datafiles.read_columns`, shared with road files)."""
     p = Path(path)
     meta = meta or {}
-    tab = read_columns(
-        p, _NAMES, units=units, increasing="time", min_rows=3, what="rig test"
-    )
+    tab = read_columns(p, _NAMES, units=units, increasing="time", min_rows=3, what="rig test")
     names = list(tab.columns)
     hl = (tab.header_line or 0) + 1
     for req in ("time", "force"):
@@ -143,6 +140,9 @@ def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
         if not body:
             raise DataFileError(csvp, "empty manifest", 1)
         header = [h.strip() for h in next(csv.reader([body[0][1]]))]
+        twice = sorted({h for h in header if header.count(h) > 1})
+        if twice:
+            raise DataFileError(csvp, f"column {twice[0]!r} appears twice", body[0][0])
         for req in ("file", "purpose"):
             if req not in header:
                 raise DataFileError(csvp, f"missing column {req!r}", body[0][0])
@@ -154,12 +154,9 @@ def _manifest(directory: Path) -> tuple[Path, list[tuple[int, dict]]]:
             out.append((ln, dict(zip(header, cells, strict=True))))
         return csvp, out
     if tomlp.exists():
-        try:
-            doc = tomllib.loads(read_text_limited(tomlp, "manifest"))
-        except tomllib.TOMLDecodeError as e:
-            raise DataFileError(tomlp, f"not valid TOML ({e})") from None
-        except RecursionError:
-            raise DataFileError(tomlp, "not usable TOML: values nested too deeply") from None
+        from ..io import read_toml
+
+        _, doc = read_toml(tomlp, "manifest")
         tests = doc.get("test")
         if not isinstance(tests, list) or not tests or not all(isinstance(t, dict) for t in tests):
             raise DataFileError(tomlp, "needs an array of [[test]] tables")
@@ -188,6 +185,7 @@ def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
         raise DataFileError(d, "is not a directory")
     mpath, entries = _manifest(d)
     tests = []
+    seen: dict = {}
     for ln, e in entries:
         if "file" not in e or not e["file"]:
             raise DataFileError(mpath, "test without a file name", ln)
@@ -197,6 +195,12 @@ def load_rig_data(directory, *, units: dict | None = None) -> RigDataSet:
         if not inside.is_relative_to(d.resolve()):
             # a manifest names tests of its own data set, never other files of the system
             raise DataFileError(mpath, f"file {e['file']!r} is outside the data directory {d}", ln)
+        if inside in seen:
+            # one record counted twice would weigh twice in the fit and its intervals
+            first = seen[inside]
+            where = f" (first on line {first})" if first is not None else ""
+            raise DataFileError(mpath, f"file {e['file']!r} is listed twice{where}", ln)
+        seen[inside] = ln
         sig = e.get("signal", "other") or "other"
         if sig not in SIGNAL_TYPES:
             raise DataFileError(
@@ -230,13 +234,19 @@ def _replaceable_rig_dir(text: str, d: Path) -> None:
     entries = list(d.iterdir())
     if not entries:
         return
-    try:
-        first = (d / "manifest.csv").read_text().splitlines()[:1]
-    except (OSError, UnicodeDecodeError):
-        first = []
+    from ..io import CONFIG_SIZE_LIMIT, read_text_limited
+
+    mpath = d / "manifest.csv"
+    lines = []
+    if mpath.is_file() and not mpath.is_symlink():  # a FIFO or device is not ours
+        try:
+            lines = read_text_limited(mpath, "manifest", CONFIG_SIZE_LIMIT).splitlines()
+        except DataFileError:
+            lines = []
+    first = lines[:1]
     listed = {"manifest.csv"}
     if first == [_MANIFEST_HEADER]:
-        for row in (d / "manifest.csv").read_text().splitlines()[1:]:
+        for row in lines[1:]:
             listed.add(row.split(",", 1)[0])
     ours = first == [_MANIFEST_HEADER] and all(
         e.name in listed and e.is_file() and not e.is_symlink() for e in entries

@@ -7,9 +7,11 @@ and figure data (pandas DataFrames) are stored column by column with their dtype
 floats written with their shortest round-trip representation, so a reused item renders
 byte for byte as when it was computed. PNG bytes are stored as base64.
 
-The file name carries a key made of the run settings, the package version and a hash
-of the package's own source files, so an edit to the code (or an upgrade) never
-reuses a result computed by other code. A file that is not valid JSON of this format,
+The file name carries a key made of the run settings, the package version, a hash of
+every file of the package (its source and the data it reads: the thesis tables, the
+example vehicle, the errata) and the versions of the libraries that compute and draw
+the numbers, so an edit to the code or the data (or an upgrade) never reuses a result
+computed from other inputs. A file that is not valid JSON of this format,
 or whose recorded key differs from its name's, is ignored and the item recomputed.
 """
 
@@ -56,15 +58,36 @@ class Uncacheable(TypeError):
     """A record holds a value this format cannot store exactly (the item is not cached)."""
 
 
-@lru_cache(maxsize=1)
-def source_hash() -> str:
-    """SHA-256 of every ``.py`` file of the installed package (path and content)."""
-    root = Path(__file__).resolve().parents[1]
+#: the package folder whose files key the cache (a test may point it elsewhere)
+_ROOT = Path(__file__).resolve().parents[1]
+#: libraries whose version is part of the key: they compute or draw the numbers
+_LIBRARIES = ("numpy", "scipy", "numba", "pandas", "matplotlib", "sympy", "xarray")
+
+
+def _package_files(root: Path) -> list[Path]:
+    return sorted(
+        p
+        for p in root.rglob("*")
+        if p.is_file()
+        and "__pycache__" not in p.parts
+        and not p.name.startswith(".")
+        and p.suffix not in (".pyc", ".nbi", ".nbc")
+    )
+
+
+@lru_cache(maxsize=4)
+def _tree_hash(root: Path) -> str:
     h = hashlib.sha256()
-    for p in sorted(root.rglob("*.py")):
+    for p in _package_files(root):
         h.update(p.relative_to(root).as_posix().encode() + b"\0")
         h.update(p.read_bytes() + b"\0")
     return h.hexdigest()
+
+
+def source_hash() -> str:
+    """SHA-256 of every file of the installed package (path and content): the code and
+    the data files it reads (compiled caches left out)."""
+    return _tree_hash(_ROOT)
 
 
 def _package_version() -> str:
@@ -76,10 +99,28 @@ def _package_version() -> str:
         return "unknown"
 
 
+def _library_versions() -> dict:
+    import importlib.metadata as md
+
+    out = {}
+    for name in _LIBRARIES:
+        try:
+            out[name] = md.version(name)
+        except md.PackageNotFoundError:
+            out[name] = None
+    return out
+
+
 def cache_key(settings: dict) -> str:
-    """Key of a cache file: settings, package version and source hash (16 hex digits)."""
+    """Key of a cache file: settings, package version, the hash of the package's files
+    and the libraries' versions (16 hex digits)."""
     blob = json.dumps(
-        {"settings": settings, "version": _package_version(), "source": source_hash()},
+        {
+            "settings": settings,
+            "version": _package_version(),
+            "source": source_hash(),
+            "libraries": _library_versions(),
+        },
         sort_keys=True,
     )
     return hashlib.sha256(blob.encode()).hexdigest()[:16]

@@ -61,8 +61,9 @@ class ParameterSpec:
 
     Parameters
     ----------
-    kind : {"float", "int", "choice", "text"}
-        Number, integer, one of ``choices``, or free text (file names).
+    kind : {"float", "int", "choice", "text", "file"}
+        Number, integer, one of ``choices``, free text, or the path of an input file
+        the point reads (a sweep store is keyed on the file's content, not its name).
     low, high : float, optional
         Bounds of a number; ``low_open``/``high_open`` exclude them.
     choices : tuple of str
@@ -81,6 +82,12 @@ class ParameterSpec:
     choices: tuple[str, ...] = ()
     unit: str = ""
     doc: str = ""
+    #: a ``file`` parameter's file when its value is "" (a module-level function)
+    empty: Callable[[], Any] | None = None
+
+    def path_of(self, value: str):
+        """The file a ``file`` parameter's value names ("" -> :attr:`empty`)."""
+        return self.empty() if value == "" and self.empty is not None else value
 
     def describe(self) -> str:
         """Human-readable description of the valid values."""
@@ -88,6 +95,8 @@ class ParameterSpec:
             return "one of " + ", ".join(repr(c) for c in self.choices)
         if self.kind == "text":
             return "a text value"
+        if self.kind == "file":
+            return "a file path (text)"
         what = "an integer" if self.kind == "int" else "a number"
         lo = "-inf" if self.low is None else f"{self.low:g}"
         hi = "inf" if self.high is None else f"{self.high:g}"
@@ -103,7 +112,7 @@ class ParameterSpec:
             if not isinstance(value, str) or value not in self.choices:
                 raise ParameterError(key, value, valid)
             return value
-        if self.kind == "text":
+        if self.kind in ("text", "file"):
             if not isinstance(value, str):
                 raise ParameterError(key, value, valid)
             return value
@@ -148,6 +157,9 @@ class PointFunction:
     parameters: Mapping[str, ParameterSpec]
     defaults: Mapping[str, Any] = field(default_factory=dict)
     metrics: tuple[str, ...] = QUARTER_CAR_METRICS
+    #: what the function reads besides its parameters (network texts, device data, ...),
+    #: as JSON-ready data: part of a sweep store's key, so a change is never resumed
+    inputs: Callable[[], Any] | None = None
 
     def __hash__(self) -> int:  # mappings are not hashable; the name identifies it
         return hash(self.name)

@@ -32,7 +32,6 @@ import hashlib
 import json
 import math
 import re
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -195,6 +194,8 @@ class SweepSpec:
     weights: PerformanceWeights | None = None
     chunk_size: int | None = None
     source: str = field(default="", compare=False)
+    #: content digests of every input the points read: ``(key, "sha256:...")``
+    inputs: tuple[tuple[str, str], ...] = ()
 
     @property
     def point_function(self) -> PointFunction:
@@ -229,17 +230,79 @@ class SweepSpec:
 
     def to_dict(self) -> dict:
         """JSON-ready description; the basis of :meth:`config_hash`."""
-        return {
+        out = {
             "point": self.point,
             "parameters": {k: list(v) for k, v in self.parameters},
             "settings": dict(self.settings),
             "weights": None if self.weights is None else self.weights.to_dict(),
         }
+        if self.inputs:
+            out["inputs"] = dict(self.inputs)
+        return out
+
+    def input_files(self) -> tuple[tuple[str, str, str], ...]:
+        """``(key, path, digest)`` of every input file (``file`` parameters)."""
+        pf = self.point_function
+        digests = dict(self.inputs)
+        out = []
+        for key, name, value in _file_values(pf, self.parameters, self.settings):
+            path = str(pf.parameters[name].path_of(value))
+            out.append((key, path, digests.get(key, "")))
+        return tuple(out)
 
     def config_hash(self) -> str:
-        """SHA-256 of the canonical JSON description (chunk size and source excluded)."""
-        text = json.dumps(self.to_dict(), sort_keys=True, separators=(",", ":"))
+        """SHA-256 of the canonical JSON description (chunk size and source excluded).
+
+        A ``file`` parameter enters by the content of its file (:attr:`inputs`), not by
+        its path: the same file moved or copied elsewhere is the same input, an edited
+        file another one."""
+        d = self.to_dict()
+        pf = self.point_function
+        for name in list(d["settings"]):
+            spec = pf.parameters.get(name)
+            if spec is not None and spec.kind == "file":
+                d["settings"][name] = "(file: see inputs)"
+        for name in list(d["parameters"]):
+            if pf.parameters[name].kind == "file":
+                d["parameters"][name] = [
+                    f"(file {i}: see inputs)" for i in range(len(d["parameters"][name]))
+                ]
+        text = json.dumps(d, sort_keys=True, separators=(",", ":"))
         return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _file_values(pf, swept, fixed):
+    """``(key, name, value)`` of every value of a ``file`` parameter, swept or fixed."""
+    out = []
+    for name, values in swept:
+        if pf.parameters[name].kind == "file":
+            out += [(f"{name}[{i}]", name, v) for i, v in enumerate(values)]
+    names = {n for n, _ in swept}
+    merged = dict(pf.defaults)
+    merged.update(dict(fixed))
+    for name, value in merged.items():
+        spec = pf.parameters.get(name)
+        if spec is not None and spec.kind == "file" and name not in names:
+            out.append((name, name, value))
+    return out
+
+
+def file_digest(path, what: str = "input file") -> str:
+    """``"sha256:<hex>"`` of a file's bytes (read size- and time-capped)."""
+    from ..io import read_bytes_limited
+
+    return "sha256:" + hashlib.sha256(read_bytes_limited(path, what)).hexdigest()
+
+
+def _input_digests(pf, swept, fixed) -> tuple[tuple[str, str], ...]:
+    out = []
+    for key, name, value in _file_values(pf, swept, fixed):
+        spec = pf.parameters[name]
+        out.append((key, file_digest(spec.path_of(value), f"{name} file")))
+    if pf.inputs is not None:
+        text = json.dumps(pf.inputs(), sort_keys=True, separators=(",", ":"))
+        out.append(("point", "sha256:" + hashlib.sha256(text.encode()).hexdigest()))
+    return tuple(out)
 
 
 def sweep_spec(
@@ -249,6 +312,7 @@ def sweep_spec(
     settings: dict[str, Any] | None = None,
     weights: PerformanceWeights | dict | None = None,
     chunk_size: int | None = None,
+    inputs: dict[str, str] | None = None,
     _lines: dict[str, int] | None = None,
     _path: str | None = None,
 ) -> SweepSpec:
@@ -267,6 +331,9 @@ def sweep_spec(
         ``{"comfort": .., "grip": .., "inputs": {"drop": .., ...}}``.
     chunk_size : int, optional
         Points per task (>= 1).
+    inputs : dict, optional
+        Content digests of the inputs (as a store records them); by default read now
+        from every ``file`` parameter's file and the point function's other inputs.
 
     Examples
     --------
@@ -358,6 +425,10 @@ def sweep_spec(
         )
     except ParameterError as exc:
         fail("parameters", exc)
+    if inputs is None:
+        digests = _input_digests(pf, swept, fixed)
+    else:
+        digests = tuple((str(k), str(v)) for k, v in dict(inputs).items())
     return SweepSpec(
         point=point,
         parameters=tuple(swept),
@@ -365,6 +436,7 @@ def sweep_spec(
         weights=weights,
         chunk_size=chunk_size,
         source=_path or "",
+        inputs=digests,
     )
 
 
@@ -394,17 +466,10 @@ def load_sweep_config(path: str | Path) -> SweepSpec:
     DataFileError
         With the file, the line and the valid values for any problem.
     """
-    from ..io import read_text_limited
+    from ..io import read_toml
 
     p = Path(path)
-    text = read_text_limited(p, "sweep file", limit=16 * 1024**2)
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
-        m = re.search(r"line (\d+)", str(exc))
-        raise DataFileError(p, f"not valid TOML: {exc}", int(m.group(1)) if m else None) from None
-    except RecursionError:
-        raise DataFileError(p, "not usable TOML: values nested too deeply") from None
+    text, data = read_toml(p, "sweep file")
     lines = _key_lines(text)
     allowed = {"point", "chunk_size", "parameters", "settings", "weights"}
     for key in data:

@@ -27,7 +27,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import DataFileError
+from ..errors import DataFileError, InerterlabError
 from .backends import Backend, make_backend
 from .points import PointFunction
 from .spec import SweepSpec, sweep_spec
@@ -41,6 +41,8 @@ __all__ = [
     "STATUS_OK",
     "STATUS_FAILED",
     "evaluate_chunk",
+    "InputChanged",
+    "claim_store_folder",
 ]
 
 STATUS_MISSING, STATUS_OK, STATUS_FAILED = 0, 1, 2
@@ -75,6 +77,8 @@ class ChunkTask:
     fixed: tuple[tuple[str, Any], ...]
     indices: tuple[int, ...]
     chunk: int
+    #: ``(key, path, digest)`` of every input file; checked before and after the chunk
+    inputs: tuple[tuple[str, str, str], ...] = ()
 
     def params(self, index: int) -> dict:
         out = dict(self.fixed)
@@ -93,9 +97,39 @@ class ChunkResult:
     reasons: tuple[str, ...]
 
 
+class InputChanged(InerterlabError):
+    """An input file of a sweep changed while it ran; nothing of the chunk is stored."""
+
+
+def _check_inputs(task: ChunkTask) -> None:
+    from .spec import file_digest
+
+    for key, path, digest in task.inputs:
+        try:
+            now = file_digest(path, f"{key} file")
+        except DataFileError as exc:
+            now = str(exc)
+        if now != digest:
+            raise InputChanged(
+                f"{path}: the {key} file changed while the sweep ran; what was finished "
+                "before is stored, but a rerun refuses the store (it was made from the old "
+                "file): keep the file as it was to resume, or use a new --out"
+            )
+
+
 def evaluate_chunk(task: ChunkTask) -> ChunkResult:
     """Evaluate every point of ``task``; a point that raises or returns a non-finite
-    or missing metric is marked failed with the reason, never given a number."""
+    or missing metric is marked failed with the reason, never given a number.
+
+    Every input file is checked against its recorded digest before and after: a file
+    changed meanwhile raises :class:`InputChanged` (no result of the chunk is kept)."""
+    _check_inputs(task)
+    res = _evaluate_points(task)
+    _check_inputs(task)
+    return res
+
+
+def _evaluate_points(task: ChunkTask) -> ChunkResult:
     metrics = task.point.metrics
     n = len(task.indices)
     values = np.full((n, len(metrics)), np.nan)
@@ -166,6 +200,31 @@ class _MemoryStore:
         return self.values, self.status_arr, _decode_reasons(self.reasons)
 
 
+def _check_consistent(path, metrics, values, status, reasons) -> None:
+    """A point marked ok has every metric, unless its reason names the missing ones (a
+    chunk file of a metric that went missing reads as NaN)."""
+    ok = np.asarray(status) == STATUS_OK
+    for j, name in enumerate(metrics):
+        lost = ok & np.isnan(values[:, j])
+        if lost.any():
+            unexplained = [i for i in np.flatnonzero(lost) if name not in str(reasons[i])]
+            if unexplained:
+                raise _damaged(
+                    path,
+                    name,
+                    ValueError(f"point {unexplained[0]} is marked done but has no value"),
+                )
+
+
+def _damaged(path, name: str, exc: BaseException) -> DataFileError:
+    why = " ".join(str(exc).split())[:160] or type(exc).__name__
+    return DataFileError(
+        path,
+        f"store damaged: array {name!r} cannot be read ({type(exc).__name__}: {why}); "
+        "move the store aside (or choose a new --out) to compute it again",
+    )
+
+
 class _ZarrStore:
     def __init__(self, path: Path, spec: SweepSpec, chunk_size: int):
         import zarr
@@ -174,32 +233,64 @@ class _ZarrStore:
         self.metrics = spec.point_function.metrics
         self._lock_fd: int | None = None
         config_hash = spec.config_hash()
+        claim_store_folder(path)
         if not path.exists():
             _create_store(path, spec, chunk_size, config_hash, self.metrics)
-        if path.exists():
-            try:
-                group = zarr.open_group(str(path), mode="r+")
-                attrs = dict(group.attrs)
-            except Exception:  # noqa: BLE001 - anything unreadable is not our store
-                raise DataFileError(
-                    path, "exists and is not a sweep store; choose another --out"
-                ) from None
-            if attrs.get("format") != _FORMAT:
-                raise DataFileError(path, "exists and is not a sweep store; choose another --out")
-            if attrs.get("config_hash") != config_hash:
-                diff = _describe_difference(attrs.get("config", {}), spec.to_dict())
-                raise DataFileError(
-                    path,
-                    "was made from a different sweep configuration "
-                    f"({diff}); refusing to resume into it. Use a new --out, or delete the "
-                    "store to start over",
-                )
-            self.group = group
+        if path.is_symlink() and not path.exists():
+            raise DataFileError(path, "is a symbolic link to nothing; choose another --out")
+        try:
+            group = zarr.open_group(str(path), mode="r+")
+            attrs = dict(group.attrs)
+        except Exception:  # noqa: BLE001 - anything unreadable is not our store
+            raise DataFileError(
+                path, "exists and is not a sweep store; choose another --out"
+            ) from None
+        if attrs.get("format") != _FORMAT:
+            raise DataFileError(path, "exists and is not a sweep store; choose another --out")
+        if attrs.get("config_hash") != config_hash:
+            old = attrs.get("config", {})
+            diff = _describe_difference(old if isinstance(old, dict) else {}, spec.to_dict())
+            what = (
+                "its inputs changed since it was made"
+                if diff.startswith("inputs")
+                else "it was made from a different sweep configuration"
+            )
+            raise DataFileError(
+                path,
+                f"{what} ({diff}); refusing to resume into it, its results would not be "
+                "those of these inputs. Use a new --out, or move the store aside to start over",
+            )
+        self.group = group
+        try:
             self.chunk_size = int(attrs["chunk_size"])
-            self._lock_fd = _lock_store(path)
-            # opened once: looking an array up by name reads its metadata from disk,
-            # which cost as much as writing a chunk of it (about 1.5 ms each)
-            self._arrays = {name: group[name] for name in (*self.metrics, "reason", "status")}
+        except (KeyError, TypeError, ValueError) as exc:
+            raise _damaged(path, "chunk_size (attribute)", exc) from None
+        self._lock_fd = _lock_store(path)
+        # opened once: looking an array up by name reads its metadata from disk,
+        # which cost as much as writing a chunk of it (about 1.5 ms each)
+        self._arrays = {}
+        try:
+            for name in (*self.metrics, "reason", "status"):
+                try:
+                    self._arrays[name] = group[name]
+                except Exception as exc:  # noqa: BLE001 - a missing or unreadable array
+                    raise _damaged(path, name, exc) from None
+                # read whole once: a truncated or altered chunk is found before any work
+                self._read(name)
+            _check_consistent(path, self.metrics, *self.read())
+        except BaseException:
+            self.close()
+            raise
+
+    def _read(self, name: str) -> np.ndarray:
+        try:
+            data = np.asarray(self._arrays[name][:])
+        except Exception as exc:  # noqa: BLE001 - decompression, shape, missing chunk file
+            raise _damaged(self.path, name, exc) from None
+        n = self._arrays["status"].shape[0] if "status" in self._arrays else None
+        if n is not None and data.shape[0] != n:
+            raise _damaged(self.path, name, ValueError(f"{data.shape[0]} points, not {n}"))
+        return data
 
     def close(self) -> None:
         if self._lock_fd is not None:
@@ -207,7 +298,7 @@ class _ZarrStore:
             self._lock_fd = None
 
     def status(self) -> np.ndarray:
-        return np.asarray(self._arrays["status"][:])
+        return self._read("status")
 
     def write(self, idx: np.ndarray, res: ChunkResult) -> None:
         contiguous = idx[-1] - idx[0] + 1 == len(idx)
@@ -226,8 +317,56 @@ class _ZarrStore:
         put("status", res.status)  # last: marks the points as done
 
     def read(self):
-        values = np.stack([np.asarray(self._arrays[m][:]) for m in self.metrics], axis=1)
-        return values, self.status(), _decode_reasons(np.asarray(self._arrays["reason"][:]))
+        values = np.stack([self._read(m) for m in self.metrics], axis=1)
+        return values, self.status(), _decode_reasons(self._read("reason"))
+
+
+def _is_sweep_store(path: Path) -> bool:
+    import json as _json
+
+    try:
+        meta = _json.loads((path / "zarr.json").read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return False
+    return isinstance(meta, dict) and (meta.get("attributes") or {}).get("format") == _FORMAT
+
+
+def claim_store_folder(path: Path, members: tuple[str, ...] | None = None) -> None:
+    """The one rule for an ``--out`` a command keeps its stores in; refuses what is not ours.
+
+    ``members`` None: ``path`` is itself a sweep store. It may be new, or an existing
+    sweep store (checked further by the caller); an existing empty folder is refused as
+    well as anything else, since the tool never writes into a folder it did not make.
+    ``members`` given: ``path`` is a folder holding exactly these sweep stores (and the
+    temporary folders of their creation); it may be new or empty, and any other entry,
+    such as another program's Zarr group, is refused.
+    """
+    path = Path(path)
+    if path.is_symlink() and not path.exists():
+        raise DataFileError(path, "is a symbolic link to nothing; choose another --out")
+    if not path.exists():
+        return
+    if not path.is_dir():
+        raise DataFileError(path, "exists and is not a folder; choose another --out")
+    if members is None:
+        if not _is_sweep_store(path):
+            raise DataFileError(path, "exists and is not a sweep store; choose another --out")
+        return
+    import re
+
+    temp = re.compile(
+        "|".join(re.escape(f".{m}.new-") + r"[A-Za-z0-9_]+" for m in members) or "(?!)"
+    )
+    for entry in sorted(path.iterdir()):
+        if entry.name in members and entry.is_dir() and _is_sweep_store(entry):
+            continue
+        if temp.fullmatch(entry.name):
+            continue
+        raise DataFileError(
+            path,
+            f"holds {entry.name!r}, which this command did not write (it keeps only "
+            f"{', '.join(members)} there); choose another --out",
+        )
 
 
 def _lock_store(path: Path) -> int:
@@ -246,6 +385,13 @@ def _lock_store(path: Path) -> int:
             "(then rerun to pick up what it did not compute) or choose another --out"
         ) from None
     return fd
+
+
+def _codecs():
+    """Compression with a checksum of every chunk: a damaged chunk is found, never read."""
+    from zarr.codecs import Crc32cCodec, ZstdCodec
+
+    return [ZstdCodec(level=0), Crc32cCodec()]
 
 
 def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str, metrics):
@@ -289,6 +435,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                     dtype="float64",
                     fill_value=np.nan,
                     dimension_names=["point"],
+                    compressors=_codecs(),
                 )
             group.create_array(
                 "reason",
@@ -297,6 +444,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                 dtype="uint8",
                 fill_value=0,
                 dimension_names=["point", "reason_byte"],
+                compressors=_codecs(),
             )
             group.create_array(
                 "status",
@@ -305,6 +453,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                 dtype="int8",
                 fill_value=STATUS_MISSING,
                 dimension_names=["point"],
+                compressors=_codecs(),
                 attributes={"flag_values": [0, 1, 2], "flag_meanings": _STATUS_MEANINGS},
             )
             group.attrs.update(
@@ -335,6 +484,11 @@ def _short(v: Any) -> str:
 
 def _describe_difference(old: dict, new: dict) -> str:
     diffs = []
+    oi, ni = old.get("inputs") or {}, new.get("inputs") or {}
+    for key in sorted(set(oi) | set(ni)):
+        if oi.get(key) != ni.get(key):
+            was = str(oi.get(key, "not recorded"))[:19]
+            diffs.append(f"inputs: the {key} content differs (stored {was}, now {str(ni.get(key))[:19]})")
     for key in ("point", "settings", "weights"):
         if old.get(key) != new.get(key):
             diffs.append(f"{key}: stored {old.get(key)!r}, now {new.get(key)!r}")
@@ -470,9 +624,16 @@ def _run_sweep(spec, target, be, chunk_size, store, progress):
     fixed = tuple(sorted(spec.fixed().items()))
     names, values = spec.dims, tuple(v for _, v in spec.parameters)
     chunk_of = missing // chunk_size
+    inputs = spec.input_files()
     tasks = [
         ChunkTask(
-            point, names, values, fixed, tuple(int(i) for i in missing[chunk_of == c]), int(c)
+            point,
+            names,
+            values,
+            fixed,
+            tuple(int(i) for i in missing[chunk_of == c]),
+            int(c),
+            inputs,
         )
         for c in np.unique(chunk_of)
     ]
@@ -547,7 +708,9 @@ def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend="")
 
 
 def load_sweep(store: str | os.PathLike):
-    """Read a sweep store (complete or partial) as an :class:`xarray.Dataset`."""
+    """Read a sweep store (complete or partial) as an :class:`xarray.Dataset`.
+
+    Its inputs are described by the digests it recorded; they are not read again."""
     import zarr
 
     path = Path(store)
@@ -558,15 +721,35 @@ def load_sweep(store: str | os.PathLike):
         raise DataFileError(path, "is not a readable sweep store") from None
     if attrs.get("format") != _FORMAT:
         raise DataFileError(path, "is not a sweep store (no inerterlab sweep attributes)")
-    cfg = attrs["config"]
-    spec = sweep_spec(
-        cfg["point"], parameters=cfg["parameters"], settings=cfg["settings"], weights=cfg["weights"]
-    )
-    metrics = attrs["metrics"]
-    vals = np.stack([np.asarray(group[m][:]) for m in metrics], axis=1)
-    stat = np.asarray(group["status"][:])
-    reasons = _decode_reasons(np.asarray(group["reason"][:]))
-    return _to_dataset(spec, vals, stat, reasons, store=str(path))
+    try:
+        cfg = attrs["config"]
+        spec = sweep_spec(
+            cfg["point"],
+            parameters=cfg["parameters"],
+            settings=cfg["settings"],
+            weights=cfg["weights"],
+            inputs=cfg.get("inputs") or {},
+        )
+        metrics = list(attrs["metrics"])
+    except (KeyError, TypeError, ValueError, AttributeError) as exc:
+        if isinstance(exc, DataFileError):
+            raise
+        raise _damaged(path, "config (attribute)", exc) from None
+
+    def read(name):
+        try:
+            return np.asarray(group[name][:])
+        except Exception as exc:  # noqa: BLE001
+            raise _damaged(path, name, exc) from None
+
+    arrays = {name: read(name) for name in (*metrics, "status", "reason")}
+    for name, arr in arrays.items():
+        if arr.shape[0] != spec.size:
+            raise _damaged(path, name, ValueError(f"{arr.shape[0]} points, not {spec.size}"))
+    vals = np.stack([arrays[m] for m in metrics], axis=1)
+    reasons = _decode_reasons(arrays["reason"])
+    _check_consistent(path, metrics, vals, arrays["status"], reasons)
+    return _to_dataset(spec, vals, arrays["status"], reasons, store=str(path))
 
 
 def save_netcdf(ds, path: str | os.PathLike) -> Path:

@@ -46,7 +46,6 @@ from __future__ import annotations
 
 import math
 import re
-import tomllib
 from pathlib import Path
 
 from ..errors import DataFileError, ParameterError
@@ -328,13 +327,9 @@ def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
 
 def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
     """Vehicle parameters from TOML text (``source`` names it in errors)."""
-    try:
-        data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as e:
-        m = re.search(r"line (\d+)", str(e))
-        raise DataFileError(
-            source, f"not valid TOML: {e}", int(m.group(1)) if m else None
-        ) from None
+    from ..io import loads_toml
+
+    data = loads_toml(text, source, "vehicle file")
 
     def fail(table, key, msg):
         where = f"[{table}] {key}" if table and key else (f"[{table}]" if table else key)
@@ -462,11 +457,11 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
 
 def load_vehicle(path) -> HalfCar | FullCar:
     """Vehicle parameters from a TOML file (see the module documentation)."""
-    from ..io import read_text_limited
+    from ..io import CONFIG_SIZE_LIMIT, read_text_limited
 
     p = Path(path)
-    # size-capped, UTF-8 only; a device or FIFO is read only up to the cap
-    text = read_text_limited(p, "vehicle file")
+    # size-capped, UTF-8 only; a device or FIFO is read up to the cap and a time limit
+    text = read_text_limited(p, "vehicle file", limit=CONFIG_SIZE_LIMIT)
     return loads_vehicle(text, str(p))
 
 

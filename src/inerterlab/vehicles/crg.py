@@ -34,60 +34,107 @@ def _check_crg_file(p: Path) -> None:
     """A regular file within the input size cap (the library reads it whole)."""
     from ..io import input_size_limit
 
+    if not p.exists():
+        raise DataFileError(p, "no such file")
     if not p.is_file():
-        raise DataFileError(p, "no such file (an OpenCRG road must be a regular file)")
+        # the library opens the path itself: only a regular file has a size to check
+        raise DataFileError(p, "is not a regular file; an OpenCRG road must be one")
     size, limit = p.stat().st_size, input_size_limit()
     if size > limit:
         raise DataFileError(p, f"is {size} bytes; a road file may have at most {limit} bytes here")
+
+
+def _open(p: Path):
+    pycrg = _pycrg()
+    _check_crg_file(p)
+    try:
+        return pycrg.RoadSurface.open(str(p))
+    except Exception as e:  # the library's load errors
+        raise DataFileError(p, f"cannot read as OpenCRG: {_one_line(e)}") from None
+
+
+def _one_line(e: Exception) -> str:
+    return " ".join(str(e).split())[:300]
+
+
+def _inside(p: Path, road, name: str, v: float) -> None:
+    """Refuse a lateral position outside the file's data (no silent border values)."""
+    v0, v1 = road.dataset.v_range()
+    tol = 1e-9 * max(1.0, abs(v0), abs(v1))
+    if not (v0 - tol <= v <= v1 + tol):
+        raise ParameterError(
+            name, v, f"a lateral position inside the file's range [{v0:g}, {v1:g}] m ({p.name})"
+        )
+
+
+def _grid(p: Path, u0: float, u1: float, h: float) -> np.ndarray:
+    from ..resources import check_memory
+
+    check_memory(3.0 * ((u1 - u0) / h + 1), what=f"samples of {p.name}", parameter="step")
+    return np.arange(u0, u1 + 1e-9 * h, h)
 
 
 def read_crg_tracks(path, track: float = 1.5, step: float | None = None):
     """(u [m], z_left [m], z_right [m]) of a CRG file, every ``step`` m along u.
 
     ``step`` defaults to the file's u increment. Elevations include the reference
-    line's own elevation (slope), as the library evaluates them. A wheel outside the
-    road's width sees the elevation of the nearest border (OpenCRG's default border
-    mode, which keeps the last value).
+    line's own elevation (slope), as the library evaluates them. Both wheels must lie
+    inside the file's lateral range: a track wider than the road is refused, never read
+    off the border.
     """
-    pycrg = _pycrg()
     p = Path(path)
     half = 0.5 * check_positive("track", track, "m")
-    _check_crg_file(p)
-    try:
-        with pycrg.RoadSurface.open(str(p)) as road:
+    h = None if step is None else check_positive("step", step, "m")
+    with _open(p) as road:
+        try:
+            _inside(p, road, "track", half)
+            _inside(p, road, "track", -half)
+        except ParameterError:
+            v0, v1 = road.dataset.v_range()
+            raise ParameterError(
+                "track",
+                track,
+                f"a track within the lateral range [{v0:g}, {v1:g}] m of {p.name} "
+                "(the wheels at +/- track/2)",
+            ) from None
+        try:
             u0, u1 = road.dataset.u_range()
             du = road.dataset.increments()[0]
-            h = du if step is None else check_positive("step", step, "m")
-            u = np.arange(u0, u1 + 1e-9 * h, h)
+            h = du if h is None else h
+            u = _grid(p, u0, u1, h)
             zl = np.asarray(road.contact_point.uv_to_z_many(u, np.full_like(u, half)))
             zr = np.asarray(road.contact_point.uv_to_z_many(u, np.full_like(u, -half)))
-    except InerterlabError:
-        raise
-    except Exception as e:  # the library's load and evaluation errors
-        raise DataFileError(p, f"cannot read as OpenCRG: {e}") from None
+        except InerterlabError:
+            raise
+        except Exception as e:  # the library's evaluation errors
+            raise DataFileError(p, f"cannot read as OpenCRG: {_one_line(e)}") from None
     if not (np.all(np.isfinite(zl)) and np.all(np.isfinite(zr))):
         raise DataFileError(p, "the tracks cross cells without data (NaN)")
     return u - u[0], zl, zr
 
 
 def read_crg_profile(path, step: float | None = None, lateral: float = 0.0):
-    """(u [m], z [m]) along the long section at v = ``lateral`` [m] (0: the reference line)."""
+    """(u [m], z [m]) along the long section at v = ``lateral`` [m] (0: the reference line).
+
+    ``lateral`` must lie inside the file's lateral range (named in the error)."""
     from ..errors import check_finite
 
     lateral = check_finite("lateral", lateral)
-    pycrg = _pycrg()
     p = Path(path)
-    _check_crg_file(p)
-    try:
-        with pycrg.RoadSurface.open(str(p)) as road:
+    h = None if step is None else check_positive("step", step, "m")
+    with _open(p) as road:
+        _inside(p, road, "lateral", lateral)
+        try:
             u0, u1 = road.dataset.u_range()
-            h = road.dataset.increments()[0] if step is None else check_positive("step", step, "m")
-            u = np.arange(u0, u1 + 1e-9 * h, h)
+            h = road.dataset.increments()[0] if h is None else h
+            u = _grid(p, u0, u1, h)
             z = np.asarray(road.contact_point.uv_to_z_many(u, np.full_like(u, lateral)))
-    except InerterlabError:
-        raise
-    except Exception as e:
-        raise DataFileError(p, f"cannot read as OpenCRG: {e}") from None
+        except InerterlabError:
+            raise
+        except Exception as e:
+            raise DataFileError(p, f"cannot read as OpenCRG: {_one_line(e)}") from None
+    if not np.all(np.isfinite(z)):
+        raise DataFileError(p, f"the long section at v = {lateral:g} m crosses cells without data")
     return u - u[0], z
 
 

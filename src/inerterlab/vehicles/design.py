@@ -165,6 +165,12 @@ def _load(path: str):
     return load_vehicle(path if path else example_vehicle_path())
 
 
+def _example_path():
+    from .config import example_vehicle_path
+
+    return example_vehicle_path()
+
+
 def _point(params: Mapping[str, Any]) -> dict[str, float]:
     base = _load(params["vehicle"])
     over = {k: params[k] for k in DESIGN_PARAMETERS if params.get(k) is not None}
@@ -178,7 +184,9 @@ VEHICLE_SPECTRAL = register_point_function(
         name="vehicle-spectral",
         function=_point,
         parameters={
-            "vehicle": ParameterSpec(kind="text", doc="vehicle TOML file ('' = example)"),
+            "vehicle": ParameterSpec(
+                kind="file", empty=_example_path, doc="vehicle TOML file ('' = example)"
+            ),
             "road_class": ParameterSpec(kind="choice", choices=tuple("ABCDEFGH")),
             "speed": ParameterSpec(low=0.0, low_open=True, high=100.0, unit="m/s"),
             **{

@@ -49,6 +49,8 @@ __all__ = [
     "iri",
     "GOLDEN_CAR",
     "read_profile_csv",
+    "read_track_pair",
+    "TRACK_COLUMNS",
 ]
 
 COHERENCE_MODELS = ("isotropic", "identical", "independent")
@@ -310,37 +312,100 @@ def iri(x, z, smoothing: float | None = 0.25) -> float:
     return float(np.mean(np.abs(rel[1:])) / v * 1000.0)
 
 
-def read_profile_csv(path):
-    """(distance [m], elevation [m]) from a CSV file of two (or more) numeric columns.
+#: header spellings of a vehicle road file's columns (``distance [m]``, ``left [mm]``, ...)
+TRACK_COLUMNS = {
+    "distance": "distance",
+    "position": "distance",
+    "x": "distance",
+    "s": "distance",
+    "left": "left",
+    "right": "right",
+    "elevation": "elevation",
+    "height": "elevation",
+    "displacement": "elevation",
+    "z": "elevation",
+}
+_TRACK_QUANTITIES = {"left": "displacement", "right": "displacement", "elevation": "displacement"}
+_TRACK_UNITS = {"distance": "m", "left": "m", "right": "m", "elevation": "m"}
 
-    Lines starting with ``#`` and a non-numeric header line are skipped; the first two
-    columns are used.
+
+def _read_track_table(path, required, headerless, min_rows):
+    from ..datafiles import read_columns
+
+    return read_columns(
+        path,
+        TRACK_COLUMNS,
+        quantities=_TRACK_QUANTITIES,
+        default_units=_TRACK_UNITS,
+        headerless=headerless,
+        increasing="distance",
+        required=required,
+        min_rows=min_rows,
+        what="road",
+    )
+
+
+def read_profile_csv(path, track: str | None = None):
+    """(distance [m], elevation [m]) of one road profile in a column file.
+
+    The file is read by :func:`inerterlab.datafiles.read_columns`: a header names the
+    columns with their units (``distance [m]`` or ``[mm]``, ``[cm]``, ``[km]``;
+    ``elevation [mm]``, also ``height``; or the track pair ``left``/``right`` a generated
+    road has, of which ``track`` picks one); a column without a unit, and a file without
+    a header (two columns), are in metres. The distance must increase strictly; every
+    value must be a finite number. At least 16 rows.
+    """
+    from ..errors import DataFileError
+
+    tab = _read_track_table(path, ("distance",), ("distance", "elevation"), 16)
+    hl = (tab.header_line or 0) + 1
+    have = [c for c in ("elevation", "left", "right") if c in tab]
+    if track is not None:
+        check_choice("track", track, ("left", "right", "elevation"))
+        if track not in tab:
+            raise DataFileError(
+                path, f"no column {track!r} for --track (the file has {', '.join(have)})", hl
+            )
+        return tab["distance"], tab[track]
+    if len(have) != 1:
+        raise DataFileError(
+            path,
+            "needs one profile column (elevation) besides distance; it has "
+            + (", ".join(have) if have else "none")
+            + ("; choose one with --track left or --track right" if len(have) > 1 else ""),
+            hl,
+        )
+    return tab["distance"], tab[have[0]]
+
+
+def read_track_pair(path, track: float, step: float | None = None):
+    """(x [m] from 0, z_left [m], z_right [m]) of a road file.
+
+    An OpenCRG file (``.crg``) is sampled at v = +/- track/2 every ``step`` m (default
+    its own increment) by :func:`inerterlab.vehicles.crg.read_crg_tracks`. Any other
+    file is a column file (:func:`read_profile_csv` explains the header and units) with
+    the columns distance, left and optionally right (the left track is used for both
+    when it is missing), returned at its own distances (strictly increasing, not
+    necessarily even) for the wheels to be read off by linear interpolation.
     """
     from pathlib import Path
 
     from ..errors import DataFileError
-    from ..io import read_text_limited
 
     p = Path(path)
-    lines = read_text_limited(p, "road profile").splitlines()
-    xs, zs = [], []
-    for i, line in enumerate(lines, start=1):
-        s = line.strip()
-        if not s or s.startswith("#"):
-            continue
-        cells = [c.strip() for c in s.split(",")]
-        try:
-            x, z = float(cells[0]), float(cells[1])
-        except (ValueError, IndexError):
-            if not xs:
-                continue  # header
-            raise DataFileError(
-                p, f"expected two numbers 'distance,elevation', got {s!r}", i
-            ) from None
-        if not (math.isfinite(x) and math.isfinite(z)):
-            raise DataFileError(p, "non-finite value", i)
-        xs.append(x)
-        zs.append(z)
-    if len(xs) < 16:
-        raise DataFileError(p, f"{len(xs)} samples; at least 16 needed")
-    return np.array(xs), np.array(zs)
+    if p.suffix.lower() == ".crg":
+        from .crg import read_crg_tracks
+
+        return read_crg_tracks(p, track, step)
+    tab = _read_track_table(p, ("distance", "left"), ("distance", "left", "right"), 16)
+    if "elevation" in tab:
+        raise DataFileError(
+            p,
+            "holds an 'elevation' column; a road to drive over has the columns "
+            "distance, left[, right]",
+            (tab.header_line or 0) + 1,
+        )
+    x = tab["distance"]
+    left = tab["left"]
+    right = tab["right"] if "right" in tab else left
+    return x - x[0], left, right

@@ -157,9 +157,17 @@ def _full_point(params: Mapping[str, Any]) -> dict[str, float]:
     return _one_road(params, "full")
 
 
+def _example_path():
+    from .config import example_vehicle_path
+
+    return example_vehicle_path()
+
+
 _POS = {"low": 0.0, "low_open": True}
 _PARAMETERS = {
-    "vehicle": ParameterSpec(kind="text", doc="vehicle TOML file ('' = the packaged example)"),
+    "vehicle": ParameterSpec(
+        kind="file", empty=_example_path, doc="vehicle TOML file ('' = the packaged example)"
+    ),
     "road_class": ParameterSpec(kind="choice", choices=tuple("ABCDEFGH"), doc="ISO 8608 class"),
     "speed": ParameterSpec(**_POS, high=100.0, unit="m/s", doc="vehicle speed"),
     "length": ParameterSpec(**_POS, high=1e6, unit="m", doc="road length per realisation"),
