@@ -514,7 +514,9 @@ def optimize_network(
     check_seed("seed", seed)
     if weights and objective != "weighted":
         raise ParameterError(
-            "weight", weights, "no weights unless the objective is 'weighted' (they would be unused)"
+            "weight",
+            weights,
+            "no weights unless the objective is 'weighted' (they would be unused)",
         )
     fixed = _parse_assignments(fixed, "fixed parameter")
     bounds = _parse_assignments(bounds, "bound")
@@ -817,6 +819,11 @@ def _set_times(poly: dict, part: tuple, box: tuple) -> dict:
     return out
 
 
+def _coefficient(n: tuple, f: dict, g: dict) -> int:
+    """Coefficient of x^n in the product f g."""
+    return sum(v * g.get(tuple(a - b for a, b in zip(n, k, strict=True)), 0) for k, v in f.items())
+
+
 def count_layouts(dampers: int = 1, inerters: int = 1, springs: int = 2) -> dict:
     """Sizes of :func:`~inerterlab.networks.enumerate_networks` for a budget, counted
     without building it (generating functions over multisets of sub-networks).
@@ -872,12 +879,10 @@ def count_layouts(dampers: int = 1, inerters: int = 1, springs: int = 2) -> dict
             continue
         a_p = all_non_p.get(n, 0)  # parallel roots; series roots are as many
         a_tot[n] = 2 * a_p
-        mult = lambda f, g: sum(v * g.get(tuple(a - b for a, b in zip(n, k)), 0)  # noqa: E731
-                                for k, v in f.items())  # fmt: skip
-        p_all = mult(leaves3, d_s)
-        p_ns = mult(leaves_ns, d_s_ns)
-        s_all = mult(leaves3, d_p)
-        s_st = mult(leaves_k, d_p_s)
+        p_all = _coefficient(n, leaves3, d_s)
+        p_ns = _coefficient(n, leaves_ns, d_s_ns)
+        s_all = _coefficient(n, leaves3, d_p)
+        s_st = _coefficient(n, leaves_k, d_p_s)
         cand += p_ns + (s_all - s_st)
         # children of the next totals: series roots feed parallel nodes and vice versa
         new[n] = (a_p, s_all, s_all - s_st, p_all, p_all - p_ns)
