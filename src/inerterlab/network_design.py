@@ -316,7 +316,8 @@ class _Problem:
         self.prog = self.q.program
         self.neval = 0
         self.cidx = [OUTPUTS.index(k) for k in self.constraints]
-        self.clim = np.array([self.constraints[k] ** 2 for k in self.constraints])
+        # v * v: a limit beyond 1e154 squares to inf, which is no constraint (not an error)
+        self.clim = np.array([self.constraints[k] * self.constraints[k] for k in self.constraints])
 
     def thetas(self, U):
         U = np.atleast_2d(U)

@@ -42,6 +42,9 @@ def _load(path: Path | None, model: str):
     return params, veh
 
 
+#: most frequencies of the spectral grid (a response matrix per frequency is kept)
+MAX_POINTS = 200_000
+
 #: fewest road samples a time simulation accepts (length / (speed x dt))
 MIN_ROAD_SAMPLES = 64
 
@@ -120,10 +123,10 @@ def spectral_command(
     params, veh = _load(vehicle, model)
     road = _road(road_class, gd_n0, coherence)
     check_positive("speed", speed, "m/s")
-    if points < 16:
+    if not 16 <= points <= MAX_POINTS:
         from ..errors import ParameterError
 
-        raise ParameterError("points", points, "an integer >= 16")
+        raise ParameterError("points", points, f"an integer in [16, {MAX_POINTS}]")
     res = spectral_response(veh, road, speed, points=points)
     out = res.to_dict()
     out.update(model=veh.kind, gd_n0=road.gd_n0, coherence=road.coherence)

@@ -177,6 +177,15 @@ def generate_tracks(
         raise ParameterError(
             "step", step, f"a sample spacing giving at least 16 samples over length={L:g} m"
         )
+    from ..resources import check_memory
+
+    # two tracks, their spectra and the random draws: about 16 values per sample
+    check_memory(
+        L / dx * 16,
+        what="road tracks (length / step samples)",
+        parameter="length/step",
+        value=f"{L:g} m / {dx:g} m",
+    )
     count = int(round(L / dx))
     count += count % 2
     L = count * dx
