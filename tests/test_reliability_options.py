@@ -232,7 +232,8 @@ def test_horizons_beyond_the_step_budget_are_refused_up_front(capsys, input_, ho
     rc, _, err = _run(capsys, ["simulate", "--input", input_, "--horizon", horizon, "--json"])
     assert rc == 2 and time.perf_counter() - t0 < 10.0
     line = _error(err)
-    assert "horizon" in line and "speed" not in line.split(":")[1] and "at most" in line
+    assert "invalid horizon=" in line and "at most" in line
+    assert ("at speed=20 m/s" in line) == (input_ == "iso8608")
 
 
 @pytest.mark.parametrize("freq", ["0.5", "5", "50"])

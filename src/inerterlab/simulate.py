@@ -671,13 +671,20 @@ def _minimum_steps(excitation: Excitation, horizon: float) -> float:
 
 def _check_step_budget(excitation: Excitation, horizon: float, options) -> None:
     """Refuse up front a run whose step count must exceed ``options.max_steps``."""
+    from .excitation import ISO8608Road
+
     need = _minimum_steps(excitation, horizon)
     if need > options.max_steps:
+        at = (
+            f" at speed={float(excitation.speed):g} m/s (or a lower speed)"
+            if isinstance(excitation, ISO8608Road)
+            else ""
+        )
         raise ParameterError(
             "horizon",
             horizon,
-            f"at most {horizon * options.max_steps / need:.3g} s for this input: it needs at "
-            f"least {need:.3g} integration steps (one per road segment, four per sine "
+            f"at most {horizon * options.max_steps / need:.3g} s for this input{at}: it needs "
+            f"at least {need:.3g} integration steps (one per road segment, four per sine "
             f"period), the step budget is max_steps={options.max_steps}",
         )
 
