@@ -62,7 +62,7 @@ def one_line(text: str, limit: int = MESSAGE_LIMIT) -> str:
     Line breaks and runs of white space (a foreign library's multi-line message) are
     folded into single spaces, then the text is shortened in the middle.
 
-    >>> one_line("first line\n   second line")
+    >>> one_line("first line" + chr(10) + "   second line")
     'first line second line'
     """
     return shorten(" ".join(str(text).split()), limit)
