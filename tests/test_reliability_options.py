@@ -428,3 +428,15 @@ def test_a_foreign_multiline_message_is_folded(capsys, monkeypatch):
     lines = [ln for ln in err.splitlines() if ln.strip()]
     assert len(lines) == 1 and "first line second line" in lines[0]
     assert len(lines[0]) <= MESSAGE_LIMIT
+
+
+@pytest.mark.parametrize(
+    "extra", [["--objective", "bad"], ["--starts", "0"], ["--weight", "body_acc=1"]]
+)
+def test_no_note_precedes_an_error_of_optimize_all(capsys, extra):
+    # a budget above 20 candidates prints a note, but only after every setting is checked
+    args = ["network", "optimize", "--all", "--dampers", "2", "--springs", "2", *extra]
+    rc, _, err = _run(capsys, args)
+    assert rc == 2
+    lines = [ln for ln in err.splitlines() if ln.strip()]
+    assert len(lines) == 1 and lines[0].startswith("inerterlab: error:"), err

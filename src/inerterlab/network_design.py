@@ -47,6 +47,8 @@ __all__ = [
     "DEFAULT_BOUNDS",
     "OptimizationResult",
     "optimize_network",
+    "check_settings",
+    "count_layouts",
     "optimize_all",
     "pareto_front",
     "reference_norms",
@@ -466,6 +468,28 @@ def _kkt(pb: _Problem, u: np.ndarray, val: float) -> bool:
 _BASELINES: dict = {}
 
 
+def check_settings(objective, *, weights=None, starts=8, samples=256, seed=0) -> None:
+    """Raise if the settings of :func:`optimize_network` (other than the network and
+    its parameters) are invalid: the objective, unused weights, starts, samples, seed."""
+    if objective not in OBJECTIVES:
+        raise NetworkError(f"objective {objective!r}: expected one of {', '.join(OBJECTIVES)}")
+    if isinstance(starts, bool) or not isinstance(starts, numbers.Integral):
+        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
+    if not 1 <= starts <= MAX_STARTS:
+        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
+    if isinstance(samples, bool) or not isinstance(samples, numbers.Integral):
+        raise ParameterError("samples", samples, "an integer in [16, 65536]")
+    if not 16 <= samples <= 65536:
+        raise ParameterError("samples", samples, "an integer in [16, 65536]")
+    check_seed("seed", seed)
+    if weights and objective != "weighted":
+        raise ParameterError(
+            "weight",
+            weights,
+            "no weights unless the objective is 'weighted' (they would be unused)",
+        )
+
+
 def optimize_network(
     network,
     objective: str = "body_acc",
@@ -504,21 +528,7 @@ def optimize_network(
     """
     from scipy.stats import qmc
 
-    if isinstance(starts, bool) or not isinstance(starts, numbers.Integral):
-        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
-    if not 1 <= starts <= MAX_STARTS:
-        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
-    if isinstance(samples, bool) or not isinstance(samples, numbers.Integral):
-        raise ParameterError("samples", samples, "an integer in [16, 65536]")
-    if not 16 <= samples <= 65536:
-        raise ParameterError("samples", samples, "an integer in [16, 65536]")
-    check_seed("seed", seed)
-    if weights and objective != "weighted":
-        raise ParameterError(
-            "weight",
-            weights,
-            "no weights unless the objective is 'weighted' (they would be unused)",
-        )
+    check_settings(objective, weights=weights, starts=starts, samples=samples, seed=seed)
     fixed = _parse_assignments(fixed, "fixed parameter")
     bounds = _parse_assignments(bounds, "bound")
     constraints = _parse_assignments(constraints, "constraint")

@@ -247,6 +247,10 @@ def optimize_command(
     if all_ == (network is not None):
         raise ParameterError("network", network, "a network text, or --all (not both)")
     if all_:
+        from ..network_design import check_settings
+
+        # every setting checked before the budget's note, so no note precedes an error
+        check_settings(objective, weights=weight, starts=starts, seed=seed)
         _check_budget(dampers, inerters, springs, max_layouts, "optimise")
     nets = [n.text for n in enumerate_networks(dampers, inerters, springs)] if all_ else [network]
     results = [
