@@ -212,8 +212,9 @@ def test_scipy_backend_has_a_step_limit():
     from inerterlab.simulate import SimulationOptions, simulate
     from inerterlab.suspension import quarter_car
 
-    opts = SimulationOptions(backend="scipy", max_steps=5)
-    with pytest.raises(ConvergenceError, match="max_steps=5"):
+    # 10 steps pass the up-front bound (9: one segment, four per period) but not the run
+    opts = SimulationOptions(backend="scipy", max_steps=10)
+    with pytest.raises(ConvergenceError, match="max_steps=10"):
         simulate(quarter_car("traditional"), sine(0.01, 2.0), 1.0, options=opts)
 
 

@@ -559,12 +559,20 @@ class ISO8608Road(Excitation):
             length = max(100.0, self.speed * (horizon if horizon is not None else 10.0))
         from .resources import check_memory
 
-        # the profile, its spectrum (complex), phases and the road segments built from it
+        # the profile, its spectrum (complex), phases and the road segments built from it;
+        # the option blamed is the one that set the length: length, else the horizon
+        # (speed alone is within its range: the product is too long)
+        if self.length is not None:
+            parameter, value = "length", self.length
+        elif horizon is not None:
+            parameter, value = "horizon", horizon
+        else:
+            parameter, value = "speed", self.speed
         check_memory(
             float(length) / float(self.spatial_step) * 16,
             what="ISO 8608 road profile (speed x horizon / spatial_step points)",
-            parameter="speed" if self.length is None else "length",
-            value=self.speed if self.length is None else self.length,
+            parameter=parameter,
+            value=value,
         )
         return _iso_profile(self.road_class, float(length), float(self.spatial_step), self.seed)
 

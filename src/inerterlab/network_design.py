@@ -26,15 +26,17 @@ equation (observability gramian), see :func:`gradient`.
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass, field
 
 import numba as nb
 import numpy as np
 
-from .errors import ParameterError
+from .errors import PHYSICAL_RANGES, ParameterError, check_physical, check_seed, shorten
 from .h2 import h2_rational, h2_rational_gradient
 from .networks import NetworkError, enumerate_networks, linearise, parse_network
 from .suspension.network_linear import (
+    _QUANTITY,
     MAXC,
     OUTPUTS,
     NetworkQuarterCar,
@@ -49,6 +51,8 @@ __all__ = [
     "design_parameters",
     "OptimizationResult",
     "optimize_network",
+    "check_settings",
+    "count_layouts",
     "optimize_all",
     "pareto_front",
     "reference_norms",
@@ -57,6 +61,9 @@ __all__ = [
 
 OBJECTIVES = (*OUTPUTS, "weighted")
 _BIG = 1e30
+
+#: most starts of the local polish one optimisation takes
+MAX_STARTS = 100
 
 
 # ---------------------------------------------------------------------------------------
@@ -124,6 +131,11 @@ def _parse_assignments(items, what: str) -> dict:
             if "=" not in part:
                 raise NetworkError(f"{what} {part!r}: expected name=value")
             name, val = (x.strip() for x in part.split("=", 1))
+            if name in out:
+                raise NetworkError(
+                    f"{what} {shorten(part.strip())!r}: {shorten(name)!r} is given twice; "
+                    "give each name once"
+                )
             out[name] = val
     return out
 
@@ -192,8 +204,13 @@ class _Design:
                     a, b = (float(x) for x in bd)
                 if not (0 <= a < b < math.inf):
                     raise NetworkError(f"bound {name}={bd!r}: expected 0 <= low < high")
+                q = _QUANTITY.get(net.kinds[net.names.index(name)]) if name in net.names else None
                 if a == 0.0:
-                    a = b * 1e-6  # log search: 0 stands for "negligible"
+                    # log search: 0 stands for "negligible", within the physical range
+                    a = b * 1e-6 if q is None else max(b * 1e-6, PHYSICAL_RANGES[q][0])
+                if q is not None:
+                    for x in (a, b):
+                        check_physical(f"bound {name}", x, q)
             elif p.design is not None:
                 a, b = p.design
             else:
@@ -380,7 +397,8 @@ class _Problem:
         self.prog = self.q.program
         self.neval = 0
         self.cidx = [OUTPUTS.index(k) for k in self.constraints]
-        self.clim = np.array([self.constraints[k] ** 2 for k in self.constraints])
+        # v * v: a limit beyond 1e154 squares to inf, which is no constraint (not an error)
+        self.clim = np.array([self.constraints[k] * self.constraints[k] for k in self.constraints])
 
     def thetas(self, U):
         return self.design.thetas(U)
@@ -544,6 +562,28 @@ def _kkt(pb: _Problem, u: np.ndarray, val: float) -> bool:
 _BASELINES: dict = {}
 
 
+def check_settings(objective, *, weights=None, starts=8, samples=256, seed=0) -> None:
+    """Raise if the settings of :func:`optimize_network` (other than the network and
+    its parameters) are invalid: the objective, unused weights, starts, samples, seed."""
+    if objective not in OBJECTIVES:
+        raise NetworkError(f"objective {objective!r}: expected one of {', '.join(OBJECTIVES)}")
+    if isinstance(starts, bool) or not isinstance(starts, numbers.Integral):
+        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
+    if not 1 <= starts <= MAX_STARTS:
+        raise ParameterError("starts", starts, f"an integer in [1, {MAX_STARTS}]")
+    if isinstance(samples, bool) or not isinstance(samples, numbers.Integral):
+        raise ParameterError("samples", samples, "an integer in [16, 65536]")
+    if not 16 <= samples <= 65536:
+        raise ParameterError("samples", samples, "an integer in [16, 65536]")
+    check_seed("seed", seed)
+    if weights and objective != "weighted":
+        raise ParameterError(
+            "weight",
+            weights,
+            "no weights unless the objective is 'weighted' (they would be unused)",
+        )
+
+
 def optimize_network(
     network,
     objective: str = "body_acc",
@@ -585,6 +625,7 @@ def optimize_network(
     """
     from scipy.stats import qmc
 
+    check_settings(objective, weights=weights, starts=starts, samples=samples, seed=seed)
     fixed = _parse_assignments(fixed, "fixed parameter")
     bounds = _parse_assignments(bounds, "bound")
     constraints = _parse_assignments(constraints, "constraint")
@@ -852,3 +893,105 @@ def pareto_figure(ds):
     ax.grid(True, alpha=0.3)
     ax.legend(fontsize=7)
     return fig
+
+
+# ---------------------------------------------------------------------------------------
+# the size of an enumeration, counted before it is built
+
+
+def _mset_times(poly: dict, part: tuple, count: int, box: tuple) -> dict:
+    """``poly`` times (1 - x^part)^-count: multisets of ``count`` kinds of one part."""
+    from math import comb
+
+    if count == 0:
+        return poly
+    out = dict(poly)
+    for key, val in poly.items():
+        j = 1
+        while True:
+            k = tuple(a + j * p for a, p in zip(key, part, strict=True))
+            if any(a > b for a, b in zip(k, box, strict=True)):
+                break
+            out[k] = out.get(k, 0) + val * comb(count + j - 1, j)
+            j += 1
+    return out
+
+
+def _set_times(poly: dict, part: tuple, box: tuple) -> dict:
+    """``poly`` times (1 + x^part): at most one of this part."""
+    out = dict(poly)
+    for key, val in poly.items():
+        k = tuple(a + p for a, p in zip(key, part, strict=True))
+        if all(a <= b for a, b in zip(k, box, strict=True)):
+            out[k] = out.get(k, 0) + val
+    return out
+
+
+def _coefficient(n: tuple, f: dict, g: dict) -> int:
+    """Coefficient of x^n in the product f g."""
+    return sum(v * g.get(tuple(a - b for a, b in zip(n, k, strict=True)), 0) for k, v in f.items())
+
+
+def count_layouts(dampers: int = 1, inerters: int = 1, springs: int = 2) -> dict:
+    """Sizes of :func:`~inerterlab.networks.enumerate_networks` for a budget, counted
+    without building it (generating functions over multisets of sub-networks).
+
+    Returns ``candidates``: the networks k | (N) listed before equal families are
+    merged (an upper bound of the listed count; exact without merging), and ``trees``:
+    the series-parallel trees the enumeration builds on the way (its memory and time).
+
+    >>> count_layouts(1, 1, 0)["candidates"]
+    4
+    """
+    for nm, v in (("dampers", dampers), ("inerters", inerters), ("springs", springs)):
+        if isinstance(v, bool) or not isinstance(v, numbers.Integral) or not 0 <= v <= 4:
+            raise NetworkError(f"invalid {nm}={v!r}: expected an integer 0-4")
+    box = (int(springs), int(dampers), int(inerters))
+    units = {"k": (1, 0, 0), "c": (0, 1, 0), "b": (0, 0, 1)}
+    zero = (0, 0, 0)
+    # products over the parts of smaller total, updated total by total
+    all_non_p = {zero: 1}  # multisets of trees whose root is not parallel (every tree)
+    d_s, d_s_ns, d_p, d_p_s = ({zero: 1} for _ in range(4))  # nondegenerate children
+    leaves3 = {zero: 1}
+    for u in units.values():
+        leaves3 = _set_times(leaves3, u, box)
+    leaves_ns = _set_times(_set_times({zero: 1}, units["c"], box), units["b"], box)
+    leaves_k = _set_times({zero: 1}, units["k"], box)
+    comps = sorted(
+        (n for n in np.ndindex(*(b + 1 for b in box)) if sum(n) > 0), key=lambda n: sum(n)
+    )
+    a_tot: dict = {}  # every canonical tree of composition n (what _trees returns)
+    cand = 0
+    new: dict = {}
+    total = 1
+    for n in [*comps, None]:
+        if n is None or sum(n) > total:
+            # fold the parts of the finished total into the products
+            for m, (a_s, ds, ds_ns, dp, dp_s) in new.items():
+                all_non_p = _mset_times(all_non_p, m, a_s, box)
+                d_s = _mset_times(d_s, m, ds, box)
+                d_s_ns = _mset_times(d_s_ns, m, ds_ns, box)
+                d_p = _mset_times(d_p, m, dp, box)
+                d_p_s = _mset_times(d_p_s, m, dp_s, box)
+            new = {}
+            if n is None:
+                break
+            total = sum(n)
+        if total == 1:
+            static = n == units["k"]
+            a_tot[n] = 1
+            cand += 0 if static else 1
+            # a leaf is a child of either kind of node; in nondegenerate nodes the
+            # leaves are counted by the set factors (at most one leaf of each type)
+            new[n] = (1, 0, 0, 0, 0)
+            continue
+        a_p = all_non_p.get(n, 0)  # parallel roots; series roots are as many
+        a_tot[n] = 2 * a_p
+        p_all = _coefficient(n, leaves3, d_s)
+        p_ns = _coefficient(n, leaves_ns, d_s_ns)
+        s_all = _coefficient(n, leaves3, d_p)
+        s_st = _coefficient(n, leaves_k, d_p_s)
+        cand += p_ns + (s_all - s_st)
+        # children of the next totals: series roots feed parallel nodes and vice versa
+        new[n] = (a_p, s_all, s_all - s_st, p_all, p_all - p_ns)
+    return {"candidates": int(cand), "trees": int(sum(a_tot.values()))}

@@ -649,6 +649,46 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
     return T
 
 
+def _minimum_steps(excitation: Excitation, horizon: float) -> float:
+    """A lower bound on the integration steps of either backend up to ``horizon``.
+
+    Each road segment begun before the horizon starts a step of its own (the road is
+    integrated segment by segment), and a sine needs at least four steps per period
+    (measured: 8 or more at rtol 1e-3, the loosest tolerance accepted).
+    """
+    from .excitation import ISO8608Road, Sine
+
+    if isinstance(excitation, Sine):
+        return 1.0 + 4.0 * float(excitation.frequency) * horizon
+    if isinstance(excitation, ISO8608Road):
+        length = horizon * float(excitation.speed)
+        if excitation.length is not None:
+            length = min(length, float(excitation.length))
+        return length / float(excitation.spatial_step)
+    segs = excitation.segments(horizon)
+    return float(np.count_nonzero(segs[:, 0] < horizon))
+
+
+def _check_step_budget(excitation: Excitation, horizon: float, options) -> None:
+    """Refuse up front a run whose step count must exceed ``options.max_steps``."""
+    from .excitation import ISO8608Road
+
+    need = _minimum_steps(excitation, horizon)
+    if need > options.max_steps:
+        at = (
+            f" at speed={float(excitation.speed):g} m/s (or a lower speed)"
+            if isinstance(excitation, ISO8608Road)
+            else ""
+        )
+        raise ParameterError(
+            "horizon",
+            horizon,
+            f"at most {horizon * options.max_steps / need:.3g} s for this input{at}: it needs "
+            f"at least {need:.3g} integration steps (one per road segment, four per sine "
+            f"period), the step budget is max_steps={options.max_steps}",
+        )
+
+
 def simulate(
     model: QuarterCar,
     excitation: Excitation,
@@ -677,6 +717,7 @@ def simulate(
     SimulationResult
     """
     T = _check_inputs(model, excitation, horizon, options, output)
+    _check_step_budget(excitation, T, options)
     want = output == "series"
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, want)
     kw: dict = {}

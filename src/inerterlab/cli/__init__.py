@@ -21,7 +21,7 @@ try:  # typer >= 0.20 vendors its own copy of click
 except ImportError:  # pragma: no cover - older typer on plain click
     from click import exceptions as _cx
 
-from ..errors import InerterlabError, Interrupted
+from ..errors import InerterlabError, Interrupted, one_line
 
 app = typer.Typer(
     name="inerterlab",
@@ -78,6 +78,11 @@ _INTERRUPTED = (
 )
 
 
+def _say(text: str) -> None:
+    """Print one error line on standard error: folded and shortened (one_line)."""
+    print(one_line(text), file=sys.stderr)
+
+
 def _usage_message(e: Exception) -> str:
     msg = e.format_message()
     param = getattr(e, "param", None)
@@ -126,7 +131,7 @@ def main(argv: list[str] | None = None) -> int:
         finally:
             seen = set()
             for w in caught:
-                line = f"{w.category.__name__}: {str(w.message).splitlines()[0] if str(w.message) else ''}"
+                line = one_line(f"{w.category.__name__}: {w.message}")
                 if line not in seen:
                     seen.add(line)
                     print(f"inerterlab: warning: {line}", file=sys.stderr)
@@ -152,21 +157,18 @@ def _main(args: list[str], debug: bool) -> int:
         cmd = (
             f" {e.ctx.command_path.split(' ', 1)[1]}" if e.ctx and " " in e.ctx.command_path else ""
         )
-        print(
-            f"inerterlab: error: {_usage_message(e)} (see 'inerterlab{cmd} --help')",
-            file=sys.stderr,
-        )
+        _say(f"inerterlab: error: {one_line(_usage_message(e), 300)} (see 'inerterlab{cmd} --help')")
         return 2
     except _cx.ClickException as e:
-        print(f"inerterlab: error: {e.format_message()}", file=sys.stderr)
+        _say(f"inerterlab: error: {e.format_message()}")
         return 2
     except Interrupted as e:
-        print(f"inerterlab: {e}", file=sys.stderr)
+        _say(f"inerterlab: {e}")
         return 130
     except InerterlabError as e:
         if debug:
             raise
-        print(f"inerterlab: error: {e}", file=sys.stderr)
+        _say(f"inerterlab: error: {e}")
         return 2
     except KeyboardInterrupt:
         print(_INTERRUPTED, file=sys.stderr)
@@ -187,12 +189,12 @@ def _main(args: list[str], debug: bool) -> int:
     except OSError as e:  # the system refused: disk full, read-only, permissions, ...
         if debug:
             raise
-        print(f"inerterlab: error: {_os_error_message(e)}", file=sys.stderr)
+        _say(f"inerterlab: error: {_os_error_message(e)}")
         return 2
     except RecursionError as e:
         if debug:
             raise
-        print(f"inerterlab: error: input nested too deeply ({e})", file=sys.stderr)
+        _say(f"inerterlab: error: input nested too deeply ({e})")
         return 2
     except MemoryError:
         if debug:
@@ -206,9 +208,9 @@ def _main(args: list[str], debug: bool) -> int:
     except Exception as e:  # noqa: BLE001 - last-resort guard for the command line
         if debug:
             raise
-        print(
-            f"inerterlab: internal error: {type(e).__name__}: {e} (rerun with --debug for the traceback)",
-            file=sys.stderr,
+        _say(
+            f"inerterlab: internal error: {type(e).__name__}: {one_line(e, 300)} "
+            "(rerun with --debug for the traceback)"
         )
         return 1
     return 0

@@ -11,7 +11,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import InerterlabError, ParameterError
+from ..errors import SEED_MAX, InerterlabError, ParameterError, check_seed
 from ..io import atomic_path
 from ..io import atomic_write_text as atomic_write_text
 
@@ -64,6 +64,19 @@ def print_table(title: str, rows: list[tuple[str, str]]) -> None:
     for k, v in rows:
         t.add_row(Text(str(k)), Text(str(v)))
     Console().print(t)
+
+
+def _seed_callback(ctx: Any, param: Any, value: Any) -> Any:
+    if value is None:
+        return value
+    return check_seed(param.opts[0].lstrip("-"), value)
+
+
+def seed_option(help_text: str, *names: str) -> Any:
+    """The one definition of every random seed option: an integer 0 ... 2**32 - 1."""
+    import typer
+
+    return typer.Option(*names, help=f"{help_text} (0-{SEED_MAX})", callback=_seed_callback)
 
 
 def parse_float(name: str, text: str) -> float:

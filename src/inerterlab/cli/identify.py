@@ -7,7 +7,14 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_savefig, atomic_write_text, emit_json, parse_float, print_table
+from ._common import (
+    atomic_savefig,
+    atomic_write_text,
+    emit_json,
+    parse_float,
+    print_table,
+    seed_option,
+)
 
 
 def rig_simulate_command(
@@ -26,7 +33,7 @@ def rig_simulate_command(
     spikes: Annotated[str, typer.Option(help="Direction-reversal force spikes: on or off.")] = "on",
     spike_size: Annotated[str, typer.Option(help="Spike size [N].")] = "300",
     spike_width: Annotated[str, typer.Option(help="Spike width [s].")] = "0.02",
-    seed: Annotated[int, typer.Option(help="Random seed.")] = 0,
+    seed: Annotated[int, seed_option("Random seed.")] = 0,
     max_duration: Annotated[
         str | None, typer.Option(help="Cut each record to this length [s].")
     ] = None,
@@ -301,9 +308,12 @@ def _identify_network(network, param, free, data, loss, reversal_window, interva
             raise ParameterError(
                 option.lstrip("-"), "given", f"not with --network ({option} is for devices)"
             )
+    from ..errors import check_unique
+
     names = [n.strip() for item in free or [] for n in str(item).split(",") if n.strip()]
     if not names:
         raise ParameterError("free", None, "at least one --free name with --network")
+    check_unique("free", names)
     params = _parse_params(param)
     ds = load_rig_data(data)
     _check_fit_size(ds, 0)

@@ -14,7 +14,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
+from ._common import atomic_savefig, atomic_write_text, emit_json, print_table, seed_option
 
 network_app = typer.Typer(
     name="network",
@@ -41,6 +41,55 @@ def _car(ms, mu, kt, ct) -> dict:
     return dict(sprung_mass=ms, unsprung_mass=mu, tyre_stiffness=kt, tyre_damping=ct)
 
 
+MaxLayouts = Annotated[
+    int,
+    typer.Option(
+        help="Refuse a budget with more candidate layouts than this (counted before any "
+        "work; raise it to run a larger budget on purpose)."
+    ),
+]
+
+#: default of --max-layouts: the default budget has 19 candidates, (2, 1, 2) has 93
+MAX_LAYOUTS = 100
+
+#: bytes of memory per series-parallel tree the enumeration builds (nested tuples)
+_TREE_BYTES = 800
+
+
+def _check_budget(dampers, inerters, springs, max_layouts: int, what: str) -> None:
+    """Count the layouts of a budget before building them; refuse beyond the limits."""
+    import sys
+
+    from ..errors import ParameterError
+    from ..network_design import count_layouts
+    from ..resources import check_memory
+
+    if max_layouts < 1:
+        raise ParameterError("max-layouts", max_layouts, "an integer >= 1")
+    n = count_layouts(dampers, inerters, springs)
+    opts = f"--dampers {dampers} --inerters {inerters} --springs {springs}"
+    if n["candidates"] > max_layouts:
+        raise ParameterError(
+            "dampers/inerters/springs",
+            opts,
+            f"a budget of at most --max-layouts={max_layouts} candidate layouts: this one has "
+            f"{n['candidates']:.4g} (before equal families are merged); lower the budget or "
+            "raise --max-layouts",
+        )
+    check_memory(
+        n["trees"] * _TREE_BYTES / 8,
+        what=f"enumeration ({n['trees']:.4g} series-parallel trees)",
+        parameter="dampers/inerters/springs",
+        value=opts,
+    )
+    if n["candidates"] > 20:
+        print(
+            f"inerterlab: note: {n['candidates']} candidate layouts to {what}; "
+            "merging equal families alone can take minutes",
+            file=sys.stderr,
+        )
+
+
 def _num(v):
     return v if v is None or math.isfinite(v) else None
 
@@ -60,6 +109,7 @@ def enumerate_command(
             "for budgets above 4-5 elements).",
         ),
     ] = True,
+    max_layouts: MaxLayouts = MAX_LAYOUTS,
     json_out: Json = False,
 ) -> None:
     """List every distinct network k | (N) of a budget of elements in N.
@@ -72,6 +122,7 @@ def enumerate_command(
     """
     from ..networks import enumerate_networks
 
+    _check_budget(dampers, inerters, springs, max_layouts, "list")
     nets = enumerate_networks(dampers, inerters, springs, merge_equivalent=merge)
     out = [{"network": n.text, "parameters": list(n.names)} for n in nets]
     if json_out:
@@ -192,7 +243,8 @@ def optimize_command(
     starts: Annotated[
         int, typer.Option(help="Starts for the local polish (evolution + best sample points).")
     ] = 8,
-    seed: Annotated[int, typer.Option(help="Seed of the Sobol sample.")] = 0,
+    seed: Annotated[int, seed_option("Seed of the Sobol sample.")] = 0,
+    max_layouts: MaxLayouts = MAX_LAYOUTS,
     sprung_mass: SprungMass = 370.0,
     unsprung_mass: UnsprungMass = 25.0,
     tyre_stiffness: TyreStiffness = 120_000.0,
@@ -212,6 +264,12 @@ def optimize_command(
     lim = _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, tyre_stiffness)
     if all_ == (network is not None):
         raise ParameterError("network", network, "a network text, or --all (not both)")
+    if all_:
+        from ..network_design import check_settings
+
+        # every setting checked before the budget's note, so no note precedes an error
+        check_settings(objective, weights=weight, starts=starts, seed=seed)
+        _check_budget(dampers, inerters, springs, max_layouts, "optimise")
     nets = [n.text for n in enumerate_networks(dampers, inerters, springs)] if all_ else [network]
     results = [
         optimize_network(
@@ -391,7 +449,7 @@ def truth_command(
     ] = None,
     stiffness: Annotated[float, typer.Option(help="Static stiffness k [N/m].")] = 90_000.0,
     horizon: Annotated[float, typer.Option(help="Simulated time [s].")] = 10.0,
-    seed: Annotated[int, typer.Option(help="ISO 8608 road seed [-].")] = 1,
+    seed: Annotated[int, seed_option("ISO 8608 road seed [-].")] = 1,
     out: Annotated[
         Path | None,
         typer.Option("--out", help="Folder of the Zarr stores; rerunning resumes the study."),

@@ -11,7 +11,7 @@ import typer
 
 from ..io import atomic_path
 from ..metrics import METRIC_KEYS, METRIC_UNITS
-from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
+from ._common import atomic_savefig, atomic_write_text, emit_json, print_table, seed_option
 
 _CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
 _JSON_KEYS = METRIC_KEYS
@@ -57,6 +57,8 @@ def _parse_params(items) -> dict:
             key, val = key.strip(), val.strip()
             if not eq or not key or not val:
                 raise ParameterError("param", part, "name=value, e.g. k=90000 or afw.law=momentum")
+            if key in out:
+                raise ParameterError("param", part, f"each name once ({key} was given twice)")
             try:
                 out[key] = float(val)
             except ValueError:
@@ -161,7 +163,7 @@ def simulate_command(
             "given over distance."
         ),
     ] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the ISO 8608 road.")] = 0,
+    seed: Annotated[int, seed_option("Seed of the ISO 8608 road.")] = 0,
     lift_off: Annotated[
         bool, typer.Option("--lift-off", help="Let the tyre leave the road.")
     ] = False,

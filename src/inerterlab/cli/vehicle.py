@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import emit_json, print_table
+from ._common import emit_json, print_table, seed_option
 
 _HELP = """Linear half car and full car (SI units: RMS accelerations [m/s^2], pitch and
 roll accelerations [rad/s^2], deflections [m], tyre loads [N]).
@@ -35,7 +35,35 @@ def _load(path: Path | None, model: str):
         from ..errors import ParameterError
 
         raise ParameterError("model", model, "'half' or 'file' for a half-car file")
-    return params, build(params)
+    veh = build(params)
+    # one rule for every command: the car must rest on its struts and tyres (a suspension
+    # without static stiffness has no equilibrium, no static load and a 0 Hz mode)
+    veh.static_tyre_loads()
+    return params, veh
+
+
+#: most frequencies of the spectral grid (a response matrix per frequency is kept)
+MAX_POINTS = 200_000
+
+#: fewest road samples a time simulation accepts (length / (speed x dt))
+MIN_ROAD_SAMPLES = 64
+
+
+def _check_samples(count: float, speed: float, dt: float, length: float | None) -> None:
+    """Refuse a road of too few samples, naming the options that set the count."""
+    from ..errors import ParameterError
+
+    if not count >= MIN_ROAD_SAMPLES:
+        opts = "speed, dt" + (", length" if length is not None else "")
+        shown = f"speed={speed:g} m/s, dt={dt:g} s" + (
+            f", length={length:g} m" if length is not None else ""
+        )
+        raise ParameterError(
+            opts,
+            shown,
+            f"a road of at least {MIN_ROAD_SAMPLES} samples of speed x dt metres "
+            f"(these give {count:.3g})",
+        )
 
 
 def _road(road_class: str | None, gd_n0: str | None, coherence: str):
@@ -95,10 +123,10 @@ def spectral_command(
     params, veh = _load(vehicle, model)
     road = _road(road_class, gd_n0, coherence)
     check_positive("speed", speed, "m/s")
-    if points < 16:
+    if not 16 <= points <= MAX_POINTS:
         from ..errors import ParameterError
 
-        raise ParameterError("points", points, "an integer >= 16")
+        raise ParameterError("points", points, f"an integer in [16, {MAX_POINTS}]")
     res = spectral_response(veh, road, speed, points=points)
     out = res.to_dict()
     out.update(model=veh.kind, gd_n0=road.gd_n0, coherence=road.coherence)
@@ -224,7 +252,7 @@ def generate_command(
     length: Annotated[float, typer.Option(help="Profile length [m].")] = 1000.0,
     step: Annotated[float, typer.Option(help="Sample spacing [m].")] = 0.05,
     track: Annotated[float, typer.Option(help="Distance between the tracks [m].")] = 1.5,
-    seed: Annotated[int, typer.Option(help="Random seed [-].")] = 0,
+    seed: Annotated[int, seed_option("Random seed [-].")] = 0,
 ) -> None:
     """Write a left/right pair of ISO 8608 tracks with isotropic coherence (CSV or OpenCRG).
 
@@ -273,7 +301,7 @@ def simulate_command(
     speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
     length: Annotated[float, typer.Option(help="Generated road length [m].")] = 2000.0,
     dt: Annotated[float, typer.Option(help="Road sample interval [s].")] = 0.002,
-    seed: Annotated[int, typer.Option(help="Random seed of the road [-].")] = 0,
+    seed: Annotated[int, seed_option("Random seed of the road [-].")] = 0,
     lift_off: Annotated[
         bool,
         typer.Option(
@@ -321,12 +349,14 @@ def simulate_command(
     nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices or adaptive
     substeps = 4
     if road_file is None:
+        check_positive("length", length, "m")
         # the road at every stage: 8 heights and 8 rates per sample and wheel, at most
         # 8e6 per wheel (0.5 GB for four wheels)
         if length / (v * h) > 1_000_000:
             raise ParameterError(
                 "length", length, f"at most {1e6 * v * h:g} m at this speed and dt"
             )
+        _check_samples(length / (v * h), v, h, length)
         road = road_spectrum(road_class)
         r = generated_road(
             veh, road, length=length, speed=v, dt=h, substeps=substeps, track=width, seed=seed
@@ -338,6 +368,7 @@ def simulate_command(
         x, zl, zr = read_track_pair(road_file, width)
         if (x[-1] - x[0]) / (v * h) > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
+        _check_samples(x.size, v, h, None)
         r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
         nt = r.shape[0]
     if nonlinear or road is not None:
@@ -432,7 +463,7 @@ def monte_carlo_command(
     substeps: Annotated[int, typer.Option(help="Runge-Kutta steps per sample [-].")] = 2,
     warmup: Annotated[float, typer.Option(help="Start-up left out of each road [s].")] = 5.0,
     roads: Annotated[int, typer.Option(help="Number of road realisations [-].")] = 100,
-    first_seed: Annotated[int, typer.Option(help="Seed of the first road [-].")] = 0,
+    first_seed: Annotated[int, seed_option("Seed of the first road [-].")] = 0,
     lift_off: Annotated[
         bool, typer.Option("--lift-off/--no-lift-off", help="One-sided tyre contact.")
     ] = True,
@@ -467,7 +498,7 @@ def monte_carlo_command(
 
     Example: inerterlab vehicle monte-carlo --roads 1000 --workers 2 --out mc.zarr
     """
-    from ..errors import Interrupted, ParameterError, check_positive
+    from ..errors import Interrupted, ParameterError, check_positive, check_seed
     from ..studies import SweepInterrupted
     from ..studies.backends import check_workers
     from ..vehicles.stochastic import monte_carlo, statistical_linearisation
@@ -478,6 +509,8 @@ def monte_carlo_command(
     h = check_positive("dt", dt, "s")
     if not 2 <= roads <= 1_000_000:
         raise ParameterError("roads", roads, "an integer in [2, 1000000]")
+    check_seed("first-seed", first_seed, roads)  # every road's seed fits
+    check_positive("length", length, "m")
     if not isinstance(substeps, int) or substeps < 1:
         raise ParameterError("substeps", substeps, "an integer >= 1")
     # each road is held at every Runge-Kutta stage: 2 x substeps heights and rates per
@@ -489,6 +522,7 @@ def monte_carlo_command(
             length,
             f"at most {most * v * h:g} m at this speed, dt and {substeps} substeps",
         )
+    _check_samples(length / (v * h), v, h, length)
     path = "" if vehicle is None else str(vehicle)
     _, veh = _load(vehicle, model)
     devices = bool(veh.nonlinear_devices())
@@ -614,6 +648,8 @@ def optimize_command(
             if "=" not in it:
                 raise ParameterError(what, it, "name=value")
             k, v = it.split("=", 1)
+            if k.strip() in out:
+                raise ParameterError(what, it, f"each name once ({k.strip()} was given twice)")
             out[k.strip()] = v.strip()
         return out
 

@@ -696,7 +696,9 @@ def _lp_setup(x1, x2, h, wk, lpw):
         co1 = 2.0 * cv[2] * cv[2] - 1.0
         si1 = 2.0 * sv[2] * cv[2]
         for j in range(2):
-            ev[4 - j] = e1 / ev[j]
+            # ev[4 - j] = exp(sig (1 - x_j) h) <= ev[j]: zero where ev[j] underflowed (a
+            # step of seconds, as on a flat road, where 0/0 would stop the run)
+            ev[4 - j] = e1 / ev[j] if ev[j] > 0.0 else 0.0
             cv[4 - j] = co1 * cv[j] + si1 * sv[j]
             sv[4 - j] = si1 * cv[j] - co1 * sv[j]
         ev[5], cv[5], sv[5] = e1, co1, si1

@@ -41,9 +41,12 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from ..errors import check_nonnegative, check_positive
+from ..errors import check_nonnegative, check_physical, check_positive
 from ..h2 import h2_rational, hurwitz
 from ..networks import Network, NetworkError, parse_network
+
+#: the kind of quantity of each element's parameter (for its physical range)
+_QUANTITY = {"k": "stiffness", "c": "damping", "b": "inertance"}
 
 __all__ = ["OUTPUTS", "NetworkQuarterCar", "network_quarter_car", "network_h2"]
 
@@ -231,6 +234,10 @@ class NetworkQuarterCar:
         check_positive("unsprung_mass", self.unsprung_mass, "kg")
         check_positive("tyre_stiffness", self.tyre_stiffness, "N/m")
         check_nonnegative("tyre_damping", self.tyre_damping, "N s/m")
+        check_physical("sprung_mass", self.sprung_mass, "mass")
+        check_physical("unsprung_mass", self.unsprung_mass, "mass")
+        check_physical("tyre_stiffness", self.tyre_stiffness, "stiffness")
+        check_physical("tyre_damping", self.tyre_damping, "damping", zero=True)
         self.network.require_linear()
         if len(self.network.names) > MAXC - 6:
             raise NetworkError(
@@ -251,7 +258,12 @@ class NetworkQuarterCar:
         return self._prog
 
     def theta(self, params: dict) -> np.ndarray:
-        return self.network.parameter_vector(params)
+        """Parameter values in the order of the network's names, each finite, > 0 and
+        within the physical range of its kind (:data:`inerterlab.errors.PHYSICAL_RANGES`)."""
+        th = self.network.parameter_vector(params)
+        for name, kind, x in zip(self.network.names, self.network.kinds, th, strict=True):
+            check_physical(name, float(x), _QUANTITY[kind])
+        return th
 
     def polynomials(self, params: dict) -> dict:
         """Denominator ``den`` and the output numerators, highest power first."""

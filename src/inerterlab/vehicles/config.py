@@ -45,10 +45,11 @@ Errors name the file, the table and key, and the line.
 from __future__ import annotations
 
 import math
+import os
 import re
 from pathlib import Path
 
-from ..errors import DataFileError, ParameterError
+from ..errors import PHYSICAL_RANGES, DataFileError, ParameterError, check_physical
 from .parameters import Corner, FullCar, HalfCar, NetworkStrut, Seat, Strut, Tyre
 
 __all__ = [
@@ -81,6 +82,8 @@ _SYMBOLS = {
 }
 _PREFIXES = {"G": 1e9, "M": 1e6, "k": 1e3, "c": 1e-2, "m": 1e-3, "u": 1e-6, "µ": 1e-6}
 _SUPERSCRIPTS = str.maketrans("²³⁻¹", "23-1")
+#: largest magnitude of an exponent in a unit ("m^2", "s^-2")
+MAX_EXPONENT = 6
 _TOKEN = re.compile(r"^([A-Za-zµ]+)(?:\^?(-?\d+))?$")
 
 _BODY_KEYS = {
@@ -122,10 +125,16 @@ def _symbol(token: str):
 
 
 def parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
-    """(factor to SI, (kg, m, s) exponents) of a unit string; ParameterError if unknown."""
+    """(factor to SI, (kg, m, s) exponents) of a unit string; ParameterError if unknown.
+
+    Exponents are integers of magnitude at most :data:`MAX_EXPONENT`; a unit whose
+    factor to SI leaves the range of floating point numbers is refused.
+    """
+    if not isinstance(text, str):
+        raise ParameterError("unit", text, "a unit string such as 'kg', 'N/m', 'N s/m'")
     t = text.strip().translate(_SUPERSCRIPTS).replace("·", " ").replace("*", " ")
     parts = t.split("/")
-    if len(parts) > 2 or not parts[0].strip() and len(parts) == 1:
+    if len(parts) > 2 or any(not p.strip() for p in parts):
         raise ParameterError("unit", text, "a unit such as 'kg', 'N/m', 'N s/m', 'kg m^2'")
     factor, dims = 1.0, [0, 0, 0]
     for side, chunk in enumerate(parts):
@@ -139,7 +148,12 @@ def parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
                 m = _TOKEN.match(tok)
                 if not m:
                     raise ParameterError("unit", text, "known unit symbols (kg, m, s, N, ...)")
-                tok_list = [(m.group(1), int(m.group(2)) if m.group(2) else 1)]
+                power = int(m.group(2)) if m.group(2) else 1
+                if not -MAX_EXPONENT <= power <= MAX_EXPONENT:
+                    raise ParameterError(
+                        "unit", text, f"exponents from -{MAX_EXPONENT} to {MAX_EXPONENT}"
+                    )
+                tok_list = [(m.group(1), power)]
             for sym, power in tok_list:
                 found = _symbol(sym)
                 if found is None:
@@ -152,6 +166,12 @@ def parse_unit(text: str) -> tuple[float, tuple[int, int, int]]:
                 factor *= f ** (sign * power)
                 for i in range(3):
                     dims[i] += sign * power * d[i]
+    if not 1e-30 <= factor <= 1e30 or any(abs(d) > MAX_EXPONENT for d in dims):
+        raise ParameterError(
+            "unit",
+            text,
+            f"a unit within 1e-30 to 1e30 of SI with exponents of at most {MAX_EXPONENT}",
+        )
     return factor, tuple(dims)
 
 
@@ -194,6 +214,9 @@ def parse_quantity(value, dimension: str) -> float:
     x = float(number) * factor
     if not math.isfinite(x):
         raise ParameterError("value", value, "a finite number")
+    if dimension in PHYSICAL_RANGES:
+        # tiny and huge magnitudes (1e-320 kg) are refused before any linear algebra
+        check_physical("value", x, dimension, zero=True)
     return x
 
 
@@ -327,6 +350,10 @@ def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
 
 def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
     """Vehicle parameters from TOML text (``source`` names it in errors)."""
+    if not isinstance(text, str):
+        raise ParameterError("text", text, "the TOML text of a vehicle file (a str)")
+    if not isinstance(source, str):
+        raise ParameterError("source", source, "a str naming the text in messages")
     from ..io import loads_toml
 
     data = loads_toml(text, source, "vehicle file")
@@ -459,6 +486,8 @@ def load_vehicle(path) -> HalfCar | FullCar:
     """Vehicle parameters from a TOML file (see the module documentation)."""
     from ..io import CONFIG_SIZE_LIMIT, read_text_limited
 
+    if not isinstance(path, str | os.PathLike) or not str(path):
+        raise ParameterError("path", path, "the path of a vehicle TOML file (str or Path)")
     p = Path(path)
     # size-capped, UTF-8 only; a device or FIFO is read up to the cap and a time limit
     text = read_text_limited(p, "vehicle file", limit=CONFIG_SIZE_LIMIT)

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ParameterError, check_seed, check_unique
 from ..studies.points import ParameterSpec, PointFunction, register_point_function
 
 __all__ = ["DESIGN_PARAMETERS", "SPECTRAL_METRICS", "vehicle_with", "spectral_metrics",
@@ -251,6 +251,19 @@ def optimize_vehicle(
     for n in names:
         if n not in valid:
             raise ParameterError("parameters", n, "one of " + ", ".join(valid))
+    for n in bounds or {}:
+        if n not in names:
+            raise ParameterError(
+                "bound",
+                n,
+                "a bound on a design parameter of this run: "
+                + ", ".join(names)
+                + (" (add it with --parameter)" if n in valid else ""),
+            )
+    if isinstance(starts, bool) or not isinstance(starts, int) or not 1 <= starts <= 100:
+        raise ParameterError("starts", starts, "an integer in [1, 100]")
+    check_seed("seed", seed)
+    check_unique("parameters", names)
     limits = dict(limits or {})
     for k, v in limits.items():
         if k not in SPECTRAL_METRICS:

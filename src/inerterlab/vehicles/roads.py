@@ -34,7 +34,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ParameterError, check_choice, check_positive
+from ..errors import ParameterError, check_choice, check_positive, check_seed
 from ..excitation import ISO8608_CLASSES, ISO8608_N0
 
 __all__ = [
@@ -178,6 +178,23 @@ def track_coefficients(
     """
     L = check_positive("length", length, "m")
     dx = check_positive("step", step, "m")
+    if not isinstance(spectrum, RoadSpectrum):
+        raise ParameterError("spectrum", spectrum, "a RoadSpectrum (road_spectrum('C'))")
+    if seed is not None:
+        check_seed("seed", seed)
+    if not L / dx >= 16:
+        raise ParameterError(
+            "step", step, f"a sample spacing giving at least 16 samples over length={L:g} m"
+        )
+    from ..resources import check_memory
+
+    # two tracks, their spectra and the random draws: about 16 values per sample
+    check_memory(
+        L / dx * 16,
+        what="road tracks (length / step samples)",
+        parameter="length/step",
+        value=f"{L:g} m / {dx:g} m",
+    )
     count = int(round(L / dx))
     count += count % 2
     L = count * dx
@@ -213,6 +230,27 @@ def generate_tracks(
     return x, np.fft.irfft(zl, n=count), np.fft.irfft(zr, n=count)
 
 
+def _profile(x, z, minimum: int):
+    """(x, z, spacing) of a profile checked: equal 1-D finite arrays, evenly spaced."""
+    try:
+        x = np.asarray(x, dtype=float)
+        z = np.asarray(z, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError("x, z", "not numbers", "two 1-D arrays of numbers [m]") from None
+    if x.ndim != 1 or x.shape != z.shape or x.size < minimum:
+        raise ParameterError(
+            "x, z", f"arrays of shape {x.shape} and {z.shape}", f"equal 1-D arrays, >= {minimum}"
+        )
+    for name, a in (("x", x), ("z", z)):
+        bad = np.flatnonzero(~np.isfinite(a))
+        if bad.size:
+            raise ParameterError(f"{name}[{bad[0]}]", float(a[bad[0]]), "a finite number [m]")
+    dx = np.diff(x)
+    if np.any(dx <= 0) or not np.allclose(dx, dx[0], rtol=1e-6):
+        raise ParameterError("x", "uneven or unordered samples", "evenly spaced distances")
+    return x, z, float(dx[0])
+
+
 def fit_iso8608(x, z, band=(0.011, 2.83), waviness: float | None = 2.0, segment: float = 100.0):
     """Fit Gd(n0) (and optionally w) to a measured profile; return a dict with the class.
 
@@ -223,15 +261,21 @@ def fit_iso8608(x, z, band=(0.011, 2.83), waviness: float | None = 2.0, segment:
     """
     from scipy.signal import welch
 
-    x = np.asarray(x, dtype=float)
-    z = np.asarray(z, dtype=float)
-    if x.ndim != 1 or x.shape != z.shape or x.size < 16:
-        raise ParameterError("profile", f"arrays of shape {x.shape}", "equal 1-D arrays, >= 16")
-    dx = np.diff(x)
-    if np.any(dx <= 0) or not np.allclose(dx, dx[0], rtol=1e-6):
-        raise ParameterError("x", "uneven or unordered samples", "evenly spaced distances")
-    nseg = min(x.size, int(round(segment / dx[0])))
-    n, g = welch(z, fs=1.0 / dx[0], nperseg=nseg, detrend="linear")
+    x, z, dx = _profile(x, z, 16)
+    try:
+        lo, hi = (check_positive("band", b, "cycle/m") for b in band)
+    except (TypeError, ValueError):
+        raise ParameterError("band", band, "two frequencies (low, high) [cycle/m]") from None
+    if not lo < hi:
+        raise ParameterError("band", band, "low < high [cycle/m]")
+    band = (lo, hi)
+    check_positive("segment", segment, "m")
+    if waviness is not None:
+        check_positive("waviness", waviness)
+    nseg = min(x.size, int(round(segment / dx)))
+    if nseg < 8:
+        raise ParameterError("segment", segment, f"a length of at least 8 samples ({8 * dx:g} m)")
+    n, g = welch(z, fs=1.0 / dx, nperseg=nseg, detrend="linear")
     use = (n >= band[0]) & (n <= band[1]) & (g > 0)
     if use.sum() < 3:
         raise ParameterError("profile", f"{x[-1] - x[0]:g} m", "a profile long enough for the band")
@@ -281,14 +325,7 @@ def iri(x, z, smoothing: float | None = 0.25) -> float:
     The golden car runs over the profile (linear between samples, exact
     discretisation) after a moving average over ``smoothing`` metres (None: none).
     """
-    x = np.asarray(x, dtype=float)
-    z = np.asarray(z, dtype=float)
-    if x.ndim != 1 or x.shape != z.shape or x.size < 3:
-        raise ParameterError("profile", f"arrays of shape {x.shape}", "equal 1-D arrays, >= 3")
-    dx = np.diff(x)
-    if np.any(dx <= 0) or not np.allclose(dx, dx[0], rtol=1e-6):
-        raise ParameterError("x", "uneven or unordered samples", "evenly spaced distances")
-    dx = float(dx[0])
+    x, z, dx = _profile(x, z, 3)
     if x[-1] - x[0] < 11.0:
         raise ParameterError("profile length", x[-1] - x[0], "at least 11 m")
     if smoothing is not None:
