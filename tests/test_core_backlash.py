@@ -86,7 +86,11 @@ def test_harmonic_balance_agrees_with_brute_force():
 
     car = quarter_car("k | c | (gap - b)", {"k": 9e4, "c": 3e3, "gap": dict(GAP), "b": 200.0})
     freqs = np.array([2.0, 3.0, 5.0, 8.0, 12.0])
-    hb = frequency_response(car, "sihb", freq_hz=freqs, amplitude=0.01, direction="up")
+    # 9 harmonics: with the default 13 the Newton iteration from rest stalls at 2 and 3 Hz
+    # on this dead zone (reported as not converged, docs/decisions.md); 9 resolve it
+    hb = frequency_response(
+        car, "sihb", freq_hz=freqs, amplitude=0.01, direction="up", harmonics=9
+    )
     br = frequency_response(
         car, "brute", freq_hz=freqs, amplitude=0.01, steps_per_period=4000, brute_rtol=1e-10
     )

@@ -80,7 +80,7 @@ def files(tmp_path_factory):
     from inerterlab.vehicles.config import example_vehicle_path
 
     d = tmp_path_factory.mktemp("options")
-    assert main(["vehicle", "generate", "--output", str(d / "road.crg"), "--length", "200"]) == 0
+    assert main(["vehicle", "generate", "--output", str(d / "road.crg"), "--length", "200", "--track", "2"]) == 0
     text = example_vehicle_path().read_text(encoding="utf-8")
     zero = []
     for ln in text.splitlines():
