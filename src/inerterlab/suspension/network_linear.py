@@ -46,7 +46,13 @@ import numpy as np
 from ..errors import check_nonnegative, check_positive
 from ..networks import Network, NetworkError, parse_network
 
-__all__ = ["OUTPUTS", "NetworkQuarterCar", "network_quarter_car", "network_h2"]
+__all__ = [
+    "OUTPUTS",
+    "NetworkQuarterCar",
+    "network_quarter_car",
+    "network_h2",
+    "h2_squared_admittance",
+]
 
 OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection")
 MAXC = 32  # polynomial coefficient slots (networks up to ~28 elements)
@@ -328,6 +334,16 @@ def h2_squared(prog, theta, car, out):
     num = np.zeros(MAXC)
     den = np.zeros(MAXC)
     lnum, lden = _assemble(prog, theta, num, den)
+    h2_squared_admittance(num, lnum, den, lden, car, out)
+
+
+@nb.njit(cache=True)
+def h2_squared_admittance(num, lnum, den, lden, car, out):
+    """Squared H2 norms for an admittance given as polynomials N/D (ascending, lengths).
+
+    The one H2 route of the package: :func:`h2_squared` (a network) and the
+    positive-real synthesis (an admittance without a network) both end here.
+    """
     polys = np.zeros((4, MAXC))
     n = _car_polys(num, lnum, den, lden, car[0], car[1], car[2], car[3], polys)
     _h2_polys(polys, n, out)
