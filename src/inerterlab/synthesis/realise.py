@@ -141,7 +141,7 @@ def _to_text(tree, main_spring: float | None = None) -> tuple[str, dict]:
     def walk(node, top=False):
         if node[0] == "e":
             n = name(node[1])
-            params[n] = node[2]
+            params[n] = float(node[2])
             return n
         inner = f" {node[0]} ".join(walk(p) for p in node[1])
         return inner if top else f"({inner})"
