@@ -158,6 +158,8 @@ def _to_text(tree, main_spring: float | None = None) -> tuple[str, dict]:
 
 def _term(kind_of_term: str, a: float, imp: bool):
     """Element whose F-value is a s ('s'), a/s ('1/s') or a ('1') in the domain."""
+    if not (math.isfinite(a) and a > 0):
+        raise RealisationError(f"a negative or zero term ({a:.6g})")
     if kind_of_term == "1":
         return _elem("damper", 1.0 / a if imp else a)
     if kind_of_term == "s":
@@ -167,6 +169,8 @@ def _term(kind_of_term: str, a: float, imp: bool):
 
 def _resonant(two_a: float, w: float, imp: bool):
     """F-value 2a s/(s^2 + w^2): k | b in an impedance, k - b in an admittance."""
+    if not (math.isfinite(two_a) and two_a > 0):
+        raise RealisationError(f"an imaginary-axis pole with residue {two_a:.6g}")
     if imp:
         b = 1.0 / two_a
         return ("|", [_elem("spring", b * w * w), _elem("inerter", b)])
@@ -181,7 +185,7 @@ def _par(imp: bool):
     return "|" if imp else "-"
 
 
-def _imag_pairs(q, tol=1e-7):
+def _imag_pairs(q, tol=1e-9):
     """Frequencies w > 0 of root pairs +-j w of q (relative tolerance ``tol``)."""
     out = []
     for r in np.roots(q):
@@ -397,6 +401,8 @@ def _foster_terms(p, q, imp, divided: bool):
 
 def _unit_1(a, sig, imp):
     """F-value a/(s + sig): k - c in an admittance, b | c in an impedance."""
+    if not (a > 0 and sig > 0):
+        raise RealisationError("a real pole with a negative residue")
     if imp:
         return ("|", [_elem("inerter", 1.0 / a), _elem("damper", sig / a)])
     return ("-", [_elem("spring", a), _elem("damper", a / sig)])
@@ -404,6 +410,8 @@ def _unit_1(a, sig, imp):
 
 def _unit_s(a, sig, imp):
     """F-value a s/(s + sig): c - b in an admittance, k | c in an impedance."""
+    if not (a > 0 and sig > 0):
+        raise RealisationError("a real pole with a negative residue")
     if imp:
         return ("|", [_elem("damper", 1.0 / a), _elem("spring", sig / a)])
     return ("-", [_elem("damper", a), _elem("inerter", a / sig)])
