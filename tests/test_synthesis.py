@@ -40,7 +40,9 @@ def test_parametrisation_is_pr_with_the_given_real_part(n):
         y = np.polyval(num, 1j * w) / np.polyval(den, 1j * w)
         e = even_part_from_squares(np.sinh(x[n:]), n)
         lhs = y.real * np.abs(np.polyval(den, 1j * w)) ** 2
-        assert np.allclose(lhs, np.polyval(e[::-1], w**2), rtol=1e-8, atol=1e-12 * np.max(np.abs(e)))
+        assert np.allclose(
+            lhs, np.polyval(e[::-1], w**2), rtol=1e-8, atol=1e-12 * np.max(np.abs(e))
+        )
 
 
 def test_pr_report_rejects_non_pr_functions():
@@ -215,7 +217,9 @@ def test_brune_reproduces_the_textbook_values():
     inner = b["tree"][3]
     assert inner[0] == "e" and inner[1] == "damper" and inner[2] == pytest.approx(4.0)
     s = check_points()
-    assert np.allclose(b["value"](s), np.polyval([1, 1, 4], s) / np.polyval([1, 1, 1], s), rtol=1e-12)
+    assert np.allclose(
+        b["value"](s), np.polyval([1, 1, 4], s) / np.polyval([1, 1, 1], s), rtol=1e-12
+    )
 
 
 def test_bott_duffin_reproduces_the_textbook_values():

@@ -507,16 +507,21 @@ def synthesize_command(
 
 def _poly_text(c) -> str:
     n = len(c) - 1
-    terms = [f"{v:.6g} s^{n - i}" if n - i > 1 else (f"{v:.6g} s" if n - i == 1 else f"{v:.6g}")
-             for i, v in enumerate(c) if v != 0]
+    terms = [
+        f"{v:.6g} s^{n - i}" if n - i > 1 else (f"{v:.6g} s" if n - i == 1 else f"{v:.6g}")
+        for i, v in enumerate(c)
+        if v != 0
+    ]
     return " + ".join(terms) or "0"
 
 
 def _print_synthesis(out: dict) -> None:
     unit = out["unit"]
     rows = [
-        (f"optimum {out['objective_name']} [{unit}] (H2, unit white road velocity, linear)",
-         _fmt(out["objective"])),
+        (
+            f"optimum {out['objective_name']} [{unit}] (H2, unit white road velocity, linear)",
+            _fmt(out["objective"]),
+        ),
         ("static stiffness k [N/m]", f"{out['static_stiffness']:.6g}"),
         ("Y(s) = F/v [N s/m], s [rad/s]: numerator", _poly_text(out["numerator"])),
         ("Y(s) denominator", _poly_text(out["denominator"])),
@@ -528,16 +533,28 @@ def _print_synthesis(out: dict) -> None:
         ("search time [s]", f"{out['seconds']:.2f}"),
     ]
     if "rounded" in out:
-        rows.append(("rounded Y0 (negligible coefficients 0): objective", _fmt(out["rounded"]["objective"])))
+        rows.append(
+            ("rounded Y0 (negligible coefficients 0): objective", _fmt(out["rounded"]["objective"]))
+        )
     print_table(f"PR synthesis, degree {out['degree']}", rows)
     rrows = []
     for m, r in out["realisations"].items():
         if isinstance(r, str):
             rrows.append((m, "-", "-", r))
         else:
-            rrows.append((m, r["network"], str(r["elements"]), f"max rel. error {r['max_relative_error']:.1e}"))
-    _table("Realisations (admittance checked at points on and off the imaginary axis)",
-           ["method", "network", "elements", "check"], rrows)
+            rrows.append(
+                (
+                    m,
+                    r["network"],
+                    str(r["elements"]),
+                    f"max rel. error {r['max_relative_error']:.1e}",
+                )
+            )
+    _table(
+        "Realisations (admittance checked at points on and off the imaginary axis)",
+        ["method", "network", "elements", "check"],
+        rrows,
+    )
     for m, r in out["realisations"].items():
         if not isinstance(r, str):
             params = ",".join(f"{k}={v!r}" for k, v in r["parameters"].items())

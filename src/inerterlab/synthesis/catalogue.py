@@ -30,7 +30,9 @@ def catalogue_layouts(dampers: int = 2, inerters: int = 2, springs: int = 2) -> 
         if len(parts) == 1:
             text = parts[0].text()
         else:
-            text = " | ".join(p.text() if isinstance(p, Element) else f"({p.text()})" for p in parts)
+            text = " | ".join(
+                p.text() if isinstance(p, Element) else f"({p.text()})" for p in parts
+            )
         subs.append(parse_network(text))
     subs.sort(key=lambda n: len(n.names))
     return [n.text for n in subs]
@@ -51,7 +53,14 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
     """Realisation of Y = num/den from the smallest catalogue layout that fits."""
     from scipy.optimize import least_squares
 
-    from .realise import RealisationError, _check, _scaled, _split_main_spring, _to_sigma, check_points
+    from .realise import (
+        RealisationError,
+        _check,
+        _scaled,
+        _split_main_spring,
+        _to_sigma,
+        check_points,
+    )
 
     k, n0, d0 = _split_main_spring(num, den)
     wr = _scaled(n0, d0)
@@ -60,6 +69,8 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
     tn, td = _norm(p / g, q)
     target_pattern = _pattern(tn, td)
     rng = np.random.default_rng(seed)
+    mask_n = np.abs(tn) > 0
+    mask_d = np.abs(td) > 0
     scale_of = {"spring": g * wr, "damper": g, "inerter": g / wr}
     for text in catalogue_layouts(*budget):
         net = parse_network(text)
@@ -68,8 +79,6 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
         an, ad = _norm(*admittance(net, dict(zip(names, np.exp(x0), strict=True))))
         if _pattern(an, ad) != target_pattern:
             continue
-        mask_n = np.abs(tn) > 0
-        mask_d = np.abs(td) > 0
 
         def res(x, net=net, names=names):
             a, b = _norm(*admittance(net, dict(zip(names, np.exp(x), strict=True))))
@@ -80,7 +89,10 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
         for i in range(starts):
             x0 = rng.uniform(-3.0, 3.0, len(names)) if i else np.zeros(len(names))
             try:
-                r = least_squares(res, x0, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400 * len(names))
+                with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                    r = least_squares(
+                        res, x0, xtol=1e-15, ftol=1e-15, gtol=1e-15, max_nfev=400 * len(names)
+                    )
             except (ValueError, FloatingPointError):
                 continue
             if np.max(np.abs(r.fun)) > 1e-10:
@@ -93,7 +105,14 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
 
             err = _check(full, fparams, num, den, wr * check_points())
             if err < 1e-8:
-                return Realisation("catalogue", full, fparams, len(fparams), err, f"layout k | ({text})" if k else text)
+                return Realisation(
+                    "catalogue",
+                    full,
+                    fparams,
+                    len(fparams),
+                    err,
+                    f"layout k | ({text})" if k else text,
+                )
     raise RealisationError(
         f"no layout of the catalogue (<= {budget[0]} dampers, {budget[1]} inerters, "
         f"{budget[2]} springs besides k) fits"

@@ -50,12 +50,30 @@ def compare_layouts(degree, objective, k, budget=(1, 1, 2), seed=0, **car) -> di
     rows = []
     for net in nets:
         r = optimize_network(
-            net, _LAYOUT_OBJECTIVE[objective], fixed={"k": k}, seed=seed, compare=False, starts=4, **car
+            net,
+            _LAYOUT_OBJECTIVE[objective],
+            fixed={"k": k},
+            seed=seed,
+            compare=False,
+            starts=4,
+            **car,
         )
-        val = r.objective * (car.get("tyre_stiffness", 120_000.0) if objective == "tyre_load" else 1.0)
-        rows.append({"network": r.network, "objective": val, "parameters": r.parameters, "at_bound": r.at_bound})
+        val = r.objective * (
+            car.get("tyre_stiffness", 120_000.0) if objective == "tyre_load" else 1.0
+        )
+        rows.append(
+            {
+                "network": r.network,
+                "objective": val,
+                "parameters": r.parameters,
+                "at_bound": r.at_bound,
+            }
+        )
     rows.sort(key=lambda d: d["objective"])
-    return {"budget": {"dampers": budget[0], "inerters": budget[1], "springs": budget[2]}, "layouts": rows}
+    return {
+        "budget": {"dampers": budget[0], "inerters": budget[1], "springs": budget[2]},
+        "layouts": rows,
+    }
 
 
 def _clean(res, objective, car):
@@ -93,7 +111,9 @@ def synthesize_design(
 ) -> dict:
     """PR optimum, realisations and the gap to the enumerated layouts, as one dict."""
     t0 = time.perf_counter()
-    res = synthesize(degree, objective, static_stiffness=static_stiffness, starts=starts, seed=seed, **car)
+    res = synthesize(
+        degree, objective, static_stiffness=static_stiffness, starts=starts, seed=seed, **car
+    )
     out = res.to_dict()
     num, den = np.array(res.numerator), np.array(res.denominator)
     cleaned = _clean(res, objective, res.car)
@@ -110,9 +130,7 @@ def synthesize_design(
             "normalised) set to 0; objective changed by < 1e-7 relative",
         }
     reals = realise_all(num, den, budget=catalogue_budget)
-    out["realisations"] = {
-        m: (r if isinstance(r, str) else r.to_dict()) for m, r in reals.items()
-    }
+    out["realisations"] = {m: (r if isinstance(r, str) else r.to_dict()) for m, r in reals.items()}
     try:
         b = brune(*_y0_only(num, den, static_stiffness))
         out["brune"] = {
@@ -140,7 +158,9 @@ def synthesize_design(
             "norms": {k: (v if math.isfinite(v) else None) for k, v in norms.items()},
         }
     if compare:
-        cmp_ = compare_layouts(degree, objective, static_stiffness, budget=budget, seed=seed, **res.car)
+        cmp_ = compare_layouts(
+            degree, objective, static_stiffness, budget=budget, seed=seed, **res.car
+        )
         if cmp_.get("layouts"):
             bestl = cmp_["layouts"][0]
             cmp_["best"] = bestl["network"]

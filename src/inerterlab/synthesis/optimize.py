@@ -33,7 +33,13 @@ from .positive_real import pr_from_parameters, pr_report
 
 __all__ = ["SYNTH_OBJECTIVES", "SynthesisResult", "synthesize", "objective_value", "wk_polynomials"]
 
-SYNTH_OBJECTIVES = ("body_acc", "body_acc_wk", "tyre_deflection", "tyre_load", "suspension_deflection")
+SYNTH_OBJECTIVES = (
+    "body_acc",
+    "body_acc_wk",
+    "tyre_deflection",
+    "tyre_load",
+    "suspension_deflection",
+)
 UNITS = {
     "body_acc": "m/s^2",
     "body_acc_wk": "m/s^2",
@@ -41,7 +47,13 @@ UNITS = {
     "tyre_load": "N",
     "suspension_deflection": "m",
 }
-_ROW = {"body_acc": 0, "body_acc_wk": 0, "tyre_deflection": 1, "tyre_load": 1, "suspension_deflection": 2}
+_ROW = {
+    "body_acc": 0,
+    "body_acc_wk": 0,
+    "tyre_deflection": 1,
+    "tyre_load": 1,
+    "suspension_deflection": 2,
+}
 
 
 def wk_polynomials() -> tuple[np.ndarray, np.ndarray]:
@@ -153,7 +165,9 @@ class _Problem:
     def many(self, X):
         X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
         out = np.empty(X.shape[0])
-        _objective_many(X, self.n, self.k, self.wr, self.yr, self.car, self.row, self.wnum, self.wden, out)
+        _objective_many(
+            X, self.n, self.k, self.wr, self.yr, self.car, self.row, self.wnum, self.wden, out
+        )
         self.neval += X.shape[0]
         return out * self.factor
 
@@ -188,7 +202,9 @@ def objective_value(num, den, objective: str, **car) -> float:
     :func:`~inerterlab.suspension.network_linear.h2_squared_admittance`.
     """
     car = _car_dict(car)
-    cv = np.array([car["sprung_mass"], car["unsprung_mass"], car["tyre_stiffness"], car["tyre_damping"]])
+    cv = np.array(
+        [car["sprung_mass"], car["unsprung_mass"], car["tyre_stiffness"], car["tyre_damping"]]
+    )
     a = np.zeros(MAXC)
     b = np.zeros(MAXC)
     na = np.asarray(num, float)[::-1]
@@ -267,8 +283,12 @@ def synthesize(
             init="sobol",
         )
         x = de.x
-        r = minimize(pb.one, x, method="Nelder-Mead", options=dict(maxiter=4000, xatol=1e-10, fatol=1e-14))
-        r2 = minimize(pb.one, r.x, method="L-BFGS-B", options=dict(maxiter=500, ftol=1e-15, gtol=1e-12))
+        r = minimize(
+            pb.one, x, method="Nelder-Mead", options=dict(maxiter=4000, xatol=1e-10, fatol=1e-14)
+        )
+        r2 = minimize(
+            pb.one, r.x, method="L-BFGS-B", options=dict(maxiter=500, ftol=1e-15, gtol=1e-12)
+        )
         xb = r2.x if r2.fun <= r.fun else r.x
         ends.append((float(pb.one(xb)), xb))
     ends.sort(key=lambda e: e[0])

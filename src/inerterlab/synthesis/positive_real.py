@@ -149,7 +149,9 @@ def pr_report(num, den, grid: int = 4001, tol: float = 1e-9) -> dict:
     scale = np.max(np.abs(y[fin])) if fin.any() else 1.0
     min_re = float(np.min(y.real[fin])) if fin.any() else 0.0
     rmax = max(float(np.max(np.abs(roots))) if roots.size else 1.0, 1.0)
-    right = [complex(r) for r in roots if r.real > tol * max(abs(r), 1e-300) and r.real > 1e-12 * rmax]
+    right = [
+        complex(r) for r in roots if r.real > tol * max(abs(r), 1e-300) and r.real > 1e-12 * rmax
+    ]
     ok = min_re >= -tol * scale and not right
     return {
         "positive_real": bool(ok),

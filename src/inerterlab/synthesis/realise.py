@@ -341,8 +341,12 @@ def _bott_duffin_cycle(p, q, imp, w0, x, depth):
     rn = _divide_exact(rn, [1.0, -k])
     rd = _divide_exact(rd, [1.0, -k])
     # F = [F(k) R || k F(k)/s] + [F(k)/R || s F(k)/k]
-    b1 = _join(_par(imp), [_synth(fk * rn, rd, imp, "bott-duffin", depth + 1), _term("1/s", k * fk, imp)])
-    b2 = _join(_par(imp), [_synth(fk * rd, rn, imp, "bott-duffin", depth + 1), _term("s", fk / k, imp)])
+    b1 = _join(
+        _par(imp), [_synth(fk * rn, rd, imp, "bott-duffin", depth + 1), _term("1/s", k * fk, imp)]
+    )
+    b2 = _join(
+        _par(imp), [_synth(fk * rd, rn, imp, "bott-duffin", depth + 1), _term("s", fk / k, imp)]
+    )
     return _join(_add(imp), [b1, b2])
 
 
@@ -388,7 +392,11 @@ def _foster_terms(p, q, imp, divided: bool):
                 parts.append(_unit_1(a, sig, imp))
             continue
         if abs(pi.real) <= 1e-9 * mag and not divided:  # +-j w pair
-            j = next(m for m in range(len(poles)) if not done[m] and abs(poles[m] - np.conj(pi)) <= 1e-7 * mag)
+            j = next(
+                m
+                for m in range(len(poles))
+                if not done[m] and abs(poles[m] - np.conj(pi)) <= 1e-7 * mag
+            )
             done[j] = True
             two_a = 2.0 * ri.real
             parts.append(_resonant(two_a, abs(pi.imag), imp))
@@ -487,7 +495,9 @@ class BruneSection:
     domain: str  # "impedance" (Z = 1/Y) or "admittance" (the dual: L = inerter, C = spring)
 
     def value(self, s, rest):
-        z = self.L1 * s + 1.0 / (1.0 / (self.L2 * s + 1.0 / (self.C2 * s)) + 1.0 / (self.L3 * s + rest))
+        z = self.L1 * s + 1.0 / (
+            1.0 / (self.L2 * s + 1.0 / (self.C2 * s)) + 1.0 / (self.L3 * s + rest)
+        )
         return z
 
 
@@ -513,10 +523,16 @@ def _brune_section(p, q, imp, w, x, depth):
     z3[0] = 0.0
     z3 = _trim(z3)
     sec = BruneSection(
-        float(L1), float(1.0 / two_a), float(two_a / (w * w)), float(L3), float(w),
+        float(L1),
+        float(1.0 / two_a),
+        float(two_a / (w * w)),
+        float(L3),
+        float(w),
         "impedance" if imp2 else "admittance",
     )
-    inner = None if _is_zero(z3, np.max(np.abs(r1t))) else _synth(z3, restt, imp2, "brune", depth + 1)
+    inner = (
+        None if _is_zero(z3, np.max(np.abs(r1t))) else _synth(z3, restt, imp2, "brune", depth + 1)
+    )
     return ("B", imp, sec, inner, flip)
 
 
@@ -619,7 +635,9 @@ def _finish(method, tree, k, num_y, den_y, note="") -> Realisation:
     wr = _scaled(num_y, den_y)
     err = _check(text, params, num_y, den_y, wr * check_points())
     if not err < 1e-8:
-        raise RealisationError(f"{method}: the realised admittance misses the target by {err:.2g} (relative)")
+        raise RealisationError(
+            f"{method}: the realised admittance misses the target by {err:.2g} (relative)"
+        )
     return Realisation(method, text, params, len(params), err, note)
 
 
@@ -697,7 +715,9 @@ def _realise_normalised(p, q, method, catalogue, ctx):
                         return t
                 except (RealisationError, StopIteration, ValueError) as e:
                     errs.append(str(e))
-        raise RealisationError("Foster forms do not apply (the admittance has three kinds of element or complex poles off the axis)")
+        raise RealisationError(
+            "Foster forms do not apply (the admittance has three kinds of element or complex poles off the axis)"
+        )
     if method == "cauer":
         for at_zero in (False, True):
             for imp in (False, True):
@@ -710,7 +730,9 @@ def _realise_normalised(p, q, method, catalogue, ctx):
                         return t
                 except (RealisationError, ValueError, ZeroDivisionError, FloatingPointError):
                     continue
-        raise RealisationError("Cauer forms do not apply (a continued fraction step gives a negative or non-element term)")
+        raise RealisationError(
+            "Cauer forms do not apply (a continued fraction step gives a negative or non-element term)"
+        )
     if method == "catalogue":
         from .catalogue import fit_catalogue
 
@@ -721,7 +743,9 @@ def _realise_normalised(p, q, method, catalogue, ctx):
     raise ParameterError("method", method, "one of " + ", ".join(METHODS))
 
 
-def realise_all(num, den, methods=("foster", "cauer", "catalogue", "bott-duffin"), **catalogue) -> dict:
+def realise_all(
+    num, den, methods=("foster", "cauer", "catalogue", "bott-duffin"), **catalogue
+) -> dict:
     """Every method that applies: method -> Realisation or the reason it does not."""
     out: dict = {}
     for m in methods:
