@@ -532,6 +532,8 @@ def _print_synthesis(out: dict) -> None:
         ("evolutions: best of each", ", ".join(_fmt(v) for v in out["starts"])),
         ("search time [s]", f"{out['seconds']:.2f}"),
     ]
+    if out.get("at_bound"):
+        rows.append(("warning", out["note"]))
     if "rounded" in out:
         rows.append(
             ("rounded Y0 (negligible coefficients 0): objective", _fmt(out["rounded"]["objective"]))

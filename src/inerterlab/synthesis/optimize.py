@@ -127,8 +127,8 @@ class SynthesisResult:
     seconds: float
     evaluations: int
     starts: list = field(default_factory=list)
-    comparison: dict = field(default_factory=dict)
-    realisation: dict = field(default_factory=dict)
+    at_bound: bool = False
+    note: str = ""
 
     def to_dict(self) -> dict:
         d = dict(self.__dict__)
@@ -163,7 +163,7 @@ class _Problem:
         self.neval = 0
 
     def many(self, X):
-        X = np.ascontiguousarray(np.atleast_2d(X), dtype=float)
+        X = np.clip(np.ascontiguousarray(np.atleast_2d(X), dtype=float), self.lo, self.hi)
         out = np.empty(X.shape[0])
         _objective_many(
             X, self.n, self.k, self.wr, self.yr, self.car, self.row, self.wnum, self.wden, out
@@ -284,15 +284,25 @@ def synthesize(
         )
         x = de.x
         r = minimize(
-            pb.one, x, method="Nelder-Mead", options=dict(maxiter=4000, xatol=1e-10, fatol=1e-14)
+            pb.one,
+            x,
+            method="Nelder-Mead",
+            bounds=bounds,
+            options=dict(maxiter=4000, xatol=1e-10, fatol=1e-14),
         )
         r2 = minimize(
-            pb.one, r.x, method="L-BFGS-B", options=dict(maxiter=500, ftol=1e-15, gtol=1e-12)
+            pb.one,
+            r.x,
+            method="L-BFGS-B",
+            bounds=bounds,
+            options=dict(maxiter=500, ftol=1e-15, gtol=1e-12),
         )
         xb = r2.x if r2.fun <= r.fun else r.x
         ends.append((float(pb.one(xb)), xb))
     ends.sort(key=lambda e: e[0])
     val, xbest = ends[0]
+    span = pb.hi - pb.lo
+    at_bound = bool(np.any((xbest - pb.lo < 1e-3 * span) | (pb.hi - xbest < 1e-3 * span)))
     num, den = pb.polys(xbest)
     y0n, y0d = _y0(num, den, pb.k)
     pr = pr_report(y0n, y0d)
@@ -311,6 +321,14 @@ def synthesize(
         seconds=time.perf_counter() - t0,
         evaluations=pb.neval,
         starts=[math.sqrt(v) if v < 1e300 else math.inf for v, _ in ends],
+        at_bound=at_bound,
+        note=(
+            "the best point is on the edge of the search box: the objective still "
+            "improves as Y0 degenerates (a pole or zero of Y0 at 0 or infinity, or Y0 "
+            "without bound, e.g. suspension deflection alone prefers a rigid suspension)"
+            if at_bound
+            else ""
+        ),
     )
 
 
