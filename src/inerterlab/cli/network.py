@@ -381,6 +381,17 @@ def truth_command(
     plot: Annotated[Path | None, typer.Option(help="Figure of the gains (.png/.pdf).")] = None,
     json_out: Json = False,
     quiet: Annotated[bool, typer.Option(help="No progress bar.")] = False,
+    network: Annotated[
+        str | None,
+        typer.Option(
+            help="Also study this network as layout 'custom' (e.g. printed by "
+            "'network synthesize'); its inerter b is the one replaced. Needs --param."
+        ),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option("--param", "-p", help="With --network: element values name=value,..."),
+    ] = None,
 ) -> None:
     """Nonlinear truth of the H2-optimal layouts: the ideal inerter replaced by an adaptive
     flywheel, a real device or a fluid inerter, simulated on drop, bump, sine and ISO 8608
@@ -397,8 +408,14 @@ def truth_command(
     if workers is not None:
         check_workers("--workers", workers)
     try:
+        from ..errors import ParameterError
+
+        if (network is None) != (not param):
+            raise ParameterError("network", network, "--network together with --param")
+        custom = None if network is None else (network, ",".join(param))
         res = network_truth(
-            layouts=tuple(layout or LAYOUTS),
+            custom=custom,
+            layouts=tuple(layout or (() if custom else LAYOUTS)),
             variant_list=variant or variants(),
             inputs=tuple(input_ or INPUTS),
             stiffness=stiffness,
@@ -429,7 +446,7 @@ def truth_command(
             for v in g.variant.values
         ]
         _table(
-            f"{lay}: {LAYOUTS[str(lay)]}, comfort gain [%] vs optimised k | c",
+            f"{lay}: {res.layout_text(str(lay))}, comfort gain [%] vs optimised k | c",
             ["variant", *inputs],
             rows,
         )
