@@ -467,7 +467,10 @@ def synthesize_command(
     fix_static: Annotated[
         str, typer.Option(help="Main spring (static stiffness) k=value [N/m].")
     ] = "k=90000",
-    starts: Annotated[int, typer.Option(help="Independent differential evolutions.")] = 3,
+    starts: Annotated[
+        int | None,
+        typer.Option(help="Independent differential evolutions (default 3; 6 for degree 3)."),
+    ] = None,
     seed: Annotated[int, typer.Option(help="Seed of the first evolution.")] = 0,
     compare: Annotated[
         bool,
@@ -547,6 +550,11 @@ def _print_synthesis(out: dict) -> None:
         ("positive real (grid, roots)", str(out["positive_real"]["positive_real"])),
         ("min Re Y0(jw) [N s/m]", f"{out['positive_real']['min_real_part']:.3g}"),
         ("evolutions: best of each", ", ".join(_fmt(v) for v in out["starts"])),
+        (
+            "evolutions within 1e-6 of the best",
+            f"{sum(v <= out['objective'] * (1 + 1e-6) for v in out['starts'])} of "
+            f"{len(out['starts'])}",
+        ),
         ("search time [s]", f"{out['seconds']:.2f}"),
     ]
     if out.get("at_bound"):

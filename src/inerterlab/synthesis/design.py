@@ -102,7 +102,7 @@ def synthesize_design(
     objective: str = "body_acc",
     *,
     static_stiffness: float = 90_000.0,
-    starts: int = 3,
+    starts: int | None = None,
     seed: int = 0,
     compare: bool = True,
     budget=(1, 1, 2),
