@@ -311,6 +311,8 @@ def _synth(p, q, imp, method, depth=0):
         return _synth(q, p, not imp, method, depth + 1)
     t, p2, q2, w = _remove_min_real(p, q, imp)
     if t is not None:
+        if _is_zero(p2, np.max(np.abs(p))):  # F was a constant (common factors)
+            return t
         return _join(_add(imp), [t, _synth(p2, q2, imp, method, depth + 1)])
     if not (0 < w < math.inf):
         return _synth(p2, q2, imp, method, depth + 1)
