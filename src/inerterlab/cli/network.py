@@ -589,10 +589,21 @@ def _print_synthesis(out: dict) -> None:
     br = out.get("brune", {})
     if br.get("sections"):
         for i, sec in enumerate(br["sections"]):
+            if sec["domain"] == "impedance":  # L: spring of stiffness 1/L, C: inerter
+                parts = (
+                    f"springs 1/L1 = {1 / sec['L1']:.6g}, 1/L3 = {1 / sec['L3']:.6g} N/m in "
+                    f"series, shunt spring 1/L2 = {1 / sec['L2']:.6g} N/m - inerter "
+                    f"C2 = {sec['C2']:.6g} kg"
+                )
+            else:  # the dual: L: inerter, C: spring of stiffness 1/C
+                parts = (
+                    f"inerters L1 = {sec['L1']:.6g}, L3 = {sec['L3']:.6g} kg in parallel "
+                    f"positions, branch inerter L2 = {sec['L2']:.6g} kg | spring "
+                    f"1/C2 = {1 / sec['C2']:.6g} N/m"
+                )
             typer.echo(
-                f"brune section {i + 1} ({sec['domain']} domain, w0 = {sec['w0']:.6g} rad/s): "
-                f"L1 = {sec['L1']:.6g}, L2 = {sec['L2']:.6g}, C2 = {sec['C2']:.6g}, "
-                f"L3 = {sec['L3']:.6g} (needs a lever: no network text)"
+                f"brune section {i + 1} of Y0 ({sec['domain']} form, w0 = {sec['w0']:.6g} "
+                f"rad/s): {parts}; one value negative: needs a lever, no network text"
             )
     elif br:
         typer.echo(f"brune: {br.get('reason', 'no minimum function: no Brune section needed')}")
