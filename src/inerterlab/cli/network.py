@@ -557,6 +557,13 @@ def _print_synthesis(out: dict) -> None:
         ),
         ("search time [s]", f"{out['seconds']:.2f}"),
     ]
+    chk = out.get("integral_check")
+    rows.append(
+        (
+            "check: frequency integral of |H(jw)|^2, relative difference",
+            "no end confirmed" if chk is None or chk != chk else f"{chk:.1e}",
+        )
+    )
     if out.get("at_bound"):
         rows.append(("warning", out["note"]))
     if "rounded" in out:
