@@ -81,9 +81,13 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
             continue
 
         def res(x, net=net, names=names):
-            a, b = _norm(*admittance(net, dict(zip(names, np.exp(x), strict=True))))
-            if len(a) != len(tn) or len(b) != len(td):
-                return np.full(int(mask_n.sum() + mask_d.sum()), 1e3)
+            bad = np.full(int(mask_n.sum() + mask_d.sum()), 1e3)
+            try:  # far from the target the values over- or underflow
+                a, b = _norm(*admittance(net, dict(zip(names, np.exp(x), strict=True))))
+            except (IndexError, ValueError, ZeroDivisionError, FloatingPointError):
+                return bad
+            if len(a) != len(tn) or len(b) != len(td) or not np.all(np.isfinite(a)):
+                return bad
             return np.concatenate([(a - tn)[mask_n], (b - td)[mask_d]])
 
         for i in range(starts):
