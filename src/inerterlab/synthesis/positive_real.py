@@ -132,9 +132,9 @@ def pr_report(num, den, grid: int = 4001, tol: float = 1e-9) -> dict:
     """Numerical PR check: poles and zeros in Re s <= 0, Re Y(j w) >= 0 on a dense grid.
 
     The grid is logarithmic over the span of the pole and zero magnitudes (four
-    decades beyond each end) plus w = 0; ``tol`` is relative to max |Y(j w)|.
-    Imaginary-axis poles must be simple with a positive residue... checked here only
-    as "closed left half plane" (|Re| <= tol x magnitude counts as on the axis).
+    decades beyond each end) plus w = 0; ``tol`` is relative to max |Y(j w)|. A root
+    with a real part within ``tol`` of its magnitude counts as on the imaginary axis;
+    the simplicity and the sign of the residues of such poles are not examined.
     """
     num = np.trim_zeros(np.asarray(num, float), "f")
     den = np.trim_zeros(np.asarray(den, float), "f")

@@ -33,7 +33,7 @@ target at points on and off the imaginary axis.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -601,7 +601,6 @@ class Realisation:
     elements: int
     max_relative_error: float
     note: str = ""
-    values: dict = field(default_factory=dict)
 
     def to_dict(self) -> dict:
         return dict(self.__dict__)
