@@ -469,7 +469,7 @@ def synthesize_command(
     ] = "k=90000",
     starts: Annotated[
         int | None,
-        typer.Option(help="Independent differential evolutions (default 3; 6 for degree 3)."),
+        typer.Option(help="Independent differential evolutions (default 3; 10 for degree 3)."),
     ] = None,
     seed: Annotated[int, typer.Option(help="Seed of the first evolution.")] = 0,
     compare: Annotated[
