@@ -36,6 +36,7 @@ Dask, is stored chunk by chunk and resumes.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import math
 import re
@@ -315,6 +316,63 @@ TRUTH = register_point_function(
 )
 
 
+def _parse_design(text: str) -> dict:
+    """``name=value,...`` -> element values (the form ``network synthesize`` prints)."""
+    out = {}
+    for item in str(text).split(","):
+        name, eq, value = item.strip().partition("=")
+        try:
+            out[name.strip()] = float(value)
+        except ValueError:
+            raise ParameterError("network parameter", item, "name=number") from None
+        if not eq:
+            raise ParameterError("network parameter", item, "name=number")
+    return out
+
+
+def custom_truth_point(params: Mapping[str, Any]) -> dict[str, float]:
+    """:func:`truth_point` for a given network text and element values (``custom``)."""
+    from .systems import quarter_car
+
+    net, elp = _network_for(
+        str(params["network"]), _parse_design(params["design"]), params["variant"]
+    )
+    car = quarter_car(net, elp)
+    res = car.simulate(
+        _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
+    )
+    return {k: float(res.metrics[k]) for k in TRUTH_METRICS}
+
+
+#: a user's network (e.g. printed by ``inerterlab network synthesize``) as layout
+#: ``custom``: its own point function, so the stored layouts keep their keys
+CUSTOM_TRUTH = register_point_function(
+    PointFunction(
+        name="network-truth-custom",
+        function=custom_truth_point,
+        parameters={
+            "network": ParameterSpec(kind="text", doc="network text with an inerter b"),
+            "design": ParameterSpec(kind="text", doc="element values name=value,..."),
+            "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
+            "input": ParameterSpec(kind="choice", choices=tuple(INPUTS)),
+            "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
+            "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
+            "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+        },
+        defaults={
+            "network": "k | (c - b)",
+            "design": "k=90000,c=4647,b=641",
+            "variant": "ideal",
+            "input": "bump",
+            "stiffness": 90_000.0,
+            "horizon": 10.0,
+            "seed": 1,
+        },
+        metrics=TRUTH_METRICS,
+    )
+)
+
+
 @dataclass(frozen=True)
 class TruthResult:
     """The study: the raw dataset and the gains.
@@ -337,6 +395,11 @@ class TruthResult:
     gains: Any
     survival: Any
     parameters: dict
+    texts: dict = dataclasses.field(default_factory=dict)
+
+    def layout_text(self, layout: str) -> str:
+        """Network text of a layout (a name of :data:`LAYOUTS` or ``custom``)."""
+        return self.texts.get(str(layout), LAYOUTS.get(str(layout), str(layout)))
 
     def findings(self) -> list[str]:
         """Plain-language conclusions computed from the gains (comfort, Wk RMS)."""
@@ -372,12 +435,28 @@ def network_truth(
     backend: str | None = "serial",
     workers: int | None = None,
     progress=False,
+    custom: tuple[str, str] | None = None,
 ) -> TruthResult:
-    """Run the study (see the module docstring) and compute gains and survival."""
+    """Run the study (see the module docstring) and compute gains and survival.
+
+    ``custom``: (network text, "name=value,...") studied as the layout ``custom`` in
+    addition to ``layouts`` (which may then be empty), e.g. a network printed by
+    ``inerterlab network synthesize``; its inerter named ``b`` is the one replaced.
+    """
     import xarray as xr
 
     from .studies import sweep
 
+    if custom is not None:
+        from .networks import parse_network
+
+        net = parse_network(custom[0])
+        design = _parse_design(custom[1])
+        net.parameter_vector(design)  # every element has a valid value
+        if "b" not in design:
+            raise ParameterError("network", custom[0], "a network with an inerter named b")
+        if not layouts:
+            layouts = ()
     for lay in layouts:
         if lay not in LAYOUTS:
             raise ParameterError("layout", lay, f"one of {', '.join(LAYOUTS)}")
@@ -395,16 +474,38 @@ def network_truth(
         from .studies.sweep import claim_store_folder
 
         # the same rule as every --out of a sweep: only a folder this study made
-        claim_store_folder(Path(store), ("layouts.zarr", "baseline.zarr"))
-    ds = sweep(
-        {
-            "point": "network-truth",
-            "parameters": {"layout": list(layouts), "variant": vlist, "input": list(inputs)},
-            "settings": settings,
-        },
-        store=None if store is None else f"{store}/layouts.zarr",
-        **common,
-    )
+        claim_store_folder(Path(store), ("layouts.zarr", "custom.zarr", "baseline.zarr"))
+    parts = []
+    if layouts:
+        parts.append(
+            sweep(
+                {
+                    "point": "network-truth",
+                    "parameters": {
+                        "layout": list(layouts),
+                        "variant": vlist,
+                        "input": list(inputs),
+                    },
+                    "settings": settings,
+                },
+                store=None if store is None else f"{store}/layouts.zarr",
+                **common,
+            )
+        )
+    if custom is not None:
+        one = sweep(
+            {
+                "point": "network-truth-custom",
+                "parameters": {"variant": vlist, "input": list(inputs)},
+                "settings": {**settings, "network": net.text, "design": custom[1]},
+            },
+            store=None if store is None else f"{store}/custom.zarr",
+            **common,
+        )
+        parts.append(one.expand_dims(layout=["custom"]))
+    if not parts:
+        raise ParameterError("layout", "none", "at least one layout or a custom network")
+    ds = parts[0] if len(parts) == 1 else xr.concat(parts, dim="layout")
     base = sweep(
         {
             "point": "network-truth",
@@ -422,9 +523,13 @@ def network_truth(
     ideal = gains["rms_body_acc_wk"].sel(variant="ideal")
     survival = gains["rms_body_acc_wk"] / ideal
     params = {lay: layout_parameters(LAYOUTS[lay], float(stiffness)) for lay in layouts}
+    texts = {}
+    if custom is not None:
+        params["custom"] = design
+        texts["custom"] = net.text
     params["baseline"] = layout_parameters(BASELINE, float(stiffness))
     ds = ds.assign(baseline=xr.Dataset({m: base[m] for m in TRUTH_METRICS}).to_array("metric"))
-    return TruthResult(dataset=ds, gains=gains, survival=survival, parameters=params)
+    return TruthResult(dataset=ds, gains=gains, survival=survival, parameters=params, texts=texts)
 
 
 def adaptivity_margin(gains) -> Any:
@@ -462,7 +567,7 @@ def _findings(res: TruthResult) -> list[str]:
         lay = str(lay)
         gi = g.sel(layout=lay, variant="ideal")
         out.append(
-            f"{lay} ({LAYOUTS[lay]}): the ideal inerter changes comfort by "
+            f"{lay} ({res.layout_text(lay)}): the ideal inerter changes comfort by "
             + ", ".join(f"{inp} {float(gi.sel(input=inp)):+.1f} %" for inp in gi.input.values)
             + " against the optimised k | c."
         )
@@ -523,7 +628,7 @@ def truth_figure(res: TruthResult):
                                   label=f"{inp} afw {law}", **kw)  # fmt: skip
             color = line.get_color() if line is not None else None
             ax.axhline(float(gi.sel(variant="ideal")), color=color, lw=0.8, ls=":")
-        ax.set_title(f"{lay}: {LAYOUTS[lay]}", fontsize=9)
+        ax.set_title(f"{lay}: {res.layout_text(lay)}", fontsize=9)
         ax.set_xlabel("changing ratio x [-]")
         ax.set_ylabel("comfort gain vs k | c [%]")
         ax.grid(alpha=0.3)

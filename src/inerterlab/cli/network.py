@@ -2,8 +2,9 @@
 
 Subcommands: ``enumerate`` (every distinct network of a budget of elements), ``h2``
 (norms of one network), ``optimize`` (H2-optimal parameters, one network or all of a
-budget), ``pareto`` (fronts between two or three norms) and ``truth`` (the optimised
-layouts with nonlinear and real inerters in time simulations).
+budget), ``pareto`` (fronts between two or three norms), ``truth`` (the optimised
+layouts with nonlinear and real inerters in time simulations) and ``synthesize`` (the
+H2-optimal positive-real admittance of a given degree and networks realising it).
 """
 
 from __future__ import annotations
@@ -460,6 +461,17 @@ def truth_command(
     plot: Annotated[Path | None, typer.Option(help="Figure of the gains (.png/.pdf).")] = None,
     json_out: Json = False,
     quiet: Annotated[bool, typer.Option(help="No progress bar.")] = False,
+    network: Annotated[
+        str | None,
+        typer.Option(
+            help="Also study this network as layout 'custom' (e.g. printed by "
+            "'network synthesize'); its inerter b is the one replaced. Needs --param."
+        ),
+    ] = None,
+    param: Annotated[
+        list[str] | None,
+        typer.Option("--param", "-p", help="With --network: element values name=value,..."),
+    ] = None,
 ) -> None:
     """Nonlinear truth of the H2-optimal layouts: the ideal inerter replaced by an adaptive
     flywheel, a real device or a fluid inerter, simulated on drop, bump, sine and ISO 8608
@@ -476,8 +488,14 @@ def truth_command(
     if workers is not None:
         check_workers("--workers", workers)
     try:
+        from ..errors import ParameterError
+
+        if (network is None) != (not param):
+            raise ParameterError("network", network, "--network together with --param")
+        custom = None if network is None else (network, ",".join(param))
         res = network_truth(
-            layouts=tuple(layout or LAYOUTS),
+            custom=custom,
+            layouts=tuple(layout or (() if custom else LAYOUTS)),
             variant_list=variant or variants(),
             inputs=tuple(input_ or INPUTS),
             stiffness=stiffness,
@@ -508,12 +526,188 @@ def truth_command(
             for v in g.variant.values
         ]
         _table(
-            f"{lay}: {LAYOUTS[str(lay)]}, comfort gain [%] vs optimised k | c",
+            f"{lay}: {res.layout_text(str(lay))}, comfort gain [%] vs optimised k | c",
             ["variant", *inputs],
             rows,
         )
     for line in res.findings():
         typer.echo(line)
+
+
+@network_app.command("synthesize")
+def synthesize_command(
+    degree: Annotated[int, typer.Option(help="McMillan degree n of Y0 (1, 2 or 3).")] = 2,
+    objective: Annotated[
+        str,
+        typer.Option(
+            help="body_acc, body_acc_wk, tyre_deflection, tyre_load (k_t x tyre "
+            "deflection) or suspension_deflection."
+        ),
+    ] = "body_acc",
+    fix_static: Annotated[
+        str, typer.Option(help="Main spring (static stiffness) k=value [N/m].")
+    ] = "k=90000",
+    starts: Annotated[
+        int | None,
+        typer.Option(help="Independent differential evolutions (default 3; 10 for degree 3)."),
+    ] = None,
+    seed: Annotated[int, typer.Option(help="Seed of the first evolution.")] = 0,
+    compare: Annotated[
+        bool,
+        typer.Option(
+            "--compare/--no-compare",
+            help="Also optimise the enumerated layouts with deg Y0 <= n (gap in percent).",
+        ),
+    ] = True,
+    dampers: Annotated[int, typer.Option(help="Comparison budget: dampers.")] = 1,
+    inerters: Annotated[int, typer.Option(help="Comparison budget: inerters.")] = 1,
+    springs: Annotated[int, typer.Option(help="Comparison budget: springs besides k.")] = 2,
+    sprung_mass: SprungMass = 370.0,
+    unsprung_mass: UnsprungMass = 25.0,
+    tyre_stiffness: TyreStiffness = 120_000.0,
+    tyre_damping: TyreDamping = 1300.0,
+    json_out: Json = False,
+) -> None:
+    """H2-optimal positive-real admittance Y = k/s + Y0 (Y0 PR of degree n) and its networks.
+
+    Prints the optimum, Y(s), the PR check, realisations (Foster, Cauer, catalogue,
+    Bott-Duffin; Brune's element values) and the gap to the best enumerated layout.
+    Example: inerterlab network synthesize --degree 2 --objective body_acc --fix-static k=90000
+    """
+    from ..errors import ParameterError
+    from ..synthesis.design import synthesize_design
+
+    name, _, value = fix_static.partition("=")
+    if name.strip() != "k":
+        raise ParameterError("fix-static", fix_static, "k=<static stiffness in N/m>, e.g. k=90000")
+    try:
+        k = float(value)
+    except ValueError:
+        raise ParameterError("fix-static", fix_static, "k=<a number > 0 in N/m>") from None
+    if degree not in (1, 2, 3):
+        raise ParameterError("degree", degree, "1, 2 or 3")
+    for nm, v in (("dampers", dampers), ("inerters", inerters), ("springs", springs)):
+        if not 0 <= v <= 3:
+            raise ParameterError(nm, v, "an integer 0-3")
+    out = synthesize_design(
+        degree,
+        objective,
+        static_stiffness=k,
+        starts=starts,
+        seed=seed,
+        compare=compare,
+        budget=(dampers, inerters, springs),
+        **_car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping),
+    )
+    if json_out:
+        emit_json(out)
+        return
+    _print_synthesis(out)
+
+
+def _poly_text(c) -> str:
+    n = len(c) - 1
+    terms = [
+        f"{v:.6g} s^{n - i}" if n - i > 1 else (f"{v:.6g} s" if n - i == 1 else f"{v:.6g}")
+        for i, v in enumerate(c)
+        if v != 0
+    ]
+    return " + ".join(terms) or "0"
+
+
+def _print_synthesis(out: dict) -> None:
+    unit = out["unit"]
+    rows = [
+        (
+            f"optimum {out['objective_name']} [{unit}] (H2, unit white road velocity, linear)",
+            _fmt(out["objective"]),
+        ),
+        ("static stiffness k [N/m]", f"{out['static_stiffness']:.6g}"),
+        ("Y(s) = F/v [N s/m], s [rad/s]: numerator", _poly_text(out["numerator"])),
+        ("Y(s) denominator", _poly_text(out["denominator"])),
+        ("Y0(s) = Y - k/s numerator", _poly_text(out["y0_numerator"])),
+        ("Y0(s) denominator", _poly_text(out["y0_denominator"])),
+        ("positive real (grid, roots)", str(out["positive_real"]["positive_real"])),
+        ("min Re Y0(jw) [N s/m]", f"{out['positive_real']['min_real_part']:.3g}"),
+        ("evolutions: best of each", ", ".join(_fmt(v) for v in out["starts"])),
+        (
+            "evolutions within 1e-6 of the best",
+            f"{sum(v <= out['objective'] * (1 + 1e-6) for v in out['starts'])} of "
+            f"{len(out['starts'])}",
+        ),
+        ("search time [s]", f"{out['seconds']:.2f}"),
+    ]
+    chk = out.get("integral_check")
+    rows.append(
+        (
+            "check: frequency integral of |H(jw)|^2, relative difference",
+            "no end confirmed" if chk is None or chk != chk else f"{chk:.1e}",
+        )
+    )
+    if out.get("at_bound"):
+        rows.append(("warning", out["note"]))
+    if "rounded" in out:
+        rows.append(
+            ("rounded Y0 (negligible coefficients 0): objective", _fmt(out["rounded"]["objective"]))
+        )
+    print_table(f"PR synthesis, degree {out['degree']}", rows)
+    rrows = []
+    for m, r in out["realisations"].items():
+        if isinstance(r, str):
+            rrows.append((m, "-", "-", r))
+        else:
+            rrows.append(
+                (
+                    m,
+                    r["network"],
+                    str(r["elements"]),
+                    f"max rel. error {r['max_relative_error']:.1e}",
+                )
+            )
+    _table(
+        "Realisations (admittance checked at points on and off the imaginary axis)",
+        ["method", "network", "elements", "check"],
+        rrows,
+    )
+    for m, r in out["realisations"].items():
+        if not isinstance(r, str):
+            params = ",".join(f"{k}={v!r}" for k, v in r["parameters"].items())
+            typer.echo(f"{m}: --network '{r['network']}' -p {params}")
+    br = out.get("brune", {})
+    if br.get("sections"):
+        for i, sec in enumerate(br["sections"]):
+            if sec["domain"] == "impedance":  # L: spring of stiffness 1/L, C: inerter
+                parts = (
+                    f"springs 1/L1 = {1 / sec['L1']:.6g}, 1/L3 = {1 / sec['L3']:.6g} N/m in "
+                    f"series, shunt spring 1/L2 = {1 / sec['L2']:.6g} N/m - inerter "
+                    f"C2 = {sec['C2']:.6g} kg"
+                )
+            else:  # the dual: L: inerter, C: spring of stiffness 1/C
+                parts = (
+                    f"inerters L1 = {sec['L1']:.6g}, L3 = {sec['L3']:.6g} kg in parallel "
+                    f"positions, branch inerter L2 = {sec['L2']:.6g} kg | spring "
+                    f"1/C2 = {1 / sec['C2']:.6g} N/m"
+                )
+            typer.echo(
+                f"brune section {i + 1} of Y0 ({sec['domain']} form, w0 = {sec['w0']:.6g} "
+                f"rad/s): {parts}; one value negative: needs a lever, no network text"
+            )
+    elif br:
+        typer.echo(f"brune: {br.get('reason', 'no minimum function: no Brune section needed')}")
+    cmp_ = out.get("comparison")
+    if cmp_:
+        if "layouts" in cmp_:
+            b = cmp_["budget"]
+            typer.echo(
+                f"best enumerated layout with deg Y0 <= {out['degree']} (budget {b['dampers']} "
+                f"damper(s), {b['inerters']} inerter(s), {b['springs']} spring(s) besides k, "
+                f"{len(cmp_['layouts'])} layouts): {cmp_['best']}  {out['objective_name']} = "
+                f"{_fmt(cmp_['best_objective'])} {unit}; PR optimum better by "
+                + ("n/a" if cmp_.get("gap_percent") is None else f"{cmp_['gap_percent']:.3f} %")
+            )
+        else:
+            typer.echo(f"comparison: {cmp_['reason']}")
+    typer.echo(f"wall {out['seconds_total']:.2f} s")
 
 
 def register(app: typer.Typer) -> None:

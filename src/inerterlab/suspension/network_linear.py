@@ -48,7 +48,13 @@ from ..networks import Network, NetworkError, parse_network
 #: the kind of quantity of each element's parameter (for its physical range)
 _QUANTITY = {"k": "stiffness", "c": "damping", "b": "inertance"}
 
-__all__ = ["OUTPUTS", "NetworkQuarterCar", "network_quarter_car", "network_h2"]
+__all__ = [
+    "OUTPUTS",
+    "NetworkQuarterCar",
+    "network_quarter_car",
+    "network_h2",
+    "h2_squared_admittance",
+]
 
 OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection")
 MAXC = 32  # polynomial coefficient slots (networks up to ~28 elements)
@@ -194,6 +200,16 @@ def h2_squared(prog, theta, car, out):
     num = np.zeros(MAXC)
     den = np.zeros(MAXC)
     lnum, lden = _assemble(prog, theta, num, den)
+    h2_squared_admittance(num, lnum, den, lden, car, out)
+
+
+@nb.njit(cache=True)
+def h2_squared_admittance(num, lnum, den, lden, car, out):
+    """Squared H2 norms for an admittance given as polynomials N/D (ascending, lengths).
+
+    The one H2 route of the package: :func:`h2_squared` (a network) and the
+    positive-real synthesis (an admittance without a network) both end here.
+    """
     polys = np.zeros((4, MAXC))
     n = _car_polys(num, lnum, den, lden, car[0], car[1], car[2], car[3], polys)
     h2_rational(polys, n, out)
