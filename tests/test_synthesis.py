@@ -133,7 +133,7 @@ def test_every_method_on_enumerated_layouts(net):
     from inerterlab.networks import parse_network
 
     p = parse_network(net)
-    scale = {"spring": 9e4, "damper": 3e3, "inerter": 200.0}
+    scale = {"k": 9e4, "c": 3e3, "b": 200.0}
     params = {
         name: scale[kind] * float(np.exp(LAYOUT_VALUES.uniform(-1, 1)))
         for name, kind in zip(p.names, p.kinds, strict=True)

@@ -21,6 +21,9 @@ __all__ = ["fit_catalogue", "catalogue_layouts"]
 _DEFAULT_BUDGET = (2, 2, 2)  # dampers, inerters, springs besides k
 
 
+#: the realisation trees' element kinds by the network grammar's prefixes
+_KIND = {"k": "spring", "c": "damper", "b": "inerter"}
+
 def catalogue_layouts(dampers: int = 2, inerters: int = 2, springs: int = 2) -> list[str]:
     """Sub-network texts N of the layouts ``k | (N)``, fewest elements first."""
     subs = []
@@ -103,7 +106,7 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
                 continue
             vals = {n: float(np.exp(v)) for n, v in zip(names, r.x, strict=True)}
             # back to physical units
-            params = {n: vals[n] * scale_of[kind] for n, kind in zip(names, net.kinds, strict=True)}
+            params = {n: vals[n] * scale_of[_KIND[kind]] for n, kind in zip(names, net.kinds, strict=True)}
             full, fparams = _with_main_spring(net, params, k)
             from .realise import Realisation
 
@@ -129,7 +132,7 @@ def _with_main_spring(net, params, k):
 
     def tree_of(node):
         if isinstance(node, Element):
-            return ("e", node.kind, params[node.name])
+            return ("e", _KIND[node.kind], params[node.name])
         return (node.op, [tree_of(p) for p in node.parts])
 
     return _to_text(tree_of(net.tree), k)
