@@ -290,6 +290,22 @@ def truth_inputs() -> dict:
     }
 
 
+#: the parameters every truth point takes besides its layout (or network)
+_PARAMETERS = {
+    "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
+    "input": ParameterSpec(kind="choice", choices=tuple(INPUTS)),
+    "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
+    "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
+    "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+}
+_DEFAULTS = {
+    "variant": "ideal",
+    "input": "bump",
+    "stiffness": 90_000.0,
+    "horizon": 10.0,
+    "seed": 1,
+}
+
 TRUTH = register_point_function(
     PointFunction(
         name="network-truth",
@@ -297,19 +313,11 @@ TRUTH = register_point_function(
         inputs=truth_inputs,
         parameters={
             "layout": ParameterSpec(kind="choice", choices=(*LAYOUTS, "baseline")),
-            "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
-            "input": ParameterSpec(kind="choice", choices=tuple(INPUTS)),
-            "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
-            "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
-            "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+            **_PARAMETERS,
         },
         defaults={
             "layout": "series",
-            "variant": "ideal",
-            "input": "bump",
-            "stiffness": 90_000.0,
-            "horizon": 10.0,
-            "seed": 1,
+            **_DEFAULTS,
         },
         metrics=TRUTH_METRICS,
     )
@@ -353,20 +361,12 @@ CUSTOM_TRUTH = register_point_function(
         parameters={
             "network": ParameterSpec(kind="text", doc="network text with an inerter b"),
             "design": ParameterSpec(kind="text", doc="element values name=value,..."),
-            "variant": ParameterSpec(kind="text", doc="ideal, afw x=X law=L, a device, fluid"),
-            "input": ParameterSpec(kind="choice", choices=tuple(INPUTS)),
-            "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
-            "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
-            "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+            **_PARAMETERS,
         },
         defaults={
             "network": "k | (c - b)",
             "design": "k=90000,c=4647,b=641",
-            "variant": "ideal",
-            "input": "bump",
-            "stiffness": 90_000.0,
-            "horizon": 10.0,
-            "seed": 1,
+            **_DEFAULTS,
         },
         metrics=TRUTH_METRICS,
     )

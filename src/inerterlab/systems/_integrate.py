@@ -309,17 +309,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             # dense output on (t, tn]
             if mode == 0:
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
-                    th = (t_out[k] - t) / h
-                    th1 = 1.0 - th
-                    for i in range(n):
-                        r2 = yt[i] - y[i]
-                        r3 = h * K[0, i] - r2
-                        r4 = r2 - h * K[6, i] - r3
-                        acc = 0.0
-                        for q in range(7):
-                            acc += _TAB_D[q] * K[q, i]
-                        r5 = h * acc
-                        out_y[k, i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+                    _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
                     k += 1
             for i in range(n):
                 y[i] = yt[i]
