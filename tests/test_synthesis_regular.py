@@ -109,7 +109,7 @@ def test_regular_biquadratics_are_fitted_by_a_two_reactive_layout():
     on random functions when this test was written, but each failing search takes
     10-150 s and is left out of the suite; docs/decisions.md gives the figures.)"""
     rng = np.random.default_rng(7)
-    for _ in range(3):
+    for _ in range(2):  # about 30 s: a failing layout search costs seconds
         num, den = _random_biquadratic(rng, regular=True)
         fitted = None
         for budget in TWO_REACTIVE:
