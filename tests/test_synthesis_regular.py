@@ -20,7 +20,7 @@ from inerterlab.synthesis.positive_real import (
     pr_from_parameters,
     pr_report,
 )
-from inerterlab.synthesis.realise import RealisationError
+from inerterlab.synthesis.realise import RealisationError, realise
 
 # dampers, inerters, springs: every layout with at most two reactive elements and at
 # most three dampers (five elements), the class of Jiang & Smith's theorem
@@ -122,3 +122,14 @@ def test_regular_biquadratics_are_fitted_by_a_two_reactive_layout():
         assert fitted.max_relative_error < 1e-8
         kinds = [name.rstrip("0123456789") for name in fitted.parameters]
         assert kinds.count("k") + kinds.count("b") <= 2 and len(kinds) <= 5
+
+
+def test_catalogue_failure_names_the_non_regular_biquadratic():
+    """The minimum function Y = (s^2 + s + 4)/(s^2 + s + 1) is not regular: no layout
+    of the default catalogue fits it, and the message says why."""
+    with pytest.raises(RealisationError, match="not regular"):
+        realise([1.0, 1.0, 4.0], [1.0, 1.0, 1.0], "catalogue")
+    # a regular one that fails for lack of budget does not get the note
+    with pytest.raises(RealisationError) as err:
+        realise([1.0, 0.1, 1.0], [1.0, 1.0, 1.0], "catalogue", budget=(1, 0, 0))
+    assert "regular" not in str(err.value)
