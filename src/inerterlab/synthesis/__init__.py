@@ -11,7 +11,7 @@
 
 from .design import synthesize_design
 from .optimize import SYNTH_OBJECTIVES, SynthesisResult, objective_value, synthesize
-from .positive_real import biquadratic_pr_condition, is_positive_real, pr_report
+from .positive_real import biquadratic_pr_condition, is_positive_real, is_regular, pr_report
 from .realise import METHODS, Realisation, RealisationError, brune, realise, realise_all
 
 __all__ = [
@@ -23,6 +23,7 @@ __all__ = [
     "pr_report",
     "is_positive_real",
     "biquadratic_pr_condition",
+    "is_regular",
     "METHODS",
     "Realisation",
     "RealisationError",

@@ -122,8 +122,21 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
                 )
     raise RealisationError(
         f"no layout of the catalogue (<= {budget[0]} dampers, {budget[1]} inerters, "
-        f"{budget[2]} springs besides k) fits"
+        f"{budget[2]} springs besides k) fits" + _regularity_note(n0, d0)
     )
+
+
+def _regularity_note(n0, d0) -> str:
+    """Why no small layout can fit, when Y0 is a non-regular biquadratic."""
+    from .positive_real import is_regular
+
+    n0, d0 = np.trim_zeros(np.asarray(n0, float), "f"), np.trim_zeros(np.asarray(d0, float), "f")
+    if len(n0) == 3 and len(d0) == 3 and not is_regular(n0, d0):
+        return (
+            "; Y0 is a biquadratic that is not regular, so no series-parallel network "
+            "with two reactive elements realises it (Jiang & Smith 2011)"
+        )
+    return ""
 
 
 def _with_main_spring(net, params, k):

@@ -39,6 +39,9 @@ __all__ = [
     "pr_report",
     "is_positive_real",
     "biquadratic_pr_condition",
+    "real_part_polynomials",
+    "is_regular",
+    "minimum_at_the_ends",
 ]
 
 
@@ -174,3 +177,73 @@ def biquadratic_pr_condition(num, den) -> bool:
     if min(a2, a1, a0, d2, d1, d0) < 0:
         return False
     return bool(a1 * d1 >= (np.sqrt(a2 * d0) - np.sqrt(a0 * d2)) ** 2)
+
+
+def real_part_polynomials(num, den):
+    """(E, F) in x = w^2 (highest power first) with Re Y(j w) = E(w^2) / F(w^2).
+
+    E(-s^2) = (N(s) D(-s) + N(-s) D(s)) / 2 and F(-s^2) = D(s) D(-s), both even in s.
+    """
+    num = np.trim_zeros(np.asarray(num, float), "f")
+    den = np.trim_zeros(np.asarray(den, float), "f")
+
+    def minus(p):  # p(-s), highest first
+        n = len(p) - 1
+        return p * (-1.0) ** np.arange(n, -1, -1)
+
+    def in_x(even):  # even polynomial in s (highest first) -> polynomial in x = -s^2
+        asc = even[::-1]
+        c = np.array([asc[2 * j] * (-1.0) ** j for j in range((len(asc) + 1) // 2)])
+        return np.trim_zeros(c[::-1], "f") if np.any(c) else np.zeros(1)
+
+    e = np.polyadd(np.polymul(num, minus(den)), np.polymul(minus(num), den)) / 2.0
+    f = np.polymul(den, minus(den))
+    return in_x(e), in_x(f)
+
+
+def is_regular(num, den, tol: float = 1e-9) -> bool:
+    """Is the PR function Y = N/D (highest power first) *regular*?
+
+    Jiang & Smith (2011, IEEE TAC 56(6), the definition of a regular PR function): the
+    smallest value of Re Y(j w) or of Re (1/Y)(j w) over 0 <= w <= inf is attained at
+    w = 0 or w = inf. The "or" makes the class closed under Y -> 1/Y (as the networks
+    it characterises are under duality). See :func:`minimum_at_the_ends`.
+    """
+    return minimum_at_the_ends(num, den, tol) or minimum_at_the_ends(den, num, tol)
+
+
+def minimum_at_the_ends(num, den, tol: float = 1e-9) -> bool:
+    """Does Re Y(j w) (Y = N/D) attain its smallest value over [0, inf] at w = 0 or inf?
+
+    Computed exactly rather than on a grid: with Re Y(j w) = E(x)/F(x), x = w^2
+    (:func:`real_part_polynomials`), the interior extrema are the positive roots of
+    E'F - EF'; the answer is yes when none of them lies below min(value at x = 0,
+    value at infinity) by more than ``tol`` times the largest value compared. Roots of
+    F on x > 0 (imaginary-axis poles) are skipped.
+    """
+    e, f = real_part_polynomials(num, den)
+    r0 = np.polyval(e, 0.0) / np.polyval(f, 0.0) if np.polyval(f, 0.0) != 0 else np.inf
+    de, df = len(e) - 1, len(f) - 1
+    if de < df:
+        rinf = 0.0
+    elif de == df:
+        rinf = e[0] / f[0]
+    else:
+        rinf = np.inf
+    ends = min(r0, rinf)
+    crit = np.polysub(np.polymul(np.polyder(e), f), np.polymul(e, np.polyder(f)))
+    crit = np.trim_zeros(crit, "f")
+    vals = []
+    if len(crit) > 1:
+        for x in np.roots(crit):
+            if abs(x.imag) > 1e-9 * max(1.0, abs(x)) or x.real <= 0:
+                continue
+            fx = np.polyval(f, x.real)
+            if abs(fx) <= 1e-12 * np.max(np.abs(f)) * max(1.0, x.real) ** (len(f) - 1):
+                continue
+            vals.append(np.polyval(e, x.real) / fx)
+    if not vals:
+        return True
+    finite = [abs(v) for v in (*vals, r0, rinf) if np.isfinite(v)]
+    scale = max(finite) if finite else 1.0
+    return bool(min(vals) >= ends - tol * scale)
