@@ -127,27 +127,13 @@ def _state_samples(X, n, ET):
 @njit(cache=True)
 def _rhs_samples(rhs, mass, has_mass, itab, ftab, work, n, xs, omega, amp, tau):
     """f(t_k, x(tau_k), u(tau_k)) for every sample, shape (n, N)."""
-    N = tau.shape[0]
-    x = np.zeros(work)
-    out = np.zeros(work)
-    road = np.empty(4)
-    f = np.empty((n, N))
-    for k in range(N):
-        for i in range(n):
-            x[i] = xs[i, k]
-        _road(amp, omega, tau[k], road)
-        if rhs(tau[k] / omega, x, road, itab, ftab, out):
-            for i in range(n):
-                f[i, k] = out[i]
-        else:
-            for i in range(n):
-                f[i, k] = np.nan
-    return f
+    return _weights(rhs, itab, ftab, work, n, xs, omega, amp, tau)
 
 
 @njit(cache=True)
 def _weights(mass, itab, ftab, work, n, xs, omega, amp, tau):
-    """The weights w_i(t_k, x(tau_k)) of the derivatives at every sample, shape (n, N)."""
+    """The weights w_i(t_k, x(tau_k)) of the derivatives (or with ``rhs`` in place of
+    ``mass``, f) at every sample, shape (n, N); NaN where the function fails."""
     N = tau.shape[0]
     x = np.zeros(work)
     out = np.zeros(work)
@@ -419,25 +405,9 @@ def fo_newton(
     """
     X = X0.copy()
     R, J = fo_residual_jacobian(
-        rhs,
-        jac,
-        has_jac,
-        mass,
-        has_mass,
-        itab,
-        ftab,
-        work,
-        n,
-        X,
-        omega,
-        amp,
-        tau,
-        E,
-        ET,
-        D,
-        F,
+        rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F,
         scales,
-    )
+    )  # fmt: skip
     rn = _norm(R)
     for it in range(max_iter):
         if not np.isfinite(rn):
@@ -467,25 +437,9 @@ def fo_newton(
         if step == 1.0 and _norm(dX) <= rtol * (_norm(X) + scale):
             return X, True, it + 1, rn, 0
         R, J = fo_residual_jacobian(
-            rhs,
-            jac,
-            has_jac,
-            mass,
-            has_mass,
-            itab,
-            ftab,
-            work,
-            n,
-            X,
-            omega,
-            amp,
-            tau,
-            E,
-            ET,
-            D,
-            F,
+            rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F,
             scales,
-        )
+        )  # fmt: skip
         rn = _norm(R)
     return X, False, max_iter, rn, 1
 
@@ -568,25 +522,9 @@ def fo_sweep(
         X = guess
         if warm and chord and have_jinv:
             X, conv, it, rn = _chord(
-                rhs,
-                mass,
-                has_mass,
-                itab,
-                ftab,
-                work,
-                n,
-                guess,
-                w,
-                amp,
-                tau,
-                ET,
-                D,
-                F,
-                Jinv,
-                rtol,
-                scale,
-                12,
-            )
+                rhs, mass, has_mass, itab, ftab, work, n, guess, w, amp, tau, ET, D, F, Jinv,
+                rtol, scale, 12,
+            )  # fmt: skip
             if not conv:
                 X = guess
         if not conv:
@@ -597,25 +535,9 @@ def fo_sweep(
             it += its
             if conv and warm and chord:
                 _, J = fo_residual_jacobian(
-                    rhs,
-                    jac,
-                    has_jac,
-                    mass,
-                    has_mass,
-                    itab,
-                    ftab,
-                    work,
-                    n,
-                    X,
-                    w,
-                    amp,
-                    tau,
-                    E,
-                    ET,
-                    D,
-                    F,
-                    scales,
-                )
+                    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, w, amp, tau, E, ET,
+                    D, F, scales,
+                )  # fmt: skip
                 Jinv = np.ascontiguousarray(np.linalg.pinv(J, rcond=1e-12))
                 have_jinv = np.all(np.isfinite(Jinv))
         if not conv and warm and w_last > 0.0:
