@@ -281,7 +281,11 @@ def _assemble_jacobian(A, omega, n, E, D, F, hs, W, has_mass):
     """dR/dX restricted to the harmonics 0..hs of every state (hs = H: the full matrix).
 
     Block (i, j) is Omega D delta_ij - F diag(A_ij) E; a block whose A_ij is the same at
-    every sample is -A_ij times the identity (F E = I)."""
+    every sample is -A_ij times the identity (F E = I). With weights W the diagonal
+    blocks are Omega F diag(w_i) E D - F diag(A_ii) E (Omega w_i D - A_ii I when both
+    are the same at every sample)."""
+    if has_mass:
+        return _assemble_weighted(A, omega, n, E, D, F, hs, W)
     N, m = E.shape
     ms = 2 * hs + 1
     J = np.zeros((n * ms, n * ms))
@@ -309,22 +313,54 @@ def _assemble_jacobian(A, omega, n, E, D, F, hs, W, has_mass):
                         for k in range(N):
                             acc += F[r, k] * G[k, c]
                         J[i * ms + r, j * ms + c] = -acc
-        if has_mass:
-            # Omega F diag(w_i) E D: the weighted derivative term
-            ED = np.ascontiguousarray(E[:, :ms]) @ np.ascontiguousarray(D[:ms, :ms])
-            for k in range(N):
+        for r in range(ms):
+            for c in range(ms):
+                J[i * ms + r, i * ms + c] += omega * D[r, c]
+    return J
+
+
+@njit(cache=True)
+def _same(v):
+    """True when every entry of v equals the first."""
+    for k in range(1, v.shape[0]):
+        if v[k] != v[0]:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _assemble_weighted(A, omega, n, E, D, F, hs, W):
+    """dR/dX of the weighted form (see :func:`_assemble_jacobian`), the varying blocks
+    by matrix products."""
+    N = E.shape[0]
+    ms = 2 * hs + 1
+    Es = np.ascontiguousarray(E[:, :ms])
+    Ds = np.ascontiguousarray(D[:ms, :ms])
+    Fs = np.ascontiguousarray(F[:ms])
+    ED = Es @ Ds
+    J = np.zeros((n * ms, n * ms))
+    G = np.empty((N, ms))
+    for i in range(n):
+        for j in range(n):
+            a = np.ascontiguousarray(A[i, j])
+            const = _same(a)
+            if i == j and const and _same(W[i]):
+                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = omega * W[i, 0] * Ds
                 for c in range(ms):
-                    G[k, c] = W[i, k] * ED[k, c]
-            for r in range(ms):
+                    J[i * ms + c, j * ms + c] -= a[0]
+            elif i == j:
+                for k in range(N):
+                    for c in range(ms):
+                        G[k, c] = omega * W[i, k] * ED[k, c] - a[k] * Es[k, c]
+                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = Fs @ G
+            elif const:
                 for c in range(ms):
-                    acc = 0.0
-                    for k in range(N):
-                        acc += F[r, k] * G[k, c]
-                    J[i * ms + r, i * ms + c] += omega * acc
-        else:
-            for r in range(ms):
-                for c in range(ms):
-                    J[i * ms + r, i * ms + c] += omega * D[r, c]
+                    J[i * ms + c, j * ms + c] = -a[0]
+            else:
+                for k in range(N):
+                    for c in range(ms):
+                        G[k, c] = -a[k] * Es[k, c]
+                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = Fs @ G
     return J
 
 
