@@ -551,7 +551,7 @@ def synthesize_command(
         int | None,
         typer.Option(help="Independent differential evolutions (default 3; 10 for degree 3)."),
     ] = None,
-    seed: Annotated[int, typer.Option(help="Seed of the first evolution.")] = 0,
+    seed: Annotated[int, seed_option("Seed of the first evolution [-].")] = 0,
     compare: Annotated[
         bool,
         typer.Option(

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
-from ..errors import ParameterError, check_nonnegative, check_positive
+from ..errors import ParameterError, check_nonnegative, check_positive, check_seed
 from ..h2 import h2_rational
 from ..suspension.network_linear import MAXC, _car_polys, h2_squared_admittance
 from .positive_real import pr_from_parameters, pr_report
@@ -320,8 +320,9 @@ def synthesize(
         popsize = 12 if degree >= 3 else 20
     if maxiter is None:
         maxiter = 250 if degree >= 3 else 400
-    if int(starts) < 1:
-        raise ParameterError("starts", starts, "an integer >= 1")
+    if isinstance(starts, bool) or not isinstance(starts, int) or not 1 <= starts <= 100:
+        raise ParameterError("starts", starts, "an integer from 1 to 100")
+    check_seed("seed", seed, starts)  # every evolution's seed fits
     car = _car_dict(car)
     t0 = time.perf_counter()
     pb = _Problem(degree, objective, static_stiffness, car)
