@@ -244,7 +244,8 @@ def check_physical(name: str, value: Any, quantity: str, *, zero: bool = False) 
     The sign is checked by the caller (coordinates may be negative).
     """
     lo, hi, unit = PHYSICAL_RANGES[quantity]
-    valid = f"a {quantity} of magnitude {lo:g} to {hi:g} {unit}" + (" or 0" if zero else "")
+    article = "an" if quantity[0] in "aeiou" else "a"
+    valid = f"{article} {quantity} of magnitude {lo:g} to {hi:g} {unit}" + (" or 0" if zero else "")
     x = _as_float(name, value, valid)
     if x == 0.0 and zero:
         return x
