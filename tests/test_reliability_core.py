@@ -238,3 +238,35 @@ def test_cli_long_sine_is_refused_in_seconds(suspension, horizon):
     line = assert_user_error(res, "horizon", "max_steps")
     assert res.seconds < 20, res.seconds
     assert "integration steps" in line
+
+
+_CORE = [(net, f) for net in ("k | c", "k | (c - b)", "k | c | fric") for f in (2.0, 10.0)]
+
+
+@pytest.mark.parametrize("net, f", _CORE, ids=[f"{n}-{f:g}Hz" for n, f in _CORE])
+def test_model_core_sine_estimate_is_truthful_both_ways(net, f):
+    from inerterlab.excitation import sine
+    from inerterlab.simulate import sine_steps
+    from inerterlab.systems import quarter_car
+
+    params = {"k": 9e4, "c": 3e3, "b": 200.0, "fric": 50.0}
+    sys_ = quarter_car(net, {n: params[n] for n in params if n in net})
+    ex, T = sine(0.05, f), 100.0 / f
+    real = sys_.simulate(ex, T).stats["steps"]
+    est = sine_steps(lambda t: sys_.simulate(ex, t).stats["steps"], ex, T)
+    assert abs(est / real - 1.0) < 0.1, (est, real)
+    with pytest.raises(ParameterError, match="measured over its first 20 periods"):
+        sys_.simulate(ex, T, max_steps=int(0.8 * real))
+    assert sys_.simulate(ex, T, max_steps=int(1.2 * real) + 10).stats["steps"] == real
+
+
+@pytest.mark.parametrize("horizon", ["1e5", "1e6"])
+def test_cli_long_sine_on_the_model_core_is_refused_in_seconds(horizon):
+    res = run_capped(
+        ["simulate", "--network", "k | c", "-p", "k=90000", "-p", "c=1000",
+         "--input", "sine", "--horizon", horizon],
+        seconds=30,
+        memory_mb=1500,
+    )  # fmt: skip
+    assert_user_error(res, "horizon", "max_steps")
+    assert res.seconds < 20, res.seconds

@@ -679,15 +679,56 @@ _PILOT_PERIODS = 10
 def _sine_steps(
     model: QuarterCar, excitation: Excitation, horizon: float, options, want_series: bool
 ) -> float:
-    """Steps the numba backend takes for a sine up to ``horizon``, measured: the steps
-    of the first 2 N periods plus the rate of the second N (the settled periodic motion,
-    whose step pattern repeats every period) over the rest of the horizon. Measured
-    within 10 % of the real count (tests/test_reliability_core.py)."""
-    period = 1.0 / float(excitation.frequency)
-    t1 = _PILOT_PERIODS * period
-    s1 = _run_numba(model, excitation, t1, options, want_series).stats["steps"]
-    s2 = _run_numba(model, excitation, 2 * t1, options, want_series).stats["steps"]
+    """Steps the numba backend takes for a sine up to ``horizon`` (:func:`sine_steps`)."""
+    return sine_steps(
+        lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+        excitation,
+        horizon,
+    )
+
+
+def sine_steps(steps_to, excitation: Excitation, horizon: float) -> float:
+    """Steps an integrator takes for a sine up to ``horizon``, measured: the steps
+    ``steps_to(t)`` of the first 2 N periods plus the rate of the second N (the settled
+    periodic motion, whose step pattern repeats every period) over the rest of the
+    horizon. Within 5 % of the real count of both engines (tests/test_reliability_core.py)."""
+    t1 = _PILOT_PERIODS / float(excitation.frequency)
+    s1 = steps_to(t1)
+    s2 = steps_to(2 * t1)
     return s2 + max(s2 - s1, 1) / t1 * (horizon - 2 * t1)
+
+
+def check_sine_steps(steps_to, excitation, horizon: float, rtol: float, max_steps: int) -> None:
+    """Refuse a long sine whose measured step estimate (:func:`sine_steps`) passes
+    ``max_steps``; a short one (below :data:`_PILOT_FRACTION` of the budget by the lower
+    bound of four steps per period, or within 2 N periods) is not measured."""
+    from .excitation import Sine
+
+    if not isinstance(excitation, Sine):
+        return
+    need = _minimum_steps(excitation, horizon)
+    if need > max_steps:
+        raise ParameterError(
+            "horizon",
+            horizon,
+            f"at most {horizon * max_steps / need:.3g} s for this input: it needs at least "
+            f"{need:.3g} integration steps (four per sine period), the step budget is "
+            f"max_steps={max_steps}",
+        )
+    if need < _PILOT_FRACTION * max_steps:
+        return
+    if horizon <= 2 * _PILOT_PERIODS / float(excitation.frequency):
+        return
+    est = sine_steps(steps_to, excitation, horizon)
+    if est > max_steps:
+        raise ParameterError(
+            "horizon",
+            horizon,
+            f"at most {horizon * max_steps / est:.3g} s for this sine and "
+            f"rtol={rtol:g}: it needs about {est:.3g} integration steps "
+            f"(measured over its first {2 * _PILOT_PERIODS} periods), the step budget "
+            f"is max_steps={max_steps}",
+        )
 
 
 def _check_step_budget(
@@ -696,26 +737,17 @@ def _check_step_budget(
     """Refuse up front a run whose step count must exceed ``options.max_steps``: by a
     lower bound (one step per road segment, four per sine period) and, for a long sine
     on the numba backend, by a measured estimate (:func:`_sine_steps`)."""
-    from .excitation import ISO8608Road, Sine
+    from .excitation import ISO8608Road
 
+    if options.backend == "numba":
+        check_sine_steps(
+            lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+            excitation,
+            horizon,
+            options.rtol,
+            options.max_steps,
+        )
     need = _minimum_steps(excitation, horizon)
-    if (
-        need <= options.max_steps
-        and isinstance(excitation, Sine)
-        and options.backend == "numba"
-        and need >= _PILOT_FRACTION * options.max_steps
-        and horizon > 2 * _PILOT_PERIODS / float(excitation.frequency)
-    ):
-        est = _sine_steps(model, excitation, horizon, options, want_series)
-        if est > options.max_steps:
-            raise ParameterError(
-                "horizon",
-                horizon,
-                f"at most {horizon * options.max_steps / est:.3g} s for this sine and "
-                f"rtol={options.rtol:g}: it needs about {est:.3g} integration steps "
-                f"(measured over its first {2 * _PILOT_PERIODS} periods), the step budget "
-                f"is max_steps={options.max_steps}",
-            )
     if need > options.max_steps:
         at = (
             f" at speed={float(excitation.speed):g} m/s (or a lower speed)"
