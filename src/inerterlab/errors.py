@@ -229,6 +229,11 @@ PHYSICAL_RANGES: dict[str, tuple[float, float, str]] = {
     "damping": (1e-3, 1e10, "N s/m"),
     "acceleration": (1e-3, 1e3, "m/s^2"),
     "force": (1e-6, 1e9, "N"),
+    "velocity": (1e-9, 1e3, "m/s"),
+    "area": (1e-12, 1e3, "m^2"),
+    "density": (1e-3, 1e5, "kg/m^3"),
+    "transmission ratio": (1e-3, 1e7, "rad/m"),
+    "quadratic damping": (1e-3, 1e10, "N s^2/m^2"),
 }
 
 
@@ -239,7 +244,8 @@ def check_physical(name: str, value: Any, quantity: str, *, zero: bool = False) 
     The sign is checked by the caller (coordinates may be negative).
     """
     lo, hi, unit = PHYSICAL_RANGES[quantity]
-    valid = f"a {quantity} of magnitude {lo:g} to {hi:g} {unit}" + (" or 0" if zero else "")
+    article = "an" if quantity[0] in "aeiou" else "a"
+    valid = f"{article} {quantity} of magnitude {lo:g} to {hi:g} {unit}" + (" or 0" if zero else "")
     x = _as_float(name, value, valid)
     if x == 0.0 and zero:
         return x

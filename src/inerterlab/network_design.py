@@ -34,7 +34,7 @@ import numpy as np
 
 from .errors import PHYSICAL_RANGES, ParameterError, check_physical, check_seed, shorten
 from .h2 import h2_rational, h2_rational_gradient
-from .networks import NetworkError, enumerate_networks, linearise, parse_network
+from .networks import MAX_LAYOUTS, NetworkError, enumerate_networks, linearise, parse_network
 from .suspension.network_linear import (
     _QUANTITY,
     MAXC,
@@ -53,6 +53,7 @@ __all__ = [
     "optimize_network",
     "check_settings",
     "count_layouts",
+    "check_budget",
     "optimize_all",
     "pareto_front",
     "reference_norms",
@@ -766,10 +767,13 @@ def optimize_all(
     inerters: int = 1,
     springs: int = 2,
     objective: str = "body_acc",
+    *,
+    max_layouts: int = MAX_LAYOUTS,
     **kw,
 ) -> list[OptimizationResult]:
-    """:func:`optimize_network` for every network of :func:`enumerate_networks`."""
-    nets = enumerate_networks(dampers, inerters, springs)
+    """:func:`optimize_network` for every network of :func:`enumerate_networks` (a
+    budget of at most ``max_layouts`` candidate layouts)."""
+    nets = enumerate_networks(dampers, inerters, springs, max_layouts=max_layouts)
     return [optimize_network(n, objective, **kw) for n in nets]
 
 
@@ -930,6 +934,48 @@ def _set_times(poly: dict, part: tuple, box: tuple) -> dict:
 def _coefficient(n: tuple, f: dict, g: dict) -> int:
     """Coefficient of x^n in the product f g."""
     return sum(v * g.get(tuple(a - b for a, b in zip(n, k, strict=True)), 0) for k, v in f.items())
+
+
+#: bytes of memory per series-parallel tree the enumeration builds (nested tuples)
+_TREE_BYTES = 800
+
+
+def check_budget(
+    dampers: int, inerters: int, springs: int, max_layouts: int = MAX_LAYOUTS, *, cli=False
+) -> dict:
+    """Count the layouts of a budget before building them (:func:`count_layouts`) and
+    refuse a budget with more than ``max_layouts`` candidates or whose trees do not fit
+    in memory: the one rule of :func:`~inerterlab.networks.enumerate_networks` and of
+    the command line (``cli=True`` spells the options as ``--dampers ...``)."""
+    from .resources import check_memory
+
+    limit_name = "max-layouts" if cli else "max_layouts"
+    if isinstance(max_layouts, bool) or not isinstance(max_layouts, numbers.Integral):
+        raise ParameterError(limit_name, max_layouts, "an integer >= 1")
+    if max_layouts < 1:
+        raise ParameterError(limit_name, max_layouts, "an integer >= 1")
+    n = count_layouts(dampers, inerters, springs)
+    if cli:
+        opts = f"--dampers {dampers} --inerters {inerters} --springs {springs}"
+        limit = f"--max-layouts={max_layouts}"
+    else:
+        opts = f"dampers={dampers}, inerters={inerters}, springs={springs}"
+        limit = f"max_layouts={max_layouts}"
+    if n["candidates"] > max_layouts:
+        raise ParameterError(
+            "dampers/inerters/springs",
+            opts,
+            f"a budget of at most {limit} candidate layouts: this one has "
+            f"{n['candidates']:.4g} (before equal families are merged); lower the budget or "
+            f"raise {limit.split('=')[0]}",
+        )
+    check_memory(
+        n["trees"] * _TREE_BYTES / 8,
+        what=f"enumeration ({n['trees']:.4g} series-parallel trees)",
+        parameter="dampers/inerters/springs",
+        value=opts,
+    )
+    return n
 
 
 def count_layouts(dampers: int = 1, inerters: int = 1, springs: int = 2) -> dict:

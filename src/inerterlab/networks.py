@@ -49,6 +49,7 @@ __all__ = [
     "parse_network",
     "admittance",
     "enumerate_networks",
+    "MAX_LAYOUTS",
     "same_family",
     "substitute",
     "linearise",
@@ -615,6 +616,11 @@ def _count(key: tuple) -> Counter:
     return c
 
 
+#: default limit of candidate layouts of one budget (``max_layouts``, the command line's
+#: --max-layouts): the default budget has 19 candidates, (2, 1, 2) has 93
+MAX_LAYOUTS = 100
+
+
 def enumerate_networks(
     dampers: int = 1,
     inerters: int = 1,
@@ -622,6 +628,7 @@ def enumerate_networks(
     *,
     main_spring: bool = True,
     merge_equivalent: bool = True,
+    max_layouts: int = MAX_LAYOUTS,
 ) -> list[Network]:
     """Every distinct series-parallel network within a budget of elements.
 
@@ -651,12 +658,18 @@ def enumerate_networks(
 
     Examples
     --------
+    The work is bounded before it starts: a budget with more than ``max_layouts``
+    candidate layouts (:func:`inerterlab.network_design.count_layouts`, counted without
+    building them; :data:`MAX_LAYOUTS` by default) or
+    whose trees would not fit in memory is refused with a :class:`ParameterError`;
+    raise ``max_layouts`` to run a larger budget on purpose.
+
     >>> [n.text for n in enumerate_networks(1, 1, 0)]
     ['k | c', 'k | b', 'k | (c - b)', 'k | c | b']
     """
-    for nm, v in (("dampers", dampers), ("inerters", inerters), ("springs", springs)):
-        if not isinstance(v, int | np.integer) or v < 0 or v > 4:
-            raise NetworkError(f"invalid {nm}={v!r}: expected an integer 0-4")
+    from .network_design import check_budget
+
+    check_budget(dampers, inerters, springs, max_layouts)
     keys: list[tuple] = []
     for total in range(1, springs + dampers + inerters + 1):
         level = []

@@ -669,10 +669,84 @@ def _minimum_steps(excitation: Excitation, horizon: float) -> float:
     return float(np.count_nonzero(segs[:, 0] < horizon))
 
 
-def _check_step_budget(excitation: Excitation, horizon: float, options) -> None:
-    """Refuse up front a run whose step count must exceed ``options.max_steps``."""
+#: a long sine run (its lower bound of steps at least this fraction of max_steps) is
+#: measured by a pilot integration before it starts
+_PILOT_FRACTION = 2e-4
+#: periods of each of the pilot's two legs
+_PILOT_PERIODS = 10
+
+
+def _sine_steps(
+    model: QuarterCar, excitation: Excitation, horizon: float, options, want_series: bool
+) -> float:
+    """Steps the numba backend takes for a sine up to ``horizon`` (:func:`sine_steps`)."""
+    return sine_steps(
+        lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+        excitation,
+        horizon,
+    )
+
+
+def sine_steps(steps_to, excitation: Excitation, horizon: float) -> float:
+    """Steps an integrator takes for a sine up to ``horizon``, measured: the steps
+    ``steps_to(t)`` of the first 2 N periods plus the rate of the second N (the settled
+    periodic motion, whose step pattern repeats every period) over the rest of the
+    horizon. Within 5 % of the real count of both engines (tests/test_reliability_core.py)."""
+    t1 = _PILOT_PERIODS / float(excitation.frequency)
+    s1 = steps_to(t1)
+    s2 = steps_to(2 * t1)
+    return s2 + max(s2 - s1, 1) / t1 * (horizon - 2 * t1)
+
+
+def check_sine_steps(steps_to, excitation, horizon: float, rtol: float, max_steps: int) -> None:
+    """Refuse a long sine whose measured step estimate (:func:`sine_steps`) passes
+    ``max_steps``; a short one (below :data:`_PILOT_FRACTION` of the budget by the lower
+    bound of four steps per period, or within 2 N periods) is not measured."""
+    from .excitation import Sine
+
+    if not isinstance(excitation, Sine):
+        return
+    need = _minimum_steps(excitation, horizon)
+    if need > max_steps:
+        raise ParameterError(
+            "horizon",
+            horizon,
+            f"at most {horizon * max_steps / need:.3g} s for this input: it needs at least "
+            f"{need:.3g} integration steps (four per sine period), the step budget is "
+            f"max_steps={max_steps}",
+        )
+    if need < _PILOT_FRACTION * max_steps:
+        return
+    if horizon <= 2 * _PILOT_PERIODS / float(excitation.frequency):
+        return
+    est = sine_steps(steps_to, excitation, horizon)
+    if est > max_steps:
+        raise ParameterError(
+            "horizon",
+            horizon,
+            f"at most {horizon * max_steps / est:.3g} s for this sine and "
+            f"rtol={rtol:g}: it needs about {est:.3g} integration steps "
+            f"(measured over its first {2 * _PILOT_PERIODS} periods), the step budget "
+            f"is max_steps={max_steps}",
+        )
+
+
+def _check_step_budget(
+    model: QuarterCar, excitation: Excitation, horizon: float, options, want_series: bool
+) -> None:
+    """Refuse up front a run whose step count must exceed ``options.max_steps``: by a
+    lower bound (one step per road segment, four per sine period) and, for a long sine
+    on the numba backend, by a measured estimate (:func:`_sine_steps`)."""
     from .excitation import ISO8608Road
 
+    if options.backend == "numba":
+        check_sine_steps(
+            lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+            excitation,
+            horizon,
+            options.rtol,
+            options.max_steps,
+        )
     need = _minimum_steps(excitation, horizon)
     if need > options.max_steps:
         at = (
@@ -717,8 +791,8 @@ def simulate(
     SimulationResult
     """
     T = _check_inputs(model, excitation, horizon, options, output)
-    _check_step_budget(excitation, T, options)
     want = output == "series"
+    _check_step_budget(model, excitation, T, options, want)
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, want)
     kw: dict = {}
     if want:
@@ -758,6 +832,7 @@ def simulate_metrics(
 ) -> dict:
     """Metrics only (the fast path for sweeps): ``simulate(..., output="metrics").metrics()``."""
     T = _check_inputs(model, excitation, horizon, options, "metrics")
+    _check_step_budget(model, excitation, T, options, False)
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, False)
     return _metrics(model, excitation, run, T)
 

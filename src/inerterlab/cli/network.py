@@ -15,6 +15,7 @@ from typing import Annotated
 
 import typer
 
+from ..networks import MAX_LAYOUTS
 from ._common import atomic_savefig, atomic_write_text, emit_json, print_table, seed_option
 
 network_app = typer.Typer(
@@ -50,39 +51,14 @@ MaxLayouts = Annotated[
     ),
 ]
 
-#: default of --max-layouts: the default budget has 19 candidates, (2, 1, 2) has 93
-MAX_LAYOUTS = 100
-
-#: bytes of memory per series-parallel tree the enumeration builds (nested tuples)
-_TREE_BYTES = 800
-
-
 def _check_budget(dampers, inerters, springs, max_layouts: int, what: str) -> None:
-    """Count the layouts of a budget before building them; refuse beyond the limits."""
+    """The budget rule of :func:`~inerterlab.networks.enumerate_networks`, checked
+    before any work, then a note when the work is large."""
     import sys
 
-    from ..errors import ParameterError
-    from ..network_design import count_layouts
-    from ..resources import check_memory
+    from ..network_design import check_budget
 
-    if max_layouts < 1:
-        raise ParameterError("max-layouts", max_layouts, "an integer >= 1")
-    n = count_layouts(dampers, inerters, springs)
-    opts = f"--dampers {dampers} --inerters {inerters} --springs {springs}"
-    if n["candidates"] > max_layouts:
-        raise ParameterError(
-            "dampers/inerters/springs",
-            opts,
-            f"a budget of at most --max-layouts={max_layouts} candidate layouts: this one has "
-            f"{n['candidates']:.4g} (before equal families are merged); lower the budget or "
-            "raise --max-layouts",
-        )
-    check_memory(
-        n["trees"] * _TREE_BYTES / 8,
-        what=f"enumeration ({n['trees']:.4g} series-parallel trees)",
-        parameter="dampers/inerters/springs",
-        value=opts,
-    )
+    n = check_budget(dampers, inerters, springs, max_layouts, cli=True)
     if n["candidates"] > 20:
         print(
             f"inerterlab: note: {n['candidates']} candidate layouts to {what}; "
@@ -124,7 +100,9 @@ def enumerate_command(
     from ..networks import enumerate_networks
 
     _check_budget(dampers, inerters, springs, max_layouts, "list")
-    nets = enumerate_networks(dampers, inerters, springs, merge_equivalent=merge)
+    nets = enumerate_networks(
+        dampers, inerters, springs, merge_equivalent=merge, max_layouts=max_layouts
+    )
     out = [{"network": n.text, "parameters": list(n.names)} for n in nets]
     if json_out:
         emit_json(out)
@@ -271,7 +249,11 @@ def optimize_command(
         # every setting checked before the budget's note, so no note precedes an error
         check_settings(objective, weights=weight, starts=starts, seed=seed)
         _check_budget(dampers, inerters, springs, max_layouts, "optimise")
-    nets = [n.text for n in enumerate_networks(dampers, inerters, springs)] if all_ else [network]
+    nets = (
+        [n.text for n in enumerate_networks(dampers, inerters, springs, max_layouts=max_layouts)]
+        if all_
+        else [network]
+    )
     results = [
         optimize_network(
             n,

@@ -16,7 +16,7 @@ import functools
 import re
 
 from ..errors import NetworkError
-from ._base import ElementBase, Param
+from ._base import UNIT_QUANTITY, ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
 from .backlash import Backlash
 from .damper import Damper
@@ -32,6 +32,7 @@ __all__ = [
     "ELEMENTS",
     "ElementBase",
     "Param",
+    "UNIT_QUANTITY",
     "element_class",
     "register",
     "make_element",

@@ -17,9 +17,9 @@ from typing import Any, ClassVar
 
 import numpy as np
 
-from ..errors import ParameterError, check_choice, check_in_range
+from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_range, check_physical
 
-__all__ = ["Param", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL"]
+__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL"]
 
 #: floats per primitive element row in the compiled tables
 NPAR = 16
@@ -27,9 +27,34 @@ NPAR = 16
 SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 0, 1, 2, 3, 4
 
 
+#: the kind of physical quantity (a key of :data:`inerterlab.errors.PHYSICAL_RANGES`) of a
+#: parameter declared in each unit; a parameter in another unit (a dimensionless ratio
+#: with its own interval) has no physical range. The element registry's test requires
+#: every numeric parameter of every registered element to have one or a unit of "".
+UNIT_QUANTITY = {
+    "N/m": "stiffness",
+    "N s/m": "damping",
+    "N s^2/m^2": "quadratic damping",
+    "kg": "inertance",
+    "kg m^2": "inertia",
+    "kg/m^3": "density",
+    "m": "length",
+    "m^2": "area",
+    "m/s": "velocity",
+    "N": "force",
+    "rad/m": "transmission ratio",
+}
+assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
+
+
 @dataclass(frozen=True)
 class Param:
-    """One parameter: name, unit, valid interval (``low``, ``high``; open ends) or choices."""
+    """One parameter: name, unit, valid interval (``low``, ``high``; open ends) or choices.
+
+    A numeric parameter whose unit names a physical quantity (:data:`UNIT_QUANTITY`) must
+    also lie in that quantity's physical range (:func:`inerterlab.errors.check_physical`;
+    0 stays allowed where the interval is closed at 0): the one check of every element
+    parameter, whichever command or function builds the element."""
 
     name: str
     unit: str = ""
@@ -52,7 +77,7 @@ class Param:
                 if isinstance(value, AdaptiveFlywheel):
                     return value
             return check_choice(self.name, value, self.choices)
-        return check_in_range(
+        x = check_in_range(
             self.name,
             value,
             self.low,
@@ -61,6 +86,14 @@ class Param:
             high_open=True,
             unit=self.unit,
         )
+        if self.quantity is not None:
+            check_physical(self.name, x, self.quantity, zero=self.low == 0 and not self.low_open)
+        return x
+
+    @property
+    def quantity(self) -> str | None:
+        """The kind of physical quantity whose range applies, or None."""
+        return None if self.choices is not None else UNIT_QUANTITY.get(self.unit)
 
 
 class ElementBase:

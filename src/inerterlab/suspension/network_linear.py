@@ -41,12 +41,14 @@ from dataclasses import dataclass, field
 import numba as nb
 import numpy as np
 
+from ..elements import ELEMENTS
 from ..errors import check_nonnegative, check_physical, check_positive
 from ..h2 import h2_rational, hurwitz
 from ..networks import Network, NetworkError, parse_network
 
-#: the kind of quantity of each element's parameter (for its physical range)
-_QUANTITY = {"k": "stiffness", "c": "damping", "b": "inertance"}
+#: the kind of quantity of each linear element's parameter (for its physical range), as
+#: the element declares it (:attr:`inerterlab.elements.Param.quantity`)
+_QUANTITY = {p: ELEMENTS[p].PARAMETERS[0].quantity for p in ("k", "c", "b")}
 
 __all__ = [
     "OUTPUTS",

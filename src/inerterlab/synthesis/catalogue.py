@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..networks import Element, admittance, enumerate_networks, parse_network
+from ..networks import MAX_LAYOUTS, Element, admittance, enumerate_networks, parse_network
 
 __all__ = ["fit_catalogue", "catalogue_layouts"]
 
@@ -27,7 +27,12 @@ _KIND = {"k": "spring", "c": "damper", "b": "inerter"}
 def catalogue_layouts(dampers: int = 2, inerters: int = 2, springs: int = 2) -> list[str]:
     """Sub-network texts N of the layouts ``k | (N)``, fewest elements first."""
     subs = []
-    for net in enumerate_networks(dampers, inerters, springs, merge_equivalent=False):
+    # without merging, listing is fast: the default budget's 556 candidates take well
+    # under a second, so the catalogue allows ten times the default limit
+    nets = enumerate_networks(
+        dampers, inerters, springs, merge_equivalent=False, max_layouts=10 * MAX_LAYOUTS
+    )
+    for net in nets:
         tree = net.tree
         parts = [p for p in tree.parts if not (isinstance(p, Element) and p.name == "k")]
         if len(parts) == 1:

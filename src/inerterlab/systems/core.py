@@ -777,6 +777,14 @@ def _simulate(
     if method not in ("auto", "adaptive", "exact"):
         raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
     excitation.check_horizon(T, stacklevel=3)
+    if times is None and x0 is None:
+        from ..simulate import check_sine_steps
+
+        def steps_to(t):  # the same run over the first periods (not measured again)
+            res = _simulate(sys, excitation, t, rtol, sample_rate, method, max_steps, None)
+            return res.stats.get("steps", 0) if res.method == "adaptive" else 0
+
+        check_sine_steps(steps_to, excitation, T, r, int(max_steps))
     segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
     x1 = float(excitation.initial_road(T))
     if x0 is None:
