@@ -28,6 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import check_choice
+from . import _kernels
 
 __all__ = ["SteadyState", "steady_state", "floquet_multipliers", "acceleration"]
 
@@ -106,68 +107,14 @@ def steady_state(
     y0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
     scale = float(getattr(system, "displacement_scale", 1.0))
     if backend == "numba" and hasattr(system, "kernel"):
+        sys_id, p = system.kernel()
         nst = _steps(system, omega, steps_per_period)
-        return _steady_state_rk4(system, float(omega), y0, nst, rtol, max_periods, keep_periods)
+        amp, ok, periods, y, dist = _kernels.brute_point(
+            sys_id, p, float(omega), y0, nst, rtol, max_periods, keep_periods, scale
+        )
+        _, xs = _kernels.integrate_period(sys_id, p, float(omega), y, nst, True)
+        return SteadyState(float(amp), bool(ok), int(periods), y, float(dist), xs[:-1])
     return _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scale)
-
-
-def _settle(one_period, y0, n, omega, scale, rtol, max_periods, keep_periods):
-    """Integrate period by period (``one_period(y) -> (end state, x samples)``) until
-    the periodic orbit settles.
-
-    After each period the change of the state at the period start (velocities scaled
-    by 1/Omega), relative to max(max|x|, scale), is d_k. The contraction per period
-    rho = d_k / d_(k-1) gives the remaining distance to the periodic orbit,
-    d_k rho / (1 - rho); the orbit is settled when that estimate and d_k are below
-    ``rtol`` for ``keep_periods`` consecutive periods, and the amplitude is taken
-    over those periods. Returns (amplitude, settled, periods, end state, distance,
-    samples of the last period).
-    """
-    y = np.asarray(y0, dtype=float).copy()
-    calm, prev, dist = 0, np.inf, np.inf
-    hi, lo = -np.inf, np.inf
-    x = None
-    for k in range(max_periods):
-        yn, x = one_period(y)
-        size = max(float(np.max(np.abs(x))), scale)
-        change = max(np.max(np.abs(yn[:n] - y[:n])), np.max(np.abs(yn[n:] - y[n:])) / omega)
-        change /= size
-        rho = change / prev if prev > 0.0 else 0.0
-        prev = change
-        dist = max(change * rho / (1.0 - rho) if rho < 0.999 else np.inf, change)
-        y = yn
-        if dist < rtol:
-            calm += 1
-        else:
-            calm, hi, lo = 0, -np.inf, np.inf
-        hi, lo = max(hi, float(x.max())), min(lo, float(x.min()))
-        if calm >= keep_periods:
-            return 0.5 * (hi - lo), True, k + 1, y, float(dist), x
-    return 0.5 * (hi - lo), False, max_periods, y, float(dist), x
-
-
-def _steady_state_rk4(system, omega, y0, n_steps, rtol, max_periods, keep_periods):
-    """RK4 of the system's first-order form (the harmonic balance's right-hand side),
-    period by period, to the settled orbit; the samples are those of one more period."""
-    from .first_order import kernel, system_functions
-
-    form = system.first_order()
-    period = kernel("_rk4_period")
-    fns = system_functions(form)
-    args = (form.int_table, form.float_table, 2, 2)
-    scale = float(getattr(system, "displacement_scale", 1.0))
-    xs = np.empty((2, n_steps))
-
-    def one_period(y):
-        yn = period(*fns, *args, np.ascontiguousarray(y, dtype=float), omega, 1.0, n_steps, xs)
-        # the samples of x at the step starts and the period's end
-        return yn, np.append(xs[0], yn[0])
-
-    amp, ok, periods, y, dist, _ = _settle(
-        one_period, y0, 1, omega, scale, rtol, max_periods, keep_periods
-    )
-    _, x = one_period(y)
-    return SteadyState(amp, ok, periods, y, dist, x[:-1])
 
 
 def _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scale):
@@ -176,22 +123,37 @@ def _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scal
     n = int(system.n_dof)
     dof = int(getattr(system, "response_dof", 0))
     period = 2.0 * math.pi / omega
-    grid = np.linspace(0.0, period, 4001)
 
     def rhs(t, y):
         return np.concatenate([y[n:], acceleration(system, t, omega, y[:n], y[n:])])
 
-    def one_period(y):
+    y = y0.copy()
+    calm, prev, dist = 0, np.inf, np.inf
+    hi, lo = -np.inf, np.inf
+    grid = np.linspace(0.0, period, 4001)
+    xs = None
+    for k in range(max_periods):
         sol = solve_ivp(
             rhs, (0.0, period), y, method="DOP853", rtol=1e-10, atol=1e-12 * scale,
             dense_output=True,
         )  # fmt: skip
-        return sol.y[:, -1], sol.sol(grid)[dof]
-
-    amp, ok, periods, y, dist, xs = _settle(
-        one_period, y0, n, omega, scale, rtol, max_periods, keep_periods
-    )
-    return SteadyState(amp, ok, periods, y, dist, xs[:-1])
+        xs = sol.sol(grid)[dof]
+        yn = sol.y[:, -1]
+        size = max(np.max(np.abs(xs)), scale)
+        change = max(np.max(np.abs(yn[:n] - y[:n])), np.max(np.abs(yn[n:] - y[n:])) / omega)
+        change /= size
+        rho = change / prev if prev > 0 else 0.0
+        prev = change
+        dist = max(change * rho / (1.0 - rho) if rho < 0.999 else np.inf, change)
+        y = yn
+        if dist < rtol:
+            calm += 1
+        else:
+            calm, hi, lo = 0, -np.inf, np.inf
+        hi, lo = max(hi, xs.max()), min(lo, xs.min())
+        if calm >= keep_periods:
+            return SteadyState(0.5 * (hi - lo), True, k + 1, y, dist, xs[:-1])
+    return SteadyState(0.5 * (hi - lo), False, max_periods, y, dist, xs[:-1])
 
 
 def floquet_multipliers(system, omega: float, state0, *, rtol: float = 1e-11) -> np.ndarray:

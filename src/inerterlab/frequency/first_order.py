@@ -15,15 +15,12 @@ A system here is any object with
     Its parameters (int64 and float64 vectors, contiguous).
 ``work_size`` (optional, default n), ``state_scales`` (optional: typical magnitude of
     each state, for the finite-difference steps), ``jacobian`` (optional: a compiled
-    ``jacobian(t, x, road, int_table, float_table, out)`` writing df/dx, n x n, and
-    with ``mass`` also dw/dx below it, 2n x n),
+    ``jacobian(t, x, road, int_table, float_table, out)`` writing df/dx, n x n),
     ``rest_state`` or ``initial_state()`` (optional, the cold start),
-    ``nonlinearity_degree`` (aliasing rule), ``mass`` (optional: a compiled function of
-    the signature of ``rhs`` writing positive weights w_i(t, x) of the weighted form
-    w_i x_i' = f_i; without it w = 1).
+    ``nonlinearity_degree`` (aliasing rule).
 
-The input is a sine of amplitude A: u = [A sin(tau), A Omega cos(tau), -A Omega^2 sin(tau),
-Omega], tau = Omega t (the last entry lets a system carry its own forcing of phase tau). Every state is a truncated Fourier series,
+The input is a sine of amplitude A: u = [A sin(tau), A Omega cos(tau), -A Omega^2 sin(tau)],
+tau = Omega t. Every state is a truncated Fourier series,
 x_i(tau) = a0 + sum_h a_h cos(h tau) + b_h sin(h tau), stored state by state as
 X = [X_1, ..., X_n], X_i = [a0, a1, b1, ..., aH, bH]. The residual is
 
@@ -35,11 +32,7 @@ the harmonics; its Jacobian is exact up to the state Jacobian df/dx at the sampl
     dR_i/dX_j = Omega D delta_ij - F diag(df_i/dx_j (tau_k)) E,
 
 where df/dx comes from ``jacobian`` or, without it, from central differences of
-``rhs`` at each sample (step 1e-6 of the state's size). With weights the residual is
-R_i = F (w_i x_i' - f_i) at the samples and the Jacobian gains the terms of w (its
-state derivatives by central differences): the balance of a second-order system
-m(x, x') x'' + g = 0 written as x' = v, m v' = -g is then exactly the balance of its
-residual (the built-in systems, :mod:`inerterlab.frequency.systems`). Newton with a backtracking line
+``rhs`` at each sample (step 1e-6 of the state's size). Newton with a backtracking line
 search on ||R|| solves it; the scanning and continuation drivers of
 :mod:`inerterlab.frequency.response` run unchanged on this engine.
 
@@ -49,8 +42,7 @@ of -dR/dX. Each true exponent appears with copies shifted by multiples of i Omeg
 n eigenvalues nearest the real axis are taken as the exponents (one copy of each) and
 the largest real part decides stability. The exponents converge with far fewer
 harmonics than the response, so the Hill matrix may be restricted to the harmonics
-0..H_s of every state (docs/model.md §7). With weights the exponents are the
-eigenvalues of -(F W E)^-1 dR/dX.
+0..H_s of every state (docs/model.md §7).
 
 The right-hand side is handed to the compiled kernels as a first-class function of a
 fixed signature (:data:`RHS_SIGNATURE`), so the kernels compile once and are cached on
@@ -111,7 +103,6 @@ def _road(amp, omega, tau, road):
     road[0] = amp * s
     road[1] = amp * omega * math.cos(tau)
     road[2] = -amp * omega * omega * s
-    road[3] = omega
 
 
 @njit(cache=True)
@@ -125,105 +116,29 @@ def _state_samples(X, n, ET):
 
 
 @njit(cache=True)
-def _rhs_samples(rhs, mass, has_mass, itab, ftab, work, n, xs, omega, amp, tau):
+def _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau):
     """f(t_k, x(tau_k), u(tau_k)) for every sample, shape (n, N)."""
-    return _weights(rhs, itab, ftab, work, n, xs, omega, amp, tau)
-
-
-@njit(cache=True)
-def _weights(mass, itab, ftab, work, n, xs, omega, amp, tau):
-    """The weights w_i(t_k, x(tau_k)) of the derivatives (or with ``rhs`` in place of
-    ``mass``, f) at every sample, shape (n, N); NaN where the function fails."""
     N = tau.shape[0]
     x = np.zeros(work)
     out = np.zeros(work)
-    road = np.empty(4)
-    W = np.empty((n, N))
+    road = np.empty(3)
+    f = np.empty((n, N))
     for k in range(N):
         for i in range(n):
             x[i] = xs[i, k]
         _road(amp, omega, tau[k], road)
-        good = mass(tau[k] / omega, x, road, itab, ftab, out)
-        for i in range(n):
-            W[i, k] = out[i] if good else np.nan
-    return W
-
-
-@njit(cache=True)
-def _weights_and_derivative(mass, itab, ftab, work, n, xs, omega, amp, tau, scales):
-    """w at the samples (n, N) and dw_i/dx_j at the samples (n, n, N), central differences."""
-    N = tau.shape[0]
-    x = np.zeros(work)
-    outp = np.zeros(work)
-    outm = np.zeros(work)
-    road = np.empty(4)
-    W = _weights(mass, itab, ftab, work, n, xs, omega, amp, tau)
-    dW = np.empty((n, n, N))
-    for k in range(N):
-        for i in range(n):
-            x[i] = xs[i, k]
-        _road(amp, omega, tau[k], road)
-        t = tau[k] / omega
-        for j in range(n):
-            xj = x[j]
-            h = FD_STEP * max(abs(xj), scales[j])
-            x[j] = xj + h
-            mass(t, x, road, itab, ftab, outp)
-            x[j] = xj - h
-            mass(t, x, road, itab, ftab, outm)
-            x[j] = xj
+        if rhs(tau[k] / omega, x, road, itab, ftab, out):
             for i in range(n):
-                dW[i, j, k] = (outp[i] - outm[i]) / (2.0 * h)
-    return W, dW
-
-
-@njit(cache=True)
-def _weight_terms(jac, has_jac, mass, itab, ftab, work, n, xs, omega, amp, tau, scales):
-    """w and dw/dx at the samples: from ``jac`` (rows n..2n-1) when the system has one,
-    else by central differences."""
-    if not has_jac:
-        return _weights_and_derivative(mass, itab, ftab, work, n, xs, omega, amp, tau, scales)
-    N = tau.shape[0]
-    x = np.zeros(work)
-    road = np.empty(4)
-    Jk = np.zeros((2 * n, n))
-    W = _weights(mass, itab, ftab, work, n, xs, omega, amp, tau)
-    dW = np.empty((n, n, N))
-    for k in range(N):
-        for i in range(n):
-            x[i] = xs[i, k]
-        _road(amp, omega, tau[k], road)
-        jac(tau[k] / omega, x, road, itab, ftab, Jk)
-        for i in range(n):
-            for j in range(n):
-                dW[i, j, k] = Jk[n + i, j]
-    return W, dW
-
-
-@njit(cache=True)
-def _derivative_samples(X, omega, n, D, ET):
-    """x_i'(tau_k) = Omega (D X_i)(tau_k) from the coefficients, shape (n, N)."""
-    m, N = ET.shape
-    xd = np.empty((n, N))
-    for i in range(n):
-        xd[i] = omega * (D @ X[i * m : (i + 1) * m]) @ ET
-    return xd
-
-
-@njit(cache=True)
-def _project_weighted(X, omega, f, W, n, D, ET, F):
-    """R_i = F (w_i x_i' - f_i) at the samples (the weighted form W(t, x) x' = f)."""
-    m = D.shape[0]
-    xd = _derivative_samples(X, omega, n, D, ET)
-    R = np.empty(n * m)
-    for i in range(n):
-        R[i * m : (i + 1) * m] = F @ (W[i] * xd[i] - f[i])
-    return R
+                f[i, k] = out[i]
+        else:
+            for i in range(n):
+                f[i, k] = np.nan
+    return f
 
 
 @njit(cache=True)
 def _rhs_and_jacobian(
-    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, xs, omega, amp, tau, scales, central=True
+    rhs, jac, has_jac, itab, ftab, work, n, xs, omega, amp, tau, scales, central=True
 ):  # fmt: skip
     """f at the samples (n, N) and df/dx at the samples (n, n, N) (central or forward
     differences without an analytic Jacobian)."""
@@ -231,10 +146,10 @@ def _rhs_and_jacobian(
     x = np.zeros(work)
     out = np.zeros(work)
     outp = np.zeros(work)
-    road = np.empty(4)
+    road = np.empty(3)
     f = np.empty((n, N))
     A = np.empty((n, n, N))
-    Jk = np.zeros((2 * n if has_mass else n, n))  # with weights: rows n..2n-1 hold dw/dx
+    Jk = np.zeros((n, n))
     for k in range(N):
         for i in range(n):
             x[i] = xs[i, k]
@@ -277,15 +192,11 @@ def _project_residual(X, omega, f, n, D, F):
 
 
 @njit(cache=True)
-def _assemble_jacobian(A, omega, n, E, D, F, hs, W, has_mass):
+def _assemble_jacobian(A, omega, n, E, D, F, hs):
     """dR/dX restricted to the harmonics 0..hs of every state (hs = H: the full matrix).
 
     Block (i, j) is Omega D delta_ij - F diag(A_ij) E; a block whose A_ij is the same at
-    every sample is -A_ij times the identity (F E = I). With weights W the diagonal
-    blocks are Omega F diag(w_i) E D - F diag(A_ii) E (Omega w_i D - A_ii I when both
-    are the same at every sample)."""
-    if has_mass:
-        return _assemble_weighted(A, omega, n, E, D, F, hs, W)
+    every sample is -A_ij times the identity (F E = I)."""
     N, m = E.shape
     ms = 2 * hs + 1
     J = np.zeros((n * ms, n * ms))
@@ -320,90 +231,22 @@ def _assemble_jacobian(A, omega, n, E, D, F, hs, W, has_mass):
 
 
 @njit(cache=True)
-def _same(v):
-    """True when every entry of v equals the first."""
-    for k in range(1, v.shape[0]):
-        if v[k] != v[0]:
-            return False
-    return True
-
-
-@njit(cache=True)
-def _assemble_weighted(A, omega, n, E, D, F, hs, W):
-    """dR/dX of the weighted form (see :func:`_assemble_jacobian`), the varying blocks
-    by matrix products."""
-    N = E.shape[0]
-    ms = 2 * hs + 1
-    Es = np.ascontiguousarray(E[:, :ms])
-    Ds = np.ascontiguousarray(D[:ms, :ms])
-    Fs = np.ascontiguousarray(F[:ms])
-    ED = Es @ Ds
-    J = np.zeros((n * ms, n * ms))
-    G = np.empty((N, ms))
-    for i in range(n):
-        for j in range(n):
-            a = np.ascontiguousarray(A[i, j])
-            const = _same(a)
-            if i == j and const and _same(W[i]):
-                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = omega * W[i, 0] * Ds
-                for c in range(ms):
-                    J[i * ms + c, j * ms + c] -= a[0]
-            elif i == j:
-                for k in range(N):
-                    for c in range(ms):
-                        G[k, c] = omega * W[i, k] * ED[k, c] - a[k] * Es[k, c]
-                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = Fs @ G
-            elif const:
-                for c in range(ms):
-                    J[i * ms + c, j * ms + c] = -a[0]
-            else:
-                for k in range(N):
-                    for c in range(ms):
-                        G[k, c] = -a[k] * Es[k, c]
-                J[i * ms : (i + 1) * ms, j * ms : (j + 1) * ms] = Fs @ G
-    return J
-
-
-@njit(cache=True)
-def fo_residual(rhs, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, ET, D, F):
+def fo_residual(rhs, itab, ftab, work, n, X, omega, amp, tau, ET, D, F):
     """R(X) at Omega."""
     xs = _state_samples(X, n, ET)
-    f = _rhs_samples(rhs, mass, has_mass, itab, ftab, work, n, xs, omega, amp, tau)
-    if has_mass:
-        W = _weights(mass, itab, ftab, work, n, xs, omega, amp, tau)
-        return _project_weighted(X, omega, f, W, n, D, ET, F)
+    f = _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau)
     return _project_residual(X, omega, f, n, D, F)
 
 
 @njit(cache=True)
 def fo_residual_jacobian(
-    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F, scales
+    rhs, jac, has_jac, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F, scales
 ):
     """R(X) and dR/dX at Omega."""
     xs = _state_samples(X, n, ET)
-    f, A = _rhs_and_jacobian(
-        rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, xs, omega, amp, tau, scales
-    )
+    f, A = _rhs_and_jacobian(rhs, jac, has_jac, itab, ftab, work, n, xs, omega, amp, tau, scales)
     hh = (E.shape[1] - 1) // 2
-    if has_mass:
-        W, dW = _weight_terms(jac, has_jac, mass, itab, ftab, work, n, xs, omega, amp, tau, scales)
-        _eff_jacobian(A, W, dW, _derivative_samples(X, omega, n, D, ET))
-        R = _project_weighted(X, omega, f, W, n, D, ET, F)
-        return R, _assemble_jacobian(A, omega, n, E, D, F, hh, W, True)
-    W0 = np.zeros((1, 1))
-    return _project_residual(X, omega, f, n, D, F), _assemble_jacobian(
-        A, omega, n, E, D, F, hh, W0, False
-    )
-
-
-@njit(cache=True)
-def _eff_jacobian(A, W, dW, xd):
-    """A_ij <- A_ij - x_i' dw_i/dx_j: the state Jacobian of w x' - f, less w d/dt."""
-    n, _, N = A.shape
-    for i in range(n):
-        for j in range(n):
-            for k in range(N):
-                A[i, j, k] -= xd[i, k] * dW[i, j, k]
+    return _project_residual(X, omega, f, n, D, F), _assemble_jacobian(A, omega, n, E, D, F, hh)
 
 
 @njit(cache=True)
@@ -431,19 +274,18 @@ def _norm(v):
 
 @njit(cache=True)
 def fo_newton(
-    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X0, omega, amp, tau, E, ET, D, F, scales,
+    rhs, jac, has_jac, itab, ftab, work, n, X0, omega, amp, tau, E, ET, D, F, scales,
     rtol, max_iter, scale,
 ):  # fmt: skip
     """Newton with backtracking on ||R||: X, converged, iterations, ||R||, code.
 
-    Codes: 0 ok, 1 iteration limit,
+    Codes as in :mod:`inerterlab.frequency._kernels`: 0 ok, 1 iteration limit,
     2 singular Jacobian, 3 no descent, 4 non-finite values.
     """
     X = X0.copy()
     R, J = fo_residual_jacobian(
-        rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F,
-        scales,
-    )  # fmt: skip
+        rhs, jac, has_jac, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F, scales
+    )
     rn = _norm(R)
     for it in range(max_iter):
         if not np.isfinite(rn):
@@ -457,9 +299,7 @@ def fo_newton(
         rnn = rn
         for _ in range(12):
             Xn = X + step * dX
-            Rn = fo_residual(
-                rhs, mass, has_mass, itab, ftab, work, n, Xn, omega, amp, tau, ET, D, F
-            )
+            Rn = fo_residual(rhs, itab, ftab, work, n, Xn, omega, amp, tau, ET, D, F)
             rnn = _norm(Rn)
             if np.isfinite(rnn) and (rnn <= (1.0 - 1e-4 * step) * rn or rnn < 1e-300):
                 accepted = True
@@ -473,16 +313,15 @@ def fo_newton(
         if step == 1.0 and _norm(dX) <= rtol * (_norm(X) + scale):
             return X, True, it + 1, rn, 0
         R, J = fo_residual_jacobian(
-            rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F,
-            scales,
-        )  # fmt: skip
+            rhs, jac, has_jac, itab, ftab, work, n, X, omega, amp, tau, E, ET, D, F, scales
+        )
         rn = _norm(R)
     return X, False, max_iter, rn, 1
 
 
 @njit(cache=True)
 def _chord(
-    rhs, mass, has_mass, itab, ftab, work, n, X0, omega, amp, tau, ET, D, F, Jinv, rtol, scale, max_iter
+    rhs, itab, ftab, work, n, X0, omega, amp, tau, ET, D, F, Jinv, rtol, scale, max_iter
 ):  # fmt: skip
     """Quasi-Newton iterations from the inverse Jacobian of a nearby point, improved by
     Broyden's rank-one updates (Jinv is updated in place and carried to the next point).
@@ -490,7 +329,7 @@ def _chord(
     converged, iterations, ||R||."""
     X = X0.copy()
     prev = np.inf
-    R = fo_residual(rhs, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, ET, D, F)
+    R = fo_residual(rhs, itab, ftab, work, n, X, omega, amp, tau, ET, D, F)
     rn = _norm(R)
     for it in range(max_iter):
         if not np.isfinite(rn):
@@ -503,7 +342,7 @@ def _chord(
         prev = size
         if size <= rtol * (_norm(X) + scale):
             return X, True, it + 1, rn
-        Rn = fo_residual(rhs, mass, has_mass, itab, ftab, work, n, X, omega, amp, tau, ET, D, F)
+        Rn = fo_residual(rhs, itab, ftab, work, n, X, omega, amp, tau, ET, D, F)
         u = Jinv @ (Rn - R)
         den = dX @ u
         if den != 0.0:
@@ -516,20 +355,14 @@ def _chord(
 
 @njit(cache=True)
 def fo_sweep(
-    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, omegas, X_start, X_cold, amp, tau, E, ET, D, F,
-    scales, rtol, max_iter, scale, warm, chord,
+    rhs, jac, has_jac, itab, ftab, work, n, omegas, X_start, X_cold, amp, tau, E, ET, D, F,
+    scales, rtol, max_iter, scale, warm,
 ):  # fmt: skip
-    """Solve at each frequency in order.
+    """Solve at each frequency in order (same strategy as ``_kernels.sweep``).
 
-    With ``warm`` each point starts from the last converged solution, extrapolated
-    linearly in frequency from the two last ones (the scanning method, (7.23)-(7.32));
-    a point that fails is retried through 8 intermediate frequencies from the last
-    converged point and then from ``X_cold`` (past a fold the response jumps to another
-    branch, which a warm start cannot reach). Without ``warm`` every point starts from
-    ``X_cold``. With ``warm`` and ``chord`` a point is first tried by chord iterations
-    with the inverse Jacobian of an earlier point (a few residual evaluations when the
-    frequency step is small), then by full Newton; without ``chord`` by Newton only (the
-    thesis's scanning method, every step a Newton step)."""
+    With ``warm`` a point is first tried by chord iterations with the inverse Jacobian of
+    an earlier point (a few residual evaluations when the frequency step is small), then
+    by full Newton."""
     n_pts = omegas.shape[0]
     m = X_start.shape[0]
     out = np.zeros((n_pts, m))
@@ -556,24 +389,22 @@ def fo_sweep(
         c = 0
         rn = np.inf
         X = guess
-        if warm and chord and have_jinv:
+        if warm and have_jinv:
             X, conv, it, rn = _chord(
-                rhs, mass, has_mass, itab, ftab, work, n, guess, w, amp, tau, ET, D, F, Jinv,
-                rtol, scale, 12,
-            )  # fmt: skip
+                rhs, itab, ftab, work, n, guess, w, amp, tau, ET, D, F, Jinv, rtol, scale, 12
+            )
             if not conv:
                 X = guess
         if not conv:
             X, conv, its, rn, c = fo_newton(
-                rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, guess, w, amp, tau, E, ET, D, F,
+                rhs, jac, has_jac, itab, ftab, work, n, guess, w, amp, tau, E, ET, D, F,
                 scales, rtol, max_iter, scale,
             )  # fmt: skip
             it += its
-            if conv and warm and chord:
+            if conv and warm:
                 _, J = fo_residual_jacobian(
-                    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X, w, amp, tau, E, ET,
-                    D, F, scales,
-                )  # fmt: skip
+                    rhs, jac, has_jac, itab, ftab, work, n, X, w, amp, tau, E, ET, D, F, scales
+                )
                 Jinv = np.ascontiguousarray(np.linalg.pinv(J, rcond=1e-12))
                 have_jinv = np.all(np.isfinite(Jinv))
         if not conv and warm and w_last > 0.0:
@@ -582,7 +413,7 @@ def fo_sweep(
             for s in range(1, 9):
                 ws = w_last + (w - w_last) * s / 8
                 Xs, cs, its, rn, c = fo_newton(
-                    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, Xs, ws, amp, tau, E, ET, D, F,
+                    rhs, jac, has_jac, itab, ftab, work, n, Xs, ws, amp, tau, E, ET, D, F,
                     scales, rtol, max_iter, scale,
                 )  # fmt: skip
                 it += its
@@ -592,7 +423,7 @@ def fo_sweep(
             X = Xs
             if not conv:
                 X, conv, its, rn, c = fo_newton(
-                    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, X_cold, w, amp, tau, E, ET, D, F,
+                    rhs, jac, has_jac, itab, ftab, work, n, X_cold, w, amp, tau, E, ET, D, F,
                     scales, rtol, max_iter, scale,
                 )  # fmt: skip
                 it += its
@@ -611,38 +442,29 @@ def fo_sweep(
 
 
 @njit(cache=True)
-def fo_relative_residuals(rhs, mass, has_mass, itab, ftab, work, n, omegas, C, amp, tau, ET, D, F):
+def fo_relative_residuals(rhs, itab, ftab, work, n, omegas, C, amp, tau, ET, D, F):
     """||R(X_i)|| / ||R(0)|| for each row of C."""
     n_pts, m = C.shape
     out = np.empty(n_pts)
     zero = np.zeros(m)
     for i in range(n_pts):
         X = np.ascontiguousarray(C[i])
-        a = _norm(
-            fo_residual(rhs, mass, has_mass, itab, ftab, work, n, X, omegas[i], amp, tau, ET, D, F)
-        )
-        b = _norm(
-            fo_residual(
-                rhs, mass, has_mass, itab, ftab, work, n, zero, omegas[i], amp, tau, ET, D, F
-            )
-        )
+        a = _norm(fo_residual(rhs, itab, ftab, work, n, X, omegas[i], amp, tau, ET, D, F))
+        b = _norm(fo_residual(rhs, itab, ftab, work, n, zero, omegas[i], amp, tau, ET, D, F))
         out[i] = a / b if b > 0.0 else a
     return out
 
 
 @njit(cache=True)
 def fo_hill_matrices(
-    rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, omegas, C, ok, amp, tau, ET, Es, Ds, Fs,
-    scales, D,
+    rhs, jac, has_jac, itab, ftab, work, n, omegas, C, ok, amp, tau, ET, Es, Ds, Fs, scales
 ):  # fmt: skip
     """-dR/dX in the basis Es (harmonics 0..hs) sampled at the phases ``tau`` (which may
     be denser than the balance's: the state Jacobian jumps where the flywheel saturates,
     and the quadrature of a jump converges only as 1/N), for every converged point
     (shape (P, n (2 hs + 1), n (2 hs + 1)); NaN where not converged). ``ET`` synthesises
     the states at ``tau`` from the H-harmonic coefficients. Its eigenvalues approximate
-    the Floquet exponents and their copies shifted by i k Omega. For the weighted form
-    W(t, x) x' = f the matrix is -(F W E)^-1 dR/dX (``D``: derivative of the
-    H-harmonic coefficients)."""
+    the Floquet exponents and their copies shifted by i k Omega."""
     n_pts = omegas.shape[0]
     ms = Es.shape[1]
     hs = (ms - 1) // 2
@@ -654,26 +476,14 @@ def fo_hill_matrices(
         X = np.ascontiguousarray(C[p])
         xs = _state_samples(X, n, ET)
         _, A = _rhs_and_jacobian(
-            rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n, xs, w, amp, tau, scales, False
+            rhs, jac, has_jac, itab, ftab, work, n, xs, w, amp, tau, scales, False
         )
-        if has_mass:
-            W, dW = _weight_terms(jac, has_jac, mass, itab, ftab, work, n, xs, w, amp, tau, scales)
-            _eff_jacobian(A, W, dW, _derivative_samples(X, w, n, D, ET))
-            J = _assemble_jacobian(A, w, n, Es, Ds, Fs, hs, W, True)
-            Wm = np.zeros((n * ms, n * ms))
-            for i in range(n):
-                Wm[i * ms : (i + 1) * ms, i * ms : (i + 1) * ms] = Fs @ (
-                    np.ascontiguousarray(W[i]).reshape(-1, 1) * Es
-                )
-            out[p] = np.linalg.solve(Wm, -J)
-        else:
-            W0 = np.zeros((1, 1))
-            out[p] = -_assemble_jacobian(A, w, n, Es, Ds, Fs, hs, W0, False)
+        out[p] = -_assemble_jacobian(A, w, n, Es, Ds, Fs, hs)
     return out
 
 
 @njit(cache=True)
-def fo_derivative_samples(rhs, mass, has_mass, itab, ftab, work, n, omegas, C, amp, tau, ET):
+def fo_derivative_samples(rhs, itab, ftab, work, n, omegas, C, amp, tau, ET):
     """States and their derivatives f at the samples for every point: (P, n, N) each."""
     n_pts = omegas.shape[0]
     N = tau.shape[0]
@@ -683,9 +493,7 @@ def fo_derivative_samples(rhs, mass, has_mass, itab, ftab, work, n, omegas, C, a
         X = np.ascontiguousarray(C[p])
         xs = _state_samples(X, n, ET)
         xs_all[p] = xs
-        f_all[p] = _rhs_samples(rhs, mass, has_mass, itab, ftab, work, n, xs, omegas[p], amp, tau)
-        if has_mass:
-            f_all[p] /= _weights(mass, itab, ftab, work, n, xs, omegas[p], amp, tau)
+        f_all[p] = _rhs_samples(rhs, itab, ftab, work, n, xs, omegas[p], amp, tau)
     return xs_all, f_all
 
 
@@ -749,7 +557,7 @@ def fo_compiled_outputs(outfn, itab, ftab, work, n, n_out, omegas, C, amp, tau, 
     res = np.empty((n_pts, n_out, K))
     x = np.zeros(work)
     out = np.zeros(n_out)
-    road = np.empty(4)
+    road = np.empty(3)
     for p in range(n_pts):
         X = np.ascontiguousarray(C[p])
         xs = _state_samples(X, n, ET)
@@ -768,18 +576,7 @@ def fo_compiled_outputs(outfn, itab, ftab, work, n, n_out, omegas, C, amp, tau, 
 
 
 @njit(cache=True)
-def _deriv(rhs, mass, has_mass, t, y, road, itab, ftab, out, wk):
-    """x' = f (or f / w for the weighted form) into ``out``."""
-    rhs(t, y, road, itab, ftab, out)
-    if has_mass:
-        mass(t, y, road, itab, ftab, wk)
-        for i in range(out.shape[0]):
-            if wk[i] != 1.0:
-                out[i] /= wk[i]
-
-
-@njit(cache=True)
-def _rk4_period(rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_steps, xs_out):
+def _rk4_period(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, xs_out):
     """One forcing period with n_steps RK4 steps from y0; states at the step starts."""
     h = 2.0 * math.pi / omega / n_steps
     y = np.zeros(work)
@@ -789,35 +586,33 @@ def _rk4_period(rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_step
     k3 = np.zeros(work)
     k4 = np.zeros(work)
     yt = np.zeros(work)
-    wk = np.ones(work)
-    road = np.empty(4)
+    road = np.empty(3)
     for s in range(n_steps):
         t = s * h
         for i in range(n):
             xs_out[i, s] = y[i]
         _road(amp, omega, omega * t, road)
-        _deriv(rhs, mass, has_mass, t, y, road, itab, ftab, k1, wk)
+        rhs(t, y, road, itab, ftab, k1)
         for i in range(n):
             yt[i] = y[i] + 0.5 * h * k1[i]
         _road(amp, omega, omega * (t + 0.5 * h), road)
-        _deriv(rhs, mass, has_mass, t + 0.5 * h, yt, road, itab, ftab, k2, wk)
+        rhs(t + 0.5 * h, yt, road, itab, ftab, k2)
         for i in range(n):
             yt[i] = y[i] + 0.5 * h * k2[i]
-        _deriv(rhs, mass, has_mass, t + 0.5 * h, yt, road, itab, ftab, k3, wk)
+        rhs(t + 0.5 * h, yt, road, itab, ftab, k3)
         for i in range(n):
             yt[i] = y[i] + h * k3[i]
         _road(amp, omega, omega * (t + h), road)
-        _deriv(rhs, mass, has_mass, t + h, yt, road, itab, ftab, k4, wk)
+        rhs(t + h, yt, road, itab, ftab, k4)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
     return y[:n].copy()
 
 
 @njit(cache=True)
-def fo_brute_point(
-    rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_steps, rtol, max_periods, scales
-):
-    """Integrate from y0 until the periodic orbit settles (the change of the state over one period, each state relative to its size, and the
+def fo_brute_point(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, rtol, max_periods, scales):
+    """Integrate from y0 until the periodic orbit settles (as ``_kernels.brute_point``:
+    the change of the state over one period, each state relative to its size, and the
     distance to the orbit estimated from the contraction between periods, below ``rtol``
     for two periods running). Returns (end state, samples of the last period (n, n_steps),
     settled, periods, distance)."""
@@ -827,7 +622,7 @@ def fo_brute_point(
     dist = np.inf
     calm = 0
     for k in range(max_periods):
-        yn = _rk4_period(rhs, mass, has_mass, itab, ftab, work, n, y, omega, amp, n_steps, xs)
+        yn = _rk4_period(rhs, itab, ftab, work, n, y, omega, amp, n_steps, xs)
         change = 0.0
         for i in range(n):
             size = max(np.max(np.abs(xs[i])), scales[i])
@@ -847,7 +642,7 @@ def fo_brute_point(
 
 
 @njit(cache=True)
-def fo_monodromy(rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_steps, scales):
+def fo_monodromy(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, scales):
     """Monodromy matrix of the one-period RK4 map at y0 by central differences."""
     M = np.empty((n, n))
     xs = np.empty((n, n_steps))
@@ -857,8 +652,8 @@ def fo_monodromy(rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_ste
         ym = y0[:n].copy()
         yp[j] += h
         ym[j] -= h
-        fp = _rk4_period(rhs, mass, has_mass, itab, ftab, work, n, yp, omega, amp, n_steps, xs)
-        fm = _rk4_period(rhs, mass, has_mass, itab, ftab, work, n, ym, omega, amp, n_steps, xs)
+        fp = _rk4_period(rhs, itab, ftab, work, n, yp, omega, amp, n_steps, xs)
+        fm = _rk4_period(rhs, itab, ftab, work, n, ym, omega, amp, n_steps, xs)
         for i in range(n):
             M[i, j] = (fp[i] - fm[i]) / (2.0 * h)
     return M
@@ -867,23 +662,20 @@ def fo_monodromy(rhs, mass, has_mass, itab, ftab, work, n, y0, omega, amp, n_ste
 # ---------------------------------------------------------------------------------
 # entry points typed with the function signatures (compiled on first use, cached)
 
-# rhs, jac, has_jac, mass, has_mass, itab, ftab, work, n
-_SYS = (_RHS, _JAC, _b1, _RHS, _b1, _iv, _v, _i8, _i8)
-_SYS_R = (_RHS, _RHS, _b1, _iv, _v, _i8, _i8)  # rhs, mass, has_mass, itab, ftab, work, n
+_SYS = (_RHS, _JAC, _b1, _iv, _v, _i8, _i8)  # rhs, jac, has_jac, itab, ftab, work, n
+_SYS_R = (_RHS, _iv, _v, _i8, _i8)  # rhs, itab, ftab, work, n
 _ENTRY_TYPES = {
     "fo_residual": (*_SYS_R, _v, _f8, _f8, _v, _m, _m, _m),
     "fo_residual_jacobian": (*_SYS, _v, _f8, _f8, _v, _m, _m, _m, _m, _v),
     "fo_newton": (*_SYS, _v, _f8, _f8, _v, _m, _m, _m, _m, _v, _f8, _i8, _f8),
-    "fo_sweep": (*_SYS, _v, _v, _v, _f8, _v, _m, _m, _m, _m, _v, _f8, _i8, _f8, _b1, _b1),
+    "fo_sweep": (*_SYS, _v, _v, _v, _f8, _v, _m, _m, _m, _m, _v, _f8, _i8, _f8, _b1),
     "fo_relative_residuals": (*_SYS_R, _v, _m, _f8, _v, _m, _m, _m),
-    "fo_hill_matrices": (*_SYS, _v, _m, _a1, _f8, _v, _m, _m, _m, _m, _v, _m),
+    "fo_hill_matrices": (*_SYS, _v, _m, _a1, _f8, _v, _m, _m, _m, _m, _v),
     "fo_derivative_samples": (*_SYS_R, _v, _m, _f8, _v, _m),
     "_rhs_samples": (*_SYS_R, _m, _f8, _f8, _v),
-    "fo_compiled_outputs": (_RHS, _iv, _v, _i8, _i8, _i8, _v, _m, _f8, _v, _m),
+    "fo_compiled_outputs": (*_SYS_R, _i8, _v, _m, _f8, _v, _m),
     "fo_brute_point": (*_SYS_R, _v, _f8, _f8, _i8, _f8, _i8, _v),
     "fo_monodromy": (*_SYS_R, _v, _f8, _f8, _i8, _v),
-    "_rk4_period": (*_SYS_R, _v, _f8, _f8, _i8, _m),
-    "_weights": (_RHS, _iv, _v, _i8, _i8, _m, _f8, _f8, _v),
 }
 _TYPED: dict = {}
 
@@ -894,28 +686,6 @@ def _placeholder_jacobian():
         fn = njit(JACOBIAN_SIGNATURE, cache=True)(_no_jacobian_py)
         _TYPED["no_jacobian"] = fn
     return fn
-
-
-def _unit_mass_py(t, x, road, itab, ftab, out):  # pragma: no cover - never called
-    """Placeholder handed to the kernels when the system has no weights (W = I)."""
-    out[:] = 1.0
-    return True
-
-
-def _placeholder_mass():
-    fn = _TYPED.get("unit_mass")
-    if fn is None:
-        fn = njit(RHS_SIGNATURE, cache=True)(_unit_mass_py)
-        _TYPED["unit_mass"] = fn
-    return fn
-
-
-def system_functions(system):
-    """(rhs, mass, has_mass) of a first-order system (``mass`` optional: W = I)."""
-    mass = getattr(system, "mass", None)
-    if mass is None:
-        return system.rhs, _placeholder_mass(), False
-    return system.rhs, mass, True
 
 
 def kernel(name: str):
@@ -970,7 +740,7 @@ class FirstOrderEngine:
         self.work = int(getattr(system, "work_size", n))
         if self.work < n:
             raise ParameterError("work_size", self.work, f"an integer >= n_states = {n}")
-        self.rhs, self.mass, self.has_mass = system_functions(system)
+        self.rhs = system.rhs
         jac = getattr(system, "jacobian", None)
         self.has_jac = jac is not None
         self.jac = jac if jac is not None else _placeholder_jacobian()
@@ -987,15 +757,10 @@ class FirstOrderEngine:
 
     # the common prefix of the kernel arguments
     def _a(self):
-        return (
-            self.rhs, self.jac, self.has_jac, self.mass, self.has_mass, self.itab, self.ftab,
-            self.work, self.n_dof,
-        )  # fmt: skip
+        return (self.rhs, self.jac, self.has_jac, self.itab, self.ftab, self.work, self.n_dof)
 
     def _r(self):
-        return (
-            self.rhs, self.mass, self.has_mass, self.itab, self.ftab, self.work, self.n_dof
-        )  # fmt: skip
+        return (self.rhs, self.itab, self.ftab, self.work, self.n_dof)
 
     def cold_start(self) -> np.ndarray:
         """The rest state as constant terms (zeros when the system gives none)."""
@@ -1025,13 +790,13 @@ class FirstOrderEngine:
             int(max_iter), float(scale),
         )  # fmt: skip
 
-    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None, chord=True):
+    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
         cold = self.cold_start() if X_cold is None else X_cold
         return kernel("fo_sweep")(
             *self._a(), np.ascontiguousarray(omegas, dtype=float),
             np.ascontiguousarray(X_start, dtype=float), np.ascontiguousarray(cold, dtype=float),
             self.amplitude, self.tau, self.E, self.ET, self.D, self.F, self.scales,
-            float(rtol), int(max_iter), float(scale), bool(warm), bool(chord),
+            float(rtol), int(max_iter), float(scale), bool(warm),
         )  # fmt: skip
 
     def relative_residuals(self, omegas, C):
@@ -1059,7 +824,7 @@ class FirstOrderEngine:
         H = kernel("fo_hill_matrices")(
             *self._a(), omegas, np.ascontiguousarray(C, dtype=float), ok, self.amplitude,
             np.ascontiguousarray(bs.tau), ET, np.ascontiguousarray(bs.E),
-            np.ascontiguousarray(bs.F @ bs.E1), np.ascontiguousarray(bs.F), self.scales, self.D,
+            np.ascontiguousarray(bs.F @ bs.E1), np.ascontiguousarray(bs.F), self.scales,
         )  # fmt: skip
         n = self.n_dof
         best = np.full(len(omegas), np.nan)
@@ -1149,7 +914,7 @@ def brute_force_point(
     it, ft = system_tables(system)
     itab, ftab = np.array(it, dtype=np.int64), np.array(ft, dtype=float)
     y, xs, ok, periods, _ = kernel("fo_brute_point")(
-        *system_functions(system), itab, ftab, work, n, np.ascontiguousarray(y0), float(omega),
+        system.rhs, itab, ftab, work, n, np.ascontiguousarray(y0), float(omega),
         float(amplitude), int(steps_per_period), float(rtol), int(max_periods), scales,
     )  # fmt: skip
     return y, xs, bool(ok), int(periods)
@@ -1158,18 +923,12 @@ def brute_force_point(
 def rhs_samples(system, omega, amplitude, xs, tau):
     """f at the states xs (n, K) and phases tau (K,) under the sine input: (n, K)."""
     n = int(system.n_states)
-    rhs, mass, has_mass = system_functions(system)
-    itab = np.array(system_tables(system)[0], dtype=np.int64)
-    ftab = np.array(system_tables(system)[1], dtype=float)
-    work = int(getattr(system, "work_size", n))
-    xs = np.ascontiguousarray(xs, dtype=float)
-    tau = np.ascontiguousarray(tau, dtype=float)
-    f = kernel("_rhs_samples")(
-        rhs, mass, has_mass, itab, ftab, work, n, xs, float(omega), float(amplitude), tau
-    )
-    if has_mass:
-        f /= kernel("_weights")(mass, itab, ftab, work, n, xs, float(omega), float(amplitude), tau)
-    return f
+    return kernel("_rhs_samples")(
+        system.rhs, np.array(system_tables(system)[0], dtype=np.int64),
+        np.array(system_tables(system)[1], dtype=float), int(getattr(system, "work_size", n)), n,
+        np.ascontiguousarray(xs, dtype=float), float(omega), float(amplitude),
+        np.ascontiguousarray(tau, dtype=float),
+    )  # fmt: skip
 
 
 def monodromy_multipliers(system, omega, amplitude, state0, *, steps_per_period=4000):
@@ -1180,7 +939,7 @@ def monodromy_multipliers(system, omega, amplitude, state0, *, steps_per_period=
     sc = getattr(system, "state_scales", None)
     scales = np.ones(n) if sc is None else np.ascontiguousarray(np.asarray(sc, float)[:n])
     M = kernel("fo_monodromy")(
-        *system_functions(system), np.array(system_tables(system)[0], dtype=np.int64),
+        system.rhs, np.array(system_tables(system)[0], dtype=np.int64),
         np.array(system_tables(system)[1], dtype=float), work, n,
         np.ascontiguousarray(state0, dtype=float), float(omega), float(amplitude),
         int(steps_per_period), scales,

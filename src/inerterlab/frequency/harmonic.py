@@ -24,15 +24,14 @@ raise; between the two a warning is issued. The default is the smallest power of
 
 from __future__ import annotations
 
-import math
 import warnings
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from ..errors import ParameterError
 from ..resources import check_memory
+from . import _kernels
 
 __all__ = [
     "FourierBasis",
@@ -131,66 +130,52 @@ FAILURE_REASONS = {
 }
 
 
-class SecondOrderEngine:
-    """A built-in second-order system on the first-order engine, seen through the
-    coefficients X of its displacement (size 2H+1, as :class:`NumpyEngine`).
+class NumbaEngine:
+    """Compiled engine for the built-in one-degree-of-freedom systems."""
 
-    The engine balances the states (x, x') in the weighted form of
-    :meth:`~inerterlab.frequency.systems.InerterSuspension.first_order`; its first
-    equation x' = v is linear, so at every solution the velocity's coefficients are
-    Omega D X exactly and the second equation's residual is the balance of r. The
-    residual and Jacobian here are that of r with V = Omega D X eliminated.
-    """
-
-    def __init__(self, system, harmonics: int, n_samples: int):
-        from .first_order import make_first_order_engine
-
+    def __init__(self, system, basis: FourierBasis):
         self.system = system
-        self.full = make_first_order_engine(system.first_order(), harmonics, n_samples, 1.0)
-        self.basis = self.full.basis
+        self.basis = basis
+        self.sys_id, self.p = system.kernel()
         self.n_dof = 1
-        self.D = self.full.D
-
-    def lift(self, X, omega) -> np.ndarray:
-        """[X, Omega D X] (rows of X lifted at their own Omega when X is 2-D)."""
-        X = np.asarray(X, dtype=float)
-        w = np.asarray(omega, dtype=float)
-        V = (X @ self.D.T) * (w[:, None] if X.ndim == 2 else w)
-        return np.ascontiguousarray(np.concatenate([X, V], axis=-1))
-
-    def cold_start(self) -> np.ndarray:
-        return np.zeros(self.basis.size)
 
     def residual(self, X, omega):
-        m = self.basis.size
-        return self.full.residual(self.lift(X, omega), omega)[m:]
+        b = self.basis
+        return _kernels.residual(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
 
     def residual_jacobian(self, X, omega):
-        m = self.basis.size
-        R, J = self.full.residual_jacobian(self.lift(X, omega), omega)
-        return R[m:], J[m:, :m] + omega * (J[m:, m:] @ self.D)
+        b = self.basis
+        return _kernels.residual_jacobian(
+            self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F
+        )
 
     def relative_residuals(self, omegas, C):
-        return self.full.relative_residuals(omegas, self.lift(C, omegas))
+        b = self.basis
+        return _kernels.relative_residuals(
+            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
+            np.ascontiguousarray(C, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
+        )  # fmt: skip
+
+    def hill_matrices(self, X, omega):
+        b = self.basis
+        return _kernels.hill_matrices(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
 
     def newton(self, X0, omega, rtol, max_iter, scale):
-        X, ok, it, rn, code = self.full.newton(self.lift(X0, omega), omega, rtol, max_iter, scale)
-        return X[: self.basis.size].copy(), ok, it, rn, code
+        b = self.basis
+        return _kernels.newton(
+            self.sys_id, self.p, np.ascontiguousarray(X0, dtype=float), float(omega),
+            b.tau, b.E, b.E1, b.E2, b.F, rtol, max_iter, scale,
+        )  # fmt: skip
 
     def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
-        m = self.basis.size
-        omegas = np.asarray(omegas, dtype=float)
-        cold = np.zeros(2 * m) if X_cold is None else self.lift(X_cold, omegas[0])
-        out, ok, it, res, code = self.full.sweep(
-            omegas, self.lift(X_start, omegas[0]), rtol, max_iter, scale, warm, cold, chord=False
-        )
-        return np.ascontiguousarray(out[:, :m]), ok, it, res, code
-
-    def stability(self, omegas, C, ok, harmonics=None):
-        """Hill's method on all H harmonics with the balance's N samples."""
-        return self.full.stability(
-            omegas, self.lift(C, omegas), ok, None, samples=self.basis.n_samples
-        )
+        b = self.basis
+        cold = np.zeros(len(X_start)) if X_cold is None else X_cold
+        return _kernels.sweep(
+            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
+            np.ascontiguousarray(X_start, dtype=float),
+            np.ascontiguousarray(cold, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
+            rtol, max_iter, scale, warm,
+        )  # fmt: skip
 
 
 class NumpyEngine:
@@ -311,8 +296,7 @@ class NumpyEngine:
 
 
 def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: the first-order engine for built-in systems
-    (:class:`SecondOrderEngine`), numpy otherwise."""
+    """The engine for ``system``: compiled for built-in systems, numpy otherwise."""
     if not isinstance(harmonics, int | np.integer) or isinstance(harmonics, bool) or harmonics < 1:
         raise ParameterError("harmonics", harmonics, "an integer >= 1")
     degree = int(getattr(system, "nonlinearity_degree", 3))
@@ -333,9 +317,10 @@ def make_engine(system, harmonics: int, n_samples: int | None = None, *, compile
         parameter="harmonics",
         value=harmonics,
     )
+    basis = fourier_basis(int(harmonics), n)
     if compiled and hasattr(system, "kernel"):
-        return SecondOrderEngine(system, int(harmonics), n)
-    return NumpyEngine(system, fourier_basis(int(harmonics), n))
+        return NumbaEngine(system, basis)
+    return NumpyEngine(system, basis)
 
 
 def hill_exponents(engine, X, omega):
@@ -344,13 +329,8 @@ def hill_exponents(engine, X, omega):
     Solves the quadratic eigenproblem (lambda^2 J2 + lambda J1 + J0) q = 0 through its
     companion form and keeps the 2 n eigenvalues with the smallest |Im lambda|, which
     approximate the Floquet exponents best (the others are copies shifted by
-    multiples of i Omega). An engine with ``stability`` (the first-order engine) gives
-    them by its own Hill matrix.
+    multiples of i Omega).
     """
-    if hasattr(engine, "stability"):
-        X = np.asarray(X, dtype=float)[None]
-        lam = engine.stability(np.array([float(omega)]), X, np.array([True]))[1][0]
-        return lam
     J0, J1, J2 = engine.hill_matrices(X, omega)
     m = J0.shape[0]
     try:
@@ -371,69 +351,3 @@ def is_stable(exponents, omega, tol: float = 1e-7) -> bool:
     if not np.all(np.isfinite(exponents)):
         return False
     return bool(np.max(exponents.real) < tol * omega)
-
-
-@njit(cache=True)
-def half_peak_to_peak(C):
-    """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
-
-    ``C`` holds for each point the samples' coefficients in the cos/sin basis
-    [a0, a1, b1, ..., aH, bH]; the extremes are found on a grid of 16 H + 32 phases
-    and refined by Newton on the trigonometric polynomial.
-    """
-    n_pts, m = C.shape
-    H = (m - 1) // 2
-    ng = 16 * H + 32
-    out = np.empty(n_pts)
-    cg = np.empty((ng, H))
-    sg = np.empty((ng, H))
-    for k in range(ng):
-        t = 2.0 * math.pi * k / ng
-        for h in range(H):
-            cg[k, h] = math.cos((h + 1) * t)
-            sg[k, h] = math.sin((h + 1) * t)
-    for i in range(n_pts):
-        best_hi = -1e300
-        best_lo = 1e300
-        k_hi = 0
-        k_lo = 0
-        for k in range(ng):
-            val = C[i, 0]
-            for h in range(H):
-                val += C[i, 2 * h + 1] * cg[k, h] + C[i, 2 * h + 2] * sg[k, h]
-            if val > best_hi:
-                best_hi = val
-                k_hi = k
-            if val < best_lo:
-                best_lo = val
-                k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
-            val = 0.0
-            for _ in range(6):
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(H):
-                    q = h + 1.0
-                    c = math.cos(q * t)
-                    s = math.sin(q * t)
-                    a = C[i, 2 * h + 1]
-                    b = C[i, 2 * h + 2]
-                    d1 += q * (-a * s + b * c)
-                    d2 += -q * q * (a * c + b * s)
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / ng:
-                    break
-                t += dt
-            val = C[i, 0]
-            for h in range(H):
-                q = h + 1.0
-                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
-            ext[e] = val
-        hi = max(ext[0], best_hi)
-        lo = min(ext[1], best_lo)
-        out[i] = 0.5 * (hi - lo)
-    return out

@@ -32,17 +32,11 @@ import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
 from ..resources import check_memory, check_work
+from . import _kernels
 from .brute import steady_state
 from .continuation import continue_branch
 from .first_order import make_first_order_engine
-from .harmonic import (
-    FAILURE_REASONS,
-    coefficients_by_fft,
-    half_peak_to_peak,
-    hill_exponents,
-    is_stable,
-    make_engine,
-)
+from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
 
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
@@ -318,7 +312,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
 
 
 def _amplitudes(C) -> np.ndarray:
-    return half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
+    return _kernels.half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
 
 
 def estimate_operations(

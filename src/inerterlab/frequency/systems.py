@@ -8,15 +8,9 @@ and the partial derivatives dr/dx, dr/dx', dr/dx'' (exact for the built-in syste
 The residual must be affine in x'' (a mass matrix times x'' plus the rest); time
 integration solves it for x''.
 
-Built-in systems (compiled): :class:`DuffingOscillator` and :class:`InerterSuspension`
-(thesis (7.1)). The harmonic balance and the brute force solve them as first-order
-systems of the states (x, x') in the weighted form
-
-    x' = v,    dr/dx''(x, v) v' = -r(tau, x, v, 0),
-
-whose balance of the second equation is exactly the balance of r (r is affine in x''),
-on the one first-order engine (:mod:`inerterlab.frequency.first_order`). Any other
-system is a :class:`UserSystem` built from plain numpy functions.
+Built-in systems (numba fast path): :class:`DuffingOscillator` and
+:class:`InerterSuspension` (thesis (7.1)). Any other system is a
+:class:`UserSystem` built from plain numpy functions.
 """
 
 from __future__ import annotations
@@ -26,13 +20,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
-from ..elements.adaptive_flywheel import inertia_law
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
-from .first_order import JACOBIAN_SIGNATURE, RHS_SIGNATURE
+from . import _kernels
 
 __all__ = [
     "DuffingOscillator",
@@ -44,110 +36,6 @@ __all__ = [
 ]
 
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
-
-
-@njit(cache=True)
-def residual_partials(sys_id, p, tau, omega, x, xd, xdd):
-    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
-
-    ``sys_id`` 0: Duffing, p = [m, c, k, g, P]; 1: body over a moving base with an
-    adaptive-flywheel inerter, (7.1), p as :meth:`InerterSuspension.kernel`.
-    """
-    if sys_id == 0:
-        m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
-        r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
-        return r, k + 3.0 * g * x * x, c, m
-    # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
-    body, stiff, damp, base = p[0], p[1], p[2], p[3]
-    s = math.sin(tau)
-    x0 = base * s
-    x0d = base * omega * math.cos(tau)
-    x0dd = -base * omega * omega * s
-    v = xd - x0d
-    a = xdd - x0dd
-    me = 0.0
-    dme = 0.0
-    if p[14] > 0.5:
-        ratio = p[4]
-        w = ratio * abs(v)
-        i0, i1, i2 = inertia_law(w, p[5], p[6], p[7], p[8], p[9], p[10], p[11], int(p[12]))
-        if p[13] < 0.5:  # thesis law F = r^2 I(r|v|) v'
-            j0 = i0
-            j1 = i1
-        else:  # momentum law F = r^2 (I + w dI/dw) v'
-            j0 = i0 + w * i1
-            j1 = 2.0 * i1 + w * i2
-        me = ratio * ratio * j0
-        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-        dme = ratio * ratio * ratio * j1 * sg
-    r = body * xdd + me * a + stiff * (x - x0) + damp * v
-    return r, stiff, damp + dme * a, body + me
-
-
-@njit(RHS_SIGNATURE, cache=True)
-def _second_order_rhs(t, y, road, itab, ftab, out):
-    """f of the weighted first-order form: [v, -r(tau, x, v, 0)], tau = Omega t."""
-    omega = road[3]
-    r0 = residual_partials(itab[0], ftab, omega * t, omega, y[0], y[1], 0.0)[0]
-    out[0] = y[1]
-    out[1] = -r0
-    return True
-
-
-@njit(RHS_SIGNATURE, cache=True)
-def _second_order_mass(t, y, road, itab, ftab, out):
-    """Weights of the first-order form: [1, dr/dx''(x, v)]."""
-    omega = road[3]
-    out[0] = 1.0
-    out[1] = residual_partials(itab[0], ftab, omega * t, omega, y[0], y[1], 0.0)[3]
-    return True
-
-
-@njit(JACOBIAN_SIGNATURE, cache=True)
-def _second_order_jacobian(t, y, road, itab, ftab, out):
-    """df/dx (rows 0, 1) and dw/dx (rows 2, 3) of the first-order form, exact: the
-    weight dr/dx'' depends on x' only, and dr/dx' is affine in x'' with slope
-    d(dr/dx'')/dx'."""
-    omega = road[3]
-    tau = omega * t
-    _, g0, g1, _ = residual_partials(itab[0], ftab, tau, omega, y[0], y[1], 0.0)
-    g1_one = residual_partials(itab[0], ftab, tau, omega, y[0], y[1], 1.0)[2]
-    out[0, 0] = 0.0
-    out[0, 1] = 1.0
-    out[1, 0] = -g0
-    out[1, 1] = -g1
-    out[2, 0] = 0.0
-    out[2, 1] = 0.0
-    out[3, 0] = 0.0
-    out[3, 1] = g1_one - g1
-
-
-@dataclass(frozen=True, eq=False)
-class FirstOrderForm:
-    """A built-in system as states (x, x') for the first-order engine (weighted form)."""
-
-    int_table: np.ndarray
-    float_table: np.ndarray
-    state_scales: np.ndarray
-    nonlinearity_degree: int = 3
-    n_states = 2
-    work_size = 2
-
-    @property
-    def rhs(self):
-        return _second_order_rhs
-
-    @property
-    def mass(self):
-        return _second_order_mass
-
-    @property
-    def jacobian(self):
-        return _second_order_jacobian
-
-    @property
-    def rest_state(self) -> np.ndarray:
-        return np.zeros(2)
 
 
 class _KernelSystem:
@@ -167,21 +55,10 @@ class _KernelSystem:
         r = np.empty((1, k))
         g = np.empty((3, 1, 1, k))
         for i in range(k):
-            out = residual_partials(sys_id, p, tau[i], omega, x[0, i], xd[0, i], xdd[0, i])
+            out = _kernels.evaluate(sys_id, p, tau[i], omega, x[0, i], xd[0, i], xdd[0, i])
             r[0, i] = out[0]
             g[0, 0, 0, i], g[1, 0, 0, i], g[2, 0, 0, i] = out[1], out[2], out[3]
         return r, g[0], g[1], g[2]
-
-    def first_order(self) -> FirstOrderForm:
-        """The system as the states (x, x') of the first-order engine."""
-        sys_id, p = self.kernel()
-        scale = float(self.displacement_scale)
-        return FirstOrderForm(
-            int_table=np.array([sys_id], dtype=np.int64),
-            float_table=np.ascontiguousarray(p, dtype=float),
-            state_scales=np.array([scale, scale]),
-            nonlinearity_degree=int(self.nonlinearity_degree),
-        )
 
 
 @dataclass(frozen=True, kw_only=True)
