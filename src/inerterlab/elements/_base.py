@@ -211,8 +211,12 @@ class ElementBase:
         with each part replaced by the part's linearisation."""
         exp = self.expansion()
         if exp is None:
-            raise NotImplementedError(
-                f"{type(self).__name__} declares no linearisation about rest (rest_network)"
+            from ..errors import NetworkError
+
+            raise NetworkError(
+                f"element {type(self).__name__} ({self.prefix}) has no linearisation about "
+                "rest: its class must define rest_network() or expansion() to take part in "
+                "H2, the optimiser and the spectral analyses"
             )
         from ..networks import parse_network, substitute
 
