@@ -202,6 +202,15 @@ class ElementBase:
             return False
         return all(el.is_linear for el in exp[1].values())
 
+    def linear_regime(self) -> tuple[ElementBase, str, float] | None:
+        """Where a nonlinear primitive's force law is linear over a whole region of its
+        motion: (the linear primitive it equals there, the argument ``"velocity"`` or
+        ``"displacement"`` (relative, top minus bottom), threshold a > 0), the region
+        being |argument| >= a, bounded by the element's switching function. None where
+        it has no such region. The integrator takes exact matrix-exponential steps while
+        every nonlinear element of a system sits in its region."""
+        return None
+
     def rest_network(self) -> tuple[str, dict[str, float]] | None:
         """The linearisation about rest: (network text of springs ``k``, dampers ``c`` and
         inerters ``b`` over local names, {local name: value}), or ``None`` where the

@@ -157,6 +157,19 @@ class AdaptiveFlywheelInerter(ElementBase):
         speed-dependent part and the slider force are of second order about rest)."""
         return "b", {"b": self.inertance_min}
 
+    def linear_regime(self):
+        """Above the saturation speed (r |v| >= w_sat) the sliders rest on their stops:
+        under the thesis and momentum laws the device is an ideal inerter of r^2 I_max
+        there (the law's dI/dw is 0). None for ``slider-dynamics`` (smooth in its own
+        states, no such region)."""
+        if self.law == "slider-dynamics":
+            return None
+        from .inerter import Inerter
+
+        row = self.row()
+        me = row[1] ** 2 * (row[2] + row[3] * row[7] ** int(row[9]))
+        return Inerter(inertance=float(me)), "velocity", float(row[8] / abs(row[1]))
+
     def __post_init__(self) -> None:
         if isinstance(self.flywheel, AdaptiveFlywheel):
             fw = self.flywheel

@@ -151,29 +151,7 @@ class System:
                 f"{self.description}: not linear ({', '.join(bad)}); linear analysis needs "
                 "springs, linear dampers and ideal inerters"
             )
-        n = self.n_states
-        no = len(self.output_names)
-        A = np.zeros((n, n))
-        B = np.zeros((n, 3))
-        C = np.zeros((no, n))
-        D = np.zeros((no, 3))
-        z = np.zeros(n)
-        r0 = np.zeros(3)
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = 1.0
-            self.rhs(0.0, e, r0, self.itab, self.ftab, A[:, k])
-            out = np.empty(no)
-            self.outputs(0.0, e, r0, self.itab, self.ftab, out)
-            C[:, k] = out
-        for k in range(3):
-            u = np.zeros(3)
-            u[k] = 1.0
-            self.rhs(0.0, z, u, self.itab, self.ftab, B[:, k])
-            out = np.empty(no)
-            self.outputs(0.0, z, u, self.itab, self.ftab, out)
-            D[:, k] = out
-        return A, B, np.nan_to_num(C), np.nan_to_num(D)
+        return _state_space(self, self.itab, self.ftab)
 
     def transfer(self, omega, output: str):
         """H(j omega) from road velocity to ``output`` (linear systems): any name of
@@ -219,6 +197,34 @@ class System:
         return _simulate(
             self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
         )
+
+
+def _state_space(sys, itab, ftab):
+    """(A, B, C, D) of the system's right-hand side and outputs on the tables (itab,
+    ftab), from unit vectors: exact where they hold linear elements only."""
+    n = sys.n_states
+    no = len(sys.output_names)
+    A = np.zeros((n, n))
+    B = np.zeros((n, 3))
+    C = np.zeros((no, n))
+    D = np.zeros((no, 3))
+    z = np.zeros(n)
+    r0 = np.zeros(3)
+    for k in range(n):
+        e = np.zeros(n)
+        e[k] = 1.0
+        _kernel.rhs(0.0, e, r0, itab, ftab, A[:, k])
+        out = np.empty(no)
+        _kernel.outputs(0.0, e, r0, itab, ftab, out)
+        C[:, k] = out
+    for k in range(3):
+        u = np.zeros(3)
+        u[k] = 1.0
+        _kernel.rhs(0.0, z, u, itab, ftab, B[:, k])
+        out = np.empty(no)
+        _kernel.outputs(0.0, z, u, itab, ftab, out)
+        D[:, k] = out
+    return A, B, np.nan_to_num(C), np.nan_to_num(D)
 
 
 def _nonlinear(e: ElementBase) -> bool:
@@ -824,10 +830,13 @@ def _simulate(
     # exact steps pay one matrix exponential per distinct step length: where the road's
     # edges and the samples make many (incommensurate grids) the adaptive steps are faster
     plan = None
+    regime = _NO_REGIME
     if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
         plan = _exact_plan(sys, segs, T, ts)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
+    elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
+        regime = _regime_tables(sys, segs, T, ts, _exact_plan(sys, segs, T, ts))
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
@@ -850,16 +859,18 @@ def _simulate(
     else:
         atol = r * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
-        st = np.zeros(4, dtype=np.int64)
+        st = np.zeros(5, dtype=np.int64)
+        XE, XG, keys, thr, idx, cls = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
-            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps,
+            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
+            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0),
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
         stats = {
             "steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
-            "events": int(st[3]),
+            "events": int(st[3]), "exact_steps": int(st[4]),
         }  # fmt: skip
         meth = "adaptive"
     not_finite: dict = {}
@@ -977,12 +988,12 @@ class DriveRuns:
             if y.shape != (sys.n_states,):
                 raise ParameterError("x0", x0, f"{sys.n_states} states")
             atol = rtol * np.maximum(sys.state_scales, 1e-12)
-            st = np.zeros(4, dtype=np.int64)
+            st = np.zeros(5, dtype=np.int64)
             nseg = len(segs)
             status, _ = _integrate.integrate(
                 sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
                 sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
-                int(max_steps), math.nan, math.inf, np.zeros(nseg),
+                int(max_steps), math.nan, math.inf, np.zeros(nseg), *_NO_REGIME, 1.0,
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
@@ -1024,6 +1035,114 @@ def _exact_plan(sys, segs, T, ts):
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
     return keys * q, idx.astype(np.int64)
+
+
+
+# ---------------------------------------------------------------------------------------
+# exact steps of a nonlinear system in its linear regimes
+
+#: no exact steps in linear regimes (the arguments of :func:`._integrate.integrate`)
+_NO_REGIME = (
+    np.empty((0, 0, 0, 0)), np.empty((0, 0, 0)), np.empty(0, np.int64), np.empty(0),
+    np.empty(0, np.int64), np.empty(0, np.int64),
+)  # fmt: skip
+#: at most this many sine frequencies get tables of exact steps in one run
+REGIME_MAX_CLASSES = 4
+
+
+def _regime_system(sys):
+    """The system in the linear regime of every nonlinear element (a linear system: as
+    it is), or None where one has none: (A, B, guard rows over (x, u) as (G_x, G_u),
+    thresholds, element indices), cached on the system."""
+    if "regime" in sys.info:
+        return sys.info["regime"]
+    found = None
+    regimes = [(e, el.linear_regime()) for e, el in enumerate(sys.elements) if _nonlinear(el)]
+    if all(r is not None for _, r in regimes) and sys.n_states:
+        itab = sys.itab.copy()
+        ftab = sys.ftab.copy()
+        eo = int(sys.itab[_kernel.I_ELEM])
+        for e, (lin, _, _) in regimes:
+            b = eo + ELEM_W * e
+            itab[b] = lin.code
+            o = int(itab[b + 3])
+            ftab[o : o + NPAR] = lin.row()
+        itab.setflags(write=False)  # typed as the system's own: no second compilation
+        ftab.setflags(write=False)
+        A, B, C, D = _state_space(sys, itab, ftab)
+        names = list(sys.output_names)
+        gx, gu, thr, idx = [], [], [], []
+        for e, (_, arg, a) in regimes:
+            b = eo + ELEM_W * e
+            top, bot = int(sys.itab[b + 1]), int(sys.itab[b + 2])
+            sfx = ".v" if arg == "velocity" else ".x"
+            it = names.index(sys.node_names[top] + sfx)
+            ib = names.index(sys.node_names[bot] + sfx)
+            gx.append(C[it] - C[ib])
+            gu.append(D[it] - D[ib])
+            thr.append(a)
+            idx.append(e)
+        n = sys.n_states
+        found = (
+            A, B, np.array(gx, float).reshape(-1, n), np.array(gu, float).reshape(-1, 3),
+            np.array(thr, float), np.array(idx, np.int64),
+        )  # fmt: skip
+    sys.info["regime"] = found
+    return found
+
+
+def _regime_tables(sys, segs, T, ts, plan):
+    """Arguments of :func:`._integrate.integrate` for exact steps while every nonlinear
+    element sits in its linear regime (:meth:`ElementBase.linear_regime`): one matrix
+    exponential per distinct step length between break points (``plan``, as for a
+    linear system) and per sine frequency of the road (0 for its linear segments), or
+    :data:`_NO_REGIME`."""
+    reg = _regime_system(sys)
+    if reg is None or plan is None:
+        return _NO_REGIME
+    sizes, _ = plan
+    if sizes.size > EXACT_MAX_STEP_SIZES:
+        return _NO_REGIME
+    w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
+    ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
+    cls = np.full(len(segs), -1, np.int64)
+    for c, wc in enumerate(ws):
+        cls[(w == wc) & (segs[:, 2] != 2.0)] = c
+    A, B, gx, gu, thr, idx = reg
+    XE, XG = _regime_exponentials(
+        A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
+        np.ascontiguousarray(sizes, float).tobytes(),
+    )  # fmt: skip
+    keys = np.rint(sizes / (EXACT_STEP_QUANTUM * max(T, 1.0))).astype(np.int64)
+    return XE, XG, keys, thr, idx, cls
+
+
+@lru_cache(maxsize=16)
+def _regime_exponentials(n, a, b, gx, gu, ws, sizes):
+    """(XE, XG): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows and
+    their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies ws."""
+    from scipy.linalg import expm
+
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    Gx = np.frombuffer(gx).reshape(-1, n)
+    Gu = np.frombuffer(gu).reshape(-1, 3)
+    hs = np.frombuffer(sizes)
+    ng = Gx.shape[0]
+    XE = np.empty((len(ws), hs.size, n, n + 3))
+    XG = np.empty((len(ws), 2 * ng, n + 3))
+    for c, w in enumerate(ws):
+        Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
+        M = np.zeros((n + 3, n + 3))
+        M[:n, :n] = A
+        M[:n, n:] = B @ Gin
+        M[n, n + 1] = 1.0
+        M[n + 1, n] = -w * w
+        XE[c] = expm(hs[:, None, None] * M[None])[:, :n]
+        rows = np.hstack([Gx, Gu @ Gin])
+        XG[c, :ng] = rows
+        XG[c, ng:] = rows @ M
+    return XE, XG  # writable, as the empty tables: one compiled integrator, not two
 
 
 def _exact_tables(A, B, sizes):
