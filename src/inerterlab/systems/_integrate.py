@@ -149,12 +149,21 @@ def _dense(y, yt, K, h, th, out):
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
 
 
+@nb.njit(cache=True, inline="always")
+def _sides(sw, road):
+    """The side of each element's kink (road[3 + e], see :func:`._kernel.evaluate`) from
+    the signs of its two switching functions (:func:`._kernel.switches`)."""
+    for e in range(sw.size // 2):
+        g = max(sw[2 * e], sw[2 * e + 1])
+        road[3 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[3 + e])
+
+
 @nb.njit(cache=True)
 def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw):  # fmt: skip
-    """theta in (0, 1) where element e's switching function, g0 at the step's start and
-    g1 at its end (opposite signs), crosses zero on the continuous extension (Illinois
-    regula falsi to 1e-12 in theta)."""
+    """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
+    the step's start and g1 at its end (opposite signs), crosses zero on the continuous
+    extension (Illinois regula falsi to 1e-12 in theta)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
@@ -292,7 +301,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     switch. Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.empty(3)
+    road = np.zeros(3 + itab[I_NE])  # the road, then each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -310,11 +319,18 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     # step across a sign change is cut at the crossing (forced: the element whose
     # crossing it lands on), so no step integrates across a kink of a force law
     ne = itab[I_NE]
-    sw = np.empty(ne)
-    swn = np.empty(ne)
-    swx = np.empty(ne)
+    sw = np.empty(2 * ne)  # two per element (see _kernel.switches)
+    swn = np.empty(2 * ne)
+    swx = np.empty(2 * ne)
     yd = np.empty(n)
+    flip = -1
+    past = 0.0
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
+    if events:  # every attempt takes the law of the side of each kink it starts on
+        _sides(sw, road)
+        _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        for i in range(n):
+            K[0, i] = dy[i]
     forced = -1
     h_keep = 0.0
     # exact steps in the linear regimes
@@ -335,7 +351,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             cap = math.inf
             inside = True
             for g in range(ng):
-                if sw[xel[g]] <= 0.0:
+                if max(sw[2 * xel[g]], sw[2 * xel[g] + 1]) <= 0.0:
                     inside = False
             if inside:
                 for i in range(n):
@@ -390,6 +406,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 for i in range(n):
                     K[0, i] = dy[i]
                 switches(itab, ftab, work, sw)
+                _sides(sw, road)
                 if t >= t_end:
                     break
         lim = t_end
@@ -452,13 +469,16 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
             if forced < 0:
                 th = 2.0
-                for e in range(ne):
+                for e in range(2 * ne):
                     if sw[e] * swn[e] < 0.0:
                         x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
                                     ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
                         if x < th:
                             th = x
                             forced = e
+                            # the element's side past this crossing: above its band if
+                            # this half turns positive, inside it if it turns negative
+                            past = 1.0 if sw[e] < 0.0 else -1.0
                 if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
                     stats[3] += 1
                     h_keep = h_free
@@ -466,8 +486,9 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                     reject_prev = False
                     continue  # again, to the crossing
                 h_keep = 0.0
-            for e in range(ne):
+            for e in range(2 * ne):
                 sw[e] = swn[e]
+            flip = forced
             if forced >= 0:
                 sw[forced] = 0.0  # on the kink: the next step starts past it
             forced = -1
@@ -482,6 +503,12 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
             t = tn
+            if flip >= 0:  # past the kink: its other side's law from here
+                road[3 + flip // 2] = past
+                _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                for i in range(n):
+                    K[0, i] = dy[i]
+                flip = -1
             fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))
             if reject_prev:

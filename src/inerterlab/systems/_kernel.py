@@ -45,7 +45,12 @@ import numba as nb
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING
-from ..elements.adaptive_flywheel import flywheel_inertance, flywheel_switch, slider_derivative
+from ..elements.adaptive_flywheel import (
+    flywheel_inertance,
+    flywheel_inertance_side,
+    flywheel_switch,
+    slider_derivative,
+)
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
@@ -291,7 +296,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
     defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
-    the state derivative. Returns False if a balance could not be solved. With a
+    the derivative. Returns False if a balance could not be solved. ``road`` holds the
+    road's displacement, velocity and acceleration, and may go on with one entry per
+    element: where it is not 0, an element with a kink takes the law of that side of it
+    (+1 above its switching function's zero, -1 below), continued past it. With a
     non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
     M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
     interval it applies the impulse exactly, whatever the velocity dependence of the
@@ -403,6 +411,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
                 dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
+            elif road.size > 3 and road[3 + e] != 0.0:  # held on one side of its kink
+                me = flywheel_inertance_side(ftab, o, v, road[3 + e])
+                f = 0.0
             else:
                 me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
         if jerk:
@@ -505,8 +516,16 @@ def outputs(t, x, road, itab, ftab, out):
 def switches(itab, ftab, W, out):
     """The elements' switching functions (a sign change marks a kink of a force law:
     flywheel saturation, free-play contact) from the node displacements and velocities
-    of the last :func:`evaluate` (in ``W``) into ``out``; returns how many elements have
-    one (1.0 where an element has none)."""
+    of the last :func:`evaluate` (in ``W``) into ``out``, two per element; returns how
+    many elements have them (1.0 where an element has none).
+
+    An element declares one switching function g(a) of its argument a (relative
+    velocity or displacement), even in a: g = phi(|a|), zero at the kinks a = +-a0. Its
+    two signed halves g0 + s (g - g0) and g0 - s (g - g0) (g0 = g(0), s the sign of a)
+    are monotone in a, each zero at one kink: a passage from one side through the band
+    between the kinks to the other changes the sign of both, which a test of the signs
+    at a step's ends sees where g itself, positive at both ends, would not. The element
+    is past a kink (above its band) where either half is positive."""
     nn = itab[I_NN]
     eo = itab[I_ELEM]
     count = 0
@@ -517,13 +536,21 @@ def switches(itab, ftab, W, out):
         bot = itab[b + 2]
         o = itab[b + 3]
         g = 1.0
+        g0 = 1.0
+        a = 0.0
         if code == SPRING:
-            g = spring_switch(ftab, o, W[top] - W[bot])
+            a = W[top] - W[bot]
+            g = spring_switch(ftab, o, a)
+            g0 = spring_switch(ftab, o, 0.0)
             if ftab[o + 1] > 0.0:
                 count += 1
         elif code == FLYWHEEL:
-            g = flywheel_switch(ftab, o, W[nn + top] - W[nn + bot])
+            a = W[nn + top] - W[nn + bot]
+            g = flywheel_switch(ftab, o, a)
+            g0 = flywheel_switch(ftab, o, 0.0)
             if ftab[o] != 2.0:
                 count += 1
-        out[e] = g
+        d = g - g0 if a >= 0.0 else g0 - g
+        out[2 * e] = g0 + d
+        out[2 * e + 1] = g0 - d
     return count
