@@ -134,6 +134,13 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
     return evaluate(t, y, road, itab, ftab, work, dy, imp)
 
 
+@nb.njit(cache=True)
+def _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+    """:func:`_f` as a call, for the places that evaluate once per phase (a first
+    stage after exact steps or a kink): not inlined there, to keep compilation short."""
+    return _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+
+
 @nb.njit(cache=True, inline="always")
 def _dense(y, yt, K, h, th, out):
     """The order-4 continuous extension of the step y -> yt at theta = th."""
@@ -149,7 +156,7 @@ def _dense(y, yt, K, h, th, out):
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _sides(sw, road):
     """The side of each element's kink (road[3 + e], see :func:`._kernel.evaluate`) from
     the signs of its two switching functions (:func:`._kernel.switches`)."""
@@ -203,7 +210,7 @@ def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fi
 # linear segment), so z' = M z is linear and z(t + h) = exp(M h) z exactly.
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _x_lookup(keys, h, q):
     """Row of the step length h in the sorted integer keys (lengths in units of q), or
     -1."""
@@ -221,7 +228,7 @@ def _x_lookup(keys, h, q):
     return -1
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _x_input(segs, i, t, road, z, n):
     """The input part of z at time t on segment i (see above)."""
     road_at(segs, i, t, road)
@@ -230,7 +237,7 @@ def _x_input(segs, i, t, road, z, n):
     z[n + 2] = segs[i, 3]
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _x_guards(XG, c, z, thr, margin, ga, gd):
     """Each regime's argument (ga) and its rate (gd) at z; True if every argument is at
     least ``margin`` x its threshold in magnitude."""
@@ -249,7 +256,7 @@ def _x_guards(XG, c, z, thr, margin, ga, gd):
     return ok
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True)
 def _x_stays(a0, d0, a1, d1, h, lim):
     """Whether the cubic Hermite interpolant of an argument (values a0, a1 and rates d0,
     d1 at the ends of a step of length h) keeps one sign and magnitude >= lim over the
@@ -328,7 +335,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road)
-        _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
         for i in range(n):
             K[0, i] = dy[i]
     forced = -1
@@ -402,7 +409,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 stats[4] += 1
                 taken += 1
             if taken:  # the Dormand-Prince steps go on from here: their first stage
-                _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
                 switches(itab, ftab, work, sw)
@@ -505,7 +512,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = tn
             if flip >= 0:  # past the kink: its other side's law from here
                 road[3 + flip // 2] = past
-                _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
                 flip = -1
