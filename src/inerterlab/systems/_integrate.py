@@ -660,6 +660,48 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     return ok
 
 
+@nb.njit(cache=True)
+def regime_outputs(t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr, O):
+    """Outputs at every sample into O (one row per output, as :func:`linear_outputs`):
+    C x + D u where every regime's argument (rows Gx, Gu over the state and the road)
+    is past its threshold, the system there being the linear one (C, D) of its linear
+    regimes (:func:`.core._regime_system`; every row of a linear system), NaN in the
+    rows ``undefined``; the evaluator elsewhere (a flywheel below saturation)."""
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    n = Y.shape[1]
+    no = 3 * nn + ne
+    road = np.empty(3)
+    W = np.empty(_work_size(itab))
+    dx = np.empty(n)
+    imp = np.empty(0)
+    s = 0
+    ok = True
+    for j in range(t_out.size):
+        s = _sample_road(segs, s, t_out[j], road)
+        lin = True
+        for g in range(thr.size):
+            a = Gu[g, 0] * road[0] + Gu[g, 1] * road[1] + Gu[g, 2] * road[2]
+            for q in range(n):
+                a += Gx[g, q] * Y[j, q]
+            if not abs(a) > thr[g]:
+                lin = False
+        if lin:
+            for i in range(no):
+                if undefined[i]:
+                    O[i, j] = math.nan
+                    continue
+                acc = D[i, 0] * road[0] + D[i, 1] * road[1] + D[i, 2] * road[2]
+                for q in range(n):
+                    acc += C[i, q] * Y[j, q]
+                O[i, j] = acc
+        else:
+            ok &= evaluate(t_out[j], Y[j], road, itab, ftab, W, dx, imp)
+            for i in range(no):
+                O[i, j] = W[i]
+    return ok
+
+
 @nb.njit(cache=True, inline="always")
 def _node_xv(itab, n, Y, j, road):
     """(x, v) of node n at sample j: the ground, the drive (road), or a node whose

@@ -874,6 +874,12 @@ def _simulate(
         }  # fmt: skip
         meth = "adaptive"
     not_finite: dict = {}
+    reg = _regime_system(sys) if O is None and sys.n_states else None
+    if reg is not None:  # C x + D u where every element sits in its linear regime
+        _, _, gx, gu, thr, _, C, D, undefined = reg
+        O = np.empty((len(sys.output_names), ts.size))
+        _integrate.regime_outputs(ts, Y, segs, sys.itab, sys.ftab, C, D, undefined, gx, gu,
+                                  thr, O)  # fmt: skip
     if O is None:
         O = np.empty((ts.size, len(sys.output_names)))
         _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
@@ -1053,7 +1059,8 @@ REGIME_MAX_CLASSES = 4
 def _regime_system(sys):
     """The system in the linear regime of every nonlinear element (a linear system: as
     it is), or None where one has none: (A, B, guard rows over (x, u) as (G_x, G_u),
-    thresholds, element indices), cached on the system."""
+    thresholds, element indices, C, D, the outputs it leaves undefined), cached on the
+    system."""
     if "regime" in sys.info:
         return sys.info["regime"]
     found = None
@@ -1070,6 +1077,8 @@ def _regime_system(sys):
         itab.setflags(write=False)  # typed as the system's own: no second compilation
         ftab.setflags(write=False)
         A, B, C, D = _state_space(sys, itab, ftab)
+        out0 = np.empty(len(sys.output_names))
+        _kernel.outputs(0.0, np.zeros(sys.n_states), np.zeros(3), itab, ftab, out0)
         names = list(sys.output_names)
         gx, gu, thr, idx = [], [], [], []
         for e, (_, arg, a) in regimes:
@@ -1085,7 +1094,7 @@ def _regime_system(sys):
         n = sys.n_states
         found = (
             A, B, np.array(gx, float).reshape(-1, n), np.array(gu, float).reshape(-1, 3),
-            np.array(thr, float), np.array(idx, np.int64),
+            np.array(thr, float), np.array(idx, np.int64), C, D, np.isnan(out0),
         )  # fmt: skip
     sys.info["regime"] = found
     return found
@@ -1108,7 +1117,7 @@ def _regime_tables(sys, segs, T, ts, plan):
     cls = np.full(len(segs), -1, np.int64)
     for c, wc in enumerate(ws):
         cls[(w == wc) & (segs[:, 2] != 2.0)] = c
-    A, B, gx, gu, thr, idx = reg
+    A, B, gx, gu, thr, idx = reg[:6]
     XE, XG = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
         np.ascontiguousarray(sizes, float).tobytes(),
