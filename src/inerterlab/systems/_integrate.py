@@ -332,6 +332,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     yd = np.empty(n)
     flip = -1
     past = 0.0
+    h_side = np.zeros(2)  # a first step size past a kink, into each side
+    fresh = -1
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road)
@@ -506,16 +508,21 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
                     k += 1
+            if fresh >= 0 and flip < 0:
+                h_side[fresh] = h  # the first step that passed after a kink to this side
+                fresh = -1
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
             t = tn
+            into = -1
             if flip >= 0:  # past the kink: its other side's law from here
                 road[3 + flip // 2] = past
                 _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
                 flip = -1
+                into = 0 if past < 0.0 else 1
             fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))
             if reject_prev:
@@ -524,8 +531,15 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h = h * fac
             if lim < t_end and fac >= 1.0:
                 h = max(h, h_free)  # a step cut short by an edge: keep the free size
-            if h_keep > 0.0 and fac >= 1.0:
+            if h_keep > 0.0 and fac >= 1.0 and into < 0:
                 h = max(h, h_keep)  # a step cut short by an event: the same
+            if into >= 0:
+                # past a kink the law is another one: not the step size from before it,
+                # but at most the first one that passed after the last kink to this side
+                h = h_keep if h_keep > 0.0 else h
+                if h_side[into] > 0.0:
+                    h = min(h, h_side[into])
+                fresh = into
             h_keep = 0.0
             check = cx >= 0
         else:
