@@ -128,3 +128,58 @@ def test_outputs_in_the_regime_equal_the_evaluator(name):
         ok = ~np.isnan(want)
         scale = max(float(np.abs(want[ok]).max()) if ok.any() else 0.0, math.ulp(1.0))
         assert np.abs(got[ok] - want[ok]).max() <= 1e-12 * scale, nm
+
+
+def test_saturation_event_against_the_closed_form():
+    """A body of mass m on an adaptive flywheel over a base moving as A sin(w t), the
+    flywheel saturated at the start: while saturated the relative velocity is
+    v_r(t) = v_r0 + m / (m + b_sat) A w (cos w t - 1) (a constant inertance), so it
+    reaches the saturation threshold at t* = arccos(1 + (v_thr - v_r0)(m + b_sat) /
+    (m A w)) / w. Before t* the core (exact steps) follows the closed form; after it,
+    an rtol-1e-12 DOP853 run of the flywheel's own law started at t* from the closed
+    form: so the switch was located at t*."""
+    from inerterlab.systems import base_excited
+
+    m = 100.0
+    sys = base_excited(m, "afw")
+    lin, _, v_thr = sys.elements[0].linear_regime()
+    b = lin.inertance
+    f = 2.0
+    w = 2.0 * np.pi * f
+    vr0 = 3.0 * v_thr
+    A = 3.0 * v_thr * (m + b) / (m * w)  # the swing of v_r reaches below v_thr
+    c = m / (m + b)
+    t_star = np.arccos(1.0 + (v_thr - vr0) / (c * A * w)) / w
+
+    def closed(t):  # body displacement and velocity while saturated (body.x(0) = 0)
+        vb = A * w * np.cos(w * t) - vr0 - c * A * w * (np.cos(w * t) - 1.0)
+        xb = (1.0 - c) * A * np.sin(w * t) + (c * A * w - vr0) * t
+        return xb, vb
+
+    i_x, i_v = sys.state_names.index("body.x"), sys.state_names.index("body.v")
+    x0 = np.zeros(sys.n_states)
+    x0[i_v] = A * w - vr0
+    T = t_star + 0.01
+    res = sys.simulate(sine(A, f), T, rtol=1e-10, sample_rate=10_000.0, x0=x0)
+    assert res.stats["exact_steps"] > 0 and res.stats["events"] >= 1
+    before = res.time < t_star
+    xb, vb = closed(res.time[before])
+    assert np.abs(res.states[before, i_v] - vb).max() <= 1e-9 * np.abs(vb).max()
+    assert np.abs(res.states[before, i_x] - xb).max() <= 1e-9 * np.abs(xb).max()
+    # after the switch: the flywheel's law from the closed-form state at t*
+    segs = np.ascontiguousarray(sine(A, f).segments(T), float)
+    road = np.empty(3)
+    dx = np.empty(sys.n_states)
+
+    def rhs(t, x):
+        road_at(segs, 0, t, road)
+        sys.rhs(t, x, road, sys.itab, sys.ftab, dx)
+        return dx.copy()
+
+    y_star = np.zeros(sys.n_states)
+    y_star[i_x], y_star[i_v] = closed(t_star)
+    after = res.time > t_star
+    ref = solve_ivp(rhs, (t_star, T), y_star, method="DOP853", rtol=1e-12, atol=1e-15,
+                    t_eval=res.time[after]).y  # fmt: skip
+    scale = np.abs(res.states[:, i_v]).max()
+    assert np.abs(res.states[after, i_v] - ref[i_v]).max() <= 1e-8 * scale
