@@ -334,6 +334,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     past = 0.0
     h_side = np.zeros(2)  # a first step size past a kink, into each side
     fresh = -1
+    cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road)
@@ -489,12 +490,22 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                             # this half turns positive, inside it if it turns negative
                             past = 1.0 if sw[e] < 0.0 else -1.0
                 if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
+                    # the step ends at the crossing, on its continuous extension (the
+                    # attempt followed one law throughout: its extension is smooth)
                     stats[3] += 1
+                    tc = t + th * h
+                    while mode == 0 and k < t_out.size and t_out[k] < tc:
+                        _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
+                        k += 1
+                    _dense(y, yt, K, h, th, yd)
+                    for i in range(n):
+                        yt[i] = yd[i]
+                    tn = tc
                     h_keep = h_free
                     h = th * h
-                    reject_prev = False
-                    continue  # again, to the crossing
-                h_keep = 0.0
+                    cut = True
+                else:
+                    h_keep = 0.0
             for e in range(2 * ne):
                 sw[e] = swn[e]
             flip = forced
@@ -503,8 +514,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             forced = -1
         if err <= 1.0:
             stats[0] += 1
-            # dense output on (t, tn]
-            if mode == 0:
+            # dense output on (t, tn] (a step cut at a crossing wrote its own)
+            if mode == 0 and not cut:
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
                     k += 1
@@ -521,6 +532,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
+                if cut:  # the switching functions at the crossing, not at the step's end
+                    switches(itab, ftab, work, sw)
+                    sw[flip] = 0.0
+                    cut = False
                 flip = -1
                 into = 0 if past < 0.0 else 1
             fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
