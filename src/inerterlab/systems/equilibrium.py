@@ -250,7 +250,7 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
                 raise NetworkError(
                     f"{system.description}: no static equilibrium within the elements' "
                     f"ranges: {names[e]} ({el.description}) would take {-y:.6g} m of "
-                    f"compression under {weight:.6g} N of weight, beyond {what}"
+                    f"compression carrying {-forces[names[e]]:.6g} N, beyond {what}"
                 )
         if el.is_linear:
             continue
