@@ -144,39 +144,60 @@ def modes_command(
     model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
-    """Natural frequencies [Hz]: undamped (body and seat on rigid tyres, whole car) and
-    the damped modes with their damping ratios.
+    """Modes of the linear car: undamped natural frequencies [Hz] (body and seat on
+    rigid tyres, whole car), and from the eigenvalues lambda of the state space every
+    damped mode: its damped frequency Im(lambda)/2pi [Hz], damping ratio
+    -Re(lambda)/|lambda| [-] and undamped natural frequency |lambda|/2pi [Hz]; and the
+    real (overdamped) modes with their decay rate -lambda [1/s] and time constant [s].
 
     A car with network struts that have internal nodes has no undamped mass-spring
-    model: only its damped modes (eigenvalues of the state space) are printed.
+    model: only its modes from the state space are printed.
 
     Example: inerterlab vehicle modes --vehicle car.toml
     """
+    from ..vehicles.spectral import modes
+
     params, veh = _load(vehicle, model)
     plain = not any(c.law.internal_states() for c in veh.connections)
     rigid = veh.natural_frequencies(rigid_tyres=True).tolist() if plain else None
     whole = veh.natural_frequencies(rigid_tyres=False).tolist() if plain else None
-    fn, zeta = veh.damped_modes()
+    osc, real = modes(veh)
     if json_out:
         emit_json(
             {
                 "model": veh.kind,
                 "rigid_tyres_hz": rigid,
                 "whole_car_hz": whole,
-                "damped_modes": [
-                    {"frequency_hz": float(f), "damping_ratio": float(z)}
-                    for f, z in zip(fn, zeta, strict=True)
-                ],
+                "damped_modes": [m.to_dict() for m in osc],
+                "real_modes": [m.to_dict() for m in real],
             }
         )
         return
     if plain:
-        print("rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
-        print("whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
-    print(
-        "damped modes [Hz (damping ratio)]: "
-        + ", ".join(f"{f:.3f} ({z:.2f})" for f, z in zip(fn, zeta, strict=True))
+        print("undamped, rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
+        print("undamped, whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
+    _table(
+        f"{veh.kind} car, damped modes (linear model, eigenvalues of the state space)",
+        [
+            (
+                f"mode {i + 1}",
+                f"Im(lambda)/2pi {m.damped_hz:.3f} Hz, damping ratio "
+                f"{m.damping_ratio:.3f}, |lambda|/2pi {m.natural_hz:.3f} Hz",
+            )
+            for i, m in enumerate(osc)
+        ],
     )
+    if real:
+        _table(
+            "real (overdamped) modes",
+            [
+                (f"mode {i + 1}", f"decay rate {m.decay_rate:.4g} 1/s, time constant "
+                 f"{m.time_constant:.4g} s")
+                for i, m in enumerate(real)
+            ],
+        )  # fmt: skip
+    else:
+        print("real (overdamped) modes: none")
 
 
 def road_command(

@@ -286,16 +286,6 @@ class LinearVehicle:
                 out[con.name[: -len("_tyre")]] = float(-k * con.u @ q0)
         return out
 
-    def damped_modes(self) -> tuple[np.ndarray, np.ndarray]:
-        """(natural frequency |lambda| / 2 pi [Hz], damping ratio -Re lambda / |lambda|)
-        of every oscillatory mode, from the eigenvalues lambda of the state matrix
-        (network struts' internal states included), by ascending frequency."""
-        lam = np.linalg.eigvals(self.state_space()[0])
-        osc = lam[lam.imag > 1e-9 * max(1.0, float(np.abs(lam).max()))]
-        wn = np.abs(osc)
-        order = np.argsort(wn)
-        return wn[order] / (2 * math.pi), (-osc.real / wn)[order]
-
     def natural_frequencies(self, rigid_tyres: bool = True) -> np.ndarray:
         """Undamped natural frequencies [Hz], ascending.
 
