@@ -36,7 +36,9 @@ def test_quarter_car_on_a_gas_spring_closed_form():
     # the nonlinear balance from the element's own law, to 1e-9 of the weight
     gas = GasSpring(**GAS)
     body = -gas.force(eq.displacements["body"] - eq.displacements["wheel"]) - M * G
-    wheel_bal = gas.force(eq.extensions["gas"]) - CAR["tyre_stiffness"] * eq.displacements["wheel"] - m * G
+    wheel_bal = (
+        gas.force(eq.extensions["gas"]) - CAR["tyre_stiffness"] * eq.displacements["wheel"] - m * G
+    )
     assert abs(body) <= 1e-9 * eq.weight and abs(wheel_bal) <= 1e-9 * eq.weight
     assert eq.residual <= 1e-9 * eq.weight
     # the gas spring is much stiffer loaded than at its free length

@@ -200,6 +200,78 @@ def modes_command(
         print("real (overdamped) modes: none")
 
 
+def frequency_response_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
+    amplitude: Annotated[float, typer.Option(help="Road amplitude A [m], r = A sin(2 pi f t).")] = 0.01,
+    tracks: Annotated[
+        str, typer.Option(help="Full car: right track in-phase (heave) or anti-phase (roll).")
+    ] = "in-phase",
+    axles: Annotated[
+        str | None,
+        typer.Option(help="Rig without --speed: rear axle in-phase (heave) or anti-phase (pitch)."),
+    ] = None,
+    speed: Annotated[
+        float | None,
+        typer.Option(help="Drive at V [m/s]: the rear wheels a wheelbase behind (no --axles)."),
+    ] = None,
+    fmin: Annotated[float, typer.Option(help="Lowest frequency [Hz].")] = 0.5,
+    fmax: Annotated[float, typer.Option(help="Highest frequency [Hz].")] = 25.0,
+    points: Annotated[int, typer.Option(help="Frequencies, log spaced [-].")] = 200,
+    json_out: Annotated[bool, _JSON] = False,
+    csv: Annotated[Path | None, typer.Option(help="Write one row per frequency to this CSV.")] = None,
+    plot: Annotated[Path | None, typer.Option(help="Write the amplitudes to this figure.")] = None,
+) -> None:
+    """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
+    linear car on a sine road of amplitude A, and per unit road amplitude, over a log
+    grid of frequencies (from the state space, steady state).
+
+    Front and rear move together on a rig (--axles in-phase, default), against each other
+    (--axles anti-phase), or as on the road at --speed V (the rear wheels see the road
+    wheelbase/V later). A corner with an adaptive inerter or a nonlinear device is
+    refused (use vehicle simulate). Prints each response's peak; --csv for every row.
+
+    Example: inerterlab vehicle frequency-response --vehicle car.toml --tracks anti-phase --csv fr.csv
+    """
+    import numpy as np
+
+    from ..errors import ParameterError, check_positive
+    from ..vehicles.frequency import UNITS, frequency_response
+    from ._common import atomic_savefig, atomic_write_text
+
+    params, veh = _load(vehicle, model)
+    lo = check_positive("fmin", fmin, "Hz")
+    hi = check_positive("fmax", fmax, "Hz")
+    if not hi > lo:
+        raise ParameterError("fmax", fmax, f"a frequency above fmin = {fmin:g} Hz")
+    if not 2 <= points <= MAX_POINTS:
+        raise ParameterError("points", points, f"an integer in [2, {MAX_POINTS}]")
+    fr = frequency_response(
+        veh, np.geomspace(lo, hi, points), amplitude=amplitude, tracks=tracks, axles=axles,
+        speed=speed,
+    )  # fmt: skip
+    out = fr.to_dict()
+    if csv is not None:
+        atomic_write_text(csv, fr.to_frame().to_csv(index=False), option="--csv")
+        out["csv"] = str(csv)
+    if plot is not None:
+        fig = fr.plot()
+        atomic_savefig(fig, plot)
+        out["plot"] = str(plot)
+    if json_out:
+        emit_json(out)
+        return
+    rows = []
+    for k, (f, a) in fr.peaks().items():
+        unit = out["amplitude_units"][k]
+        rows.append((f"peak {k} amplitude [{unit}]", f"{a:.4g} at {f:.3f} Hz"))
+        rows.append((f"  per road amplitude [{UNITS[k]}]", f"{a / fr.amplitude:.4g}"))
+    _table(f"frequency response (linear model): {fr.input_label()}", rows)
+    for key in ("csv", "plot"):
+        if key in out:
+            print(f"wrote {out[key]}")
+
+
 def road_command(
     profile: Annotated[
         Path,
@@ -721,6 +793,7 @@ def register(app: typer.Typer) -> None:
     group.command("spectral")(spectral_command)
     group.command("simulate")(simulate_command)
     group.command("modes")(modes_command)
+    group.command("frequency-response")(frequency_response_command)
     group.command("monte-carlo")(monte_carlo_command)
     group.command("optimize")(optimize_command)
     group.command("road")(road_command)

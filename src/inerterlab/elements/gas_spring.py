@@ -88,7 +88,9 @@ class GasSpring(ElementBase):
             )
         lo = -self.working_stroke
         if not lo <= self.operating_point:
-            raise ParameterError("operating_point", self.operating_point, f"an extension >= {lo:.6g} m")
+            raise ParameterError(
+                "operating_point", self.operating_point, f"an extension >= {lo:.6g} m"
+            )
 
     @property
     def length(self) -> float:
@@ -110,13 +112,21 @@ class GasSpring(ElementBase):
     def tangent(self, x: float) -> float:
         """dF/dx [N/m] at extension ``x`` [m]: n p A^2 / V."""
         r = self.length + x
-        return self.exponent * self.pressure * self.area / self.length * (self.length / r) ** (
-            self.exponent + 1.0
+        return (
+            self.exponent
+            * self.pressure
+            * self.area
+            / self.length
+            * (self.length / r) ** (self.exponent + 1.0)
         )
 
     def static_range(self) -> tuple[float, float, str]:
         """(lowest, highest extension [m], what the lowest is) of the working range."""
-        return -self.working_stroke, math.inf, f"its stroke {self.working_stroke:.6g} m (it bottoms out)"
+        return (
+            -self.working_stroke,
+            math.inf,
+            f"its stroke {self.working_stroke:.6g} m (it bottoms out)",
+        )
 
     def at_operating_point(self, extension: float) -> GasSpring:
         """This spring with its law taken about the static ``extension`` [m]."""
@@ -130,9 +140,7 @@ class GasSpring(ElementBase):
         )  # fmt: skip
 
     def scaled(self, factor):  # copies in parallel: area and volume add up
-        return dataclasses.replace(
-            self, area=self.area * factor, volume=self.volume * factor
-        )
+        return dataclasses.replace(self, area=self.area * factor, volume=self.volume * factor)
 
     def rest_network(self):
         """k = n p A^2 / V at the operating point (the force-free length by default)."""
