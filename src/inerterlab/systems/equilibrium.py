@@ -185,55 +185,19 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
             R[pos[n]] -= weights[n]
         return X, F, R
 
-    z = np.zeros(len(rows))
-    if not rows:
-        X, F, R = balance(z)
-        it = 0
-    else:
-        X, F, R = balance(z)
-        it = 0
-        h = 1e-7
-        while True:
-            res = float(np.max(np.abs(R)))
-            if res <= 1e-12 * scale:
-                break
-            if it >= max_iterations:
-                raise ConvergenceError(
-                    f"{system.description}: no static equilibrium after {max_iterations} "
-                    f"Newton steps (force residual {res:.3g} N of {weight:.6g} N weight)"
-                )
-            J = np.empty((len(rows), len(rows)))
-            for j in range(len(rows)):
-                d = h * max(1e-2, abs(z[j]))
-                zp, zm = z.copy(), z.copy()
-                zp[j] += d
-                zm[j] -= d
-                J[:, j] = (balance(zp)[2] - balance(zm)[2]) / (2 * d)
-            if not np.all(np.isfinite(J)) or np.linalg.cond(J) > 1e14:
-                held = _unheld(system, rows, J)
-                raise NetworkError(
-                    f"{system.description}: no static equilibrium: {held} is held by no "
-                    "spring at rest (the static stiffness is singular); give it a spring path "
-                    "to the road or ground"
-                )
-            step = np.linalg.solve(J, -R)
-            lam = 1.0
-            while True:
-                zt = z + lam * step
-                Xt, Ft, Rt = balance(zt)
-                rt = float(np.max(np.abs(Rt)))
-                if math.isfinite(rt) and (rt < res or lam < 1e-3 and rt <= res * 1.0001):
-                    break
-                lam *= 0.5
-                if lam < 1e-12:
-                    raise ConvergenceError(
-                        f"{system.description}: Newton's method for the static equilibrium "
-                        f"stalled (force residual {res:.3g} N)"
-                    )
-            z, X, F, R = zt, Xt, Ft, Rt
-            it += 1
-            if float(np.max(np.abs(lam * step))) <= 1e-15 * max(1.0, float(np.max(np.abs(z)))):
-                break
+    def residual(z):
+        return balance(z)[2]
+
+    def singular(J):
+        raise NetworkError(
+            f"{system.description}: no static equilibrium: {_unheld(system, rows, J)} is "
+            "held by no spring at rest (the static stiffness is singular); give it a spring "
+            "path to the road or ground"
+        )
+
+    z, it = newton(residual, len(rows), 1e-12 * scale, system.description, singular,
+                   max_iterations=max_iterations)  # fmt: skip
+    X, F, R = balance(z)
     res = float(np.max(np.abs(R))) if rows else 0.0
     names = system.element_names
     extensions = {names[e]: float(X[ends[e][0]] - X[ends[e][1]]) for e in springs}
@@ -277,6 +241,56 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         residual=res,
         iterations=it,
     )
+
+
+def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations: int = 100,
+           step: float = 1e-7):  # fmt: skip
+    """z with max |residual(z)| <= ``tol`` by Newton's method from z = 0: the Jacobian by
+    central differences (steps ``step`` x max(0.01, |z_j|)), each step halved until the
+    residual falls and stays finite (a law undefined there gives NaN). ``singular(J)``
+    raises where the Jacobian is singular. Returns (z, iterations); ConvergenceError
+    naming ``what`` if it does not converge."""
+    z = np.zeros(n)
+    if n == 0:
+        return z, 0
+    R = residual(z)
+    it = 0
+    while True:
+        res = float(np.max(np.abs(R)))
+        if res <= tol:
+            return z, it
+        if it >= max_iterations:
+            raise ConvergenceError(
+                f"{what}: no static equilibrium after {max_iterations} Newton steps "
+                f"(residual {res:.3g})"
+            )
+        J = np.empty((n, n))
+        for j in range(n):
+            d = step * max(1e-2, abs(z[j]))
+            zp, zm = z.copy(), z.copy()
+            zp[j] += d
+            zm[j] -= d
+            J[:, j] = (residual(zp) - residual(zm)) / (2 * d)
+        if not np.all(np.isfinite(J)) or np.linalg.cond(J) > 1e14:
+            singular(J)
+        dz = np.linalg.solve(J, -R)
+        lam = 1.0
+        while True:
+            zt = z + lam * dz
+            Rt = residual(zt)
+            rt = float(np.max(np.abs(Rt)))
+            if math.isfinite(rt) and (rt < res or lam < 1e-3 and rt <= res * 1.0001):
+                break
+            lam *= 0.5
+            if lam < 1e-12:
+                raise ConvergenceError(
+                    f"{what}: Newton's method for the static equilibrium stalled "
+                    f"(residual {res:.3g})"
+                )
+        z, R = zt, Rt
+        it += 1
+        if float(np.max(np.abs(lam * dz))) <= 1e-15 * max(1.0, float(np.max(np.abs(z)))):
+            return z, it
 
 
 def _unheld(system, rows, J) -> str:
