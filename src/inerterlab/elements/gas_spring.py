@@ -103,10 +103,11 @@ class GasSpring(ElementBase):
         return self.stroke if self.stroke is not None else 0.9 * self.length
 
     def force(self, x: float) -> float:
-        """F [N] (tension positive) at extension ``x`` [m] from the force-free length."""
+        """F [N] (tension positive) at extension ``x`` [m] from the force-free length
+        (NaN where the gas volume would be gone)."""
         r = self.length + x
         if r <= 0.0:
-            return -math.inf
+            return math.nan
         return self.pressure * self.area * (1.0 - (self.length / r) ** self.exponent)
 
     def tangent(self, x: float) -> float:
