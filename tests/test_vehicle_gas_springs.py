@@ -13,8 +13,16 @@ import pytest
 
 from inerterlab.elements import GasSpring
 from inerterlab.errors import NetworkError
-from inerterlab.vehicles import Corner, FullCar, HalfCar, Strut, Tyre, build, loads_vehicle
-from inerterlab.vehicles import example_vehicle_path
+from inerterlab.vehicles import (
+    Corner,
+    FullCar,
+    HalfCar,
+    Strut,
+    Tyre,
+    build,
+    example_vehicle_path,
+    loads_vehicle,
+)
 from inerterlab.vehicles.nonlinear import simulate_nonlinear
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
 from inerterlab.vehicles.spectral import road_inputs, simulate
