@@ -84,4 +84,4 @@ def test_cli_modes_prints_damped_frequency_and_real_modes(tmp_path):
         [m.decay_rate for m in real], rel=1e-12
     )
     text = subprocess.run(run[:-1], capture_output=True, text=True, check=True).stdout
-    assert "damped" in text and "damping ratio" in text and "real (overdamped) modes" in text
+    assert "Im(lambda)/2pi [Hz]" in text and "damping ratio" in text and "real (overdamped) modes" in text

@@ -176,26 +176,15 @@ def modes_command(
     if plain:
         print("undamped, rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
         print("undamped, whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
-    _table(
-        f"{veh.kind} car, damped modes (linear model, eigenvalues of the state space)",
-        [
-            (
-                f"mode {i + 1}",
-                f"Im(lambda)/2pi {m.damped_hz:.3f} Hz, damping ratio "
-                f"{m.damping_ratio:.3f}, |lambda|/2pi {m.natural_hz:.3f} Hz",
-            )
-            for i, m in enumerate(osc)
-        ],
-    )
+    print(f"{veh.kind} car, modes of the linear model (eigenvalues lambda of the state space):")
+    print(f"  {'mode':>4}  {'Im(lambda)/2pi [Hz]':>19}  {'damping ratio [-]':>17}  {'|lambda|/2pi [Hz]':>17}")
+    for i, m in enumerate(osc):
+        print(f"  {i + 1:>4}  {m.damped_hz:>19.3f}  {m.damping_ratio:>17.3f}  {m.natural_hz:>17.3f}")
     if real:
-        _table(
-            "real (overdamped) modes",
-            [
-                (f"mode {i + 1}", f"decay rate {m.decay_rate:.4g} 1/s, time constant "
-                 f"{m.time_constant:.4g} s")
-                for i, m in enumerate(real)
-            ],
-        )  # fmt: skip
+        print("real (overdamped) modes:")
+        print(f"  {'mode':>4}  {'decay rate -lambda [1/s]':>24}  {'time constant [s]':>17}")
+        for i, m in enumerate(real):
+            print(f"  {i + 1:>4}  {m.decay_rate:>24.4g}  {m.time_constant:>17.4g}")
     else:
         print("real (overdamped) modes: none")
 
