@@ -145,3 +145,24 @@ def test_linear_car_equilibrium_is_the_static_deflection():
     assert eq.system.ftab is not car.ftab or eq.system is not car
     np.testing.assert_array_equal(eq.system.ftab, car.ftab)  # linear: nothing to rebase
     assert eq.displacements["wheel"] == pytest.approx(-(M + m) * G / 120e3, rel=1e-12)
+
+
+def test_harmonic_balance_about_the_equilibrium_is_the_linearisation():
+    """The core's harmonic balance runs on the system about rest unchanged: at 2 um the
+    body amplitude equals |H| of the linearisation there (the tangent, not the spring
+    at its free length)."""
+    from inerterlab.frequency import frequency_response
+
+    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, car=CAR)
+    eq = equilibrium(car, gravity=G)
+    freqs, amp = np.array([1.0, 2.0, 6.0]), 2e-6
+    fr = frequency_response(eq.system, "sihb", freq_hz=freqs, amplitude=amp, direction="up")
+    assert np.asarray(fr.converged).all()
+    A, B, C, D = eq.linear_state_space()
+    i = eq.system.output_names.index("body.x")
+    want = []
+    for f in freqs:
+        w = 2 * math.pi * f
+        u = amp * np.array([1.0, 1j * w, -(w**2)])
+        want.append(abs(C[i] @ np.linalg.solve(1j * w * np.eye(4) - A, B @ u) + D[i] @ u))
+    np.testing.assert_allclose(np.asarray(fr.amplitude_m), want, rtol=2e-3)
