@@ -17,8 +17,8 @@ compression, which is what :meth:`GasSpring.rest_network` gives once the static
 equilibrium (:func:`inerterlab.systems.equilibrium`) has set the operating point.
 
 The law is singular where the volume vanishes (x = -V0/A); the spring's working range
-is its ``stroke`` of compression (default 0.9 V0/A), and a static equilibrium beyond it
-is refused (the spring bottoms out).
+is its ``stroke`` of compression (default 0.9 V0/A; the gas itself limits a longer one),
+and a static equilibrium beyond it is refused (the spring bottoms out).
 """
 
 from __future__ import annotations
@@ -82,10 +82,6 @@ class GasSpring(ElementBase):
         super().__post_init__()
         from ..errors import ParameterError
 
-        if self.stroke is not None and not self.stroke < self.length:
-            raise ParameterError(
-                "stroke", self.stroke, f"a compression below V0/A = {self.length:.6g} m"
-            )
         lo = -self.working_stroke
         if not lo <= self.operating_point:
             raise ParameterError(
@@ -99,8 +95,9 @@ class GasSpring(ElementBase):
 
     @property
     def working_stroke(self) -> float:
-        """Compression [m] the spring can take (its ``stroke``, or 0.9 V0/A)."""
-        return self.stroke if self.stroke is not None else 0.9 * self.length
+        """Compression [m] the spring can take: its ``stroke`` (0.9 V0/A by default; a
+        stroke beyond V0/A is limited by the gas, whose force grows without bound)."""
+        return min(self.stroke, self.length) if self.stroke is not None else 0.9 * self.length
 
     def force(self, x: float) -> float:
         """F [N] (tension positive) at extension ``x`` [m] from the force-free length
