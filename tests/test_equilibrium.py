@@ -137,6 +137,15 @@ def test_out_of_range_equilibria_are_refused():
         equilibrium(quarter_car("c", {"c": 2e3}, car=CAR))
 
 
+def test_node_between_damper_and_inerter_stays():
+    """A massless node that no spring touches carries nothing at rest: it stays at 0."""
+    car = quarter_car("gas | (c - b)", {"gas": GAS, "c": 2e3, "b": 100.0}, car=CAR)
+    eq = equilibrium(car, gravity=G)
+    assert eq.forces["gas"] == pytest.approx(-CAR["sprung_mass"] * G, rel=1e-12)
+    inner = [n for n in car.node_names if n not in ("road", "wheel", "body")]
+    assert inner and all(eq.displacements[n] == 0.0 for n in inner)
+
+
 def test_linear_car_equilibrium_is_the_static_deflection():
     car = quarter_car("k | c | b", {"k": 5e4, "c": 2e3, "b": 100.0}, car=CAR)
     eq = equilibrium(car, gravity=G)

@@ -155,12 +155,18 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     g = check_positive("gravity", gravity, "m/s^2")
     itab, ftab = system.tables
     nn, ne, types, xstate, masses, ends, codes = _structure(system)
-    rows = [n for n in range(nn) if types[n] in (DYN, VEL, REL, RELV)]
+    springs = [e for e in range(ne) if codes[e] == SPRING]
+    sprung = {n for e in springs for n in ends[e]}
+    # a massless node that no spring touches (between a damper and an inerter) carries
+    # nothing at rest anywhere: it stays where it is
+    rows = [
+        n for n in range(nn)
+        if types[n] in (DYN, VEL, REL, RELV) and (n in sprung or masses[n] > 0)
+    ]  # fmt: skip
     unknown = np.array([xstate[n] for n in rows], dtype=np.int64)
     weights = masses * g
     weight = float(weights.sum())
     scale = max(weight, 1.0)
-    springs = [e for e in range(ne) if codes[e] == SPRING]
     W = np.empty(_kernel.work_size(itab))
     dx = np.empty(system.n_states)
     road = np.zeros(3)
