@@ -153,3 +153,34 @@ def test_out_of_range_and_file_input():
     loads = car.static_tyre_loads()
     weight = -float(car.gravity_force.sum())  # body, wheels and seat; 0 on pitch, roll
     assert sum(loads.values()) == pytest.approx(weight, rel=1e-12)
+
+
+def _tangent_half():
+    cf, cr = _compression(M * G * B / (A + B)), _compression(M * G * A / (A + B))
+    return build(HalfCar(
+        sprung_mass=M, pitch_inertia=M * A * B, cg_to_front=A, cg_to_rear=B,
+        front=Corner(unsprung_mass=MU, strut=Strut(stiffness=GAS.tangent(-cf), damping=1500.0), tyre=TYRE),
+        rear=Corner(unsprung_mass=MU, strut=Strut(stiffness=GAS.tangent(-cr), damping=1500.0), tyre=TYRE),
+    ))  # fmt: skip
+
+
+def test_frequency_response_and_modes_are_the_linearisation_about_rest():
+    """A car on gas springs: its frequency response and modes are those of the car on
+    the tangent stiffnesses (closed-form compressions), and say they are linearised."""
+    from inerterlab.vehicles.frequency import frequency_response
+    from inerterlab.vehicles.spectral import modes
+    from inerterlab.vehicles.statics import linearised
+
+    car, ref = build(_half()), _tangent_half()
+    freq = np.geomspace(0.5, 20.0, 31)
+    fr = frequency_response(car, freq, speed=20.0)
+    fr0 = frequency_response(ref, freq, speed=20.0)
+    assert fr.linearised and fr.to_dict()["model"] == "linearised about the static equilibrium"
+    assert not fr0.linearised
+    for k in fr0.transfer:
+        np.testing.assert_allclose(fr.transfer[k], fr0.transfer[k], rtol=1e-10)
+    lin, yes = linearised(car)
+    osc, real = modes(lin)
+    osc0, real0 = modes(ref)
+    assert yes and len(osc) == len(osc0) and len(real) == len(real0)
+    np.testing.assert_allclose([m.damped_hz for m in osc], [m.damped_hz for m in osc0], rtol=1e-10)

@@ -156,8 +156,11 @@ def modes_command(
     Example: inerterlab vehicle modes --vehicle car.toml
     """
     from ..vehicles.spectral import modes
+    from ..vehicles.statics import linearised
 
     params, veh = _load(vehicle, model)
+    veh, lin = linearised(veh)  # gas springs, bump stops: their stiffness at rest
+    what = "the car linearised about its static equilibrium" if lin else "the linear model"
     plain = not any(c.law.internal_states() for c in veh.connections)
     rigid = veh.natural_frequencies(rigid_tyres=True).tolist() if plain else None
     whole = veh.natural_frequencies(rigid_tyres=False).tolist() if plain else None
@@ -166,6 +169,7 @@ def modes_command(
         emit_json(
             {
                 "model": veh.kind,
+                "linearised_about_equilibrium": lin,
                 "rigid_tyres_hz": rigid,
                 "whole_car_hz": whole,
                 "damped_modes": [m.to_dict() for m in osc],
@@ -174,9 +178,11 @@ def modes_command(
         )
         return
     if plain:
+        if lin:
+            print("gas springs and bump stops at their stiffness at rest (linearised):")
         print("undamped, rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
         print("undamped, whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
-    print(f"{veh.kind} car, modes of the linear model (eigenvalues lambda of the state space):")
+    print(f"{veh.kind} car, modes of {what} (eigenvalues lambda of the state space):")
     print(f"  {'mode':>4}  {'Im(lambda)/2pi [Hz]':>19}  {'damping ratio [-]':>17}  {'|lambda|/2pi [Hz]':>17}")
     for i, m in enumerate(osc):
         print(f"  {i + 1:>4}  {m.damped_hz:>19.3f}  {m.damping_ratio:>17.3f}  {m.natural_hz:>17.3f}")
@@ -255,7 +261,7 @@ def frequency_response_command(
         unit = out["amplitude_units"][k]
         rows.append((f"peak {k} amplitude [{unit}]", f"{a:.4g} at {f:.3f} Hz"))
         rows.append((f"  per road amplitude [{UNITS[k]}]", f"{a / fr.amplitude:.4g}"))
-    _table(f"frequency response (linear model): {fr.input_label()}", rows)
+    _table(f"frequency response ({fr.model}): {fr.input_label()}", rows)
     for key in ("csv", "plot"):
         if key in out:
             print(f"wrote {out[key]}")

@@ -19,9 +19,12 @@ body's bounce at its centre of gravity) [m/m], ``pitch`` [rad/m] (positive: nose
 the model's sign), ``roll`` [rad/m] (full car; positive: left side up) and
 ``seat_acc`` [(m/s^2)/m] (the body's acceleration at its centre of gravity,
 ``bounce_acc``, for a car without a seat). Their magnitudes times A are the response
-amplitudes (half peak-to-peak). Linear cars only: a corner with an adaptive inerter or
-a device with internal nodes or friction is refused, naming it (its response depends on
-the amplitude; the time simulation, ``vehicle simulate``, takes it).
+amplitudes (half peak-to-peak). A car resting on gas springs or bump stops
+(:mod:`~inerterlab.vehicles.statics`) is linearised about its static equilibrium (each
+at its stiffness at rest; the result says so: its response to a finite amplitude
+departs from this). A corner with an adaptive inerter or a device with internal nodes or
+friction is refused, naming it (its response depends on the amplitude; the time
+simulation, ``vehicle simulate``, takes it).
 """
 
 from __future__ import annotations
@@ -64,6 +67,11 @@ class VehicleFrequencyResponse:
     axles: str | None
     speed: float | None
     kind: str
+    linearised: bool = False
+
+    @property
+    def model(self) -> str:
+        return "linearised about the static equilibrium" if self.linearised else "linear"
 
     def amplitudes(self) -> dict:
         return {k: np.abs(h) * self.amplitude for k, h in self.transfer.items()}
@@ -99,7 +107,7 @@ class VehicleFrequencyResponse:
     def to_dict(self) -> dict:
         amp = self.amplitudes()
         return {
-            "model": "linear",
+            "model": self.model,
             "vehicle": self.kind,
             "road_amplitude_m": self.amplitude,
             "tracks": self.tracks if self.kind == "full" else None,
@@ -128,7 +136,7 @@ class VehicleFrequencyResponse:
             ax.loglog(self.freq, a, lw=1.2)
             ax.set_ylabel(f"{k} [{AMPLITUDE_UNITS[k]}]")
             ax.grid(True, which="both", lw=0.3)
-        np.atleast_1d(axes)[0].set_title(self.input_label() + " (linear)", fontsize=9)
+        np.atleast_1d(axes)[0].set_title(f"{self.input_label()} ({self.model})", fontsize=9)
         np.atleast_1d(axes)[-1].set_xlabel("frequency [Hz]")
         return fig
 
@@ -187,6 +195,9 @@ def frequency_response(
     f = np.asarray(freq, dtype=float)
     if f.ndim != 1 or f.size < 1 or not np.all(np.isfinite(f)) or np.any(f <= 0):
         raise ParameterError("freq", "grid", "positive finite frequencies [Hz]")
+    from .statics import linearised
+
+    vehicle, lin = linearised(vehicle)
     _require_linear_corners(vehicle)
     A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
     P = road_pattern(vehicle, f, tracks, axles, speed)
@@ -205,5 +216,5 @@ def frequency_response(
         out[acc][i] = Cy[acc] @ x + (Dr[acc] + s * Dd[acc]) @ r
     return VehicleFrequencyResponse(
         freq=f, transfer=out, amplitude=a, tracks=tracks, axles=axles, speed=speed,
-        kind=vehicle.kind,
+        kind=vehicle.kind, linearised=lin,
     )  # fmt: skip
