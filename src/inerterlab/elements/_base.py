@@ -43,6 +43,8 @@ UNIT_QUANTITY = {
     "m/s": "velocity",
     "N": "force",
     "rad/m": "transmission ratio",
+    "Pa": "pressure",
+    "m^3": "volume",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
 

@@ -3,6 +3,8 @@
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
 :func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road).
+:func:`equilibrium` solves the static balance under gravity (a nonlinear spring carrying
+the weight) and gives the system about that rest.
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
 
 Node formulation (docs/model.md §11): every network node has a displacement. Nodes with
@@ -60,6 +62,7 @@ from .core import (
     quarter_car,
     rig,
 )
+from .equilibrium import Equilibrium, equilibrium
 
 __all__ = [
     "System",
@@ -72,4 +75,6 @@ __all__ = [
     "preset_parameters",
     "QUARTER_CAR_PRESETS",
     "RoadVelocityJumpWarning",
+    "Equilibrium",
+    "equilibrium",
 ]

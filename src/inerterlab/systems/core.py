@@ -405,11 +405,17 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         else:
             played = [edges[e][0] for e in attached[i] if _nonlinear(edges[e][1])]
             if played:
+                gap = any(edges[e][0] == played[0] and edges[e][1].prefix == "gap" for e in attached[i])
+                why = (
+                    "inside the free play its position is not determined" if gap else
+                    "its position would follow from a nonlinear spring balance, which the "
+                    "core does not solve"
+                )  # fmt: skip
                 raise NetworkError(
-                    f"ill-posed network: backlash ({played[0]}) at "
-                    f"{nd['origin'] or nd['name']}, a massless node held only by springs: "
-                    "inside the free play its position is not determined. Add a damper "
-                    "beside it, or a mass or an inerter at the node"
+                    f"ill-posed network: {'backlash' if gap else 'a nonlinear spring'} "
+                    f"({played[0]}) at {nd['origin'] or nd['name']}, a massless node held "
+                    f"only by springs: {why}. Add a damper beside it, or a mass or an "
+                    "inerter at the node"
                 )
             types.append(POS)
     ref = [-1] * nn  # the reference node of each node's floating component
