@@ -30,7 +30,7 @@ import numpy as np  # noqa: E402
 
 from inerterlab.excitation import iso8608, sine  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate  # noqa: E402
-from inerterlab.suspension import quarter_car as specialised  # noqa: E402
+from inerterlab import quarter_car as specialised  # noqa: E402
 from inerterlab.systems import quarter_car  # noqa: E402
 
 NAMES = ("wheel.x", "wheel.v", "body.x", "body.v")

@@ -7,7 +7,7 @@ import pytest
 from inerterlab import simulate as sim
 from inerterlab.excitation import bump, drop, sine
 from inerterlab.simulate import SimulationOptions
-from inerterlab.suspension import quarter_car as specialised
+from inerterlab import quarter_car as specialised
 from inerterlab.systems import QUARTER_CAR_PRESETS, quarter_car
 
 RTOL = 1e-10

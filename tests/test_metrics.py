@@ -14,7 +14,7 @@ from inerterlab.metrics import (
     wk_state_space,
     wk_weighting,
 )
-from inerterlab.suspension import quarter_car
+from inerterlab import quarter_car
 
 
 def test_wk_tabulated_factors():

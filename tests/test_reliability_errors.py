@@ -210,7 +210,7 @@ def test_scipy_backend_has_a_step_limit():
     from inerterlab.errors import ConvergenceError
     from inerterlab.excitation import sine
     from inerterlab.simulate import SimulationOptions, simulate
-    from inerterlab.suspension import quarter_car
+    from inerterlab import quarter_car
 
     # 10 steps pass the up-front bound (9: one segment, four per period) but not the run
     opts = SimulationOptions(backend="scipy", max_steps=10)

@@ -5,7 +5,7 @@ import pytest
 from inerterlab import ConvergenceError
 from inerterlab.excitation import sine
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab.suspension import quarter_car
+from inerterlab import quarter_car
 
 
 def test_step_budget_exhaustion_is_a_clear_error():

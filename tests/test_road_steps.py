@@ -18,7 +18,7 @@ from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, road_steps, sine
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab.suspension import quarter_car
+from inerterlab import quarter_car
 
 FINITE = (
     "rms_body_acc_wk",

@@ -8,7 +8,8 @@ from scipy.integrate import quad
 
 from inerterlab import flywheel
 from inerterlab.errors import ParameterError
-from inerterlab.suspension import QuarterCarParameters, quarter_car
+from inerterlab import quarter_car
+from inerterlab.suspension import QuarterCarParameters
 from inerterlab.suspension import _kernels as K
 from inerterlab.suspension.reference import ReferenceRHS
 

@@ -73,6 +73,12 @@ def device_car(car, params: dict):
     """``car`` (suspension ``device`` or ``device-afw``) with its device's ``stiffness``
     (k_h), ``damping`` (b_ah) and ``friction`` (F_fh) replaced by ``params``, and, for
     ``device-afw``, the flywheel's ``changing_ratio`` if given. Other keys are an error."""
+    from ..systems import System
+
+    if isinstance(car, System):
+        from ..suspension.model import model_of
+
+        car = model_of(car)
     if car.suspension not in ("device", "device-afw"):
         raise ParameterError(
             "car", car.suspension, "a 'device' or 'device-afw' quarter car (or a car factory)"
@@ -452,7 +458,7 @@ def propagate(
     Examples
     --------
     >>> import numpy as np
-    >>> from inerterlab.suspension import quarter_car
+    >>> from inerterlab import quarter_car
     >>> out = propagate(([8100.0, 190.0], np.diag([50.0**2, 4.0**2]), ["damping", "friction"]),
     ...                 quarter_car("device"))
     >>> r = out["body_resonance_hz"]
@@ -460,7 +466,12 @@ def propagate(
     True
     """
     mean, cov, names = _source(source, widen)
-    factory = car if callable(car) and not hasattr(car, "suspension") else None
+    from ..systems import System
+
+    factory = (
+        car if callable(car) and not isinstance(car, System) and not hasattr(car, "suspension")
+        else None
+    )
 
     def f(theta):
         params = dict(zip(names, (float(x) for x in theta), strict=True))

@@ -44,7 +44,7 @@ def quarter_car_point(params: Mapping[str, Any]) -> dict[str, float]:
     ``device-afw`` only (the other suspensions ignore it).
     """
     from .. import simulate as sim
-    from ..suspension import quarter_car
+    from ..systems import quarter_car
 
     suspension = params["suspension"]
     adaptive = suspension in ("afw", "device-afw")

@@ -52,10 +52,11 @@ from .parameters import HydraulicDeviceParameters, QuarterCarParameters
 
 __all__ = [
     "QuarterCar",
-    "quarter_car",
+    "describe_quarter_car",
     "SUSPENSIONS",
     "LAWS",
     "CFW_INERTIA",
+    "model_of",
 ]
 
 SUSPENSIONS = ("traditional", "cfw", "afw", "device", "device-afw")
@@ -117,7 +118,8 @@ N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw
 class QuarterCar:
     """A quarter car with one of the suspensions of docs/model.md §5.
 
-    Build it with :func:`quarter_car`; derive variants with ``dataclasses.replace``.
+    Build it with :func:`inerterlab.quarter_car` (its ``info["model"]``) or
+    :func:`describe_quarter_car`; derive variants with ``dataclasses.replace``.
 
     Parameters
     ----------
@@ -319,7 +321,7 @@ class QuarterCar:
         return out
 
 
-def quarter_car(
+def describe_quarter_car(
     suspension: str = "afw",
     *,
     sprung_mass: float = 370.0,
@@ -341,7 +343,8 @@ def quarter_car(
     tyre_lift_off: bool = False,
     parameters: QuarterCarParameters | None = None,
 ) -> QuarterCar:
-    """Build a thesis quarter car (docs/model.md §5, base values (4.16)).
+    """The description of a named thesis quarter car (docs/model.md §5, base values
+    (4.16)): what :func:`inerterlab.quarter_car` builds its network from.
 
     Parameters
     ----------
@@ -381,10 +384,10 @@ def quarter_car(
 
     Examples
     --------
-    >>> car = quarter_car("afw", sprung_mass=370, changing_ratio=0.3)
+    >>> car = describe_quarter_car("afw", sprung_mass=370, changing_ratio=0.3)
     >>> round(car.flywheel.changing_ratio, 3), round(car.inertance, 1)
     (0.3, 206.2)
-    >>> quarter_car("cfw").inertance > 206
+    >>> describe_quarter_car("cfw").inertance > 206
     True
     """
     check_choice("suspension", suspension, SUSPENSIONS)
@@ -443,3 +446,20 @@ def quarter_car(
         slider=slider,
         tyre_lift_off=tyre_lift_off,
     )
+
+
+def model_of(model) -> QuarterCar:
+    """The description of a named quarter car: from the core system
+    :func:`inerterlab.quarter_car` builds (its ``info["model"]``) or given as is."""
+    from ..systems import System
+
+    if isinstance(model, System) and isinstance(model.info.get("model"), QuarterCar):
+        return model.info["model"]
+    if isinstance(model, QuarterCar):
+        return model
+    if isinstance(model, System) and model.kind == "quarter_car":
+        raise ParameterError(
+            "model", model.description, "a named suspension (inerterlab.quarter_car('afw', "
+            "...)); a quarter car with a network text runs on its own simulate(...)",
+        )  # fmt: skip
+    raise ParameterError("model", model, "a quarter car (see inerterlab.quarter_car)")

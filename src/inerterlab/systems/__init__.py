@@ -2,7 +2,8 @@
 
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
-:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road).
+:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road; a
+named suspension of the thesis or any network).
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
 
 Node formulation (docs/model.md §11): every network node has a displacement. Nodes with
@@ -49,17 +50,15 @@ Example
 from __future__ import annotations
 
 from .core import (
-    QUARTER_CAR_PRESETS,
     CoreResult,
     DriveRuns,
     RoadVelocityJumpWarning,
     System,
     base_excited,
     device_network,
-    preset_parameters,
-    quarter_car,
     rig,
 )
+from .quarter_car import QUARTER_CAR_PRESETS, SUSPENSIONS, quarter_car
 
 __all__ = [
     "System",
@@ -69,7 +68,7 @@ __all__ = [
     "base_excited",
     "device_network",
     "quarter_car",
-    "preset_parameters",
     "QUARTER_CAR_PRESETS",
+    "SUSPENSIONS",
     "RoadVelocityJumpWarning",
 ]
