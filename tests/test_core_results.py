@@ -6,11 +6,11 @@ import json
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.systems import quarter_car, rig
 
 ROAD = bump(0.05, edge="ramp", edge_width=0.005)

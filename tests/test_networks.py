@@ -153,8 +153,8 @@ def test_admittance_matches_sympy(text):
 
 @pytest.mark.parametrize("ct", [1300.0, 0.0])
 def test_equals_existing_h2_for_parallel_layouts(ct):
-    from inerterlab.metrics import h2_norms
     from inerterlab import quarter_car
+    from inerterlab.metrics import h2_norms
 
     ref = h2_norms(quarter_car("traditional", tyre_damping=ct)).norms
     new = network_h2("k | c", {"k": 90e3, "c": 5000.0}, tyre_damping=ct)

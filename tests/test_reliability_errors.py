@@ -207,10 +207,10 @@ def test_reproduce_out_is_not_the_current_directory(tmp_path, capsys, monkeypatc
 
 
 def test_scipy_backend_has_a_step_limit():
+    from inerterlab import quarter_car
     from inerterlab.errors import ConvergenceError
     from inerterlab.excitation import sine
     from inerterlab.simulate import SimulationOptions, simulate
-    from inerterlab import quarter_car
 
     # 10 steps pass the up-front bound (9: one segment, four per period) but not the run
     opts = SimulationOptions(backend="scipy", max_steps=10)

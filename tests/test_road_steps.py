@@ -14,11 +14,11 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, road_steps, sine
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab import quarter_car
 
 FINITE = (
     "rms_body_acc_wk",

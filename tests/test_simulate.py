@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, iso8608, road_series, sine
 from inerterlab.metrics import METRIC_KEYS, h2_norms, series_metrics
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics
-from inerterlab import quarter_car
 
 REF = SimulationOptions(backend="scipy", rtol=1e-10)
 FAST = SimulationOptions()  # numba, default rtol 1e-8

@@ -6,9 +6,8 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from inerterlab import flywheel
+from inerterlab import flywheel, quarter_car
 from inerterlab.errors import ParameterError
-from inerterlab import quarter_car
 from inerterlab.suspension import QuarterCarParameters
 from inerterlab.suspension import _kernels as K
 from inerterlab.suspension.reference import ReferenceRHS

@@ -48,7 +48,7 @@ from ..flywheels import flywheel as make_flywheel
 from ..slider_dynamics import SliderDynamics
 from ..transmissions import Transmission
 from ..transmissions import transmission as make_transmission
-from .parameters import HydraulicDeviceParameters, QuarterCarParameters
+from .parameters import GRAVITY, HydraulicDeviceParameters, QuarterCarParameters
 
 __all__ = [
     "QuarterCar",
@@ -330,6 +330,7 @@ def describe_quarter_car(
     damping: float = 5000.0,
     tyre_stiffness: float = 120_000.0,
     tyre_damping: float = 1300.0,
+    gravity: float = GRAVITY,
     flywheel: str | AdaptiveFlywheel = "nylon",
     flywheel_law: str = "published",
     changing_ratio: float | None = None,
@@ -356,6 +357,8 @@ def describe_quarter_car(
         M and M_t [kg] (ignored if ``parameters`` is given).
     stiffness, damping, tyre_stiffness, tyre_damping : float
         K [N/m], C [N s/m], K_t [N/m], C_t [N s/m].
+    gravity : float
+        g [m/s^2].
     flywheel : str or AdaptiveFlywheel
         Preset name (``nylon`` in the thesis) or a flywheel.
     flywheel_law : str
@@ -399,6 +402,7 @@ def describe_quarter_car(
             damping=damping,
             tyre_stiffness=tyre_stiffness,
             tyre_damping=tyre_damping,
+            gravity=gravity,
         )
     fw = tr = dev = None
     if suspension in ("cfw", "afw", "device-afw"):

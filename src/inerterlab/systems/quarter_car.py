@@ -41,6 +41,13 @@ CAR_VALUES = (
 )  # fmt: skip
 
 
+#: options of a named suspension (keywords of :func:`quarter_car`)
+PRESET_OPTIONS = (
+    "flywheel", "flywheel_law", "changing_ratio", "law", "inertia", "inertance",
+    "transmission", "device", "friction_velocity", "slider", "tyre_lift_off",
+)  # fmt: skip
+
+
 def preset_network(model) -> tuple[str, dict]:
     """(network text, element objects by name) of a named suspension's description
     (:class:`~inerterlab.suspension.model.QuarterCar`)."""
@@ -150,7 +157,12 @@ def quarter_car(
         if not isinstance(parameters, QuarterCarParameters):
             raise ParameterError("parameters", parameters, "a QuarterCarParameters")
     if not isinstance(suspension, str):
-        raise ParameterError("suspension", suspension, f"one of {', '.join(SUSPENSIONS)} or a network text")
+        raise ParameterError(
+            "suspension", suspension, f"one of {', '.join(SUSPENSIONS)} or a network text"
+        )
+    unknown = sorted(set(preset) - set(PRESET_OPTIONS))
+    if unknown:
+        raise ParameterError(unknown[0], preset[unknown[0]], f"one of {', '.join(PRESET_OPTIONS)}")
     if suspension in SUSPENSIONS:
         model = describe_quarter_car(suspension, parameters=parameters, **given, **preset)
         text, els = preset_network(model)
