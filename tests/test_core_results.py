@@ -49,7 +49,7 @@ def test_simulate_network_plot(tmp_path, capsys):
 def test_tyre_without_damping_equals_the_quarter_car_kernel():
     """Tyre damping 0 is well posed (the wheel has a mass): the core's linear car (exact
     steps) and its adaptive steps against the kernel's traditional car at rtol 1e-11."""
-    core = quarter_car("traditional", car={"tyre_damping": 0.0})
+    core = quarter_car("traditional", tyre_damping=0.0)
     assert "tyre_c" not in core.element_names
     ref = simulate(kernel_quarter_car("traditional", tyre_damping=0.0), ROAD, 1.0,
                    options=SimulationOptions(rtol=1e-11))  # fmt: skip

@@ -10,11 +10,12 @@ transmission, force law, device); any other text is read as a network.
 
 from __future__ import annotations
 
+import re
 from typing import Any
 
 from ..elements.damper import Damper
 from ..elements.spring import Spring
-from ..errors import ParameterError
+from ..errors import NetworkError, ParameterError
 from ._network import Layout, elements_of
 
 __all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network"]
@@ -182,7 +183,16 @@ def quarter_car(
         text, els = suspension, params
         info = {}
     car = parameters if parameters is not None else QuarterCarParameters(**given)
-    return _build(text, els, car, f"quarter car with {suspension!r}", info)
+    try:
+        return _build(text, els, car, f"quarter car with {suspension!r}", info)
+    except NetworkError as exc:
+        if model is None and re.fullmatch(r"\s*[A-Za-z_][\w.-]*\s*", text) and not params:
+            # one bare word with no values: most likely a misspelt suspension name
+            raise ParameterError(
+                "suspension", suspension, f"one of {', '.join(SUSPENSIONS)} or a network text "
+                f"with its element values ({exc})",
+            ) from None  # fmt: skip
+        raise
 
 
 def _build(text: str, params, car, description: str, info: dict):
