@@ -341,7 +341,9 @@ def h2_norms(model) -> H2Norms:
     """
     from .errors import ConvergenceError
     from .suspension.linear import linear_quarter_car
+    from .suspension.model import model_of
 
+    model = model_of(model)
     try:
         with np.errstate(all="ignore"):
             lin = linear_quarter_car(model)

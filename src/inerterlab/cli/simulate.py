@@ -266,7 +266,7 @@ def simulate_command(
         atomic_savefig(res.plot(), plot)
     if json_out:
         out = {k: m[k] for k in _JSON_KEYS}
-        out.update(suspension=suspension, input=ex.name, horizon=horizon, law=car.effective_law)
+        out.update(suspension=suspension, input=ex.name, horizon=horizon, law=res.model.effective_law)
         if res.not_finite:
             out["not_finite"] = dict(res.not_finite)
         out["body_velocity_jumps"] = [{"time": t, "jump": dv} for t, dv in res.body_velocity_jumps]
