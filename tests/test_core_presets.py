@@ -1,15 +1,16 @@
 """Model core: the named quarter-car suspensions, built by the one ``quarter_car`` as
-networks of the core, equal an independent oracle (plain-Python equations integrated by
-scipy's DOP853, tests/quarter_car_oracle.py) at tight tolerance (docs/model.md §5, §11)."""
+networks of the core, equal an independent oracle at tight tolerance (docs/model.md §5,
+§11): the plain-Python equations of :mod:`inerterlab.suspension.reference` integrated by
+scipy's DOP853 (``SimulationOptions(backend="scipy")``)."""
 
 import numpy as np
 import pytest
 
-from inerterlab import quarter_car
+from inerterlab import quarter_car, simulate
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, iso8608, sine
+from inerterlab.simulate import SimulationOptions
 from inerterlab.systems import QUARTER_CAR_PRESETS, SUSPENSIONS
-from quarter_car_oracle import reference_run
 
 RTOL = 1e-11
 #: both integrations at rtol 1e-11: states and body acceleration agree to 1e-7 of their
@@ -28,7 +29,10 @@ def _compare(car, ex, horizon):
     """Largest difference of the four body and wheel states and of the body
     acceleration, each relative to its peak, between the core and the oracle."""
     res = car.simulate(ex, horizon, rtol=RTOL, method="adaptive", sample_rate=200.0)
-    ys, a3, _ = reference_run(car.info["model"], ex, horizon, res.time, rtol=RTOL)
+    opts = SimulationOptions(backend="scipy", rtol=RTOL, sample_rate=200.0)
+    ref = simulate(car, ex, horizon, options=opts)
+    assert np.array_equal(ref.time, res.time)
+    ys, a3 = ref.states, ref.body_acc
     idx = [car.state_names.index(n) for n in CORE_STATES]
     d = np.abs(ys[:, :4] - res.states[:, idx]).max(axis=0) / np.abs(ys[:, :4]).max(axis=0)
     acc = np.abs(a3 - res.outputs["body_acc"]).max() / np.abs(a3).max()
