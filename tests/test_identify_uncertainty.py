@@ -155,7 +155,7 @@ def test_linearised_device_car_matches_its_simulation_on_a_random_road():
 
     car = quarter_car("device")
     lin = linearised_car(car, road_class="C", speed=20.0)
-    assert lin.info["equivalent_damping"] > car.device.damping
+    assert lin.info["equivalent_damping"] > car.info["model"].device.damping
     sim = ride_metrics(car, iso8608("C", 20.0, seed=2), 30.0, linear=False)
     n = h2_norms_state_space(lin).norms
     s = _road_scale("C", 20.0)
