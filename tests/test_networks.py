@@ -162,7 +162,7 @@ def test_equals_existing_h2_for_parallel_layouts(ct):
         assert new[k] == pytest.approx(ref[k], rel=1e-9)
     car = quarter_car("cfw", tyre_damping=ct)
     ref = h2_norms(car).norms
-    new = network_h2("k | c | b", {"k": 90e3, "c": 5000.0, "b": car.inertance}, tyre_damping=ct)
+    new = network_h2("k | c | b", {"k": 90e3, "c": 5000.0, "b": car.info["model"].inertance}, tyre_damping=ct)
     for k in OUTPUTS:
         if ref[k] is None:  # body acceleration through the inerter with a damped tyre
             assert math.isinf(new[k])

@@ -66,7 +66,7 @@ CASES = [
     # (arguments, text the error line must contain)
     (["simulate", "--input", "iso8608", "--seed", "-1", "--horizon", "1"], "seed"),
     (["rig-simulate", "--seed", "-1", "--out", "{tmp}/never"], "seed"),
-    (["h2", "--suspension", "cfw", "--inertance", "1e300"], "singular"),
+    (["h2", "--suspension", "cfw", "--inertance", "1e300"], "inertance"),
     (["frequency-response", "--harmonics", "99999999999999999999"], "harmonics"),
     (["frequency-response", "--method", "mhb", "--harmonics", "2000"], "harmonics"),
     (["frequency-response", "--df", "1e-9"], "df"),
