@@ -5,7 +5,7 @@ Cases:
 * ``afw`` preset (nylon flywheel, thesis law) under ``sine`` 0.05 m at 5 Hz, horizon
   5 s, time series at 1 kHz. Baseline: the specialised kernel
   (:func:`inerterlab.simulate.simulate`, numba backend); core: the same suspension as
-  the network ``k | c | afw`` (:func:`inerterlab.quarter_car`, adaptive
+  the network ``k | c | afw`` (:func:`inerterlab.systems.quarter_car`, adaptive
   Dormand-Prince 5(4)); both at rtol 1e-8. Accuracy: each against the specialised
   kernel at rtol 1e-11 (largest state error relative to the state's range).
 * linear network ``k | (c - b)`` with an internal node on an ISO 8608 class C road at
