@@ -16,12 +16,11 @@ from typing import Any
 from ..elements.damper import Damper
 from ..elements.spring import Spring
 from ..errors import NetworkError, ParameterError
+from ..suspension.model import SUSPENSIONS
 from ._network import Layout, elements_of
 
 __all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network"]
 
-#: the named suspensions of the thesis (docs/model.md §5)
-SUSPENSIONS = ("traditional", "cfw", "afw", "device", "device-afw")
 
 #: the network of each named suspension between body (top) and wheel (bottom): ``k`` the
 #: suspension spring, ``c`` its damper, ``b`` the constant-flywheel inerter, ``afw`` the
