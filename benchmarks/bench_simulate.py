@@ -31,7 +31,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 from inerterlab.excitation import sine  # noqa: E402
 from inerterlab.metrics import METRIC_KEYS  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics  # noqa: E402
-from inerterlab.suspension import quarter_car  # noqa: E402
+from inerterlab import quarter_car  # noqa: E402
 
 KEYS = tuple(k for k in METRIC_KEYS if k != "tyre_lift_off")  # the numeric metrics
 
@@ -104,16 +104,18 @@ def main() -> None:
 
     from inerterlab.suspension.reference import ReferenceRHS
 
+    model = car.info["model"]  # the suspension's description
+
     def baseline():
-        f = ReferenceRHS(car)
+        f = ReferenceRHS(model)
         f.seg = ex.segments(T)[0]
-        y0 = np.r_[car.initial_state(), np.zeros(13)]
+        y0 = np.r_[model.initial_state(), np.zeros(13)]
         return solve_ivp(
-            f, (0.0, T), y0, method="DOP853", rtol=args.rtol, atol=args.rtol * car.state_scales
+            f, (0.0, T), y0, method="DOP853", rtol=args.rtol, atol=args.rtol * model.state_scales
         )
 
     t_slow, sol = timed(baseline, args.slow_runs)
-    rms_base = float(np.sqrt(sol.y[car.n_states, -1] / T))
+    rms_base = float(np.sqrt(sol.y[model.n_states, -1] / T))
     print(
         f"baseline scipy solve_ivp DOP853, plain-Python RHS, rtol {args.rtol:g}: median "
         f"{1e3 * t_slow:.1f} ms over {args.slow_runs} runs ({sol.nfev} RHS calls); "
@@ -130,7 +132,7 @@ def main() -> None:
     # the transits, all outputs sampled at 1 kHz and the metrics from those samples
     from inerterlab.systems import quarter_car as core_quarter_car
 
-    core = core_quarter_car("afw", car={"sprung_mass": 370.0})
+    core = core_quarter_car("afw", sprung_mass=370.0)
     core.simulate(ex, 0.1, rtol=args.rtol)
     t_core, c_core, r_core = timed_cpu(lambda: core.simulate(ex, T, rtol=args.rtol), args.fast_runs)
     m_core = {k: r_core.metrics[k] for k in KEYS}

@@ -186,8 +186,8 @@ def _car_and_linear(prefix):
 def test_quarter_car_small_motion_is_the_linear_car(prefix):
     text, params, lin, values = _car_and_linear(prefix)
     road = sine(2e-6, 1.5)
-    a = quarter_car(text, params, car=CAR).simulate(road, 3.0, rtol=1e-11, sample_rate=200.0)
-    b = quarter_car(lin.text, values, car=CAR).simulate(road, 3.0, rtol=1e-11, sample_rate=200.0)
+    a = quarter_car(text, params, **CAR).simulate(road, 3.0, rtol=1e-11, sample_rate=200.0)
+    b = quarter_car(lin.text, values, **CAR).simulate(road, 3.0, rtol=1e-11, sample_rate=200.0)
     x, y = a.outputs["body.x"], b.outputs["body.x"]
     assert np.abs(x - y).max() <= 2e-3 * np.abs(y).max(), prefix
 
@@ -200,7 +200,7 @@ def test_frequency_response_small_motion_is_the_linear_transfer(prefix):
     freqs = np.array([1.0, 3.0, 9.0])
     amp = 2e-6
     fr = frequency_response(
-        quarter_car(text, params, car=CAR), "sihb", freq_hz=freqs, amplitude=amp, direction="up"
+        quarter_car(text, params, **CAR), "sihb", freq_hz=freqs, amplitude=amp, direction="up"
     )
     assert np.asarray(fr.converged).all()
     w = 2 * math.pi * freqs

@@ -67,8 +67,8 @@ def test_decoupled_half_car_with_a_device_equals_the_core_quarter_car(device):
     t = dt * np.arange(r.shape[0])
     veh = simulate_nonlinear(half, r, dt, tyre_lift_off=False, substeps=4).outputs
     qc = quarter_car(f"k | c | {device.prefix}", {"k": 30e3, "c": 1500.0, device.prefix: device},
-                     car={"sprung_mass": M * B / (A + B), "unsprung_mass": 45.0,
-                          "tyre_stiffness": 2.4e5, "tyre_damping": 200.0})  # fmt: skip
+                     sprung_mass=M * B / (A + B), unsprung_mass=45.0, tyre_stiffness=2.4e5,
+                     tyre_damping=200.0)  # fmt: skip
     core = qc.simulate(road_series(t, r[:, 0]), horizon=t[-1], rtol=1e-10, sample_rate=1 / dt)
     defl = core.outputs["body.x"] - core.outputs["wheel.x"]
     err = np.abs(veh["front_deflection"] - defl).max() / np.abs(defl).max()

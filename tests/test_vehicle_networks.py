@@ -125,9 +125,8 @@ def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
         "rear": H["bounce_acc"] + b * H["pitch_acc"],
     }
     for j, (axle, share) in enumerate((("front", b), ("rear", a))):
-        qc = quarter_car(text, values, car={"sprung_mass": m * share / (a + b),
-                                            "unsprung_mass": 45.0, "tyre_stiffness": 2.4e5,
-                                            "tyre_damping": 200.0})  # fmt: skip
+        qc = quarter_car(text, values, sprung_mass=m * share / (a + b), unsprung_mass=45.0,
+                         tyre_stiffness=2.4e5, tyre_damping=200.0)  # fmt: skip
         # the core's transfers are per road velocity: times s for per road height
         np.testing.assert_allclose(body[axle][:, j], s * qc.transfer(2 * math.pi * f, "body.a"),
                                    rtol=1e-8)  # fmt: skip

@@ -212,16 +212,9 @@ def _network_car(network, param):
         if not sep or not name.strip():
             raise ParameterError("--param", item, "name=value")
         params[name.strip()] = parse_float(f"--param {name.strip()}", value)
-    try:
-        from ..systems import quarter_car as core_quarter_car
-    except ImportError:
-        raise ParameterError(
-            "--network",
-            network,
-            "no value yet: the model core (inerterlab.systems) is not part of this version "
-            "(use --suspension traditional, cfw or afw)",
-        ) from None
-    return core_quarter_car(network, params)
+    from ..systems import quarter_car
+
+    return quarter_car(network, params)
 
 
 def _quarter_car(
@@ -231,7 +224,7 @@ def _quarter_car(
     from ..errors import check_choice
     from ..frequency import frequency_grid, frequency_response
     from ..frequency.quarter_car import SMOOTH_SUSPENSIONS
-    from ..suspension import SUSPENSIONS, quarter_car
+    from ..systems import SUSPENSIONS, quarter_car
 
     if network is not None:
         car = _network_car(network, param)
@@ -255,7 +248,7 @@ def _quarter_car(
     kwargs = {"law": law}
     if suspension == "afw":
         kwargs["flywheel"] = flywheel
-    car = quarter_car(suspension, **kwargs)
+    car = quarter_car(suspension, **kwargs).info["model"]
     grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
     fr = frequency_response(
         car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,

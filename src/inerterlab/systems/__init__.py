@@ -2,7 +2,8 @@
 
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
-:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road).
+:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road; a
+named suspension of the thesis or any network).
 :func:`equilibrium` solves the static balance under gravity (a nonlinear spring carrying
 the weight) and gives the system about that rest.
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
@@ -51,18 +52,16 @@ Example
 from __future__ import annotations
 
 from .core import (
-    QUARTER_CAR_PRESETS,
     CoreResult,
     DriveRuns,
     RoadVelocityJumpWarning,
     System,
     base_excited,
     device_network,
-    preset_parameters,
-    quarter_car,
     rig,
 )
 from .equilibrium import Equilibrium, equilibrium
+from .quarter_car import QUARTER_CAR_PRESETS, SUSPENSIONS, quarter_car
 
 __all__ = [
     "System",
@@ -72,8 +71,8 @@ __all__ = [
     "base_excited",
     "device_network",
     "quarter_car",
-    "preset_parameters",
     "QUARTER_CAR_PRESETS",
+    "SUSPENSIONS",
     "RoadVelocityJumpWarning",
     "Equilibrium",
     "equilibrium",

@@ -5,14 +5,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Any
 
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, ElementBase
-from ..elements.damper import Damper
-from ..elements.spring import Spring
-from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
+from ..errors import ConvergenceError, ParameterError, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, VEL
@@ -194,6 +191,12 @@ class System:
         (exact for a linear system on a piecewise-linear road whose edges and samples
         need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths, adaptive
         otherwise)."""
+        model = self.info.get("model")
+        if model is not None and model.tyre_lift_off:
+            raise ParameterError(
+                "tyre_lift_off", True, "False here: the model core keeps the tyre on the "
+                "road (inerterlab.simulate runs the lift-off)",
+            )  # fmt: skip
         return _simulate(
             self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
         )
@@ -1321,101 +1324,3 @@ def base_excited(mass: float, network: str, params: dict | None = None) -> Syste
 
     desc = f"base-excited body on {network!r}"
     return _laid_out("base_excited", desc, make, {"network": network})[0]
-
-
-QUARTER_CAR_PRESETS = {
-    "traditional": "k | c",
-    "cfw": "k | c | b",
-    "afw": "k | c | afw",
-    "device": "k | c | hyd",
-    "device-afw": "k | c | hyd",
-}
-
-
-def _car_dict(car) -> dict:
-    from ..suspension.parameters import QuarterCarParameters
-
-    if car is None:
-        car = QuarterCarParameters()
-    if isinstance(car, QuarterCarParameters):
-        return dict(
-            sprung_mass=car.sprung_mass, unsprung_mass=car.unsprung_mass,
-            stiffness=car.stiffness, damping=car.damping, tyre_stiffness=car.tyre_stiffness,
-            tyre_damping=car.tyre_damping, gravity=car.gravity,
-        )  # fmt: skip
-    if not isinstance(car, dict):
-        raise ParameterError("car", car, "a dict of car values or a QuarterCarParameters")
-    base = _car_dict(None)
-    unknown = sorted(set(car) - set(base))
-    if unknown:
-        raise ParameterError(unknown[0], car[unknown[0]], f"one of {', '.join(base)}")
-    base.update(car)
-    return base
-
-
-def preset_parameters(name: str, car: dict, *, flywheel="nylon", law="thesis",
-                      changing_ratio=None) -> dict:  # fmt: skip
-    """The element parameters of a named quarter-car suspension (docs/model.md §5)."""
-    from ..suspension.model import CFW_INERTIA
-    from ..suspension.parameters import HydraulicDeviceParameters
-    from ..transmissions import hydraulic
-
-    p: dict[str, Any] = {"k": car["stiffness"], "c": car["damping"]}
-    r = hydraulic().ratio
-    if name == "cfw":
-        from ..flywheels import constant_flywheel
-
-        p["b"] = r**2 * constant_flywheel(CFW_INERTIA).inertia_min
-    elif name == "afw":
-        p["afw"] = {"flywheel": flywheel, "law": law, "changing_ratio": changing_ratio}
-    elif name in ("device", "device-afw"):
-        d = HydraulicDeviceParameters()
-        p["hyd"] = dict(
-            stiffness=d.stiffness, damping=d.damping, friction=d.friction,
-            friction_velocity=d.friction_velocity, ratio=r, law=law,
-            flywheel="none" if name == "device" else flywheel, changing_ratio=changing_ratio,
-        )  # fmt: skip
-    return p
-
-
-def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, **preset) -> System:
-    """A quarter car with ``network`` between body and wheel.
-
-    ``network`` is a network text (``"k | (c - afw)"``) or a named suspension
-    (``traditional``, ``cfw``, ``afw``, ``device``, ``device-afw``: the presets
-    :data:`QUARTER_CAR_PRESETS`, with the element values of docs/model.md §5; ``preset``
-    passes ``flywheel``, ``law``, ``changing_ratio`` to them). ``params`` gives the
-    element values by name (they override a preset's). ``car``: a dict or
-    :class:`~inerterlab.suspension.parameters.QuarterCarParameters` of masses, tyre
-    stiffness and damping (defaults thesis (4.16), M = 370 kg).
-    """
-    c = _car_dict(car)
-    check_positive("sprung_mass", c["sprung_mass"], "kg")
-    check_positive("unsprung_mass", c["unsprung_mass"], "kg")
-    check_positive("tyre_stiffness", c["tyre_stiffness"], "N/m")
-    check_nonnegative("tyre_damping", c["tyre_damping"], "N s/m")
-    if network in QUARTER_CAR_PRESETS:
-        text = QUARTER_CAR_PRESETS[network]
-        p = preset_parameters(network, c, **preset)
-        for key, v in (params or {}).items():
-            p[key] = v
-    else:
-        if preset:
-            k = next(iter(preset))
-            raise ParameterError(k, preset[k], "no value: only the named presets take it")
-        text, p = network, params
-    tree, els = elements_of(text, p)
-
-    def make(arrange):
-        lay = Layout(arrange)
-        road = lay.node("road", "road")
-        wheel = lay.node("wheel", "mass", c["unsprung_mass"])
-        body = lay.node("body", "mass", c["sprung_mass"])
-        lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
-        if c["tyre_damping"] > 0:
-            lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
-        lay.place(tree, body, wheel, els)
-        return lay
-
-    desc = f"quarter car with {network!r}"
-    return _laid_out("quarter_car", desc, make, {"network": text, "car": c})[0]
