@@ -24,7 +24,7 @@ GAS = {"pressure": 2e6, "area": 3e-3, "volume": 1e-3, "exponent": 1.4}
 def test_quarter_car_on_a_gas_spring_closed_form():
     """The tyre takes the whole weight (M + m) g / k_t; the gas spring the body's,
     at the compression where p0 A ((V0/V)^n - 1) = M g."""
-    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, car=CAR)
+    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, **CAR)
     eq = equilibrium(car, gravity=G)
     M, m = CAR["sprung_mass"], CAR["unsprung_mass"]
     L = GAS["volume"] / GAS["area"]
@@ -51,7 +51,7 @@ def test_about_rest_is_the_gravity_loaded_system():
     """The rebased system's right-hand side at a state xi equals the force balance with
     gravity at the absolute state (equilibrium + xi), from the element laws."""
     c = 3e3
-    car = quarter_car("gas | c", {"gas": GAS, "c": c}, car=CAR)
+    car = quarter_car("gas | c", {"gas": GAS, "c": c}, **CAR)
     eq = equilibrium(car, gravity=G)
     sys = eq.system
     assert sys.state_names == ("wheel.x", "wheel.v", "body.x", "body.v")
@@ -74,11 +74,11 @@ def test_about_rest_is_the_gravity_loaded_system():
 
 
 def test_linearisation_about_the_equilibrium_is_the_tangent_car():
-    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, car=CAR)
+    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, **CAR)
     eq = equilibrium(car, gravity=G)
     k = GasSpring(**GAS).tangent(eq.extensions["gas"])
     A, B, C, D = eq.linear_state_space()
-    A0, B0, C0, D0 = quarter_car("k | c", {"k": k, "c": 3e3}, car=CAR).linear_state_space()
+    A0, B0, C0, D0 = quarter_car("k | c", {"k": k, "c": 3e3}, **CAR).linear_state_space()
     for a, b in ((A, A0), (B, B0), (C, C0), (D, D0)):
         np.testing.assert_allclose(a, b, rtol=1e-7, atol=1e-7 * np.abs(b).max())
 
@@ -86,7 +86,7 @@ def test_linearisation_about_the_equilibrium_is_the_tangent_car():
 def test_small_motion_about_the_equilibrium_is_the_linearisation():
     """A 10 um road sine about the loaded rest: the body's steady response equals the
     linearised transfer at that rest (the gas spring's tangent there)."""
-    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, car=CAR)
+    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, **CAR)
     eq = equilibrium(car, gravity=G)
     amp, f = 1e-5, 1.5
     w = 2 * math.pi * f
@@ -102,7 +102,7 @@ def test_small_motion_about_the_equilibrium_is_the_linearisation():
     assert err <= 1e-3 * np.abs(ref[late]).max()
     # and not the spring at its free length (the test can tell them apart)
     k0 = GAS["exponent"] * GAS["pressure"] * GAS["area"] ** 2 / GAS["volume"]
-    A0, B0, C0, D0 = quarter_car("k | c", {"k": k0, "c": 3e3}, car=CAR).linear_state_space()
+    A0, B0, C0, D0 = quarter_car("k | c", {"k": k0, "c": 3e3}, **CAR).linear_state_space()
     H0 = C0[i] @ np.linalg.solve(1j * w * np.eye(4) - A0, B0 @ u) + D0[i] @ u
     assert abs(abs(H0) - abs(H)) > 0.05 * abs(H)
 
@@ -112,7 +112,7 @@ def test_internal_node_and_bump_stop_balance():
     on the bump stop. Every node balances by the element laws to 1e-9 of the weight."""
     bump = {"stiffness": 2e4, "clearance": 0.02, "progression": 0.02}
     params = {"k": 1.5e4, "c": 2e3, "k2": 8e4, "bump": bump}
-    car = quarter_car("k2 - ((k | bump) | c)", params, car=CAR)
+    car = quarter_car("k2 - ((k | bump) | c)", params, **CAR)
     eq = equilibrium(car, gravity=G)
     b = BumpStop(**bump)
     y = eq.extensions["bump"]
@@ -127,19 +127,19 @@ def test_internal_node_and_bump_stop_balance():
 
 def test_out_of_range_equilibria_are_refused():
     weak = dict(GAS, pressure=2e5, stroke=0.15)  # would need 0.25 m under 370 kg
-    car = quarter_car("gas | c", {"gas": weak, "c": 3e3}, car=CAR)
+    car = quarter_car("gas | c", {"gas": weak, "c": 3e3}, **CAR)
     with pytest.raises(NetworkError, match=r"gas \(gas spring\).*beyond its stroke.*bottoms out"):
         equilibrium(car)
     soft = {"k": 2e3, "c": 2e3, "bump": {"stiffness": 2e3, "clearance": 0.01, "progression": 0.01}}
     with pytest.raises(NetworkError, match=r"bump \(progressive bump stop\).*beyond its travel"):
-        equilibrium(quarter_car("k | bump | c", soft, car=CAR))
+        equilibrium(quarter_car("k | bump | c", soft, **CAR))
     with pytest.raises(NetworkError, match="body is held by no spring"):
-        equilibrium(quarter_car("c", {"c": 2e3}, car=CAR))
+        equilibrium(quarter_car("c", {"c": 2e3}, **CAR))
 
 
 def test_node_between_damper_and_inerter_stays():
     """A massless node that no spring touches carries nothing at rest: it stays at 0."""
-    car = quarter_car("gas | (c - b)", {"gas": GAS, "c": 2e3, "b": 100.0}, car=CAR)
+    car = quarter_car("gas | (c - b)", {"gas": GAS, "c": 2e3, "b": 100.0}, **CAR)
     eq = equilibrium(car, gravity=G)
     assert eq.forces["gas"] == pytest.approx(-CAR["sprung_mass"] * G, rel=1e-12)
     inner = [n for n in car.node_names if n not in ("road", "wheel", "body")]
@@ -147,7 +147,7 @@ def test_node_between_damper_and_inerter_stays():
 
 
 def test_linear_car_equilibrium_is_the_static_deflection():
-    car = quarter_car("k | c | b", {"k": 5e4, "c": 2e3, "b": 100.0}, car=CAR)
+    car = quarter_car("k | c | b", {"k": 5e4, "c": 2e3, "b": 100.0}, **CAR)
     eq = equilibrium(car, gravity=G)
     M, m = CAR["sprung_mass"], CAR["unsprung_mass"]
     assert eq.extensions["k"] == pytest.approx(-M * G / 5e4, rel=1e-12)
@@ -162,7 +162,7 @@ def test_harmonic_balance_about_the_equilibrium_is_the_linearisation():
     at its free length)."""
     from inerterlab.frequency import frequency_response
 
-    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, car=CAR)
+    car = quarter_car("gas | c", {"gas": GAS, "c": 3e3}, **CAR)
     eq = equilibrium(car, gravity=G)
     freqs, amp = np.array([1.0, 2.0, 6.0]), 2e-6
     fr = frequency_response(eq.system, "sihb", freq_hz=freqs, amplitude=amp, direction="up")

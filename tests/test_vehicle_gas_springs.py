@@ -120,7 +120,7 @@ def test_decoupled_half_car_on_gas_springs_equals_the_core_quarter_car():
     t = dt * np.arange(r.shape[0])
     veh = simulate_nonlinear(half, r, dt, tyre_lift_off=False, substeps=4).outputs
     qc = quarter_car("k | c | gas", {"k": 10e3, "c": 1500.0, "gas": GAS},
-                     car={"sprung_mass": M * B / (A + B), "unsprung_mass": MU,
+                     **{"sprung_mass": M * B / (A + B), "unsprung_mass": MU,
                           "tyre_stiffness": 2.4e5, "tyre_damping": 200.0, "gravity": G})  # fmt: skip
     eq = equilibrium(qc)
     con = next(c for c in half.connections if c.name == "front_strut")
