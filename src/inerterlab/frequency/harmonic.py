@@ -31,7 +31,6 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..resources import check_memory
-from . import _kernels
 
 __all__ = [
     "FourierBasis",
@@ -128,54 +127,6 @@ FAILURE_REASONS = {
     3: "line search found no residual decrease",
     4: "non-finite residual",
 }
-
-
-class NumbaEngine:
-    """Compiled engine for the built-in one-degree-of-freedom systems."""
-
-    def __init__(self, system, basis: FourierBasis):
-        self.system = system
-        self.basis = basis
-        self.sys_id, self.p = system.kernel()
-        self.n_dof = 1
-
-    def residual(self, X, omega):
-        b = self.basis
-        return _kernels.residual(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def residual_jacobian(self, X, omega):
-        b = self.basis
-        return _kernels.residual_jacobian(
-            self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F
-        )
-
-    def relative_residuals(self, omegas, C):
-        b = self.basis
-        return _kernels.relative_residuals(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(C, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-        )  # fmt: skip
-
-    def hill_matrices(self, X, omega):
-        b = self.basis
-        return _kernels.hill_matrices(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def newton(self, X0, omega, rtol, max_iter, scale):
-        b = self.basis
-        return _kernels.newton(
-            self.sys_id, self.p, np.ascontiguousarray(X0, dtype=float), float(omega),
-            b.tau, b.E, b.E1, b.E2, b.F, rtol, max_iter, scale,
-        )  # fmt: skip
-
-    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
-        b = self.basis
-        cold = np.zeros(len(X_start)) if X_cold is None else X_cold
-        return _kernels.sweep(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(X_start, dtype=float),
-            np.ascontiguousarray(cold, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-            rtol, max_iter, scale, warm,
-        )  # fmt: skip
 
 
 class NumpyEngine:
@@ -296,7 +247,10 @@ class NumpyEngine:
 
 
 def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: compiled for built-in systems, numpy otherwise."""
+    """The engine for ``system``: the compiled first-order engine
+    (:mod:`inerterlab.frequency.first_order`) for the built-in systems, on their
+    implicit form (:meth:`~inerterlab.frequency.systems.DuffingOscillator.first_order`),
+    numpy otherwise."""
     if not isinstance(harmonics, int | np.integer) or isinstance(harmonics, bool) or harmonics < 1:
         raise ParameterError("harmonics", harmonics, "an integer >= 1")
     degree = int(getattr(system, "nonlinearity_degree", 3))
@@ -317,10 +271,12 @@ def make_engine(system, harmonics: int, n_samples: int | None = None, *, compile
         parameter="harmonics",
         value=harmonics,
     )
-    basis = fourier_basis(int(harmonics), n)
-    if compiled and hasattr(system, "kernel"):
-        return NumbaEngine(system, basis)
-    return NumpyEngine(system, basis)
+    if compiled and hasattr(system, "first_order"):
+        from .first_order import FirstOrderEngine
+
+        form = system.first_order()
+        return FirstOrderEngine(form, fourier_basis(int(harmonics), n), form.input_amplitude)
+    return NumpyEngine(system, fourier_basis(int(harmonics), n))
 
 
 def hill_exponents(engine, X, omega):
@@ -329,8 +285,12 @@ def hill_exponents(engine, X, omega):
     Solves the quadratic eigenproblem (lambda^2 J2 + lambda J1 + J0) q = 0 through its
     companion form and keeps the 2 n eigenvalues with the smallest |Im lambda|, which
     approximate the Floquet exponents best (the others are copies shifted by
-    multiples of i Omega).
+    multiples of i Omega). The compiled engine gives them by its own Hill matrix
+    (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`).
     """
+    if hasattr(engine, "stability"):
+        X = np.ascontiguousarray(X, dtype=float)[None]
+        return engine.stability(np.array([float(omega)]), X, np.array([True]))[1][0]
     J0, J1, J2 = engine.hill_matrices(X, omega)
     m = J0.shape[0]
     try:

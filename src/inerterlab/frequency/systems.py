@@ -8,9 +8,15 @@ and the partial derivatives dr/dx, dr/dx', dr/dx'' (exact for the built-in syste
 The residual must be affine in x'' (a mass matrix times x'' plus the rest); time
 integration solves it for x''.
 
-Built-in systems (numba fast path): :class:`DuffingOscillator` and
-:class:`InerterSuspension` (thesis (7.1)). Any other system is a
-:class:`UserSystem` built from plain numpy functions.
+Built-in systems (compiled): :class:`DuffingOscillator` and :class:`InerterSuspension`
+(thesis (7.1)). The harmonic balance and the brute force solve them on the one engine of
+:mod:`inerterlab.frequency.first_order`, as the states (x, x') in implicit form
+
+    x' - v = 0,    r(tau, x, v, v') = 0,
+
+with the velocity's coefficients eliminated (V = Omega D X), so the balance is exactly
+that of r (whatever the effective mass does within a cycle) on the 2H+1 coefficients of
+x. Any other system is a :class:`UserSystem` built from plain numpy functions.
 """
 
 from __future__ import annotations
@@ -20,11 +26,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
+from ..elements.adaptive_flywheel import inertia_law
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
-from . import _kernels
+from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem
 
 __all__ = [
     "DuffingOscillator",
@@ -38,27 +46,123 @@ __all__ = [
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
 
 
+@njit(cache=True)
+def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
+
+    ``sys_id`` 0: Duffing, p = [m, c, k, g, P]; 1: body over a moving base with an
+    adaptive-flywheel inerter, (7.1), p as :meth:`InerterSuspension.parameters`, with the
+    base's displacement, velocity and acceleration x0, x0', x0''.
+    """
+    if sys_id == 0:
+        m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
+        r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
+        return r, k + 3.0 * g * x * x, c, m
+    # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
+    body, stiff, damp = p[0], p[1], p[2]
+    v = xd - x0d
+    a = xdd - x0dd
+    me = 0.0
+    dme = 0.0
+    if p[14] > 0.5:
+        ratio = p[4]
+        w = ratio * abs(v)
+        i0, i1, i2 = inertia_law(w, p[5], p[6], p[7], p[8], p[9], p[10], p[11], int(p[12]))
+        if p[13] < 0.5:  # thesis law F = r^2 I(r|v|) v'
+            j0 = i0
+            j1 = i1
+        else:  # momentum law F = r^2 (I + w dI/dw) v'
+            j0 = i0 + w * i1
+            j1 = 2.0 * i1 + w * i2
+        me = ratio * ratio * j0
+        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+        dme = ratio * ratio * ratio * j1 * sg
+    r = body * xdd + me * a + stiff * (x - x0) + damp * v
+    return r, stiff, damp + dme * a, body + me
+
+
+@njit(TERMS_SIGNATURE, cache=True)
+def _terms(tau, omega, y, yd, road, itab, ftab, r, P, Q):
+    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v'), with partials."""
+    r[0] = yd[0] - y[1]
+    P[0, 0] = 0.0
+    P[0, 1] = -1.0
+    Q[0, 0] = 1.0
+    Q[0, 1] = 0.0
+    r1, g0, g1, g2 = residual_partials(
+        itab[0], ftab, tau, omega, road[0], road[1], road[2], y[0], y[1], yd[1]
+    )
+    r[1] = r1
+    P[1, 0] = g0
+    P[1, 1] = g1
+    Q[1, 0] = 0.0
+    Q[1, 1] = g2
+    return True
+
+
+@njit(RHS_SIGNATURE, cache=True)
+def _rhs(t, y, road, itab, ftab, out):
+    """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t."""
+    omega = road[3]
+    r0, _, _, m = residual_partials(
+        itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
+    )
+    out[0] = y[1]
+    out[1] = -r0 / m
+    return True
+
+
 class _KernelSystem:
     """Shared behaviour of the built-in one-degree-of-freedom systems."""
 
     n_dof = 1
     response_dof = 0
 
-    def kernel(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
+    def parameters(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
         raise AttributeError
+
+    @property
+    def input_amplitude(self) -> float:
+        """Amplitude of the base motion (0: the system is forced otherwise)."""
+        return 0.0
 
     def evaluate(self, tau, omega, x, xd, xdd):
         """r, dr/dx, dr/dx', dr/dx'' at the samples; x has shape (1, K)."""
-        sys_id, p = self.kernel()
+        sys_id, p = self.parameters()
         tau = np.asarray(tau, dtype=float)
+        b = self.input_amplitude
         k = tau.shape[0]
         r = np.empty((1, k))
         g = np.empty((3, 1, 1, k))
         for i in range(k):
-            out = _kernels.evaluate(sys_id, p, tau[i], omega, x[0, i], xd[0, i], xdd[0, i])
+            s = math.sin(tau[i])
+            out = residual_partials(
+                sys_id, p, tau[i], omega, b * s, b * omega * math.cos(tau[i]),
+                -b * omega * omega * s, x[0, i], xd[0, i], xdd[0, i],
+            )  # fmt: skip
             r[0, i] = out[0]
             g[0, 0, 0, i], g[1, 0, 0, i], g[2, 0, 0, i] = out[1], out[2], out[3]
         return r, g[0], g[1], g[2]
+
+    def first_order(self) -> FirstOrderSystem:
+        """The system as the states (x, x') of the harmonic-balance engine, in implicit
+        form with the velocity eliminated; its input amplitude is
+        :attr:`input_amplitude`."""
+        sys_id, p = self.parameters()
+        scale = float(self.displacement_scale)
+        return FirstOrderSystem(
+            n_states=2,
+            rhs=_rhs,
+            terms=_terms,
+            velocity_of=(1, -1),
+            int_table=np.array([sys_id], dtype=np.int64),
+            float_table=np.ascontiguousarray(p, dtype=float),
+            state_scales=np.array([scale, scale]),
+            rest_state=np.zeros(2),
+            nonlinearity_degree=int(self.nonlinearity_degree),
+            label=type(self).__name__,
+            input_amplitude=self.input_amplitude,
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -111,7 +215,8 @@ class DuffingOscillator(_KernelSystem):
         """A typical displacement [m]: the static deflection under P."""
         return max(self.force / self.stiffness, 1e-12)
 
-    def kernel(self) -> tuple[int, np.ndarray]:
+    def parameters(self) -> tuple[int, np.ndarray]:
+        """(system code 0, [m, c, k, g, P]) for the compiled residual."""
         p = np.array([self.mass, self.damping, self.stiffness, self.cubic_stiffness, self.force])
         return 0, p
 
@@ -173,7 +278,13 @@ class InerterSuspension(_KernelSystem):
         """The base amplitude B [m]."""
         return self.base_amplitude
 
-    def kernel(self) -> tuple[int, np.ndarray]:
+    @property
+    def input_amplitude(self) -> float:
+        """B [m]: the base moves as B sin(Omega t)."""
+        return self.base_amplitude
+
+    def parameters(self) -> tuple[int, np.ndarray]:
+        """(system code 1, the parameter vector of the compiled residual)."""
         fw = self.flywheel
         if fw is None:
             extra = [1.0, 0.0, 0.0, 1.0, 1.0, 0.01, 0.02, 1.0, 2.0, 0.0, 0.0]
