@@ -22,8 +22,10 @@ A system here is any object with
     ``nonlinearity_degree`` (aliasing rule).
 ``terms`` (optional)
     The equations in implicit form r(x, x') = 0, balanced instead of x' - f: a compiled
-    ``terms(tau, Omega, x, x', road, int_table, float_table, r, P, Q) -> bool`` writing r
-    and its partials P = dr/dx, Q = dr/dx' (n x n) in one call, at the phase tau = Omega t.
+    ``terms(tau, Omega, A, xs, xds, int_table, float_table, r, P, Q) -> bool`` writing r
+    (n, K) and its partials P = dr/dx, Q = dr/dx' (n, n, K) at every phase tau_k = Omega t_k
+    of the states xs and their derivatives xds (n, K), input amplitude A, in one call
+    (NaN in r where it could not).
     A second-order system M(x, x') x'' + g = 0 written on (x, x') this way balances
     exactly its own residual, whatever M does within a cycle.
 ``velocity_of`` (optional)
@@ -102,15 +104,16 @@ _m = types.float64[:, ::1]
 RHS_SIGNATURE = types.boolean(_f8, _v, _v, _iv, _v, _v)
 #: jacobian(t, x, road, int_table, float_table, out) -> None, out[i, j] = df_i/dx_j
 JACOBIAN_SIGNATURE = types.void(_f8, _v, _v, _iv, _v, _m)
-#: terms(tau, omega, x, xd, road, int_table, float_table, r, P, Q) -> ok
-TERMS_SIGNATURE = types.boolean(_f8, _f8, _v, _v, _v, _iv, _v, _v, _m, _m)
+_a3 = types.float64[:, :, ::1]
+#: terms(tau, omega, amplitude, xs, xds, int_table, float_table, r, P, Q) -> ok, over all
+#: samples: xs, xds, r (n, K), P, Q (n, n, K)
+TERMS_SIGNATURE = types.boolean(_v, _f8, _f8, _m, _m, _iv, _v, _m, _a3, _a3)
 _RHS = types.FunctionType(RHS_SIGNATURE)
 _JAC = types.FunctionType(JACOBIAN_SIGNATURE)
 _TERMS = types.FunctionType(TERMS_SIGNATURE)
 _b1 = types.boolean
 _i8 = types.int64
 _a1 = types.Array(types.bool_, 1, "C")
-_a3 = types.float64[:, :, ::1]
 
 FD_STEP = 1e-6  # central-difference step, relative to the state's size
 
@@ -120,7 +123,7 @@ def _no_jacobian_py(t, x, road, itab, ftab, out):  # pragma: no cover - never ca
     out[:, :] = 0.0
 
 
-def _no_terms_py(tau, omega, x, xd, road, itab, ftab, r, P, Q):  # pragma: no cover
+def _no_terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q):  # pragma: no cover
     """Placeholder handed to the kernels when the system has no implicit form."""
     return False
 
@@ -135,7 +138,7 @@ def _no_terms_py(tau, omega, x, xd, road, itab, ftab, r, P, Q):  # pragma: no co
 # derivative of a state i (x_i' = x_j) has no coefficients of its own: x_j = Omega D X_i,
 # and the equation of i, satisfied by construction, is not balanced.
 # ``mode``: 0 explicit x' = f with finite-difference df/dx, 1 explicit with ``jac``,
-# 2 implicit r(x, x') = 0 with ``terms`` (r and its partials in one call).
+# 2 implicit r(x, x') = 0 with ``terms`` (r and its partials at every sample in one call).
 
 
 @njit(cache=True)
@@ -190,32 +193,23 @@ def _evaluate(
     by ``jac`` or central/forward differences, Q unused)."""
     n = lay[0]
     K = tau.shape[0]
+    r = np.empty((n, K))
+    if mode == 2:  # one call for every sample
+        P = np.empty((n, n, K))
+        Q = np.empty((n, n, K))
+        terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q)
+        return r, P, Q
     x = np.zeros(work)
-    xd = np.zeros(work)
     out = np.zeros(work)
     outp = np.zeros(work)
     road = np.empty(4)
-    r = np.empty((n, K))
     P = np.empty((n, n, K) if want else (1, 1, 1))
-    Q = np.empty((n, n, K) if (want and mode == 2) else (1, 1, 1))
+    Q = np.empty((1, 1, 1))
     Pk = np.zeros((n, n))
-    Qk = np.zeros((n, n))
     for k in range(K):
         for i in range(n):
             x[i] = xs[i, k]
         _road(amp, omega, tau[k], road)
-        if mode == 2:
-            for i in range(n):
-                xd[i] = xds[i, k]
-            good = terms(tau[k], omega, x, xd, road, itab, ftab, out, Pk, Qk)
-            for i in range(n):
-                r[i, k] = out[i] if good else np.nan
-            if want:
-                for i in range(n):
-                    for j in range(n):
-                        P[i, j, k] = Pk[i, j]
-                        Q[i, j, k] = Qk[i, j]
-            continue
         t = tau[k] / omega
         good = rhs(t, x, road, itab, ftab, out)
         for i in range(n):

@@ -82,21 +82,26 @@ def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
 
 
 @njit(TERMS_SIGNATURE, cache=True)
-def _terms(tau, omega, y, yd, road, itab, ftab, r, P, Q):
-    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v'), with partials."""
-    r[0] = yd[0] - y[1]
-    P[0, 0] = 0.0
-    P[0, 1] = -1.0
-    Q[0, 0] = 1.0
-    Q[0, 1] = 0.0
-    r1, g0, g1, g2 = residual_partials(
-        itab[0], ftab, tau, omega, road[0], road[1], road[2], y[0], y[1], yd[1]
-    )
-    r[1] = r1
-    P[1, 0] = g0
-    P[1, 1] = g1
-    Q[1, 0] = 0.0
-    Q[1, 1] = g2
+def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q):
+    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with their
+    partials, at every sample; the base moves as amp sin(tau)."""
+    sys_id = itab[0]
+    for k in range(tau.shape[0]):
+        s = math.sin(tau[k])
+        r[0, k] = xds[0, k] - xs[1, k]
+        P[0, 0, k] = 0.0
+        P[0, 1, k] = -1.0
+        Q[0, 0, k] = 1.0
+        Q[0, 1, k] = 0.0
+        r1, g0, g1, g2 = residual_partials(
+            sys_id, ftab, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
+            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
+        )  # fmt: skip
+        r[1, k] = r1
+        P[1, 0, k] = g0
+        P[1, 1, k] = g1
+        Q[1, 0, k] = 0.0
+        Q[1, 1, k] = g2
     return True
 
 
