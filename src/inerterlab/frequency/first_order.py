@@ -22,10 +22,10 @@ A system here is any object with
     ``nonlinearity_degree`` (aliasing rule).
 ``terms`` (optional)
     The equations in implicit form r(x, x') = 0, balanced instead of x' - f: a compiled
-    ``terms(tau, Omega, A, xs, xds, int_table, float_table, r, P, Q) -> bool`` writing r
-    (n, K) and its partials P = dr/dx, Q = dr/dx' (n, n, K) at every phase tau_k = Omega t_k
-    of the states xs and their derivatives xds (n, K), input amplitude A, in one call
-    (NaN in r where it could not).
+    ``terms(tau, Omega, A, xs, xds, int_table, float_table, r, P, Q, partials) -> bool``
+    writing r (n, K) and, with ``partials``, P = dr/dx, Q = dr/dx' (n, n, K) at every
+    phase tau_k = Omega t_k of the states xs and their derivatives xds (n, K), input
+    amplitude A, in one call (NaN in r where it could not).
     A second-order system M(x, x') x'' + g = 0 written on (x, x') this way balances
     exactly its own residual, whatever M does within a cycle.
 ``velocity_of`` (optional)
@@ -77,6 +77,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
 
 from ..errors import ParameterError
 from ..resources import check_memory
@@ -105,9 +107,9 @@ RHS_SIGNATURE = types.boolean(_f8, _v, _v, _iv, _v, _v)
 #: jacobian(t, x, road, int_table, float_table, out) -> None, out[i, j] = df_i/dx_j
 JACOBIAN_SIGNATURE = types.void(_f8, _v, _v, _iv, _v, _m)
 _a3 = types.float64[:, :, ::1]
-#: terms(tau, omega, amplitude, xs, xds, int_table, float_table, r, P, Q) -> ok, over all
-#: samples: xs, xds, r (n, K), P, Q (n, n, K)
-TERMS_SIGNATURE = types.boolean(_v, _f8, _f8, _m, _m, _iv, _v, _m, _a3, _a3)
+#: terms(tau, omega, amplitude, xs, xds, int_table, float_table, r, P, Q, partials) -> ok,
+#: over all samples: xs, xds, r (n, K), P, Q (n, n, K) (written when ``partials``)
+TERMS_SIGNATURE = types.boolean(_v, _f8, _f8, _m, _m, _iv, _v, _m, _a3, _a3, types.boolean)
 _RHS = types.FunctionType(RHS_SIGNATURE)
 _JAC = types.FunctionType(JACOBIAN_SIGNATURE)
 _TERMS = types.FunctionType(TERMS_SIGNATURE)
@@ -123,13 +125,40 @@ def _no_jacobian_py(t, x, road, itab, ftab, out):  # pragma: no cover - never ca
     out[:, :] = 0.0
 
 
-def _no_terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q):  # pragma: no cover
+def _no_terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):  # pragma: no cover
     """Placeholder handed to the kernels when the system has no implicit form."""
     return False
 
 
 # ---------------------------------------------------------------------------------
 # compiled kernels (the system's functions are arguments, typed by their signature)
+
+
+@intrinsic
+def _borrow(typingctx, arr):
+    """A view of ``arr`` that carries no reference count (``arr`` must outlive it).
+
+    A call through a first-class function takes and releases a reference to every array
+    argument (two atomic operations each): for a right-hand side called four times per
+    Runge-Kutta step with five arrays that was half the time of the step. The kernels
+    hand the system's functions such views of their own work arrays instead."""
+
+    def codegen(context, builder, sig, args):
+        aty = sig.args[0]
+        src = cgutils.create_struct_proxy(aty)(context, builder, value=args[0])
+        dst = cgutils.create_struct_proxy(aty)(context, builder)
+        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
+        dst.parent = cgutils.get_null_value(dst.parent.type)
+        dst.nitems = src.nitems
+        dst.itemsize = src.itemsize
+        dst.data = src.data
+        dst.shape = src.shape
+        dst.strides = src.strides
+        return dst._getvalue()
+
+    return arr(arr), codegen
+
+
 #
 # ``lay`` (int64) describes which coefficients are unknown: lay[0] = n states,
 # lay[1] = nf unknown blocks, then for every state j its block blk[j] (lay[2 + j]) and
@@ -162,24 +191,30 @@ def _power(omega, k):
 @njit(cache=True)
 def _synth(Y, lay, omega, E, E1, E2, derivatives):
     """States xs (n, K) and, with ``derivatives``, their time derivatives xds (n, K) at
-    the phases of E (K x m) from the unknown coefficients Y."""
-    n = lay[0]
+    the phases of E (K x m) from the unknown coefficients Y (each product E_k Y_c once)."""
+    n, nf = lay[0], lay[1]
     K, m = E.shape
     xs = np.empty((n, K))
     xds = np.empty((n, K) if derivatives else (1, 1))
-    for j in range(n):
-        c = lay[2 + j]
-        o = lay[2 + n + j]
+    for c in range(nf):
+        need = np.zeros(3, dtype=np.bool_)
+        for j in range(n):
+            if lay[2 + j] == c:
+                o = lay[2 + n + j]
+                need[o] = True
+                if derivatives:
+                    need[o + 1] = True
         Yc = Y[c * m : (c + 1) * m]
-        if o == 0:
-            xs[j] = E @ Yc
-        else:
-            xs[j] = omega * (E1 @ Yc)
-        if derivatives:
-            if o == 0:
-                xds[j] = omega * (E1 @ Yc)
-            else:
-                xds[j] = omega * omega * (E2 @ Yc)
+        s0 = E @ Yc if need[0] else np.empty(0)
+        s1 = omega * (E1 @ Yc) if need[1] else np.empty(0)
+        s2 = omega * omega * (E2 @ Yc) if need[2] else np.empty(0)
+        for j in range(n):
+            if lay[2 + j] != c:
+                continue
+            o = lay[2 + n + j]
+            xs[j] = s0 if o == 0 else s1
+            if derivatives:
+                xds[j] = s1 if o == 0 else s2
     return xs, xds
 
 
@@ -195,17 +230,25 @@ def _evaluate(
     K = tau.shape[0]
     r = np.empty((n, K))
     if mode == 2:  # one call for every sample
-        P = np.empty((n, n, K))
-        Q = np.empty((n, n, K))
-        terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q)
+        P = np.empty((n, n, K) if want else (1, 1, 1))
+        Q = np.empty((n, n, K) if want else (1, 1, 1))
+        terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, want)
         return r, P, Q
-    x = np.zeros(work)
-    out = np.zeros(work)
-    outp = np.zeros(work)
-    road = np.empty(4)
+    x0 = np.zeros(work)
+    out0 = np.zeros(work)
+    outp0 = np.zeros(work)
+    road0 = np.empty(4)
     P = np.empty((n, n, K) if want else (1, 1, 1))
     Q = np.empty((1, 1, 1))
-    Pk = np.zeros((n, n))
+    Pk0 = np.zeros((n, n))
+    x, out, outp, road, Pk = (
+        _borrow(x0),
+        _borrow(out0),
+        _borrow(outp0),
+        _borrow(road0),
+        _borrow(Pk0),
+    )
+    itab, ftab = _borrow(itab), _borrow(ftab)
     for k in range(K):
         for i in range(n):
             x[i] = xs[i, k]
@@ -294,14 +337,20 @@ def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
     K, m = E.shape
     J = np.zeros((nf * m, nf * m))
     G = np.empty((K, m))
+    const = np.ones((2, n, n), dtype=np.bool_)
+    for q in range(nf):
+        i = lay[2 + 2 * n + q]
+        for j in range(n):
+            const[0, i, j] = _is_constant(P, i, j)
+            if mode == 2:
+                const[1, i, j] = _is_constant(Q, i, j)
     for q in range(nf):
         i = lay[2 + 2 * n + q]
         for c in range(nf):
             varying = False
             for j in range(n):
-                if lay[2 + j] == c:
-                    if not _is_constant(P, i, j) or (mode == 2 and not _is_constant(Q, i, j)):
-                        varying = True
+                if lay[2 + j] == c and not (const[0, i, j] and const[1, i, j]):
+                    varying = True
             if varying:
                 G[:, :] = 0.0
             for j in range(n):
@@ -312,7 +361,7 @@ def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
                     A = P if which == 0 else Q
                     k = o + which
                     fac = _power(omega, k)
-                    if _is_constant(A, i, j) and A[i, j, 0] == 0.0:
+                    if const[which, i, j] and A[i, j, 0] == 0.0:
                         continue
                     if not varying:
                         _add_constant(J, q * m, c * m, A[i, j, 0] * fac, k, D1, D2)
@@ -699,9 +748,11 @@ def fo_derivative_samples(
 def _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau):
     """f(t_k, x(tau_k), u(tau_k)) for every sample, shape (n, K)."""
     K = tau.shape[0]
-    x = np.zeros(work)
-    out = np.zeros(work)
-    road = np.empty(4)
+    x0 = np.zeros(work)
+    out0 = np.zeros(work)
+    road0 = np.empty(4)
+    x, out, road = _borrow(x0), _borrow(out0), _borrow(road0)
+    itab, ftab = _borrow(itab), _borrow(ftab)
     f = np.empty((n, K))
     for k in range(K):
         for i in range(n):
@@ -735,9 +786,11 @@ def fo_compiled_outputs(outfn, itab, ftab, work, lay, n_out, omegas, C, amp, tau
 def _outputs_at(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau):
     K = tau.shape[0]
     res = np.empty((n_out, K))
-    x = np.zeros(work)
-    out = np.zeros(n_out)
-    road = np.empty(4)
+    x0 = np.zeros(work)
+    out0 = np.zeros(n_out)
+    road0 = np.empty(4)
+    x, out, road = _borrow(x0), _borrow(out0), _borrow(road0)
+    itab, ftab = _borrow(itab), _borrow(ftab)
     for k in range(K):
         for i in range(n):
             x[i] = xs[i, k]
@@ -879,14 +932,13 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
 def _rk4_period(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, xs_out):
     """One forcing period with n_steps RK4 steps from y0; states at the step starts."""
     h = 2.0 * math.pi / omega / n_steps
-    y = np.zeros(work)
+    own = np.zeros((6, work))
+    road0 = np.empty(4)
+    y, yt = _borrow(own[0]), _borrow(own[1])
+    k1, k2, k3, k4 = _borrow(own[2]), _borrow(own[3]), _borrow(own[4]), _borrow(own[5])
+    road = _borrow(road0)
+    itab, ftab = _borrow(itab), _borrow(ftab)
     y[:n] = y0[:n]
-    k1 = np.zeros(work)
-    k2 = np.zeros(work)
-    k3 = np.zeros(work)
-    k4 = np.zeros(work)
-    yt = np.zeros(work)
-    road = np.empty(4)
     for s in range(n_steps):
         t = s * h
         for i in range(n):
@@ -906,7 +958,7 @@ def _rk4_period(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, xs_out):
         rhs(t + h, yt, road, itab, ftab, k4)
         for i in range(n):
             y[i] += h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i])
-    return y[:n].copy()
+    return own[0, :n].copy()
 
 
 @njit(cache=True)

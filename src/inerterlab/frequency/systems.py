@@ -32,7 +32,7 @@ from ..elements.adaptive_flywheel import inertia_law
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
-from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem
+from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
 
 __all__ = [
     "DuffingOscillator",
@@ -82,22 +82,25 @@ def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
 
 
 @njit(TERMS_SIGNATURE, cache=True)
-def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q):
-    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with their
-    partials, at every sample; the base moves as amp sin(tau)."""
+def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
+    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with (when
+    ``partials``) their partials, at every sample; the base moves as amp sin(tau)."""
     sys_id = itab[0]
+    p = _borrow(ftab)  # no reference counting per sample (see first_order._borrow)
     for k in range(tau.shape[0]):
         s = math.sin(tau[k])
         r[0, k] = xds[0, k] - xs[1, k]
+        r1, g0, g1, g2 = residual_partials(
+            sys_id, p, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
+            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
+        )  # fmt: skip
+        r[1, k] = r1
+        if not partials:
+            continue
         P[0, 0, k] = 0.0
         P[0, 1, k] = -1.0
         Q[0, 0, k] = 1.0
         Q[0, 1, k] = 0.0
-        r1, g0, g1, g2 = residual_partials(
-            sys_id, ftab, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
-            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
-        )  # fmt: skip
-        r[1, k] = r1
         P[1, 0, k] = g0
         P[1, 1, k] = g1
         Q[1, 0, k] = 0.0
