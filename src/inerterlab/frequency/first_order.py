@@ -331,12 +331,16 @@ def _is_constant(A, i, j):
 def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
     """dR/dY of the balanced equations in the unknown blocks. Block (q, c) sums, over
     the states j given by block c, F diag(P_ij) Omega^o E_o + F diag(Q_ij) Omega^(o+1)
-    E_(o+1) (o the order of j; explicit equations: Q = identity, added as Omega D); a
-    block whose terms are all constant in time is a sum of D_k directly (F E_k = D_k)."""
+    E_(o+1) (o the order of j; explicit equations: Q = identity, added as Omega D): the
+    coefficients of each E_k are summed per sample and G = sum_k c_k E_k formed in one
+    pass; a block whose terms are all constant in time is a sum of D_k directly
+    (F E_k = D_k)."""
     n, nf = lay[0], lay[1]
     K, m = E.shape
     J = np.zeros((nf * m, nf * m))
     G = np.empty((K, m))
+    coef = np.empty((3, K))
+    has = np.zeros(3, dtype=np.bool_)
     const = np.ones((2, n, n), dtype=np.bool_)
     for q in range(nf):
         i = lay[2 + 2 * n + q]
@@ -351,8 +355,7 @@ def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
             for j in range(n):
                 if lay[2 + j] == c and not (const[0, i, j] and const[1, i, j]):
                     varying = True
-            if varying:
-                G[:, :] = 0.0
+            has[:] = False
             for j in range(n):
                 if lay[2 + j] != c:
                     continue
@@ -366,12 +369,24 @@ def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
                     if not varying:
                         _add_constant(J, q * m, c * m, A[i, j, 0] * fac, k, D1, D2)
                         continue
-                    Ek = E if k == 0 else (E1 if k == 1 else E2)
-                    for kk in range(K):
-                        cw = A[i, j, kk] * fac
-                        for s in range(m):
-                            G[kk, s] += cw * Ek[kk, s]
+                    if has[k]:
+                        for kk in range(K):
+                            coef[k, kk] += A[i, j, kk] * fac
+                    else:
+                        for kk in range(K):
+                            coef[k, kk] = A[i, j, kk] * fac
+                        has[k] = True
             if varying:
+                for kk in range(K):
+                    c0 = coef[0, kk] if has[0] else 0.0
+                    c1 = coef[1, kk] if has[1] else 0.0
+                    c2 = coef[2, kk] if has[2] else 0.0
+                    if has[1] or has[2]:
+                        for s in range(m):
+                            G[kk, s] = c0 * E[kk, s] + c1 * E1[kk, s] + c2 * E2[kk, s]
+                    else:
+                        for s in range(m):
+                            G[kk, s] = c0 * E[kk, s]
                 J[q * m : (q + 1) * m, c * m : (c + 1) * m] = F @ G
             if mode < 2 and lay[2 + i] == c:  # the x' term of an explicit equation
                 k = lay[2 + n + i] + 1
