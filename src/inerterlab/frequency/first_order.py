@@ -170,7 +170,7 @@ def _borrow(typingctx, arr):
 # 2 implicit r(x, x') = 0 with ``terms`` (r and its partials at every sample in one call).
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _road(amp, omega, tau, road):
     s = math.sin(tau)
     road[0] = amp * s
@@ -179,7 +179,7 @@ def _road(amp, omega, tau, road):
     road[3] = omega
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _power(omega, k):
     if k == 0:
         return 1.0
@@ -188,7 +188,7 @@ def _power(omega, k):
     return omega * omega
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _synth(Y, lay, omega, E, E1, E2, derivatives):
     """States xs (n, K) and, with ``derivatives``, their time derivatives xds (n, K) at
     the phases of E (K x m) from the unknown coefficients Y (each product E_k Y_c once)."""
@@ -283,7 +283,7 @@ def _evaluate(
     return r, P, Q
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _project(Y, omega, r, mode, lay, F, D1, D2):
     """The balance R of every balanced equation: F r_i (plus Omega^(o+1) D_(o+1) X for
     the x' term of an explicit equation)."""
@@ -304,7 +304,7 @@ def _project(Y, omega, r, mode, lay, F, D1, D2):
     return R
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _add_constant(J, r0, c0, a, k, D1, D2):
     """J[block] += a D_k (D_0 = I): the projection of a constant times E_k."""
     m = D1.shape[0]
@@ -318,7 +318,7 @@ def _add_constant(J, r0, c0, a, k, D1, D2):
                 J[r0 + s, c0 + u] += a * Dk[s, u]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _is_constant(A, i, j):
     a0 = A[i, j, 0]
     for k in range(1, A.shape[2]):
@@ -438,7 +438,7 @@ def _newton_step(J, R):
     return np.linalg.lstsq(J, -R, rcond=1e-12)[0]
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def _norm(v):
     return math.sqrt(np.sum(v * v))
 
