@@ -93,12 +93,39 @@ def quarter_car_system(car) -> FirstOrderSystem:
     )
 
 
+_PAIRS = ((".x", ".v"), (".x_rel", ".v_rel"), (".slider_radius", ".slider_rate"))
+
+
+def velocity_pairs(system) -> tuple[int, ...]:
+    """``velocity_of`` of a core system: each displacement state whose derivative is,
+    by its name, a velocity state (``n.x``/``n.v``, ``n.x_rel``/``n.v_rel``, the
+    sliders' radius and rate), kept only where the compiled right-hand side returns
+    exactly that state as its derivative at a trial state."""
+    names = list(system.state_names)
+    n = len(names)
+    vel = [-1] * n
+    for i, name in enumerate(names):
+        for a, b in _PAIRS:
+            if name.endswith(a) and name[: -len(a)] + b in names:
+                vel[i] = names.index(name[: -len(a)] + b)
+    if max(vel) < 0:
+        return tuple(vel)
+    itab, ftab = system.tables
+    x = np.asarray(system.initial_state(), dtype=float).copy()
+    x += 1e-3 * np.sin(np.arange(1, n + 1)) * np.asarray(system.state_scales, dtype=float)
+    out = np.zeros(n)
+    road = np.array([1e-3, 1e-2, 1e-1, 2.0 * np.pi])
+    ok = system.rhs(0.1, x, road, np.array(itab), np.array(ftab), out)
+    return tuple(j if ok and j >= 0 and out[i] == x[j] else -1 for i, j in enumerate(vel))
+
+
 def from_core_system(system) -> FirstOrderSystem:
     """A system of the model core (``inerterlab.systems``: ``n_states``, ``rhs``,
     ``tables``, compiled ``outputs`` and ``output_names``) as a first-order system.
 
-    A quarter car (nodes ``body``, ``wheel`` and the tyre elements ``tyre_k``,
-    ``tyre_c``) reports the four quarter-car outputs; any other system reports every
+    Every velocity state that is the derivative of a displacement state is eliminated
+    from the unknowns (:func:`velocity_pairs`). A quarter car (nodes ``body``, ``wheel``
+    and the tyre elements ``tyre_k``, ``tyre_c``) reports the four quarter-car outputs; any other system reports every
     node displacement, velocity, acceleration and element force by its name.
     """
     names = tuple(system.output_names)
@@ -132,6 +159,7 @@ def from_core_system(system) -> FirstOrderSystem:
     return FirstOrderSystem(
         n_states=int(system.n_states),
         rhs=system.rhs,
+        velocity_of=velocity_pairs(system),
         int_table=np.array(itab, dtype=np.int64),
         float_table=np.array(ftab, dtype=float),
         state_scales=np.asarray(system.state_scales, dtype=float),
