@@ -81,8 +81,7 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from ..errors import ParameterError
-from ..resources import check_memory
-from .harmonic import FourierBasis, check_samples, default_samples, fourier_basis
+from .harmonic import FourierBasis, checked_samples, fourier_basis
 
 __all__ = [
     "RHS_SIGNATURE",
@@ -1411,24 +1410,7 @@ def make_first_order_engine(
     system, harmonics: int, n_samples: int | None, amplitude: float
 ) -> FirstOrderEngine:
     """The engine for ``system`` (checks the harmonics, the samples and the memory)."""
-    if not isinstance(harmonics, int | np.integer) or isinstance(harmonics, bool) or harmonics < 1:
-        raise ParameterError("harmonics", harmonics, "an integer >= 1")
-    degree = int(getattr(system, "nonlinearity_degree", 3))
-    n = default_samples(int(harmonics), degree) if n_samples is None else int(n_samples)
-    check_samples(int(harmonics), n, degree)
-    size = (2 * int(harmonics) + 1) * int(system.n_states)
-    check_memory(
-        float(n) * size * 3,
-        what="harmonic-balance basis (samples x harmonics)",
-        parameter="harmonics" if n_samples is None else "n_samples",
-        value=harmonics if n_samples is None else n_samples,
-    )
-    check_memory(
-        float(size) ** 2 * 8,
-        what="Jacobian and stability matrices",
-        parameter="harmonics",
-        value=harmonics,
-    )
+    n = checked_samples(system, harmonics, n_samples, int(system.n_states))
     return FirstOrderEngine(system, fourier_basis(int(harmonics), n), amplitude)
 
 

@@ -246,19 +246,17 @@ class NumpyEngine:
         return out, ok, iters, res, code
 
 
-def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: the compiled first-order engine
-    (:mod:`inerterlab.frequency.first_order`) for the built-in systems, on their
-    implicit form (:meth:`~inerterlab.frequency.systems.DuffingOscillator.first_order`),
-    numpy otherwise."""
+def checked_samples(system, harmonics, n_samples: int | None, n_states: int = 1) -> int:
+    """The samples per period N of a balance with ``harmonics`` (checked: an integer
+    >= 1) on ``n_states`` series: ``n_samples`` or the default for the system's
+    nonlinearity degree, checked against aliasing; the basis and the Jacobian and
+    stability matrices, which grow with (n (2H+1))^2, must fit in memory."""
     if not isinstance(harmonics, int | np.integer) or isinstance(harmonics, bool) or harmonics < 1:
         raise ParameterError("harmonics", harmonics, "an integer >= 1")
     degree = int(getattr(system, "nonlinearity_degree", 3))
     n = default_samples(int(harmonics), degree) if n_samples is None else int(n_samples)
     check_samples(int(harmonics), n, degree)
-    size = 2 * int(harmonics) + 1
-    # the basis holds samples x (2H+1) values (and its derivative); the Jacobian and the
-    # stability matrix grow with (2H+1)^2: refuse up front what cannot fit
+    size = (2 * int(harmonics) + 1) * int(n_states)
     check_memory(
         float(n) * size * 3,
         what="harmonic-balance basis (samples x harmonics)",
@@ -271,11 +269,20 @@ def make_engine(system, harmonics: int, n_samples: int | None = None, *, compile
         parameter="harmonics",
         value=harmonics,
     )
+    return n
+
+
+def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
+    """The engine for ``system``: the compiled first-order engine
+    (:mod:`inerterlab.frequency.first_order`) for the built-in systems, on their
+    implicit form (:meth:`~inerterlab.frequency.systems.DuffingOscillator.first_order`),
+    numpy otherwise."""
     if compiled and hasattr(system, "first_order"):
-        from .first_order import FirstOrderEngine
+        from .first_order import make_first_order_engine
 
         form = system.first_order()
-        return FirstOrderEngine(form, fourier_basis(int(harmonics), n), form.input_amplitude)
+        return make_first_order_engine(form, harmonics, n_samples, form.input_amplitude)
+    n = checked_samples(system, harmonics, n_samples)
     return NumpyEngine(system, fourier_basis(int(harmonics), n))
 
 
