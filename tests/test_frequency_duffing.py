@@ -123,7 +123,7 @@ def test_user_system_equals_builtin():
     user = UserSystem(residual=duffing)
     a = frequency_response(user, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
     b = frequency_response(DUFFING, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
-    assert a.settings["engine"] == "NumpyEngine" and b.settings["engine"] == "FirstOrderEngine"
+    assert a.settings["engine"] == "NumpyEngine" and b.settings["engine"] == "NumbaEngine"
     # the same points converge (one jump point past the lower fold may fail in both)
     np.testing.assert_array_equal(a.converged, b.converged)
     assert a.converged.sum() >= len(a) - 1

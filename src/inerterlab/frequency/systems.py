@@ -129,6 +129,10 @@ class _KernelSystem:
     def parameters(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
         raise AttributeError
 
+    def kernel(self) -> tuple[int, np.ndarray]:
+        """(system code, parameters) of the specialised kernel (``frequency._kernels``)."""
+        return self.parameters()
+
     @property
     def input_amplitude(self) -> float:
         """Amplitude of the base motion (0: the system is forced otherwise)."""

@@ -1,0 +1,383 @@
+"""Numba kernels of the harmonic-balance engine for the built-in one-degree-of-freedom systems.
+
+Every built-in system is a scalar residual r(tau, x, x', x'') of the phase
+tau = Omega t with its exact partial derivatives; the kernels here assemble the
+alternating frequency-time (AFT) residual and its analytic Jacobian, run Newton with
+a backtracking line search on the residual norm, and integrate the equation of motion
+with a fixed-step Runge-Kutta scheme for the brute-force reference.
+
+System codes (``sys_id``) and their parameter vectors ``p``:
+
+0 Duffing, x'' + c x' + k x + g x^3 = P cos(tau) with mass ``m``:
+  p = [m, c, k, g, P]
+1 body on spring, damper and inerter over a moving base (7.1), X0 = B sin(tau):
+  p = [M, K, C, B, ratio, I_rest, coef, k_s, m_s, l_min, l_max, omega_sat, power,
+       law (0 thesis, 1 momentum), has_inerter (0/1)]
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+# the inertia law with its first and second derivatives, written once in elements/
+from ..elements.adaptive_flywheel import inertia_law
+
+
+@njit(cache=True)
+def evaluate(sys_id, p, tau, omega, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample."""
+    if sys_id == 0:
+        m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
+        r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
+        return r, k + 3.0 * g * x * x, c, m
+    # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
+    body, stiff, damp, base = p[0], p[1], p[2], p[3]
+    s = math.sin(tau)
+    x0 = base * s
+    x0d = base * omega * math.cos(tau)
+    x0dd = -base * omega * omega * s
+    v = xd - x0d
+    a = xdd - x0dd
+    me = 0.0
+    dme = 0.0
+    if p[14] > 0.5:
+        ratio = p[4]
+        w = ratio * abs(v)
+        i0, i1, i2 = inertia_law(w, p[5], p[6], p[7], p[8], p[9], p[10], p[11], int(p[12]))
+        if p[13] < 0.5:  # thesis law F = r^2 I(r|v|) v'
+            j0 = i0
+            j1 = i1
+        else:  # momentum law F = r^2 (I + w dI/dw) v'
+            j0 = i0 + w * i1
+            j1 = 2.0 * i1 + w * i2
+        me = ratio * ratio * j0
+        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
+        dme = ratio * ratio * ratio * j1 * sg
+    r = body * xdd + me * a + stiff * (x - x0) + damp * v
+    return r, stiff, damp + dme * a, body + me
+
+
+# ---------------------------------------------------------------------------------
+# AFT residual and Jacobian
+
+
+@njit(cache=True)
+def samples(X, omega, E, E1, E2):
+    """x, x', x'' at the time samples from the coefficient vector X."""
+    x = E @ X
+    xd = omega * (E1 @ X)
+    xdd = omega * omega * (E2 @ X)
+    return x, xd, xdd
+
+
+@njit(cache=True)
+def residual(sys_id, p, X, omega, tau, E, E1, E2, F):
+    """Harmonic-balance residual R(X) (Fourier coefficients of r(t))."""
+    x, xd, xdd = samples(X, omega, E, E1, E2)
+    n = tau.shape[0]
+    r = np.empty(n)
+    for k in range(n):
+        r[k] = evaluate(sys_id, p, tau[k], omega, x[k], xd[k], xdd[k])[0]
+    return F @ r
+
+
+@njit(cache=True)
+def residual_jacobian(sys_id, p, X, omega, tau, E, E1, E2, F):
+    """R(X) and dR/dX = F [diag(dr/dx) E + w diag(dr/dx') E1 + w^2 diag(dr/dx'') E2]."""
+    x, xd, xdd = samples(X, omega, E, E1, E2)
+    n, m = E.shape
+    r = np.empty(n)
+    G = np.empty((n, m))
+    for k in range(n):
+        rk, g0, g1, g2 = evaluate(sys_id, p, tau[k], omega, x[k], xd[k], xdd[k])
+        r[k] = rk
+        g1w = omega * g1
+        g2w = omega * omega * g2
+        for j in range(m):
+            G[k, j] = g0 * E[k, j] + g1w * E1[k, j] + g2w * E2[k, j]
+    return F @ r, F @ G
+
+
+@njit(cache=True)
+def hill_matrices(sys_id, p, X, omega, tau, E, E1, E2, F):
+    """J0, J1, J2 of the quadratic Hill problem (lambda^2 J2 + lambda J1 + J0) q = 0."""
+    x, xd, xdd = samples(X, omega, E, E1, E2)
+    n, m = E.shape
+    G0 = np.empty((n, m))
+    G1 = np.empty((n, m))
+    G2 = np.empty((n, m))
+    for k in range(n):
+        _, g0, g1, g2 = evaluate(sys_id, p, tau[k], omega, x[k], xd[k], xdd[k])
+        for j in range(m):
+            G0[k, j] = g0 * E[k, j] + omega * g1 * E1[k, j] + omega * omega * g2 * E2[k, j]
+            G1[k, j] = g1 * E[k, j] + 2.0 * omega * g2 * E1[k, j]
+            G2[k, j] = g2 * E[k, j]
+    return F @ G0, F @ G1, F @ G2
+
+
+@njit(cache=True)
+def relative_residuals(sys_id, p, omegas, C, tau, E, E1, E2, F):
+    """||R(X_i)|| / ||R(0)|| for each row X_i of C at frequency omegas[i]."""
+    n_pts, m = C.shape
+    out = np.empty(n_pts)
+    zero = np.zeros(m)
+    for i in range(n_pts):
+        r = residual(sys_id, p, np.ascontiguousarray(C[i]), omegas[i], tau, E, E1, E2, F)
+        r0 = residual(sys_id, p, zero, omegas[i], tau, E, E1, E2, F)
+        a = np.sqrt(np.sum(r * r))
+        b = np.sqrt(np.sum(r0 * r0))
+        out[i] = a / b if b > 0.0 else a
+    return out
+
+
+@njit(cache=True)
+def newton(sys_id, p, X0, omega, tau, E, E1, E2, F, rtol, max_iter, scale):
+    """Newton with backtracking on ||R||; returns X, converged, iterations, ||R||, code.
+
+    Converged when the update is below ``rtol * (||X|| + scale)`` and the residual is
+    below ``1e3 * rtol * scale_R``. Codes: 0 ok, 1 iteration limit, 2 singular
+    Jacobian, 3 no descent (line search failed), 4 non-finite values.
+    """
+    X = X0.copy()
+    R, J = residual_jacobian(sys_id, p, X, omega, tau, E, E1, E2, F)
+    rn = np.sqrt(np.sum(R * R))
+    for it in range(max_iter):
+        if not np.isfinite(rn):
+            return X, False, it, rn, 4
+        try:
+            dX = np.linalg.solve(J, -R)
+        except Exception:  # noqa: BLE001 - LAPACK reports a singular matrix
+            return X, False, it, rn, 2
+        if not np.all(np.isfinite(dX)):
+            return X, False, it, rn, 2
+        step = 1.0
+        accepted = False
+        for _ in range(12):
+            Xn = X + step * dX
+            Rn, Jn = residual_jacobian(sys_id, p, Xn, omega, tau, E, E1, E2, F)
+            rnn = np.sqrt(np.sum(Rn * Rn))
+            if np.isfinite(rnn) and (rnn <= (1.0 - 1e-4 * step) * rn or rnn < 1e-300):
+                accepted = True
+                break
+            step *= 0.5
+        if not accepted:
+            # at the round-off floor a full step cannot reduce ||R|| any further
+            small = np.sqrt(np.sum(dX * dX)) <= 1e3 * rtol * (np.sqrt(np.sum(X * X)) + scale)
+            return X, small, it, rn, 0 if small else 3
+        X = Xn
+        R = Rn
+        J = Jn
+        rn = rnn
+        if step == 1.0 and np.sqrt(np.sum(dX * dX)) <= rtol * (np.sqrt(np.sum(X * X)) + scale):
+            return X, True, it + 1, rn, 0
+    return X, False, max_iter, rn, 1
+
+
+@njit(cache=True)
+def sweep(sys_id, p, omegas, X_start, X_cold, tau, E, E1, E2, F, rtol, max_iter, scale, warm):
+    """Solve at each frequency of ``omegas`` in order.
+
+    With ``warm`` each point starts from the last converged solution, extrapolated
+    linearly in frequency from the two last ones (the scanning method, (7.23)-(7.32));
+    a point that fails is retried through up to 8 intermediate frequencies from the
+    last converged point and then from ``X_cold`` (past a fold the response jumps to
+    another branch, which a warm start cannot reach). Without ``warm`` every point starts from ``X_cold``.
+    """
+    n_pts = omegas.shape[0]
+    m = X_start.shape[0]
+    out = np.zeros((n_pts, m))
+    ok = np.zeros(n_pts, dtype=np.bool_)
+    iters = np.zeros(n_pts, dtype=np.int64)
+    res = np.zeros(n_pts)
+    code = np.zeros(n_pts, dtype=np.int64)
+    X_last = X_start.copy()
+    X_prev = X_start.copy()
+    w_last = -1.0
+    w_prev = -1.0
+    for i in range(n_pts):
+        w = omegas[i]
+        if warm:
+            guess = X_last.copy()
+            if w_prev > 0.0 and w_last != w_prev:
+                guess = X_last + (X_last - X_prev) * ((w - w_last) / (w_last - w_prev))
+        else:
+            guess = X_cold.copy()
+        X, conv, it, rn, c = newton(sys_id, p, guess, w, tau, E, E1, E2, F, rtol, max_iter, scale)
+        if not conv and warm and w_last > 0.0:
+            # retry through intermediate frequencies from the last converged point
+            Xs = X_last.copy()
+            conv = True
+            n_sub = 8
+            for s in range(1, n_sub + 1):
+                ws = w_last + (w - w_last) * s / n_sub
+                Xs, cs, its, rn, c = newton(
+                    sys_id, p, Xs, ws, tau, E, E1, E2, F, rtol, max_iter, scale
+                )
+                it += its
+                if not cs:
+                    conv = False
+                    break
+            X = Xs
+            if not conv:
+                # a jump (fold passed): start afresh from the cold start
+                X, conv, its, rn, c = newton(
+                    sys_id, p, X_cold, w, tau, E, E1, E2, F, rtol, max_iter, scale
+                )
+                it += its
+        out[i] = X
+        ok[i] = conv
+        iters[i] = it
+        res[i] = rn
+        code[i] = c
+        if conv:
+            X_prev = X_last
+            w_prev = w_last
+            X_last = X
+            w_last = w
+    return out, ok, iters, res, code
+
+
+@njit(cache=True)
+def half_peak_to_peak(C):
+    """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
+
+    ``C`` holds for each point the samples' coefficients in the cos/sin basis
+    [a0, a1, b1, ..., aH, bH]; the extremes are found on a grid of 16 H + 32 phases
+    and refined by Newton on the trigonometric polynomial.
+    """
+    n_pts, m = C.shape
+    H = (m - 1) // 2
+    ng = 16 * H + 32
+    out = np.empty(n_pts)
+    cg = np.empty((ng, H))
+    sg = np.empty((ng, H))
+    for k in range(ng):
+        t = 2.0 * math.pi * k / ng
+        for h in range(H):
+            cg[k, h] = math.cos((h + 1) * t)
+            sg[k, h] = math.sin((h + 1) * t)
+    for i in range(n_pts):
+        best_hi = -1e300
+        best_lo = 1e300
+        k_hi = 0
+        k_lo = 0
+        for k in range(ng):
+            val = C[i, 0]
+            for h in range(H):
+                val += C[i, 2 * h + 1] * cg[k, h] + C[i, 2 * h + 2] * sg[k, h]
+            if val > best_hi:
+                best_hi = val
+                k_hi = k
+            if val < best_lo:
+                best_lo = val
+                k_lo = k
+        ext = np.empty(2)
+        for e in range(2):
+            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
+            val = 0.0
+            for _ in range(6):
+                d1 = 0.0
+                d2 = 0.0
+                for h in range(H):
+                    q = h + 1.0
+                    c = math.cos(q * t)
+                    s = math.sin(q * t)
+                    a = C[i, 2 * h + 1]
+                    b = C[i, 2 * h + 2]
+                    d1 += q * (-a * s + b * c)
+                    d2 += -q * q * (a * c + b * s)
+                if d2 == 0.0:
+                    break
+                dt = -d1 / d2
+                if abs(dt) > 2.0 * math.pi / ng:
+                    break
+                t += dt
+            val = C[i, 0]
+            for h in range(H):
+                q = h + 1.0
+                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
+            ext[e] = val
+        hi = max(ext[0], best_hi)
+        lo = min(ext[1], best_lo)
+        out[i] = 0.5 * (hi - lo)
+    return out
+
+
+# ---------------------------------------------------------------------------------
+# brute force: fixed-step classical Runge-Kutta, period by period
+
+
+@njit(cache=True)
+def _accel(sys_id, p, tau, omega, x, xd):
+    r0, _, _, m = evaluate(sys_id, p, tau, omega, x, xd, 0.0)
+    return -r0 / m
+
+
+@njit(cache=True)
+def integrate_period(sys_id, p, omega, y0, n_steps, record):
+    """Integrate one forcing period with n_steps RK4 steps; returns end state and x(t)."""
+    h = 2.0 * math.pi / omega / n_steps
+    x = y0[0]
+    v = y0[1]
+    xs = np.empty(n_steps + 1 if record else 1)
+    xs[0] = x
+    for i in range(n_steps):
+        t = i * h
+        k1x = v
+        k1v = _accel(sys_id, p, omega * t, omega, x, v)
+        k2x = v + 0.5 * h * k1v
+        k2v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k1x, k2x)
+        k3x = v + 0.5 * h * k2v
+        k3v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k2x, k3x)
+        k4x = v + h * k3v
+        k4v = _accel(sys_id, p, omega * (t + h), omega, x + h * k3x, k4x)
+        x = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
+        v = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
+        if record:
+            xs[i + 1] = x
+    y = np.empty(2)
+    y[0] = x
+    y[1] = v
+    return y, xs
+
+
+@njit(cache=True)
+def brute_point(sys_id, p, omega, y0, n_steps, rtol, max_periods, keep_periods, scale):
+    """Integrate from y0 until the periodic orbit settles; half peak-to-peak of x.
+
+    After each period the change of the state at the period start (velocity scaled
+    by 1/omega), relative to max(max|x|, scale), is d_k. The contraction per period
+    rho = d_k / d_(k-1) gives the remaining distance to the periodic orbit,
+    d_k rho / (1 - rho); the orbit is settled when that estimate and d_k are below
+    ``rtol`` for ``keep_periods`` consecutive periods, and the amplitude is taken
+    over those periods. Returns (amplitude, settled, periods, y_end, distance).
+    """
+    y = y0.copy()
+    calm = 0
+    prev = np.inf
+    dist = np.inf
+    hi = -1e300
+    lo = 1e300
+    for k in range(max_periods):
+        yn, xs = integrate_period(sys_id, p, omega, y, n_steps, True)
+        size = max(np.max(np.abs(xs)), scale)
+        change = max(abs(yn[0] - y[0]), abs(yn[1] - y[1]) / omega) / size
+        rho = change / prev if prev > 0.0 else 0.0
+        prev = change
+        dist = change * rho / (1.0 - rho) if rho < 0.999 else np.inf
+        dist = max(dist, change)
+        y = yn
+        if dist < rtol:
+            calm += 1
+        else:
+            calm = 0
+            hi = -1e300
+            lo = 1e300
+        hi = max(hi, np.max(xs))
+        lo = min(lo, np.min(xs))
+        if calm >= keep_periods:
+            return 0.5 * (hi - lo), True, k + 1, y, dist
+    return 0.5 * (hi - lo), False, max_periods, y, dist
