@@ -1,5 +1,9 @@
 """Numba kernels of the harmonic-balance engine for the built-in one-degree-of-freedom systems.
 
+Kept while it is faster than the one engine of :mod:`inerterlab.frequency.first_order`
+on these systems (docs/decisions.md); their physics, :func:`residual_partials`, is the one
+the implicit form ``system.first_order()`` evaluates on that engine.
+
 Every built-in system is a scalar residual r(tau, x, x', x'') of the phase
 tau = Omega t with its exact partial derivatives; the kernels here assemble the
 alternating frequency-time (AFT) residual and its analytic Jacobian, run Newton with
@@ -27,18 +31,19 @@ from ..elements.adaptive_flywheel import inertia_law
 
 
 @njit(cache=True)
-def evaluate(sys_id, p, tau, omega, x, xd, xdd):
-    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample."""
+def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
+
+    ``sys_id`` 0: Duffing, p = [m, c, k, g, P]; 1: body over a moving base with an
+    adaptive-flywheel inerter, (7.1), p as :meth:`InerterSuspension.parameters`, with the
+    base's displacement, velocity and acceleration x0, x0', x0''.
+    """
     if sys_id == 0:
         m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
         r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
         return r, k + 3.0 * g * x * x, c, m
     # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
-    body, stiff, damp, base = p[0], p[1], p[2], p[3]
-    s = math.sin(tau)
-    x0 = base * s
-    x0d = base * omega * math.cos(tau)
-    x0dd = -base * omega * omega * s
+    body, stiff, damp = p[0], p[1], p[2]
     v = xd - x0d
     a = xdd - x0dd
     me = 0.0
@@ -58,6 +63,18 @@ def evaluate(sys_id, p, tau, omega, x, xd, xdd):
         dme = ratio * ratio * ratio * j1 * sg
     r = body * xdd + me * a + stiff * (x - x0) + damp * v
     return r, stiff, damp + dme * a, body + me
+
+
+@njit(cache=True)
+def evaluate(sys_id, p, tau, omega, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample (the base
+    of system 1 moves as B sin(tau), B = p[3])."""
+    base = p[3] if sys_id == 1 else 0.0
+    s = math.sin(tau)
+    return residual_partials(
+        sys_id, p, tau, omega, base * s, base * omega * math.cos(tau), -base * omega * omega * s,
+        x, xd, xdd,
+    )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------
@@ -238,72 +255,6 @@ def sweep(sys_id, p, omegas, X_start, X_cold, tau, E, E1, E2, F, rtol, max_iter,
             X_last = X
             w_last = w
     return out, ok, iters, res, code
-
-
-@njit(cache=True)
-def half_peak_to_peak(C):
-    """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
-
-    ``C`` holds for each point the samples' coefficients in the cos/sin basis
-    [a0, a1, b1, ..., aH, bH]; the extremes are found on a grid of 16 H + 32 phases
-    and refined by Newton on the trigonometric polynomial.
-    """
-    n_pts, m = C.shape
-    H = (m - 1) // 2
-    ng = 16 * H + 32
-    out = np.empty(n_pts)
-    cg = np.empty((ng, H))
-    sg = np.empty((ng, H))
-    for k in range(ng):
-        t = 2.0 * math.pi * k / ng
-        for h in range(H):
-            cg[k, h] = math.cos((h + 1) * t)
-            sg[k, h] = math.sin((h + 1) * t)
-    for i in range(n_pts):
-        best_hi = -1e300
-        best_lo = 1e300
-        k_hi = 0
-        k_lo = 0
-        for k in range(ng):
-            val = C[i, 0]
-            for h in range(H):
-                val += C[i, 2 * h + 1] * cg[k, h] + C[i, 2 * h + 2] * sg[k, h]
-            if val > best_hi:
-                best_hi = val
-                k_hi = k
-            if val < best_lo:
-                best_lo = val
-                k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
-            val = 0.0
-            for _ in range(6):
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(H):
-                    q = h + 1.0
-                    c = math.cos(q * t)
-                    s = math.sin(q * t)
-                    a = C[i, 2 * h + 1]
-                    b = C[i, 2 * h + 2]
-                    d1 += q * (-a * s + b * c)
-                    d2 += -q * q * (a * c + b * s)
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / ng:
-                    break
-                t += dt
-            val = C[i, 0]
-            for h in range(H):
-                q = h + 1.0
-                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
-            ext[e] = val
-        hi = max(ext[0], best_hi)
-        lo = min(ext[1], best_lo)
-        out[i] = 0.5 * (hi - lo)
-    return out
 
 
 # ---------------------------------------------------------------------------------

@@ -28,10 +28,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
-from ..elements.adaptive_flywheel import inertia_law
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
+from ._kernels import residual_partials
 from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
 
 __all__ = [
@@ -44,41 +44,6 @@ __all__ = [
 ]
 
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
-
-
-@njit(cache=True)
-def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
-    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
-
-    ``sys_id`` 0: Duffing, p = [m, c, k, g, P]; 1: body over a moving base with an
-    adaptive-flywheel inerter, (7.1), p as :meth:`InerterSuspension.parameters`, with the
-    base's displacement, velocity and acceleration x0, x0', x0''.
-    """
-    if sys_id == 0:
-        m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
-        r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
-        return r, k + 3.0 * g * x * x, c, m
-    # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
-    body, stiff, damp = p[0], p[1], p[2]
-    v = xd - x0d
-    a = xdd - x0dd
-    me = 0.0
-    dme = 0.0
-    if p[14] > 0.5:
-        ratio = p[4]
-        w = ratio * abs(v)
-        i0, i1, i2 = inertia_law(w, p[5], p[6], p[7], p[8], p[9], p[10], p[11], int(p[12]))
-        if p[13] < 0.5:  # thesis law F = r^2 I(r|v|) v'
-            j0 = i0
-            j1 = i1
-        else:  # momentum law F = r^2 (I + w dI/dw) v'
-            j0 = i0 + w * i1
-            j1 = 2.0 * i1 + w * i2
-        me = ratio * ratio * j0
-        sg = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
-        dme = ratio * ratio * ratio * j1 * sg
-    r = body * xdd + me * a + stiff * (x - x0) + damp * v
-    return r, stiff, damp + dme * a, body + me
 
 
 @njit(TERMS_SIGNATURE, cache=True)
