@@ -1,8 +1,9 @@
 """Steady-state frequency response: brute force, harmonic balance (AFT), continuation.
 
-Second-order systems (the chapter-7 system, Duffing, user residuals) and first-order
-state equations (the quarter car, model-core systems), all on one compiled engine
-(:mod:`inerterlab.frequency.first_order`) but the numpy path of user residuals. See docs/guide/frequency.md.
+Second-order systems (the chapter-7 system and Duffing on their specialised kernel,
+user residuals in numpy) and state equations (the quarter car, model-core systems, and
+the built-in systems' ``first_order()`` forms) on the engine of
+:mod:`inerterlab.frequency.first_order`. See docs/guide/frequency.md.
 Thesis ch. 7; docs/model.md §7.
 """
 
