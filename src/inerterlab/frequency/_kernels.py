@@ -30,7 +30,7 @@ from numba import njit
 from ..elements.adaptive_flywheel import inertia_law
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
     """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
 
@@ -65,7 +65,7 @@ def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
     return r, stiff, damp + dme * a, body + me
 
 
-@njit(cache=True)
+@njit(cache=True, inline="always")
 def evaluate(sys_id, p, tau, omega, x, xd, xdd):
     """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample (the base
     of system 1 moves as B sin(tau), B = p[3])."""
