@@ -2,13 +2,13 @@
 
 Kept while it is faster than the one engine of :mod:`inerterlab.frequency.first_order`
 on these systems (docs/decisions.md); their physics, :func:`residual_partials`, is the one
-the implicit form ``system.first_order()`` evaluates on that engine.
+the implicit form ``system.first_order()`` evaluates on that engine, whose RK4 period
+integrator is also their brute force.
 
 Every built-in system is a scalar residual r(tau, x, x', x'') of the phase
 tau = Omega t with its exact partial derivatives; the kernels here assemble the
-alternating frequency-time (AFT) residual and its analytic Jacobian, run Newton with
-a backtracking line search on the residual norm, and integrate the equation of motion
-with a fixed-step Runge-Kutta scheme for the brute-force reference.
+alternating frequency-time (AFT) residual and its analytic Jacobian and run Newton with
+a backtracking line search on the residual norm.
 
 System codes (``sys_id``) and their parameter vectors ``p``:
 
@@ -255,80 +255,3 @@ def sweep(sys_id, p, omegas, X_start, X_cold, tau, E, E1, E2, F, rtol, max_iter,
             X_last = X
             w_last = w
     return out, ok, iters, res, code
-
-
-# ---------------------------------------------------------------------------------
-# brute force: fixed-step classical Runge-Kutta, period by period
-
-
-@njit(cache=True)
-def _accel(sys_id, p, tau, omega, x, xd):
-    r0, _, _, m = evaluate(sys_id, p, tau, omega, x, xd, 0.0)
-    return -r0 / m
-
-
-@njit(cache=True)
-def integrate_period(sys_id, p, omega, y0, n_steps, record):
-    """Integrate one forcing period with n_steps RK4 steps; returns end state and x(t)."""
-    h = 2.0 * math.pi / omega / n_steps
-    x = y0[0]
-    v = y0[1]
-    xs = np.empty(n_steps + 1 if record else 1)
-    xs[0] = x
-    for i in range(n_steps):
-        t = i * h
-        k1x = v
-        k1v = _accel(sys_id, p, omega * t, omega, x, v)
-        k2x = v + 0.5 * h * k1v
-        k2v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k1x, k2x)
-        k3x = v + 0.5 * h * k2v
-        k3v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k2x, k3x)
-        k4x = v + h * k3v
-        k4v = _accel(sys_id, p, omega * (t + h), omega, x + h * k3x, k4x)
-        x = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
-        v = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
-        if record:
-            xs[i + 1] = x
-    y = np.empty(2)
-    y[0] = x
-    y[1] = v
-    return y, xs
-
-
-@njit(cache=True)
-def brute_point(sys_id, p, omega, y0, n_steps, rtol, max_periods, keep_periods, scale):
-    """Integrate from y0 until the periodic orbit settles; half peak-to-peak of x.
-
-    After each period the change of the state at the period start (velocity scaled
-    by 1/omega), relative to max(max|x|, scale), is d_k. The contraction per period
-    rho = d_k / d_(k-1) gives the remaining distance to the periodic orbit,
-    d_k rho / (1 - rho); the orbit is settled when that estimate and d_k are below
-    ``rtol`` for ``keep_periods`` consecutive periods, and the amplitude is taken
-    over those periods. Returns (amplitude, settled, periods, y_end, distance).
-    """
-    y = y0.copy()
-    calm = 0
-    prev = np.inf
-    dist = np.inf
-    hi = -1e300
-    lo = 1e300
-    for k in range(max_periods):
-        yn, xs = integrate_period(sys_id, p, omega, y, n_steps, True)
-        size = max(np.max(np.abs(xs)), scale)
-        change = max(abs(yn[0] - y[0]), abs(yn[1] - y[1]) / omega) / size
-        rho = change / prev if prev > 0.0 else 0.0
-        prev = change
-        dist = change * rho / (1.0 - rho) if rho < 0.999 else np.inf
-        dist = max(dist, change)
-        y = yn
-        if dist < rtol:
-            calm += 1
-        else:
-            calm = 0
-            hi = -1e300
-            lo = 1e300
-        hi = max(hi, np.max(xs))
-        lo = min(lo, np.min(xs))
-        if calm >= keep_periods:
-            return 0.5 * (hi - lo), True, k + 1, y, dist
-    return 0.5 * (hi - lo), False, max_periods, y, dist
