@@ -128,7 +128,8 @@ def unit_of(quantity: str) -> str:
     """Unit of a quantity: the output's for an H2 norm (per unit white road velocity),
     output per m/s of road velocity for a peak gain."""
     if quantity.startswith("peak:"):
-        return f"({UNITS[quantity[5:]]})/(m/s)"
+        u = UNITS[quantity[5:]]
+        return f"({u})/(m/s)" if "/" in u else f"{u}/(m/s)"
     return UNITS[quantity]
 
 
@@ -324,9 +325,9 @@ def road_scale(road_class: str, speed: float) -> float:
     return H2Norms(norms={"x": 1.0}).ride_indices(road_class, speed)["x"]
 
 
-def infinite_reason(quantity: str, q: NetworkQuarterCar, params: dict) -> str:
+def infinite_reason(quantity: str, q: NetworkQuarterCar, params: dict, road=None) -> str:
     """One line: why ``quantity`` is infinite for these values, and the finite
-    alternative."""
+    alternative (with ``road`` given, the RMS over the road's band is the one shown)."""
     base = quantity[5:] if quantity.startswith("peak:") else quantity
     stab = q.h2_reasons(params)
     if any("not asymptotically stable" in v for v in stab.values()):
@@ -338,8 +339,11 @@ def infinite_reason(quantity: str, q: NetworkQuarterCar, params: dict) -> str:
     if quantity.startswith("peak:"):
         return f"{quantity} is infinite"  # pragma: no cover - only an unstable car
     band = (
-        "or the road band-limited to ISO 8608's 0.01-10 cycle/m (give --road-class and "
-        "--speed: its RMS value is then computed over that band)"
+        "or the road band-limited to ISO 8608's 0.01-10 cycle/m (its RMS value over that "
+        "band is shown)"
+        if road is not None
+        else "or the road band-limited to ISO 8608's 0.01-10 cycle/m (give a road, "
+        "--road-class and --speed, for its RMS value over that band)"
     )
     if base == "tyre_force":
         return (
@@ -1414,7 +1418,7 @@ def _describe(res: OptimizationResult, pb: _Problem, lin: dict, road) -> None:
     res.peaks = {k: vals[k] for k in peaks}
     for k, v in vals.items():
         if not math.isfinite(v):
-            res.infinite[k] = infinite_reason(k, pb.q, lin)
+            res.infinite[k] = infinite_reason(k, pb.q, lin, road)
     if road is not None:
         cls, speed = _check_road(road)
         scale = road_scale(cls, speed)
@@ -1546,8 +1550,7 @@ def pareto_front(
             "objectives": ",".join(objectives),
             "method": "epsilon-constraint: minimise the first objective with limits on the others",
             "units": "H2 norms per unit white road velocity, peak gains per m/s of road "
-            "velocity: "
-            + ", ".join(f"{o} [{unit_of(o)}]" for o in objectives),
+            "velocity: " + ", ".join(f"{o} [{unit_of(o)}]" for o in objectives),
             "car": str({k: v for k, v in car.items()}),
         },
     )
@@ -1732,3 +1735,58 @@ def count_layouts(dampers: int = 1, inerters: int = 1, springs: int = 2) -> dict
         # children of the next totals: series roots feed parallel nodes and vice versa
         new[n] = (a_p, s_all, s_all - s_st, p_all, p_all - p_ns)
     return {"candidates": int(cand), "trees": int(sum(a_tot.values()))}
+
+
+# ---------------------------------------------------------------------------------------
+# figure: the transfer and the spectra an engineer looks at
+
+
+def network_figure(network, params, *, reference=None, road=None, title=None, **car):
+    """|H(f)| of the body acceleration per road velocity for ``network`` against
+    ``k | c`` (``reference`` its k and c; default the reference damper
+    c = k sqrt((m_s + m_u)/k_t) of :func:`reference_norms`), with the Wk-weighted
+    transfer dashed, and the one-sided PSD of the body acceleration with and without the
+    Wk weighting on the road ``road`` = (ISO 8608 class, speed), or per unit white road
+    velocity."""
+    from matplotlib.figure import Figure
+
+    q = network_quarter_car(network, **car)
+    qr = network_quarter_car("k | c", **car)
+    if reference is None:
+        k = float(params.get("k", 50e3))
+        c = k * math.sqrt((q.sprung_mass + q.unsprung_mass) / q.tyre_stiffness)
+        reference, rlabel = {"k": k, "c": c}, "k | c (c = k sqrt((m_s+m_u)/k_t))"
+    else:
+        reference = {"k": float(reference["k"]), "c": float(reference["c"])}
+        rlabel = "k | c (optimised)"
+    if road is not None:
+        cls, speed = _check_road(road)
+        sv = 2.0 * road_scale(cls, speed) ** 2
+        where = f"ISO 8608 class {cls} at {speed:g} m/s (white road velocity)"
+    else:
+        sv, where = 2.0, "unit white road velocity (one-sided 2 (m/s)^2/Hz)"
+    f = np.geomspace(0.1, 100.0, 800)
+    fig = Figure(figsize=(10.5, 4.2), layout="constrained")
+    ax1, ax2 = fig.subplots(1, 2)
+    for label, qq, p, color in (
+        (q.network.text, q, params, "C0"),
+        (rlabel, qr, reference, "C1"),
+    ):
+        h = np.abs(transfer("body_acc", qq, p)(f))
+        hw = np.abs(transfer("body_acc_wk", qq, p)(f))
+        ax1.loglog(f, h, color=color, label=label)
+        ax1.loglog(f, hw, color=color, ls="--", label=f"{label}, Wk-weighted")
+        ax2.loglog(f, h**2 * sv, color=color, label=label)
+        ax2.loglog(f, hw**2 * sv, color=color, ls="--", label=f"{label}, Wk-weighted")
+    ax1.set_xlabel("frequency f [Hz]")
+    ax1.set_ylabel("|H(j 2 pi f)| body acceleration / road velocity [1/s]")
+    ax1.set_title("transfer from road velocity (linear)", fontsize=9)
+    ax2.set_xlabel("frequency f [Hz]")
+    ax2.set_ylabel("PSD of body acceleration [(m/s^2)^2/Hz]")
+    ax2.set_title(where, fontsize=9)
+    for ax in (ax1, ax2):
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    if title:
+        fig.suptitle(title, fontsize=10)
+    return fig

@@ -119,14 +119,14 @@ def _car_option(flag: str, symbol: str, unit: str, *more: str) -> Any:
 
 
 # the option types every command with a quarter car shares
-SprungMass = Annotated[
+CarSprungMass = Annotated[
     float | None, _car_option("--sprung-mass", "Sprung mass m_s", "kg", "--body-mass")
 ]
-UnsprungMass = Annotated[float | None, _car_option("--unsprung-mass", "Unsprung mass m_u", "kg")]
-TyreStiffness = Annotated[
+CarUnsprungMass = Annotated[float | None, _car_option("--unsprung-mass", "Unsprung mass m_u", "kg")]
+CarTyreStiffness = Annotated[
     float | None, _car_option("--tyre-stiffness", "Tyre stiffness k_t", "N/m")
 ]
-TyreDamping = Annotated[float | None, _car_option("--tyre-damping", "Tyre damping c_t", "N s/m")]
+CarTyreDamping = Annotated[float | None, _car_option("--tyre-damping", "Tyre damping c_t", "N s/m")]
 VehicleFile = Annotated[
     Path | None,
     typer.Option(
