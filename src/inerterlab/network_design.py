@@ -983,6 +983,7 @@ def _polish(pb: _Problem, u0: np.ndarray, maxiter: int | None = None):
     bnds = list(zip(pb.lo, pb.hi, strict=True))
     if pb.peak:
         # the largest gain has a kink where two peaks are equal: derivative-free
+        f0 = pb.f(u0)
         return minimize(
             pb.f,
             u0,
@@ -991,8 +992,8 @@ def _polish(pb: _Problem, u0: np.ndarray, maxiter: int | None = None):
             options={
                 "maxiter": maxiter or 4000,
                 "maxfev": maxiter or 8000,
-                "xatol": 1e-10,
-                "fatol": 0.0,
+                "xatol": 1e-9,
+                "fatol": 1e-13 * f0 if 0 < f0 < _BIG else 0.0,
                 "adaptive": len(pb.free) > 2,
             },
         )

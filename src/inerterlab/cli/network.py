@@ -291,7 +291,9 @@ def _road(road_class, speed):
         raise
 
 
-def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit) -> dict:
+def _limits(
+    max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit=None
+) -> dict:
     from ..errors import ParameterError
     from ..network_design import QUANTITIES
 
