@@ -220,9 +220,7 @@ def h2_command(
     if lin is not net:
         out["linearised_about_rest"] = lin.text
         out["linear_parameters"] = params
-    reasons = {
-        k: infinite_reason(k, q, params, road) for k in names if not math.isfinite(vals[k])
-    }
+    reasons = {k: infinite_reason(k, q, params, road) for k in names if not math.isfinite(vals[k])}
     if reasons:
         out["infinite"] = reasons
     out["states"] = len(q.polynomials(params)["den"]) - 1
@@ -291,9 +289,7 @@ def _road(road_class, speed):
         raise
 
 
-def _limits(
-    max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit=None
-) -> dict:
+def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit=None) -> dict:
     from ..errors import ParameterError
     from ..network_design import QUANTITIES
 
