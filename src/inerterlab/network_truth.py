@@ -288,7 +288,7 @@ def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
 
     layout = params["layout"]
     text = BASELINE if layout == "baseline" else LAYOUTS[layout]
-    c = _car({k: params[k] for k in THESIS_CAR})
+    c = _car({k: params[k] for k in THESIS_CAR if k in params})
     design = layout_parameters(text, float(params["stiffness"]), c)
     if layout == "baseline":
         net, elp = text, design
@@ -387,7 +387,7 @@ def custom_truth_point(params: Mapping[str, Any]) -> dict[str, float]:
     """:func:`truth_point` for a given network text and element values (``custom``)."""
     from .systems import quarter_car
 
-    c = _car({k: params[k] for k in THESIS_CAR})
+    c = _car({k: params[k] for k in THESIS_CAR if k in params})
     net, elp = _network_for(
         str(params["network"]), _parse_design(params["design"]), params["variant"], c
     )
