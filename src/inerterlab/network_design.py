@@ -1350,36 +1350,54 @@ def optimize_network(
         road=road,
         **car,
     )
+    compared = res.objective
     if stand and math.isfinite(res.objective):
         tree = _simplify(pb.net.tree, {n: v[0] for n, v in stand.items()})
         text = tree if isinstance(tree, str) else tree.text()
         res.simplified = {"network": text, "why": [v[1] for v in stand.values()]}
-        if not isinstance(tree, str):
-            names = set(parse_network(text).names)
-            try:
+        if isinstance(tree, str):
+            res.simplified["reason"] = (
+                "the suspension locks (a rigid link between body and wheel)"
+                if tree == "short"
+                else "no connection between body and wheel"
+            )
+        else:
+            names = parse_network(text).names
+            held = {k: v for k, v in fixed.items() if k in names}
+            if all(n in held for n in names):
+                # nothing left to optimise: the simpler layout's value at the held values
+                value = (
+                    evaluate(text, held, [objective], **car)[objective]
+                    if objective != "weighted"
+                    else math.nan
+                )
+                res.simplified["objective"] = value if math.isfinite(value) else None
+                compared = value
+            else:
                 sub = optimize_network(
                     text,
                     objective,
-                    fixed={k: v for k, v in fixed.items() if k in names},
+                    fixed=held,
                     bounds={k: v for k, v in bounds.items() if k in names},
-                    starts=min(starts, 4),
+                    starts=starts,
                     compare=compare,
                     **common,
                 )
-            except NetworkError as e:  # e.g. every parameter left is fixed
-                res.simplified["reason"] = str(e)
-            else:
-                res.simplified.update(
-                    objective=sub.objective if math.isfinite(sub.objective) else None,
-                    parameters=sub.parameters,
-                    improvement_vs=sub.improvement_vs,
-                )
-                if sub.simplified:
-                    res.simplified["network"] = sub.simplified["network"]
-                    res.simplified["why"] += sub.simplified["why"]
-                if compare:
-                    res.improvement_vs = dict(sub.improvement_vs)
-                return res
+                if math.isfinite(sub.objective):
+                    res.simplified.update(
+                        objective=sub.objective,
+                        parameters=sub.parameters,
+                        improvement_vs=sub.improvement_vs,
+                    )
+                    if sub.simplified:
+                        res.simplified["network"] = sub.simplified["network"]
+                        res.simplified["why"] += sub.simplified["why"]
+                    if compare:
+                        res.improvement_vs = dict(sub.improvement_vs)
+                    return res
+                # the bound does not stand for that layout after all (e.g. a stiff spring
+                # and an inerter still resonate inside the band): keep the optimum found
+                res.simplified = {}
     if compare and pb.net.text != "k | c":
         # the reference holds only the main spring (same static stiffness); its
         # damper is always optimised, whatever is held in the network compared
@@ -1398,8 +1416,8 @@ def optimize_network(
                 compare=False,
                 **common,
             )
-        if math.isfinite(base.objective) and math.isfinite(res.objective):
-            res.improvement_vs["k | c"] = 100.0 * (base.objective - res.objective) / base.objective
+        if math.isfinite(base.objective) and math.isfinite(compared):
+            res.improvement_vs["k | c"] = 100.0 * (base.objective - compared) / base.objective
         else:
             res.improvement_vs["k | c"] = None
             if not math.isfinite(base.objective):
