@@ -325,3 +325,22 @@ def test_simplify_tree():
     assert _simplify(t, {"b": "open"}).text() == "k | (c2 - b2)"
     assert _simplify(t, {"c2": "short", "b": "open"}).text() == "k | b2"
     assert _simplify(parse_network("k | c").tree, {"c": "short"}) == "short"
+
+
+def test_pareto_between_new_quantities(tmp_path):
+    from inerterlab.network_design import pareto_figure, pareto_front
+
+    ds = pareto_front(
+        ["k | (c - b)"], ("body_acc_wk", "peak:suspension_deflection"), points=3,
+        fixed={"k": 50e3},
+    )  # fmt: skip
+    ok = np.isfinite(ds["body_acc_wk"].values)
+    assert ok.sum() >= 2
+    lim = ds["limit_peak:suspension_deflection"].values[ok]
+    assert np.all(ds["peak:suspension_deflection"].values[ok] <= lim * (1 + 1e-6))
+    assert ds["peak:suspension_deflection"].attrs["units"] == "m/(m/s)"
+    # a tighter limit costs comfort
+    order = np.argsort(lim)
+    wk = ds["body_acc_wk"].values[ok][order]
+    assert np.all(np.diff(wk) <= 1e-9 * wk[0])
+    pareto_figure(ds)

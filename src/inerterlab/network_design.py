@@ -97,6 +97,10 @@ __all__ = [
     "infinite_reason",
     "band_limited_rms",
     "road_scale",
+    "unit_of",
+    "transfer",
+    "network_figure",
+    "pareto_figure",
 ]
 
 #: the transfers from road velocity whose norms the optimiser knows
@@ -708,7 +712,7 @@ class OptimizationResult:
     """Best parameters found for one network and objective.
 
     ``norms``: the H2 norms of :data:`TRANSFERS` per unit white road velocity;
-    ``peaks``: the peak gains of the quantities the problem used; ``units``: of each
+    ``peaks``: the peak gain of every transfer; ``units``: of each
     parameter; ``unit``: of the objective; ``infinite``: why each infinite quantity is
     (one line each, with the finite alternative); ``rms``/``road``: RMS values on the
     ISO 8608 road given (white road velocity; over the band 0.01-10 cycle/m for the
@@ -1431,8 +1435,8 @@ def optimize_network(
 def _describe(res: OptimizationResult, pb: _Problem, lin: dict, road) -> None:
     """Fill in the norms, the peaks used, the reasons of infinite values and the RMS
     values on the road of an :class:`OptimizationResult`."""
-    peaks = [n for n in QUANTITIES[_NT:] if pb.need[QUANTITIES.index(n)]]
-    vals = evaluate(pb.q.network, lin, [*TRANSFERS, *peaks], **_car_of(pb.q))
+    peaks = list(QUANTITIES[_NT:])
+    vals = evaluate(pb.q.network, lin, QUANTITIES, **_car_of(pb.q))
     res.norms = {k: vals[k] for k in TRANSFERS}
     res.peaks = {k: vals[k] for k in peaks}
     for k, v in vals.items():

@@ -546,7 +546,8 @@ def optimize_command(
     from ..network_design import UNITS, unit_of
 
     rows += [(f"H2 {k} [{UNITS[k]}]", _fmt(v)) for k, v in r.norms.items()]
-    rows += [(f"{k} [{unit_of(k)}]", _fmt(v)) for k, v in r.peaks.items()]
+    used = {objective, *lim, *(w.split("=")[0].strip() for i in weight or [] for w in i.split(","))}
+    rows += [(f"{k} [{unit_of(k)}]", _fmt(v)) for k, v in r.peaks.items() if k in used]
     for k, v in r.rms.items():
         rows.append((f"RMS {k} [{UNITS[k.split(' ')[0]]}]", f"{v:.6g}"))
     for k, v in r.improvement_vs.items():
