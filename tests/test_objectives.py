@@ -355,3 +355,39 @@ def test_body_acc_wk_agrees_with_the_state_space_route():
     ref = h2_norms(quarter_car("traditional")).norms["body_acc_wk"]
     v = evaluate("k | c", {"k": 90e3, "c": 5000.0}, ["body_acc_wk"])["body_acc_wk"]
     assert v == pytest.approx(ref, rel=1e-10)
+
+
+@pytest.mark.parametrize(
+    ("args", "option"),
+    [
+        (["--road-class", "C"], "--speed"),
+        (["--road-class", "Z", "--speed", "20"], "--road-class"),
+        (["--road-class", "C", "--speed", "-3"], "--speed"),
+        (["--max-inertance", "heavy"], "max-inertance"),
+        (["--max-inertance", "0kg"], "max-inertance"),
+        (["--limit", "comfort=3"], "limit"),
+        (["--limit", "body_acc_wk=-1"], "limit"),
+        (["--objective", "peak:comfort"], "objective"),
+        (["--axle", "rear"], "--axle"),
+        (["--vehicle", "/nonexistent/car.toml"], "car.toml"),
+    ],
+)
+def test_bad_options_exit_2(args, option, capsys):
+    from inerterlab.cli import main
+
+    rc = main(["network", "optimize", "--network", "k | (c - b)", "--fix", "k=50000", *args])
+    err = capsys.readouterr().err
+    assert rc == 2 and option in err and "Traceback" not in err
+
+
+def test_plots_are_written(tmp_path, capsys):
+    from inerterlab.cli import main
+
+    h2, opt = tmp_path / "h2.png", tmp_path / "opt.png"
+    assert main(["network", "h2", "--network", "k | (c - b)", "-p", "k=50000,c=2600,b=500",
+                 "--plot", str(h2)]) == 0  # fmt: skip
+    assert main(["network", "optimize", "--network", "k | (c - b)", "--fix", "k=50000",
+                 "--objective", "body_acc_wk", "--road-class", "C", "--speed", "25",
+                 "--plot", str(opt)]) == 0  # fmt: skip
+    capsys.readouterr()
+    assert h2.stat().st_size > 10_000 and opt.stat().st_size > 10_000
