@@ -148,3 +148,17 @@ def test_truth_on_another_car_matches_its_band_limited_prediction():
     d0 = layout_parameters("k | c", 40e3)
     other = band_limited_rms("body_acc_wk", network_quarter_car("k | c"), d0, "C", 20.0)
     assert abs(other**2 - pred**2) > 4 * se + 0.03 * pred**2
+
+
+def test_truth_on_a_vehicle_wheel_uses_its_strut(capsys):
+    args = ["network", "truth", "--layout", "series", "--variant", "ideal", "--input", "bump",
+            "--horizon", "1", "--backend", "serial", "--json", "--vehicle", str(SEDAN),
+            "--axle", "rear"]  # fmt: skip
+    rc = main(args)
+    cap = capsys.readouterr()
+    assert rc == 0, cap.err
+    out = json.loads(cap.out)
+    rear = car_options(vehicle=SEDAN, axle="rear")
+    assert out["stiffness"] == 25e3 and out["car"] == dict(rear)
+    assert out["car_source"] == "vehicle_sedan.toml, one rear wheel"
+    assert out["parameters"]["series"]["k"] == 25e3
