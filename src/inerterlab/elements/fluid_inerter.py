@@ -14,7 +14,7 @@ losses are a parallel damper F = c v + c_2 v |v| (docs/model.md §11):
   length and area (Hagen-Poiseuille, [WHI] §6.4): dp = 8 pi mu l Q / A2^2 with
   Q = A1 v and F = A1 dp, so c = 8 pi mu l A1^2 / A2^2 (``viscosity`` mu [Pa s]);
 * ``quadratic`` c_2, by default the entry and exit losses dp = K rho u^2 / 2 at the
-  channel velocity u = (A1/A2) v ([IDE] diagrams 3-1 and 4-1: K = 0.5 for a
+  channel velocity u = (A1/A2) v ([IDE]: K = 0.5 for a
   sharp-edged entry, 1.0 for the exit into a wide chamber; ``loss_coefficient`` K,
   default 1.5), so c_2 = K rho A1^3 / (2 A2^2).
 

@@ -36,6 +36,7 @@ def resolve_inertance(el, default_ratio: float) -> None:
     The ratio is the element's own parameter (:meth:`HydraulicElement.parameters`
     reports it, the inertance as None): either may be given, not two that disagree."""
     from ..errors import ParameterError
+    from ..flywheels import AdaptiveFlywheel
     from ..flywheels import flywheel as make_flywheel
 
     b, r = el.inertance, el.ratio
@@ -46,7 +47,7 @@ def resolve_inertance(el, default_ratio: float) -> None:
             )
         object.__setattr__(el, "ratio", default_ratio if r is None else r)
         return
-    fw = make_flywheel(el.flywheel)
+    fw = el.flywheel if isinstance(el.flywheel, AdaptiveFlywheel) else make_flywheel(el.flywheel)
     if el.changing_ratio is not None:
         fw = fw.with_changing_ratio(el.changing_ratio)
     i_min = fw.inertia_min
@@ -57,7 +58,7 @@ def resolve_inertance(el, default_ratio: float) -> None:
                 "inertance",
                 b,
                 f"one of inertance and ratio, or both consistent: ratio={r:g} rad/m gives "
-                f"r^2 I_min = {r * r * i_min:.6g} kg ({el.flywheel} flywheel, I_min = "
+                f"r^2 I_min = {r * r * i_min:.6g} kg ({fw.name} flywheel, I_min = "
                 f"{i_min:.6g} kg m^2); inertance={b:g} kg needs ratio={rb:.6g} rad/m",
             )
         r = rb
