@@ -84,14 +84,25 @@ def test_cli_takes_the_inertance(capsys):
 
 
 def test_vehicle_file_takes_the_inertance():
-    """A vehicle file's device parameters go through the same element: kg or rad/m."""
-    from inerterlab.vehicles.devices import corner_device
+    """A vehicle file's [front.device] goes through the same element: kg or rad/m, and
+    the fluid inerter's viscosity with its unit (l = 344 kg * 3e-5 / (860 * 4e-6) = 3 m)."""
+    from inerterlab.vehicles.config import example_vehicle_path, loads_vehicle
+
+    car = example_vehicle_path().read_text()
 
     r = math.sqrt(300.0 / flywheel("nylon").inertia_min)
-    a = corner_device("screw", {"screw": {"inertance": 300.0}})
-    b = corner_device("screw", {"screw": {"ratio": r}})
-    assert a.adaptive is not None and b.adaptive is not None
-    assert a.adaptive.ratio == pytest.approx(b.adaptive.ratio, rel=1e-14)
+    by_kg = loads_vehicle(car + '[front.device]\nkind = "screw"\ninertance = "300 kg"\n')
+    by_r = loads_vehicle(car + f'[front.device]\nkind = "screw"\nratio = "{r!r} rad/m"\n')
+    a, b = by_kg.front.strut.device.adaptive, by_r.front.strut.device.adaptive
+    assert a.ratio == pytest.approx(b.ratio, rel=1e-14)
+    assert a.inertance_min == pytest.approx(300.0, rel=1e-12)
+    fluid = loads_vehicle(
+        car + '[front.device]\nkind = "fluid"\ndensity = "860 kg/m^3"\n'
+        'inertance = "344 kg"\npiston_area = "2e-3 m^2"\nchannel_area = "3e-5 m^2"\n'
+        'viscosity = "0.03 N s/m^2"\n'
+    ).front.strut.device  # b | c straight across: they join the strut
+    assert fluid.inertance == pytest.approx(344.0, rel=1e-12)
+    assert fluid.damping == pytest.approx(3200.0 * math.pi, rel=1e-12)
 
 
 # ------------------------------------------------------------- fluid inerter

@@ -43,7 +43,7 @@ UNIT_QUANTITY = {
     "m/s": "velocity",
     "N": "force",
     "rad/m": "transmission ratio",
-    "Pa s": "viscosity",
+    "N s/m^2": "viscosity",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
 

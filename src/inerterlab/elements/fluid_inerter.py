@@ -12,7 +12,8 @@ losses are a parallel damper F = c v + c_2 v |v| (docs/model.md §11):
 
 * ``damping`` c, by default the laminar loss of a circular pipe of the channel's
   length and area (Hagen-Poiseuille, [WHI] §6.4): dp = 8 pi mu l Q / A2^2 with
-  Q = A1 v and F = A1 dp, so c = 8 pi mu l A1^2 / A2^2 (``viscosity`` mu [Pa s]);
+  Q = A1 v and F = A1 dp, so c = 8 pi mu l A1^2 / A2^2 (``viscosity`` mu
+  [N s/m^2 = Pa s]);
 * ``quadratic`` c_2, by default the entry and exit losses dp = K rho u^2 / 2 at the
   channel velocity u = (A1/A2) v ([IDE]: K = 0.5 for a
   sharp-edged entry, 1.0 for the exit into a wide chamber; ``loss_coefficient`` K,
@@ -60,7 +61,7 @@ def minor_loss_quadratic(loss_coefficient: float, density: float, piston_area: f
 class FluidInerter(ElementBase):
     """Fluid inerter: ``density`` rho [kg/m^3], ``length`` l [m] of the helical channel
     or the ``inertance`` b [kg] it gives, ``piston_area`` A1 [m^2], ``channel_area`` A2
-    [m^2]; the loss ``damping`` c [N s/m] (default from ``viscosity`` mu [Pa s]) and
+    [m^2]; the loss ``damping`` c [N s/m] (default from ``viscosity`` mu [N s/m^2]) and
     ``quadratic`` c_2 [N s^2/m^2] (default from ``loss_coefficient`` K, 1.5). After
     construction every field holds its resolved value."""
 
@@ -90,7 +91,7 @@ class FluidInerter(ElementBase):
         Param("channel_area", "m^2"),
         Param("damping", "N s/m", low_open=False, optional=True),
         Param("quadratic", "N s^2/m^2", low_open=False, optional=True),
-        Param("viscosity", "Pa s", optional=True),
+        Param("viscosity", "N s/m^2", optional=True),
         Param("loss_coefficient", "", low_open=False),
         Param("inertance", "kg", optional=True),
     )
@@ -119,7 +120,7 @@ class FluidInerter(ElementBase):
                 raise ParameterError(
                     "viscosity",
                     None,
-                    "a value [Pa s] (required for the channel's laminar loss), or give "
+                    "a value [N s/m^2 = Pa s] (required for the channel's laminar loss), or give "
                     "damping [N s/m] (0 for none)",
                 )
             object.__setattr__(self, "damping", laminar_damping(self.viscosity, length, a1, a2))
