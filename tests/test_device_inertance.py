@@ -99,8 +99,8 @@ def test_vehicle_file_takes_the_inertance():
     fluid = loads_vehicle(
         car + '[front.device]\nkind = "fluid"\ndensity = "860 kg/m^3"\n'
         'inertance = "344 kg"\npiston_area = "2e-3 m^2"\nchannel_area = "3e-5 m^2"\n'
-        'viscosity = "0.03 N s/m^2"\n'
-    ).front.strut.device  # b | c straight across: they join the strut
+        'viscosity = "0.03 N s/m^2"\nquadratic = "0 N s^2/m^2"\n'
+    ).front.strut.device  # b | c, linear, straight across: they join the strut
     assert fluid.inertance == pytest.approx(344.0, rel=1e-12)
     assert fluid.damping == pytest.approx(3200.0 * math.pi, rel=1e-12)
 

@@ -76,6 +76,7 @@ class FluidInerter(ElementBase):
     inertance: float | None = None
 
     prefix = "fluid"
+    ALTERNATIVES = {"inertance": "length"}
     description = "fluid inerter"
     EXAMPLE = {
         "density": 860.0,
@@ -113,8 +114,10 @@ class FluidInerter(ElementBase):
             length = lb
         elif length is None:
             raise ParameterError("length", None, "a value [m] (required), or give inertance [kg]")
+        else:
+            b = rho * length * a1 * a1 / a2
         object.__setattr__(self, "length", float(length))
-        object.__setattr__(self, "inertance", rho * length * a1 * a1 / a2)
+        object.__setattr__(self, "inertance", float(b))  # as given, to the bit
         if self.damping is None:
             if self.viscosity is None:
                 raise ParameterError(

@@ -61,8 +61,9 @@ def resolve_inertance(el, default_ratio: float) -> None:
                 f"r^2 I_min = {r * r * i_min:.6g} kg ({fw.name} flywheel, I_min = "
                 f"{i_min:.6g} kg m^2); inertance={b:g} kg needs ratio={rb:.6g} rad/m",
             )
-        r = rb
-    elif r is None:
+        object.__setattr__(el, "ratio", float(rb))  # the inertance as given, to the bit
+        return
+    if r is None:
         r = default_ratio
     object.__setattr__(el, "ratio", float(r))
     object.__setattr__(el, "inertance", float(r * r * i_min))
@@ -104,6 +105,7 @@ class HydraulicElement(ElementBase):
     inertance: float | None = None
 
     prefix = "hyd"
+    ALTERNATIVES = {"inertance": "ratio"}
     DEFAULT_RATIO = _D.transmission.ratio
     EXAMPLE = {}
     description = "hydraulic device"

@@ -42,6 +42,7 @@ class ScrewElement(ElementBase):
     inertance: float | None = None
 
     prefix = "screw"
+    ALTERNATIVES = {"inertance": "ratio"}
     DEFAULT_RATIO = _D.transmission.ratio
     EXAMPLE = {}
     description = "ball-screw device"
