@@ -103,7 +103,7 @@ def test_device_parts_straight_across_join_the_strut():
 def test_linear_device_equals_the_same_strut_in_every_linear_analysis():
     """A fluid inerter without quadratic loss is b | c straight across: linear."""
     fluid = FluidInerter(density=870.0, length=3.0, piston_area=2e-3, channel_area=3e-5,
-                         damping=400.0)  # fmt: skip
+                         damping=400.0, quadratic=0.0)  # fmt: skip
     b, c = fluid.inertance, fluid.damping
     with_device = _half(Strut(stiffness=30e3, damping=1500.0, device=fluid))
     plain = _half(Strut(stiffness=30e3, damping=1500.0 + c, inertance=b))

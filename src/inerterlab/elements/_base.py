@@ -45,6 +45,7 @@ UNIT_QUANTITY = {
     "rad/m": "transmission ratio",
     "Pa": "pressure",
     "m^3": "volume",
+    "N s/m^2": "viscosity",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
 
@@ -116,6 +117,10 @@ class ElementBase:
     EXAMPLE: ClassVar[dict | None] = None
     #: kernel code, or None for a composite
     code: ClassVar[int | None] = None
+    #: parameters that give another one's quantity another way, {name: the one it
+    #: stands for} (a device's ``inertance`` for its ``ratio``): give either, or both
+    #: consistent
+    ALTERNATIVES: ClassVar[dict[str, str]] = {}
 
     def __post_init__(self) -> None:
         for p in self.PARAMETERS:
