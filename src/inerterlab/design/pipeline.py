@@ -11,8 +11,11 @@ keyed on its inputs, so a rerun resumes and a change recomputes):
 2. optionally the positive-real optimum of a given McMillan degree
    (:func:`inerterlab.synthesis.synthesize`) and its smallest realisation
    (:func:`inerterlab.synthesis.realise_all`), as one more candidate;
-3. the best ``recheck`` single-inerter layouts with each real device, optimised with
-   the device's parasitics in the loop (``design-device`` point);
+3. every single-inerter layout with each real device, optimised by H2 with the
+   device's series stiffness and parallel damping held in the network
+   (``design-device-linear``); for each device its best ``recheck`` layouts then have
+   the inertance searched in the time domain with friction and nonlinear losses
+   (``design-device``);
 4. every candidate, ``k | c`` included, simulated on ``roads`` ISO 8608 roads by the
    model core: expected value with its 95 % interval, gain over ``k | c`` road by road;
 5. for each device's best candidate, the friction and parasitic damping at which its
@@ -51,7 +54,13 @@ __all__ = [
 
 DESIGN_OBJECTIVES = ("seat_wk", "body_acc_wk", "body_acc", "tyre_load", "weighted")
 _OUT_MEMBERS = ("stores", "design.json", "report.html")
-_STORES = ("layouts.zarr", "devices.zarr", "scores.zarr", "requirements.zarr")
+_STORES = (
+    "layouts.zarr",
+    "devices_linear.zarr",
+    "devices.zarr",
+    "scores.zarr",
+    "requirements.zarr",
+)
 #: seeds of the tuning roads (device stage, requirements) start here; the scoring
 #: roads start at ``seed``, so the two sets never share a road for seeds below this
 TUNE_SEED_OFFSET = 1_000_000
@@ -196,6 +205,7 @@ def estimate(st: DesignSettings, workers: int = 2) -> dict:
     t_layout = layouts * _COST["layout"] * params
     ndev = len(st.devices) * st.recheck
     t_dev = ndev * 12 * st.tune_roads * st.horizon * _COST["device_s"]
+    t_dev += layouts * len(st.devices) * _COST["layout"] * (params + 2)
     cands = min(st.top, layouts) + 1 + (1 if st.synthesize else 0)
     t_score = st.roads * st.horizon * (cands * _COST["linear_s"] + ndev * _COST["device_s"])
     nreq = 2 * len(st.devices)
@@ -328,13 +338,21 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
 
     # 1. layouts ---------------------------------------------------------------------
     say(f"design: optimising {len(nets)} layouts ({h2obj} H2, linear)")
-    ds = _sweep("design-layout", {"network": nets}, {"settings": json.dumps(common, sort_keys=True)},
+    keys = ("car", "stiffness", "h2_objective", "constraints", "bounds_of", "seed")
+    layout_settings = {k: common[k] for k in keys}
+    ds = _sweep("design-layout", {"network": nets}, {"settings": json.dumps(layout_settings, sort_keys=True)},
                 store("layouts.zarr"), workers, progress)  # fmt: skip
     layouts = []
     for text in nets:
         row = ds.sel(network=text)
         if int(row.status) != 1 or not math.isfinite(float(row.objective)):
-            reason = str(row.reason.values) or "no finite objective (direct feed-through)"
+            reason = (
+                str(row.reason.values)
+                if int(row.status) != 1
+                else f"no finite H2 norm of {h2obj} anywhere in the bounds (a direct "
+                "feed-through from the road, e.g. an inerter beside a damped tyre, or an "
+                "unstable car)"
+            )
             layouts.append({"network": text, "objective": None, "reason": reason})
             continue
         names = list(design_parameters(text))
@@ -369,36 +387,59 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
                 "kind": "synthesis", "network": synth["network"], "params": synth["parameters"],
             }  # fmt: skip
 
-    # 3. devices -------------------------------------------------------------------------
+    # 3. devices ---------------------------------------------------------------------
     single = [r for r in ok if r["network"] != "k | c" and not r["simpler"]
               and sum(1 for k in parse_network(r["network"]).kinds if k == "b") == 1]  # fmt: skip
-    recheck = single[: st.recheck]
     base_cand = {"network": "k | c", "params": base["parameters"]}
     dev_settings = {**common, "reference": json.dumps(base_cand, sort_keys=True)}
-    device_rows = []
-    if recheck and st.devices:
-        say(f"design: {len(st.devices)} devices in {len(recheck)} layouts, parasitics in the loop")
-        layout_texts = [r["network"] for r in recheck]
-        # one sweep point per (layout, device): the ideal values ride with the layout
-        dsd = _sweep(
-            "design-device",
-            {"layout": layout_texts, "device": list(st.devices)},
-            {"settings": json.dumps(dev_settings, sort_keys=True),
-             "ideal": json.dumps({r["network"]: r["parameters"] for r in recheck}, sort_keys=True)},
-            store("devices.zarr"), workers, progress,
-        )  # fmt: skip
-        for r in recheck:
-            for d in st.devices:
-                row = dsd.sel(layout=r["network"], device=d)
-                if int(row.status) != 1:
-                    notes.append(f"{d} in {r['network']}: {str(row.reason.values)}")
-                    continue
-                vals = _unpack(dsd, {"layout": r["network"], "device": d}, list(r["parameters"]))
-                net, elp = scoring.device_network(r["network"], vals, d)
-                label = f"{r['network']} [{d}]"
-                candidates[label] = {"kind": "device", "device": d, "layout": r["network"],
-                                     "values": vals, "network": net, "params": elp}  # fmt: skip
-                device_rows.append(label)
+    device_linear = []
+    jobs = []
+    if single and st.devices:
+        ideal = json.dumps({r["network"]: r["parameters"] for r in single}, sort_keys=True)
+        by_device = {d: [(r["objective"], r["network"], r["parameters"]) for r in single]
+                     for d in st.devices}  # fmt: skip
+        lin_devs = [d for d in st.devices if d != "fluid"]
+        if lin_devs:
+            say(f"design: {len(lin_devs)} devices in {len(single)} layouts, linear parasitics (H2)")
+            dsl = _sweep(
+                "design-device-linear",
+                {"layout": [r["network"] for r in single], "device": lin_devs},
+                {"settings": json.dumps(layout_settings, sort_keys=True), "ideal": ideal},
+                store("devices_linear.zarr"), workers, progress,
+            )  # fmt: skip
+            for d in lin_devs:
+                rows = []
+                for r in single:
+                    row = dsl.sel(layout=r["network"], device=d)
+                    if int(row.status) != 1 or not math.isfinite(float(row.objective)):
+                        continue
+                    vals = _unpack(dsl, {"layout": r["network"], "device": d}, list(r["parameters"]))
+                    rows.append((float(row.objective), r["network"], vals))
+                    device_linear.append({
+                        "device": d, "layout": r["network"], "h2": float(row.objective),
+                        "h2_improvement": 100.0 * (1.0 - float(row.objective) / base["objective"]),
+                        "parameters": vals,
+                    })  # fmt: skip
+                by_device[d] = sorted(rows, key=lambda x: x[0])
+        for d in st.devices:
+            for _, lay, vals in by_device[d][: st.recheck]:
+                jobs.append({"layout": lay, "device": d, "values": vals})
+    if jobs:
+        say(f"design: {len(jobs)} (layout, device) pairs, inertance searched on "
+            f"{st.tune_roads} roads with friction")  # fmt: skip
+        texts = [json.dumps(j, sort_keys=True) for j in jobs]
+        dsd = _sweep("design-device", {"job": texts}, {"settings": json.dumps(dev_settings, sort_keys=True)},
+                     store("devices.zarr"), workers, progress)  # fmt: skip
+        for j, tx in zip(jobs, texts, strict=True):
+            row = dsd.sel(job=tx)
+            lay, d = j["layout"], j["device"]
+            if int(row.status) != 1:
+                notes.append(f"{d} in {lay}: {str(row.reason.values)}")
+                continue
+            vals = _unpack(dsd, {"job": tx}, list(j["values"]))
+            net, elp = scoring.device_network(lay, vals, d)
+            candidates[f"{lay} [{d}]"] = {"kind": "device", "device": d, "layout": lay,
+                                          "values": vals, "network": net, "params": elp}  # fmt: skip
 
     # 4. scores ---------------------------------------------------------------------------
     say(f"design: {len(candidates)} candidates on {st.roads} ISO 8608 class {st.road_class} roads")
@@ -479,6 +520,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "layouts": [{k: v for k, v in r.items()} for r in layouts],
         "ranking": table,
         "requirements": requirements,
+        "device_linear": device_linear,
         "synthesis": synth,
         "notes": notes,
         "points_computed": dict(COMPUTED),

@@ -156,6 +156,11 @@ def render_html(result: dict, figs: dict) -> str:
         + "</li>"
         for q in result["requirements"]
     )
+    dl = "".join(
+        f"<tr><td>{e(q['device'])}</td><td>{e(q['layout'])}</td><td>{_fmt(q['h2'])}</td>"
+        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td></tr>"
+        for q in sorted(result.get("device_linear", []), key=lambda q: (q["device"], q["h2"]))
+    )
     figs_html = "".join(
         f"<h3>{e(t)}</h3>"
         + (f'<img alt="{e(t)}" src="data:image/png;base64,{b}">' if not b.startswith("not drawn") else f"<p>{e(b)}</p>")
@@ -189,6 +194,8 @@ expected value; gain over the optimised k | c on the same roads [%] &plusmn; its
 <p>The device's friction or parasitic damping at which its expected gain over k | c on
 {st['tune_roads']} tuning roads crosses zero (bisection; its other parasitics at their identified
 values, its inertance as optimised).</p><ul>{req or '<li>no device candidates</li>'}</ul>
+<h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
+<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
 <h2>Figures</h2>{figs_html}
 <h2>Layouts (H2 optimum, linear)</h2>
 <table><tr><th>layout</th><th>H2 norm [{e(result['layouts'][0].get('h2_unit', ''))}]</th>

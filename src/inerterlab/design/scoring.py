@@ -14,10 +14,11 @@ Every stage of the study is a point of a sweep (:mod:`inerterlab.studies.sweep`)
 it is stored keyed on its inputs, runs in worker processes and resumes:
 
 ``design-layout``   one layout optimised by the H2 optimiser (network_design);
-``design-device``   one (layout, device) optimised with the device's parasitics in the
-                    loop: its linear stiffness and damping in the H2 search, then its
-                    inertance (ratio or channel length) searched on tuning roads with
-                    friction and nonlinear losses in the time simulation;
+``design-device-linear``  one (layout, device) optimised by H2 with the device's
+                    linear stiffness and damping in the network (held);
+``design-device``   one (layout, device) whose inertance (ratio or channel length) is
+                    searched on tuning roads with friction and nonlinear losses in the
+                    time simulation, from the linear stage's values;
 ``design-score``    one candidate on one road (the metrics of :data:`SCORE_METRICS`);
 ``design-requirement``  the friction or parasitic damping at which a device's gain
                     over ``k | c`` on the tuning roads crosses zero (bisection).
@@ -71,6 +72,8 @@ OBJECTIVE_METRIC = {
 #: holding, working space), each divided by that of the reference k | c on the same road
 WEIGHTED_PARTS = ("rms_body_acc", "rms_tyre_load", "rms_deflection")
 _MAX_SLOTS = 16
+#: value of a parameter slot the layout does not use (every element value is > 0)
+_NO_SLOT = -1.0
 
 
 def _inerter_name(text: str) -> str:
@@ -267,29 +270,37 @@ def _reference_metrics(s, seeds):
     return {k: np.array([r[k] for r in rows]) for k in SCORE_METRICS}
 
 
-def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
-    """One (layout, device): H2 with linear parasitics, then the inertance in the loop."""
-    from scipy.optimize import minimize_scalar
-
+def _device_linear_point(params: Mapping[str, Any]) -> dict[str, float]:
+    """One (layout, device), linear: the H2 optimum with the device's series stiffness
+    and parallel damping held at their identified values (inertance and the layout's
+    other elements free)."""
     from ..network_design import optimize_network
 
     s = _j(params["settings"])
-    layout = params["layout"]
-    device = params["device"]
+    layout, device = params["layout"], params["device"]
     ideal = _j(params["ideal"])[layout]
-    name = _inerter_name(layout)
-    car = s["car"]
     lin_text, lin_fixed = linear_device_network(layout, device)
-    p = dict(ideal)
-    if lin_fixed:
-        bounds = dict(s["bounds_of"].get(layout, {}))
-        r = optimize_network(
-            lin_text, s["h2_objective"], fixed={"k": s["stiffness"], **lin_fixed},
-            bounds=bounds, constraints=s["constraints"], starts=4, samples=128,
-            seed=int(s["seed"]), compare=False, **car,
-        )  # fmt: skip
-        if math.isfinite(r.objective):
-            p = {k: float(v) for k, v in r.parameters.items() if k in ideal}
+    r = optimize_network(
+        lin_text, s["h2_objective"], fixed={"k": s["stiffness"], **lin_fixed},
+        bounds=dict(s["bounds_of"].get(layout, {})), constraints=s["constraints"], starts=4,
+        samples=128, seed=int(s["seed"]), compare=False, **s["car"],
+    )  # fmt: skip
+    out = {"objective": r.objective if math.isfinite(r.objective) else None}
+    names = sorted(ideal)
+    for i in range(_MAX_SLOTS):
+        out[f"p{i}"] = float(r.parameters[names[i]]) if i < len(names) else _NO_SLOT
+    return out
+
+
+def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
+    """One (layout, device, start values): the device's inertance searched in the time
+    domain on the tuning roads, friction and nonlinear losses simulated."""
+    from scipy.optimize import minimize_scalar
+
+    s = _j(params["settings"])
+    job = _j(params["job"])
+    layout, device, p = job["layout"], job["device"], dict(job["values"])
+    name = _inerter_name(layout)
     b0 = p[name]
     hi_b = float(s["max_inertance"])
     span = float(s.get("device_span", 3.0))
@@ -314,7 +325,7 @@ def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
     out = {"objective": float(res.fun), "evaluations": float(res.nfev)}
     names = sorted(p)
     for i in range(_MAX_SLOTS):
-        out[f"p{i}"] = p[names[i]] if i < len(names) else None  # no such slot
+        out[f"p{i}"] = p[names[i]] if i < len(names) else _NO_SLOT
     return out
 
 
@@ -333,7 +344,7 @@ def _layout_point(params: Mapping[str, Any]) -> dict[str, float]:
     }
     names = sorted(r.parameters)
     for i in range(_MAX_SLOTS):
-        out[f"p{i}"] = float(r.parameters[names[i]]) if i < len(names) else None
+        out[f"p{i}"] = float(r.parameters[names[i]]) if i < len(names) else _NO_SLOT
     return out
 
 
@@ -424,10 +435,20 @@ DEVICE = register_point_function(
         name="design-device",
         function=_device_point,
         inputs=_inputs,
+        parameters={"job": _TEXT, "settings": _TEXT},
+        defaults={"job": "", "settings": ""},
+        metrics=("objective", "evaluations", *(f"p{i}" for i in range(_MAX_SLOTS))),
+    )
+)
+DEVICE_LINEAR = register_point_function(
+    PointFunction(
+        name="design-device-linear",
+        function=_device_linear_point,
+        inputs=_inputs,
         parameters={"layout": _TEXT, "device": ParameterSpec(kind="choice", choices=DEVICES),
                     "ideal": _TEXT, "settings": _TEXT},  # fmt: skip
         defaults={"layout": "k | (c - b)", "device": "hydraulic", "ideal": "", "settings": ""},
-        metrics=("objective", "evaluations", *(f"p{i}" for i in range(_MAX_SLOTS))),
+        metrics=("objective", *(f"p{i}" for i in range(_MAX_SLOTS))),
     )
 )
 REQUIREMENT = register_point_function(
