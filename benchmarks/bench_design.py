@@ -43,13 +43,16 @@ def main() -> None:
     st = DesignSettings(objective="body_acc_wk")
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "design"
-        times = []
+        times, stages, fig_s = [], [], []
         for _ in range(2):
             t = time.perf_counter()
             res = run_design(st, out, workers=args.workers)
+            t1 = time.perf_counter()
             figs = figures(res)
             (out / "report.html").write_text(render_html(res, figs))
             times.append(time.perf_counter() - t)
+            fig_s.append(time.perf_counter() - t1)
+            stages.append(res["stage_seconds"])
     fresh, resumed = times
     best = res["ranking"][0]
     print(f"warm-up (compiled kernels, one simulation, one H2 optimisation): {warm:.1f} s")
@@ -58,6 +61,8 @@ def main() -> None:
         f"(target 90 s: {'met' if fresh <= 90 else 'missed'}); "
         f"{len(res['layouts'])} layouts, {len(res['ranking'])} candidates x {st.roads} roads"
     )
+    print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in stages[0].items())
+          + f", report figures {fig_s[0]:.1f}")  # fmt: skip
     print(f"same study resumed from its stores: {resumed:.1f} s; fresh / resumed = {fresh / resumed:.1f}")
     print(
         f"best: {best['label']}: {best['objective']} {best['expected']:.4g} "

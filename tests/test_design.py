@@ -83,6 +83,7 @@ def study(tmp_path_factory):
     return run_design(st, out, workers=1), out, st
 
 
+@pytest.mark.slow
 def test_device_optimum_inside_its_interval_on_fresh_roads(study):
     """The device-in-the-loop optimum, re-simulated on 24 fresh roads (seeds never used
     by the study), has a mean inside the interval the study states."""
@@ -97,6 +98,7 @@ def test_device_optimum_inside_its_interval_on_fresh_roads(study):
     assert abs(m - row["expected"]) <= row["interval95"], (m, row["expected"], row["interval95"])
 
 
+@pytest.mark.slow
 def test_ranking_consistent_with_h2_on_linear_candidates(study):
     """Where the H2 optimiser separates two linear candidates by more than 3 %, the
     time-domain expected values rank them the same way."""
@@ -109,6 +111,7 @@ def test_ranking_consistent_with_h2_on_linear_candidates(study):
                 assert a["expected"] < b["expected"], (a["label"], b["label"])
 
 
+@pytest.mark.slow
 def test_study_resumes_from_its_stores(study):
     res, out, st = study
     again = run_design(st, out, workers=1)
@@ -117,6 +120,7 @@ def test_study_resumes_from_its_stores(study):
     assert again["ranking"][0]["expected"] == res["ranking"][0]["expected"]
 
 
+@pytest.mark.slow
 def test_requirement_is_a_crossing(study):
     """The friction the study names as the limit: a device with friction a little below
     it still gains on the tuning roads, a little above it does not."""
@@ -165,6 +169,7 @@ def test_foreign_out_folder_refused(tmp_path, capsys):
     assert rc == 2 and "mine.txt" in err and len(err.splitlines()) == 1
 
 
+@pytest.mark.slow
 def test_cli_end_to_end_report(tmp_path, capsys):
     out = tmp_path / "d"
     rc = main([

@@ -231,7 +231,8 @@ def design_command(
 
     say(f"design: estimated {est['seconds']:.0f} s on {workers} workers")
     try:
-        result = run_design(st, out, workers=workers, progress=False, say=say)
+        bars = not quiet and not json_out and sys.stderr.isatty()
+        result = run_design(st, out, workers=workers, progress=bars, say=say)
     except SweepInterrupted as exc:
         raise Interrupted(str(exc)) from None
     import json

@@ -295,6 +295,9 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     def store(name):
         return None if stores is None else str(stores / name)
 
+    if (workers or 1) > 1:
+        _warm_up()
+
     car = st.car
     h2obj, note = _h2_objective(st.objective)
     notes = [note] if note else []
@@ -528,6 +531,22 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "seconds": time.perf_counter() - t0,
     }
     return result
+
+
+def _warm_up() -> None:
+    """Load the compiled kernels the stages use into this process before the worker
+    processes are forked from it, so each worker inherits them instead of loading them
+    again for every stage."""
+    from .. import excitation as ex
+    from ..network_design import optimize_network
+    from ..systems import quarter_car
+
+    optimize_network("k | (c - b)", "body_acc", fixed={"k": 5e4}, starts=1, samples=16,
+                     evolve=False, compare=False)  # fmt: skip
+    road = ex.iso8608("C", 20.0, seed=0)
+    quarter_car("k | c", {"k": 5e4, "c": 2e3}).simulate(road, horizon=0.5)
+    net, elp = scoring.device_network("k | (c - b)", {"k": 5e4, "c": 2e3, "b": 200.0}, "screw")
+    quarter_car(net, elp).simulate(road, horizon=0.5)
 
 
 _H2_UNIT = {

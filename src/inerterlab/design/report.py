@@ -51,9 +51,9 @@ def figures(result: dict) -> dict:
     out = {}
 
     # Pareto fronts (H2, linear)
-    lin = [r["network"] for r in win if r["kind"] in ("reference", "layout")]
+    lin = [r["network"] for r in win if r["kind"] in ("reference", "layout")][:3]
     try:
-        ds = pareto_front(lin, ("body_acc", "tyre_deflection"), points=8,
+        ds = pareto_front(lin, ("body_acc", "tyre_deflection"), points=6,
                           fixed={"k": st["stiffness"]}, seed=st["seed"], **car)  # fmt: skip
         fig = pareto_figure(ds)
         fig.axes[0].set_xlabel("tyre deflection H2 norm [m per m/s road velocity], linear")
@@ -80,7 +80,7 @@ def figures(result: dict) -> dict:
     out["|H(f)|: body acceleration per unit road velocity (linear)"] = _png(fig)
 
     # PSDs on one long road, and a bump
-    horizon = 60.0
+    horizon = 30.0
     road = ex.iso8608(st["road_class"], st["speed"], seed=st["seed"] + 999_999)
     fig = Figure(figsize=(9.0, 3.8), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
