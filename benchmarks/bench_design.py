@@ -63,7 +63,9 @@ def main() -> None:
     )
     print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in stages[0].items())
           + f", report figures {fig_s[0]:.1f}")  # fmt: skip
-    print(f"same study resumed from its stores: {resumed:.1f} s; fresh / resumed = {fresh / resumed:.1f}")
+    print(
+        f"same study resumed from its stores: {resumed:.1f} s; fresh / resumed = {fresh / resumed:.1f}"
+    )
     print(
         f"best: {best['label']}: {best['objective']} {best['expected']:.4g} "
         f"+- {best['interval95']:.2g} {best['unit']} (expected value, 95 % interval), "

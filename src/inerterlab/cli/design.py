@@ -36,7 +36,9 @@ def _quantity(option: str, text: str | None, dimension: str, unit: str) -> float
     try:
         return parse_quantity(s, dimension)
     except ParameterError:
-        raise ParameterError(option, text, f"a number in {unit} or a value with a unit of {dimension}") from None
+        raise ParameterError(
+            option, text, f"a number in {unit} or a value with a unit of {dimension}"
+        ) from None
 
 
 def _budget(text: str) -> dict:
@@ -50,7 +52,9 @@ def _budget(text: str) -> dict:
         try:
             n = int(val)
         except ValueError:
-            raise ParameterError("--budget", text, "springs=N,dampers=N,inerters=N (N 0-4)") from None
+            raise ParameterError(
+                "--budget", text, "springs=N,dampers=N,inerters=N (N 0-4)"
+            ) from None
         if not 0 <= n <= 4:
             raise ParameterError("--budget", text, "springs=N,dampers=N,inerters=N (N 0-4)")
         out[name] = n
@@ -215,7 +219,9 @@ def design_command(
     est = estimate(st, workers)
     from ..resources import check_memory
 
-    check_memory(est["bytes"] / 8, what="design study", parameter="--workers/--horizon", value=workers)
+    check_memory(
+        est["bytes"] / 8, what="design study", parameter="--workers/--horizon", value=workers
+    )
     if est["seconds"] > max_minutes * 60:
         raise ParameterError(
             "--max-minutes",
@@ -241,7 +247,11 @@ def design_command(
 
     say("design: report figures")
     figs = figures(result)
-    atomic_write_text(out / "design.json", json.dumps(result, indent=1, default=_jsonable, allow_nan=False), "--out")
+    atomic_write_text(
+        out / "design.json",
+        json.dumps(result, indent=1, default=_jsonable, allow_nan=False),
+        "--out",
+    )
     atomic_write_text(out / "report.html", render_html(result, figs), "--out")
     if json_out:
         emit_json(result)
@@ -287,7 +297,11 @@ def _print(result: dict, out: Path) -> None:
         con.print(Text(f"{q['device']} in {q['layout']}: {q.get('text') or q.get('reason')}"))
     for n in result["notes"]:
         con.print(Text(f"note: {n}"))
-    con.print(Text(f"report: {out / 'report.html'}  JSON: {out / 'design.json'}  ({result['seconds']:.1f} s)"))
+    con.print(
+        Text(
+            f"report: {out / 'report.html'}  JSON: {out / 'design.json'}  ({result['seconds']:.1f} s)"
+        )
+    )
 
 
 def register(app: typer.Typer) -> None:

@@ -106,7 +106,9 @@ def figures(result: dict) -> dict:
         a.set_title(f"{t}, one {horizon:g} s road", fontsize=9)
         a.grid(True, which="both", alpha=0.3)
     a1.legend(fontsize=6)
-    out[f"PSD of body acceleration, plain and ISO 2631-1 Wk weighted (one {horizon:g} s ISO 8608 road, time domain)"] = _png(fig)
+    out[
+        f"PSD of body acceleration, plain and ISO 2631-1 Wk weighted (one {horizon:g} s ISO 8608 road, time domain)"
+    ] = _png(fig)
     ab.set_xlabel("time [s]")
     ab.set_ylabel("body acceleration [m/s^2]")
     ab.set_title("5 cm, 10 ms bump (time domain)")
@@ -142,7 +144,9 @@ def render_html(result: dict, figs: dict) -> str:
     lay = []
     for r in result["layouts"]:
         if r.get("objective") is None:
-            lay.append(f"<tr><td>{e(r['network'])}</td><td colspan=4>{e(r.get('reason', ''))}</td></tr>")
+            lay.append(
+                f"<tr><td>{e(r['network'])}</td><td colspan=4>{e(r.get('reason', ''))}</td></tr>"
+            )
             continue
         params = ", ".join(f"{k}={v:.4g}" for k, v in r["parameters"].items())
         lay.append(
@@ -163,7 +167,11 @@ def render_html(result: dict, figs: dict) -> str:
     )
     figs_html = "".join(
         f"<h3>{e(t)}</h3>"
-        + (f'<img alt="{e(t)}" src="data:image/png;base64,{b}">' if not b.startswith("not drawn") else f"<p>{e(b)}</p>")
+        + (
+            f'<img alt="{e(t)}" src="data:image/png;base64,{b}">'
+            if not b.startswith("not drawn")
+            else f"<p>{e(b)}</p>"
+        )
         for t, b in figs.items()
     )
     notes = "".join(f"<li>{e(n)}</li>" for n in result["notes"])
@@ -178,29 +186,30 @@ def render_html(result: dict, figs: dict) -> str:
 table{{border-collapse:collapse;font-size:90%}}td,th{{border:1px solid #bbb;padding:3px 6px}}
 img{{max-width:100%}}</style></head><body>
 <h1>Suspension design report</h1>
-<p>Car: {car}. Road: ISO 8608 class {e(st['road_class'])} at {st['speed']:g} m/s.
-Budget: {st['springs']} springs, {st['dampers']} dampers, {st['inerters']} inerters
-(inertance at most {st['max_inertance']:g} kg). Objective: {e(obj['name'])} [{e(obj['unit'])}],
-scored as the {e(obj['time_domain'])}; the layouts were searched with the H2 norm of
-{e(obj['h2_objective'])} (linear, white road velocity).</p>
+<p>Car: {car}. Road: ISO 8608 class {e(st["road_class"])} at {st["speed"]:g} m/s.
+Budget: {st["springs"]} springs, {st["dampers"]} dampers, {st["inerters"]} inerters
+(inertance at most {st["max_inertance"]:g} kg). Objective: {e(obj["name"])} [{e(obj["unit"])}],
+scored as the {e(obj["time_domain"])}; the layouts were searched with the H2 norm of
+{e(obj["h2_objective"])} (linear, white road velocity).</p>
 <h2>Ranking</h2>
-<p>Expected value of {e(obj['name'])} [{e(obj['unit'])}] &plusmn; 95 % interval of the
+<p>Expected value of {e(obj["name"])} [{e(obj["unit"])}] &plusmn; 95 % interval of the
 expected value; gain over the optimised k | c on the same roads [%] &plusmn; its 95 % interval
 (positive: better). Deflection [m RMS] and tyre load [N RMS] are expected values.</p>
-<table><tr><th>rank</th><th>candidate</th><th>kind</th><th>{e(obj['name'])} [{e(obj['unit'])}]</th>
+<table><tr><th>rank</th><th>candidate</th><th>kind</th><th>{e(obj["name"])} [{e(obj["unit"])}]</th>
 <th>gain vs k | c [%]</th><th>deflection [m]</th><th>tyre load [N]</th><th>limits met</th>
-<th>parameters [SI]</th></tr>{''.join(rows)}</table>
+<th>parameters [SI]</th></tr>{"".join(rows)}</table>
 <h2>Device requirements</h2>
-<p>The device's friction or parasitic damping at which its expected gain over k | c on
-{st['tune_roads']} tuning roads crosses zero (bisection; its other parasitics at their identified
-values, its inertance as optimised).</p><ul>{req or '<li>no device candidates</li>'}</ul>
+<p>The friction or parasitic damping at which the ideal design of the device's layout,
+built with the device (its series stiffness as identified, the other loss off), loses its
+expected gain over k | c on {st["tune_roads"]} tuning roads (bisection on the gain crossing
+zero).</p><ul>{req or "<li>no device candidates</li>"}</ul>
 <h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
 <table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
 <h2>Figures</h2>{figs_html}
 <h2>Layouts (H2 optimum, linear)</h2>
-<table><tr><th>layout</th><th>H2 norm [{e(result['layouts'][0].get('h2_unit', ''))}]</th>
-<th>vs k | c [%]</th><th>stands for</th><th>parameters [SI]</th></tr>{''.join(lay)}</table>
-<h2>Notes</h2><ul>{notes or '<li>none</li>'}</ul>
-<p>Computed in {result['seconds']:.1f} s.</p>
+<table><tr><th>layout</th><th>H2 norm [{e(result["layouts"][0].get("h2_unit", ""))}]</th>
+<th>vs k | c [%]</th><th>stands for</th><th>parameters [SI]</th></tr>{"".join(lay)}</table>
+<h2>Notes</h2><ul>{notes or "<li>none</li>"}</ul>
+<p>Computed in {result["seconds"]:.1f} s.</p>
 </body></html>
 """
