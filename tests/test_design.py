@@ -188,3 +188,21 @@ def test_cli_end_to_end_report(tmp_path, capsys):
     html = (out / "report.html").read_text()
     assert html.count("data:image/png;base64,") >= 4
     assert json.loads((out / "design.json").read_text())["ranking"][0]["unit"] == "m/s^2"
+
+
+def test_vehicle_file_corner_values():
+    """A full car's front corner: the body's share on the front axle (l_r / L), half of
+    it per wheel; the corner's unsprung mass, tyre and wheel rate."""
+    from inerterlab.cli.design import _car_from_vehicle
+    from inerterlab.vehicles.config import example_vehicle_path
+
+    c = _car_from_vehicle(example_vehicle_path(), "front")
+    assert c["sprung_mass"] == pytest.approx(1200.0 * 1.45 / 2.6 / 2.0)
+    assert (c["unsprung_mass"], c["tyre_stiffness"], c["tyre_damping"], c["stiffness"]) == (
+        40.0,
+        200e3,
+        50.0,
+        28e3,
+    )
+    r = _car_from_vehicle(example_vehicle_path(), "rear")
+    assert r["sprung_mass"] + c["sprung_mass"] == pytest.approx(600.0)

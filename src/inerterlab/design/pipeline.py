@@ -639,7 +639,7 @@ def _requirements(jobs, settings, store, workers, progress) -> list:
         cond = (
             "with the device's losses from its geometry"
             if j[1] == "fluid"
-            else f"no {other}, the device's series stiffness as identified"
+            else f"no {other}, the device's stiffness as identified"
         )
         if br == 0:
             text = (f"{j[2]} below {thr:.3g} {unit[j[2]]} ({cond}) for the ideal design's "

@@ -358,7 +358,7 @@ def _layout_point(params: Mapping[str, Any]) -> dict[str, float]:
 def _requirement_point(params: Mapping[str, Any]) -> dict[str, float]:
     """The friction [N] or parasitic damping [N s/m] at which the expected gain over
     k | c on the tuning roads of the layout's ideal design, built with the device (its
-    series stiffness as identified, the other loss off), is zero: bisection in its
+    stiffness as identified, the other loss off), is zero: bisection in its
     logarithm."""
     s = _j(params["settings"])
     job = _j(params["job"])
