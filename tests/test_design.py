@@ -206,3 +206,8 @@ def test_vehicle_file_corner_values():
     )
     r = _car_from_vehicle(example_vehicle_path(), "rear")
     assert r["sprung_mass"] + c["sprung_mass"] == pytest.approx(600.0)
+
+
+def test_out_is_required(capsys):
+    rc, err = _err(["design", "--roads", "4"], capsys)
+    assert rc == 2 and "--out" in err and len(err.splitlines()) == 1

@@ -103,6 +103,10 @@ def _car_from_vehicle(path: Path, corner: str) -> dict:
 
 
 def design_command(
+    out: Annotated[
+        Path,
+        typer.Option("--out", help="Folder of the report, JSON and stores (resumes); required."),
+    ],
     vehicle: Annotated[
         Path | None,
         typer.Option(help="Vehicle file (TOML); its --corner gives the quarter car's values."),
@@ -147,9 +151,6 @@ def design_command(
     top: Annotated[int, typer.Option(help="Best linear layouts scored on roads.")] = 4,
     recheck: Annotated[int, typer.Option(help="Best layouts re-checked with each device.")] = 1,
     seed: Annotated[int, seed_option("First road seed [-].")] = 0,
-    out: Annotated[
-        Path, typer.Option("--out", help="Folder of the report, JSON and stores (resumes).")
-    ] = Path("design-out"),
     workers: Annotated[int, typer.Option(help="Worker processes.")] = 2,
     max_minutes: Annotated[
         float, typer.Option(help="Refuse a study estimated to take longer [min].")
