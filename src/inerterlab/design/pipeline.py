@@ -376,15 +376,12 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         raise ParameterError("car", car, "a car whose k | c has a finite optimum")
     for r in ok:
         r["h2_improvement"] = 100.0 * (1.0 - r["objective"] / base["objective"])
-        r["h2_unit"] = _H2_UNIT[h2obj]
+        r["h2_unit"] = _H2_UNIT.get(h2obj, "")
+        # linear prediction of the RMS on the chosen road (none for the weighted score)
         r["predicted_rms"] = (
-            r["objective"]
-            * scale
-            * (
-                st.tyre_stiffness
-                if h2obj == "tyre_deflection" and st.objective == "tyre_load"
-                else 1.0
-            )
+            None
+            if h2obj == "weighted"
+            else r["objective"] * scale * (st.tyre_stiffness if h2obj == "tyre_deflection" else 1.0)
         )
         r["simpler"] = _simpler(r["network"], r["parameters"], bounds_of[r["network"]], st)
 
