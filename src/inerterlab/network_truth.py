@@ -261,7 +261,7 @@ def _network_for(layout_text: str, params: dict, variant: str, car=None):
     ]
     for text in texts:
         try:
-            quarter_car(text, {**p, **parts}, car=car)
+            quarter_car(text, {**p, **parts}, **(car or {}))
         except NetworkError:
             continue
         return text, {**p, **parts}
@@ -294,7 +294,7 @@ def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
         net, elp = text, design
     else:
         net, elp = _network_for(text, design, params["variant"], c)
-    car = quarter_car(net, elp, car=c)
+    car = quarter_car(net, elp, **c)
     res = car.simulate(
         _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
     )
@@ -391,7 +391,7 @@ def custom_truth_point(params: Mapping[str, Any]) -> dict[str, float]:
     net, elp = _network_for(
         str(params["network"]), _parse_design(params["design"]), params["variant"], c
     )
-    car = quarter_car(net, elp, car=c)
+    car = quarter_car(net, elp, **c)
     res = car.simulate(
         _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
     )

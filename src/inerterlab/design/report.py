@@ -70,7 +70,7 @@ def figures(result: dict) -> dict:
         if r["kind"] == "device":
             continue
         net, par = r["core"]["network"], r["core"]["params"]
-        h = quarter_car(net, par, car=car).transfer(2 * np.pi * f, "body_acc")
+        h = quarter_car(net, par, **dict(car or {})).transfer(2 * np.pi * f, "body_acc")
         ax.loglog(f, np.abs(h), label=r["label"], lw=2.0 if r["label"] == "k | c" else 1.2)
     ax.set_xlabel("frequency [Hz]")
     ax.set_ylabel("|H| body acceleration per road velocity [m/s^2 per m/s]")
@@ -88,7 +88,7 @@ def figures(result: dict) -> dict:
     ab = fig_b.add_subplot(1, 1, 1)
     for r in win:
         net, par = r["core"]["network"], r["core"]["params"]
-        sys = quarter_car(net, par, car=car)
+        sys = quarter_car(net, par, **dict(car or {}))
         res = sys.simulate(road, horizon=horizon)
         acc = res.outputs["body_acc"]
         aw = weighted_acceleration(res.time, acc)

@@ -165,7 +165,7 @@ def simulate_candidate(cand: Mapping, car: Mapping, road_class: str, speed: floa
     from .. import excitation as ex
     from ..systems import quarter_car
 
-    sys = quarter_car(cand["network"], dict(cand["params"]), car=dict(car))
+    sys = quarter_car(cand["network"], dict(cand["params"]), **dict(car))
     res = sys.simulate(ex.iso8608(road_class, float(speed), seed=int(seed)), horizon=horizon,
                        max_steps=int(max_steps))  # fmt: skip
     m = res.metrics

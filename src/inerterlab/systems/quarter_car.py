@@ -170,8 +170,13 @@ def quarter_car(
             els[key] = v
         info = {"model": model}
     else:
-        if preset:
-            k = next(iter(preset))
+        given_preset = {k: v for k, v in preset.items() if v is not None}
+        if given_preset:
+            k = next(iter(given_preset))
+            if re.fullmatch(r"\s*[A-Za-z_][\w.-]*\s*", suspension) and not params:
+                raise ParameterError(
+                    "suspension", suspension, f"one of {', '.join(SUSPENSIONS)} or a network text"
+                )
             raise ParameterError(k, preset[k], "no value: only the named suspensions take it")
         for k in ("stiffness", "damping"):
             if k in given:
