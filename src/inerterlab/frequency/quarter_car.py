@@ -58,7 +58,7 @@ def core_quarter_car(car):
         if car.law == "slider-dynamics" and car.slider is not None:
             afw["slider"] = car.slider
         params["afw"] = afw
-    return core_quarter(text, params, car=p)
+    return core_quarter(text, params, parameters=p)
 
 
 def quarter_car_system(car) -> FirstOrderSystem:

@@ -158,11 +158,11 @@ def _dense(y, yt, K, h, th, out):
 
 @nb.njit(cache=True)
 def _sides(sw, road):
-    """The side of each element's kink (road[3 + e], see :func:`._kernel.evaluate`) from
+    """The side of each element's kink (road[4 + e], see :func:`._kernel.evaluate`) from
     the signs of its two switching functions (:func:`._kernel.switches`)."""
     for e in range(sw.size // 2):
         g = max(sw[2 * e], sw[2 * e + 1])
-        road[3 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[3 + e])
+        road[4 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[4 + e])
 
 
 @nb.njit(cache=True)
@@ -308,7 +308,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     switch. Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.zeros(3 + itab[I_NE])  # the road, then each element's side of its kink
+    road = np.zeros(4 + itab[I_NE])  # the road, a free slot (the HB's frequency), each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -528,7 +528,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = tn
             into = -1
             if flip >= 0:  # past the kink: its other side's law from here
-                road[3 + flip // 2] = past
+                road[4 + flip // 2] = past
                 _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]

@@ -297,8 +297,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
     defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
     the derivative. Returns False if a balance could not be solved. ``road`` holds the
-    road's displacement, velocity and acceleration, and may go on with one entry per
-    element: where it is not 0, an element with a kink takes the law of that side of it
+    road's displacement, velocity and acceleration; road[3] is free (the harmonic balance
+    keeps its frequency there), and it may go on with one entry per element from road[4]:
+    where it is not 0, an element with a kink takes the law of that side of it
     (+1 above its switching function's zero, -1 below), continued past it. With a
     non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
     M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
@@ -411,8 +412,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
                 dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
-            elif road.size > 3 and road[3 + e] != 0.0:  # held on one side of its kink
-                me = flywheel_inertance_side(ftab, o, v, road[3 + e])
+            elif road.size > 4 and road[4 + e] != 0.0:  # held on one side of its kink
+                me = flywheel_inertance_side(ftab, o, v, road[4 + e])
                 f = 0.0
             else:
                 me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
