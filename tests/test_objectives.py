@@ -349,8 +349,8 @@ def test_pareto_between_new_quantities(tmp_path):
 def test_body_acc_wk_agrees_with_the_state_space_route():
     """The thesis car's traditional suspension: the cascaded rational route equals the
     Wk-augmented state-space Lyapunov route of inerterlab.metrics."""
-    from inerterlab.metrics import h2_norms
     from inerterlab import quarter_car
+    from inerterlab.metrics import h2_norms
 
     ref = h2_norms(quarter_car("traditional")).norms["body_acc_wk"]
     v = evaluate("k | c", {"k": 90e3, "c": 5000.0}, ["body_acc_wk"])["body_acc_wk"]
