@@ -775,6 +775,44 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=8)
+def _road_segments_cached(excitation, T):
+    segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
+    segs.setflags(write=False)
+    return segs
+
+
+def _road_segments(excitation, T: float) -> np.ndarray:
+    """The road's segment table up to T (a copy), kept for the last few (road, horizon)
+    that hash (the frozen roads; a random road's table takes about 0.7 ms to build)."""
+    try:
+        return _road_segments_cached(excitation, T).copy()
+    except TypeError:  # a road holding arrays: not hashable
+        return np.ascontiguousarray(excitation.segments(T), dtype=float)
+
+
+_PLANS: dict = {}
+
+
+def _planned(excitation, sys, segs, T, ts, rate):
+    """:func:`_exact_plan`, kept (by road, horizon and sample rate; the step lengths do
+    not depend on the system) for uniform samples from 0 (``rate`` a number) on a road
+    that hashes; copies."""
+    try:
+        key = (excitation, float(T), float(rate)) if rate else None
+        hash(key)
+    except TypeError:
+        key = None
+    got = _PLANS.get(key) if key is not None else None
+    if got is None:
+        got = _exact_plan(sys, segs, T, ts)
+        if key is not None:
+            if len(_PLANS) >= 8:
+                _PLANS.pop(next(iter(_PLANS)))
+            _PLANS[key] = got
+    return got[0].copy(), got[1].copy()
+
+
 def _simulate(
     sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times=None
 ) -> CoreResult:
@@ -800,7 +838,7 @@ def _simulate(
             return res.stats.get("steps", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
-    segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
+    segs = _road_segments(excitation, T)
     x1 = float(excitation.initial_road(T))
     if x0 is None:
         fixed = {}
@@ -839,13 +877,14 @@ def _simulate(
     # exact steps pay one matrix exponential per distinct step length: where the road's
     # edges and the samples make many (incommensurate grids) the adaptive steps are faster
     plan = None
-    regime = _NO_REGIME
+    regime = None
     if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
-        plan = _exact_plan(sys, segs, T, ts)
+        plan = _planned(excitation, sys, segs, T, ts, times is None and sample_rate)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
     elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
-        regime = _regime_tables(sys, segs, T, ts, _exact_plan(sys, segs, T, ts))
+        lengths = _planned(excitation, sys, segs, T, ts, times is None and sample_rate)
+        regime = _regime_tables(sys, segs, T, ts, lengths)
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
@@ -859,7 +898,9 @@ def _simulate(
         stats = {"steps": 0}
         meth = "exact" if method == "exact" else "adaptive"
     elif plan is not None:
-        ss = sys.linear_state_space()
+        if "state_space" not in sys.info:  # the system is frozen: computed once
+            sys.info["state_space"] = sys.linear_state_space()
+        ss = sys.info["state_space"]
         Y, U, stats = _exact(
             sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps
         )
@@ -869,11 +910,9 @@ def _simulate(
         atol = r * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
         st = np.zeros(5, dtype=np.int64)
-        XE, XG, keys, thr, idx, cls = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
-            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
-            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0),
+            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, regime,
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
@@ -1008,7 +1047,7 @@ class DriveRuns:
             status, _ = _integrate.integrate(
                 sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
                 sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
-                int(max_steps), math.nan, math.inf, np.zeros(nseg), *_NO_REGIME, 1.0,
+                int(max_steps), math.nan, math.inf, np.zeros(nseg),
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
@@ -1056,11 +1095,6 @@ def _exact_plan(sys, segs, T, ts):
 # ---------------------------------------------------------------------------------------
 # exact steps of a nonlinear system in its linear regimes
 
-#: no exact steps in linear regimes (the arguments of :func:`._integrate.integrate`)
-_NO_REGIME = (
-    np.empty((0, 0, 0, 0)), np.empty((0, 0, 0)), np.empty(0, np.int64), np.empty(0),
-    np.empty(0, np.int64), np.empty(0, np.int64),
-)  # fmt: skip
 #: at most this many sine frequencies get tables of exact steps in one run
 REGIME_MAX_CLASSES = 4
 
@@ -1109,30 +1143,56 @@ def _regime_system(sys):
     return found
 
 
+#: exact steps in a linear regime between break points far apart (or past a break
+#: point the regime does not reach): lengths H, H/2, ..., H/2^(REGIME_LEVELS - 1) with
+#: H = min(REGIME_LEVEL_MAX, REGIME_LEVEL_PHASE / the fastest rate of the regime system
+#: and the road), so a guard's cubic through the ends of a step follows it closely; no
+#: levels where H would be below REGIME_LEVEL_MIN [s]
+REGIME_LEVELS = 4
+REGIME_LEVEL_MAX = 0.01
+REGIME_LEVEL_MIN = 1e-4
+REGIME_LEVEL_PHASE = 0.5
+
+
+def _regime_rate(sys, A) -> float:
+    """The largest |eigenvalue| [1/s] of the regime system's matrix A (cached)."""
+    if "regime_rate" not in sys.info:
+        sys.info["regime_rate"] = float(np.max(np.abs(np.linalg.eigvals(A)), initial=0.0))
+    return sys.info["regime_rate"]
+
+
 def _regime_tables(sys, segs, T, ts, plan):
-    """Arguments of :func:`._integrate.integrate` for exact steps while every nonlinear
-    element sits in its linear regime (:meth:`ElementBase.linear_regime`): one matrix
-    exponential per distinct step length between break points (``plan``, as for a
-    linear system) and per sine frequency of the road (0 for its linear segments), or
-    :data:`_NO_REGIME`."""
+    """``regime`` of :func:`._integrate.integrate`: exact steps while every nonlinear
+    element sits in its linear regime (:meth:`ElementBase.linear_regime`), one matrix
+    exponential per step length and per sine frequency of the road (0 for its linear
+    segments). The lengths: those between break points (``plan``, as for a linear
+    system, where it has at most :data:`EXACT_MAX_STEP_SIZES`) and the levels (see
+    :data:`REGIME_LEVELS`). None where the system has no such regime."""
     reg = _regime_system(sys)
-    if reg is None or plan is None:
-        return _NO_REGIME
-    sizes, _ = plan
-    if sizes.size > EXACT_MAX_STEP_SIZES:
-        return _NO_REGIME
+    if reg is None:
+        return None
+    q = EXACT_STEP_QUANTUM * max(T, 1.0)
+    sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
     ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
     cls = np.full(len(segs), -1, np.int64)
     for c, wc in enumerate(ws):
         cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     A, B, gx, gu, thr, idx = reg[:6]
+    rate = max(_regime_rate(sys, A), float(np.max(np.abs(ws), initial=0.0)))
+    top = REGIME_LEVEL_MAX if rate == 0.0 else min(REGIME_LEVEL_MAX, REGIME_LEVEL_PHASE / rate)
+    levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
+    lev_keys = np.rint(levels / q).astype(np.int64)
+    keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
+    keys = keys[keys > 0]
+    if keys.size == 0:
+        return None
+    xlev = np.searchsorted(keys, lev_keys).astype(np.int64)  # longest first
     XE, XG = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        np.ascontiguousarray(sizes, float).tobytes(),
+        (keys * q).tobytes(),
     )  # fmt: skip
-    keys = np.rint(sizes / (EXACT_STEP_QUANTUM * max(T, 1.0))).astype(np.int64)
-    return XE, XG, keys, thr, idx, cls
+    return XE, XG, keys, thr, idx, cls, xlev, q
 
 
 @lru_cache(maxsize=16)
