@@ -120,11 +120,12 @@ def main() -> None:
             f, (0.0, T), y0, method="DOP853", rtol=args.rtol, atol=args.rtol * model.state_scales
         )
 
-    t_slow, sol = timed(baseline, args.slow_runs)
+    t_slow, c_slow, sol = timed_cpu(baseline, args.slow_runs)
     rms_base = float(np.sqrt(sol.y[model.n_states, -1] / T))
     print(
         f"baseline scipy solve_ivp DOP853, plain-Python RHS, rtol {args.rtol:g}: median "
-        f"{1e3 * t_slow:.1f} ms over {args.slow_runs} runs ({sol.nfev} RHS calls); "
+        f"{1e3 * t_slow:.1f} ms (CPU {1e3 * c_slow:.1f} ms) over {args.slow_runs} runs "
+        f"({sol.nfev} RHS calls); "
         f"rms_body_acc {rms_base:.10g} vs fast {m_fast['rms_body_acc']:.10g}"
     )
     m_ref = simulate_metrics(car, ex, T, options=ref_opts)
@@ -153,13 +154,13 @@ def main() -> None:
     f = ReferenceRHS(model)
     f.seg = ex.segments(T)[0]
     y0 = np.r_[model.initial_state(), np.zeros(13)]
-    oracle = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-11,
-                       atol=1e-11 * np.r_[model.state_scales, np.ones(13)], t_eval=ts)  # fmt: skip
+    t_fine = np.arange(10001) / 1000.0  # the peaks from 1 kHz (10 Hz meets a 5 Hz sine
+    oracle = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-11,  # in two phases only)
+                       atol=1e-11 * model.state_scales, t_eval=t_fine)  # fmt: skip
     idx = [core.state_names.index(n) for n in ("wheel.x", "wheel.v", "body.x", "body.v")]
     ref4 = oracle.y[:4].T
-    e_step = float(
-        (np.abs(r_step.states[:, idx] - ref4).max(axis=0) / np.abs(ref4).max(axis=0)).max()
-    )
+    peak = np.abs(ref4).max(axis=0)
+    e_step = float((np.abs(r_step.states[:, idx] - ref4[::100]).max(axis=0) / peak).max())
     print(
         f"core (k | c | afw), states at 10 Hz, rtol {args.rtol:g}: median {1e3 * t_step:.2f} ms "
         f"(CPU {1e3 * c_step:.2f} ms); steps {r_step.stats}; largest state error / state "
@@ -174,8 +175,14 @@ def main() -> None:
         f"{1e3 * t_core:.2f} ms (CPU {1e3 * c_core:.2f} ms); steps {r_core.stats}; worst "
         f"relative metric error vs scipy rtol 1e-10 {worst(m_core, m_ref):.2e}"
     )
-    print(f"core stepping ratio (states at 10 Hz vs the scipy baseline): {t_slow / t_step:.0f}")
-    print(f"core ratio (1 kHz outputs and metrics vs the scipy baseline): {t_slow / t_core:.0f}")
+    print(
+        f"core stepping ratio (states at 10 Hz vs the scipy baseline): {t_slow / t_step:.0f} "
+        f"by wall time, {c_slow / c_step:.0f} by CPU time"
+    )
+    print(
+        f"core ratio (1 kHz outputs and metrics vs the scipy baseline): {t_slow / t_core:.0f} "
+        f"by wall time, {c_slow / c_core:.0f} by CPU time"
+    )
     print(f"simulations per second per worker (fast): {1.0 / t_fast:.0f}")
     print(f"ratio: {t_slow / t_fast:.0f}")
 
