@@ -100,7 +100,12 @@ def road_at(segs, i, t, out):
     table and a row number, not a row: a slice per call costs a view)."""
     kind = segs[i, 2]
     t0 = segs[i, 0]
-    if kind == 0.0:
+    if kind == 3.0:  # several roads, each linear: (x_k, rate_k) from column 3 on
+        for k in range(out.size // 3):
+            out[3 * k] = segs[i, 3 + 2 * k] + segs[i, 4 + 2 * k] * (t - t0)
+            out[3 * k + 1] = segs[i, 4 + 2 * k]
+            out[3 * k + 2] = 0.0
+    elif kind == 0.0:
         out[0] = segs[i, 3] + segs[i, 4] * (t - t0)
         out[1] = segs[i, 4]
         out[2] = 0.0
@@ -117,6 +122,15 @@ def road_at(segs, i, t, out):
         out[0] = segs[i, 3] + amp * s
         out[1] = amp * w * math.cos(w * t + ph)
         out[2] = -amp * w * w * s
+
+
+@nb.njit(cache=True, inline="always")
+def road_size(segs):
+    """Length of the road vector: 3 (displacement, velocity, acceleration) per road;
+    segments of kind 3 carry (segs.shape[1] - 3) // 2 roads, every other kind one."""
+    if segs.shape[0] > 0 and segs[0, 2] == 3.0:
+        return 3 * ((segs.shape[1] - 3) // 2)
+    return 3
 
 
 @nb.njit(cache=True, inline="always")
@@ -209,7 +223,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.empty(3)
+    road = np.empty(road_size(segs))
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -352,7 +366,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     h = 0.0
     prev = x1_before
     prev_v = v_before
-    road = np.empty(3)
+    road = np.empty(road_size(segs))
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
     for i in range(y.size):
@@ -374,8 +388,8 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
-        if segs[s, 2] == 2.0:
-            while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
+        if segs[s, 2] == 2.0 or segs[s, 2] == 3.0:  # kind 3: several roads, continuous
+            while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
         rng[1] = e
@@ -439,7 +453,7 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     that holds each time (right-continuous)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    road = np.empty(3)
+    road = np.empty(road_size(segs))
     W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
     imp = np.empty(0)
@@ -473,7 +487,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     it: springs, dampers and friction between the drive, the ground and nodes whose
     displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
-    road = np.empty(3)
+    road = np.empty(road_size(segs))
     s = 0
     for j in range(t_out.size):
         s = _sample_road(segs, s, t_out[j], road)
@@ -516,7 +530,7 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     prev_v = v_before
     yn = np.empty(n)
     dx = np.empty(n)
-    road = np.empty(3)
+    road = np.empty(road_size(segs))
     W = np.empty(_work_size(itab))
     jerk = np.full(1, np.nan)
     imp = np.empty(imp_unit.size)

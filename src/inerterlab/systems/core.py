@@ -9,16 +9,16 @@ from typing import Any
 
 import numpy as np
 
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, ElementBase
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
 from ..elements.damper import Damper
 from ..elements.spring import Spring
 from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
-from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, VEL
+from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
 
-_TYPE = {"ground": GROUND, "road": ROAD}
+_TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 #: ``method="auto"`` takes exact steps where they need at most this many distinct step
 #: lengths (one matrix exponential each)
 EXACT_MAX_STEP_SIZES = 256
@@ -153,12 +153,13 @@ class System:
             )
         n = self.n_states
         no = len(self.output_names)
+        nu = 3 * self.info.get("roads", 1)  # (displacement, velocity, acceleration) per road
         A = np.zeros((n, n))
-        B = np.zeros((n, 3))
+        B = np.zeros((n, nu))
         C = np.zeros((no, n))
-        D = np.zeros((no, 3))
+        D = np.zeros((no, nu))
         z = np.zeros(n)
-        r0 = np.zeros(3)
+        r0 = np.zeros(nu)
         for k in range(n):
             e = np.zeros(n)
             e[k] = 1.0
@@ -166,8 +167,8 @@ class System:
             out = np.empty(no)
             self.outputs(0.0, e, r0, self.itab, self.ftab, out)
             C[:, k] = out
-        for k in range(3):
-            u = np.zeros(3)
+        for k in range(nu):
+            u = np.zeros(nu)
             u[k] = 1.0
             self.rhs(0.0, z, u, self.itab, self.ftab, B[:, k])
             out = np.empty(no)
@@ -447,6 +448,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
                 ref[i] = r
                 if i != r:
                     types[i] = RELV
+    _check_combinations(lay, types, edges)
     dyn = [i for i in range(nn) if types[i] in (DYN, REL)]
     vel = [i for i in range(nn) if types[i] in (VEL, RELV)]
     pos = [i for i in range(nn) if types[i] == POS]
@@ -475,7 +477,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             L[b, b] += k
             L[t, b] -= k
             L[b, t] -= k
-        if el.code in (INERTER, FLYWHEEL):
+        if el.code in (INERTER, FLYWHEEL) and LIN in (types[t], types[b]):
+            me = el.inertance if el.code == INERTER else el.inertance_min
+            g = _end_vector(lay, types, cls, t) - _end_vector(lay, types, cls, b)
+            Md += me * np.outer(g, g)
+        elif el.code in (INERTER, FLYWHEEL):
             me = el.inertance if el.code == INERTER else el.inertance_min
             for a_, c_ in ((t, b), (b, t)):
                 if types[a_] in (DYN, REL):
@@ -571,17 +577,25 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     fr = nn
     fe = fr + len(pos) * nn
     ftab = np.zeros(fe + NPAR * ne)
+    itab, ftab, combo = _combination_tables(lay, types, itab, ftab)
+    itab[_kernel.I_NL] = len(combo)
     itab[_kernel.I_FMASS] = fmass
     itab[_kernel.I_FR] = fr
     for i in range(nn):
         itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (
             types[i], xs[i], vs[i], cls.get(i, -1), ref[i]
         )  # fmt: skip
+        if types[i] == ROAD:  # the index of its road
+            itab[no + NODE_W * i + 3] = lay.nodes[i].get("road", 0)
+        elif types[i] == LIN:  # member list, count, coefficients
+            itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (LIN, *combo[i], -1)
         ftab[fmass + i] = lay.nodes[i]["mass"]
     ftab[fr:fe] = R.ravel()
     for e, (_, el, t, b) in enumerate(edges):
         ti = cls[t] if types[t] in (DYN, REL) else -1  # rows in the mass matrix, or -1
         bi = cls[b] if types[b] in (DYN, REL) else -1
+        if LIN in (types[t], types[b]):  # -2: an end at a combination node
+            ti = bi = -2
         itab[eo + ELEM_W * e : eo + ELEM_W * (e + 1)] = (
             el.code, t, b, fe + NPAR * e, so[e], ti, bi
         )  # fmt: skip
@@ -594,7 +608,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if not any(types[x] == ROAD for x in ends):
             continue
         other = b if types[t] == ROAD else t
-        if el.code in (INERTER, FLYWHEEL):
+        if el.code in (INERTER, FLYWHEEL, TYRE) or types[other] == LIN:
             jump_ok = False
         elif el.code == DAMPER:
             c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
@@ -640,6 +654,51 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             road_inertances=road_inertances,
         ),
     )
+
+
+def _check_combinations(lay: Layout, types: list, edges: list) -> None:
+    """A combination node's members must be dynamic nodes (masses), a tyre must join a
+    dynamic node to the road."""
+    for i, nd in enumerate(lay.nodes):
+        if types[i] == LIN:
+            for m, _ in nd["members"]:
+                if types[m] != DYN:
+                    raise NetworkError(
+                        f"the attachment point {nd['name']} combines "
+                        f"{lay.nodes[m]['name']}, which is not a body coordinate"
+                    )
+    for name, el, t, b in edges:
+        if el.code == TYRE and not (types[t] == DYN and types[b] == ROAD):
+            raise NetworkError(f"the tyre {name} must join a wheel (a mass) to the road")
+
+
+def _end_vector(lay: Layout, types: list, cls: dict, n: int) -> np.ndarray:
+    """The mass-matrix rows of element end n as a vector over the dynamic nodes."""
+    g = np.zeros(sum(1 for t in types if t in (DYN, REL)))
+    if types[n] == LIN:
+        for m, c in lay.nodes[n]["members"]:
+            g[cls[m]] += c
+    elif types[n] in (DYN, REL):
+        g[cls[n]] = 1.0
+    return g
+
+
+def _combination_tables(lay: Layout, types: list, itab: np.ndarray, ftab: np.ndarray):
+    """``itab`` and ``ftab`` with every combination node's member list and coefficients
+    appended, and {node: (member list offset, count, coefficient offset)}."""
+    combo = {}
+    ilist, flist = [], []
+    for i, nd in enumerate(lay.nodes):
+        if types[i] == LIN:
+            mem = nd["members"]
+            combo[i] = (itab.size + len(ilist), len(mem), ftab.size + len(flist))
+            ilist += [m for m, _ in mem]
+            flist += [float(c) for _, c in mem]
+    if not combo:
+        return itab, ftab, combo
+    itab = np.concatenate([itab, np.array(ilist, dtype=np.int64)])
+    ftab = np.concatenate([ftab, np.array(flist, float)])
+    return itab, ftab, combo
 
 
 def _spring_map(L, types, ref, pos, lay) -> np.ndarray:
