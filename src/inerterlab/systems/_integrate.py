@@ -388,7 +388,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
-        if segs[s, 2] == 2.0 or segs[s, 2] == 3.0:  # kind 3: several roads, continuous
+        if segs[s, 2] == 2.0:
             while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
