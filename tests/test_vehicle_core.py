@@ -135,10 +135,9 @@ def test_full_car_on_identical_tracks_equals_the_half_car():
                    "seat": Seat(x=0.25, y=0.0, mass=75.0, stiffness=47e3, damping=1100.0)})  # fmt: skip
     hf = _core_response(full_car(p, lift_off=False), FREQ)
     hh = _core_response(half_car(p.half_car(), lift_off=False), FREQ)
-    for a, b, k in (("bounce_acc", "bounce_acc", None), ("pitch_acc", "pitch_acc", None),
-                    ("seat_acc", "seat_acc", None),
-                    ("front_left_deflection", "front_deflection", None),
-                    ("rear_right_deflection", "rear_deflection", None)):  # fmt: skip
+    for a, b in (("bounce_acc", "bounce_acc"), ("pitch_acc", "pitch_acc"),
+                 ("seat_acc", "seat_acc"), ("front_left_deflection", "front_deflection"),
+                 ("rear_right_deflection", "rear_deflection")):  # fmt: skip
         full = np.stack([hf[a][:, 0] + hf[a][:, 1], hf[a][:, 2] + hf[a][:, 3]], 1)
         assert np.abs(full - hh[b]).max() < 1e-9 * np.abs(hh[b]).max(), a
     tl = hf["front_left_tyre_load"]
