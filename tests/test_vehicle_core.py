@@ -289,3 +289,44 @@ def test_errors_name_what_is_wrong():
         vehicle(p).linear_state_space()
     with pytest.raises(ParameterError):
         vehicle(p, networks={"front": AdaptiveFlywheelInerter(flywheel="nylon", law="thesis")})
+
+
+def _file_with_front(lines: str) -> str:
+    text = example_vehicle_path().read_text()
+    head, rest = text.split("[front]", 1)
+    _, tail = rest.split("[rear]", 1)
+    front = ('[front]\nunsprung_mass = "40 kg"\ntyre_stiffness = "200 kN/m"\n'
+             'tyre_damping = "50 N s/m"\nanti_roll = "12 kN/m"\n' + lines + "\n\n")  # fmt: skip
+    return head + front + "[rear]" + tail
+
+
+@pytest.mark.parametrize(
+    "lines,net,values",
+    [
+        ('network = "k | c | hyd"\nk = "28 kN/m"\nc = "2.2 kN s/m"\nhyd = { flywheel = "none" }',
+         "k | c | hyd", {"k": 28e3, "c": 2200.0, "hyd": HydraulicElement(flywheel="none")}),
+        ('network = "k | (c - gap)"\nk = "28 kN/m"\nc = "2200 N s/m"\n'
+         'gap = { stiffness = "90 kN/m", free_play = "1.5 mm" }',
+         "k | (c - gap)", {"k": 28e3, "c": 2200.0, "gap": {"stiffness": 9e4, "free_play": 1.5e-3}}),
+        ('network = "k | c | afw"\nk = "28 kN/m"\nc = "2200 N s/m"\n'
+         'afw = { flywheel = "nylon", ratio = "40 rad/m", law = "thesis" }',
+         "k | c | afw", {"k": 28e3, "c": 2200.0,
+                         "afw": AdaptiveFlywheelInerter(flywheel="nylon", ratio=40.0, law="thesis")}),
+    ],
+    ids=["k|c|hyd", "k|(c-gap)", "k|c|afw"],
+)
+def test_vehicle_file_network_in_the_elements_units_equals_python(lines, net, values):
+    """A corner's network from the vehicle file, each element's parameters in the units
+    the element declares, builds the same core vehicle as the network given in Python:
+    the same motion on a road."""
+    from inerterlab.vehicles import loads_vehicle
+
+    p = loads_vehicle(_file_with_front(lines))
+    dt = 2e-3
+    t = dt * np.arange(301)
+    wave = 0.02 * np.sin(2 * np.pi * 1.5 * t) * np.minimum(t / 0.2, 1.0)
+    r = np.stack([wave, 0.5 * wave, np.roll(wave, 50), np.roll(wave, 60)], 1)
+    a = simulate(vehicle(p), r, dt, rtol=1e-9)
+    b = simulate(vehicle(p, networks={"front": (net, values)}), r, dt, rtol=1e-9)
+    for k in ("bounce_acc", "roll_acc", "front_left_deflection", "rear_right_tyre_load"):
+        np.testing.assert_allclose(a.outputs[k], b.outputs[k], rtol=0, atol=1e-7 * np.abs(b.outputs[k]).max())
