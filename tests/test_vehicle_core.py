@@ -330,3 +330,46 @@ def test_vehicle_file_network_in_the_elements_units_equals_python(lines, net, va
     b = simulate(vehicle(p, networks={"front": (net, values)}), r, dt, rtol=1e-9)
     for k in ("bounce_acc", "roll_acc", "front_left_deflection", "rear_right_tyre_load"):
         np.testing.assert_allclose(a.outputs[k], b.outputs[k], rtol=0, atol=1e-7 * np.abs(b.outputs[k]).max())
+
+
+@pytest.mark.parametrize(
+    "name,value",
+    [
+        ("k2", 2e4),
+        ("c2", {"damping": 800.0, "quadratic": 300.0}),
+        ("b", 60.0),
+        ("fric", {"force": 150.0, "velocity": 2e-3}),
+        ("gap", {"stiffness": 5e4, "free_play": 2e-3}),
+        ("afw", AdaptiveFlywheelInerter(flywheel="nylon", ratio=40.0, law="thesis")),
+    ],
+)
+def test_the_same_element_gives_the_same_force_in_the_rig_and_the_vehicle(name, value):
+    """Each primitive element of the registry at a corner of a full car (in parallel with
+    the strut): its force sampled in the vehicle equals the force of a core rig driven
+    with the same relative displacement, velocity and acceleration of its ends, to 1e-9
+    of its peak."""
+    from inerterlab.systems import rig
+
+    p = load_vehicle(example_vehicle_path())
+    sys = vehicle(p, networks={"front_left": (f"k | c | {name}", {"k": 28e3, "c": 2200.0, name: value})})
+    dt = 2e-3
+    t = dt * np.arange(401)
+    wave = 0.03 * np.sin(2 * np.pi * 2.0 * t) * np.minimum(t / 0.3, 1.0)
+    r = np.stack([wave, 0.3 * wave, np.roll(wave, 40), np.roll(wave, 45)], 1)
+    o = simulate(sys, r, dt, rtol=1e-9).outputs
+    el = f"front_left.{name}"
+    i = sys.element_names.index(el)
+    top, bot = (sys.node_names[j] for j in sys.info["layout"].edges[i][2:4])
+    rel = [o[f"{top}.{q}"] - o[f"{bot}.{q}"] for q in ("x", "v", "a")]
+    one = rig(name, {name: value})
+    assert one.n_states == len(sys.elements[i].internal_states)
+    out = np.empty(len(one.output_names))
+    f = np.empty(t.size)
+    j = one.output_names.index(f"{name}.force")
+    for s in range(t.size):
+        road = np.array([rel[0][s], rel[1][s], rel[2][s]])
+        one.outputs(0.0, np.zeros(one.n_states), road, one.itab, one.ftab, out)
+        f[s] = out[j]
+    scale = np.abs(o[f"{el}.force"]).max()
+    assert scale > 0
+    np.testing.assert_allclose(o[f"{el}.force"], f, rtol=0, atol=1e-9 * scale)
