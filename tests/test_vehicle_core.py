@@ -373,3 +373,23 @@ def test_the_same_element_gives_the_same_force_in_the_rig_and_the_vehicle(name, 
     scale = np.abs(o[f"{el}.force"]).max()
     assert scale > 0
     np.testing.assert_allclose(o[f"{el}.force"], f, rtol=0, atol=1e-9 * scale)
+
+
+def test_contact_envelope_attenuates_short_waves_by_the_sinc_of_the_patch():
+    """The moving average over a contact patch L multiplies a road wave of wavelength
+    lambda by sin(pi L / lambda) / (pi L / lambda) (closed form); long waves pass, a
+    wave as long as the patch vanishes; the road's level parts are unchanged."""
+    from inerterlab.systems.vehicle import enveloped
+
+    dt, v, L = 1e-4, 10.0, 0.25
+    t = dt * np.arange(40001)
+    for lam in (5.0, 1.0, 0.6, 0.25, 0.1):
+        r = np.sin(2 * np.pi * v / lam * t)[:, None]
+        y = enveloped(r, dt, v, L)[5000:35000, 0]
+        gain = np.sqrt(2.0 * np.mean(y**2))
+        x = math.pi * L / lam
+        assert abs(gain - abs(math.sin(x) / x)) < 2e-4, lam
+    level = np.full((50, 2), 0.03)
+    np.testing.assert_allclose(enveloped(level, 1e-3, 20.0, 0.2), level, rtol=1e-13)
+    with pytest.raises(ParameterError, match="contact_length"):
+        enveloped(level, 1e-3, 20.0, 0.0)

@@ -2,7 +2,9 @@
 
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
-:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road).
+:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road), or
+:func:`half_car` / :func:`full_car` (a body with bounce, pitch and roll on any network at
+each corner, tyres that lift off; :mod:`inerterlab.systems.vehicle`).
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
 
 Node formulation (docs/model.md §11): every network node has a displacement. Nodes with
@@ -60,6 +62,7 @@ from .core import (
     quarter_car,
     rig,
 )
+from .vehicle import full_car, half_car
 
 __all__ = [
     "System",
@@ -69,6 +72,8 @@ __all__ = [
     "base_excited",
     "device_network",
     "quarter_car",
+    "half_car",
+    "full_car",
     "preset_parameters",
     "QUARTER_CAR_PRESETS",
     "RoadVelocityJumpWarning",

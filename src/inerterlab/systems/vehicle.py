@@ -39,7 +39,7 @@ from .core import System, _failure, _laid_out
 
 __all__ = [
     "half_car", "full_car", "vehicle", "simulate", "VehicleResult", "static_tyre_loads",
-    "rest_state", "road_segments",
+    "rest_state", "road_segments", "enveloped",
 ]
 
 
@@ -405,3 +405,45 @@ def road_segments(r: np.ndarray, dt: float) -> np.ndarray:
     return segs
 
 
+
+
+def enveloped(r, dt: float, speed: float, contact_length: float) -> np.ndarray:
+    """Wheel heights [m] seen through a tyre's contact patch: the moving average of each
+    column of ``r`` (samples ``dt`` [s] apart, linear between them) over the time
+    ``contact_length`` / ``speed`` the patch takes to pass a point, centred on each
+    sample; the road is held level beyond its ends.
+
+    A point contact follows every wavelength of the road; a real tyre bridges those
+    shorter than its contact patch. The moving average over a patch of length L
+    multiplies a wave of wavelength lambda by sin(pi L / lambda) / (pi L / lambda)
+    (the average of a sine over a window): about 0.6 at lambda = 2 L, zero at
+    lambda = L, so a 0.2 m patch takes most of the band above 5 cycle/m. It is the
+    simplest enveloping model, a flat patch (no tandem-cam or basic-curve model).
+
+    >>> import numpy as np
+    >>> t = np.arange(10001) * 2e-4
+    >>> r = np.sin(2 * np.pi * 25.0 * t)[:, None]  # 0.8 m wavelength at 20 m/s
+    >>> y = enveloped(r, 2e-4, 20.0, 0.4)            # 0.4 m patch: factor 2/pi
+    >>> round(float(np.abs(y[2000:8000]).max()), 3), round(2 / np.pi, 3)
+    (0.637, 0.637)
+    """
+    dt = check_positive("dt", dt, "s")
+    v = check_positive("speed", speed, "m/s")
+    L = check_positive("contact_length", contact_length, "m")
+    r = np.asarray(r, dtype=float)
+    if r.ndim != 2 or r.shape[0] < 2 or not np.all(np.isfinite(r)):
+        raise ParameterError("r", f"array of shape {r.shape}", "finite heights (n_t >= 2, n_roads)")
+    n = r.shape[0]
+    half = 0.5 * L / v
+    t = dt * np.arange(n)
+    slope = np.diff(r, axis=0) / dt
+    C = np.vstack([np.zeros((1, r.shape[1])), np.cumsum(0.5 * dt * (r[:-1] + r[1:]), axis=0)])
+
+    def integral(x):  # the integral of the road from t = 0 to x, held level outside
+        xc = np.clip(x, 0.0, t[-1])
+        k = np.minimum((xc / dt).astype(int), n - 2)
+        u = (xc - t[k])[:, None]
+        val = C[k] + r[k] * u + 0.5 * slope[k] * u * u
+        return val + r[0] * np.minimum(x, 0.0)[:, None] + r[-1] * np.maximum(x - t[-1], 0.0)[:, None]
+
+    return (integral(t + half) - integral(t - half)) / (2.0 * half)
