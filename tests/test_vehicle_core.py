@@ -285,6 +285,10 @@ def test_errors_name_what_is_wrong():
         full_car(p)
     with pytest.raises(ParameterError, match="r"):
         simulate(vehicle(p), np.zeros((10, 3)), 1e-3)
+    with pytest.raises(ParameterError, match="rtol"):
+        simulate(vehicle(p), np.zeros((10, 2)), 1e-3, rtol=0.5)
+    with pytest.raises(ParameterError, match="x0"):
+        simulate(vehicle(p), np.zeros((10, 2)), 1e-3, x0=np.zeros(3))
     with pytest.raises(NetworkError, match="not linear"):
         vehicle(p).linear_state_space()
     with pytest.raises(ParameterError):

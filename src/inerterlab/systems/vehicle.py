@@ -353,10 +353,15 @@ def simulate(sys: System, r, dt: float, *, rtol: float = 1e-8, x0=None,
     m = sys.info["roads"]
     if r.ndim != 2 or r.shape[1] != m or r.shape[0] < 2 or not np.all(np.isfinite(r)):
         raise ParameterError("r", f"array of shape {r.shape}", f"finite heights (n_t >= 2, {m})")
+    rtol = check_positive("rtol", rtol)
+    if not 1e-14 <= rtol <= 1e-2:
+        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-14, 1e-2]")
     segs = road_segments(r, dt)
     ts = dt * np.arange(r.shape[0])
     T = float(ts[-1])
     y = rest_state(sys, r[0]) if x0 is None else np.array(x0, float)
+    if y.shape != (sys.n_states,) or not np.all(np.isfinite(y)):
+        raise ParameterError("x0", x0, f"{sys.n_states} finite states ({', '.join(sys.state_names)})")
     atol = rtol * np.maximum(sys.state_scales, 1e-12)
     Y = np.empty((ts.size, sys.n_states))
     st = np.zeros(4, dtype=np.int64)
