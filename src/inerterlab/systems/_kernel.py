@@ -359,6 +359,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if nlin > 0:
         _combine(itab, ftab, W, 0, nn)
         _combine(itab, ftab, W, nn, nn)
+        for n in range(nn):  # their acceleration slots gather forces until the solve
+            if itab[no + NODE_W * n] == LIN:
+                W[2 * nn + n] = 0.0
     # spring-only nodes: X_p = R X (R has zero columns for spring-only nodes; relative
     # nodes enter with their relative displacement)
     po = itab[I_POS]
@@ -430,7 +433,11 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         ti = itab[b + 5]
         bi = itab[b + 6]
         if ti == -2 or bi == -2:  # an end at a combination node
-            _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd)
+            if me == 0.0:  # a force only: gathered at the node, passed on once below
+                _gather(itab, W, top, -f, ia, ir)
+                _gather(itab, W, bot, f, ia, ir)
+            else:
+                _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd)
             continue
         if ti >= 0:
             W[ir + ti] -= f
@@ -449,6 +456,14 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                     W[im + bi * nd + ti] -= me
                 else:
                     W[ir + bi] += me * W[ia + top]
+    if nlin > 0:  # the forces gathered at combination nodes to their members' rows
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == LIN:
+                mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
+                fn = W[ia + n]
+                for j in range(cnt):
+                    W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
@@ -504,6 +519,18 @@ def _combine(itab, ftab, W, off, nn):
             for j in range(cnt):
                 s += ftab[co + j] * W[off + itab[mo + j]]
             W[off + n] = s
+
+
+@nb.njit(cache=True, inline="always")
+def _gather(itab, W, n, f, ia, ir):
+    """Add the force f to node n: to its row if it has one, to the combination node's
+    gathering slot (its acceleration slot, until the solve) if it is one."""
+    b = itab[I_NODE] + NODE_W * n
+    typ = itab[b]
+    if typ == LIN:
+        W[ia + n] += f
+    elif typ == DYN or typ == REL:
+        W[ir + itab[b + 3]] += f
 
 
 @nb.njit(cache=True, inline="always")
