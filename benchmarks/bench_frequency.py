@@ -15,7 +15,13 @@ brute force (RK4 on the same right-hand side to steady state) per point on a sub
 ratio, and the NRMSE of every output against it.
 
 Run: NUMBA_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_frequency.py
-     [--only chapter7 | --only quarter-car]
+     [--only chapter7 | --only quarter-car] [--baseline SRC [--rounds 3]]
+
+With ``--baseline SRC`` (the ``src`` folder of another checkout, e.g. the tree before a
+change: ``git archive <commit> src | tar -x -C /tmp/base``) the timings alone are taken
+in child processes, alternately on SRC and on this tree, ``--rounds`` times each (each
+timing the fastest of several repeats); the fastest of each is printed with the ratio this tree / baseline (> 1: slower), so both
+are measured in the same run under the same machine load.
 """
 
 from __future__ import annotations
@@ -37,14 +43,15 @@ from inerterlab.frequency import (  # noqa: E402
 )
 
 
-def timed(fn, repeat=3):
+def timed(fn, repeat=3, best=False):
+    """Median (or, with ``best``, the fastest) of ``repeat`` runs [s], and the result."""
     times = []
     out = None
     for _ in range(repeat):
         t0 = time.perf_counter()
         out = fn()
         times.append(time.perf_counter() - t0)
-    return statistics.median(times), out
+    return (min(times) if best else statistics.median(times)), out
 
 
 def quarter_car_part() -> None:
@@ -109,12 +116,98 @@ def quarter_car_part() -> None:
         print(f"  NRMSE vs brute force, scan {d}: " + ", ".join(errs))
 
 
+def timings(only) -> dict:
+    """The timings alone [s] (compilation excluded), for the same-run comparison."""
+    out = {}
+    if only != "chapter7":
+        from inerterlab import quarter_car
+
+        car = quarter_car("afw")
+        freqs = np.linspace(0.5, 20.0, 2000)
+        frequency_response(car, "sihb", freq_hz=freqs[:20], amplitude=0.01)
+        frequency_response(car, "brute", freq_hz=[5.0], amplitude=0.01, steps_per_period=400)
+        out["quarter car sihb, 4000 solves, stability on [s]"] = timed(
+            lambda: frequency_response(car, "sihb", freq_hz=freqs, amplitude=0.01), 3, True
+        )[0]
+        sub = [1.0, 5.0, 11.0]
+        out["quarter car RK4 brute force, per point [s]"] = timed(
+            lambda: frequency_response(
+                car,
+                "brute",
+                freq_hz=sub,
+                amplitude=0.01,
+                steps_per_period=4000,
+                brute_rtol=1e-10,
+            ),  # fmt: skip
+            2,
+            True,
+        )[0] / len(sub)
+    if only != "quarter-car":
+        sys = chapter7_system(0.03)
+        grid = frequency_grid(0.005, 10.0, 0.005)
+        frequency_response(sys, "sihb", freq_hz=grid[:20], harmonics=15)
+        frequency_response(sys, "sihb", freq_hz=grid[:20], harmonics=15, n_samples=64)
+        frequency_response(sys, "sihb", freq_hz=grid[:20], harmonics=15, stability=True)
+        frequency_response(sys, "brute", freq_hz=[1.0])
+        for n, stab, reps in ((128, False, 5), (64, False, 5), (128, True, 2)):
+            key = f"chapter 7 sihb H=15 N={n}, 4000 solves, stability {'on' if stab else 'off'} [s]"
+            out[key] = timed(
+                lambda n=n, stab=stab: frequency_response(
+                    sys, "sihb", freq_hz=grid, harmonics=15, n_samples=n, stability=stab
+                ),
+                reps,
+                True,
+            )[0]
+        sub = np.array([0.3, 0.8, 1.15, 1.6, 2.5, 5.0])
+        out["chapter 7 RK4 brute force, per point [s]"] = timed(
+            lambda: frequency_response(sys, "brute", freq_hz=sub), 5, True
+        )[0] / len(sub)
+    return out
+
+
+def compare(baseline: str, only, rounds: int) -> None:
+    """Timings of the baseline tree and of this one, alternately in child processes."""
+    import json
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    here = str(Path(__file__).resolve().parents[1] / "src")
+    runs: dict = {"baseline": [], "this tree": []}
+    for _ in range(rounds):
+        for name, src in (("baseline", baseline), ("this tree", here)):
+            env = dict(os.environ, PYTHONPATH=src)
+            cmd = [sys.executable, __file__, "--timings-json"]
+            if only:
+                cmd += ["--only", only]
+            res = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+            runs[name].append(json.loads(res.stdout.strip().splitlines()[-1]))
+    print(f"same-run comparison, fastest of {rounds} alternating child runs each")
+    print(f"  baseline: {baseline}")
+    print(f"  this tree: {here}")
+    for key in runs["baseline"][0]:
+        old = min(r[key] for r in runs["baseline"])
+        new = min(r[key] for r in runs["this tree"])
+        print(f"  {key}: baseline {old:.4f}, this tree {new:.4f}, ratio {new / old:.3f}")
+
+
 def main() -> None:
     import argparse
+    import json
 
     ap = argparse.ArgumentParser()
     ap.add_argument("--only", choices=("chapter7", "quarter-car"), default=None)
-    only = ap.parse_args().only
+    ap.add_argument("--baseline", default=None, help="src folder of the tree to compare with")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--timings-json", action="store_true", help=argparse.SUPPRESS)
+    args = ap.parse_args()
+    only = args.only
+    if args.timings_json:
+        print(json.dumps(timings(only)))
+        return
+    if args.baseline:
+        compare(args.baseline, only, args.rounds)
+        return
     if only != "chapter7":
         quarter_car_part()
     if only == "quarter-car":

@@ -7,3 +7,13 @@ from inerterlab.studies.points import LOG_FILE_ENV
 # the synthetic point's evaluation log (used to count evaluations) is a testing aid that
 # user configurations cannot switch on; the tests, and the processes they start, may
 os.environ.setdefault(LOG_FILE_ENV, "1")
+
+
+def pytest_addoption(parser):
+    parser.addoption(
+        "--update-guides",
+        action="store_true",
+        default=False,
+        help="tests/test_guides.py: rewrite the expected output of every checked console "
+        "block in README.md and docs/guide/*.md that no longer agrees with the command",
+    )

@@ -52,7 +52,7 @@ def test_quarter_car_with_backlash_matches_scipy_reference():
     integrated by scipy's DOP853 at rtol 1e-11, against the core's adaptive steps."""
     k, c, b = 9e4, 3e3, 200.0
     kg, p = GAP["stiffness"], GAP["free_play"]
-    car = quarter_car("k | c | (gap - b)", {"k": k, "c": c, "gap": dict(GAP), "b": b}, car=CAR)
+    car = quarter_car("k | c | (gap - b)", {"k": k, "c": c, "gap": dict(GAP), "b": b}, **CAR)
     assert not car.linear
     road = bump(0.05, duration=0.3, edge="half-cosine", edge_width=0.05)
     T = 2.0
@@ -76,7 +76,7 @@ def test_quarter_car_with_backlash_matches_scipy_reference():
     assert np.abs(res.outputs["body.x"] - ref.y[0]).max() <= 1e-6 * peak
     assert np.abs(res.outputs["wheel.x"] - ref.y[2]).max() <= 1e-6 * np.abs(ref.y[2]).max()
     # the play matters here: with the play closed the body moves visibly otherwise
-    closed = quarter_car("k | c | (k1 - b)", {"k": k, "c": c, "k1": kg, "b": b}, car=CAR)
+    closed = quarter_car("k | c | (k1 - b)", {"k": k, "c": c, "k1": kg, "b": b}, **CAR)
     other = closed.simulate(road, T, rtol=1e-10).outputs["body.x"]
     assert np.abs(other - ref.y[0]).max() > 1e-2 * peak
 

@@ -6,10 +6,10 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.devices import device_force, device_preset, motion_from_samples
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import drive_series, road_displacement, sine
-from inerterlab.suspension import quarter_car as kernel_quarter_car
 from inerterlab.systems import rig
 
 FS = 500.0

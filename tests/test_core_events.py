@@ -6,10 +6,10 @@ import math
 
 import numpy as np
 
+from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.elements import Backlash
 from inerterlab.excitation import bump, sine
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab.suspension import quarter_car as kernel_quarter_car
 from inerterlab.systems import base_excited, quarter_car
 
 M, K, G, V0 = 2.0, 2e4, 0.002, 0.3  # mass [kg], contact stiffness [N/m], half play [m], m/s

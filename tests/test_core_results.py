@@ -6,11 +6,11 @@ import json
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab.suspension import quarter_car as kernel_quarter_car
 from inerterlab.systems import quarter_car, rig
 
 ROAD = bump(0.05, edge="ramp", edge_width=0.005)
@@ -49,7 +49,7 @@ def test_simulate_network_plot(tmp_path, capsys):
 def test_tyre_without_damping_equals_the_quarter_car_kernel():
     """Tyre damping 0 is well posed (the wheel has a mass): the core's linear car (exact
     steps) and its adaptive steps against the kernel's traditional car at rtol 1e-11."""
-    core = quarter_car("traditional", car={"tyre_damping": 0.0})
+    core = quarter_car("traditional", tyre_damping=0.0)
     assert "tyre_c" not in core.element_names
     ref = simulate(kernel_quarter_car("traditional", tyre_damping=0.0), ROAD, 1.0,
                    options=SimulationOptions(rtol=1e-11))  # fmt: skip

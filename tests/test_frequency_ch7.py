@@ -169,3 +169,27 @@ def test_nrmse_below_005_percent(amp):
         fr = frequency_response(sys, method, freq_hz=fb.freq_hz, harmonics=15, stability=False)
         assert fr.converged.all()
         assert nrmse(fr, fb) <= 5e-4
+
+
+def test_one_engine_gives_the_kernel_results():
+    """The chapter-7 system in implicit form on the one engine (velocity eliminated)
+    balances the residual the specialised kernel balances: the same points converge to
+    the same amplitudes and Hill multipliers to round-off, and the one RK4 period
+    integrator settles on the kernel's brute-force amplitudes."""
+    sys = chapter7_system(0.03)
+    form = sys.first_order()
+    f = [0.4, 0.9, 1.15, 1.6, 3.0]
+    a = frequency_response(sys, "sihb", freq_hz=f, harmonics=15, stability=True)
+    b = frequency_response(
+        form, "sihb", freq_hz=f, harmonics=15, amplitude=sys.input_amplitude, stability=True,
+        stability_harmonics=15,
+    )  # fmt: skip
+    assert b.settings["engine"] == "FirstOrderEngine" and b.settings["n_samples"] == 128
+    np.testing.assert_array_equal(a.converged, b.converged)
+    np.testing.assert_allclose(b.amplitude_m.data, a.amplitude_m.data, rtol=1e-12)
+    np.testing.assert_allclose(b.max_multiplier.data, a.max_multiplier.data, rtol=1e-9)
+    np.testing.assert_array_equal(a.stable.data, b.stable.data)
+    ka = frequency_response(sys, "brute", freq_hz=[0.9, 1.6])
+    kb = frequency_response(form, "brute", freq_hz=[0.9, 1.6], amplitude=sys.input_amplitude)
+    assert kb.converged.all()
+    np.testing.assert_allclose(kb.amplitude_m.data, ka.amplitude_m.data, rtol=1e-7)

@@ -5,19 +5,47 @@ brute-force integration of the same right-hand side to steady state (afw), and i
 Hill stability against Floquet multipliers of the one-period map.
 """
 
+import dataclasses
 import json
 
 import numpy as np
 import pytest
 
-from inerterlab import quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.frequency import frequency_response
 from inerterlab.frequency.first_order import brute_force_point, monodromy_multipliers
 from inerterlab.frequency.quarter_car import quarter_car_system
 
+# the named suspension's description: the harmonic balance of frequency/quarter_car.py
+# takes it (inerterlab.quarter_car builds the core system around it)
+from inerterlab.suspension.model import describe_quarter_car as quarter_car
+
 FREQS = np.array([0.5, 0.9, 1.2, 1.5, 2.0, 3.0, 5.0, 8.0, 9.5, 11.0, 14.0, 20.0])
+
+
+def test_velocity_elimination_changes_nothing():
+    """The balance on the displacements alone (velocities Omega D X) and the balance of
+    every state solve the same equations: the same outputs and stability flags."""
+    full = quarter_car_system(quarter_car("afw"))
+    assert sum(v >= 0 for v in full.velocity_of) == 2  # wheel and body velocities
+    every = dataclasses.replace(full, velocity_of=None)
+    freqs = [1.0, 1.5, 5.0, 12.0]
+    a = frequency_response(full, "mhb", freq_hz=freqs, amplitude=0.02)
+    b = frequency_response(every, "mhb", freq_hz=freqs, amplitude=0.02)
+    assert a.converged.all() and b.converged.all()
+    assert a.coefficients.shape[1] == 2 and b.coefficients.shape[1] == 4
+    for name in a.outputs:
+        np.testing.assert_allclose(a.outputs[name].data, b.outputs[name].data, rtol=1e-7)
+    np.testing.assert_array_equal(a.stable.data, b.stable.data)
+
+
+def test_bad_velocity_map_is_refused():
+    full = quarter_car_system(quarter_car("traditional"))
+    with pytest.raises(ParameterError, match="velocity_of"):
+        dataclasses.replace(full, velocity_of=(1, 0, -1, -1))  # a velocity that is a position
+    with pytest.raises(ParameterError, match="velocity_of"):
+        dataclasses.replace(full, velocity_of=(1, -1))
 
 
 def linear_amplitudes(car, freqs, amplitude):

@@ -113,8 +113,8 @@ def test_delta_is_exact_and_monte_carlo_agrees_for_a_linear_metric():
 def test_linear_car_h2_delta_and_monte_carlo_agree():
     # H2 norms of the linear traditional car against its damper and spring, with a
     # covariance small enough that the norm is linear over its spread
+    from inerterlab import quarter_car
     from inerterlab.identify import propagate
-    from inerterlab.suspension import quarter_car
 
     def car(p):
         return quarter_car("traditional", damping=p["damping"], stiffness=p["stiffness"])
@@ -147,15 +147,15 @@ def test_linear_car_h2_delta_and_monte_carlo_agree():
 @pytest.mark.slow
 def test_linearised_device_car_matches_its_simulation_on_a_random_road():
     # statistical linearisation of the friction (and flywheel) on the road it is used on
+    from inerterlab import quarter_car
     from inerterlab.excitation import iso8608
     from inerterlab.identify import linearised_car, ride_metrics
     from inerterlab.identify.propagate import _road_scale
     from inerterlab.metrics import h2_norms_state_space
-    from inerterlab.suspension import quarter_car
 
     car = quarter_car("device")
     lin = linearised_car(car, road_class="C", speed=20.0)
-    assert lin.info["equivalent_damping"] > car.device.damping
+    assert lin.info["equivalent_damping"] > car.info["model"].device.damping
     sim = ride_metrics(car, iso8608("C", 20.0, seed=2), 30.0, linear=False)
     n = h2_norms_state_space(lin).norms
     s = _road_scale("C", 20.0)
@@ -164,9 +164,9 @@ def test_linearised_device_car_matches_its_simulation_on_a_random_road():
 
 
 def test_propagate_device_car_from_a_covariance():
+    from inerterlab import quarter_car
     from inerterlab.excitation import drop
     from inerterlab.identify import propagate
-    from inerterlab.suspension import quarter_car
 
     cov = np.diag([3e4**2, 200.0**2, 10.0**2])
     src = ([7.76e5, 8100.0, 190.0], cov, ["stiffness", "damping", "friction"])
@@ -186,9 +186,9 @@ def test_propagate_device_car_from_a_covariance():
 
 
 def test_propagate_refuses_a_bad_covariance():
+    from inerterlab import quarter_car
     from inerterlab.errors import ParameterError
     from inerterlab.identify import propagate
-    from inerterlab.suspension import quarter_car
 
     with pytest.raises(ParameterError, match="semi-definite"):
         propagate(
@@ -336,9 +336,9 @@ def test_sobol_reproduces_the_ishigami_indices():
 def test_ride_sensitivity_table_and_plot():
     from matplotlib.figure import Figure
 
+    from inerterlab import quarter_car
     from inerterlab.excitation import drop
     from inerterlab.identify.sensitivity import ride_sensitivity
-    from inerterlab.suspension import quarter_car
 
     r = ride_sensitivity(quarter_car("device-afw"), drop(0.05), 2.0, n=8, seed=1)
     t = r.to_pandas()

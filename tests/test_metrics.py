@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.errors import ParameterError
 from inerterlab.metrics import (
     h2_norms,
@@ -14,7 +15,6 @@ from inerterlab.metrics import (
     wk_state_space,
     wk_weighting,
 )
-from inerterlab.suspension import quarter_car
 
 
 def test_wk_tabulated_factors():

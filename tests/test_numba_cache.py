@@ -15,7 +15,7 @@ SCRIPT = """
 import json
 from inerterlab.excitation import drop
 from inerterlab.simulate import simulate_metrics
-from inerterlab.suspension import quarter_car
+from inerterlab import quarter_car
 m = simulate_metrics(quarter_car("traditional"), drop(), 0.3)
 print(json.dumps({k: m[k] for k in ("rms_body_acc", "rms_deflection", "peak_body_acc")}))
 """

@@ -358,7 +358,8 @@ def test_network_parameters_outside_the_physical_range_are_refused(capsys, name,
 def test_network_car_outside_the_physical_range_is_refused(capsys, option, value):
     rc, _, err = _run(capsys, ["network", "h2", "--network", "k | c", "-p", "k=5e4,c=3e3",
                                option, value])  # fmt: skip
-    assert rc == 2 and option.lstrip("-").replace("-", "_") in _error(err)
+    e = _error(err)
+    assert rc == 2 and (option in e or option.lstrip("-").replace("-", "_") in e)
 
 
 @pytest.mark.parametrize(

@@ -32,9 +32,9 @@ def test_huge_sweep_refused_before_any_work():
 
 
 def test_huge_saved_series_refused_up_front():
+    from inerterlab import quarter_car
     from inerterlab.excitation import sine
     from inerterlab.simulate import SimulationOptions, simulate
-    from inerterlab.suspension import quarter_car
 
     # 0.5 Hz: within the step budget's up-front bound (4 steps per period), not in memory
     with pytest.raises(ParameterError, match="sampled time series"):

@@ -8,11 +8,10 @@ import warnings
 import numpy as np
 import pytest
 
-from inerterlab import DataFileError, ParameterError
+from inerterlab import DataFileError, ParameterError, quarter_car
 from inerterlab.excitation import RoadTooShortWarning, read_road_csv, road_series
 from inerterlab.identify.data import read_rig_test
 from inerterlab.simulate import SimulationOptions, simulate_metrics
-from inerterlab.suspension import quarter_car
 
 
 def _w(tmp_path, text, name="road.csv"):

@@ -14,11 +14,11 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, road_steps, sine
 from inerterlab.simulate import SimulationOptions, simulate
-from inerterlab.suspension import quarter_car
 
 FINITE = (
     "rms_body_acc_wk",
@@ -35,8 +35,8 @@ def test_body_velocity_jump_equals_the_closed_form_for_a_constant_inerter():
     # impulse J = C_t h on the wheel; the inerter b couples the two velocity jumps:
     # M dv3 = b (dv2 - dv3) and M_t dv2 + M dv3 = J
     car = quarter_car("cfw", sprung_mass=355.0)
-    q = car.parameters
-    b = car.transmission.ratio ** 2 * car.flywheel.inertia_min
+    q = car.info["model"].parameters
+    b = car.info["model"].transmission.ratio ** 2 * car.info["model"].flywheel.inertia_min
     J = q.tyre_damping * 0.05
     dv2 = J / (q.unsprung_mass + q.sprung_mass * b / (q.sprung_mass + b))
     dv3 = b * dv2 / (q.sprung_mass + b)

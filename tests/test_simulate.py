@@ -5,11 +5,11 @@ import math
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, iso8608, road_series, sine
 from inerterlab.metrics import METRIC_KEYS, h2_norms, series_metrics
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics
-from inerterlab.suspension import quarter_car
 
 REF = SimulationOptions(backend="scipy", rtol=1e-10)
 FAST = SimulationOptions()  # numba, default rtol 1e-8
@@ -110,7 +110,7 @@ def test_every_saturation_crossing_ends_a_step_even_with_long_steps():
         car, sine(), 1.0, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=2e4)
     )
     v = ref.states[:, 3] - ref.states[:, 1]
-    v_sat = car.flywheel.saturation_speed / car.transmission.ratio
+    v_sat = car.info["model"].flywheel.saturation_speed / car.info["model"].transmission.ratio
     sat = np.abs(v) > v_sat
     crossings = int(np.count_nonzero(sat[1:] != sat[:-1]))
     assert crossings >= 10
@@ -127,7 +127,7 @@ def test_exact_step_tables_match_scipy_expm_and_the_right_hand_side():
     from inerterlab.simulate import _initial_state, _wk_sections
     from inerterlab.suspension import _kernels as K
 
-    car = quarter_car("afw")
+    car = quarter_car("afw").info["model"]
     p = car.kernel_parameters
     ex = sine(0.05, 5.0)
     seg = np.ascontiguousarray(ex.segments(1.0), dtype=float)[0]
@@ -269,7 +269,7 @@ def test_bump_edge_passes_tyre_damper_impulse():
     # traditional car: the unsprung mass jumps by C_t h / M_t at the road step
     car = quarter_car("traditional")
     res = simulate(car, bump(duration=0.5), 0.1, options=SimulationOptions(sample_rate=1e4))
-    q = car.parameters
+    q = car.info["model"].parameters
     assert res.states[0, 1] == pytest.approx(q.tyre_damping * 0.05 / q.unsprung_mass, rel=1e-12)
 
 
@@ -277,7 +277,7 @@ def test_inerter_shares_the_impulse_and_conserves_momentum():
     for law in ("thesis", "momentum"):
         car = quarter_car("afw", law=law)
         res = simulate(car, bump(duration=0.5), 0.01, options=SimulationOptions(sample_rate=1e4))
-        q = car.parameters
+        q = car.info["model"].parameters
         v2, v3 = res.states[0, 1], res.states[0, 3]
         assert q.unsprung_mass * v2 + q.sprung_mass * v3 == pytest.approx(
             q.tyre_damping * 0.05, rel=1e-12

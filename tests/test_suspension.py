@@ -6,21 +6,22 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from inerterlab import flywheel
+from inerterlab import flywheel, quarter_car
 from inerterlab.errors import ParameterError
-from inerterlab.suspension import QuarterCarParameters, quarter_car
+from inerterlab.suspension import QuarterCarParameters
 from inerterlab.suspension import _kernels as K
+from inerterlab.suspension.model import describe_quarter_car
 from inerterlab.suspension.reference import ReferenceRHS
 
 
 def test_factory_and_validation():
-    car = quarter_car("afw", sprung_mass=370, changing_ratio=0.3)
+    car = quarter_car("afw", sprung_mass=370, changing_ratio=0.3).info["model"]
     assert car.flywheel.changing_ratio == pytest.approx(0.3)
-    assert quarter_car("cfw").inertance == pytest.approx(961.66**2 * 2.231e-4, rel=1e-4)
-    assert quarter_car("cfw", inertance=150.0).inertance == pytest.approx(150.0)
+    assert quarter_car("cfw").info["model"].inertance == pytest.approx(961.66**2 * 2.231e-4, rel=1e-4)
+    assert quarter_car("cfw", inertance=150.0).info["model"].inertance == pytest.approx(150.0)
     assert quarter_car("device-afw", law="slider-dynamics").state_names[-2:] == (
-        "slider_radius",
-        "slider_rate",
+        "hyd.afw.slider_radius",
+        "hyd.afw.slider_rate",
     )
     with pytest.raises(ParameterError, match="suspension"):
         quarter_car("magic")
@@ -37,7 +38,7 @@ def test_factory_and_validation():
 @pytest.mark.parametrize("ratio", [None, 0.1, 0.5])
 def test_kernel_inertia_laws_match_flywheel_module(ratio):
     fw = flywheel("nylon", changing_ratio=ratio)
-    car = quarter_car("afw", flywheel=fw)
+    car = describe_quarter_car("afw", flywheel=fw)
     p = car.kernel_parameters
     for w in (0.0, 10.0, -30.0, 45.0, 45.4, 46.0, 300.0):
         assert K.inertia(p, w) == pytest.approx(fw.inertia(w), rel=1e-13)
@@ -63,7 +64,7 @@ def test_branch_velocity_solves_the_force_balance():
 
 @pytest.mark.parametrize("law", ["thesis", "momentum"])
 def test_jump_impulse_compiled_equals_reference(law):
-    car = quarter_car("afw", law=law)
+    car = describe_quarter_car("afw", law=law)
     y = np.r_[car.initial_state(), np.zeros(13)]
     y[1], y[3] = 0.01, -0.02
     y_ref = y.copy()
@@ -80,7 +81,7 @@ def test_compiled_rhs_equals_reference_rhs():
     for susp, law in [("traditional", "thesis"), ("cfw", "thesis"), ("afw", "thesis"), ("afw", "momentum"),
                       ("afw", "slider-dynamics"), ("device", "thesis"), ("device-afw", "thesis"),
                       ("device-afw", "slider-dynamics")]:  # fmt: skip
-        car = quarter_car(susp, law=law, tyre_lift_off=True)
+        car = describe_quarter_car(susp, law=law, tyre_lift_off=True)
         ref = ReferenceRHS(car)
         ref.seg = seg
         for _ in range(5):

@@ -158,9 +158,10 @@ def test_decoupled_half_car_equals_two_core_quarter_cars():
         ("front", "k | (c - b)", front.parameters, p.sprung_mass * p.cg_to_rear / L, p.front),
         ("rear", "k | c", {"k": 25e3, "c": 1800.0}, p.sprung_mass * p.cg_to_front / L, p.rear),
     ):
-        q = quarter_car(net, prm, car=dict(
-            sprung_mass=ms, unsprung_mass=corner.unsprung_mass,
-            tyre_stiffness=corner.tyre.stiffness, tyre_damping=corner.tyre.damping))  # fmt: skip
+        q = quarter_car(
+            net, prm, sprung_mass=ms, unsprung_mass=corner.unsprung_mass,
+            tyre_stiffness=corner.tyre.stiffness, tyre_damping=corner.tyre.damping,
+        )  # fmt: skip
         w = 2 * math.pi * FREQ
         # quarter car: transfer from road velocity; the road height's is times j w
         defl = q.transfer(w, "suspension_deflection") * 1j * w

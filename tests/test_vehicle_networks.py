@@ -125,9 +125,8 @@ def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
         "rear": H["bounce_acc"] + b * H["pitch_acc"],
     }
     for j, (axle, share) in enumerate((("front", b), ("rear", a))):
-        qc = quarter_car(text, values, car={"sprung_mass": m * share / (a + b),
-                                            "unsprung_mass": 45.0, "tyre_stiffness": 2.4e5,
-                                            "tyre_damping": 200.0})  # fmt: skip
+        qc = quarter_car(text, values, sprung_mass=m * share / (a + b), unsprung_mass=45.0,
+                         tyre_stiffness=2.4e5, tyre_damping=200.0)  # fmt: skip
         # the core's transfers are per road velocity: times s for per road height
         np.testing.assert_allclose(body[axle][:, j], s * qc.transfer(2 * math.pi * f, "body.a"),
                                    rtol=1e-8)  # fmt: skip
@@ -237,9 +236,14 @@ def test_damped_modes_match_the_undamped_ones_as_damping_vanishes():
                         tyre=Tyre(stiffness=2e5)),
         )
     )  # fmt: skip
-    fn, zeta = car.damped_modes()
+    from inerterlab.vehicles.spectral import modes
+
+    osc, real = modes(car)
+    assert not real
+    fn = [m.natural_hz for m in osc]
     np.testing.assert_allclose(fn, car.natural_frequencies(rigid_tyres=False), rtol=1e-9)
-    assert np.all(zeta < 1e-5)
+    np.testing.assert_allclose([m.damped_hz for m in osc], fn, rtol=1e-9)
+    assert all(m.damping_ratio < 1e-5 for m in osc)
 
 
 def test_strut_only_analyses_refuse_network_struts_by_name(tmp_path):
@@ -265,9 +269,13 @@ def test_cli_modes_and_spectral_take_a_network_file(tmp_path):
     out = subprocess.run(run + ["modes", "--vehicle", str(path), "--json"],
                          capture_output=True, text=True, check=True)  # fmt: skip
     data = json.loads(out.stdout)
-    assert data["rigid_tyres_hz"] is None and len(data["damped_modes"]) == 8
-    fn, _ = build(loads_vehicle(path.read_text())).damped_modes()
-    assert [m["frequency_hz"] for m in data["damped_modes"]] == pytest.approx(fn.tolist())
+    from inerterlab.vehicles.spectral import modes
+
+    osc, real = modes(build(loads_vehicle(path.read_text())))
+    assert data["rigid_tyres_hz"] is None
+    assert len(data["damped_modes"]) + len(data["real_modes"]) == len(osc) + len(real)
+    got = [m["damped_frequency_hz"] for m in data["damped_modes"]]
+    assert got == pytest.approx([m.damped_hz for m in osc])
     out = subprocess.run(run + ["spectral", "--vehicle", str(path), "--json"],
                          capture_output=True, text=True, check=True)  # fmt: skip
     rms = json.loads(out.stdout)

@@ -116,7 +116,8 @@ def test_isotropic_coherence_lies_between_the_limits():
 def test_decoupled_half_car_equals_two_quarter_cars(inertance):
     """I_y = m a b puts the centre of percussion of each axle on the other: two quarter
     cars (the package's traditional one, or its cfw one for a strut with an inerter)."""
-    from inerterlab.suspension import linear_quarter_car, quarter_car
+    from inerterlab import quarter_car
+    from inerterlab.suspension import linear_quarter_car
 
     m, a, b = 1200.0, 1.2, 1.4
     front = Corner(

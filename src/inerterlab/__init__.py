@@ -83,7 +83,7 @@ __version__ = _version()
 #: public names loaded on first use: name -> (module, attribute)
 _LAZY = {
     # quarter car
-    "quarter_car": (".suspension", "quarter_car"),
+    "quarter_car": (".systems", "quarter_car"),
     "QuarterCar": (".suspension", "QuarterCar"),
     "simulate": (".simulate", None),  # the module, callable as simulate.simulate
     "simulate_metrics": (".simulate", "simulate_metrics"),

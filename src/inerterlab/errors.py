@@ -234,6 +234,9 @@ PHYSICAL_RANGES: dict[str, tuple[float, float, str]] = {
     "density": (1e-3, 1e5, "kg/m^3"),
     "transmission ratio": (1e-3, 1e7, "rad/m"),
     "quadratic damping": (1e-3, 1e10, "N s^2/m^2"),
+    "pressure": (1e-3, 1e10, "Pa"),
+    "volume": (1e-15, 1e3, "m^3"),
+    "viscosity": (1e-6, 1e4, "N s/m^2"),
 }
 
 

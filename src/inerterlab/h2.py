@@ -21,6 +21,13 @@ and the H2 norm of an output y = C x (no feed-through) is ||H||_2^2 = C P C^T
   (:func:`hurwitz`). It is the optimiser's inner loop (a few microseconds per candidate
   against about a hundred for the general route, docs/decisions.md "One network grammar
   ..."), and its results agree with the general route to rounding.
+* :func:`h2_rational_filtered`: the same transfer followed by a weighting filter given
+  as a state space without feed-through (the ISO 2631-1 Wk weighting of
+  :func:`wk_realisation`): the cascade's gramian is solved block by block (the car's
+  companion block as above, the coupling by a Sylvester equation, the filter's block
+  by a Lyapunov equation), so the filter's states stay in their own well-scaled form
+  and a feed-through of the car (an inerter with a damped tyre) is allowed: the
+  filter's roll-off makes the weighted norm finite.
 """
 
 from __future__ import annotations
@@ -36,6 +43,9 @@ __all__ = [
     "hurwitz",
     "h2_rational",
     "h2_rational_gradient",
+    "h2_rational_filtered",
+    "wk_realisation",
+    "wk_polynomials",
 ]
 
 
@@ -258,3 +268,105 @@ def h2_rational_gradient(polys, n, which, g):
         s += -2.0 * PQ[j, n - 1] * at[j] + 2.0 * Pc[j] * c[j]
     g[0, n] = -w0 * s / an
     return w0 * J
+
+
+# ---------------------------------------------------------------------------------------
+# a transfer followed by a weighting filter
+
+
+def wk_realisation() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(A, B, C) of the ISO 2631-1 Wk weighting (8 states, no feed-through), the
+    cascade of its four sections (:meth:`inerterlab.iso2631.Weighting.state_space`)."""
+    from .iso2631 import WEIGHTINGS
+
+    A, B, C, D = WEIGHTINGS["Wk"].state_space()
+    if float(np.abs(D).max()) != 0.0:  # pragma: no cover - Wk's low pass has none
+        raise ConvergenceError("Wk realisation: expected no feed-through")
+    return (
+        np.ascontiguousarray(A, dtype=float),
+        np.ascontiguousarray(np.ravel(B), dtype=float),
+        np.ascontiguousarray(np.ravel(C), dtype=float),
+    )
+
+
+def wk_polynomials() -> tuple[np.ndarray, np.ndarray]:
+    """ISO 2631-1 Wk as numerator/denominator polynomials in s, ascending powers: the
+    product of its sections' (:meth:`inerterlab.iso2631.Weighting.sections`)."""
+    from .iso2631 import WEIGHTINGS
+
+    num, den = np.ones(1), np.ones(1)
+    for b, a in WEIGHTINGS["Wk"].sections():
+        num = np.convolve(num, b)
+        den = np.convolve(den, a)
+    return np.trim_zeros(num, "f")[::-1].copy(), den[::-1].copy()
+
+
+@nb.njit(cache=True)
+def h2_rational_filtered(polys, n, which, fA, fB, fC):
+    """Squared H2 norm of W(s) row(s)/Delta(s): row ``which`` of ``polys`` over Delta
+    (row 0, degree ``n``) followed by the filter W = fC (sI - fA)^-1 fB; inf if the car
+    is not asymptotically stable or the row's degree exceeds n.
+
+    Cascade x1' = A1 x1 + B1 w, y1 = C1 x1 + D1 w (the car's companion form in physical
+    time: A1 = w0 A~, B1 = B~, C1 = w0 C~), x2' = fA x2 + fB y1, output fC x2. Its
+    gramian [[P11, P12], [P21, P22]]: P11 = P~/w0, then
+    fA P21 + P21 A1^T + fB (C1 P11 + D1 B1^T) = 0 (Sylvester, Kronecker form) and
+    fA P22 + P22 fA^T + fB C1 P12 + P21 C1^T fB^T + D1^2 fB fB^T = 0; the norm is
+    fC P22 fC^T."""
+    an = polys[0, n]
+    if not (polys[0, 0] > 0.0 and an > 0.0):
+        return np.inf
+    w0, at, scale = _scaled(polys, n)
+    if not hurwitz(at, n):
+        return np.inf
+    for i in range(n + 1, polys.shape[1]):
+        if polys[which, i] != 0.0:
+            return np.inf
+    At, Pt = _companion(at, n)
+    bt = np.empty(n + 1)
+    for i in range(n + 1):
+        bt[i] = polys[which, i] * scale[i]
+    D1 = bt[n]
+    C1 = np.empty(n)
+    for i in range(n):
+        C1[i] = w0 * (bt[i] - D1 * at[i])
+    A1 = w0 * At
+    P11 = Pt / w0
+    m = fA.shape[0]
+    # Sylvester fA X + X A1^T = -fB (C1 P11 + D1 e_n^T), X = P21 (m x n), column-major
+    g = np.empty(n)
+    for j in range(n):
+        acc = 0.0
+        for i in range(n):
+            acc += C1[i] * P11[i, j]
+        g[j] = acc
+    g[n - 1] += D1
+    N = m * n
+    K = np.zeros((N, N))
+    rhs = np.empty(N)
+    for j in range(n):
+        for i in range(m):
+            r = j * m + i
+            rhs[r] = -fB[i] * g[j]
+            for q in range(m):
+                K[r, j * m + q] += fA[i, q]
+            for q in range(n):
+                K[r, q * m + i] += A1[j, q]
+    x = np.linalg.solve(K, rhs)
+    P21 = np.empty((m, n))
+    for j in range(n):
+        for i in range(m):
+            P21[i, j] = x[j * m + i]
+    h = P21 @ C1  # P21 C1^T (m)
+    R = np.empty((m, m))
+    for i in range(m):
+        for j in range(m):
+            R[i, j] = fB[i] * h[j] + h[i] * fB[j] + D1 * D1 * fB[i] * fB[j]
+    P22 = lyapunov_packed(fA, R)
+    acc = 0.0
+    for i in range(m):
+        for j in range(m):
+            acc += fC[i] * P22[i, j] * fC[j]
+    if not (acc >= 0.0):
+        return np.inf
+    return acc

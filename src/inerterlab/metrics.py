@@ -332,7 +332,7 @@ def h2_norms(model) -> H2Norms:
 
     Examples
     --------
-    >>> from inerterlab.suspension import quarter_car
+    >>> from inerterlab import quarter_car
     >>> car = quarter_car("traditional", sprung_mass=250, unsprung_mass=35,
     ...                   tyre_stiffness=150e3, tyre_damping=0.0)
     >>> n = h2_norms(car)
@@ -341,7 +341,9 @@ def h2_norms(model) -> H2Norms:
     """
     from .errors import ConvergenceError
     from .suspension.linear import linear_quarter_car
+    from .suspension.model import model_of
 
+    model = model_of(model)
     try:
         with np.errstate(all="ignore"):
             lin = linear_quarter_car(model)

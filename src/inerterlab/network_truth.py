@@ -32,6 +32,14 @@ by the ideal inerter's gain (1: all of the linear prediction survives, 0: none,
 negative: worse than having no inerter). Each (layout, variant, input) is one point of
 a sweep (:mod:`inerterlab.studies`), so the study runs serially, in processes or on
 Dask, is stored chunk by chunk and resumes.
+
+The car: the thesis car (4.16) by default, or any quarter car (``car``: sprung and
+unsprung mass, tyre stiffness and damping), used alike for the H2 design of every
+layout, for the optimised ``k | c`` and in every simulation. ``k | c | b`` has an
+infinite H2 norm of body acceleration with a damped tyre (a direct feed-through), so on
+the thesis car it keeps the thesis's values and on any other car it is designed for the
+Wk-weighted body acceleration (finite: the weighting rolls off), the measure the study
+scores comfort by.
 """
 
 from __future__ import annotations
@@ -94,6 +102,13 @@ TRUTH_METRICS = ("rms_body_acc_wk", "vdv", "rms_tyre_grip", "rms_deflection")
 RATIOS = (0.05, 0.15, 0.285, 0.45, 0.55)
 LAWS = ("thesis", "momentum", "slider-dynamics")
 THESIS_PARALLEL = {"c": 5000.0, "b": 206.3}  # thesis car (4.16) with the cfw inertance
+#: the thesis car (4.16): the default quarter car of the study
+THESIS_CAR = {
+    "sprung_mass": 370.0,
+    "unsprung_mass": 25.0,
+    "tyre_stiffness": 120_000.0,
+    "tyre_damping": 1300.0,
+}
 
 _VARIANT_RE = re.compile(
     r"^(?:(ideal)|ideal-max x=([0-9.eE+-]+)|afw x=([0-9.eE+-]+) law=([a-z-]+)"
@@ -143,18 +158,41 @@ def _ratio(s: str) -> float:
     return x
 
 
-@functools.lru_cache(maxsize=32)
-def layout_parameters(network: str, stiffness: float = 90_000.0) -> dict:
-    """The H2 comfort design of ``network`` in the thesis car (static stiffness fixed).
+def _car(car: Mapping[str, Any] | None) -> dict:
+    """The study's quarter car: the thesis car with the values of ``car`` in place."""
+    out = dict(THESIS_CAR)
+    for k, v in (car or {}).items():
+        if k not in out:
+            raise ParameterError("car", k, "one of " + ", ".join(THESIS_CAR))
+        out[k] = float(v)
+    return out
+
+
+def layout_parameters(network: str, stiffness: float = 90_000.0, car=None) -> dict:
+    """The H2 comfort design of ``network`` (static stiffness fixed) in the quarter car
+    ``car`` (default the thesis car).
 
     ``k | c | b`` has an infinite body-acceleration H2 norm with a damped tyre (the
-    inerter passes the tyre damper's impulse to the body), so it keeps the thesis's
-    values (c = 5000 N s/m, b = the ``cfw`` inertance 206.3 kg)."""
+    inerter passes the tyre damper's impulse to the body): on the thesis car it keeps
+    the thesis's values (c = 5000 N s/m, b = the ``cfw`` inertance 206.3 kg), on any
+    other car it is designed for the Wk-weighted body acceleration."""
+    c = _car(car)
+    return _layout_parameters(network, float(stiffness), tuple(sorted(c.items())))
+
+
+@functools.lru_cache(maxsize=64)
+def _layout_parameters(network: str, stiffness: float, car: tuple) -> dict:
     from .network_design import optimize_network
 
+    c = dict(car)
+    objective = "body_acc"
     if network == LAYOUTS["parallel"]:
-        return {"k": stiffness, **THESIS_PARALLEL}
-    res = optimize_network(network, "body_acc", fixed={"k": stiffness}, compare=False)
+        if c == THESIS_CAR:
+            return {"k": stiffness, **THESIS_PARALLEL}
+        objective = "body_acc_wk"
+    res = optimize_network(
+        network, objective, fixed={"k": stiffness}, compare=False, simplify=False, **c
+    )
     return {k: float(v) for k, v in res.parameters.items()}
 
 
@@ -180,7 +218,7 @@ def _fluid_parameters(b: float) -> dict:
     )  # fmt: skip
 
 
-def _network_for(layout_text: str, params: dict, variant: str):
+def _network_for(layout_text: str, params: dict, variant: str, car=None):
     """(network text, element parameters) of ``layout_text`` with ``variant`` for b."""
     from .devices.models import HydraulicDevice, RectifierDevice, ScrewDevice
     from .flywheels import flywheel
@@ -223,7 +261,7 @@ def _network_for(layout_text: str, params: dict, variant: str):
     ]
     for text in texts:
         try:
-            quarter_car(text, {**p, **parts})
+            quarter_car(text, {**p, **parts}, **(car or {}))
         except NetworkError:
             continue
         return text, {**p, **parts}
@@ -250,12 +288,13 @@ def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
 
     layout = params["layout"]
     text = BASELINE if layout == "baseline" else LAYOUTS[layout]
-    design = layout_parameters(text, float(params["stiffness"]))
+    c = _car({k: params[k] for k in THESIS_CAR if k in params})
+    design = layout_parameters(text, float(params["stiffness"]), c)
     if layout == "baseline":
         net, elp = text, design
     else:
-        net, elp = _network_for(text, design, params["variant"])
-    car = quarter_car(net, elp)
+        net, elp = _network_for(text, design, params["variant"], c)
+    car = quarter_car(net, elp, **c)
     res = car.simulate(
         _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
     )
@@ -278,6 +317,7 @@ def truth_inputs() -> dict:
 
     return {
         "layouts": dict(LAYOUTS),
+        "design": "H2 body_acc (k | c | b off the thesis car: body_acc_wk)",
         "baseline": BASELINE,
         "thesis_parallel": dict(THESIS_PARALLEL),
         "fluid": dict(FLUID),
@@ -297,6 +337,10 @@ _PARAMETERS = {
     "stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="static k"),
     "horizon": ParameterSpec(low=0.0, low_open=True, high=600.0, unit="s"),
     "seed": ParameterSpec(kind="int", low=0.0, doc="ISO 8608 road seed"),
+    "sprung_mass": ParameterSpec(low=0.0, low_open=True, unit="kg", doc="quarter car m_s"),
+    "unsprung_mass": ParameterSpec(low=0.0, low_open=True, unit="kg", doc="quarter car m_u"),
+    "tyre_stiffness": ParameterSpec(low=0.0, low_open=True, unit="N/m", doc="tyre k_t"),
+    "tyre_damping": ParameterSpec(low=0.0, unit="N s/m", doc="tyre c_t"),
 }
 _DEFAULTS = {
     "variant": "ideal",
@@ -304,6 +348,7 @@ _DEFAULTS = {
     "stiffness": 90_000.0,
     "horizon": 10.0,
     "seed": 1,
+    **THESIS_CAR,
 }
 
 TRUTH = register_point_function(
@@ -342,10 +387,11 @@ def custom_truth_point(params: Mapping[str, Any]) -> dict[str, float]:
     """:func:`truth_point` for a given network text and element values (``custom``)."""
     from .systems import quarter_car
 
+    c = _car({k: params[k] for k in THESIS_CAR if k in params})
     net, elp = _network_for(
-        str(params["network"]), _parse_design(params["design"]), params["variant"]
+        str(params["network"]), _parse_design(params["design"]), params["variant"], c
     )
-    car = quarter_car(net, elp)
+    car = quarter_car(net, elp, **c)
     res = car.simulate(
         _excitation(params["input"], int(params["seed"])), horizon=float(params["horizon"])
     )
@@ -396,6 +442,7 @@ class TruthResult:
     survival: Any
     parameters: dict
     texts: dict = dataclasses.field(default_factory=dict)
+    car: dict = dataclasses.field(default_factory=lambda: dict(THESIS_CAR))
 
     def layout_text(self, layout: str) -> str:
         """Network text of a layout (a name of :data:`LAYOUTS` or ``custom``)."""
@@ -408,6 +455,7 @@ class TruthResult:
     def to_dict(self) -> dict:
         g = self.gains["rms_body_acc_wk"]
         return {
+            "car": self.car,
             "parameters": self.parameters,
             "comfort_gain_percent": {
                 lay: {
@@ -436,8 +484,12 @@ def network_truth(
     workers: int | None = None,
     progress=False,
     custom: tuple[str, str] | None = None,
+    car: Mapping[str, float] | None = None,
 ) -> TruthResult:
     """Run the study (see the module docstring) and compute gains and survival.
+
+    ``car``: sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping of the quarter
+    car (default the thesis car's; any not given keeps the thesis's value).
 
     ``custom``: (network text, "name=value,...") studied as the layout ``custom`` in
     addition to ``layouts`` (which may then be empty), e.g. a network printed by
@@ -466,7 +518,16 @@ def network_truth(
     for i in inputs:
         if i not in INPUTS:
             raise ParameterError("input", i, f"one of {', '.join(INPUTS)}")
-    settings = {"stiffness": float(stiffness), "horizon": float(horizon), "seed": int(seed)}
+    c = _car(car)
+    from .suspension.network_linear import network_quarter_car
+
+    network_quarter_car("k | c", **c)  # the values checked (positive, physical range)
+    settings = {
+        "stiffness": float(stiffness),
+        "horizon": float(horizon),
+        "seed": int(seed),
+        **c,
+    }
     common = dict(backend=backend, workers=workers, progress=progress)
     if store is not None:
         from pathlib import Path
@@ -522,14 +583,16 @@ def network_truth(
     gains = xr.Dataset({m: 100.0 * (1.0 - ds[m] / base[m]) for m in TRUTH_METRICS})
     ideal = gains["rms_body_acc_wk"].sel(variant="ideal")
     survival = gains["rms_body_acc_wk"] / ideal
-    params = {lay: layout_parameters(LAYOUTS[lay], float(stiffness)) for lay in layouts}
+    params = {lay: layout_parameters(LAYOUTS[lay], float(stiffness), c) for lay in layouts}
     texts = {}
     if custom is not None:
         params["custom"] = design
         texts["custom"] = net.text
-    params["baseline"] = layout_parameters(BASELINE, float(stiffness))
+    params["baseline"] = layout_parameters(BASELINE, float(stiffness), c)
     ds = ds.assign(baseline=xr.Dataset({m: base[m] for m in TRUTH_METRICS}).to_array("metric"))
-    return TruthResult(dataset=ds, gains=gains, survival=survival, parameters=params, texts=texts)
+    return TruthResult(
+        dataset=ds, gains=gains, survival=survival, parameters=params, texts=texts, car=c
+    )
 
 
 def adaptivity_margin(gains) -> Any:

@@ -18,7 +18,7 @@ are ``rtol`` times a typical size of each state (``QuarterCar.state_scales``).
 
 Examples
 --------
->>> from inerterlab.suspension import quarter_car
+>>> from inerterlab import quarter_car
 >>> from inerterlab.excitation import sine
 >>> res = simulate(quarter_car("traditional"), sine(), 1.0, output="metrics")
 >>> sorted(res.metrics())[:3]
@@ -42,7 +42,7 @@ from .errors import ConvergenceError, ParameterError, check_choice, check_positi
 from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale, road_steps
 from .metrics import wk_sections, wk_state_space
 from .resources import check_memory
-from .suspension.model import N_METRIC_STATES, QuarterCar
+from .suspension.model import N_METRIC_STATES, QuarterCar, model_of
 
 __all__ = [
     "SimulationOptions",
@@ -628,8 +628,6 @@ def _metrics(
 
 
 def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, output: str) -> float:
-    if not isinstance(model, QuarterCar):
-        raise ParameterError("model", model, "a QuarterCar (see inerterlab.suspension.quarter_car)")
     if not isinstance(excitation, Excitation):
         raise ParameterError(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), iso8608(), ...)"
@@ -775,8 +773,9 @@ def simulate(
 
     Parameters
     ----------
-    model : QuarterCar
-        From :func:`inerterlab.suspension.quarter_car`.
+    model : System
+        A named quarter car from :func:`inerterlab.quarter_car` (or its description,
+        ``info["model"]``).
     excitation : Excitation
         :func:`~inerterlab.excitation.drop`, ``bump``, ``sine``, ``iso8608``, a road series.
     horizon : float
@@ -790,6 +789,7 @@ def simulate(
     -------
     SimulationResult
     """
+    model = model_of(model)
     T = _check_inputs(model, excitation, horizon, options, output)
     want = output == "series"
     _check_step_budget(model, excitation, T, options, want)
@@ -831,6 +831,7 @@ def simulate_metrics(
     options: SimulationOptions = DEFAULT_OPTIONS,
 ) -> dict:
     """Metrics only (the fast path for sweeps): ``simulate(..., output="metrics").metrics()``."""
+    model = model_of(model)
     T = _check_inputs(model, excitation, horizon, options, "metrics")
     _check_step_budget(model, excitation, T, options, False)
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, False)

@@ -66,6 +66,7 @@ _COMMANDS = [
     "simulate",
     "vehicle",
     "network",
+    "design",
 ]
 
 for _name in _COMMANDS:

@@ -9,7 +9,19 @@ from typing import Annotated
 import typer
 
 from ..errors import ParameterError
-from ._common import atomic_savefig, atomic_write_text, emit_json, print_table
+from ._common import (
+    Axle,
+    CarSprungMass,
+    CarTyreDamping,
+    CarTyreStiffness,
+    CarUnsprungMass,
+    VehicleFile,
+    atomic_savefig,
+    atomic_write_text,
+    car_options,
+    emit_json,
+    print_table,
+)
 
 
 def _note_if_long(n, method, harmonics, direction, stability) -> None:
@@ -108,6 +120,12 @@ def frequency_response_command(
     plot: Annotated[
         Path | None, typer.Option(help="Write amplitude against frequency to this figure.")
     ] = None,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
 ) -> None:
     """Amplitude of X1 [m] (half peak-to-peak) against frequency [Hz] for the body on
     spring K = 90 kN/m, damper C = 5000 N s/m and flywheel inerter (r = 961.66 rad/m)
@@ -121,6 +139,10 @@ def frequency_response_command(
     Example: inerterlab frequency-response --method sihb --amplitude 0.03 --fmin 0.1
     --fmax 3 --df 0.05 --harmonics 15 --json
 
+    The quarter car is the thesis car (4.16) unless --vehicle (one wheel of a vehicle
+    file; its strut's spring and damper are then the suspension's k and c) or the car
+    options say otherwise.
+
     Example: inerterlab frequency-response --system quarter-car --suspension afw
     --amplitude 0.01 --fmin 0.5 --fmax 20 --df 0.1 --json
     """
@@ -129,7 +151,15 @@ def frequency_response_command(
 
     check_choice("--system", system, SYSTEMS)
     if system != "quarter-car":
-        for name, value in (("--suspension", suspension), ("--network", network)):
+        for name, value in (
+            ("--suspension", suspension),
+            ("--network", network),
+            ("--sprung-mass", sprung_mass),
+            ("--unsprung-mass", unsprung_mass),
+            ("--tyre-stiffness", tyre_stiffness),
+            ("--tyre-damping", tyre_damping),
+            ("--vehicle", vehicle),
+        ):
             if value is not None:
                 raise ParameterError(name, value, "no value unless --system quarter-car")
         if param:
@@ -150,9 +180,11 @@ def frequency_response_command(
     if not amplitude > 0:
         raise ParameterError("--amplitude", amplitude, "a displacement > 0 m")
     if system == "quarter-car":
+        car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
         return _quarter_car(
             suspension or "afw", flywheel or "nylon", law, method, amplitude, fmin, fmax, df,
             harmonics, samples, direction, no_stability, json_out, csv, plot, network, param,
+            car,
         )  # fmt: skip
     flywheel = flywheel or "metal"
     system = chapter7_system(amplitude, preset=flywheel, law=law)
@@ -202,7 +234,7 @@ def frequency_response_command(
     print_table(f"frequency response, {method}, B = {amplitude:g} m", rows)
 
 
-def _network_car(network, param):
+def _network_car(network, param, car=None):
     """The model core's quarter car with ``network`` and ``--param name=value`` values."""
     from ._common import parse_float
 
@@ -212,37 +244,38 @@ def _network_car(network, param):
         if not sep or not name.strip():
             raise ParameterError("--param", item, "name=value")
         params[name.strip()] = parse_float(f"--param {name.strip()}", value)
-    try:
-        from ..systems import quarter_car as core_quarter_car
-    except ImportError:
-        raise ParameterError(
-            "--network",
-            network,
-            "no value yet: the model core (inerterlab.systems) is not part of this version "
-            "(use --suspension traditional, cfw or afw)",
-        ) from None
-    return core_quarter_car(network, params)
+    from ..systems import quarter_car
+
+    return quarter_car(network, params, **({} if car is None else dict(car)))
 
 
 def _quarter_car(
     suspension, flywheel, law, method, amplitude, fmin, fmax, df, harmonics, samples,
-    direction, no_stability, json_out, csv, plot, network=None, param=None,
+    direction, no_stability, json_out, csv, plot, network=None, param=None, car=None,
 ):  # fmt: skip
     from ..errors import check_choice
     from ..frequency import frequency_grid, frequency_response
     from ..frequency.quarter_car import SMOOTH_SUSPENSIONS
-    from ..suspension import SUSPENSIONS, quarter_car
+    from ..systems import SUSPENSIONS, quarter_car
+    from ._common import THESIS_CAR
 
+    values = dict(THESIS_CAR if car is None else car)
+    extra_car = {"car": values}
+    if car is not None:
+        extra_car["car_source"] = car.source
     if network is not None:
-        car = _network_car(network, param)
+        qc = _network_car(network, param, values)
         grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
         fr = frequency_response(
-            car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+            qc, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
             n_samples=samples, direction=direction, stability=not no_stability,
             amplitude=amplitude,
         )  # fmt: skip
         label = f"quarter car, {network}"
-        return _report(fr, method, amplitude, json_out, csv, plot, {"network": network}, label)
+        return _report(
+            fr, method, amplitude, json_out, csv, plot, {"network": network, **extra_car}, label,
+            car,
+        )  # fmt: skip
     check_choice("--suspension", suspension, SUSPENSIONS)
     if suspension not in SMOOTH_SUSPENSIONS:
         raise ParameterError(
@@ -252,23 +285,29 @@ def _quarter_car(
             "switches too sharply for a Fourier series; use `inerterlab simulate` with a "
             "sine road)",
         )
-    kwargs = {"law": law}
+    kwargs = {"law": law, **values}
+    if car is not None and car.spring is not None:
+        kwargs["stiffness"] = car.spring
+        kwargs["damping"] = car.damping
+        extra_car["strut"] = {"stiffness": car.spring, "damping": car.damping}
     if suspension == "afw":
         kwargs["flywheel"] = flywheel
-    car = quarter_car(suspension, **kwargs)
+    qc = quarter_car(suspension, **kwargs).info["model"]
     grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
     fr = frequency_response(
-        car, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+        qc, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
         n_samples=samples, direction=direction, stability=not no_stability,
         amplitude=amplitude,
     )  # fmt: skip
-    extra = {"suspension": suspension}
+    extra = {"suspension": suspension, **extra_car}
     if suspension == "afw":
         extra.update(flywheel=flywheel, law=law)
-    return _report(fr, method, amplitude, json_out, csv, plot, extra, f"quarter car, {suspension}")
+    return _report(
+        fr, method, amplitude, json_out, csv, plot, extra, f"quarter car, {suspension}", car
+    )
 
 
-def _report(fr, method, amplitude, json_out, csv, plot, extra, label) -> None:
+def _report(fr, method, amplitude, json_out, csv, plot, extra, label, car=None) -> None:
     out = fr.to_dict()
     out["settings"] = {
         k: v for k, v in fr.settings.items() if isinstance(v, str | int | float | bool)
@@ -289,6 +328,8 @@ def _report(fr, method, amplitude, json_out, csv, plot, extra, label) -> None:
         emit_json(out)
         return
     _print_points(fr, f"{label}, {method}, A = {amplitude:g} m")
+    if car is not None:
+        print(car.describe())
 
 
 def _print_points(fr, title) -> None:

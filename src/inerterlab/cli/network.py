@@ -16,7 +16,20 @@ from typing import Annotated
 import typer
 
 from ..networks import MAX_LAYOUTS
-from ._common import atomic_savefig, atomic_write_text, emit_json, print_table, seed_option
+from ._common import (
+    Axle,
+    CarSprungMass,
+    CarTyreDamping,
+    CarTyreStiffness,
+    CarUnsprungMass,
+    VehicleFile,
+    atomic_savefig,
+    atomic_write_text,
+    car_options,
+    emit_json,
+    print_table,
+    seed_option,
+)
 
 network_app = typer.Typer(
     name="network",
@@ -37,6 +50,24 @@ UnsprungMass = Annotated[float, typer.Option("--unsprung-mass", help="Unsprung m
 TyreStiffness = Annotated[float, typer.Option("--tyre-stiffness", help="Tyre stiffness k_t [N/m].")]
 TyreDamping = Annotated[float, typer.Option("--tyre-damping", help="Tyre damping c_t [N s/m].")]
 Json = Annotated[bool, typer.Option("--json", help="Print JSON.")]
+RoadClass = Annotated[
+    str | None,
+    typer.Option(
+        "--road-class",
+        help="ISO 8608 road class A-H (with --speed): also print RMS values on that road "
+        "(waviness 2, no band limits: white road velocity; a quantity infinite there over "
+        "the band 0.01-10 cycle/m).",
+    ),
+]
+Speed = Annotated[float | None, typer.Option("--speed", help="Speed on --road-class [m/s].")]
+Plot = Annotated[
+    Path | None,
+    typer.Option(
+        "--plot",
+        help="Figure (.png/.pdf/.svg): |H(f)| of the body acceleration against k | c, and "
+        "its PSD with and without the Wk weighting.",
+    ),
+]
 
 
 def _car(ms, mu, kt, ct) -> dict:
@@ -50,6 +81,7 @@ MaxLayouts = Annotated[
         "work; raise it to run a larger budget on purpose)."
     ),
 ]
+
 
 def _check_budget(dampers, inerters, springs, max_layouts: int, what: str) -> None:
     """The budget rule of :func:`~inerterlab.networks.enumerate_networks`, checked
@@ -121,23 +153,45 @@ def h2_command(
     param: Annotated[
         list[str], typer.Option("--param", "-p", help="name=value, repeatable or comma-separated.")
     ],
-    sprung_mass: SprungMass = 370.0,
-    unsprung_mass: UnsprungMass = 25.0,
-    tyre_stiffness: TyreStiffness = 120_000.0,
-    tyre_damping: TyreDamping = 1300.0,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
+    road_class: RoadClass = None,
+    speed: Speed = None,
+    peaks: Annotated[
+        bool, typer.Option("--peaks/--no-peaks", help="Also the peak gains |H(jw)|max.")
+    ] = True,
+    plot: Plot = None,
     json_out: Json = False,
 ) -> None:
-    """H2 norms per unit white road velocity of the quarter car with a network.
+    """H2 norms per unit white road velocity of the quarter car with a network, its peak
+    gains and, with --road-class/--speed, RMS values on that ISO 8608 road.
 
     A network with other elements than springs, dampers and inerters is taken about
     rest (each element's declared linearisation; parameters element.parameter=value).
-    Example: inerterlab network h2 --network 'k | c' -p k=90000,c=5000 --json
+    Example: inerterlab network h2 --network 'k | c' -p k=90000,c=5000 --road-class C
+    --speed 25
     """
     from ..errors import NetworkError
-    from ..network_design import _parse_assignments
+    from ..network_design import (
+        QUANTITIES,
+        TRANSFERS,
+        _check_road,
+        _parse_assignments,
+        band_limited_rms,
+        evaluate,
+        infinite_reason,
+        road_scale,
+        unit_of,
+    )
     from ..networks import linearise, parse_network
     from ..suspension.network_linear import network_quarter_car
 
+    car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
+    road = _road(road_class, speed)
     net = parse_network(network)
     params = _parse_assignments(param, "parameter")
     lin = net
@@ -149,27 +203,95 @@ def h2_command(
             except ValueError:
                 raise NetworkError(f"parameter {k}={v!r}: not a number") from None
         lin, params = linearise(net, values)
-    q = network_quarter_car(lin, **_car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping))
-    norms = q.h2(params)
-    out = {"network": net.text, **{k: _num(v) for k, v in norms.items()}}
+    q = network_quarter_car(lin, **car)
+    names = list(QUANTITIES if peaks else TRANSFERS)
+    vals = evaluate(lin, params, names, **car)
+    out = {
+        "network": net.text,
+        "car": dict(car),
+        "car_source": car.source,
+        **{k: _num(vals[k]) for k in TRANSFERS},
+        "units": {k: unit_of(k) for k in names},
+        "per": "H2 norms per unit white road velocity (two-sided density 1 (m/s)^2 per "
+        "rad/s); peak gains per m/s of road velocity",
+    }
+    if peaks:
+        out["peaks"] = {k: _num(vals[k]) for k in names if k.startswith("peak:")}
     if lin is not net:
         out["linearised_about_rest"] = lin.text
         out["linear_parameters"] = params
-    reasons = q.h2_reasons(params)
+    reasons = {k: infinite_reason(k, q, params, road) for k in names if not math.isfinite(vals[k])}
     if reasons:
         out["infinite"] = reasons
     out["states"] = len(q.polynomials(params)["den"]) - 1
+    rms = {}
+    if road is not None:
+        cls, v = _check_road(road)
+        sc = road_scale(cls, v)
+        for k in TRANSFERS:
+            if math.isfinite(vals[k]):
+                rms[k] = sc * vals[k]
+            elif "not asymptotically stable" not in reasons.get(k, ""):
+                rms[f"{k} (band 0.01-10 cycle/m)"] = band_limited_rms(k, q, params, cls, v)
+        out["road"] = {"class": cls, "speed": v, "units": "m/s"}
+        out["rms"] = rms
+    if plot is not None:
+        from ..network_design import network_figure
+
+        atomic_savefig(network_figure(lin, params, road=road, **car), plot)
+        out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
-    rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k in norms]
+    rows = [
+        (f"H2 {k} [{unit_of(k)}]", "infinite" if not math.isfinite(vals[k]) else f"{vals[k]:.6g}")
+        for k in TRANSFERS
+    ]
+    if peaks:
+        rows += [(f"{k} [{unit_of(k)}]", _fmt(vals[k])) for k in names if k.startswith("peak:")]
+    if road is not None:
+        from ..network_design import UNITS
+
+        for k, v in rms.items():
+            rows.append((f"RMS {k} [{UNITS[k.split(' ')[0]]}]", f"{v:.6g}"))
     rows.append(("states", str(out["states"])))
     about = f" linearised about rest as {lin.text}" if lin is not net else ""
-    print_table(f"H2 norms, {net.text}{about}, unit white road velocity", rows)
+    where = f", ISO 8608 class {road[0]} at {road[1]:g} m/s" if road is not None else ""
+    print_table(
+        f"{net.text}{about}: H2 norms per unit white road velocity, peak gains per m/s{where}",
+        rows,
+    )
+    typer.echo(car.describe())
+    for line in reasons.values():
+        typer.echo(line)
 
 
-def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt) -> dict:
+def _road(road_class, speed):
+    """(class, speed) from --road-class and --speed, both or neither."""
     from ..errors import ParameterError
+    from ..network_design import _check_road
+
+    if (road_class is None) != (speed is None):
+        missing = "--speed" if speed is None else "--road-class"
+        raise ParameterError(
+            missing, None, "a value: --road-class and --speed go together (e.g. C and 25)"
+        )
+    if road_class is None:
+        return None
+    try:
+        return _check_road((road_class, speed))
+    except Exception as e:
+        from ..errors import ParameterError as PE
+
+        if isinstance(e, PE):
+            name = "--speed" if e.name == "speed" else "--road-class"
+            raise PE(name, e.value, e.valid) from None
+        raise
+
+
+def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit=None) -> dict:
+    from ..errors import ParameterError
+    from ..network_design import QUANTITIES
 
     lim = {}
     if max_tyre_deflection is not None:
@@ -181,7 +303,38 @@ def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt) -
         lim["tyre_deflection"] = min(lim.get("tyre_deflection", t), t)
     if max_suspension_deflection is not None:
         lim["suspension_deflection"] = max_suspension_deflection
+    for item in limit or []:
+        for part in item.split(","):
+            name, eq, value = part.partition("=")
+            name = name.strip()
+            if not eq or name not in QUANTITIES:
+                raise ParameterError(
+                    "limit", part, "quantity=value with a quantity of " + ", ".join(QUANTITIES)
+                )
+            try:
+                v = float(value)
+            except ValueError:
+                raise ParameterError("limit", part, "quantity=<a number > 0>") from None
+            if not (v > 0 and math.isfinite(v)):
+                raise ParameterError("limit", part, "quantity=<a number > 0>")
+            lim[name] = min(lim.get(name, v), v)
     return lim
+
+
+def _inertance(text: str | None) -> float | None:
+    """--max-inertance: '300kg', '300 kg' or '300' [kg]."""
+    from ..errors import ParameterError
+
+    if text is None:
+        return None
+    t = text.strip().lower().removesuffix("kg").strip()
+    try:
+        v = float(t)
+    except ValueError:
+        raise ParameterError("max-inertance", text, "an inertance in kg, e.g. 300kg") from None
+    if not (v > 0 and math.isfinite(v)):
+        raise ParameterError("max-inertance", text, "an inertance > 0 kg, e.g. 300kg")
+    return v
 
 
 @network_app.command("optimize")
@@ -192,7 +345,12 @@ def optimize_command(
     ] = False,
     objective: Annotated[
         str,
-        typer.Option(help="body_acc, tyre_deflection, suspension_deflection or weighted."),
+        typer.Option(
+            help="H2 norm: body_acc, body_acc_wk (ISO 2631 Wk-weighted), tyre_deflection, "
+            "tyre_load (k_t x tyre deflection), tyre_force (spring and damper), "
+            "suspension_deflection; peak:<one of those> (largest gain over frequency); "
+            "or weighted."
+        ),
     ] = "body_acc",
     fix: Annotated[
         list[str] | None,
@@ -204,7 +362,10 @@ def optimize_command(
     ] = None,
     weight: Annotated[
         list[str] | None,
-        typer.Option(help="weighted only: output=w, e.g. body_acc=1 (default equal)."),
+        typer.Option(
+            help="weighted only: quantity=w, e.g. body_acc_wk=1,tyre_load=1 (default equal "
+            "on body_acc, tyre_deflection, suspension_deflection)."
+        ),
     ] = None,
     max_tyre_deflection: Annotated[
         float | None, typer.Option(help="Constraint: H2 of tyre deflection <= this [m].")
@@ -216,6 +377,21 @@ def optimize_command(
         float | None,
         typer.Option(help="Constraint: H2 of the elastic tyre load k_t x deflection <= this [N]."),
     ] = None,
+    limit: Annotated[
+        list[str] | None,
+        typer.Option(
+            help="Constraint quantity=value on any quantity of the objectives, in its unit "
+            "(H2 per unit white road velocity, peak per m/s), e.g. "
+            "peak:suspension_deflection=0.05 (repeatable)."
+        ),
+    ] = None,
+    max_inertance: Annotated[
+        str | None,
+        typer.Option(
+            help="Upper limit of every inerter (and of the inertance of a device's "
+            "linearisation), e.g. 300kg."
+        ),
+    ] = None,
     dampers: Annotated[int, typer.Option(help="--all: budget of dampers.")] = 1,
     inerters: Annotated[int, typer.Option(help="--all: budget of inerters.")] = 1,
     springs: Annotated[int, typer.Option(help="--all: budget of springs besides k.")] = 2,
@@ -224,30 +400,56 @@ def optimize_command(
     ] = 8,
     seed: Annotated[int, seed_option("Seed of the Sobol sample.")] = 0,
     max_layouts: MaxLayouts = MAX_LAYOUTS,
-    sprung_mass: SprungMass = 370.0,
-    unsprung_mass: UnsprungMass = 25.0,
-    tyre_stiffness: TyreStiffness = 120_000.0,
-    tyre_damping: TyreDamping = 1300.0,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
+    road_class: RoadClass = None,
+    speed: Speed = None,
+    plot: Plot = None,
     json_out: Json = False,
 ) -> None:
-    """H2-optimal parameters of a network (global sample, then gradient polish).
+    """Optimal parameters of a network (global sample, then local polish).
+
+    With --vehicle the main spring k is held at the vehicle strut's static stiffness
+    unless --fix or --bound names k. An optimum on a bound that stands for a simpler
+    layout (a spring or damper at the top of its range: rigid; an element at the bottom
+    of its range: absent) is reported as that layout.
 
     Example: inerterlab network optimize --network 'k | (k1 - c - b)' --objective
-    body_acc --fix k=50000 --bound b=0:500 --json
+    body_acc_wk --fix k=50000 --max-inertance 300kg --road-class C --speed 25
     """
     from ..errors import ParameterError
     from ..network_design import optimize_network
     from ..networks import enumerate_networks
 
-    car = _car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
-    lim = _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, tyre_stiffness)
+    car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
+    road = _road(road_class, speed)
+    cap = _inertance(max_inertance)
+    lim = _limits(
+        max_tyre_deflection,
+        max_suspension_deflection,
+        max_tyre_load,
+        car["tyre_stiffness"],
+        limit,
+    )
     if all_ == (network is not None):
         raise ParameterError("network", network, "a network text, or --all (not both)")
+    fix = list(fix or [])
+    held = None
+    named = {p.split("=")[0].strip() for item in fix + list(bound or []) for p in item.split(",")}
+    if car.spring is not None and "k" not in named:
+        fix.append(f"k={car.spring!r}")
+        held = car.spring
     if all_:
         from ..network_design import check_settings
 
         # every setting checked before the budget's note, so no note precedes an error
-        check_settings(objective, weights=weight, starts=starts, seed=seed)
+        check_settings(
+            objective, weights=weight, starts=starts, seed=seed, max_inertance=cap, road=road
+        )
         _check_budget(dampers, inerters, springs, max_layouts, "optimise")
     nets = (
         [n.text for n in enumerate_networks(dampers, inerters, springs, max_layouts=max_layouts)]
@@ -258,23 +460,62 @@ def optimize_command(
         optimize_network(
             n,
             objective,
-            fixed=fix,
+            fixed=fix or None,
             bounds=[b for b in (bound or []) if b.split("=")[0] in _names(n)] if all_ else bound,
             constraints=lim,
             weights=weight,
             starts=starts,
             seed=seed,
+            max_inertance=cap,
+            road=road,
             **car,
         )
         for n in nets
     ]
+    if plot is not None:
+        from ..network_design import network_figure
+
+        best = min(results, key=lambda r: r.objective)
+        shown = best.simplified.get("parameters") if best.simplified else None
+        text = best.simplified["network"] if shown else best.network
+        params = shown or best.parameters
+        ref = optimize_network(
+            "k | c",
+            objective,
+            fixed={k: v for k, v in params.items() if k == "k"},
+            constraints=lim,
+            weights=weight,
+            seed=seed,
+            compare=False,
+            **car,
+        )
+        atomic_savefig(
+            network_figure(
+                text,
+                params,
+                reference=ref.parameters,
+                road=road,
+                title=f"{text}: optimum of {objective}",
+                **car,
+            ),
+            plot,
+        )
     if json_out:
-        emit_json([_short(r) for r in results] if all_ else _short(results[0]))
+        out = [_short(r) for r in results] if all_ else _short(results[0])
+        extra = {"car": dict(car), "car_source": car.source}
+        if held is not None:
+            extra["k_held_at_vehicle_spring"] = held
+        if all_:
+            out = {"results": out, **extra}
+        else:
+            out.update(extra)
+        emit_json(out)
         return
+    unit = results[0].unit
     if all_:
         rows = [
             (
-                r.network,
+                r.network + (f" -> {r.simplified['network']}" if r.simplified else ""),
                 _fmt(r.objective),
                 "-"
                 if r.improvement_vs.get("k | c") is None
@@ -284,22 +525,56 @@ def optimize_command(
             for r in sorted(results, key=lambda r: r.objective)
         ]
         _table(
-            f"{objective}: H2-optimal networks",
-            ["network", objective, "% vs k | c", "at bound"],
+            f"{objective} [{unit}]: optimal networks (-> the simpler layout an optimum on a "
+            "bound stands for)",
+            ["network", f"{objective} [{unit}]", "% vs k | c", "at bound"],
             rows,
         )
+        typer.echo(car.describe())
+        if held is not None:
+            typer.echo(f"main spring k held at the vehicle's {held:g} N/m")
+        for line in sorted({v for r in results for v in r.infinite.values()}):
+            if line.startswith(objective + " "):
+                typer.echo(line)
         return
     r = results[0]
-    rows = [("objective " + objective, _fmt(r.objective))]
+    rows = [(f"objective {objective} [{unit}]", _fmt(r.objective))]
     rows += [
         (f"{k} [{r.units[k]}]" if r.units.get(k) else k, f"{v:.6g}")
         for k, v in r.parameters.items()
     ]
-    rows += [(f"H2 {k}", _fmt(v)) for k, v in r.norms.items()]
+    from ..network_design import UNITS, unit_of
+
+    rows += [(f"H2 {k} [{UNITS[k]}]", _fmt(v)) for k, v in r.norms.items()]
+    used = {objective, *lim, *(w.split("=")[0].strip() for i in weight or [] for w in i.split(","))}
+    rows += [(f"{k} [{unit_of(k)}]", _fmt(v)) for k, v in r.peaks.items() if k in used]
+    for k, v in r.rms.items():
+        rows.append((f"RMS {k} [{UNITS[k.split(' ')[0]]}]", f"{v:.6g}"))
     for k, v in r.improvement_vs.items():
         rows.append((f"improvement vs {k} [%]", "n/a" if v is None else f"{v:.3f}"))
     rows += [("converged", str(r.converged)), ("at bound", ", ".join(r.at_bound) or "-")]
-    print_table(f"H2-optimal {r.network}", rows)
+    where = f"; RMS on ISO 8608 class {road[0]} at {road[1]:g} m/s" if road else ""
+    print_table(f"optimal {r.network}: H2 per unit white road velocity, peaks per m/s{where}", rows)
+    typer.echo(car.describe())
+    if held is not None:
+        typer.echo(f"main spring k held at the vehicle's {held:g} N/m")
+    if r.max_inertance is not None:
+        typer.echo(f"every inerter limited to {r.max_inertance:g} kg")
+    if r.simplified:
+        s = r.simplified
+        typer.echo(
+            f"simplifies to {s['network']}: "
+            + "; ".join(s["why"])
+            + (
+                f"; optimised as such: {objective} = {_fmt(s['objective'])} {unit}"
+                if s.get("objective") is not None
+                else ""
+            )
+        )
+    for line in r.infinite.values():
+        typer.echo(line)
+    if r.reason:
+        typer.echo(f"note: {r.reason}")
 
 
 def _table(title: str, columns: list[str], rows: list[tuple]) -> None:
@@ -336,7 +611,17 @@ def _short(r) -> dict:
         "converged": d["converged"],
         "at_bound": d["at_bound"],
     }
-    for k in ("constraints", "reason"):
+    out["unit"] = d["unit"]
+    for k in (
+        "peaks",
+        "infinite",
+        "road",
+        "rms",
+        "simplified",
+        "max_inertance",
+        "constraints",
+        "reason",
+    ):
         if k in d:
             out[k] = d[k]
     return out
@@ -355,10 +640,12 @@ def pareto_command(
     bound: Annotated[
         list[str] | None, typer.Option(help="Search range name=low:high (repeatable).")
     ] = None,
-    sprung_mass: SprungMass = 370.0,
-    unsprung_mass: UnsprungMass = 25.0,
-    tyre_stiffness: TyreStiffness = 120_000.0,
-    tyre_damping: TyreDamping = 1300.0,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
     csv: Annotated[Path | None, typer.Option(help="Write the fronts as CSV.")] = None,
     save: Annotated[Path | None, typer.Option(help="Write the Dataset (.nc).")] = None,
     plot: Annotated[Path | None, typer.Option(help="Figure of the fronts (.png/.pdf).")] = None,
@@ -376,8 +663,12 @@ def pareto_command(
     if points < 2 or points > 60:
         raise ParameterError("points", points, "an integer 2-60")
     objs = [o.strip() for o in objectives.split(",") if o.strip()]
-    car = _car(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping)
-    ds = pareto_front(network, objs, points=points, fixed=fix, bounds=bound, **car)
+    car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
+    fix = list(fix or [])
+    named = {p.split("=")[0].strip() for item in fix + list(bound or []) for p in item.split(",")}
+    if car.spring is not None and "k" not in named:
+        fix.append(f"k={car.spring!r}")
+    ds = pareto_front(network, objs, points=points, fixed=fix or None, bounds=bound, **car)
     df = ds.to_dataframe().reset_index().dropna(subset=objs)
     if csv is not None:
         atomic_write_text(csv, df.to_csv(index=False, float_format="%.10g"))
@@ -411,6 +702,7 @@ def pareto_command(
             )
         )
     print_table(f"Pareto fronts {', '.join(objs)}", rows)
+    typer.echo(car.describe())
 
 
 @network_app.command("truth")
@@ -430,7 +722,13 @@ def truth_command(
         list[str] | None,
         typer.Option("--input", help="Input (repeatable): drop, bump, sine-1.5, sine-5, iso-c."),
     ] = None,
-    stiffness: Annotated[float, typer.Option(help="Static stiffness k [N/m].")] = 90_000.0,
+    stiffness_given: Annotated[
+        float | None,
+        typer.Option(
+            "--stiffness",
+            help="Static stiffness k [N/m] (default: the --vehicle strut's, else 90000).",
+        ),
+    ] = None,
     horizon: Annotated[float, typer.Option(help="Simulated time [s].")] = 10.0,
     seed: Annotated[int, seed_option("ISO 8608 road seed [-].")] = 1,
     out: Annotated[
@@ -454,6 +752,12 @@ def truth_command(
         list[str] | None,
         typer.Option("--param", "-p", help="With --network: element values name=value,..."),
     ] = None,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
 ) -> None:
     """Nonlinear truth of the H2-optimal layouts: the ideal inerter replaced by an adaptive
     flywheel, a real device or a fluid inerter, simulated on drop, bump, sine and ISO 8608
@@ -464,11 +768,16 @@ def truth_command(
     """
     from ..errors import Interrupted
     from ..network_truth import INPUTS, LAYOUTS, network_truth, variants
+
+    stiffness = 90_000.0 if stiffness_given is None else stiffness_given
     from ..studies import SweepInterrupted
     from ..studies.backends import check_workers
 
     if workers is not None:
         check_workers("--workers", workers)
+    car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
+    if car.spring is not None and stiffness_given is None:
+        stiffness = car.spring
     try:
         from ..errors import ParameterError
 
@@ -487,6 +796,7 @@ def truth_command(
             backend=backend,
             workers=workers,
             progress=not quiet and not json_out,
+            car={k: car[k] for k in car},
         )
     except SweepInterrupted as exc:
         raise Interrupted(str(exc)) from None
@@ -499,7 +809,7 @@ def truth_command(
 
         atomic_savefig(truth_figure(res), plot)
     if json_out:
-        emit_json(res.to_dict())
+        emit_json({**res.to_dict(), "car_source": car.source, "stiffness": stiffness})
         return
     inputs = [str(i) for i in g.input.values]
     for lay in g.layout.values:
@@ -512,6 +822,7 @@ def truth_command(
             ["variant", *inputs],
             rows,
         )
+    typer.echo(car.describe() + f"; static stiffness k {stiffness:g} N/m")
     for line in res.findings():
         typer.echo(line)
 

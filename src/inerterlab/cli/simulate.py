@@ -73,7 +73,9 @@ def _simulate_network(
     from ..systems import QUARTER_CAR_PRESETS, quarter_car
 
     kw = preset if network in QUARTER_CAR_PRESETS else {}
-    sys_ = quarter_car(network, params, car=car, **kw)
+    if network not in QUARTER_CAR_PRESETS:  # a network gives its own spring and damper
+        car = {k: v for k, v in car.items() if k not in ("stiffness", "damping")}
+    sys_ = quarter_car(network, params, **car, **kw)
     res = sys_.simulate(ex, horizon, rtol=rtol, method=method)
     m = res.metrics
     if save is not None:
@@ -210,7 +212,7 @@ def simulate_command(
         raise _PE("param", param[0], "no value without --network")
     from ..excitation import RoadTooShortWarning, bump, drop, iso8608, read_road_csv, sine
     from ..simulate import SimulationOptions, simulate
-    from ..suspension import quarter_car
+    from ..systems import quarter_car
 
     if network is None:
         car = quarter_car(
@@ -264,7 +266,7 @@ def simulate_command(
         atomic_savefig(res.plot(), plot)
     if json_out:
         out = {k: m[k] for k in _JSON_KEYS}
-        out.update(suspension=suspension, input=ex.name, horizon=horizon, law=car.effective_law)
+        out.update(suspension=suspension, input=ex.name, horizon=horizon, law=res.model.effective_law)
         if res.not_finite:
             out["not_finite"] = dict(res.not_finite)
         out["body_velocity_jumps"] = [{"time": t, "jump": dv} for t, dv in res.body_velocity_jumps]
@@ -325,7 +327,7 @@ def h2_command(
     """
     from ..errors import ParameterError
     from ..metrics import h2_norms
-    from ..suspension import quarter_car
+    from ..systems import quarter_car
 
     if network is not None:
         _h2_network(

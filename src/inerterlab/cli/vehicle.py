@@ -144,39 +144,127 @@ def modes_command(
     model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
-    """Natural frequencies [Hz]: undamped (body and seat on rigid tyres, whole car) and
-    the damped modes with their damping ratios.
+    """Modes of the linear car: undamped natural frequencies [Hz] (body and seat on
+    rigid tyres, whole car), and from the eigenvalues lambda of the state space every
+    damped mode: its damped frequency Im(lambda)/2pi [Hz], damping ratio
+    -Re(lambda)/|lambda| [-] and undamped natural frequency |lambda|/2pi [Hz]; and the
+    real (overdamped) modes with their decay rate -lambda [1/s] and time constant [s].
 
     A car with network struts that have internal nodes has no undamped mass-spring
-    model: only its damped modes (eigenvalues of the state space) are printed.
+    model: only its modes from the state space are printed.
 
     Example: inerterlab vehicle modes --vehicle car.toml
     """
+    from ..vehicles.spectral import modes
+    from ..vehicles.statics import linearised
+
     params, veh = _load(vehicle, model)
+    veh, lin = linearised(veh)  # gas springs, bump stops: their stiffness at rest
+    what = "the car linearised about its static equilibrium" if lin else "the linear model"
     plain = not any(c.law.internal_states() for c in veh.connections)
     rigid = veh.natural_frequencies(rigid_tyres=True).tolist() if plain else None
     whole = veh.natural_frequencies(rigid_tyres=False).tolist() if plain else None
-    fn, zeta = veh.damped_modes()
+    osc, real = modes(veh)
     if json_out:
         emit_json(
             {
                 "model": veh.kind,
+                "linearised_about_equilibrium": lin,
                 "rigid_tyres_hz": rigid,
                 "whole_car_hz": whole,
-                "damped_modes": [
-                    {"frequency_hz": float(f), "damping_ratio": float(z)}
-                    for f, z in zip(fn, zeta, strict=True)
-                ],
+                "damped_modes": [m.to_dict() for m in osc],
+                "real_modes": [m.to_dict() for m in real],
             }
         )
         return
     if plain:
-        print("rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
-        print("whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
-    print(
-        "damped modes [Hz (damping ratio)]: "
-        + ", ".join(f"{f:.3f} ({z:.2f})" for f, z in zip(fn, zeta, strict=True))
-    )
+        if lin:
+            print("gas springs and bump stops at their stiffness at rest (linearised):")
+        print("undamped, rigid tyres [Hz]: " + ", ".join(f"{f:.3f}" for f in rigid))
+        print("undamped, whole car   [Hz]: " + ", ".join(f"{f:.3f}" for f in whole))
+    print(f"{veh.kind} car, modes of {what} (eigenvalues lambda of the state space):")
+    print(f"  {'mode':>4}  {'Im(lambda)/2pi [Hz]':>19}  {'damping ratio [-]':>17}  {'|lambda|/2pi [Hz]':>17}")
+    for i, m in enumerate(osc):
+        print(f"  {i + 1:>4}  {m.damped_hz:>19.3f}  {m.damping_ratio:>17.3f}  {m.natural_hz:>17.3f}")
+    if real:
+        print("real (overdamped) modes:")
+        print(f"  {'mode':>4}  {'decay rate -lambda [1/s]':>24}  {'time constant [s]':>17}")
+        for i, m in enumerate(real):
+            print(f"  {i + 1:>4}  {m.decay_rate:>24.4g}  {m.time_constant:>17.4g}")
+    else:
+        print("real (overdamped) modes: none")
+
+
+def frequency_response_command(
+    vehicle: Annotated[Path | None, _VEHICLE] = None,
+    model: Annotated[str, typer.Option(help="file, half or full (see spectral).")] = "file",
+    amplitude: Annotated[float, typer.Option(help="Road amplitude A [m], r = A sin(2 pi f t).")] = 0.01,
+    tracks: Annotated[
+        str, typer.Option(help="Full car: right track in-phase (heave) or anti-phase (roll).")
+    ] = "in-phase",
+    axles: Annotated[
+        str | None,
+        typer.Option(help="Rig without --speed: rear axle in-phase (heave) or anti-phase (pitch)."),
+    ] = None,
+    speed: Annotated[
+        float | None,
+        typer.Option(help="Drive at V [m/s]: the rear wheels a wheelbase behind (no --axles)."),
+    ] = None,
+    fmin: Annotated[float, typer.Option(help="Lowest frequency [Hz].")] = 0.5,
+    fmax: Annotated[float, typer.Option(help="Highest frequency [Hz].")] = 25.0,
+    points: Annotated[int, typer.Option(help="Frequencies, log spaced [-].")] = 200,
+    json_out: Annotated[bool, _JSON] = False,
+    csv: Annotated[Path | None, typer.Option(help="Write one row per frequency to this CSV.")] = None,
+    plot: Annotated[Path | None, typer.Option(help="Write the amplitudes to this figure.")] = None,
+) -> None:
+    """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
+    linear car on a sine road of amplitude A, and per unit road amplitude, over a log
+    grid of frequencies (from the state space, steady state).
+
+    Front and rear move together on a rig (--axles in-phase, default), against each other
+    (--axles anti-phase), or as on the road at --speed V (the rear wheels see the road
+    wheelbase/V later). A corner with an adaptive inerter or a nonlinear device is
+    refused (use vehicle simulate). Prints each response's peak; --csv for every row.
+
+    Example: inerterlab vehicle frequency-response --vehicle car.toml --tracks anti-phase --csv fr.csv
+    """
+    import numpy as np
+
+    from ..errors import ParameterError, check_positive
+    from ..vehicles.frequency import UNITS, frequency_response
+    from ._common import atomic_savefig, atomic_write_text
+
+    params, veh = _load(vehicle, model)
+    lo = check_positive("fmin", fmin, "Hz")
+    hi = check_positive("fmax", fmax, "Hz")
+    if not hi > lo:
+        raise ParameterError("fmax", fmax, f"a frequency above fmin = {fmin:g} Hz")
+    if not 2 <= points <= MAX_POINTS:
+        raise ParameterError("points", points, f"an integer in [2, {MAX_POINTS}]")
+    fr = frequency_response(
+        veh, np.geomspace(lo, hi, points), amplitude=amplitude, tracks=tracks, axles=axles,
+        speed=speed,
+    )  # fmt: skip
+    out = fr.to_dict()
+    if csv is not None:
+        atomic_write_text(csv, fr.to_frame().to_csv(index=False), option="--csv")
+        out["csv"] = str(csv)
+    if plot is not None:
+        fig = fr.plot()
+        atomic_savefig(fig, plot)
+        out["plot"] = str(plot)
+    if json_out:
+        emit_json(out)
+        return
+    rows = []
+    for k, (f, a) in fr.peaks().items():
+        unit = out["amplitude_units"][k]
+        rows.append((f"peak {k} amplitude [{unit}]", f"{a:.4g} at {f:.3f} Hz"))
+        rows.append((f"  per road amplitude [{UNITS[k]}]", f"{a / fr.amplitude:.4g}"))
+    _table(f"frequency response ({fr.model}): {fr.input_label()}", rows)
+    for key in ("csv", "plot"):
+        if key in out:
+            print(f"wrote {out[key]}")
 
 
 def road_command(
@@ -700,6 +788,7 @@ def register(app: typer.Typer) -> None:
     group.command("spectral")(spectral_command)
     group.command("simulate")(simulate_command)
     group.command("modes")(modes_command)
+    group.command("frequency-response")(frequency_response_command)
     group.command("monte-carlo")(monte_carlo_command)
     group.command("optimize")(optimize_command)
     group.command("road")(road_command)

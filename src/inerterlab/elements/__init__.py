@@ -5,7 +5,7 @@ in a network text, ``k2``, ``afw_front``) to the element class, which declares i
 its parameters with units (and the optimiser's default search ranges), its law and its
 linearisation about rest. The network grammar (:mod:`inerterlab.networks`) reads names
 through :func:`element_class` only. A primitive element (spring, damper, inerter, friction, adaptive
-flywheel, backlash) has a compiled force law the system right-hand side calls; a composite element
+flywheel, backlash, gas spring, bump stop) has a compiled force law the system right-hand side calls; a composite element
 (hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
 Adding an element is one module and one line below (docs/decisions.md, "Model core").
 """
@@ -19,9 +19,11 @@ from ..errors import NetworkError
 from ._base import UNIT_QUANTITY, ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
 from .backlash import Backlash
+from .bump_stop import BumpStop
 from .damper import Damper
 from .fluid_inerter import FluidInerter
 from .friction import Friction
+from .gas_spring import GasSpring
 from .hydraulic import HydraulicElement
 from .inerter import Inerter
 from .rectifier import RectifierElement
@@ -47,6 +49,8 @@ __all__ = [
     "RectifierElement",
     "FluidInerter",
     "Backlash",
+    "GasSpring",
+    "BumpStop",
 ]
 
 ELEMENTS: dict[str, type[ElementBase]] = {
@@ -60,6 +64,8 @@ ELEMENTS: dict[str, type[ElementBase]] = {
     "rect": RectifierElement,
     "fluid": FluidInerter,
     "gap": Backlash,
+    "gas": GasSpring,
+    "bump": BumpStop,
 }
 
 

@@ -46,6 +46,9 @@ UNIT_QUANTITY = {
     "m/s": "velocity",
     "N": "force",
     "rad/m": "transmission ratio",
+    "Pa": "pressure",
+    "m^3": "volume",
+    "N s/m^2": "viscosity",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
 
@@ -117,6 +120,10 @@ class ElementBase:
     EXAMPLE: ClassVar[dict | None] = None
     #: kernel code, or None for a composite
     code: ClassVar[int | None] = None
+    #: parameters that give another one's quantity another way, {name: the one it
+    #: stands for} (a device's ``inertance`` for its ``ratio``): give either, or both
+    #: consistent
+    ALTERNATIVES: ClassVar[dict[str, str]] = {}
 
     def __post_init__(self) -> None:
         for p in self.PARAMETERS:
@@ -204,6 +211,15 @@ class ElementBase:
         if exp is None:
             return False
         return all(el.is_linear for el in exp[1].values())
+
+    def linear_regime(self) -> tuple[ElementBase, str, float] | None:
+        """Where a nonlinear primitive's force law is linear over a whole region of its
+        motion: (the linear primitive it equals there, the argument ``"velocity"`` or
+        ``"displacement"`` (relative, top minus bottom), threshold a > 0), the region
+        being |argument| >= a, bounded by the element's switching function. None where
+        it has no such region. The integrator takes exact matrix-exponential steps while
+        every nonlinear element of a system sits in its region."""
+        return None
 
     def rest_network(self) -> tuple[str, dict[str, float]] | None:
         """The linearisation about rest: (network text of springs ``k``, dampers ``c`` and

@@ -18,6 +18,7 @@ Force laws (docs/model.md §2), v the relative velocity, w = r|v|:
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 
 import numba as nb
@@ -35,6 +36,7 @@ __all__ = [
     "inertia_law",
     "flywheel_inertance",
     "flywheel_switch",
+    "flywheel_inertance_side",
     "slider_derivative",
 ]
 
@@ -76,6 +78,24 @@ def flywheel_inertance(tab, o, v, l, ld):
     if tab[o] == 0.0:
         return r * r * i0, 0.0
     return r * r * (i0 + w * i1), 0.0
+
+
+@nb.njit(cache=True, error_model="numpy", inline="always")
+def flywheel_inertance_side(tab, o, v, side):
+    """m_e [kg] of the thesis or momentum law on one side of the saturation kink,
+    continued smoothly past it: ``side`` > 0 the sliders on their stops (r^2 I_max),
+    < 0 the law below saturation, at any speed. An integration step that crosses the
+    kink, taken on the law of the side it starts on, has an honest error estimate and a
+    continuous extension on which the crossing is found."""
+    r = tab[o + 1]
+    w = abs(r * v)
+    i0, i1, _ = inertia_law(
+        w, tab[o + 2], tab[o + 3], tab[o + 4], tab[o + 5], tab[o + 6], tab[o + 7],
+        -math.inf if side > 0.0 else math.inf, int(tab[o + 9]),
+    )  # fmt: skip
+    if tab[o] == 0.0:
+        return r * r * i0
+    return r * r * (i0 + w * i1)
 
 
 @nb.njit(cache=True, inline="always")
@@ -156,6 +176,19 @@ class AdaptiveFlywheelInerter(ElementBase):
         """An ideal inerter of the inertance at rest r^2 I_min (every force law: the
         speed-dependent part and the slider force are of second order about rest)."""
         return "b", {"b": self.inertance_min}
+
+    def linear_regime(self):
+        """Above the saturation speed (r |v| >= w_sat) the sliders rest on their stops:
+        under the thesis and momentum laws the device is an ideal inerter of r^2 I_max
+        there (the law's dI/dw is 0). None for ``slider-dynamics`` (smooth in its own
+        states, no such region)."""
+        if self.law == "slider-dynamics":
+            return None
+        from .inerter import Inerter
+
+        row = self.row()
+        me = row[1] ** 2 * (row[2] + row[3] * row[7] ** int(row[9]))
+        return Inerter(inertance=float(me)), "velocity", float(row[8] / abs(row[1]))
 
     def __post_init__(self) -> None:
         if isinstance(self.flywheel, AdaptiveFlywheel):

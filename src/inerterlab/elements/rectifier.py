@@ -23,17 +23,17 @@ _D = RectifierDevice()
 @dataclass(frozen=True, kw_only=True)
 class RectifierElement(HydraulicElement):
     """Rectifier device: the parameters of :class:`HydraulicElement` with (5.14) values
-    (a flywheel is required)."""
+    (a flywheel is required; ``ratio`` or ``inertance`` sizes it)."""
 
     stiffness: float = _D.stiffness
     damping: float = _D.damping
     friction: float = _D.friction
     friction_velocity: float = _D.friction_velocity
     flywheel: str = _D.flywheel.name
-    ratio: float = _D.transmission.ratio
     law: str = _D.law
 
     prefix = "rect"
+    DEFAULT_RATIO = _D.transmission.ratio
     EXAMPLE = {}
     description = "rectifier device"
     PARAMETERS = tuple(

@@ -16,6 +16,7 @@ from ._base import ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter
 from .damper import Damper
 from .friction import Friction
+from .hydraulic import resolve_inertance
 from .spring import Spring
 
 __all__ = ["ScrewElement"]
@@ -26,7 +27,9 @@ _D = ScrewDevice()
 @dataclass(frozen=True, kw_only=True)
 class ScrewElement(ElementBase):
     """Ball-screw device: ``stiffness`` k_i, ``damping`` c_i, ``friction`` f_i,
-    ``friction_velocity``, ``flywheel``, ``changing_ratio``, ``ratio``, ``law``."""
+    ``friction_velocity``, ``flywheel``, ``changing_ratio``, ``ratio`` r [rad/m] or
+    ``inertance`` r^2 I_min [kg] (either; after construction both hold the resolved
+    values), ``law``."""
 
     stiffness: float = _D.stiffness
     damping: float = _D.damping
@@ -34,10 +37,13 @@ class ScrewElement(ElementBase):
     friction_velocity: float = _D.friction_velocity
     flywheel: str = _D.flywheel.name
     changing_ratio: float | None = None
-    ratio: float = _D.transmission.ratio
+    ratio: float | None = None
     law: str = _D.law
+    inertance: float | None = None
 
     prefix = "screw"
+    ALTERNATIVES = {"inertance": "ratio"}
+    DEFAULT_RATIO = _D.transmission.ratio
     EXAMPLE = {}
     description = "ball-screw device"
     PARAMETERS = (
@@ -47,9 +53,18 @@ class ScrewElement(ElementBase):
         Param("friction_velocity", "m/s"),
         Param("flywheel", choices=FLYWHEEL_PRESETS),
         Param("changing_ratio", "", 0.0, 1.0, optional=True),
-        Param("ratio", "rad/m"),
+        Param("ratio", "rad/m", optional=True),
         Param("law", choices=FORCE_LAWS),
+        Param("inertance", "kg", optional=True),
     )
+
+    def __post_init__(self) -> None:
+        super().__post_init__()
+        resolve_inertance(self, self.DEFAULT_RATIO)
+
+    def parameters(self) -> dict:
+        """The parameter values by name; the size as the ``ratio`` (``inertance`` None)."""
+        return {**super().parameters(), "inertance": None}
 
     def expansion(self):
         parts = {

@@ -1,4 +1,10 @@
-"""Linear spring: F = k (x_top - x_bottom); with free play (backlash), see backlash.py."""
+"""Linear spring: F = k (x_top - x_bottom); with free play (backlash), see backlash.py.
+
+The spring kernel row is shared by every elastic element: [0] stiffness (at rest, or
+about the operating point), [1] half play (backlash) or clearance (bump stop), [2] law
+(0 linear or backlash, 1 gas spring, 2 bump stop), and for laws 1 and 2 [3] the
+operating point y0 [m] and [4] the force there [N] (the force is F(y0 + x) - F(y0)),
+then the law's own numbers."""
 
 from __future__ import annotations
 
@@ -8,6 +14,8 @@ from dataclasses import dataclass
 import numba as nb
 
 from ._base import SPRING, ElementBase, Param
+from .bump_stop import BUMP_LAW, bump_force
+from .gas_spring import GAS_LAW, gas_force
 
 __all__ = ["Spring", "spring_force", "spring_switch"]
 
@@ -16,9 +24,14 @@ __all__ = ["Spring", "spring_force", "spring_switch"]
 def spring_force(tab, o, x):
     """F [N] at relative displacement x [m]: k x, or with a half play g = row[1] > 0
     (:class:`~inerterlab.elements.backlash.Backlash`) k (x - g) beyond +g, k (x + g)
-    beyond -g and 0 between."""
+    beyond -g and 0 between; the gas spring's and the bump stop's laws by row[2]."""
     k = tab[o]
     g = tab[o + 1]
+    law = tab[o + 2]
+    if law == GAS_LAW:
+        return gas_force(tab, o, x + tab[o + 3]) - tab[o + 4]
+    if law == BUMP_LAW:
+        return bump_force(tab, o, x + tab[o + 3]) - tab[o + 4]
     if g == 0.0:
         return k * x
     if x > g:
@@ -31,10 +44,14 @@ def spring_force(tab, o, x):
 @nb.njit(cache=True, inline="always")
 def spring_switch(tab, o, x):
     """Switching function of the force law at relative displacement x [m]: |x| - g,
-    changing sign where a spring with free play makes or breaks contact; 1 (never)
-    without play."""
+    changing sign where a spring with free play makes or breaks contact (a bump stop:
+    x + y0 + s, at its contact); 1 (never) without play or clearance."""
     g = tab[o + 1]
-    return abs(x) - g if g > 0.0 else 1.0
+    if g <= 0.0:
+        return 1.0
+    if tab[o + 2] == BUMP_LAW:
+        return x + tab[o + 3] + g
+    return abs(x) - g
 
 
 @dataclass(frozen=True, kw_only=True)

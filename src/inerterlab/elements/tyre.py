@@ -5,7 +5,8 @@ together) is F = k_t x + c_t v, x = x_wheel - x_road the tyre's extension from s
 equilibrium and v its rate. The road pushes the wheel up with the contact force
 F_0 - F, F_0 the static load; a tyre cannot pull, so with lift-off F is capped at F_0
 (contact force max(0, F_0 - k_t x - c_t v)). The kink is an event of the integration
-(switching function F_0 - k_t x - c_t v). Without a static load (``static_load`` None)
+(switching function F_0 - k_t x - c_t v, positive in contact); a step takes the law of
+the side it starts on, continued past the kink, and the step is cut at the crossing. Without a static load (``static_load`` None)
 the tyre always presses: a linear spring and damper.
 
 The tyre sits between a body with mass (the wheel) and the road only: the vehicle
@@ -25,10 +26,16 @@ __all__ = ["Tyre", "tyre_force", "tyre_switch"]
 
 
 @nb.njit(cache=True, inline="always")
-def tyre_force(tab, o, x, v):
+def tyre_force(tab, o, x, v, side):
     """F [N] at extension x [m] and rate v [m/s]: min(F_0, k_t x + c_t v) (F_0 = tab[o+2],
-    inf without lift-off)."""
+    inf without lift-off). A held ``side`` (the integrator's, see
+    :func:`inerterlab.systems._kernel.evaluate`) takes one law continued past the kink:
+    > 0 in contact (k_t x + c_t v), < 0 lifted off (F_0); 0 whichever holds."""
     f = tab[o] * x + tab[o + 1] * v
+    if side > 0.0:
+        return f
+    if side < 0.0:
+        return tab[o + 2]
     return f if f < tab[o + 2] else tab[o + 2]
 
 

@@ -1,7 +1,9 @@
 """Steady-state frequency response: brute force, harmonic balance (AFT), continuation.
 
-Second-order systems (the chapter-7 system, Duffing, user residuals) and first-order
-state equations (the quarter car, model-core systems). See docs/guide/frequency.md.
+Second-order systems (the chapter-7 system and Duffing on their specialised kernel,
+user residuals in numpy) and state equations (the quarter car, model-core systems, and
+the built-in systems' ``first_order()`` forms) on the engine of
+:mod:`inerterlab.frequency.first_order`. See docs/guide/frequency.md.
 Thesis ch. 7; docs/model.md §7.
 """
 
@@ -11,10 +13,14 @@ from .brute import steady_state as steady_state
 from .continuation import ContinuationPath as ContinuationPath
 from .continuation import continue_branch as continue_branch
 from .first_order import RHS_SIGNATURE as RHS_SIGNATURE
+from .first_order import TERMS_SIGNATURE as TERMS_SIGNATURE
+from .first_order import FirstOrderSystem as FirstOrderSystem
 from .harmonic import FourierBasis as FourierBasis
 from .harmonic import fourier_basis as fourier_basis
 from .harmonic import hill_exponents as hill_exponents
 from .harmonic import make_engine as make_engine
+from .quarter_car import from_core_system as from_core_system
+from .quarter_car import quarter_car_system as quarter_car_system
 from .response import METHODS as METHODS
 from .response import FrequencyResponse as FrequencyResponse
 from .response import frequency_grid as frequency_grid
@@ -35,6 +41,7 @@ __all__ = [
     "InerterSuspension",
     "METHODS",
     "RHS_SIGNATURE",
+    "TERMS_SIGNATURE",
     "SteadyState",
     "UserSystem",
     "chapter7_system",
@@ -51,12 +58,3 @@ __all__ = [
     "steady_state",
     "traditional_suspension",
 ]
-
-
-def __getattr__(name):
-    # the quarter-car adapter imports the suspension kernels: loaded on first use only
-    if name in ("FirstOrderSystem", "from_core_system", "quarter_car_system"):
-        from . import quarter_car
-
-        return getattr(quarter_car, name)
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")

@@ -1,10 +1,14 @@
 """Numba kernels of the harmonic-balance engine for the built-in one-degree-of-freedom systems.
 
+Kept while it is faster than the one engine of :mod:`inerterlab.frequency.first_order`
+on these systems (docs/decisions.md); their physics, :func:`residual_partials`, is the one
+the implicit form ``system.first_order()`` evaluates on that engine, whose RK4 period
+integrator is also their brute force.
+
 Every built-in system is a scalar residual r(tau, x, x', x'') of the phase
 tau = Omega t with its exact partial derivatives; the kernels here assemble the
-alternating frequency-time (AFT) residual and its analytic Jacobian, run Newton with
-a backtracking line search on the residual norm, and integrate the equation of motion
-with a fixed-step Runge-Kutta scheme for the brute-force reference.
+alternating frequency-time (AFT) residual and its analytic Jacobian and run Newton with
+a backtracking line search on the residual norm.
 
 System codes (``sys_id``) and their parameter vectors ``p``:
 
@@ -26,19 +30,20 @@ from numba import njit
 from ..elements.adaptive_flywheel import inertia_law
 
 
-@njit(cache=True)
-def evaluate(sys_id, p, tau, omega, x, xd, xdd):
-    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample."""
+@njit(cache=True, inline="always")
+def residual_partials(sys_id, p, tau, omega, x0, x0d, x0dd, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample.
+
+    ``sys_id`` 0: Duffing, p = [m, c, k, g, P]; 1: body over a moving base with an
+    adaptive-flywheel inerter, (7.1), p as :meth:`InerterSuspension.parameters`, with the
+    base's displacement, velocity and acceleration x0, x0', x0''.
+    """
     if sys_id == 0:
         m, c, k, g, force = p[0], p[1], p[2], p[3], p[4]
         r = m * xdd + c * xd + k * x + g * x * x * x - force * math.cos(tau)
         return r, k + 3.0 * g * x * x, c, m
     # sys_id == 1: body over a moving base with an adaptive-flywheel inerter, (7.1)
-    body, stiff, damp, base = p[0], p[1], p[2], p[3]
-    s = math.sin(tau)
-    x0 = base * s
-    x0d = base * omega * math.cos(tau)
-    x0dd = -base * omega * omega * s
+    body, stiff, damp = p[0], p[1], p[2]
     v = xd - x0d
     a = xdd - x0dd
     me = 0.0
@@ -58,6 +63,18 @@ def evaluate(sys_id, p, tau, omega, x, xd, xdd):
         dme = ratio * ratio * ratio * j1 * sg
     r = body * xdd + me * a + stiff * (x - x0) + damp * v
     return r, stiff, damp + dme * a, body + me
+
+
+@njit(cache=True, inline="always")
+def evaluate(sys_id, p, tau, omega, x, xd, xdd):
+    """Residual r and its partials dr/dx, dr/dx', dr/dx'' at one time sample (the base
+    of system 1 moves as B sin(tau), B = p[3])."""
+    base = p[3] if sys_id == 1 else 0.0
+    s = math.sin(tau)
+    return residual_partials(
+        sys_id, p, tau, omega, base * s, base * omega * math.cos(tau), -base * omega * omega * s,
+        x, xd, xdd,
+    )  # fmt: skip
 
 
 # ---------------------------------------------------------------------------------
@@ -238,146 +255,3 @@ def sweep(sys_id, p, omegas, X_start, X_cold, tau, E, E1, E2, F, rtol, max_iter,
             X_last = X
             w_last = w
     return out, ok, iters, res, code
-
-
-@njit(cache=True)
-def half_peak_to_peak(C):
-    """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
-
-    ``C`` holds for each point the samples' coefficients in the cos/sin basis
-    [a0, a1, b1, ..., aH, bH]; the extremes are found on a grid of 16 H + 32 phases
-    and refined by Newton on the trigonometric polynomial.
-    """
-    n_pts, m = C.shape
-    H = (m - 1) // 2
-    ng = 16 * H + 32
-    out = np.empty(n_pts)
-    cg = np.empty((ng, H))
-    sg = np.empty((ng, H))
-    for k in range(ng):
-        t = 2.0 * math.pi * k / ng
-        for h in range(H):
-            cg[k, h] = math.cos((h + 1) * t)
-            sg[k, h] = math.sin((h + 1) * t)
-    for i in range(n_pts):
-        best_hi = -1e300
-        best_lo = 1e300
-        k_hi = 0
-        k_lo = 0
-        for k in range(ng):
-            val = C[i, 0]
-            for h in range(H):
-                val += C[i, 2 * h + 1] * cg[k, h] + C[i, 2 * h + 2] * sg[k, h]
-            if val > best_hi:
-                best_hi = val
-                k_hi = k
-            if val < best_lo:
-                best_lo = val
-                k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
-            val = 0.0
-            for _ in range(6):
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(H):
-                    q = h + 1.0
-                    c = math.cos(q * t)
-                    s = math.sin(q * t)
-                    a = C[i, 2 * h + 1]
-                    b = C[i, 2 * h + 2]
-                    d1 += q * (-a * s + b * c)
-                    d2 += -q * q * (a * c + b * s)
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / ng:
-                    break
-                t += dt
-            val = C[i, 0]
-            for h in range(H):
-                q = h + 1.0
-                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
-            ext[e] = val
-        hi = max(ext[0], best_hi)
-        lo = min(ext[1], best_lo)
-        out[i] = 0.5 * (hi - lo)
-    return out
-
-
-# ---------------------------------------------------------------------------------
-# brute force: fixed-step classical Runge-Kutta, period by period
-
-
-@njit(cache=True)
-def _accel(sys_id, p, tau, omega, x, xd):
-    r0, _, _, m = evaluate(sys_id, p, tau, omega, x, xd, 0.0)
-    return -r0 / m
-
-
-@njit(cache=True)
-def integrate_period(sys_id, p, omega, y0, n_steps, record):
-    """Integrate one forcing period with n_steps RK4 steps; returns end state and x(t)."""
-    h = 2.0 * math.pi / omega / n_steps
-    x = y0[0]
-    v = y0[1]
-    xs = np.empty(n_steps + 1 if record else 1)
-    xs[0] = x
-    for i in range(n_steps):
-        t = i * h
-        k1x = v
-        k1v = _accel(sys_id, p, omega * t, omega, x, v)
-        k2x = v + 0.5 * h * k1v
-        k2v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k1x, k2x)
-        k3x = v + 0.5 * h * k2v
-        k3v = _accel(sys_id, p, omega * (t + 0.5 * h), omega, x + 0.5 * h * k2x, k3x)
-        k4x = v + h * k3v
-        k4v = _accel(sys_id, p, omega * (t + h), omega, x + h * k3x, k4x)
-        x = x + h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x)
-        v = v + h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v)
-        if record:
-            xs[i + 1] = x
-    y = np.empty(2)
-    y[0] = x
-    y[1] = v
-    return y, xs
-
-
-@njit(cache=True)
-def brute_point(sys_id, p, omega, y0, n_steps, rtol, max_periods, keep_periods, scale):
-    """Integrate from y0 until the periodic orbit settles; half peak-to-peak of x.
-
-    After each period the change of the state at the period start (velocity scaled
-    by 1/omega), relative to max(max|x|, scale), is d_k. The contraction per period
-    rho = d_k / d_(k-1) gives the remaining distance to the periodic orbit,
-    d_k rho / (1 - rho); the orbit is settled when that estimate and d_k are below
-    ``rtol`` for ``keep_periods`` consecutive periods, and the amplitude is taken
-    over those periods. Returns (amplitude, settled, periods, y_end, distance).
-    """
-    y = y0.copy()
-    calm = 0
-    prev = np.inf
-    dist = np.inf
-    hi = -1e300
-    lo = 1e300
-    for k in range(max_periods):
-        yn, xs = integrate_period(sys_id, p, omega, y, n_steps, True)
-        size = max(np.max(np.abs(xs)), scale)
-        change = max(abs(yn[0] - y[0]), abs(yn[1] - y[1]) / omega) / size
-        rho = change / prev if prev > 0.0 else 0.0
-        prev = change
-        dist = change * rho / (1.0 - rho) if rho < 0.999 else np.inf
-        dist = max(dist, change)
-        y = yn
-        if dist < rtol:
-            calm += 1
-        else:
-            calm = 0
-            hi = -1e300
-            lo = 1e300
-        hi = max(hi, np.max(xs))
-        lo = min(lo, np.min(xs))
-        if calm >= keep_periods:
-            return 0.5 * (hi - lo), True, k + 1, y, dist
-    return 0.5 * (hi - lo), False, max_periods, y, dist

@@ -11,8 +11,9 @@ Two backends:
 
 ``numba``
     Classical Runge-Kutta (RK4) with a fixed step, ``steps_per_period`` per period and
-    at least 400 steps per period of the fastest linear mode (h |s|_max <= 0.016).
-    Built-in systems only. Against ``scipy`` at rtol 1e-10 the amplitudes agree to
+    at least 400 steps per period of the fastest linear mode (h |s|_max <= 0.016), on
+    the system's own right-hand side (``system.first_order()``): the one period
+    integrator of :mod:`inerterlab.frequency.first_order`. Built-in systems only. Against ``scipy`` at rtol 1e-10 the amplitudes agree to
     about 1e-6 relative on the chapter-7 system (tests/test_frequency_ch7.py,
     benchmarks/bench_frequency.py).
 ``scipy``
@@ -28,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import check_choice
-from . import _kernels
+from .first_order import rk4_period, steady_state_point
 
 __all__ = ["SteadyState", "steady_state", "floquet_multipliers", "acceleration"]
 
@@ -106,14 +107,18 @@ def steady_state(
     n = int(system.n_dof)
     y0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
     scale = float(getattr(system, "displacement_scale", 1.0))
-    if backend == "numba" and hasattr(system, "kernel"):
-        sys_id, p = system.kernel()
+    if backend == "numba" and hasattr(system, "first_order"):
+        form = system.first_order()
         nst = _steps(system, omega, steps_per_period)
-        amp, ok, periods, y, dist = _kernels.brute_point(
-            sys_id, p, float(omega), y0, nst, rtol, max_periods, keep_periods, scale
+        amp_in = form.input_amplitude
+        y, _, ok, periods, dist, hi, lo = steady_state_point(
+            form, float(omega), amp_in, y0, steps=nst, rtol=rtol, max_periods=max_periods,
+            keep_periods=keep_periods,
+        )  # fmt: skip
+        _, xs = rk4_period(form, float(omega), amp_in, y, nst)
+        return SteadyState(
+            float(0.5 * (hi[0] - lo[0])), bool(ok), int(periods), y, float(dist), xs[0]
         )
-        _, xs = _kernels.integrate_period(sys_id, p, float(omega), y, nst, True)
-        return SteadyState(float(amp), bool(ok), int(periods), y, float(dist), xs[:-1])
     return _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scale)
 
 

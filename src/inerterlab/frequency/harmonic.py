@@ -131,7 +131,8 @@ FAILURE_REASONS = {
 
 
 class NumbaEngine:
-    """Compiled engine for the built-in one-degree-of-freedom systems."""
+    """Compiled engine for the built-in one-degree-of-freedom systems (the specialised
+    kernel, kept while it is faster than the one engine: docs/decisions.md)."""
 
     def __init__(self, system, basis: FourierBasis):
         self.system = system
@@ -295,16 +296,17 @@ class NumpyEngine:
         return out, ok, iters, res, code
 
 
-def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: compiled for built-in systems, numpy otherwise."""
+def checked_samples(system, harmonics, n_samples: int | None, n_states: int = 1) -> int:
+    """The samples per period N of a balance with ``harmonics`` (checked: an integer
+    >= 1) on ``n_states`` series: ``n_samples`` or the default for the system's
+    nonlinearity degree, checked against aliasing; the basis and the Jacobian and
+    stability matrices, which grow with (n (2H+1))^2, must fit in memory."""
     if not isinstance(harmonics, int | np.integer) or isinstance(harmonics, bool) or harmonics < 1:
         raise ParameterError("harmonics", harmonics, "an integer >= 1")
     degree = int(getattr(system, "nonlinearity_degree", 3))
     n = default_samples(int(harmonics), degree) if n_samples is None else int(n_samples)
     check_samples(int(harmonics), n, degree)
-    size = 2 * int(harmonics) + 1
-    # the basis holds samples x (2H+1) values (and its derivative); the Jacobian and the
-    # stability matrix grow with (2H+1)^2: refuse up front what cannot fit
+    size = (2 * int(harmonics) + 1) * int(n_states)
     check_memory(
         float(n) * size * 3,
         what="harmonic-balance basis (samples x harmonics)",
@@ -317,10 +319,18 @@ def make_engine(system, harmonics: int, n_samples: int | None = None, *, compile
         parameter="harmonics",
         value=harmonics,
     )
-    basis = fourier_basis(int(harmonics), n)
+    return n
+
+
+def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
+    """The engine for ``system``: the specialised compiled kernel for the built-in
+    systems, numpy otherwise. (The built-in systems on the one engine of
+    :mod:`inerterlab.frequency.first_order`: ``frequency_response(system.first_order(),
+    ..., amplitude=system.input_amplitude)``.)"""
+    n = checked_samples(system, harmonics, n_samples)
     if compiled and hasattr(system, "kernel"):
-        return NumbaEngine(system, basis)
-    return NumpyEngine(system, basis)
+        return NumbaEngine(system, fourier_basis(int(harmonics), n))
+    return NumpyEngine(system, fourier_basis(int(harmonics), n))
 
 
 def hill_exponents(engine, X, omega):
@@ -329,8 +339,12 @@ def hill_exponents(engine, X, omega):
     Solves the quadratic eigenproblem (lambda^2 J2 + lambda J1 + J0) q = 0 through its
     companion form and keeps the 2 n eigenvalues with the smallest |Im lambda|, which
     approximate the Floquet exponents best (the others are copies shifted by
-    multiples of i Omega).
+    multiples of i Omega). The compiled engine gives them by its own Hill matrix
+    (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`).
     """
+    if hasattr(engine, "stability"):
+        X = np.ascontiguousarray(X, dtype=float)[None]
+        return engine.stability(np.array([float(omega)]), X, np.array([True]))[1][0]
     J0, J1, J2 = engine.hill_matrices(X, omega)
     m = J0.shape[0]
     try:

@@ -32,10 +32,9 @@ import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
 from ..resources import check_memory, check_work
-from . import _kernels
 from .brute import steady_state
 from .continuation import continue_branch
-from .first_order import make_first_order_engine
+from .first_order import half_peak_to_peak, make_first_order_engine
 from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
 
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
@@ -312,7 +311,7 @@ def frequency_grid(fmin: float, fmax: float, df: float) -> np.ndarray:
 
 
 def _amplitudes(C) -> np.ndarray:
-    return _kernels.half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
+    return half_peak_to_peak(np.ascontiguousarray(C, dtype=float))
 
 
 def estimate_operations(
@@ -655,8 +654,8 @@ def _first_order_outputs(engine, system, omegas, coeffs, ok):
 def _resolve_system(system, amplitude):
     """(system, first_order): a quarter car becomes its first-order system."""
     from ..suspension.model import QuarterCar
-    from .first_order import is_first_order
-    from .quarter_car import FirstOrderSystem, from_core_system, quarter_car_system
+    from .first_order import FirstOrderSystem, is_first_order
+    from .quarter_car import from_core_system, quarter_car_system
 
     if isinstance(system, QuarterCar):
         system = quarter_car_system(system)
@@ -707,16 +706,24 @@ def _brute_first_order(system, passes, harmonics, settings, amplitude):
     omegas = np.array(omegas)
     outputs, units = {}, {}
     fn = getattr(system, "output_samples", None)
-    if fn is not None and len(omegas):
-        from .first_order import rhs_samples
+    comp = getattr(system, "compiled_outputs", None)
+    if (fn is not None or comp is not None) and len(omegas):
+        from .first_order import outputs_at_states, rhs_samples
 
         X = np.stack(xs_all)  # (P, n, steps)
         tau = 2 * np.pi * np.arange(spp) / spp
-        fs = np.stack(
-            [rhs_samples(system, w, amplitude, x, tau) for w, x in zip(omegas, X, strict=True)]
-        )
-        road = _road_samples(omegas, amplitude, tau)
-        for name, samples in fn(X, fs, road).items():
+        if comp is not None:
+            O = np.stack(
+                [outputs_at_states(system, w, amplitude, x, tau)
+                 for w, x in zip(omegas, X, strict=True)]
+            )  # fmt: skip
+            named = system.combine_outputs(O)
+        else:
+            fs = np.stack(
+                [rhs_samples(system, w, amplitude, x, tau) for w, x in zip(omegas, X, strict=True)]
+            )
+            named = fn(X, fs, _road_samples(omegas, amplitude, tau))
+        for name, samples in named.items():
             hi, lo = np.max(samples, axis=1), np.min(samples, axis=1)
             outputs[name] = np.ma.masked_array(0.5 * (hi - lo), mask=~ok)
         units = dict(getattr(system, "output_units", {}))

@@ -8,9 +8,15 @@ and the partial derivatives dr/dx, dr/dx', dr/dx'' (exact for the built-in syste
 The residual must be affine in x'' (a mass matrix times x'' plus the rest); time
 integration solves it for x''.
 
-Built-in systems (numba fast path): :class:`DuffingOscillator` and
-:class:`InerterSuspension` (thesis (7.1)). Any other system is a
-:class:`UserSystem` built from plain numpy functions.
+Built-in systems (compiled): :class:`DuffingOscillator` and :class:`InerterSuspension`
+(thesis (7.1)). The harmonic balance and the brute force solve them on the one engine of
+:mod:`inerterlab.frequency.first_order`, as the states (x, x') in implicit form
+
+    x' - v = 0,    r(tau, x, v, v') = 0,
+
+with the velocity's coefficients eliminated (V = Omega D X), so the balance is exactly
+that of r (whatever the effective mass does within a cycle) on the 2H+1 coefficients of
+x. Any other system is a :class:`UserSystem` built from plain numpy functions.
 """
 
 from __future__ import annotations
@@ -20,11 +26,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
-from . import _kernels
+from ._kernels import residual_partials
+from .first_order import FREQ_SLOT, RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
 
 __all__ = [
     "DuffingOscillator",
@@ -38,27 +46,100 @@ __all__ = [
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
 
 
+@njit(TERMS_SIGNATURE, cache=True)
+def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
+    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with (when
+    ``partials``) their partials, at every sample; the base moves as amp sin(tau)."""
+    sys_id = itab[0]
+    p = _borrow(ftab)  # no reference counting per sample (see first_order._borrow)
+    for k in range(tau.shape[0]):
+        s = math.sin(tau[k])
+        r[0, k] = xds[0, k] - xs[1, k]
+        r1, g0, g1, g2 = residual_partials(
+            sys_id, p, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
+            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
+        )  # fmt: skip
+        r[1, k] = r1
+        if not partials:
+            continue
+        P[0, 0, k] = 0.0
+        P[0, 1, k] = -1.0
+        Q[0, 0, k] = 1.0
+        Q[0, 1, k] = 0.0
+        P[1, 0, k] = g0
+        P[1, 1, k] = g1
+        Q[1, 0, k] = 0.0
+        Q[1, 1, k] = g2
+    return True
+
+
+@njit(RHS_SIGNATURE, cache=True)
+def _rhs(t, y, road, itab, ftab, out):
+    """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t."""
+    omega = road[FREQ_SLOT]
+    r0, _, _, m = residual_partials(
+        itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
+    )
+    out[0] = y[1]
+    out[1] = -r0 / m
+    return True
+
+
 class _KernelSystem:
     """Shared behaviour of the built-in one-degree-of-freedom systems."""
 
     n_dof = 1
     response_dof = 0
 
-    def kernel(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
+    def parameters(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
         raise AttributeError
+
+    def kernel(self) -> tuple[int, np.ndarray]:
+        """(system code, parameters) of the specialised kernel (``frequency._kernels``)."""
+        return self.parameters()
+
+    @property
+    def input_amplitude(self) -> float:
+        """Amplitude of the base motion (0: the system is forced otherwise)."""
+        return 0.0
 
     def evaluate(self, tau, omega, x, xd, xdd):
         """r, dr/dx, dr/dx', dr/dx'' at the samples; x has shape (1, K)."""
-        sys_id, p = self.kernel()
+        sys_id, p = self.parameters()
         tau = np.asarray(tau, dtype=float)
+        b = self.input_amplitude
         k = tau.shape[0]
         r = np.empty((1, k))
         g = np.empty((3, 1, 1, k))
         for i in range(k):
-            out = _kernels.evaluate(sys_id, p, tau[i], omega, x[0, i], xd[0, i], xdd[0, i])
+            s = math.sin(tau[i])
+            out = residual_partials(
+                sys_id, p, tau[i], omega, b * s, b * omega * math.cos(tau[i]),
+                -b * omega * omega * s, x[0, i], xd[0, i], xdd[0, i],
+            )  # fmt: skip
             r[0, i] = out[0]
             g[0, 0, 0, i], g[1, 0, 0, i], g[2, 0, 0, i] = out[1], out[2], out[3]
         return r, g[0], g[1], g[2]
+
+    def first_order(self) -> FirstOrderSystem:
+        """The system as the states (x, x') of the harmonic-balance engine, in implicit
+        form with the velocity eliminated; its input amplitude is
+        :attr:`input_amplitude`."""
+        sys_id, p = self.parameters()
+        scale = float(self.displacement_scale)
+        return FirstOrderSystem(
+            n_states=2,
+            rhs=_rhs,
+            terms=_terms,
+            velocity_of=(1, -1),
+            int_table=np.array([sys_id], dtype=np.int64),
+            float_table=np.ascontiguousarray(p, dtype=float),
+            state_scales=np.array([scale, scale]),
+            rest_state=np.zeros(2),
+            nonlinearity_degree=int(self.nonlinearity_degree),
+            label=type(self).__name__,
+            input_amplitude=self.input_amplitude,
+        )
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -111,7 +192,8 @@ class DuffingOscillator(_KernelSystem):
         """A typical displacement [m]: the static deflection under P."""
         return max(self.force / self.stiffness, 1e-12)
 
-    def kernel(self) -> tuple[int, np.ndarray]:
+    def parameters(self) -> tuple[int, np.ndarray]:
+        """(system code 0, [m, c, k, g, P]) for the compiled residual."""
         p = np.array([self.mass, self.damping, self.stiffness, self.cubic_stiffness, self.force])
         return 0, p
 
@@ -173,7 +255,13 @@ class InerterSuspension(_KernelSystem):
         """The base amplitude B [m]."""
         return self.base_amplitude
 
-    def kernel(self) -> tuple[int, np.ndarray]:
+    @property
+    def input_amplitude(self) -> float:
+        """B [m]: the base moves as B sin(Omega t)."""
+        return self.base_amplitude
+
+    def parameters(self) -> tuple[int, np.ndarray]:
+        """(system code 1, the parameter vector of the compiled residual)."""
         fw = self.flywheel
         if fw is None:
             extra = [1.0, 0.0, 0.0, 1.0, 1.0, 0.01, 0.02, 1.0, 2.0, 0.0, 0.0]

@@ -183,10 +183,10 @@ def load_car_file(path) -> CarFile:
         for k in ("flywheel", "changing_ratio"):
             if k in doc:
                 fail(k, "only a device-afw car has a flywheel")
-    from ..suspension import quarter_car
+    from ..systems import quarter_car
 
     try:
-        car = quarter_car(suspension, **kw)
+        car = quarter_car(suspension, **kw).info["model"]
     except InerterlabError as exc:
         key = getattr(exc, "name", "car")
         key = key if key in ("flywheel", "changing_ratio", "friction_velocity") else f"car.{key}"

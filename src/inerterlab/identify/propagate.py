@@ -34,6 +34,7 @@ from collections.abc import Callable
 import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
+from ..suspension.model import model_of
 
 __all__ = [
     "propagate",
@@ -73,6 +74,7 @@ def device_car(car, params: dict):
     """``car`` (suspension ``device`` or ``device-afw``) with its device's ``stiffness``
     (k_h), ``damping`` (b_ah) and ``friction`` (F_fh) replaced by ``params``, and, for
     ``device-afw``, the flywheel's ``changing_ratio`` if given. Other keys are an error."""
+    car = model_of(car)
     if car.suspension not in ("device", "device-afw"):
         raise ParameterError(
             "car", car.suspension, "a 'device' or 'device-afw' quarter car (or a car factory)"
@@ -172,6 +174,7 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
     to a fixed point. ``info`` of the result holds them (``equivalent_damping`` [N s/m],
     ``inertance`` [kg], ``sigma_branch_velocity`` [m/s]).
     """
+    car = model_of(car)
     if car.is_linear:
         from ..suspension.linear import linear_quarter_car
 
@@ -254,6 +257,7 @@ def ride_metrics(
     """Ride metrics of one car: the :data:`SIMULATED_METRICS` over ``excitation`` (if
     given; ``None`` where not finite) and, with ``linear``, the :data:`LINEAR_METRICS`
     of :func:`linearised_car`."""
+    car = model_of(car)
     out = {}
     if excitation is not None:
         from ..simulate import simulate_metrics
@@ -452,7 +456,7 @@ def propagate(
     Examples
     --------
     >>> import numpy as np
-    >>> from inerterlab.suspension import quarter_car
+    >>> from inerterlab import quarter_car
     >>> out = propagate(([8100.0, 190.0], np.diag([50.0**2, 4.0**2]), ["damping", "friction"]),
     ...                 quarter_car("device"))
     >>> r = out["body_resonance_hz"]
@@ -460,7 +464,14 @@ def propagate(
     True
     """
     mean, cov, names = _source(source, widen)
-    factory = car if callable(car) and not hasattr(car, "suspension") else None
+    from ..systems import System
+
+    factory = (
+        car if callable(car) and not isinstance(car, System) and not hasattr(car, "suspension")
+        else None
+    )
+    if factory is None:
+        car = model_of(car)
 
     def f(theta):
         params = dict(zip(names, (float(x) for x in theta), strict=True))

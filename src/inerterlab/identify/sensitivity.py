@@ -179,8 +179,10 @@ def ride_sensitivity(
     ``excitation`` (a drop, sine or ISO 8608 road) and, with ``linear``, the H2 norms
     and body resonance of the linearised car.
     """
+    from ..suspension.model import model_of
     from .propagate import device_car, ride_metrics
 
+    car = model_of(car)
     if bounds is None:
         bounds = {}
         for k in ("stiffness", "damping", "friction"):

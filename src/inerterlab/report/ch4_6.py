@@ -21,7 +21,7 @@ import numpy as np
 
 from ..excitation import bump, drop, sine
 from ..simulate import SimulationOptions, simulate, simulate_metrics
-from ..suspension import quarter_car
+from ..systems import quarter_car
 from ._memo import Memo, memo
 from .registry import FigureResult, ReproduceSettings, TableResult
 

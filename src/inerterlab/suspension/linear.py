@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
-from .model import QuarterCar
+from .model import QuarterCar, model_of
 
 __all__ = ["LinearQuarterCar", "linear_quarter_car"]
 
@@ -36,7 +36,9 @@ class LinearQuarterCar:
 
 
 def linear_quarter_car(model: QuarterCar) -> LinearQuarterCar:
-    """The linear system of a ``traditional`` or ``cfw`` quarter car."""
+    """The linear system of a ``traditional`` or ``cfw`` quarter car (the system
+    :func:`inerterlab.quarter_car` builds, or its description)."""
+    model = model_of(model)
     if not model.is_linear:
         raise ParameterError(
             "suspension",

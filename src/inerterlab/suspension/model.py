@@ -48,14 +48,15 @@ from ..flywheels import flywheel as make_flywheel
 from ..slider_dynamics import SliderDynamics
 from ..transmissions import Transmission
 from ..transmissions import transmission as make_transmission
-from .parameters import HydraulicDeviceParameters, QuarterCarParameters
+from .parameters import GRAVITY, HydraulicDeviceParameters, QuarterCarParameters
 
 __all__ = [
     "QuarterCar",
-    "quarter_car",
+    "describe_quarter_car",
     "SUSPENSIONS",
     "LAWS",
     "CFW_INERTIA",
+    "model_of",
 ]
 
 SUSPENSIONS = ("traditional", "cfw", "afw", "device", "device-afw")
@@ -117,7 +118,8 @@ N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw
 class QuarterCar:
     """A quarter car with one of the suspensions of docs/model.md §5.
 
-    Build it with :func:`quarter_car`; derive variants with ``dataclasses.replace``.
+    Build it with :func:`inerterlab.quarter_car` (its ``info["model"]``) or
+    :func:`describe_quarter_car`; derive variants with ``dataclasses.replace``.
 
     Parameters
     ----------
@@ -319,7 +321,7 @@ class QuarterCar:
         return out
 
 
-def quarter_car(
+def describe_quarter_car(
     suspension: str = "afw",
     *,
     sprung_mass: float = 370.0,
@@ -328,6 +330,7 @@ def quarter_car(
     damping: float = 5000.0,
     tyre_stiffness: float = 120_000.0,
     tyre_damping: float = 1300.0,
+    gravity: float = GRAVITY,
     flywheel: str | AdaptiveFlywheel = "nylon",
     flywheel_law: str = "published",
     changing_ratio: float | None = None,
@@ -341,7 +344,8 @@ def quarter_car(
     tyre_lift_off: bool = False,
     parameters: QuarterCarParameters | None = None,
 ) -> QuarterCar:
-    """Build a thesis quarter car (docs/model.md §5, base values (4.16)).
+    """The description of a named thesis quarter car (docs/model.md §5, base values
+    (4.16)): what :func:`inerterlab.quarter_car` builds its network from.
 
     Parameters
     ----------
@@ -353,6 +357,8 @@ def quarter_car(
         M and M_t [kg] (ignored if ``parameters`` is given).
     stiffness, damping, tyre_stiffness, tyre_damping : float
         K [N/m], C [N s/m], K_t [N/m], C_t [N s/m].
+    gravity : float
+        g [m/s^2].
     flywheel : str or AdaptiveFlywheel
         Preset name (``nylon`` in the thesis) or a flywheel.
     flywheel_law : str
@@ -381,10 +387,10 @@ def quarter_car(
 
     Examples
     --------
-    >>> car = quarter_car("afw", sprung_mass=370, changing_ratio=0.3)
+    >>> car = describe_quarter_car("afw", sprung_mass=370, changing_ratio=0.3)
     >>> round(car.flywheel.changing_ratio, 3), round(car.inertance, 1)
     (0.3, 206.2)
-    >>> quarter_car("cfw").inertance > 206
+    >>> describe_quarter_car("cfw").inertance > 206
     True
     """
     check_choice("suspension", suspension, SUSPENSIONS)
@@ -396,6 +402,7 @@ def quarter_car(
             damping=damping,
             tyre_stiffness=tyre_stiffness,
             tyre_damping=tyre_damping,
+            gravity=gravity,
         )
     fw = tr = dev = None
     if suspension in ("cfw", "afw", "device-afw"):
@@ -443,3 +450,20 @@ def quarter_car(
         slider=slider,
         tyre_lift_off=tyre_lift_off,
     )
+
+
+def model_of(model) -> QuarterCar:
+    """The description of a named quarter car: from the core system
+    :func:`inerterlab.quarter_car` builds (its ``info["model"]``) or given as is."""
+    from ..systems import System
+
+    if isinstance(model, System) and isinstance(model.info.get("model"), QuarterCar):
+        return model.info["model"]
+    if isinstance(model, QuarterCar):
+        return model
+    if isinstance(model, System) and model.kind == "quarter_car":
+        raise ParameterError(
+            "model", model.description, "a named suspension (inerterlab.quarter_car('afw', "
+            "...)); a quarter car with a network text runs on its own simulate(...)",
+        )  # fmt: skip
+    raise ParameterError("model", model, "a quarter car (see inerterlab.quarter_car)")

@@ -28,7 +28,7 @@ import numba as nb
 import numpy as np
 
 from ..errors import ParameterError, check_nonnegative, check_positive, check_seed
-from ..h2 import h2_rational
+from ..h2 import h2_rational, wk_polynomials
 from ..suspension.network_linear import MAXC, _car_polys, h2_squared_admittance
 from .positive_real import pr_from_parameters, pr_report
 
@@ -55,18 +55,6 @@ _ROW = {
     "tyre_load": 1,
     "suspension_deflection": 2,
 }
-
-
-def wk_polynomials() -> tuple[np.ndarray, np.ndarray]:
-    """ISO 2631 Wk filter as numerator/denominator polynomials, ascending powers."""
-    from scipy.signal import ss2tf
-
-    from ..metrics import wk_state_space
-
-    A, B, C, D = wk_state_space()
-    b, a = ss2tf(A, np.reshape(B, (-1, 1)), np.reshape(C, (1, -1)), np.atleast_2d(D))
-    b = np.trim_zeros(b[0], "f")
-    return b[::-1].copy(), a[::-1].copy()
 
 
 @nb.njit(cache=True)

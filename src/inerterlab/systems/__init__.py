@@ -2,9 +2,12 @@
 
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
-:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road), or
-:func:`half_car` / :func:`full_car` (a body with bounce, pitch and roll on any network at
-each corner, tyres that lift off; :mod:`inerterlab.systems.vehicle`).
+:func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road; a
+named suspension of the thesis or any network), or :func:`half_car` / :func:`full_car`
+(a body with bounce, pitch and roll on any network at each corner, tyres that lift off;
+:mod:`inerterlab.systems.vehicle`).
+:func:`equilibrium` solves the static balance under gravity (a nonlinear spring carrying
+the weight) and gives the system about that rest.
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
 
 Node formulation (docs/model.md §11): every network node has a displacement. Nodes with
@@ -51,17 +54,16 @@ Example
 from __future__ import annotations
 
 from .core import (
-    QUARTER_CAR_PRESETS,
     CoreResult,
     DriveRuns,
     RoadVelocityJumpWarning,
     System,
     base_excited,
     device_network,
-    preset_parameters,
-    quarter_car,
     rig,
 )
+from .equilibrium import Equilibrium, equilibrium
+from .quarter_car import QUARTER_CAR_PRESETS, SUSPENSIONS, quarter_car
 from .vehicle import full_car, half_car
 
 __all__ = [
@@ -74,7 +76,9 @@ __all__ = [
     "quarter_car",
     "half_car",
     "full_car",
-    "preset_parameters",
     "QUARTER_CAR_PRESETS",
+    "SUSPENSIONS",
     "RoadVelocityJumpWarning",
+    "Equilibrium",
+    "equilibrium",
 ]

@@ -1,7 +1,6 @@
 """Adaptive Dormand-Prince 5(4) for the core systems, with road segments and road steps.
 
-The tableau, error weights and the order-4 continuous extension are those of the
-quarter-car kernels (:mod:`inerterlab.suspension._kernels`, imported, not copied); the
+The tableau, error weights and the order-4 continuous extension are DOPRI5's; the
 step-size control is the classic one of Hairer, Norsett and Wanner (Solving ODEs I,
 II.4): h_new = h min(5, max(0.2, 0.9 err^(-1/5))). Steps never cross a road segment
 edge; where the road displacement jumps at an edge, the impulse that the dampers
@@ -20,44 +19,6 @@ import numpy as np
 
 from ..elements._base import SPRING
 from ..elements.spring import spring_force
-from ..suspension._kernels import (
-    A21,
-    A31,
-    A32,
-    A41,
-    A42,
-    A43,
-    A51,
-    A52,
-    A53,
-    A54,
-    A61,
-    A62,
-    A63,
-    A64,
-    A65,
-    B1,
-    B3,
-    B4,
-    B5,
-    B6,
-    C2,
-    C3,
-    C4,
-    C5,
-    D1,
-    D3,
-    D4,
-    D5,
-    D6,
-    D7,
-    E1,
-    E3,
-    E4,
-    E5,
-    E6,
-    E7,
-)  # fmt: skip
 from ._kernel import (
     ELEM_W,
     GROUND,
@@ -70,8 +31,31 @@ from ._kernel import (
     _dissipative,
     _work_size,
     evaluate,
+    road_layout_of,
     switches,
 )
+
+# The Dormand-Prince 5(4) pair (Dormand & Prince 1980; the coefficients as in Hairer,
+# Norsett & Wanner, Solving ODEs I, Table II.5.2), its error weights (order 5 minus
+# order 4) and the weights of DOPRI5's order-4 continuous extension.
+C2, C3, C4, C5 = 1.0 / 5.0, 3.0 / 10.0, 4.0 / 5.0, 8.0 / 9.0
+A21 = 1.0 / 5.0
+A31, A32 = 3.0 / 40.0, 9.0 / 40.0
+A41, A42, A43 = 44.0 / 45.0, -56.0 / 15.0, 32.0 / 9.0
+A51, A52, A53, A54 = 19372.0 / 6561.0, -25360.0 / 2187.0, 64448.0 / 6561.0, -212.0 / 729.0
+A61, A62, A63, A64, A65 = (
+    9017.0 / 3168.0, -355.0 / 33.0, 46732.0 / 5247.0, 49.0 / 176.0, -5103.0 / 18656.0,
+)  # fmt: skip
+B1, B3, B4, B5, B6 = 35.0 / 384.0, 500.0 / 1113.0, 125.0 / 192.0, -2187.0 / 6784.0, 11.0 / 84.0
+E1, E3, E4, E5, E6, E7 = (
+    71.0 / 57600.0, -71.0 / 16695.0, 71.0 / 1920.0, -17253.0 / 339200.0, 22.0 / 525.0,
+    -1.0 / 40.0,
+)  # fmt: skip
+D1, D3, D4, D5, D6, D7 = (
+    -12715105075.0 / 11282082432.0, 87487479700.0 / 32700410799.0,
+    -10690763975.0 / 1880347072.0, 701980252875.0 / 199316789632.0,
+    -1453857185.0 / 822651844.0, 69997945.0 / 29380423.0,
+)  # fmt: skip
 
 #: the Dormand-Prince pair as arrays (rows of the stages; the last row is the order-5
 #: weights), error weights and dense-output weights, from the named constants
@@ -92,6 +76,9 @@ _TAB_D = np.array([D1, 0.0, D3, D4, D5, D6, D7])
 
 OK, TOO_MANY_STEPS, STEP_TOO_SMALL, NOT_FINITE, ROAD_STEP, BALANCE_FAILED = 0, 1, 2, 3, 4, 5
 IMPULSE_RTOL = 1e-13
+#: an exact step in a linear regime keeps every regime's argument at least this many
+#: times its threshold
+X_MARGIN = 1.1
 
 
 @nb.njit(cache=True)
@@ -101,7 +88,7 @@ def road_at(segs, i, t, out):
     kind = segs[i, 2]
     t0 = segs[i, 0]
     if kind == 3.0:  # several roads, each linear: (x_k, rate_k) from column 3 on
-        for k in range(out.size // 3):
+        for k in range(min((segs.shape[1] - 3) // 2, out.size // 3)):
             out[3 * k] = segs[i, 3 + 2 * k] + segs[i, 4 + 2 * k] * (t - t0)
             out[3 * k + 1] = segs[i, 4 + 2 * k]
             out[3 * k + 2] = 0.0
@@ -122,15 +109,6 @@ def road_at(segs, i, t, out):
         out[0] = segs[i, 3] + amp * s
         out[1] = amp * w * math.cos(w * t + ph)
         out[2] = -amp * w * w * s
-
-
-@nb.njit(cache=True, inline="always")
-def road_size(segs):
-    """Length of the road vector: 3 (displacement, velocity, acceleration) per road;
-    segments of kind 3 carry (segs.shape[1] - 3) // 2 roads, every other kind one."""
-    if segs.shape[0] > 0 and segs[0, 2] == 3.0:
-        return 3 * ((segs.shape[1] - 3) // 2)
-    return 3
 
 
 @nb.njit(cache=True, inline="always")
@@ -162,6 +140,13 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
     return evaluate(t, y, road, itab, ftab, work, dy, imp)
 
 
+@nb.njit(cache=True)
+def _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+    """:func:`_f` as a call, for the places that evaluate once per phase (a first
+    stage after exact steps or a kink): not inlined there, to keep compilation short."""
+    return _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+
+
 @nb.njit(cache=True, inline="always")
 def _dense(y, yt, K, h, th, out):
     """The order-4 continuous extension of the step y -> yt at theta = th."""
@@ -178,11 +163,21 @@ def _dense(y, yt, K, h, th, out):
 
 
 @nb.njit(cache=True)
+def _sides(sw, road, hs):
+    """The side of each element's kink (road[hs + e], hs the first held side of
+    :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
+    two switching functions (:func:`._kernel.switches`)."""
+    for e in range(sw.size // 2):
+        g = max(sw[2 * e], sw[2 * e + 1])
+        road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
+
+
+@nb.njit(cache=True)
 def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw):  # fmt: skip
-    """theta in (0, 1) where element e's switching function, g0 at the step's start and
-    g1 at its end (opposite signs), crosses zero on the continuous extension (Illinois
-    regula falsi to 1e-12 in theta)."""
+    """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
+    the step's start and g1 at its end (opposite signs), crosses zero on the continuous
+    extension (Illinois regula falsi to 1e-12 in theta)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
@@ -212,18 +207,116 @@ def _locate(e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fi
     return b
 
 
+
+# ---------------------------------------------------------------------------------------
+# exact steps of a nonlinear system while every nonlinear element sits in its linear
+# regime (a saturated flywheel: a constant inertance); the tables come from
+# :func:`.core._regime_tables`. The augmented state z = (x, e) carries the road input as
+# e = (X1 - X1_0, X1', X1_0) on a segment (X1_0 its displacement offset): e' = Q e with
+# Q = [[0, 1, 0], [-w^2, 0, 0], [0, 0, 0]] (w the sine's angular frequency, 0 on a
+# linear segment), so z' = M z is linear and z(t + h) = exp(M h) z exactly.
+
+
+@nb.njit(cache=True)
+def _x_lookup(keys, h, q):
+    """Row of the step length h in the sorted integer keys (lengths in units of q), or
+    -1."""
+    key = round(h / q)
+    lo = 0
+    hi = keys.size - 1
+    while lo <= hi:
+        mid = (lo + hi) // 2
+        if keys[mid] == key:
+            return mid
+        if keys[mid] < key:
+            lo = mid + 1
+        else:
+            hi = mid - 1
+    return -1
+
+
+@nb.njit(cache=True)
+def _x_input(segs, i, t, road, z, n):
+    """The input part of z at time t on segment i (see above)."""
+    road_at(segs, i, t, road)
+    z[n] = road[0] - segs[i, 3]
+    z[n + 1] = road[1]
+    z[n + 2] = segs[i, 3]
+
+
+@nb.njit(cache=True)
+def _x_guards(XG, c, z, thr, margin, ga, gd):
+    """Each regime's argument (ga) and its rate (gd) at z; True if every argument is at
+    least ``margin`` x its threshold in magnitude."""
+    ng = thr.size
+    ok = True
+    for g in range(ng):
+        a = 0.0
+        d = 0.0
+        for q in range(z.size):
+            a += XG[c, g, q] * z[q]
+            d += XG[c, ng + g, q] * z[q]
+        ga[g] = a
+        gd[g] = d
+        if abs(a) < margin * thr[g]:
+            ok = False
+    return ok
+
+
+@nb.njit(cache=True)
+def _x_stays(a0, d0, a1, d1, h, lim):
+    """Whether the cubic Hermite interpolant of an argument (values a0, a1 and rates d0,
+    d1 at the ends of a step of length h) keeps one sign and magnitude >= lim over the
+    step."""
+    s = 1.0 if a0 > 0.0 else -1.0
+    if s * a1 < lim or s * a0 < lim:
+        return False
+    m0 = h * d0
+    m1 = h * d1
+    c2 = 3.0 * (a1 - a0) - 2.0 * m0 - m1
+    c3 = 2.0 * (a0 - a1) + m0 + m1
+    # p'(th) = m0 + 2 c2 th + 3 c3 th^2: its roots in (0, 1)
+    qa = 3.0 * c3
+    qb = 2.0 * c2
+    for r in range(2):
+        if qa != 0.0:
+            disc = qb * qb - 4.0 * qa * m0
+            if disc < 0.0:
+                return True
+            th = (-qb + (1.0 - 2.0 * r) * math.sqrt(disc)) / (2.0 * qa)
+        elif qb != 0.0:
+            if r:
+                break
+            th = -m0 / qb
+        else:
+            break
+        if 0.0 < th < 1.0:
+            p = a0 + th * (m0 + th * (c2 + th * c3))
+            if s * p < lim:
+                return False
+    return True
+
 @nb.njit(cache=True)
 def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
-             t_out, out_y, k, stats, max_steps):  # fmt: skip
+             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xq):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
     step when mode = 1, of a road velocity jump when mode = 2),
     writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
-    Returns (status, k, h)."""
+
+    Exact steps (``XE`` not empty, a segment of class ``xcls[i]`` >= 0): while every
+    nonlinear element sits in its linear regime (its switching function positive, its
+    argument ``XG[c, g] . z`` at least :data:`X_MARGIN` x its threshold ``xthr[g]`` in
+    magnitude, at the ends of the step and on the cubic through them) the state goes
+    from break point (sample or segment end) to break point by ``XE[c, j]`` = exp(M h),
+    h the length of row j of ``xkeys`` (units of ``xq``). A step that would leave the
+    regime is not taken: the Dormand-Prince steps go on from there and locate the
+    switch. Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.empty(road_size(segs))
+    road_n, _, hs = road_layout_of(itab)
+    road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -241,21 +334,116 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     # step across a sign change is cut at the crossing (forced: the element whose
     # crossing it lands on), so no step integrates across a kink of a force law
     ne = itab[I_NE]
-    sw = np.empty(ne)
-    swn = np.empty(ne)
-    swx = np.empty(ne)
+    sw = np.empty(2 * ne)  # two per element (see _kernel.switches)
+    swn = np.empty(2 * ne)
+    swx = np.empty(2 * ne)
     yd = np.empty(n)
+    flip = -1
+    past = 0.0
+    h_side = np.zeros(2)  # a first step size past a kink, into each side
+    fresh = -1
+    cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
+    if events:  # every attempt takes the law of the side of each kink it starts on
+        _sides(sw, road, hs)
+        _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        for i in range(n):
+            K[0, i] = dy[i]
     forced = -1
     h_keep = 0.0
+    # exact steps in the linear regimes
+    cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
+    ng = xthr.size
+    z = np.empty(n + 3)
+    ga0 = np.empty(ng)
+    gd0 = np.empty(ng)
+    ga1 = np.empty(ng)
+    gd1 = np.empty(ng)
+    check = cx >= 0
+    cap = math.inf
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k, h
+        if check:
+            check = False
+            cap = math.inf
+            inside = True
+            for g in range(ng):
+                if max(sw[2 * xel[g]], sw[2 * xel[g] + 1]) <= 0.0:
+                    inside = False
+            if inside:
+                for i in range(n):
+                    z[i] = y[i]
+                _x_input(segs, rng[0], t, road, z, n)
+                inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
+            taken = 0
+            while inside:
+                while k < t_out.size and t_out[k] <= t and (last or t_out[k] < t_end):
+                    for i in range(n):
+                        out_y[k, i] = y[i]
+                    k += 1
+                if t >= t_end:
+                    break
+                tb = t_out[k] if k < t_out.size and t_out[k] < t_end else t_end
+                j = _x_lookup(xkeys, tb - t, xq)
+                if j < 0:
+                    if tb - t > 1e-9 * max(abs(t), 1.0):
+                        cap = tb  # the next Dormand-Prince step ends on the break point
+                    break
+                if stats[0] + stats[1] >= max_steps:
+                    return TOO_MANY_STEPS, k, h
+                for i in range(n):
+                    acc = 0.0
+                    for q in range(n + 3):
+                        acc += XE[cx, j, i, q] * z[q]
+                    yt[i] = acc
+                ze0, ze1, ze2 = z[n], z[n + 1], z[n + 2]
+                for i in range(n):
+                    z[i] = yt[i]
+                _x_input(segs, rng[0], tb, road, z, n)
+                stay = _x_guards(XG, cx, z, xthr, X_MARGIN, ga1, gd1)
+                for g in range(ng):
+                    stay = stay and _x_stays(ga0[g], gd0[g], ga1[g], gd1[g], tb - t,
+                                             X_MARGIN * xthr[g])  # fmt: skip
+                if not stay:
+                    for i in range(n):
+                        z[i] = y[i]
+                    z[n], z[n + 1], z[n + 2] = ze0, ze1, ze2
+                    break
+                for i in range(n):
+                    y[i] = yt[i]
+                for g in range(ng):
+                    ga0[g] = ga1[g]
+                    gd0[g] = gd1[g]
+                t = tb
+                stats[0] += 1
+                stats[4] += 1
+                taken += 1
+            if taken:  # the Dormand-Prince steps go on from here: their first stage
+                _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                for i in range(n):
+                    K[0, i] = dy[i]
+                switches(itab, ftab, work, sw)
+                _sides(sw, road, hs)
+                if t >= t_end:
+                    break
         lim = t_end
+        if cap < lim:
+            lim = cap
         if rng[1] - rng[0] > 1:  # the next edge of the measured drive
             i = _segment_at(segs, rng, t)
             if i + 1 < rng[1] and segs[i + 1, 0] < t_end:
                 lim = segs[i + 1, 0]
+        if lim - t <= 1e-14 * max(abs(t), 1.0):
+            # what is left to a break point is below round-off (a sample next to a
+            # segment edge, after exact steps): the state stands
+            while mode == 0 and k < t_out.size and (t_out[k] < lim or (last and t_out[k] <= lim)):
+                for i in range(n):
+                    out_y[k, i] = y[i]
+                k += 1
+            t = lim
+            check = cx >= 0
+            continue
         h_free = h
         if t + h >= lim or t + 1.01 * h >= lim:
             h = lim - t
@@ -299,36 +487,65 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
             if forced < 0:
                 th = 2.0
-                for e in range(ne):
+                for e in range(2 * ne):
                     if sw[e] * swn[e] < 0.0:
                         x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
                                     ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
                         if x < th:
                             th = x
                             forced = e
+                            # the element's side past this crossing: above its band if
+                            # this half turns positive, inside it if it turns negative
+                            past = 1.0 if sw[e] < 0.0 else -1.0
                 if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
+                    # the step ends at the crossing, on its continuous extension (the
+                    # attempt followed one law throughout: its extension is smooth)
                     stats[3] += 1
+                    tc = t + th * h
+                    while mode == 0 and k < t_out.size and t_out[k] < tc:
+                        _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
+                        k += 1
+                    _dense(y, yt, K, h, th, yd)
+                    for i in range(n):
+                        yt[i] = yd[i]
+                    tn = tc
                     h_keep = h_free
                     h = th * h
-                    reject_prev = False
-                    continue  # again, to the crossing
-                h_keep = 0.0
-            for e in range(ne):
+                    cut = True
+                else:
+                    h_keep = 0.0
+            for e in range(2 * ne):
                 sw[e] = swn[e]
+            flip = forced
             if forced >= 0:
                 sw[forced] = 0.0  # on the kink: the next step starts past it
             forced = -1
         if err <= 1.0:
             stats[0] += 1
-            # dense output on (t, tn]
-            if mode == 0:
+            # dense output on (t, tn] (a step cut at a crossing wrote its own)
+            if mode == 0 and not cut:
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
                     k += 1
+            if fresh >= 0 and flip < 0:
+                h_side[fresh] = h  # the first step that passed after a kink to this side
+                fresh = -1
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
             t = tn
+            into = -1
+            if flip >= 0:  # past the kink: its other side's law from here
+                road[hs + flip // 2] = past
+                _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                for i in range(n):
+                    K[0, i] = dy[i]
+                if cut:  # the switching functions at the crossing, not at the step's end
+                    switches(itab, ftab, work, sw)
+                    sw[flip] = 0.0
+                    cut = False
+                flip = -1
+                into = 0 if past < 0.0 else 1
             fac = 0.9 * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))
             if reject_prev:
@@ -337,9 +554,17 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             h = h * fac
             if lim < t_end and fac >= 1.0:
                 h = max(h, h_free)  # a step cut short by an edge: keep the free size
-            if h_keep > 0.0 and fac >= 1.0:
+            if h_keep > 0.0 and fac >= 1.0 and into < 0:
                 h = max(h, h_keep)  # a step cut short by an event: the same
+            if into >= 0:
+                # past a kink the law is another one: not the step size from before it,
+                # but at most the first one that passed after the last kink to this side
+                h = h_keep if h_keep > 0.0 else h
+                if h_side[into] > 0.0:
+                    h = min(h, h_side[into])
+                fresh = into
             h_keep = 0.0
+            check = cx >= 0
         else:
             stats[1] += 1
             reject_prev = True
@@ -351,7 +576,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
 
 @nb.njit(cache=True)
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
-              t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps):  # fmt: skip
+              t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
+              xthr, xel, xcls, xq):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -361,12 +587,15 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     velocity jumps by more than ``vjump_tol`` (at the start of a segment; at t = 0 from
     ``v_before``, NaN for none) the impulses of the inertances attached to the road are
     applied by the flow of :data:`._kernel.ROAD_JERK`, and the jump goes to
-    ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road."""
+    ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road. ``stats``:
+    steps (exact ones included), rejected steps, right-hand-side calls, events, exact
+    steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
+    none)."""
     k = 0
     h = 0.0
     prev = x1_before
     prev_v = v_before
-    road = np.empty(road_size(segs))
+    road = np.zeros(road_layout_of(itab)[0])
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
     for i in range(y.size):
@@ -402,7 +631,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -415,7 +644,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[1] = road[1]
             st, _, _ = _advance(modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -425,7 +654,8 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         t1 = min(segs[e - 1, 1], t_end)
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
-                            rtol, atol, t_out, out_y, k, stats, max_steps)  # fmt: skip
+                            rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
+                            xthr, xel, xcls, xq)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)
@@ -453,7 +683,7 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     that holds each time (right-continuous)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    road = np.empty(road_size(segs))
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
     imp = np.empty(0)
@@ -464,6 +694,48 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
         ok &= evaluate(t_out[j], Y[j], road, itab, ftab, W, dx, imp)
         for i in range(3 * nn + ne):
             O[j, i] = W[i]
+    return ok
+
+
+@nb.njit(cache=True)
+def regime_outputs(t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr, O):
+    """Outputs at every sample into O (one row per output, as :func:`linear_outputs`):
+    C x + D u where every regime's argument (rows Gx, Gu over the state and the road)
+    is past its threshold, the system there being the linear one (C, D) of its linear
+    regimes (:func:`.core._regime_system`; every row of a linear system), NaN in the
+    rows ``undefined``; the evaluator elsewhere (a flywheel below saturation)."""
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    n = Y.shape[1]
+    no = 3 * nn + ne
+    road = np.zeros(road_layout_of(itab)[0])
+    W = np.empty(_work_size(itab))
+    dx = np.empty(n)
+    imp = np.empty(0)
+    s = 0
+    ok = True
+    for j in range(t_out.size):
+        s = _sample_road(segs, s, t_out[j], road)
+        lin = True
+        for g in range(thr.size):
+            a = Gu[g, 0] * road[0] + Gu[g, 1] * road[1] + Gu[g, 2] * road[2]
+            for q in range(n):
+                a += Gx[g, q] * Y[j, q]
+            if not abs(a) > thr[g]:
+                lin = False
+        if lin:
+            for i in range(no):
+                if undefined[i]:
+                    O[i, j] = math.nan
+                    continue
+                acc = D[i, 0] * road[0] + D[i, 1] * road[1] + D[i, 2] * road[2]
+                for q in range(n):
+                    acc += C[i, q] * Y[j, q]
+                O[i, j] = acc
+        else:
+            ok &= evaluate(t_out[j], Y[j], road, itab, ftab, W, dx, imp)
+            for i in range(no):
+                O[i, j] = W[i]
     return ok
 
 
@@ -487,7 +759,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     it: springs, dampers and friction between the drive, the ground and nodes whose
     displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
-    road = np.empty(road_size(segs))
+    road = np.zeros(road_layout_of(itab)[0])
     s = 0
     for j in range(t_out.size):
         s = _sample_road(segs, s, t_out[j], road)
@@ -530,7 +802,7 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     prev_v = v_before
     yn = np.empty(n)
     dx = np.empty(n)
-    road = np.empty(road_size(segs))
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     jerk = np.full(1, np.nan)
     imp = np.empty(imp_unit.size)

@@ -44,7 +44,8 @@ in ``itab``, member count, offset of the coefficients in ``ftab``, -1). An eleme
 an end at a combination node (its mass-matrix row -2) passes its force to the members
 by the coefficients and stamps its inertance as me g g^T, g the combination of its end
 rows, so the mass matrix couples the coordinates. A road node's block holds the index k
-of its road: its displacement, velocity and acceleration are road[3k:3k+3].
+of its road: its displacement, velocity and acceleration are road[3k:3k+3]
+(:func:`road_layout`; the header's ``I_NRD`` counts the roads).
 """
 
 from __future__ import annotations
@@ -55,7 +56,12 @@ import numba as nb
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING, TYRE
-from ..elements.adaptive_flywheel import flywheel_inertance, flywheel_switch, slider_derivative
+from ..elements.adaptive_flywheel import (
+    flywheel_inertance,
+    flywheel_inertance_side,
+    flywheel_switch,
+    slider_derivative,
+)
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
@@ -67,14 +73,32 @@ NODE_W = 5
 ELEM_W = 7
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
-    I_NI, I_NR, I_NL,
-) = range(16)  # fmt: skip
-HEADER = 16
+    I_NI, I_NR, I_NL, I_NRD,
+) = range(17)  # fmt: skip
+HEADER = 17
 #: status of the velocity solve (written to the last slot of ``out`` by :func:`evaluate`)
 SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
 #: ``imp`` of :func:`evaluate` for the flow of a road velocity jump
 ROAD_JERK = np.array([np.nan])
+
+
+@nb.njit(cache=True, inline="always")
+def road_layout(nroads, ne):
+    """The layout of the road vector that :func:`evaluate` reads, the one place it is
+    defined: 3 entries per road (displacement, velocity, acceleration; road k from
+    3 k, at least one road), then one free slot (the harmonic balance keeps its
+    frequency there), then one held side per element (see :func:`evaluate`). Returns
+    (length, the free slot, the first held side) for ``nroads`` roads and ``ne``
+    elements."""
+    free = 3 * max(nroads, 1)
+    return free + 1 + ne, free, free + 1
+
+
+@nb.njit(cache=True, inline="always")
+def road_layout_of(itab):
+    """:func:`road_layout` of a compiled system (its roads and elements)."""
+    return road_layout(itab[I_NRD], itab[I_NE])
 
 
 @nb.njit(cache=True, inline="always")
@@ -302,7 +326,11 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
     defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
-    the state derivative. Returns False if a balance could not be solved. With a
+    the derivative. Returns False if a balance could not be solved. ``road`` is laid out
+    by :func:`road_layout`: each road's displacement, velocity and acceleration, a free
+    slot (the harmonic balance's frequency), and it may go on with one held side per
+    element: where it is not 0, an element with a kink takes the law of that side of it
+    (+1 above its switching function's zero, -1 below), continued past it. With a
     non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
     M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
     interval it applies the impulse exactly, whatever the velocity dependence of the
@@ -317,6 +345,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ne = itab[I_NE]
     nd = itab[I_ND]
     jerk = imp.size == 1 and math.isnan(imp[0])
+    nlen, _, hs = road_layout_of(itab)
+    held = road.size >= nlen  # the held sides are given
     npn = itab[I_NP]
     no = itab[I_NODE]
     eo = itab[I_ELEM]
@@ -417,13 +447,16 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             f = 0.0
             me = inerter_inertance(ftab, o)
         elif code == TYRE:
-            f = tyre_force(ftab, o, W[top] - W[bot], v)
+            f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
         else:
             so = itab[b + 4]
             if so >= 0:
                 me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
                 dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
+            elif held and road[hs + e] != 0.0:  # held on one side of its kink
+                me = flywheel_inertance_side(ftab, o, v, road[hs + e])
+                f = 0.0
             else:
                 me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
         if jerk:
@@ -634,8 +667,16 @@ def outputs(t, x, road, itab, ftab, out):
 def switches(itab, ftab, W, out):
     """The elements' switching functions (a sign change marks a kink of a force law:
     flywheel saturation, free-play contact) from the node displacements and velocities
-    of the last :func:`evaluate` (in ``W``) into ``out``; returns how many elements have
-    one (1.0 where an element has none)."""
+    of the last :func:`evaluate` (in ``W``) into ``out``, two per element; returns how
+    many elements have them (1.0 where an element has none).
+
+    An element declares one switching function g(a) of its argument a (relative
+    velocity or displacement), even in a: g = phi(|a|), zero at the kinks a = +-a0. Its
+    two signed halves g0 + s (g - g0) and g0 - s (g - g0) (g0 = g(0), s the sign of a)
+    are monotone in a, each zero at one kink: a passage from one side through the band
+    between the kinks to the other changes the sign of both, which a test of the signs
+    at a step's ends sees where g itself, positive at both ends, would not. The element
+    is past a kink (above its band) where either half is positive."""
     nn = itab[I_NN]
     eo = itab[I_ELEM]
     count = 0
@@ -646,17 +687,27 @@ def switches(itab, ftab, W, out):
         bot = itab[b + 2]
         o = itab[b + 3]
         g = 1.0
+        g0 = 1.0
+        a = 0.0
         if code == SPRING:
-            g = spring_switch(ftab, o, W[top] - W[bot])
+            a = W[top] - W[bot]
+            g = spring_switch(ftab, o, a)
+            g0 = spring_switch(ftab, o, 0.0)
             if ftab[o + 1] > 0.0:
                 count += 1
         elif code == FLYWHEEL:
-            g = flywheel_switch(ftab, o, W[nn + top] - W[nn + bot])
+            a = W[nn + top] - W[nn + bot]
+            g = flywheel_switch(ftab, o, a)
+            g0 = flywheel_switch(ftab, o, 0.0)
             if ftab[o] != 2.0:
                 count += 1
-        elif code == TYRE:
-            g = tyre_switch(ftab, o, W[top] - W[bot], W[nn + top] - W[nn + bot])
+        elif code == TYRE:  # one kink: the contact force, and a half that never changes sign
+            out[2 * e] = tyre_switch(ftab, o, W[top] - W[bot], W[nn + top] - W[nn + bot])
+            out[2 * e + 1] = -1.0
             if not math.isinf(ftab[o + 2]):
                 count += 1
-        out[e] = g
+            continue
+        d = g - g0 if a >= 0.0 else g0 - g
+        out[2 * e] = g0 + d
+        out[2 * e + 1] = g0 - d
     return count

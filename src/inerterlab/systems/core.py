@@ -5,14 +5,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
-from typing import Any
 
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
-from ..elements.damper import Damper
-from ..elements.spring import Spring
-from ..errors import ConvergenceError, ParameterError, check_nonnegative, check_positive
+from ..errors import ConvergenceError, ParameterError, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
@@ -139,7 +136,8 @@ class System:
     # -- linear analysis ------------------------------------------------------------------
     def linear_state_space(self):
         """(A, B, C, D) of x' = A x + B u, y = C x + D u with u = (road displacement,
-        velocity, acceleration) and y the outputs (:attr:`output_names`).
+        velocity, acceleration), three per road where the system has several (a vehicle),
+        and y the outputs (:attr:`output_names`).
 
         Columns come from the right-hand side at unit vectors, exact for a linear system.
         NetworkError if an element is not linear."""
@@ -151,30 +149,7 @@ class System:
                 f"{self.description}: not linear ({', '.join(bad)}); linear analysis needs "
                 "springs, linear dampers and ideal inerters"
             )
-        n = self.n_states
-        no = len(self.output_names)
-        nu = 3 * self.info.get("roads", 1)  # (displacement, velocity, acceleration) per road
-        A = np.zeros((n, n))
-        B = np.zeros((n, nu))
-        C = np.zeros((no, n))
-        D = np.zeros((no, nu))
-        z = np.zeros(n)
-        r0 = np.zeros(nu)
-        for k in range(n):
-            e = np.zeros(n)
-            e[k] = 1.0
-            self.rhs(0.0, e, r0, self.itab, self.ftab, A[:, k])
-            out = np.empty(no)
-            self.outputs(0.0, e, r0, self.itab, self.ftab, out)
-            C[:, k] = out
-        for k in range(nu):
-            u = np.zeros(nu)
-            u[k] = 1.0
-            self.rhs(0.0, z, u, self.itab, self.ftab, B[:, k])
-            out = np.empty(no)
-            self.outputs(0.0, z, u, self.itab, self.ftab, out)
-            D[:, k] = out
-        return A, B, np.nan_to_num(C), np.nan_to_num(D)
+        return _state_space(self, self.itab, self.ftab)
 
     def transfer(self, omega, output: str):
         """H(j omega) from road velocity to ``output`` (linear systems): any name of
@@ -217,9 +192,46 @@ class System:
         (exact for a linear system on a piecewise-linear road whose edges and samples
         need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths, adaptive
         otherwise)."""
+        model = self.info.get("model")
+        if model is not None and model.tyre_lift_off:
+            raise ParameterError(
+                "tyre_lift_off", True, "False here: the model core keeps the tyre on the "
+                "road (inerterlab.simulate runs the lift-off)",
+            )  # fmt: skip
         return _simulate(
             self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
         )
+
+
+def _state_space(sys, itab, ftab):
+    """(A, B, C, D) of the system's right-hand side and outputs on the tables (itab,
+    ftab), from unit vectors: exact where they hold linear elements only. The inputs are
+    each road's displacement, velocity and acceleration (3 per road, in the order of
+    :func:`._kernel.road_layout`)."""
+    n = sys.n_states
+    no = len(sys.output_names)
+    nu = _kernel.road_layout_of(itab)[1]  # the free slot follows the roads
+    A = np.zeros((n, n))
+    B = np.zeros((n, nu))
+    C = np.zeros((no, n))
+    D = np.zeros((no, nu))
+    z = np.zeros(n)
+    r0 = np.zeros(nu)
+    for k in range(n):
+        e = np.zeros(n)
+        e[k] = 1.0
+        _kernel.rhs(0.0, e, r0, itab, ftab, A[:, k])
+        out = np.empty(no)
+        _kernel.outputs(0.0, e, r0, itab, ftab, out)
+        C[:, k] = out
+    for k in range(nu):
+        u = np.zeros(nu)
+        u[k] = 1.0
+        _kernel.rhs(0.0, z, u, itab, ftab, B[:, k])
+        out = np.empty(no)
+        _kernel.outputs(0.0, z, u, itab, ftab, out)
+        D[:, k] = out
+    return A, B, np.nan_to_num(C), np.nan_to_num(D)
 
 
 def _nonlinear(e: ElementBase) -> bool:
@@ -400,11 +412,17 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         else:
             played = [edges[e][0] for e in attached[i] if _nonlinear(edges[e][1])]
             if played:
+                gap = any(edges[e][0] == played[0] and edges[e][1].prefix == "gap" for e in attached[i])
+                why = (
+                    "inside the free play its position is not determined" if gap else
+                    "its position would follow from a nonlinear spring balance, which the "
+                    "core does not solve"
+                )  # fmt: skip
                 raise NetworkError(
-                    f"ill-posed network: backlash ({played[0]}) at "
-                    f"{nd['origin'] or nd['name']}, a massless node held only by springs: "
-                    "inside the free play its position is not determined. Add a damper "
-                    "beside it, or a mass or an inerter at the node"
+                    f"ill-posed network: {'backlash' if gap else 'a nonlinear spring'} "
+                    f"({played[0]}) at {nd['origin'] or nd['name']}, a massless node held "
+                    f"only by springs: {why}. Add a damper beside it, or a mass or an "
+                    "inerter at the node"
                 )
             types.append(POS)
     ref = [-1] * nn  # the reference node of each node's floating component
@@ -579,6 +597,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     ftab = np.zeros(fe + NPAR * ne)
     itab, ftab, combo = _combination_tables(lay, types, itab, ftab)
     itab[_kernel.I_NL] = len(combo)
+    itab[_kernel.I_NRD] = 1 + max((nd.get("road", 0) for nd in lay.nodes), default=0)
     itab[_kernel.I_FMASS] = fmass
     itab[_kernel.I_FR] = fr
     for i in range(nn):
@@ -836,6 +855,11 @@ def _simulate(
     if method not in ("auto", "adaptive", "exact"):
         raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
     excitation.check_horizon(T, stacklevel=3)
+    if _kernel.road_layout_of(sys.itab)[1] > 3:
+        raise ParameterError(
+            "system", sys.description,
+            "a system on one road (a vehicle, a road per wheel: systems.vehicle.simulate)",
+        )  # fmt: skip
     if times is None and x0 is None:
         from ..simulate import check_sine_steps
 
@@ -883,10 +907,13 @@ def _simulate(
     # exact steps pay one matrix exponential per distinct step length: where the road's
     # edges and the samples make many (incommensurate grids) the adaptive steps are faster
     plan = None
+    regime = _NO_REGIME
     if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
         plan = _exact_plan(sys, segs, T, ts)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
+    elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
+        regime = _regime_tables(sys, segs, T, ts, _exact_plan(sys, segs, T, ts))
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
@@ -909,19 +936,27 @@ def _simulate(
     else:
         atol = r * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
-        st = np.zeros(4, dtype=np.int64)
+        st = np.zeros(5, dtype=np.int64)
+        XE, XG, keys, thr, idx, cls = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
-            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps,
+            ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
+            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0),
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
         stats = {
             "steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
-            "events": int(st[3]),
+            "events": int(st[3]), "exact_steps": int(st[4]),
         }  # fmt: skip
         meth = "adaptive"
     not_finite: dict = {}
+    reg = _regime_system(sys) if O is None and sys.n_states else None
+    if reg is not None:  # C x + D u where every element sits in its linear regime
+        _, _, gx, gu, thr, _, C, D, undefined = reg
+        O = np.empty((len(sys.output_names), ts.size))
+        _integrate.regime_outputs(ts, Y, segs, sys.itab, sys.ftab, C, D, undefined, gx, gu,
+                                  thr, O)  # fmt: skip
     if O is None:
         O = np.empty((ts.size, len(sys.output_names)))
         _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
@@ -1036,12 +1071,12 @@ class DriveRuns:
             if y.shape != (sys.n_states,):
                 raise ParameterError("x0", x0, f"{sys.n_states} states")
             atol = rtol * np.maximum(sys.state_scales, 1e-12)
-            st = np.zeros(4, dtype=np.int64)
+            st = np.zeros(5, dtype=np.int64)
             nseg = len(segs)
             status, _ = _integrate.integrate(
                 sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
                 sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
-                int(max_steps), math.nan, math.inf, np.zeros(nseg),
+                int(max_steps), math.nan, math.inf, np.zeros(nseg), *_NO_REGIME, 1.0,
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
@@ -1083,6 +1118,118 @@ def _exact_plan(sys, segs, T, ts):
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
     return keys * q, idx.astype(np.int64)
+
+
+
+# ---------------------------------------------------------------------------------------
+# exact steps of a nonlinear system in its linear regimes
+
+#: no exact steps in linear regimes (the arguments of :func:`._integrate.integrate`)
+_NO_REGIME = (
+    np.empty((0, 0, 0, 0)), np.empty((0, 0, 0)), np.empty(0, np.int64), np.empty(0),
+    np.empty(0, np.int64), np.empty(0, np.int64),
+)  # fmt: skip
+#: at most this many sine frequencies get tables of exact steps in one run
+REGIME_MAX_CLASSES = 4
+
+
+def _regime_system(sys):
+    """The system in the linear regime of every nonlinear element (a linear system: as
+    it is), or None where one has none: (A, B, guard rows over (x, u) as (G_x, G_u),
+    thresholds, element indices, C, D, the outputs it leaves undefined), cached on the
+    system."""
+    if "regime" in sys.info:
+        return sys.info["regime"]
+    found = None
+    regimes = [(e, el.linear_regime()) for e, el in enumerate(sys.elements) if _nonlinear(el)]
+    if all(r is not None for _, r in regimes) and sys.n_states:
+        itab = sys.itab.copy()
+        ftab = sys.ftab.copy()
+        eo = int(sys.itab[_kernel.I_ELEM])
+        for e, (lin, _, _) in regimes:
+            b = eo + ELEM_W * e
+            itab[b] = lin.code
+            o = int(itab[b + 3])
+            ftab[o : o + NPAR] = lin.row()
+        itab.setflags(write=False)  # typed as the system's own: no second compilation
+        ftab.setflags(write=False)
+        A, B, C, D = _state_space(sys, itab, ftab)
+        out0 = np.empty(len(sys.output_names))
+        u0 = np.zeros(_kernel.road_layout_of(itab)[1])
+        _kernel.outputs(0.0, np.zeros(sys.n_states), u0, itab, ftab, out0)
+        names = list(sys.output_names)
+        gx, gu, thr, idx = [], [], [], []
+        for e, (_, arg, a) in regimes:
+            b = eo + ELEM_W * e
+            top, bot = int(sys.itab[b + 1]), int(sys.itab[b + 2])
+            sfx = ".v" if arg == "velocity" else ".x"
+            it = names.index(sys.node_names[top] + sfx)
+            ib = names.index(sys.node_names[bot] + sfx)
+            gx.append(C[it] - C[ib])
+            gu.append(D[it] - D[ib])
+            thr.append(a)
+            idx.append(e)
+        n = sys.n_states
+        found = (
+            A, B, np.array(gx, float).reshape(-1, n), np.array(gu, float).reshape(-1, 3),
+            np.array(thr, float), np.array(idx, np.int64), C, D, np.isnan(out0),
+        )  # fmt: skip
+    sys.info["regime"] = found
+    return found
+
+
+def _regime_tables(sys, segs, T, ts, plan):
+    """Arguments of :func:`._integrate.integrate` for exact steps while every nonlinear
+    element sits in its linear regime (:meth:`ElementBase.linear_regime`): one matrix
+    exponential per distinct step length between break points (``plan``, as for a
+    linear system) and per sine frequency of the road (0 for its linear segments), or
+    :data:`_NO_REGIME`."""
+    reg = _regime_system(sys)
+    if reg is None or plan is None:
+        return _NO_REGIME
+    sizes, _ = plan
+    if sizes.size > EXACT_MAX_STEP_SIZES:
+        return _NO_REGIME
+    w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
+    ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
+    cls = np.full(len(segs), -1, np.int64)
+    for c, wc in enumerate(ws):
+        cls[(w == wc) & (segs[:, 2] != 2.0)] = c
+    A, B, gx, gu, thr, idx = reg[:6]
+    XE, XG = _regime_exponentials(
+        A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
+        np.ascontiguousarray(sizes, float).tobytes(),
+    )  # fmt: skip
+    keys = np.rint(sizes / (EXACT_STEP_QUANTUM * max(T, 1.0))).astype(np.int64)
+    return XE, XG, keys, thr, idx, cls
+
+
+@lru_cache(maxsize=16)
+def _regime_exponentials(n, a, b, gx, gu, ws, sizes):
+    """(XE, XG): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows and
+    their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies ws."""
+    from scipy.linalg import expm
+
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    Gx = np.frombuffer(gx).reshape(-1, n)
+    Gu = np.frombuffer(gu).reshape(-1, 3)
+    hs = np.frombuffer(sizes)
+    ng = Gx.shape[0]
+    XE = np.empty((len(ws), hs.size, n, n + 3))
+    XG = np.empty((len(ws), 2 * ng, n + 3))
+    for c, w in enumerate(ws):
+        Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
+        M = np.zeros((n + 3, n + 3))
+        M[:n, :n] = A
+        M[:n, n:] = B @ Gin
+        M[n, n + 1] = 1.0
+        M[n + 1, n] = -w * w
+        XE[c] = expm(hs[:, None, None] * M[None])[:, :n]
+        rows = np.hstack([Gx, Gu @ Gin])
+        XG[c, :ng] = rows
+        XG[c, ng:] = rows @ M
+    return XE, XG  # writable, as the empty tables: one compiled integrator, not two
 
 
 def _exact_tables(A, B, sizes):
@@ -1150,7 +1297,8 @@ def _linear_outputs(sys, ss, Y, U):
     nodes)."""
     _, _, C, D = ss
     out0 = np.empty(len(sys.output_names))
-    sys.outputs(0.0, np.zeros(sys.n_states), np.zeros(3), sys.itab, sys.ftab, out0)
+    u0 = np.zeros(_kernel.road_layout_of(sys.itab)[1])
+    sys.outputs(0.0, np.zeros(sys.n_states), u0, sys.itab, sys.ftab, out0)
     O = np.empty((C.shape[0], Y.shape[0]))
     _integrate.linear_outputs(
         np.ascontiguousarray(Y.T), np.ascontiguousarray(U.T), C, D, np.isnan(out0), O
@@ -1246,101 +1394,3 @@ def base_excited(mass: float, network: str, params: dict | None = None) -> Syste
 
     desc = f"base-excited body on {network!r}"
     return _laid_out("base_excited", desc, make, {"network": network})[0]
-
-
-QUARTER_CAR_PRESETS = {
-    "traditional": "k | c",
-    "cfw": "k | c | b",
-    "afw": "k | c | afw",
-    "device": "k | c | hyd",
-    "device-afw": "k | c | hyd",
-}
-
-
-def _car_dict(car) -> dict:
-    from ..suspension.parameters import QuarterCarParameters
-
-    if car is None:
-        car = QuarterCarParameters()
-    if isinstance(car, QuarterCarParameters):
-        return dict(
-            sprung_mass=car.sprung_mass, unsprung_mass=car.unsprung_mass,
-            stiffness=car.stiffness, damping=car.damping, tyre_stiffness=car.tyre_stiffness,
-            tyre_damping=car.tyre_damping, gravity=car.gravity,
-        )  # fmt: skip
-    if not isinstance(car, dict):
-        raise ParameterError("car", car, "a dict of car values or a QuarterCarParameters")
-    base = _car_dict(None)
-    unknown = sorted(set(car) - set(base))
-    if unknown:
-        raise ParameterError(unknown[0], car[unknown[0]], f"one of {', '.join(base)}")
-    base.update(car)
-    return base
-
-
-def preset_parameters(name: str, car: dict, *, flywheel="nylon", law="thesis",
-                      changing_ratio=None) -> dict:  # fmt: skip
-    """The element parameters of a named quarter-car suspension (docs/model.md §5)."""
-    from ..suspension.model import CFW_INERTIA
-    from ..suspension.parameters import HydraulicDeviceParameters
-    from ..transmissions import hydraulic
-
-    p: dict[str, Any] = {"k": car["stiffness"], "c": car["damping"]}
-    r = hydraulic().ratio
-    if name == "cfw":
-        from ..flywheels import constant_flywheel
-
-        p["b"] = r**2 * constant_flywheel(CFW_INERTIA).inertia_min
-    elif name == "afw":
-        p["afw"] = {"flywheel": flywheel, "law": law, "changing_ratio": changing_ratio}
-    elif name in ("device", "device-afw"):
-        d = HydraulicDeviceParameters()
-        p["hyd"] = dict(
-            stiffness=d.stiffness, damping=d.damping, friction=d.friction,
-            friction_velocity=d.friction_velocity, ratio=r, law=law,
-            flywheel="none" if name == "device" else flywheel, changing_ratio=changing_ratio,
-        )  # fmt: skip
-    return p
-
-
-def quarter_car(network: str = "afw", params: dict | None = None, *, car=None, **preset) -> System:
-    """A quarter car with ``network`` between body and wheel.
-
-    ``network`` is a network text (``"k | (c - afw)"``) or a named suspension
-    (``traditional``, ``cfw``, ``afw``, ``device``, ``device-afw``: the presets
-    :data:`QUARTER_CAR_PRESETS`, with the element values of docs/model.md §5; ``preset``
-    passes ``flywheel``, ``law``, ``changing_ratio`` to them). ``params`` gives the
-    element values by name (they override a preset's). ``car``: a dict or
-    :class:`~inerterlab.suspension.parameters.QuarterCarParameters` of masses, tyre
-    stiffness and damping (defaults thesis (4.16), M = 370 kg).
-    """
-    c = _car_dict(car)
-    check_positive("sprung_mass", c["sprung_mass"], "kg")
-    check_positive("unsprung_mass", c["unsprung_mass"], "kg")
-    check_positive("tyre_stiffness", c["tyre_stiffness"], "N/m")
-    check_nonnegative("tyre_damping", c["tyre_damping"], "N s/m")
-    if network in QUARTER_CAR_PRESETS:
-        text = QUARTER_CAR_PRESETS[network]
-        p = preset_parameters(network, c, **preset)
-        for key, v in (params or {}).items():
-            p[key] = v
-    else:
-        if preset:
-            k = next(iter(preset))
-            raise ParameterError(k, preset[k], "no value: only the named presets take it")
-        text, p = network, params
-    tree, els = elements_of(text, p)
-
-    def make(arrange):
-        lay = Layout(arrange)
-        road = lay.node("road", "road")
-        wheel = lay.node("wheel", "mass", c["unsprung_mass"])
-        body = lay.node("body", "mass", c["sprung_mass"])
-        lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
-        if c["tyre_damping"] > 0:
-            lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
-        lay.place(tree, body, wheel, els)
-        return lay
-
-    desc = f"quarter car with {network!r}"
-    return _laid_out("quarter_car", desc, make, {"network": text, "car": c})[0]

@@ -35,7 +35,7 @@ from ..networks import NetworkError
 from . import _integrate
 from ._kernel import ROAD
 from ._network import Layout, elements_of
-from .core import System, _failure, _laid_out
+from .core import _NO_REGIME, System, _failure, _laid_out
 
 __all__ = [
     "half_car", "full_car", "vehicle", "simulate", "VehicleResult", "static_tyre_loads",
@@ -364,11 +364,12 @@ def simulate(sys: System, r, dt: float, *, rtol: float = 1e-8, x0=None,
         raise ParameterError("x0", x0, f"{sys.n_states} finite states ({', '.join(sys.state_names)})")
     atol = rtol * np.maximum(sys.state_scales, 1e-12)
     Y = np.empty((ts.size, sys.n_states))
-    st = np.zeros(4, dtype=np.int64)
+    st = np.zeros(5, dtype=np.int64)
     nseg = len(segs)
     status, _ = _integrate.integrate(
         sys.itab, sys.ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
         math.inf, ts, Y, st, np.zeros(nseg), int(max_steps), math.nan, math.inf, np.zeros(nseg),
+        *_NO_REGIME, 1.0,
     )  # fmt: skip
     if status != _integrate.OK:
         raise _failure(sys, status, max_steps)

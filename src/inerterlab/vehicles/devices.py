@@ -23,11 +23,14 @@ Two conditions make the rig's force a function of the states alone, and are chec
 no inertial element (inerter, flywheel) may touch the body-side terminal except
 straight across the device (write ``c - b``, not ``b - c``: a series connection's law
 does not depend on its order), and the rig part must carry no static load (the strut's
-springs carry the car; the device's series springs relax at rest).
+springs carry the car; the device's series springs relax at rest), except gas springs and
+bump stops straight across, which the vehicle's static equilibrium
+(:mod:`inerterlab.vehicles.statics`) takes about their static extension.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from typing import Any
@@ -214,7 +217,13 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
         )
         dev = CornerDevice(source, k, c, b, adaptive, system, drive, edges, nodes)
         x1 = dev.initial_state(1.0)
-        static = dev.tension(x1, 1.0, 0.0)
+        # gas springs and bump stops straight across may carry the car: the vehicle's
+        # static equilibrium takes them about their static extension (statics.py)
+        held = tuple(
+            (i, s) for i, s in drive
+            if not ({rest[i][2], rest[i][3]} == {0, 1} and hasattr(rest[i][1], "at_operating_point"))
+        )  # fmt: skip
+        static = dataclasses.replace(dev, drive_elements=held).tension(x1, 1.0, 0.0)
         if not math.isfinite(static) or abs(static) > 1e-9 * max(1.0, _largest_spring(rest)):
             raise ParameterError(
                 "device",

@@ -105,6 +105,10 @@ class LinearVehicle:
     outputs : dict of Output
     gravity_force : ndarray
         Generalised weight forces on q [N, N m].
+    static_state : ndarray or None
+        The static equilibrium q0 from the force-free configuration where nonlinear
+        springs carry load (:func:`~inerterlab.vehicles.statics.rest_on_springs`), else
+        None (K0 q0 = weights).
     """
 
     parameters: object
@@ -116,6 +120,7 @@ class LinearVehicle:
     connections: tuple
     outputs: dict = field(default_factory=dict)
     gravity_force: np.ndarray | None = None
+    static_state: np.ndarray | None = None
 
     @property
     def kind(self) -> str:
@@ -192,8 +197,8 @@ class LinearVehicle:
             raise ParameterError(
                 con.name,
                 dev.source,
-                f"a linear strut for {what}: this device has internal nodes or "
-                "friction, which only the nonlinear time simulation "
+                f"a linear strut for {what}: this device has internal nodes, "
+                "friction or a nonlinear spring, which only the nonlinear time simulation "
                 "(simulate_nonlinear, vehicle simulate, vehicle monte-carlo) integrates",
             )
 
@@ -269,9 +274,12 @@ class LinearVehicle:
         assembled from each law's static stiffness Z(0)."""
         K0 = self.static_stiffness_matrix()
         try:
-            if np.linalg.cond(K0) > 1e12:
+            if self.static_state is not None:  # resting on nonlinear springs
+                q0 = self.static_state
+            elif np.linalg.cond(K0) > 1e12:
                 raise np.linalg.LinAlgError
-            q0 = np.linalg.solve(K0, self.gravity_force)
+            else:
+                q0 = np.linalg.solve(K0, self.gravity_force)
         except np.linalg.LinAlgError:
             raise ParameterError(
                 "struts",
@@ -285,16 +293,6 @@ class LinearVehicle:
                 k = con.law.static_stiffness()
                 out[con.name[: -len("_tyre")]] = float(-k * con.u @ q0)
         return out
-
-    def damped_modes(self) -> tuple[np.ndarray, np.ndarray]:
-        """(natural frequency |lambda| / 2 pi [Hz], damping ratio -Re lambda / |lambda|)
-        of every oscillatory mode, from the eigenvalues lambda of the state matrix
-        (network struts' internal states included), by ascending frequency."""
-        lam = np.linalg.eigvals(self.state_space()[0])
-        osc = lam[lam.imag > 1e-9 * max(1.0, float(np.abs(lam).max()))]
-        wn = np.abs(osc)
-        order = np.argsort(wn)
-        return wn[order] / (2 * math.pi), (-osc.real / wn)[order]
 
     def natural_frequencies(self, rigid_tyres: bool = True) -> np.ndarray:
         """Undamped natural frequencies [Hz], ascending.
@@ -406,7 +404,9 @@ def build(parameters: HalfCar | FullCar) -> LinearVehicle:
             continue
         acc_out[name] = Output(zero_n, zero_n, _unit(n, i), zero_m, zero_m, OUTPUT_UNITS[name])
     acc_out.update(outputs)
-    return LinearVehicle(
+    from .statics import rest_on_springs
+
+    return rest_on_springs(LinearVehicle(
         parameters=p,
         dofs=tuple(dofs),
         inputs=tuple(names),
@@ -416,4 +416,4 @@ def build(parameters: HalfCar | FullCar) -> LinearVehicle:
         connections=tuple(cons),
         outputs=acc_out,
         gravity_force=gravity,
-    )
+    ))

@@ -524,7 +524,9 @@ def simulate_nonlinear(
                 "or raise friction_velocity",
             )
     A, Br, _, _, _, _ = vehicle.state_space(devices=True)
-    x0 = -np.linalg.solve(A, Br @ r[0])
+    from .statics import rest_state
+
+    x0 = rest_state(vehicle, A, Br, r[0])
     n = len(vehicle.dofs)
     for con, dev in vehicle.nonlinear_devices():
         rate = dev.fastest_rate()

@@ -38,6 +38,8 @@ __all__ = [
     "road_inputs",
     "generated_road",
     "StageRoad",
+    "Mode",
+    "modes",
 ]
 
 
@@ -156,6 +158,66 @@ def spectral_response(
     return SpectralResult(
         freq=freq, psd=psd, rms=rms, units=units, static_load=static, lift_off=lift, speed=v
     )
+
+
+@dataclass(frozen=True)
+class Mode:
+    """One eigenvalue lambda [1/s] of the linear vehicle's state matrix (an oscillatory
+    mode is the one of its conjugate pair with Im lambda > 0).
+
+    ``damped_hz`` = Im lambda / 2 pi, the frequency the free motion oscillates at;
+    ``natural_hz`` = |lambda| / 2 pi, the undamped natural frequency of the equivalent
+    1-DOF oscillator; ``damping_ratio`` = -Re lambda / |lambda|. A real (overdamped)
+    mode has no frequency: its ``decay_rate`` = -lambda [1/s] and ``time_constant`` =
+    -1/lambda [s]."""
+
+    eigenvalue: complex
+
+    @property
+    def oscillatory(self) -> bool:
+        return self.eigenvalue.imag > 0.0
+
+    @property
+    def damped_hz(self) -> float:
+        return float(self.eigenvalue.imag / (2 * math.pi))
+
+    @property
+    def natural_hz(self) -> float:
+        return float(abs(self.eigenvalue) / (2 * math.pi))
+
+    @property
+    def damping_ratio(self) -> float:
+        return float(-self.eigenvalue.real / abs(self.eigenvalue))
+
+    @property
+    def decay_rate(self) -> float:
+        return float(-self.eigenvalue.real)
+
+    @property
+    def time_constant(self) -> float:
+        return math.inf if self.eigenvalue.real == 0.0 else float(-1.0 / self.eigenvalue.real)
+
+    def to_dict(self) -> dict:
+        if self.oscillatory:
+            return {
+                "damped_frequency_hz": self.damped_hz,
+                "damping_ratio": self.damping_ratio,
+                "natural_frequency_hz": self.natural_hz,
+            }
+        return {"decay_rate_per_s": self.decay_rate, "time_constant_s": self.time_constant}
+
+
+def modes(vehicle: LinearVehicle) -> tuple[list[Mode], list[Mode]]:
+    """(oscillatory modes by ascending damped frequency, real modes by ascending decay
+    rate) of the linear vehicle, from the eigenvalues of its state matrix (network
+    struts' internal states included). An eigenvalue is real where
+    |Im lambda| <= 1e-9 max(1, max |lambda|) (a conjugate pair of an exactly
+    overdamped mode comes out of the eigensolver as two real values)."""
+    lam = np.linalg.eigvals(vehicle.state_space()[0])
+    tol = 1e-9 * max(1.0, float(np.abs(lam).max(initial=0.0)))
+    osc = sorted((complex(x) for x in lam if x.imag > tol), key=lambda z: z.imag)
+    real = sorted((complex(x.real, 0.0) for x in lam if abs(x.imag) <= tol), key=lambda z: -z.real)
+    return [Mode(z) for z in osc], [Mode(z) for z in real]
 
 
 def lift_off_probability(static_load: float, sigma: float, mean: float = 0.0) -> float:

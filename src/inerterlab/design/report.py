@@ -1,0 +1,215 @@
+"""The HTML design report: one self-contained file (figures embedded as PNG).
+
+Figures: the H2 Pareto fronts of the best layouts and ``k | c`` (comfort against road
+holding, :func:`inerterlab.network_design.pareto_front`); |H(f)| of body acceleration
+per unit road velocity of the linear winners against ``k | c``; the PSDs of body
+acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO 8608 road
+(Welch); the body acceleration after a 5 cm bump. Tables: the ranking (expected values
+with intervals), the layouts' linear optima and the device requirements.
+"""
+
+from __future__ import annotations
+
+import base64
+import html
+import io
+import math
+
+import numpy as np
+
+__all__ = ["figures", "render_html"]
+
+
+def _png(fig) -> str:
+    buf = io.BytesIO()
+    fig.savefig(buf, format="png", dpi=100, bbox_inches="tight")
+    return base64.b64encode(buf.getvalue()).decode("ascii")
+
+
+def _winners(result: dict, n: int = 3) -> list[dict]:
+    """k | c, the best linear candidates and the best device candidate."""
+    rows = result["ranking"]
+    out = [r for r in rows if r["label"] == "k | c"]
+    out += [r for r in rows if r["kind"] in ("layout", "synthesis")][:n]
+    out += [r for r in rows if r["kind"] == "device"][:1]
+    return out
+
+
+def figures(result: dict) -> dict:
+    """{title: base64 PNG} of the report's figures (from :func:`run_design`'s result)."""
+    from matplotlib.figure import Figure
+    from scipy.signal import welch
+
+    from .. import excitation as ex
+    from ..network_design import pareto_figure, pareto_front
+    from ..systems import quarter_car
+    from ..systems.core import weighted_acceleration
+
+    st = result["settings"]
+    car = {k: st[k] for k in ("sprung_mass", "unsprung_mass", "tyre_stiffness", "tyre_damping")}
+    win = _winners(result)
+    out = {}
+
+    # Pareto fronts (H2, linear)
+    lin = [r["network"] for r in win if r["kind"] in ("reference", "layout")][:3]
+    try:
+        ds = pareto_front(lin, ("body_acc", "tyre_deflection"), points=6,
+                          fixed={"k": st["stiffness"]}, seed=st["seed"], **car)  # fmt: skip
+        fig = pareto_figure(ds)
+        fig.axes[0].set_xlabel("tyre deflection H2 norm [m per m/s road velocity], linear")
+        fig.axes[0].set_ylabel("body acceleration H2 norm [m/s^2 per m/s], linear")
+        out["Pareto fronts: comfort against road holding (H2, linear)"] = _png(fig)
+    except Exception as e:  # noqa: BLE001 - a figure that cannot be drawn is said, not fatal
+        out["Pareto fronts"] = f"not drawn: {e}"
+
+    # |H(f)|
+    f = np.geomspace(0.3, 30.0, 300)
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.add_subplot(1, 1, 1)
+    for r in win:
+        if r["kind"] == "device":
+            continue
+        net, par = r["core"]["network"], r["core"]["params"]
+        h = quarter_car(net, par, **dict(car or {})).transfer(2 * np.pi * f, "body_acc")
+        ax.loglog(f, np.abs(h), label=r["label"], lw=2.0 if r["label"] == "k | c" else 1.2)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel("|H| body acceleration per road velocity [m/s^2 per m/s]")
+    ax.set_title("|H(f)| of the linear winners against k | c (linear)")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    out["|H(f)|: body acceleration per unit road velocity (linear)"] = _png(fig)
+
+    # PSDs on one long road, and a bump
+    horizon = 30.0
+    road = ex.iso8608(st["road_class"], st["speed"], seed=st["seed"] + 999_999)
+    fig = Figure(figsize=(9.0, 3.8), layout="constrained")
+    a1, a2 = fig.subplots(1, 2)
+    fig_b = Figure(figsize=(6.4, 3.8))
+    ab = fig_b.add_subplot(1, 1, 1)
+    for r in win:
+        net, par = r["core"]["network"], r["core"]["params"]
+        sys = quarter_car(net, par, **dict(car or {}))
+        res = sys.simulate(road, horizon=horizon)
+        acc = res.outputs["body_acc"]
+        aw = weighted_acceleration(res.time, acc)
+        fs = 1.0 / (res.time[1] - res.time[0])
+        fr, p = welch(acc, fs=fs, nperseg=4096)
+        _, pw = welch(aw, fs=fs, nperseg=4096)
+        keep = (fr > 0.2) & (fr < 40)
+        a1.loglog(fr[keep], p[keep], label=r["label"], lw=0.9)
+        a2.loglog(fr[keep], pw[keep], label=r["label"], lw=0.9)
+        rb = sys.simulate(ex.bump(0.05), horizon=3.0)
+        ab.plot(rb.time, rb.outputs["body_acc"], label=r["label"], lw=0.9)
+    for a, t in ((a1, "body acceleration"), (a2, "Wk-weighted body acceleration")):
+        a.set_xlabel("frequency [Hz]")
+        a.set_ylabel("PSD [(m/s^2)^2/Hz]")
+        a.set_title(f"{t}, one {horizon:g} s road", fontsize=9)
+        a.grid(True, which="both", alpha=0.3)
+    a1.legend(fontsize=6)
+    out[
+        f"PSD of body acceleration, plain and ISO 2631-1 Wk weighted (one {horizon:g} s ISO 8608 road, time domain)"
+    ] = _png(fig)
+    ab.set_xlabel("time [s]")
+    ab.set_ylabel("body acceleration [m/s^2]")
+    ab.set_title("5 cm, 10 ms bump (time domain)")
+    ab.grid(True, alpha=0.3)
+    ab.legend(fontsize=7)
+    out["Bump: body acceleration after a 5 cm, 10 ms bump (time domain)"] = _png(fig_b)
+    return out
+
+
+def _fmt(x, spec=".4g") -> str:
+    if x is None:
+        return "-"
+    if isinstance(x, float) and not math.isfinite(x):
+        return "-"
+    return format(x, spec) if isinstance(x, int | float) else html.escape(str(x))
+
+
+def render_html(result: dict, figs: dict) -> str:
+    """The report as one HTML text."""
+    st = result["settings"]
+    obj = result["objective"]
+    e = html.escape
+    rows = []
+    for r in result["ranking"]:
+        params = ", ".join(f"{k}={v:.4g}" for k, v in r["parameters"].items())
+        rows.append(
+            f"<tr><td>{r['rank']}</td><td>{e(r['label'])}</td><td>{e(r['kind'])}</td>"
+            f"<td>{_fmt(r['expected'])} &plusmn; {_fmt(r['interval95'], '.2g')}</td>"
+            f"<td>{_fmt(r['gain_percent'], '+.2f')} &plusmn; {_fmt(r['gain_interval95'], '.2f')}</td>"
+            f"<td>{_fmt(r['rms_deflection'])}</td><td>{_fmt(r['rms_tyre_load'])}</td>"
+            f"<td>{'yes' if r['limits_met'] else 'no'}</td><td>{e(params)}</td></tr>"
+        )
+    lay = []
+    for r in result["layouts"]:
+        if r.get("objective") is None:
+            lay.append(
+                f"<tr><td>{e(r['network'])}</td><td colspan=4>{e(r.get('reason', ''))}</td></tr>"
+            )
+            continue
+        params = ", ".join(f"{k}={v:.4g}" for k, v in r["parameters"].items())
+        lay.append(
+            f"<tr><td>{e(r['network'])}</td><td>{_fmt(r['objective'])}</td>"
+            f"<td>{_fmt(r.get('h2_improvement'), '+.2f')}</td><td>{e(r.get('simpler') or '')}</td>"
+            f"<td>{e(params)}</td></tr>"
+        )
+    req = "".join(
+        f"<li>{e(q['device'])} in {e(q['layout'])}: {e(q.get('text') or q.get('reason', ''))}"
+        + (f" (identified: {q['identified']:.4g} {e(q['unit'])})" if q.get("identified") else "")
+        + "</li>"
+        for q in result["requirements"]
+    )
+    dl = "".join(
+        f"<tr><td>{e(q['device'])}</td><td>{e(q['layout'])}</td><td>{_fmt(q['h2'])}</td>"
+        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td></tr>"
+        for q in sorted(result.get("device_linear", []), key=lambda q: (q["device"], q["h2"]))
+    )
+    figs_html = "".join(
+        f"<h3>{e(t)}</h3>"
+        + (
+            f'<img alt="{e(t)}" src="data:image/png;base64,{b}">'
+            if not b.startswith("not drawn")
+            else f"<p>{e(b)}</p>"
+        )
+        for t, b in figs.items()
+    )
+    notes = "".join(f"<li>{e(n)}</li>" for n in result["notes"])
+    car = (
+        f"sprung mass {st['sprung_mass']:g} kg, unsprung mass {st['unsprung_mass']:g} kg, "
+        f"tyre {st['tyre_stiffness']:g} N/m and {st['tyre_damping']:g} N s/m, main spring "
+        f"{st['stiffness']:g} N/m ({e(st['source'])})"
+    )
+    return f"""<!DOCTYPE html>
+<html lang="en"><head><meta charset="utf-8"><title>inerterlab design report</title>
+<style>body{{font-family:sans-serif;max-width:1100px;margin:2em auto;}}
+table{{border-collapse:collapse;font-size:90%}}td,th{{border:1px solid #bbb;padding:3px 6px}}
+img{{max-width:100%}}</style></head><body>
+<h1>Suspension design report</h1>
+<p>Car: {car}. Road: ISO 8608 class {e(st["road_class"])} at {st["speed"]:g} m/s.
+Budget: {st["springs"]} springs, {st["dampers"]} dampers, {st["inerters"]} inerters
+(inertance at most {st["max_inertance"]:g} kg). Objective: {e(obj["name"])} [{e(obj["unit"])}],
+scored as the {e(obj["time_domain"])}; the layouts were searched with the H2 norm of
+{e(obj["h2_objective"])} (linear, white road velocity).</p>
+<h2>Ranking</h2>
+<p>Expected value of {e(obj["name"])} [{e(obj["unit"])}] &plusmn; 95 % interval of the
+expected value; gain over the optimised k | c on the same roads [%] &plusmn; its 95 % interval
+(positive: better). Deflection [m RMS] and tyre load [N RMS] are expected values.</p>
+<table><tr><th>rank</th><th>candidate</th><th>kind</th><th>{e(obj["name"])} [{e(obj["unit"])}]</th>
+<th>gain vs k | c [%]</th><th>deflection [m]</th><th>tyre load [N]</th><th>limits met</th>
+<th>parameters [SI]</th></tr>{"".join(rows)}</table>
+<h2>Device requirements</h2>
+<p>The friction or parasitic damping at which the ideal design of the device's layout,
+built with the device (its stiffness as identified, the other loss off), loses its
+expected gain over k | c on {st["tune_roads"]} tuning roads (bisection on the gain crossing
+zero).</p><ul>{req or "<li>no device candidates</li>"}</ul>
+<h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
+<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
+<h2>Figures</h2>{figs_html}
+<h2>Layouts (H2 optimum, linear)</h2>
+<table><tr><th>layout</th><th>H2 norm [{e(result["layouts"][0].get("h2_unit", ""))}]</th>
+<th>vs k | c [%]</th><th>stands for</th><th>parameters [SI]</th></tr>{"".join(lay)}</table>
+<h2>Notes</h2><ul>{notes or "<li>none</li>"}</ul>
+<p>Computed in {result["seconds"]:.1f} s.</p>
+</body></html>
+"""

@@ -1,0 +1,167 @@
+"""Static equilibrium of a vehicle that rests on nonlinear springs.
+
+The vehicle's coordinates are displacements from static equilibrium. With linear struts
+that equilibrium never needs computing (superposition); a corner device whose gas spring
+or bump stop (:mod:`inerterlab.elements`) sits straight across the strut carries part of
+the weight by its nonlinear law, so the equilibrium is solved: with K0 the static
+stiffness of the linear laws (struts, tyres, anti-roll bars) and T_j(e) the tension of
+corner j's nonlinear springs at the strut extension e (from their force-free lengths),
+
+    K0 q + sum_j u_j T_j(u_j . q) = f_g        (f_g the weights on q),
+
+by Newton's method (:func:`inerterlab.systems.equilibrium.newton`), the same route as the
+core systems' :func:`~inerterlab.systems.equilibrium`. Each such spring then takes its law
+about its static extension (F(e0 + e) - F(e0)), so it carries no force at q = 0 and the
+coordinates stay deviations from rest; the static tyre loads come from this equilibrium.
+An equilibrium beyond a spring's working range (a gas spring's stroke, a bump stop's
+travel) is refused, naming the corner.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from ..errors import NetworkError
+
+__all__ = ["rest_on_springs", "rest_state", "linearised"]
+
+
+def _carriers(law) -> list:
+    """(edge index, element, sign) of the nonlinear springs straight across a strut's
+    device (sign: +1 if the element's extension is the strut's)."""
+    dev = getattr(law, "device", None)
+    if dev is None:
+        return []
+    return [
+        (i, el, 1.0 if t == 0 else -1.0)
+        for i, (_, el, t, b) in enumerate(dev.edges)
+        if {t, b} == {0, 1} and hasattr(el, "at_operating_point")
+    ]
+
+
+def _tension(carriers, e: float, rebased: bool) -> float:
+    """Tension [N] of the springs at strut extension ``e`` [m] (from the force-free
+    lengths, or about their operating points if ``rebased``)."""
+    out = 0.0
+    for _, el, sign in carriers:
+        y = sign * e
+        if rebased:
+            out += sign * (el.force(el.operating_point + y) - el.force(el.operating_point))
+        else:
+            out += sign * el.force(y)
+    return out
+
+
+def rest_on_springs(vehicle):
+    """``vehicle`` (a :class:`~inerterlab.vehicles.model.LinearVehicle`) at its static
+    equilibrium: unchanged if no nonlinear spring carries load; otherwise with each such
+    spring about its static extension and ``static_state`` the equilibrium q0 [m, rad]
+    from the force-free configuration."""
+    from ..systems.equilibrium import newton
+    from .devices import _split
+
+    carriers = [(j, _carriers(con.law)) for j, con in enumerate(vehicle.connections)]
+    carriers = [(j, c) for j, c in carriers if c]
+    if not carriers:
+        return vehicle
+    K0 = vehicle.static_stiffness_matrix()
+    fg = vehicle.gravity_force
+    U = [vehicle.connections[j].u for j, _ in carriers]
+
+    def residual(q):
+        r = fg - K0 @ q
+        for u, (_, c) in zip(U, carriers, strict=True):
+            r -= u * _tension(c, float(u @ q), rebased=False)
+        return r
+
+    def singular(J):
+        raise NetworkError(
+            "vehicle: no static equilibrium: the static stiffness is singular (a body or "
+            "wheel coordinate is held by no spring)"
+        )
+
+    weight = float(np.abs(fg).sum())
+    q0, _ = newton(residual, len(fg), 1e-12 * max(weight, 1.0), "vehicle", singular)
+    cons = list(vehicle.connections)
+    for j, c in carriers:
+        con = cons[j]
+        e = float(con.u @ q0)
+        dev = con.law.device
+        edges = list(dev.edges)
+        for i, el, sign in c:
+            lo, hi, what = el.static_range()
+            y = sign * e
+            if not lo <= y <= hi:
+                raise NetworkError(
+                    f"vehicle: no static equilibrium within the elements' ranges: at "
+                    f"{con.name} the {el.description} ({edges[i][0]}) would take {-y:.6g} m "
+                    f"of compression carrying {-el.force(y):.6g} N, beyond {what}"
+                )
+            name, _, t, b = edges[i]
+            edges[i] = (name, el.at_operating_point(y), t, b)
+        law = dataclasses.replace(con.law, device=_split(dev.source, dev.nodes, tuple(edges)))
+        cons[j] = dataclasses.replace(con, law=law)
+    return dataclasses.replace(vehicle, connections=tuple(cons), static_state=q0)
+
+
+def rest_state(vehicle, A, Br, r0) -> np.ndarray:
+    """The state x = (q, q', z) at rest on the road heights ``r0`` [m] of the vehicle's
+    state space (A, Br) with its nonlinear springs' rig forces (which A leaves out, see
+    :meth:`~inerterlab.vehicles.model.LinearVehicle.state_space` ``devices``) added:
+    -A^-1 Br r0 for a vehicle without load-carrying nonlinear springs, else by Newton's
+    method from the rest on a level road."""
+    r0 = np.asarray(r0, float)
+    carriers = [(con.u, _carriers(con.law)) for con in vehicle.connections]
+    carriers = [(u, c) for u, c in carriers if c]
+    if not carriers:
+        return -np.linalg.solve(A, Br @ r0)
+    from ..systems.equilibrium import newton
+
+    n = len(vehicle.dofs)
+    Minv = np.linalg.inv(vehicle.matrices(internal=True)[0])
+    b = Br @ r0
+
+    def residual(x):
+        r = A @ x + b
+        for u, c in carriers:
+            r[n : 2 * n] -= Minv @ (u * _tension(c, float(u @ x[:n]), rebased=True))
+        return r
+
+    def singular(J):
+        raise NetworkError("vehicle: no rest on these road heights (singular static stiffness)")
+
+    tol = 1e-12 * max(1.0, float(np.abs(b).max(initial=0.0)))
+    return newton(residual, A.shape[0], tol, "vehicle at rest on the first road heights", singular)[0]
+
+
+def linearised(vehicle):
+    """(``vehicle`` with each corner's gas springs and bump stops replaced by linear
+    springs of their stiffness at rest, True), or (``vehicle``, False) where none
+    carries load: the linearisation about the static equilibrium for the linear
+    analyses. A device with other nonlinear parts stays (and is refused there)."""
+    from ..elements import Spring
+    from .devices import _split
+
+    cons = list(vehicle.connections)
+    changed = False
+    for j, con in enumerate(cons):
+        c = _carriers(con.law)
+        if not c:
+            continue
+        dev = con.law.device
+        edges = list(dev.edges)
+        for i, el, _ in sorted(c, key=lambda t: -t[0]):
+            name, _, t, b = edges[i]
+            k = el.tangent(el.operating_point)
+            if k > 0.0:
+                edges[i] = (name, Spring(stiffness=k), t, b)
+            else:  # a bump stop clear of its stop: no force for small motions
+                del edges[i]
+        law = dataclasses.replace(con.law, device=_split(dev.source, dev.nodes, tuple(edges)))
+        cons[j] = dataclasses.replace(con, law=law)
+        changed = True
+    if not changed:
+        return vehicle, False
+    return dataclasses.replace(vehicle, connections=tuple(cons)), True
