@@ -20,16 +20,18 @@ signature :data:`RHS_SIGNATURE`:
 The integrator (:mod:`._integrate`) takes the right-hand side as a first-class function
 (a function pointer of :data:`RHS_SIGNATURE`), so it is compiled once for every
 structure and either tier. :func:`rhs_for` picks the tier: the per-structure code once
-it is on disk or once a structure runs for the :data:`SPECIALISE_AFTER`-th time in a
-process (the first runs of a structure, e.g. a test building many networks once each,
-do not pay its compilation), the generic code before. Both evaluate the same arithmetic
-in the same order: results agree to the last bit.
+it is on disk, or once the integrations of a structure in a process have taken
+:data:`SPECIALISE_AFTER_SECONDS` of CPU time (a sweep, a fit, a long study: the
+compilation then pays for itself; a test or a report that runs many structures a few
+times each does not pay for theirs), the generic code before. Both evaluate the same
+arithmetic in the same order: results agree to the last bit.
 """
 
 from __future__ import annotations
 
 import hashlib
 import importlib.util
+import math
 import os
 import sys
 import threading
@@ -50,9 +52,11 @@ _f1 = types.float64[::1]
 #: (t, x, road, itab, ftab, W, dx, imp) -> ok: the contract of :func:`._kernel.evaluate`
 RHS_SIGNATURE = types.boolean(types.float64, _f1, _f1, _ro_i, _ro_f, _f1, _f1, _f1)
 RHS_TYPE = types.FunctionType(RHS_SIGNATURE)
-#: a structure gets its own compiled code on this use in a process (or at once when a
-#: previous process compiled it)
-SPECIALISE_AFTER = 2
+#: a structure gets its own compiled code once its integrations in a process have taken
+#: this much CPU time [s] with the generic code (the compilation, 2-3 s of CPU, then pays
+#: for itself: the structure's own code takes about a third less time), or at its first
+#: integration when an earlier process compiled it (then it only loads)
+SPECIALISE_AFTER_SECONDS = 2.0
 #: ``INERTERLAB_SPECIALISE``: ``auto`` (default, as above), ``always`` or ``never``
 _MODE_ENV = "INERTERLAB_SPECIALISE"
 
@@ -99,7 +103,8 @@ def _typeof_rhs(val, c):  # one type object: no signature parsing per call
 _lock = threading.Lock()
 _generic: list = []
 _specialised: dict[bytes, CompiledRhs] = {}
-_uses: dict[bytes, int] = {}
+_spent: dict[bytes, float] = {}  # CPU time [s] of integrations with the generic code
+_seen: set[bytes] = set()
 
 
 def generic() -> CompiledRhs:
@@ -189,13 +194,20 @@ def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
     mode = os.environ.get(_MODE_ENV, "auto")
     if mode == "never":
         return generic()
-    n = _uses.get(k, 0) + count
-    _uses[k] = n
     try:
-        if mode == "always" or n >= SPECIALISE_AFTER:
+        if mode == "always" or _spent.get(k, 0.0) >= SPECIALISE_AFTER_SECONDS:
             return specialised(itab)
-        if count and n == 1 and (_cache_dir() / f"s_{structure_key(itab)}.done").exists():
-            return specialised(itab)
+        if count and k not in _seen:
+            _seen.add(k)
+            if (_cache_dir() / f"s_{structure_key(itab)}.done").exists():
+                return specialised(itab)
     except OSError:  # no writable cache directory: the generic code serves
-        _uses[k] = -(10**9)
+        _spent[k] = -math.inf
     return generic()
+
+
+def record(itab: np.ndarray, seconds: float) -> None:
+    """Add the CPU time [s] of an integration of the structure ``itab`` with the
+    generic code (what :func:`rhs_for` weighs against compiling it)."""
+    k = itab.tobytes()
+    _spent[k] = _spent.get(k, 0.0) + seconds

@@ -13,13 +13,14 @@ the momentum balance the force law implies (thesis law: the integral of m_e(v) d
 from __future__ import annotations
 
 import math
+import time
 
 import numba as nb
 import numpy as np
 
 from ..elements._base import SPRING
 from ..elements.spring import spring_force
-from ._compiled import rhs_for
+from ._compiled import record, rhs_for
 from ._kernel import (
     ELEM_W,
     GROUND,
@@ -31,6 +32,7 @@ from ._kernel import (
     ROAD,
     _dissipative,
     _work_size,
+    road_layout_of,
     switches,
 )
 
@@ -86,7 +88,12 @@ def road_at(segs, i, t, out):
     table and a row number, not a row: a slice per call costs a view)."""
     kind = segs[i, 2]
     t0 = segs[i, 0]
-    if kind == 0.0:
+    if kind == 3.0:  # several roads, each linear: (x_k, rate_k) from column 3 on
+        for k in range(min((segs.shape[1] - 3) // 2, out.size // 3)):
+            out[3 * k] = segs[i, 3 + 2 * k] + segs[i, 4 + 2 * k] * (t - t0)
+            out[3 * k + 1] = segs[i, 4 + 2 * k]
+            out[3 * k + 2] = 0.0
+    elif kind == 0.0:
         out[0] = segs[i, 3] + segs[i, 4] * (t - t0)
         out[1] = segs[i, 4]
         out[2] = 0.0
@@ -157,12 +164,13 @@ def _dense(y, yt, K, h, th, out):
 
 
 @nb.njit(cache=True)
-def _sides(sw, road):
-    """The side of each element's kink (road[4 + e], see :func:`._kernel.evaluate`) from
-    the signs of its two switching functions (:func:`._kernel.switches`)."""
+def _sides(sw, road, hs):
+    """The side of each element's kink (road[hs + e], hs the first held side of
+    :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
+    two switching functions (:func:`._kernel.switches`)."""
     for e in range(sw.size // 2):
         g = max(sw[2 * e], sw[2 * e + 1])
-        road[4 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[4 + e])
+        road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
 
 
 @nb.njit(cache=True)
@@ -310,7 +318,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     steps go on from there and locate the switch. Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.zeros(4 + itab[I_NE])  # the road, a free slot (the HB's frequency), each element's side of its kink
+    road_n, _, hs = road_layout_of(itab)
+    road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -339,7 +348,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
-        _sides(sw, road)
+        _sides(sw, road, hs)
         _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
         for i in range(n):
             K[0, i] = dy[i]
@@ -436,7 +445,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for i in range(n):
                     K[0, i] = dy[i]
                 switches(itab, ftab, work, sw)
-                _sides(sw, road)
+                _sides(sw, road, hs)
                 if t >= t_end:
                     break
         lim = t_end
@@ -548,7 +557,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             t = tn
             into = -1
             if flip >= 0:  # past the kink: its other side's law from here
-                road[4 + flip // 2] = past
+                road[hs + flip // 2] = past
                 _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
@@ -566,7 +575,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             # rattle of tests/test_core_events.py 40x off its closed form.)
             safe = 0.9
             for e in range(ne):
-                if road[4 + e] < 0.0:
+                if road[hs + e] < 0.0:
                     safe = 0.8
             fac = safe * err**-0.2 if err > 0.0 else 5.0
             fac = min(5.0, max(0.2, fac))
@@ -617,7 +626,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
     h = 0.0
     prev = x1_before
     prev_v = v_before
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
     for i in range(y.size):
@@ -640,7 +649,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
         if segs[s, 2] == 2.0:
-            while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
+            while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
         rng[1] = e
@@ -705,7 +714,7 @@ def _outputs_many(ev, t_out, Y, segs, itab, ftab, O):
     that holds each time (right-continuous)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
     imp = np.empty(0)
@@ -730,7 +739,7 @@ def _regime_outputs(ev, t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr
     ne = itab[I_NE]
     n = Y.shape[1]
     no = 3 * nn + ne
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(n)
     imp = np.empty(0)
@@ -781,7 +790,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     it: springs, dampers and friction between the drive, the ground and nodes whose
     displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     s = 0
     for j in range(t_out.size):
         s = _sample_road(segs, s, t_out[j], road)
@@ -824,7 +833,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     prev_v = v_before
     yn = np.empty(n)
     dx = np.empty(n)
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     jerk = np.full(1, np.nan)
     imp = np.empty(imp_unit.size)
@@ -925,11 +934,16 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     ``stats`` has five slots."""
     if stats.size < 5:
         raise ValueError("stats: five slots (steps, rejected, rhs calls, events, exact steps)")
-    return _integrate(
-        rhs_for(itab), _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
+    ev = rhs_for(itab)
+    t0 = time.process_time()
+    out = _integrate(
+        ev, _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, *(NO_REGIME if regime is None else regime),
     )  # fmt: skip
+    if not ev.specialised:
+        record(itab, time.process_time() - t0)
+    return out
 
 
 def outputs_many(t_out, Y, segs, itab, ftab, O):
