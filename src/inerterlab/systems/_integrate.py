@@ -935,13 +935,14 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     if stats.size < 5:
         raise ValueError("stats: five slots (steps, rejected, rhs calls, events, exact steps)")
     ev = rhs_for(itab)
+    warm = bool(_integrate.signatures)  # not timed while the integrator compiles
     t0 = time.process_time()
     out = _integrate(
         ev, _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, *(NO_REGIME if regime is None else regime),
     )  # fmt: skip
-    if not ev.specialised:
+    if warm and not ev.specialised:
         record(itab, time.process_time() - t0)
     return out
 
