@@ -14,8 +14,8 @@ signature :data:`RHS_SIGNATURE`:
   stiffnesses, ...) stays data, so a parameter sweep or a fit reuses the code. The
   module is named by a hash of ``itab`` and of the package's source
   (:func:`inerterlab._numba_cache.package_source_stamp`), and numba caches its machine
-  code next to it: a structure is compiled once per package version (about 2 s), and
-  every later process loads it.
+  code next to it: a structure is compiled once per package version (3-6 s of CPU),
+  and every later process loads it (about 10 ms).
 
 The integrator (:mod:`._integrate`) takes the right-hand side as a first-class function
 (a function pointer of :data:`RHS_SIGNATURE`), so it is compiled once for every
@@ -168,8 +168,8 @@ def _structure_module(itab: np.ndarray, key: str):
 
 
 def specialised(itab: np.ndarray) -> CompiledRhs:
-    """The right-hand side compiled for the structure ``itab`` (compiling it, about
-    2 s, unless this or an earlier process did)."""
+    """The right-hand side compiled for the structure ``itab`` (compiling it, 3-6 s of
+    CPU, unless this or an earlier process did)."""
     k = np.ascontiguousarray(itab, dtype=np.int64).tobytes()
     got = _specialised.get(k)
     if got is None:
