@@ -838,42 +838,50 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
-@lru_cache(maxsize=8)
-def _road_segments_cached(excitation, T):
-    segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
-    segs.setflags(write=False)
-    return segs
+#: the road tables and step plans kept between runs: this many of each, each at most
+#: KEPT_MAX_BYTES (a few MB: a long random road's table is not kept)
+KEPT_ENTRIES = 4
+KEPT_MAX_BYTES = 8_000_000
+_SEGMENTS: dict = {}
+_PLANS: dict = {}
+
+
+def _kept(store: dict, key, make):
+    """``make()``, kept in ``store`` under ``key`` (None: not kept) if small enough;
+    copies are handed out."""
+    got = store.get(key) if key is not None else None
+    if got is None:
+        got = make()
+        if key is not None and sum(a.nbytes for a in got) <= KEPT_MAX_BYTES:
+            if len(store) >= KEPT_ENTRIES:
+                store.pop(next(iter(store)))
+            store[key] = got
+    return tuple(a.copy() for a in got)
+
+
+def _hashable(key):
+    try:
+        hash(key)
+    except TypeError:  # a road holding arrays
+        return None
+    return key
 
 
 def _road_segments(excitation, T: float) -> np.ndarray:
-    """The road's segment table up to T (a copy), kept for the last few (road, horizon)
-    that hash (the frozen roads; a random road's table takes about 0.7 ms to build)."""
-    try:
-        return _road_segments_cached(excitation, T).copy()
-    except TypeError:  # a road holding arrays: not hashable
-        return np.ascontiguousarray(excitation.segments(T), dtype=float)
-
-
-_PLANS: dict = {}
+    """The road's segment table up to T, kept for the last few (road, horizon) that hash
+    (the frozen roads; a random road's table takes about 0.7 ms to build)."""
+    return _kept(
+        _SEGMENTS, _hashable((excitation, float(T))),
+        lambda: (np.ascontiguousarray(excitation.segments(T), dtype=float),),
+    )[0]  # fmt: skip
 
 
 def _planned(excitation, sys, segs, T, ts, rate):
     """:func:`_exact_plan`, kept (by road, horizon and sample rate; the step lengths do
     not depend on the system) for uniform samples from 0 (``rate`` a number) on a road
-    that hashes; copies."""
-    try:
-        key = (excitation, float(T), float(rate)) if rate else None
-        hash(key)
-    except TypeError:
-        key = None
-    got = _PLANS.get(key) if key is not None else None
-    if got is None:
-        got = _exact_plan(sys, segs, T, ts)
-        if key is not None:
-            if len(_PLANS) >= 8:
-                _PLANS.pop(next(iter(_PLANS)))
-            _PLANS[key] = got
-    return got[0].copy(), got[1].copy()
+    that hashes."""
+    key = _hashable((excitation, float(T), float(rate))) if rate else None
+    return _kept(_PLANS, key, lambda: _exact_plan(sys, segs, T, ts))
 
 
 def _simulate(
