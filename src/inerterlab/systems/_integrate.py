@@ -25,12 +25,19 @@ from ._kernel import (
     I_ELEM,
     I_NE,
     I_NN,
+    I_NOB,
     I_NODE,
+    I_OBS,
     NODE_W,
+    OBS_PEAK,
+    OBS_W,
     ROAD,
     _dissipative,
     _work_size,
     evaluate,
+    observe,
+    peaks,
+    signal,
     switches,
 )
 
@@ -131,7 +138,10 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
         road[0] = road_fixed[0]
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
-    return evaluate(t, y, road, itab, ftab, work, dy, imp)
+    ok = evaluate(t, y, road, itab, ftab, work, dy, imp)
+    if itab[I_NOB] > 0:
+        observe(itab, ftab, work, y, dy, mode != 0)
+    return ok
 
 
 @nb.njit(cache=True)
@@ -154,6 +164,88 @@ def _dense(y, yt, K, h, th, out):
             acc += _TAB_D[q] * K[q, i]
         r5 = h * acc
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+
+
+@nb.njit(cache=True)
+def _peak_values(itab, ftab, work, y, out):
+    """Each observer's signal at the last evaluation into ``out`` (peaks only; the
+    others are left as they are)."""
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        if itab[b] == OBS_PEAK:
+            out[q] = signal(itab, ftab, work, y, itab[b + 1])
+
+
+@nb.njit(cache=True)
+def _peak_at(q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
+             work, stats, yd):  # fmt: skip
+    """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
+    extension."""
+    _dense(y, yx, K, h, x, yd)
+    _f_once(mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
+
+
+@nb.njit(cache=True)
+def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
+               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
+    """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
+    accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
+    state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
+    end and middle, and where the parabola through those three puts a maximum inside the
+    step above the peak so far, the maximum located by successive parabolic
+    interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
+    array does not hold the evaluation at the step's end. p0 receives the end values."""
+    if stale:
+        _f_once(mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
+                stats)  # fmt: skip
+    _peak_values(itab, ftab, work, yt, p1)
+    _dense(y, yx, K, h, 0.5 * thx, yd)
+    _f_once(mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
+            stats)  # fmt: skip
+    _peak_values(itab, ftab, work, yd, pm)
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        if itab[b] != OBS_PEAK:
+            continue
+        slot = itab[b + 3]
+        best = max(yt[slot], p0[q], pm[q], p1[q])
+        # the parabola through u = 0, 1/2, 1 (u = theta / thx): its vertex
+        c2 = 2.0 * (p0[q] - 2.0 * pm[q] + p1[q])
+        c1 = -3.0 * p0[q] + 4.0 * pm[q] - p1[q]
+        if c2 < 0.0:
+            xv = -c1 / (2.0 * c2)
+            if 0.0 < xv < 1.0 and p0[q] + xv * (c1 + xv * c2) > best:
+                # successive parabolic interpolation on a bracket (a, m, c) of u
+                xa, fa = 0.0, p0[q]
+                xm, fm = 0.5, pm[q]
+                xc, fc = 1.0, p1[q]
+                for _ in range(40):
+                    d1 = (xm - xa) * (fm - fc)
+                    d2 = (xm - xc) * (fm - fa)
+                    den = 2.0 * (d1 - d2)
+                    xn = xm - ((xm - xa) * d1 - (xm - xc) * d2) / den if den != 0.0 else -1.0
+                    if not (xa < xn < xc) or abs(xn - xm) < 1e-12:
+                        xn = 0.5 * (xa + xm) if xm - xa > xc - xm else 0.5 * (xm + xc)
+                    fn = _peak_at(q, xn * thx, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp,
+                                  road_fixed, dy, road, work, stats, yd)  # fmt: skip
+                    best = max(best, fn)
+                    if fn >= fm:
+                        if xn < xm:
+                            xc, fc = xm, fm
+                        else:
+                            xa, fa = xm, fm
+                        xm, fm = xn, fn
+                    elif xn < xm:
+                        xa, fa = xn, fn
+                    else:
+                        xc, fc = xn, fn
+                    if xc - xa <= 1e-9:
+                        break
+        yt[slot] = best
+        p0[q] = p1[q]
 
 
 @nb.njit(cache=True)
@@ -316,6 +408,19 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
+    # running peaks (observers): the values at the start, and scratch
+    nob = itab[I_NOB]
+    track = mode == 0 and nob > 0
+    p0 = np.empty(nob)
+    pm = np.empty(nob)
+    p1 = np.empty(nob)
+    stale = False
+    yx = np.empty(n)  # an attempt's end when it was cut at an event
+    hx = 0.0
+    thx = 1.0
+    if track:
+        peaks(itab, ftab, work, y)
+        _peak_values(itab, ftab, work, y, p0)
     span = t_end - t
     if span <= 0.0:
         return OK, k, h
@@ -447,6 +552,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
         # the stages, one call site (the right-hand side is compiled into this loop
         # once); the last stage's point is the order-5 solution (first same as last)
         ok = True
+        stale = False
+        thx = 1.0
         for st in range(1, 7):
             for i in range(n):
                 acc = 0.0
@@ -481,6 +588,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 th = 2.0
                 for e in range(2 * ne):
                     if sw[e] * swn[e] < 0.0:
+                        stale = True
                         x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
                                     ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
                         if x < th:
@@ -499,7 +607,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         k += 1
                     _dense(y, yt, K, h, th, yd)
                     for i in range(n):
+                        yx[i] = yt[i]
                         yt[i] = yd[i]
+                    hx = h
+                    thx = th
                     tn = tc
                     h_keep = h_free
                     h = th * h
@@ -522,6 +633,13 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             if fresh >= 0 and flip < 0:
                 h_side[fresh] = h  # the first step that passed after a kink to this side
                 fresh = -1
+            if track:
+                if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
+                    _peak_step(stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                else:
+                    _peak_step(stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]

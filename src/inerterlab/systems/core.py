@@ -39,8 +39,8 @@ class CoreResult:
         also ``body_acc``, ``deflection``, ``tyre_force`` (dynamic), ``tyre_grip``; for a
         rig ``force`` (the force the rig applies).
     metrics : dict or None
-        Quarter car: the ride metrics of :func:`inerterlab.metrics.series_metrics` from
-        the samples.
+        Quarter car: the ride metrics (:func:`.observers.ride_metrics`), integrated as
+        observer states (:func:`.observers.ride`), not from the samples.
     method : str
         ``adaptive`` or ``exact``.
     stats : dict
@@ -57,6 +57,7 @@ class CoreResult:
     stats: dict
     road_steps: tuple = ()
     not_finite: dict = field(default_factory=dict)
+    observed: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         t = self.time
@@ -103,6 +104,19 @@ class System:
     rhs = staticmethod(_kernel.rhs)
     outputs = staticmethod(_kernel.outputs)
 
+    def with_observers(self, observers) -> System:
+        """This system with observer states (:mod:`inerterlab.systems.observers`)
+        appended: integrals of signals, of their squares, fourth powers and products,
+        running peaks; their final values in :attr:`CoreResult.observed`."""
+        from .observers import with_observers
+
+        return with_observers(self, observers)
+
+    @property
+    def observers(self) -> tuple:
+        """The observers this system carries (``with_observers``)."""
+        return tuple(self.info.get("observers", ()))
+
     def __repr__(self) -> str:
         law = "linear" if self.linear else "nonlinear"
         return (
@@ -140,6 +154,8 @@ class System:
 
         Columns come from the right-hand side at unit vectors, exact for a linear system.
         NetworkError if an element is not linear."""
+        if "base" in self.info:  # the observers are not part of the linear dynamics
+            return self.info["base"].linear_state_space()
         if not self.linear:
             bad = [
                 n for n, e in zip(self.element_names, self.elements, strict=True) if _nonlinear(e)
@@ -829,6 +845,11 @@ def _simulate(
             raise ParameterError(
                 "times", "array", f"increasing finite sample times in [0, horizon={T:g}] s"
             )
+    user = sys
+    if sys.kind == "quarter_car" and times is None and x0 is None:
+        # the ride metrics, integrated as observer states
+        sys = sys.info.get("ride_system") or _ride_system(sys)
+        y = np.concatenate([y, sys.x0_template[y.size :]])
     piecewise_linear = bool(np.all(segs[:, 2] == 0.0))
     if method == "exact" and not (sys.linear and piecewise_linear):
         raise ParameterError(
@@ -840,7 +861,12 @@ def _simulate(
     # edges and the samples make many (incommensurate grids) the adaptive steps are faster
     plan = None
     regime = _NO_REGIME
-    if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
+    if method == "exact" and sys.observers:
+        raise ParameterError(
+            "method", "exact", "'auto' or 'adaptive' here: observers are integrated by the "
+            "adaptive steps",
+        )  # fmt: skip
+    if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact") and not sys.observers:
         plan = _exact_plan(sys, segs, T, ts)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
@@ -895,6 +921,8 @@ def _simulate(
         O = np.ascontiguousarray(O.T)
     outs = {n: O[j] for j, n in enumerate(sys.output_names)}
     metrics = None
+    nb = sys.info["base"].n_states if "base" in sys.info else sys.n_states
+    observed = {o.name: float(y[nb + q]) for q, o in enumerate(sys.observers)}
     if sys.kind == "quarter_car":
         car = sys.info["car"]
         outs["body_acc"] = outs["body.a"]
@@ -902,14 +930,13 @@ def _simulate(
         outs["tyre_force"] = outs["tyre_k.force"] + outs.get("tyre_c.force", 0.0)
         load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
         outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
-        from ..metrics import series_metrics
 
-    if sys.kind == "quarter_car" and times is None:  # the metrics need uniform samples
-        acc = outs["body_acc"]
-        metrics = series_metrics(
-            ts, acc, outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"],
-            weighted_acc=weighted_acceleration(ts, acc),
-        )  # fmt: skip
+    if sys is not user:  # the ride observers: the metrics, and the user's states back
+        from .observers import ride_metrics
+
+        metrics = ride_metrics(observed, T, load)
+        Y = Y[:, : user.n_states]
+        observed = {k: v for k, v in observed.items() if not k.startswith("ride.")}
         steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
         if steps_:
             jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
@@ -936,9 +963,18 @@ def _simulate(
     if np.any(vjumps):
         stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
     return CoreResult(
-        system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
-        stats=stats, road_steps=steps, not_finite=not_finite,
+        system=user, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
+        stats=stats, road_steps=steps, not_finite=not_finite, observed=observed,
     )  # fmt: skip
+
+
+def _ride_system(sys):
+    """The quarter car with its ride observers (:func:`.observers.ride`), kept on it."""
+    from .observers import ride, with_observers
+
+    out = with_observers(sys, ride(sys))
+    sys.info["ride_system"] = out
+    return out
 
 
 def _failure(sys, status: int, max_steps: int) -> ConvergenceError:
@@ -1073,6 +1109,9 @@ def _regime_system(sys):
     if "regime" in sys.info:
         return sys.info["regime"]
     found = None
+    if sys.observers:  # exact steps would skip the observer states
+        sys.info["regime"] = None
+        return None
     regimes = [(e, el.linear_regime()) for e, el in enumerate(sys.elements) if _nonlinear(el)]
     if all(r is not None for _, r in regimes) and sys.n_states:
         itab = sys.itab.copy()
