@@ -188,8 +188,30 @@ def _peak_at(q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed,
 
 
 @nb.njit(cache=True)
+def _peak_solution(q, th, t, y, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
+                   work, stats, yd, Kp):  # fmt: skip
+    """Signal of observer q at t + th from the order-5 solution of one Dormand-Prince
+    step of length th from (t, y) (its first stage K[0]): where the located maximum is
+    read, the continuous extension (order 4) would cost a digit of the peak."""
+    n = y.size
+    for i in range(n):
+        Kp[0, i] = K[0, i]
+    for st in range(1, 7):
+        for i in range(n):
+            acc = 0.0
+            for r in range(st):
+                acc += _TAB_A[st, r] * Kp[r, i]
+            yd[i] = y[i] + th * acc
+        _f_once(mode, segs, rng, t + _TAB_C[st] * th, yd, itab, ftab, imp, road_fixed, dy, road,
+                work, stats)  # fmt: skip
+        for i in range(n):
+            Kp[st, i] = dy[i]
+    return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
+
+
+@nb.njit(cache=True)
 def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
+               dy, road, work, stats, yd, p0, pm, p1, Kp):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
     accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
     state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
@@ -244,6 +266,10 @@ def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp,
                         xc, fc = xn, fn
                     if xc - xa <= 1e-9:
                         break
+                if fm >= best:  # the maximum inside: read on the order-5 solution
+                    best = max(yt[slot], p0[q], p1[q], _peak_solution(
+                        q, xm * thx * h, t, y, K, mode, segs, rng, itab, ftab, imp, road_fixed,
+                        dy, road, work, stats, yd, Kp))  # fmt: skip
         yt[slot] = best
         p0[q] = p1[q]
 
@@ -383,7 +409,7 @@ def _x_stays(a0, d0, a1, d1, h, lim):
 
 @nb.njit(cache=True)
 def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
-             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xq):  # fmt: skip
+             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, ctl):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
@@ -397,7 +423,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     from break point (sample or segment end) to break point by ``XE[c, j]`` = exp(M h),
     h the length of row j of ``xkeys`` (units of ``xq``). A step that would leave the
     regime is not taken: the Dormand-Prince steps go on from there and locate the
-    switch. Returns (status, k, h)."""
+    switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
+    error control). Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
     road = np.zeros(4 + itab[I_NE])  # the road, a free slot (the HB's frequency), each element's side of its kink
@@ -416,6 +443,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     p1 = np.empty(nob)
     stale = False
     yx = np.empty(n)  # an attempt's end when it was cut at an event
+    Kp = np.empty((7 if track else 0, n))  # the stages of a step to a located peak
     hx = 0.0
     thx = 1.0
     if track:
@@ -426,6 +454,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
         return OK, k, h
     if h <= 0.0 or h > span:
         h = min(span, 1e-3 * max(span, 1.0))
+    hmax = ctl[0]
+    hfix = ctl[1]
     reject_prev = False
     # events: the elements' switching functions at t (sw), at the step's end (swn); a
     # step across a sign change is cut at the crossing (forced: the element whose
@@ -541,6 +571,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = lim
             check = cx >= 0
             continue
+        if hfix > 0.0:
+            h = hfix
+        elif h > hmax:
+            h = hmax
         h_free = h
         if t + h >= lim or t + 1.01 * h >= lim:
             h = lim - t
@@ -573,6 +607,12 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             e = h * acc
             err += (e / sc) ** 2
         err = math.sqrt(err / max(n, 1))
+        if hfix > 0.0:  # fixed steps: no error control, but a failure stays one
+            if not ok:
+                return BALANCE_FAILED, k, h
+            if not math.isfinite(err):
+                return NOT_FINITE, k, h
+            err = 0.0
         if not ok or not math.isfinite(err):
             if h < 1e-14 * max(abs(t), 1.0) or not ok and h < 1e-12:
                 return NOT_FINITE if ok else BALANCE_FAILED, k, h
@@ -636,10 +676,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             if track:
                 if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
                     _peak_step(stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
-                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, Kp)  # fmt: skip
                 else:
                     _peak_step(stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
-                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, Kp)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
@@ -687,7 +727,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
 @nb.njit(cache=True)
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xq):  # fmt: skip
+              xthr, xel, xcls, xq, ctl):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -700,10 +740,11 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road. ``stats``:
     steps (exact ones included), rejected steps, right-hand-side calls, events, exact
     steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
-    none)."""
+    none); ``ctl``: the step control of :func:`_advance`."""
     k = 0
     h = 0.0
     prev = x1_before
+    free = np.array([math.inf, 0.0])  # the impulse flows: adaptive, in their own unit
     prev_v = v_before
     road = np.empty(3)
     rf = np.empty(3)
@@ -741,7 +782,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, free)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -754,7 +795,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[1] = road[1]
             st, _, _ = _advance(modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, free)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -765,7 +806,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
                             rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
-                            xthr, xel, xcls, xq)  # fmt: skip
+                            xthr, xel, xcls, xq, ctl)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)

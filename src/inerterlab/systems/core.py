@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -14,6 +15,7 @@ from ..networks import NetworkError
 from . import _integrate, _kernel
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
+from .options import DEFAULT_OPTIONS, SimulationOptions
 
 _TYPE = {"ground": GROUND, "road": ROAD}
 #: ``method="auto"`` takes exact steps where they need at most this many distinct step
@@ -188,34 +190,53 @@ class System:
         excitation,
         horizon: float = 10.0,
         *,
-        rtol: float = 1e-8,
-        sample_rate: float = 1000.0,
-        method: str = "auto",
-        max_steps: int = 10_000_000,
+        options: SimulationOptions = DEFAULT_OPTIONS,
         x0: np.ndarray | None = None,
         times=None,
+        **option_values,
     ) -> CoreResult:
         """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
 
-        Samples at ``times`` [s] (increasing, in [0, horizon]) when given, else every
-        1/``sample_rate`` from 0; with ``times`` a quarter car's ``metrics`` are None
-        (they are computed from uniform samples from t = 0).
+        ``options`` (:class:`~inerterlab.systems.options.SimulationOptions`): tolerances,
+        method, sampling, step control; keywords named as its fields (``rtol=1e-10``)
+        replace those of ``options``. Samples at ``times`` [s] (increasing, in [0,
+        horizon]) when given, else every 1/``sample_rate`` from 0; ``x0``: the initial
+        state (default: at rest, the input's initial displacements). A quarter car
+        started at rest carries its ride observers (:func:`.observers.ride`) and
+        returns their metrics.
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
         ISO 8608 and file roads; first-order hold, exact to round-off) or ``auto``
         (exact for a linear system on a piecewise-linear road whose edges and samples
-        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths, adaptive
-        otherwise)."""
+        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths and no
+        observers, adaptive otherwise)."""
+        options = _options(options, option_values)
         model = self.info.get("model")
         if model is not None and model.tyre_lift_off:
             raise ParameterError(
                 "tyre_lift_off", True, "False here: the model core keeps the tyre on the "
                 "road (inerterlab.simulate runs the lift-off)",
             )  # fmt: skip
-        return _simulate(
-            self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
-        )
+        return _simulate(self, excitation, horizon, options, x0, times)
+
+
+def _options(options, values: dict) -> SimulationOptions:
+    """``options`` with the fields named in ``values`` replaced; the core's own backend."""
+    if not isinstance(options, SimulationOptions):
+        raise ParameterError("options", options, "a SimulationOptions")
+    if values:
+        bad = sorted(set(values) - {f.name for f in dataclasses.fields(SimulationOptions)})
+        if bad:
+            raise ParameterError(bad[0], values[bad[0]], "a field of SimulationOptions")
+        options = dataclasses.replace(options, **values)
+    if options.backend != "numba":
+        raise ParameterError(
+            "backend", options.backend, "'numba' for a core system (the scipy oracle runs "
+            "the named suspensions through inerterlab.simulate)",
+        )  # fmt: skip
+    options.warn_ignored("the model core", "scipy_method", "time_limit")
+    return options
 
 
 def _state_space(sys, itab, ftab):
@@ -791,9 +812,9 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
-def _simulate(
-    sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times=None
-) -> CoreResult:
+def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None) -> CoreResult:
+    """The run of :meth:`System.simulate`; ``ride``: carry a quarter car's ride observers
+    (None: when it starts at rest with uniform samples)."""
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
     if not isinstance(excitation, Excitation):
@@ -801,18 +822,15 @@ def _simulate(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), ...)"
         )
     T = check_positive("horizon", horizon, "s")
-    check_positive("sample_rate", sample_rate, "Hz")
-    r = check_positive("rtol", rtol)
-    if not 1e-14 <= r <= 1e-2:
-        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-14, 1e-2]")
-    if method not in ("auto", "adaptive", "exact"):
-        raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
+    r = options.rtol
+    method = options.method
+    max_steps = options.max_steps
     excitation.check_horizon(T, stacklevel=3)
     if times is None and x0 is None:
         from ..simulate import check_sine_steps
 
         def steps_to(t):  # the same run over the first periods (not measured again)
-            res = _simulate(sys, excitation, t, rtol, sample_rate, method, max_steps, None)
+            res = _simulate(sys, excitation, t, options)
             return res.stats.get("steps", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
@@ -831,7 +849,7 @@ def _simulate(
         if y.shape != (sys.n_states,):
             raise ParameterError("x0", x0, f"{sys.n_states} states")
     if times is None:
-        ts = _sample_times(T, sample_rate)
+        ts = _sample_times(T, options.sample_rate)
     else:
         ts = np.array(times, dtype=float)
         if (
@@ -846,7 +864,9 @@ def _simulate(
                 "times", "array", f"increasing finite sample times in [0, horizon={T:g}] s"
             )
     user = sys
-    if sys.kind == "quarter_car" and times is None and x0 is None:
+    if ride is None:
+        ride = sys.kind == "quarter_car" and times is None and x0 is None
+    if ride:
         # the ride metrics, integrated as observer states
         sys = sys.info.get("ride_system") or _ride_system(sys)
         y = np.concatenate([y, sys.x0_template[y.size :]])
@@ -892,14 +912,14 @@ def _simulate(
         O = _linear_outputs(sys, ss, Y, U)
         meth = "exact"
     else:
-        atol = r * np.maximum(sys.state_scales, 1e-12)
+        atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
         st = np.zeros(5, dtype=np.int64)
         XE, XG, keys, thr, idx, cls = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
             ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
-            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0),
+            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0), options.step_control,
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
@@ -935,8 +955,14 @@ def _simulate(
         from .observers import ride_metrics
 
         metrics = ride_metrics(observed, T, load)
+        # the Wk-weighted body acceleration at the samples, from the filter's states
+        from ..metrics import wk_state_space
+
+        _, _, cw, dw = wk_state_space()
+        names = sys.state_names
+        z = Y[:, [names.index(f"ride.wk.z{i}") for i in range(cw.size)]]
+        outs["body_acc_wk"] = z @ cw + float(dw) * outs["body_acc"]
         Y = Y[:, : user.n_states]
-        observed = {k: v for k, v in observed.items() if not k.startswith("ride.")}
         steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
         if steps_:
             jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
@@ -1021,13 +1047,18 @@ class DriveRuns:
         self.segments = np.ascontiguousarray(segs[segs[:, 0] >= t[0]])
         self.start = float(drive.displacement[0])
 
-    def force(self, sys: System, x0, m: int | None = None, *, rtol: float = 1e-8,
-              max_steps: int = 10_000_000) -> np.ndarray:  # fmt: skip
+    def force(self, sys: System, x0, m: int | None = None, *,
+              options: SimulationOptions = DEFAULT_OPTIONS, **option_values) -> np.ndarray:  # fmt: skip
         """Force [N] the rig ``sys`` applies at the first ``m`` samples (all by
-        default), starting from the state ``x0`` at the first sample."""
+        default), starting from the state ``x0`` at the first sample. ``options`` as
+        :meth:`System.simulate` (its tolerances, step control and ``max_steps``; the
+        samples are the drive's)."""
         if sys.kind != "rig":
             raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
-        rtol = check_positive("rtol", rtol)
+        options = _options(options, option_values)
+        options.warn_ignored("DriveRuns.force", "method", "sample_rate")
+        rtol = options.rtol
+        max_steps = options.max_steps
         n = self.time.size if m is None else int(m)
         if not 1 <= n <= self.time.size:
             raise ParameterError("m", m, f"a sample count in [1, {self.time.size}]")
@@ -1038,13 +1069,14 @@ class DriveRuns:
             y = np.array(x0, dtype=float)
             if y.shape != (sys.n_states,):
                 raise ParameterError("x0", x0, f"{sys.n_states} states")
-            atol = rtol * np.maximum(sys.state_scales, 1e-12)
+            atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
             st = np.zeros(5, dtype=np.int64)
             nseg = len(segs)
             status, _ = _integrate.integrate(
                 sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
                 sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
                 int(max_steps), math.nan, math.inf, np.zeros(nseg), *_NO_REGIME, 1.0,
+                options.step_control,
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)

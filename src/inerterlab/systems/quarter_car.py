@@ -11,6 +11,7 @@ transmission, force law, device); any other text is read as a network.
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 from typing import Any
 
 from ..elements.damper import Damper
@@ -19,7 +20,7 @@ from ..errors import NetworkError, ParameterError
 from ..suspension.model import SUSPENSIONS
 from ._network import Layout, elements_of
 
-__all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network"]
+__all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network", "system_of"]
 
 
 #: the network of each named suspension between body (top) and wheel (bottom): ``k`` the
@@ -221,3 +222,13 @@ def _build(text: str, params, car, description: str, info: dict):
         return lay
 
     return _laid_out("quarter_car", description, make, {"network": text, "car": c, **info})[0]
+
+
+@lru_cache(maxsize=64)
+def system_of(model):
+    """The core system of a named suspension's description
+    (:class:`~inerterlab.suspension.model.QuarterCar`), as :func:`quarter_car` builds it;
+    kept for the last few descriptions (a sweep over inputs or seeds builds it once)."""
+    text, els = preset_network(model)
+    return _build(text, els, model.parameters, f"quarter car with {model.suspension!r}",
+                  {"model": model})  # fmt: skip
