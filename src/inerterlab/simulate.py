@@ -525,7 +525,7 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
         raise ParameterError(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), iso8608(), ...)"
         )
-    if not excitation.quarter_car_kernels:
+    if not excitation.is_road:
         raise ParameterError(
             "excitation",
             excitation.name,

@@ -29,7 +29,10 @@ from ._kernel import (
     I_NODE,
     I_OBS,
     NODE_W,
+    OBS_FOURTH,
+    OBS_LINEAR,
     OBS_PEAK,
+    OBS_SQUARE,
     OBS_W,
     ROAD,
     _dissipative,
@@ -932,8 +935,124 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 
 
 @nb.njit(cache=True)
+def _lagrange(xs, fs, x):
+    """The polynomial through the points (xs, fs) at x."""
+    acc = 0.0
+    for i in range(xs.size):
+        w = fs[i]
+        for j in range(xs.size):
+            if j != i:
+                w *= (x - xs[j]) / (xs[i] - xs[j])
+        acc += w
+    return acc
+
+
+@nb.njit(cache=True)
+def _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx, Su, xs, fs, sv):
+    """The observers of an exact step of length h from the augmented state z0 (the
+    states the linear system propagates: its own and its linear observers', rows ``ia``
+    of y), the road at its start xr and rate b, table row j: the integrals of squares,
+    fourth powers and products by Gauss-Legendre quadrature on the exact solution at the
+    nodes gx (weights gw; ``ON``, ``GXn``, ``GBn``: the exact tables to each node), the
+    running peaks from the values at the step's ends and nodes, a maximum inside it
+    located on the polynomial through them (7 points: exact to (w h)^7 / 7!)."""
+    na = ia.size
+    nsg = Sx.shape[0]
+    ng = gx.size
+    ob = itab[I_OBS]
+    nob = itab[I_NOB]
+    # only the signals the quadratures and peaks read (a filter's are in the tables)
+    need = np.zeros(nsg, np.bool_)
+    for o in range(nob):
+        bo = ob + OBS_W * o
+        if itab[bo] != OBS_LINEAR:
+            need[itab[bo + 1]] = True
+            if itab[bo + 2] >= 0:
+                need[itab[bo + 2]] = True
+    # signal values at theta = 0, the nodes and 1 (sv[node, signal])
+    zn = np.empty(na)
+    for p in range(ng + 2):
+        if p == 0:
+            th = 0.0
+        elif p == ng + 1:
+            th = 1.0
+        else:
+            th = gx[p - 1]
+        for q in range(na):  # the augmented state there
+            if p == 0:
+                zq = z0[q]
+            elif p == ng + 1:
+                zq = y[ia[q]]
+            else:
+                zq = GXn[p - 1, j, q] * xr + GBn[p - 1, j, q] * b
+                for r in range(na):
+                    zq += ON[p - 1, j, q, r] * z0[r]
+            zn[q] = zq
+        for k in range(nsg):
+            if not need[k]:
+                continue
+            acc = Su[k, 0] * (xr + b * th * h) + Su[k, 1] * b
+            for q in range(na):
+                acc += Sx[k, q] * zn[q]
+            sv[p, k] = acc
+    for o in range(nob):
+        bo = ob + OBS_W * o
+        kind = itab[bo]
+        if kind == OBS_LINEAR:  # propagated exactly with the system
+            continue
+        slot = itab[bo + 3]
+        ka = itab[bo + 1]
+        if kind == OBS_PEAK:
+            best = y[slot]
+            top = -1
+            for p in range(ng + 2):
+                xs[p] = 0.0 if p == 0 else (1.0 if p == ng + 1 else gx[p - 1])
+                fs[p] = sv[p, ka]
+                if fs[p] > best:
+                    best = fs[p]
+                    top = p
+            if top >= 0:  # a new maximum: located on the polynomial about its node
+                lo = xs[max(top - 1, 0)]
+                hi = xs[min(top + 1, ng + 1)]
+                g = 0.5 * (math.sqrt(5.0) - 1.0)
+                x1 = hi - g * (hi - lo)
+                x2 = lo + g * (hi - lo)
+                f1 = _lagrange(xs, fs, x1)
+                f2 = _lagrange(xs, fs, x2)
+                for _ in range(60):
+                    if f1 >= f2:
+                        hi = x2
+                        x2, f2 = x1, f1
+                        x1 = hi - g * (hi - lo)
+                        f1 = _lagrange(xs, fs, x1)
+                    else:
+                        lo = x1
+                        x1, f1 = x2, f2
+                        x2 = lo + g * (hi - lo)
+                        f2 = _lagrange(xs, fs, x2)
+                    if hi - lo < 1e-10:
+                        break
+                best = max(best, f1, f2)
+            y[slot] = best
+            continue
+        acc = 0.0
+        for p in range(ng):
+            a = sv[p + 1, ka]
+            if kind == OBS_SQUARE:
+                v = a * a
+            elif kind == OBS_FOURTH:
+                v = a * a
+                v = v * v
+            else:
+                v = a * sv[p + 1, itab[bo + 2]]
+            acc += gw[p] * v
+        y[slot] += h * acc
+
+
+@nb.njit(cache=True)
 def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps):  # fmt: skip
+               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, ON,
+               GXn, GBn, gw, gx, Sx, Su):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -944,8 +1063,20 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     samples go to ``out_y`` and the road (X1, X1', X1'' = 0) at them to ``out_u``.
     Road steps and road velocity jumps pass their impulses as in :func:`integrate`
     (constant inertances: the impulse flows are constant and one Euler step of each
-    is exact); a road step with no finite response returns ROAD_STEP."""
+    is exact); a road step with no finite response returns ROAD_STEP.
+
+    Observers (``itab`` holds them): the tables act on the augmented state, the rows
+    ``ia`` of y (the system's states and its linear observers'); the other observers
+    by :func:`_observe_exact` (``ON``, ``GXn``, ``GBn`` the tables to the quadrature
+    nodes ``gx``, ``Sx``, ``Su`` the signals over the augmented state and the road).
+    Without observers ``ia`` is every state and the rest is empty."""
     n = y.size
+    na = ia.size
+    observed = itab[I_NOB] > 0
+    z0 = np.empty(na)
+    xs = np.empty(gx.size + 2)
+    fs = np.empty(gx.size + 2)
+    sv = np.empty((gx.size + 2, Sx.shape[0]))
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -972,6 +1103,8 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 road[1] = prev_v
                 road[2] = b - prev_v
                 evaluate(0.0, y, road, itab, ftab, W, dx, jerk)
+                if observed:
+                    observe(itab, ftab, W, y, dx, True)
                 for i in range(n):
                     y[i] += dx[i]
             jump = a - prev
@@ -985,6 +1118,8 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 road[1] = b
                 road[2] = 0.0
                 evaluate(0.0, y, road, itab, ftab, W, dx, imp)
+                if observed:
+                    observe(itab, ftab, W, y, dx, True)
                 for i in range(n):
                     y[i] += dx[i]
         t = t0
@@ -1004,13 +1139,18 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 if apply:
                     j = idx[m]
                     xr = a + b * (t - t0)
-                    for i in range(n):
+                    for i in range(na):
+                        z0[i] = y[ia[i]]
+                    for i in range(na):
                         acc = GX[j, i] * xr + GB[j, i] * b
-                        for q in range(n):
-                            acc += Phi[j, i, q] * y[q]
+                        for q in range(na):
+                            acc += Phi[j, i, q] * z0[q]
                         yn[i] = acc
-                    for i in range(n):
-                        y[i] = yn[i]
+                    for i in range(na):
+                        y[ia[i]] = yn[i]
+                    if observed:
+                        _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx,
+                                       Su, xs, fs, sv)  # fmt: skip
                 else:
                     hs[m] = h
                 m += 1
