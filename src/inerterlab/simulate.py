@@ -296,10 +296,6 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     from .systems.core import _simulate
     from .systems.quarter_car import system_of
 
-    if model.tyre_lift_off:
-        raise ParameterError(
-            "tyre_lift_off", True, "False: the model core has no tyre that leaves the road yet"
-        )
     sys_ = system_of(model)
     ts = _sample_times(horizon, options.sample_rate) if want_series else np.array([horizon])
     # where the body velocity jumps at a road step (an inertance between wheel and body):

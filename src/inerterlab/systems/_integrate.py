@@ -40,6 +40,7 @@ from ._kernel import (
     evaluate,
     observe,
     peaks,
+    road_layout_of,
     signal,
     switches,
 )
@@ -96,7 +97,12 @@ def road_at(segs, i, t, out):
     table and a row number, not a row: a slice per call costs a view)."""
     kind = segs[i, 2]
     t0 = segs[i, 0]
-    if kind == 0.0:
+    if kind == 3.0:  # several roads, each linear: (x_k, rate_k) from column 3 on
+        for k in range(min((segs.shape[1] - 3) // 2, out.size // 3)):
+            out[3 * k] = segs[i, 3 + 2 * k] + segs[i, 4 + 2 * k] * (t - t0)
+            out[3 * k + 1] = segs[i, 4 + 2 * k]
+            out[3 * k + 2] = 0.0
+    elif kind == 0.0:
         out[0] = segs[i, 3] + segs[i, 4] * (t - t0)
         out[1] = segs[i, 4]
         out[2] = 0.0
@@ -278,12 +284,13 @@ def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp,
 
 
 @nb.njit(cache=True)
-def _sides(sw, road):
-    """The side of each element's kink (road[4 + e], see :func:`._kernel.evaluate`) from
-    the signs of its two switching functions (:func:`._kernel.switches`)."""
+def _sides(sw, road, hs):
+    """The side of each element's kink (road[hs + e], hs the first held side of
+    :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
+    two switching functions (:func:`._kernel.switches`)."""
     for e in range(sw.size // 2):
         g = max(sw[2 * e], sw[2 * e + 1])
-        road[4 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[4 + e])
+        road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
 
 
 @nb.njit(cache=True)
@@ -430,7 +437,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     error control). Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.zeros(4 + itab[I_NE])  # the road, a free slot (the HB's frequency), each element's side of its kink
+    road_n, _, hs = road_layout_of(itab)
+    road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -475,7 +483,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
-        _sides(sw, road)
+        _sides(sw, road, hs)
         _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
         for i in range(n):
             K[0, i] = dy[i]
@@ -554,7 +562,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 for i in range(n):
                     K[0, i] = dy[i]
                 switches(itab, ftab, work, sw)
-                _sides(sw, road)
+                _sides(sw, road, hs)
                 if t >= t_end:
                     break
         lim = t_end
@@ -689,7 +697,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = tn
             into = -1
             if flip >= 0:  # past the kink: its other side's law from here
-                road[4 + flip // 2] = past
+                road[hs + flip // 2] = past
                 _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
@@ -749,7 +757,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     prev = x1_before
     free = np.array([math.inf, 0.0])  # the impulse flows: adaptive, in their own unit
     prev_v = v_before
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
     for i in range(y.size):
@@ -772,7 +780,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
         if segs[s, 2] == 2.0:
-            while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
+            while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
         rng[1] = e
@@ -837,7 +845,7 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     that holds each time (right-continuous)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
     imp = np.empty(0)
@@ -862,7 +870,7 @@ def regime_outputs(t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr, O):
     ne = itab[I_NE]
     n = Y.shape[1]
     no = 3 * nn + ne
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(n)
     imp = np.empty(0)
@@ -913,7 +921,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     it: springs, dampers and friction between the drive, the ground and nodes whose
     displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     s = 0
     for j in range(t_out.size):
         s = _sample_road(segs, s, t_out[j], road)
@@ -1084,7 +1092,7 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     prev_v = v_before
     yn = np.empty(n)
     dx = np.empty(n)
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     jerk = np.full(1, np.nan)
     imp = np.empty(imp_unit.size)

@@ -244,7 +244,7 @@ def ride(sys) -> list[Observer]:
     g = car["tyre_stiffness"] / load
     acc = {"body.a": 1.0}
     defl = {"body.x": 1.0, "wheel.x": -1.0}
-    tyre = {f"{e}.force": 1.0 for e in base.element_names if e in ("tyre_k", "tyre_c")}
+    tyre = {f"{e}.force": 1.0 for e in base.element_names if e in ("tyre", "tyre_k", "tyre_c")}
     s = RIDE_SCALES
     wk_obs, aw = weighted("ride.wk", acc, *wk_state_space(), scale=s["wk"])
     neg = lambda d: {k: -v for k, v in d.items()}  # noqa: E731
