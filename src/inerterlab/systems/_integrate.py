@@ -197,30 +197,8 @@ def _peak_at(q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed,
 
 
 @nb.njit(cache=True)
-def _peak_solution(q, th, t, y, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-                   work, stats, yd, Kp):  # fmt: skip
-    """Signal of observer q at t + th from the order-5 solution of one Dormand-Prince
-    step of length th from (t, y) (its first stage K[0]): where the located maximum is
-    read, the continuous extension (order 4) would cost a digit of the peak."""
-    n = y.size
-    for i in range(n):
-        Kp[0, i] = K[0, i]
-    for st in range(1, 7):
-        for i in range(n):
-            acc = 0.0
-            for r in range(st):
-                acc += _TAB_A[st, r] * Kp[r, i]
-            yd[i] = y[i] + th * acc
-        _f_once(mode, segs, rng, t + _TAB_C[st] * th, yd, itab, ftab, imp, road_fixed, dy, road,
-                work, stats)  # fmt: skip
-        for i in range(n):
-            Kp[st, i] = dy[i]
-    return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
-
-
-@nb.njit(cache=True)
 def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-               dy, road, work, stats, yd, p0, pm, p1, Kp):  # fmt: skip
+               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
     accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
     state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
@@ -275,10 +253,6 @@ def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp,
                         xc, fc = xn, fn
                     if xc - xa <= 1e-9:
                         break
-                if fm >= best:  # the maximum inside: read on the order-5 solution
-                    best = max(yt[slot], p0[q], p1[q], _peak_solution(
-                        q, xm * thx * h, t, y, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-                        dy, road, work, stats, yd, Kp))  # fmt: skip
         yt[slot] = best
         p0[q] = p1[q]
 
@@ -454,7 +428,6 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     p1 = np.empty(nob)
     stale = False
     yx = np.empty(n)  # an attempt's end when it was cut at an event
-    Kp = np.empty((7 if track else 0, n))  # the stages of a step to a located peak
     hx = 0.0
     thx = 1.0
     if track:
@@ -687,10 +660,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             if track:
                 if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
                     _peak_step(stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
-                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, Kp)  # fmt: skip
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
                 else:
                     _peak_step(stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
-                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, Kp)  # fmt: skip
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]

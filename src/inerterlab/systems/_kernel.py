@@ -649,40 +649,27 @@ def _relative_unknown(itab, W, ia, nn, nrel):
 
 
 @nb.njit(cache=True, inline="always")
-def signal(itab, ftab, W, x, k):
+def signal(itab, ftab, W, x, k, impulsive=False):
     """Signal k of the observers: a sum of coefficients times channels, the channels
     being the outputs of the last :func:`evaluate` (``W[0:3nn+ne]``: node displacements,
     velocities, accelerations, element forces) followed by the states ``x`` (observer
     states included). Stored as compressed rows: itab[I_SG + k] .. itab[I_SG + k + 1]
     index the channel numbers (from itab[I_SG + nsg + 1]) and their coefficients (from
-    ftab[I_SGF])."""
-    sg = itab[I_SG]
-    nsg = itab[I_NSG]
-    ci = sg + nsg + 1
-    cf = itab[I_SGF]
-    no = 3 * itab[I_NN] + itab[I_NE]
-    acc = 0.0
-    for j in range(itab[sg + k], itab[sg + k + 1]):
-        c = itab[ci + j]
-        v = W[c] if c < no else x[c - no]
-        acc += ftab[cf + j] * v
-    return acc
-
-
-@nb.njit(cache=True, inline="always")
-def _impulsive_signal(itab, ftab, W, k):
-    """The part of signal k that an impulse flow carries: its acceleration channels
-    (an impulse is a Dirac in the accelerations; every other channel is finite)."""
+    ftab[I_SGF]). ``impulsive``: only the part an impulse flow carries, the acceleration
+    channels (an impulse is a Dirac in the accelerations; every other channel is
+    finite)."""
     sg = itab[I_SG]
     nsg = itab[I_NSG]
     ci = sg + nsg + 1
     cf = itab[I_SGF]
     nn = itab[I_NN]
+    no = 3 * nn + itab[I_NE]
     acc = 0.0
     for j in range(itab[sg + k], itab[sg + k + 1]):
         c = itab[ci + j]
-        if 2 * nn <= c < 3 * nn:
-            acc += ftab[cf + j] * W[c]
+        if impulsive and not 2 * nn <= c < 3 * nn:
+            continue
+        acc += ftab[cf + j] * (W[c] if c < no else x[c - no])
     return acc
 
 
@@ -703,7 +690,7 @@ def observe(itab, ftab, W, x, dx, impulse):
             dx[slot] = 0.0
             continue
         if impulse:
-            dx[slot] = _impulsive_signal(itab, ftab, W, itab[b + 1]) if kind == OBS_LINEAR else 0.0
+            dx[slot] = signal(itab, ftab, W, x, itab[b + 1], True) if kind == OBS_LINEAR else 0.0
             continue
         a = signal(itab, ftab, W, x, itab[b + 1])
         if kind == OBS_LINEAR:
