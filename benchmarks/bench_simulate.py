@@ -71,8 +71,8 @@ def main() -> None:
     ex = sine(0.05, 5.0)
     T = 10.0
     fast_opts = SimulationOptions(backend="numba", rtol=args.rtol)
-    slow_opts = SimulationOptions(backend="scipy", method="DOP853", rtol=args.rtol)
-    ref_opts = SimulationOptions(backend="scipy", method="DOP853", rtol=1e-10)
+    slow_opts = SimulationOptions(backend="scipy", scipy_method="DOP853", rtol=args.rtol)
+    ref_opts = SimulationOptions(backend="scipy", scipy_method="DOP853", rtol=1e-10)
 
     t0 = time.perf_counter()
     simulate_metrics(car, ex, 0.1, options=fast_opts)
