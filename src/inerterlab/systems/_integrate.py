@@ -1216,11 +1216,13 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
 
 def outputs_many(t_out, Y, segs, itab, ftab, O):
     """:func:`_outputs_many` with the structure's right-hand side."""
+    Y = np.ascontiguousarray(Y)  # rows of C layout: the right-hand side's state type
     return _outputs_many(rhs_for(itab, False), t_out, Y, segs, _readonly(itab), _readonly(ftab), O)
 
 
 def regime_outputs(t_out, Y, segs, itab, ftab, *args):
     """:func:`_regime_outputs` with the structure's right-hand side."""
+    Y = np.ascontiguousarray(Y)  # rows of C layout: the right-hand side's state type
     return _regime_outputs(
         rhs_for(itab, False), t_out, Y, segs, _readonly(itab), _readonly(ftab), *args
     )
