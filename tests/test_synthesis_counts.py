@@ -111,7 +111,9 @@ def test_bridge_admittance_limits():
     bridging element carries nothing, whatever it is."""
     cat = structural_catalogue(5, 2)
     bridge = next(
-        o.bridge for o in cat if o.bridge is not None and o.bridge.kinds == ("c", "c", "k", "k", "c")
+        o.bridge
+        for o in cat
+        if o.bridge is not None and o.bridge.kinds == ("c", "c", "k", "k", "c")
     )
     n = bridge.names  # arms a-c, a-d, c-b, d-b, c-d
     s = np.array([0.3j, 2.1j, 0.5 + 1.2j, 4.0 - 0.7j])

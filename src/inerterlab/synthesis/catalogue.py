@@ -35,6 +35,7 @@ _DEFAULT_BUDGET = (2, 2, 2)  # dampers, inerters, springs besides k
 #: the realisation trees' element kinds by the network grammar's prefixes
 _KIND = {"k": "spring", "c": "damper", "b": "inerter"}
 
+
 def catalogue_layouts(dampers: int = 2, inerters: int = 2, springs: int = 2) -> list[str]:
     """Sub-network texts N of the layouts ``k | (N)``, fewest elements first."""
     subs = []
@@ -122,7 +123,9 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
                 continue
             vals = {n: float(np.exp(v)) for n, v in zip(names, r.x, strict=True)}
             # back to physical units
-            params = {n: vals[n] * scale_of[_KIND[kind]] for n, kind in zip(names, net.kinds, strict=True)}
+            params = {
+                n: vals[n] * scale_of[_KIND[kind]] for n, kind in zip(names, net.kinds, strict=True)
+            }
             full, fparams = _with_main_spring(net, params, k)
             from .realise import Realisation
 
