@@ -123,6 +123,24 @@ def test_random_pr_functions_are_realised_exactly(n, x, k):
     assert np.max(np.abs(b["value"](s) / (np.polyval(num, s) / np.polyval(den, s)) - 1)) < 1e-9
 
 
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(
+    x=st.lists(_PARAM, min_size=3, max_size=3),
+    k=st.one_of(st.none(), st.floats(0.1, 10.0)),
+)
+def test_random_bilinear_functions_are_realised_by_the_catalogue(x, k):
+    """Every PR function of degree 1 is one of c, k1 - c, c - b, c | (k1 - c1),
+    c | (c1 - b) (partial fractions), so the catalogue realises it, exactly."""
+    N, D = pr_from_parameters(np.array(x), 1)
+    num, den = N[::-1].copy(), D[::-1].copy()
+    assume(np.max(np.abs(num)) > 0)
+    if k is not None:
+        num, den = np.polyadd(k * den, np.polymul(num, [1.0, 0.0])), np.polymul(den, [1.0, 0.0])
+    r = realise(num, den, "catalogue")
+    assert r.elements <= 3 + (k is not None)
+    assert _target_error(r.network, r.parameters, num, den) < 1e-9
+
+
 LAYOUT_VALUES = np.random.default_rng(11)
 
 
