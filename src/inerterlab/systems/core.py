@@ -897,7 +897,8 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
 
         def steps_to(t):  # the same run over the first periods (not measured again)
             res = _simulate(sys, excitation, t, options)
-            return res.stats.get("steps", 0) if res.method == "adaptive" else 0
+            st = res.stats  # attempts: accepted and rejected steps count against the budget
+            return st.get("steps", 0) + st.get("rejected", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
     segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
