@@ -102,10 +102,3 @@ def test_network_text_takes_car_values_only():
         quarter_car("k | c", {"k": 9e4, "c": 5e3}, changing_ratio=0.3)
     with pytest.raises(ParameterError, match="sprung_mass"):
         quarter_car("traditional", sprung_mass=-1.0)
-
-
-def test_lift_off_is_refused_by_the_core():
-    """The core keeps the tyre on the road: a lift-off car runs on inerterlab.simulate."""
-    car = quarter_car("traditional", tyre_lift_off=True)
-    with pytest.raises(ParameterError, match="tyre_lift_off"):
-        car.simulate(bump(), 0.5)
