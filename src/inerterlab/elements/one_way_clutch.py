@@ -80,9 +80,11 @@ def clutch_rate(tab, o, v, a, wf, engaged):
 
 @nb.njit(cache=True, inline="always")
 def clutch_switch(tab, o, v, force, wf, engaged):
-    """Engaged: the torque passed, sgn(v) F [N]; free: r |v| - omega_f [rad/s]."""
+    """Engaged: the torque passed, sgn(v) F [N], raised by 1e-9 (|F| + 1 N) so that the
+    instant of engagement, where F may be zero to round-off, counts as engaged; free:
+    r |v| - omega_f [rad/s]."""
     if engaged:
-        return force if v >= 0.0 else -force
+        return (force if v >= 0.0 else -force) + 1e-9 * (abs(force) + 1.0)
     return abs(tab[o + 1] * v) - wf
 
 

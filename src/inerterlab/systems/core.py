@@ -1259,10 +1259,11 @@ def _as_network(device_or_network, params):
         cls = {"hydraulic": HydraulicElement, "screw": ScrewElement, "rectifier": RectifierElement}[
             d.kind
         ]
-        extra = {
-            "screw": {"backlash": d.backlash},
-            "rectifier": {"freewheel": d.freewheel, "flywheel_drag": d.flywheel_drag},
-        }.get(d.kind, {})
+        extra = {}
+        if d.kind == "screw":
+            extra = {"backlash": d.backlash}
+        elif d.kind == "rectifier":
+            extra = {"freewheel": d.freewheel, "flywheel_drag": d.flywheel_drag}
         el = cls(
             stiffness=d.stiffness, damping=d.damping, friction=d.friction,
             friction_velocity=d.friction_velocity, flywheel=d.flywheel,
