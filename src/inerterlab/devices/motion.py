@@ -252,30 +252,24 @@ class MotionDrive(Excitation):
         if m.signal == "sine":
             w = 2.0 * math.pi * m.frequency
             return np.array([[0.0, horizon, 1.0, 0.0, 0.0, m.amplitude, w, w * t0]])
-        if m.signal == "samples":
+        if m.signal == "samples":  # the measured drive's pieces, from ``start`` on
+            from ..excitation import DriveSeries
+
             ts, xs, vs = m.samples
             _, _, _, _, vn = m.kernel_args()
-            a = vn[ts.size :]
-            seg = np.zeros((ts.size - 1, 9))
-            h = np.diff(ts)
-            dx = np.diff(xs)
-            seg[:, 0], seg[:, 1], seg[:, 2] = ts[:-1] - t0, ts[1:] - t0, 2.0
-            seg[:, 3], seg[:, 4] = xs[:-1], vs[:-1]
-            seg[:, 5] = (3.0 * dx / h - 2.0 * vs[:-1] - vs[1:]) / h
-            seg[:, 6] = (vs[:-1] + vs[1:] - 2.0 * dx / h) / (h * h)
-            seg[:, 7], seg[:, 8] = a[:-1], a[1:]
-            seg = seg[seg[:, 1] > 0.0]
-            parts = [seg]
-            if seg.size == 0 or seg[0, 0] > 0.0:  # before the first sample: its velocity
-                x0, v0 = self._at_start()
-                end = seg[0, 0] if seg.size else horizon
-                parts.insert(0, np.array([[0.0, end, 2.0, x0, v0, 0.0, 0.0, 0.0, 0.0]]))
-            if seg.size and seg[-1, 1] < horizon:  # after the last: its velocity
-                parts.append(np.array([[seg[-1, 1], horizon, 2.0, xs[-1], vs[-1], 0, 0, 0, 0]]))
-            out = np.vstack(parts)
-            out = out[out[:, 0] < horizon].copy()
-            out[-1, 1] = min(out[-1, 1], horizon)
-            return out
+            first = float(ts[0])
+            drive = DriveSeries(time=ts - first, displacement=xs, velocity=vs,
+                                acceleration=vn[ts.size :])  # fmt: skip
+            segs = drive.segments(max(t0 - first + horizon, float(ts[-1] - first)))
+            segs[:, :2] += first - t0
+            segs = segs[(segs[:, 1] > 0.0) & (segs[:, 0] < horizon)]
+            if segs[0, 0] > 0.0:  # before the first sample: its velocity
+                lead = [0.0, segs[0, 0], 0.0, xs[0] - vs[0] * segs[0, 0], vs[0], 0, 0, 0, 0]
+                segs = np.vstack([np.array([lead]), segs])
+            elif segs[0, 0] < 0.0:  # restate the first piece about time 0
+                _restart_piece(segs[0])
+            segs[-1, 1] = horizon
+            return segs
         # square and triangle: the flanks and the ramps, each of constant acceleration
         p, tau = 1.0 / m.frequency, m.edge_time
         k0 = math.floor(t0 / p)
@@ -299,6 +293,21 @@ class MotionDrive(Excitation):
         seg[:, 3], seg[:, 4], seg[:, 5] = x, v, 0.5 * a
         seg[:, 7], seg[:, 8] = a, a
         return seg
+
+
+def _restart_piece(seg) -> None:
+    """Restate a road piece (linear or kind-2 cubic) that starts before time 0 as one
+    starting at 0 with the same displacement, velocity and acceleration."""
+    u0 = -seg[0]
+    if seg[2] == 0.0:
+        seg[3] += seg[4] * u0
+    else:
+        x0, c1, c2, c3 = seg[3], seg[4], seg[5], seg[6]
+        seg[3] = x0 + u0 * (c1 + u0 * (c2 + u0 * c3))
+        seg[4] = c1 + u0 * (2.0 * c2 + 3.0 * u0 * c3)
+        seg[5] = c2 + 3.0 * c3 * u0
+        seg[7] += (seg[8] - seg[7]) * u0 / (seg[1] - seg[0])
+    seg[0] = 0.0
 
 
 def _node_acceleration(t, x, v):

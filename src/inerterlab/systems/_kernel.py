@@ -516,10 +516,11 @@ def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
 def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
     """A dynamic node whose every inertance is disengaged (a one-way clutch running
     free, a screw out of contact) has a zero row in the mass matrix: it is massless for
-    now. Its row becomes the time derivative of its force balance, sum of the springs'
-    k (v_t - v_b) and of the dissipative elements' dF/dv (a_t - a_b) = 0, which keeps
-    the balance that held when the inertance let go; in an impulse flow its velocity
-    does not change."""
+    now. Its row becomes the time derivative of its force balance G, sum of the springs'
+    k (v_t - v_b) and of the dissipative elements' dF/dv (a_t - a_b) = -lambda G, which
+    keeps the balance that held when the inertance let go (G = 0) and pulls the
+    integration's drift of it back at the node's own rate lambda = sum k / sum dF/dv; in
+    an impulse flow its velocity does not change."""
     eo = itab[I_ELEM]
     for k in range(nd):
         zero = True
@@ -529,10 +530,13 @@ def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
                 break
         if not zero:
             continue
+        g = W[ir + k]  # the force balance, zero but for the drift of the integration
         W[ir + k] = 0.0
         if flow:
             W[im + k * nd + k] = 1.0
             continue
+        ksum = 0.0
+        dsum = 0.0
         for e in range(itab[I_NE]):
             b = eo + ELEM_W * e
             ti = itab[b + 5]
@@ -546,9 +550,11 @@ def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
             sgn = -1.0 if ti == k else 1.0  # the force acts on the top as -F
             if code == SPRING:
                 ks = spring_slope(ftab, o, W[top] - W[bot])
+                ksum += ks
                 W[ir + k] -= sgn * ks * (W[iv + top] - W[iv + bot])
             elif code == DAMPER or code == FRICTION:
                 _, d = _dissipative(code, ftab, o, W[iv + top] - W[iv + bot])
+                dsum += d
                 if ti >= 0:
                     W[im + k * nd + ti] += sgn * d
                 else:
@@ -557,6 +563,8 @@ def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
                     W[im + k * nd + bi] -= sgn * d
                 else:
                     W[ir + k] += sgn * d * W[ia + bot]
+        if dsum > 0.0:  # the drift decays at the node's own rate, sum k / sum dF/dv
+            W[ir + k] -= ksum / dsum * g
 
 
 @nb.njit(cache=True, inline="always")
