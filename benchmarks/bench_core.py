@@ -30,9 +30,9 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from inerterlab import quarter_car  # noqa: E402
 from inerterlab.excitation import iso8608, sine  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate  # noqa: E402
-from inerterlab import quarter_car  # noqa: E402
 
 NAMES = ("wheel.x", "wheel.v", "body.x", "body.v")
 

@@ -28,10 +28,10 @@ import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
+from inerterlab import quarter_car  # noqa: E402
 from inerterlab.excitation import sine  # noqa: E402
 from inerterlab.metrics import METRIC_KEYS  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics  # noqa: E402
-from inerterlab import quarter_car  # noqa: E402
 
 KEYS = tuple(k for k in METRIC_KEYS if k != "tyre_lift_off")  # the numeric metrics
 

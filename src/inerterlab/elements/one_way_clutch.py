@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numba as nb
 
 from ..errors import ParameterError
-from ._base import ElementBase, Param
+from ._base import Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, flywheel_inertance, inertia_law
 from .bearing_drag import drag_torque
 

@@ -13,8 +13,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 from ..devices.models import RectifierDevice
-from ..flywheels import FLYWHEEL_PRESETS
 from ..errors import ParameterError
+from ..flywheels import FLYWHEEL_PRESETS
 from ._base import Param
 from .hydraulic import HydraulicElement
 

@@ -72,7 +72,6 @@ and refitted). Each parameter states which interval it carries
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 from dataclasses import dataclass, field
 
