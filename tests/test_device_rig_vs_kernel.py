@@ -48,7 +48,13 @@ def test_core_rig_equals_the_device_kernel(name, changes, signal):
         assert np.abs(a - b).max() <= 3e-8 * max(np.abs(b).max(), 1e-12), q  # <= 1.1e-8
     np.testing.assert_array_equal(new.freewheeling, old.freewheeling)
     np.testing.assert_allclose(new.equivalent_mass, old.equivalent_mass, rtol=1e-6)
-    # the ledger: the old kernel integrates it as states, the core from the samples
+    # the ledger: the old kernel integrates work and losses as its states, the core as
+    # observer states (measured <= 3.6e-9); but for the screw out of contact under
+    # slider-dynamics, where the sliders move with the shaft while the flywheel passes
+    # no force: the core's losses are the work into the flywheel less its energy
+    # change, the kernel's the sliders' own loss rate (2.6e-4 apart here)
+    gated_sliders = changes.get("backlash", 0) > 0 and changes.get("law") == "slider-dynamics"
     for q in ("work", "dissipated", "stored"):
         a, b = getattr(new, q), getattr(old, q)
-        assert np.abs(a - b).max() <= 1e-3 * max(np.abs(b).max(), 1e-9), q
+        tol = 1e-3 if gated_sliders and q == "dissipated" else 1e-8
+        assert np.abs(a - b).max() <= tol * max(np.abs(b).max(), 1e-9), q

@@ -258,8 +258,10 @@ def device_force(
         flywheel bearing drag (c_d r^2 v) + inertia force at the initial velocity and
         acceleration.
     force_only : bool
-        Return only the force array [N] (the same numbers), skipping the other series
-        of the result; for identification, which runs a device thousands of times.
+        Return only the force array [N], from the rig without the energy ledger's
+        observer states (the result's force to the integration tolerance: the observers
+        take part in the step control); for identification and the rig simulator, which
+        run a device many times.
 
     Returns
     -------
@@ -300,7 +302,7 @@ def device_force(
         t0 = float(motion.samples[0][0]) if motion.signal == "samples" else 0.0
         t_out = t0 + np.arange(n) / fs
     check_positive("rtol", rtol)
-    sys = device_rig(device)
+    sys = device_rig(device) if force_only else _ledger_rig(device)
     start = float(t_out[0])
     x0, v0, a0 = (float(q[0]) for q in motion.evaluate(t_out[:1]))
     y0 = initial_state(
@@ -345,7 +347,7 @@ def _result(device, sys, motion, t_out, res, force) -> DeviceForceResult:
         lrate = np.zeros_like(t_out)
         meq = r * r * np.asarray(fw.inertia(omega), dtype=float)
     stored = _stored_energy(device, xk if device.series else x, omega, lpos, lrate)
-    work, dissipated = _ledger(device, sys, res, t_out, force, v, stored)
+    work, dissipated = _ledger(device, sys, res, stored)
     return DeviceForceResult(
         t=t_out,
         force=force,
@@ -386,42 +388,49 @@ def _stored_energy(device, spring_x, omega, lpos, lrate) -> np.ndarray:
     return e
 
 
-def _ledger(device, sys, res, t_out, force, v, stored) -> tuple[np.ndarray, np.ndarray]:
-    """(work done on the device [J], energy dissipated [J]) since t_out[0]: the work is
-    the integral of F v at the drive; the dissipation that of F v_rel of the dampers,
-    the friction and the bearing drag (a damper c_d r^2 beside a coupled flywheel;
-    c_d omega^2 of a flywheel behind a one-way clutch), and for ``slider-dynamics`` the
-    losses inside the flywheel (its power in, less its stored energy change: the law
-    conserves energy)."""
-    from scipy.integrate import cumulative_trapezoid
+def _ledger(device, sys, res, stored) -> tuple[np.ndarray, np.ndarray]:
+    """(work done on the device [J], energy dissipated [J]) since t_out[0], from the
+    ledger's observers (:func:`_ledger_rig`): the work the drive does; the dissipation
+    the work done on the dampers, the friction and the bearing drag (a damper beside a
+    coupled flywheel, c_d omega_f^2 behind a one-way clutch), and for
+    ``slider-dynamics`` the flywheel's own losses, the work done on it less the change
+    of its stored energy (the law conserves energy: tests/test_devices.py checks those
+    losses against the slider law's own loss rate)."""
+    names = sys.state_names
 
-    out = res.outputs
+    def col(name):
+        q = res.states[:, names.index(name)]
+        return q - q[0]
 
-    def integral(p):
-        return cumulative_trapezoid(p, t_out, initial=0.0)
-
-    work = integral(force * v)
-    loss = np.zeros_like(t_out)
+    work = col("energy.input")
+    dissipated = np.zeros_like(work)
     for name, el in zip(sys.element_names, sys.elements, strict=True):
-        top, bot = sys.info["edges"][sys.element_names.index(name)][2:]
-        vrel = out[f"{sys.node_names[top]}.v"] - out[f"{sys.node_names[bot]}.v"]
-        p = out[f"{name}.force"] * vrel
         if el.ROLE == "dissipative":
-            loss += p
-        elif getattr(el, "drag", 0.0) > 0.0:  # the one-way clutch's bearing drag
-            w = res.states[:, sys.state_names.index(f"{name}.flywheel_speed")]
-            loss += el.drag * w * w
-    dissipated = integral(loss)
-    if device.law == "slider-dynamics":  # the flywheel's own losses
-        afw = next(n for n, el in zip(sys.element_names, sys.elements, strict=True)
-                   if el.ROLE == "inertial")  # fmt: skip
-        top, bot = sys.info["edges"][sys.element_names.index(afw)][2:]
-        vrel = out[f"{sys.node_names[top]}.v"] - out[f"{sys.node_names[bot]}.v"]
-        fw_in = integral(out[f"{afw}.force"] * vrel)
-        e_spring = 0.5 * device.stiffness * (
-            res.outputs["drive.x"] - res.outputs[f"{_branch_node(sys)}.x"]
-            if device.series else res.outputs["drive.x"]
-        ) ** 2  # fmt: skip
-        e_fw = stored - e_spring
-        dissipated = dissipated + fw_in - (e_fw - e_fw[0])
+            dissipated += col(f"energy.{name}")
+        elif f"loss.{name}" in names:
+            dissipated += col(f"loss.{name}")
+        elif device.law == "slider-dynamics" and el.ROLE == "inertial":
+            spring = 0.5 * device.stiffness * (
+                res.outputs["drive.x"] - res.outputs[f"{_branch_node(sys)}.x"]
+                if device.series else res.outputs["drive.x"]
+            ) ** 2  # fmt: skip
+            e_fw = stored - spring
+            dissipated += col(f"energy.{name}") - (e_fw - e_fw[0])
     return work, dissipated
+
+
+@functools.lru_cache(maxsize=32)
+def _ledger_rig(device: Device):
+    """:func:`device_rig` with the energy ledger's observers: the work done on each
+    element and by the drive (:func:`inerterlab.systems.observers.energy`), and for a
+    flywheel behind a one-way clutch its bearing drag's loss, the integral of
+    c_d omega_f^2 over its own speed."""
+    from ..systems.observers import Observer, energy
+
+    sys = device_rig(device)
+    obs = list(energy(sys, scale=1e-2))
+    for name, el in zip(sys.element_names, sys.elements, strict=True):
+        if getattr(el, "drag", 0.0) > 0.0 and f"{name}.flywheel_speed" in sys.state_names:
+            sig = {f"{name}.flywheel_speed": math.sqrt(el.drag)}
+            obs.append(Observer(f"loss.{name}", "square", sig, scale=1e-2))
+    return sys.with_observers(obs)
