@@ -1,12 +1,13 @@
-"""Device force on the model core's rig against scipy solve_ivp and, while it exists,
-the device models' former compiled kernel, all measured in this run.
+"""Device force on the model core's rig against scipy solve_ivp, measured in this run
+(the figures against the device models' former kernel, measured by this script before
+that kernel was deleted, are in docs/decisions.md, "The device rig on the model core").
 
 1. First-compilation cost: a fresh interpreter with an empty numba cache runs one
    device force (each path) and reports the wall time of that first call.
 2. Per-run time (median of 5, compiled, cached rig) for three devices over 10 s at
    500 Hz: hydraulic (thesis law, metal flywheel, x = 5 mm sin(2 pi t)), screw with
    0.2 mm backlash (2 Hz, 4 mm), rectifier with a free-wheeling flywheel and bearing
-   drag 2e-3 N m s/rad (2 Hz, 4 mm); the largest force difference between the paths.
+   drag 2e-3 N m s/rad (2 Hz, 4 mm).
 3. Work-precision for the hydraulic device against scipy solve_ivp (Radau, LSODA) on
    the same equations, errors against Radau at rtol 1e-11.
 
@@ -25,11 +26,6 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from inerterlab.devices import Motion, device_force, device_preset
-
-try:  # the former kernel, for as long as it is in the tree
-    from inerterlab.devices._kernel_force import device_force as kernel_force
-except ImportError:
-    kernel_force = None
 
 FIRST_CALL = """
 import time
@@ -61,9 +57,6 @@ def timed(fn, n=5):
 print("1. first call with an empty numba cache [s] (import + compile + run)")
 core_first = first_call("from inerterlab.devices import device_force as f")
 print(f"   core rig:          {core_first:7.1f}")
-if kernel_force is not None:
-    k_first = first_call("from inerterlab.devices._kernel_force import device_force as f")
-    print(f"   former kernel:     {k_first:7.1f}")
 
 t = np.arange(5001) / 500.0
 CASES = [
@@ -74,17 +67,10 @@ CASES = [
      Motion.sine(frequency=2.0, amplitude=0.004)),
 ]  # fmt: skip
 print("\n2. per run, 10 s at 500 Hz, rtol 1e-8 [ms]")
-print(f"   {'device':32s} {'core':>8s} {'kernel':>8s} {'kernel/core':>12s} {'max |dF| / max|F|':>18s}")
 for name, dev, mot in CASES:
     device_force(dev, mot, t=t, rtol=1e-8)  # compile and cache the rig
-    tc, rc = timed(lambda d=dev, m=mot: device_force(d, m, t=t, rtol=1e-8, force_only=True))
-    if kernel_force is None:
-        print(f"   {name:32s} {1e3 * tc:8.2f}")
-        continue
-    kernel_force(dev, mot, t=t, rtol=1e-8)
-    tk, rk = timed(lambda d=dev, m=mot: kernel_force(d, m, t=t, rtol=1e-8, force_only=True))
-    err = np.abs(rc - rk).max() / np.abs(rk).max()
-    print(f"   {name:32s} {1e3 * tc:8.2f} {1e3 * tk:8.2f} {tk / tc:12.2f} {err:18.1e}")
+    tc, _ = timed(lambda d=dev, m=mot: device_force(d, m, t=t, rtol=1e-8, force_only=True))
+    print(f"   {name:32s} {1e3 * tc:8.2f}")
 
 dev, mot = CASES[0][1], CASES[0][2]
 fw, r = dev.flywheel, dev.transmission.ratio
