@@ -46,14 +46,9 @@ import numpy as np  # noqa: E402
 from scipy import signal  # noqa: E402
 
 from inerterlab import quarter_car  # noqa: E402
-<<<<<<< HEAD
-from inerterlab.excitation import iso8608, sine  # noqa: E402
-from inerterlab.simulate import SimulationOptions, simulate  # noqa: E402
-=======
 from inerterlab.excitation import iso8608, road_displacement, sine  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate  # noqa: E402
 from inerterlab.systems import _compiled, _integrate  # noqa: E402
->>>>>>> main
 
 NAMES = ("wheel.x", "wheel.v", "body.x", "body.v")
 
