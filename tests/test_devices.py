@@ -150,14 +150,15 @@ def test_square_velocity_plateau_is_damping_plus_friction():
 
 
 def test_result_does_not_depend_on_step():
-    """Smoothed friction with v_eps = 1e-3 m/s: max-step and tolerance changes do not matter."""
+    """Smoothed friction with v_eps = 1e-3 m/s: the tolerance does not matter (a 1000x
+    tighter one takes about 10^(3/5) = 4x the steps of the order-5 pair)."""
     dev = device_preset("hydraulic", flywheel_preset="nylon")
     mot = Motion.sine(frequency=1.0, amplitude=0.005)
-    a = device_force(dev, mot, duration=2.0, sample_rate=200, rtol=1e-7, h_max=1e-3)
-    b = device_force(dev, mot, duration=2.0, sample_rate=200, rtol=1e-10, h_max=5e-5)
+    a = device_force(dev, mot, duration=2.0, sample_rate=200, rtol=1e-7)
+    b = device_force(dev, mot, duration=2.0, sample_rate=200, rtol=1e-10)
     scale = np.abs(b.force).max()
     assert np.abs(a.force - b.force).max() < 1e-5 * scale
-    assert b.steps > 5 * a.steps
+    assert b.steps > 3 * a.steps
 
 
 @pytest.mark.parametrize("name", ["hydraulic", "screw", "rectifier"])
@@ -198,9 +199,12 @@ def test_rectifier_freewheel():
     res = device_force(dev, mot, duration=3.0, sample_rate=500, rtol=1e-9)
     free = res.freewheeling
     assert 0.1 < free.mean() < 0.9
-    # free-wheeling: the branch has no inertance, F = b v_a + f tanh(v_a/eps)
+    # free-wheeling: the branch has no inertance, F = b v_a + f tanh(v_a/eps); the core
+    # integrates v_a (the derivative of that balance), so the balance holds to the
+    # integration's tolerance: k times the error of the spring deflection, measured
+    # 4e-7 of the peak force at rtol 1e-9
     fb = dev.damping * res.branch_velocity + dev.friction * np.tanh(res.branch_velocity / 1e-3)
-    np.testing.assert_allclose(res.force[free], fb[free], rtol=1e-8, atol=1e-6)
+    np.testing.assert_allclose(res.force[free], fb[free], rtol=0, atol=2e-6 * np.abs(res.force).max())
     # the flywheel never turns slower than it is driven, and free time = overrunning
     assert np.all(
         res.flywheel_speed[free]
@@ -358,3 +362,29 @@ def test_rectifier_default_start_includes_bearing_drag():
     v = res.velocity
     # (6e-5 with the drag term, 4.5e-4 without it)
     assert np.abs(res.branch_velocity[:6] - v[:6]).max() < 1e-3 * v0
+
+
+def test_slider_dynamics_losses_are_the_laws_own():
+    """The ledger's dissipation under slider-dynamics against an independent quadrature
+    at 20 kHz of what the models dissipate: c v_a^2 + f tanh(v_a/eps) v_a in the branch
+    and the sliders' own loss rate (damping and stop impacts) from their states."""
+    from scipy.integrate import trapezoid
+
+    from inerterlab.slider_dynamics import slider_state_derivative
+
+    dev = device_preset("hydraulic", law="slider-dynamics", flywheel_preset="nylon")
+    mot = Motion.sine(frequency=1.0, amplitude=0.02)  # the sliders reach their stops
+    t = np.linspace(0.0, 1.0, 20001)
+    res = device_force(dev, mot, t=t, rtol=1e-10)
+    va = res.branch_velocity
+    co = dev.slider_dynamics.coefficients(dev.flywheel)
+    r = dev.transmission.ratio
+    slider = np.array([
+        slider_state_derivative(l, ld, r * v, co[1], co[2], co[3], co[4], co[5], co[6], co[7],
+                                co[8])[1]
+        for l, ld, v in zip(res.slider_position, res.slider_rate, va, strict=True)
+    ])  # fmt: skip
+    branch = dev.damping * va**2 + dev.friction * np.tanh(va / dev.friction_velocity) * va
+    expected = trapezoid(branch + slider, t)
+    assert slider.max() > 0.0
+    assert res.dissipated[-1] == pytest.approx(expected, rel=1e-5)

@@ -117,6 +117,17 @@ def user_elements():
     element_class.cache_clear()
 
 
+#: elements whose response to small motions about rest has no linearisation, with the
+#: reason: the three small-motion checks (rig, quarter car, harmonic balance) do not
+#: apply to them; their own closed-form tests are in tests/test_device_elements.py
+NO_LINEARISATION = {
+    "owc": "a one-way clutch drives its flywheel only while the shaft speeds up past it, "
+    "so a small oscillation spins the flywheel up and then lets it run free (re-engaging "
+    "briefly where the bearing drag has slowed it): a force that is not linear in the "
+    "motion, and a flywheel speed whose mean no periodic balance determines",
+}
+
+
 def _example(prefix: str) -> dict:
     cls = ELEMENTS[prefix]
     assert cls.EXAMPLE is not None, f"{cls.__name__} declares no EXAMPLE"
@@ -153,6 +164,8 @@ def test_element_declares_itself(prefix):
 def test_rig_small_motion_is_the_linearisation(prefix):
     """Driven at 2 um, 1 Hz from rest, the rig force settles on Im(Y(jw) jw A e^{jwt})
     with Y the admittance of the element's linearisation about rest."""
+    if prefix in NO_LINEARISATION:
+        pytest.skip(NO_LINEARISATION[prefix])
     params = {prefix: _example(prefix)}
     amp, f = 2e-6, 1.0
     w = 2 * math.pi * f
@@ -184,6 +197,8 @@ def _car_and_linear(prefix):
 
 @pytest.mark.parametrize("prefix", PREFIXES)
 def test_quarter_car_small_motion_is_the_linear_car(prefix):
+    if prefix in NO_LINEARISATION:
+        pytest.skip(NO_LINEARISATION[prefix])
     text, params, lin, values = _car_and_linear(prefix)
     road = sine(2e-6, 1.5)
     a = quarter_car(text, params, **CAR).simulate(road, 3.0, rtol=1e-11, sample_rate=200.0)
@@ -194,6 +209,8 @@ def test_quarter_car_small_motion_is_the_linear_car(prefix):
 
 @pytest.mark.parametrize("prefix", PREFIXES)
 def test_frequency_response_small_motion_is_the_linear_transfer(prefix):
+    if prefix in NO_LINEARISATION:
+        pytest.skip(NO_LINEARISATION[prefix])
     from inerterlab.frequency import frequency_response
 
     text, params, lin, values = _car_and_linear(prefix)

@@ -9,10 +9,14 @@ from scipy.integrate import solve_ivp
 from inerterlab import ParameterError, flywheel
 from inerterlab.slider_dynamics import (
     SliderDynamics,
-    rotor_torque,
     slider_state_derivative,
     stored_energy,
 )
+
+
+def rotor_torque(l, ldot, omega, omega_dot, rest_inertia, n, m_s):
+    """Torque [N m] that drives the rotor: d/dt[(I_rest + n m_s l^2) omega]."""
+    return (rest_inertia + n * m_s * l * l) * omega_dot + 2.0 * n * m_s * l * ldot * omega
 
 
 def _run(fw, opts, omega_amp, freq, t_end):

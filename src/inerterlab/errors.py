@@ -233,6 +233,7 @@ PHYSICAL_RANGES: dict[str, tuple[float, float, str]] = {
     "area": (1e-12, 1e3, "m^2"),
     "density": (1e-3, 1e5, "kg/m^3"),
     "transmission ratio": (1e-3, 1e7, "rad/m"),
+    "rotary damping": (1e-12, 1e6, "N m s/rad"),
     "quadratic damping": (1e-3, 1e10, "N s^2/m^2"),
     "pressure": (1e-3, 1e10, "Pa"),
     "volume": (1e-15, 1e3, "m^3"),

@@ -35,7 +35,6 @@ from .flywheels import AdaptiveFlywheel
 __all__ = [
     "SliderDynamics",
     "slider_state_derivative",
-    "rotor_torque",
     "stored_energy",
 ]
 
@@ -120,12 +119,6 @@ def slider_state_derivative(l, ldot, omega, n, m_s, k_s, l_min, l_max, c_s, k_c,
     f_stop, p_stop = _stop_force(l, ldot, l_min, l_max, k_c, c_c)
     f = m_s * l * omega * omega - k_s * (l - l_min) - c_s * ldot + f_stop
     return f / m_s, n * (c_s * ldot * ldot + p_stop)
-
-
-@nb.njit(cache=True)
-def rotor_torque(l, ldot, omega, omega_dot, rest_inertia, n, m_s):
-    """Torque T [N m] that drives the rotor: d/dt[(I_rest + n m_s l^2) omega]."""
-    return (rest_inertia + n * m_s * l * l) * omega_dot + 2.0 * n * m_s * l * ldot * omega
 
 
 @nb.njit(cache=True)

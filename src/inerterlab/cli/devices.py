@@ -1,4 +1,5 @@
-"""``inerterlab device-force``: force of a real device for a prescribed motion."""
+"""``inerterlab device-force``: force of a real device for a prescribed motion, the
+device running as its network of elements on the model core's rig."""
 
 from __future__ import annotations
 
@@ -47,6 +48,14 @@ def device_force_command(
     freewheel: Annotated[
         bool, typer.Option(help="Rectifier only: flywheel free-wheels when r|v_a| < omega.")
     ] = False,
+    flywheel_drag: Annotated[
+        str | None,
+        typer.Option(help="Rectifier only: flywheel bearing drag c_d [N m s/rad] (default 0)."),
+    ] = None,
+    backlash: Annotated[
+        str | None,
+        typer.Option(help="Screw only: total backlash rho_1 + rho_2 [m], (3.36) (default 0)."),
+    ] = None,
     json_out: Annotated[
         bool, typer.Option("--json", help="Print t, force, equivalent_mass as JSON.")
     ] = False,
@@ -84,6 +93,16 @@ def device_force_command(
         if device != "rectifier":
             raise ParameterError("freewheel", True, "only with --device rectifier")
         changes["freewheel"] = True
+    drag = _opt_float("flywheel-drag", flywheel_drag, nonneg=True)
+    if drag is not None:
+        if device != "rectifier":
+            raise ParameterError("flywheel-drag", flywheel_drag, "only with --device rectifier")
+        changes["flywheel_drag"] = drag
+    play = _opt_float("backlash", backlash, nonneg=True)
+    if play is not None:
+        if device != "screw":
+            raise ParameterError("backlash", backlash, "only with --device screw")
+        changes["backlash"] = play
     dev = device_preset(device, flywheel_preset=flywheel, **changes)
     maker = {"sine": Motion.sine, "square": Motion.square, "triangle": Motion.triangle}[signal]
     motion = maker(frequency=f, amplitude=a, velocity_amplitude=va)
@@ -107,6 +126,8 @@ def device_force_command(
                 f"{res.equivalent_mass.min():.5g} .. {res.equivalent_mass.max():.5g}",
             ),
             ("work done [J]", f"{res.work[-1]:.6g}"),
+            ("energy dissipated [J]", f"{res.dissipated[-1]:.6g}"),
+            ("free-wheeling [% of samples]", f"{100.0 * res.freewheeling.mean():.3g}"),
             ("csv", str(csv) if csv else "-"),
         ],
     )

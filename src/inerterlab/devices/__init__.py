@@ -1,5 +1,7 @@
 """Real two-terminal devices (thesis ch. 3.2.4, 3.3.4, 5): models, motions, forces.
 
+A device runs as its network of elements on the model core's rig (:func:`device_rig`).
+
 >>> from inerterlab.devices import device_preset, device_force, Motion
 >>> res = device_force(device_preset("hydraulic"), Motion.square(frequency=0.5,
 ...                    velocity_amplitude=0.01), duration=2.0, sample_rate=200)
@@ -9,6 +11,7 @@ True
 
 from .force import DeviceForceResult as DeviceForceResult
 from .force import device_force as device_force
+from .force import device_rig as device_rig
 from .models import DEVICES as DEVICES
 from .models import PARAMETER_UNITS as PARAMETER_UNITS
 from .models import HydraulicDevice as HydraulicDevice
@@ -29,6 +32,7 @@ __all__ = [
     "RectifierDevice",
     "ScrewDevice",
     "device_force",
+    "device_rig",
     "device_preset",
     "motion_from_samples",
 ]

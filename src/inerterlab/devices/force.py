@@ -2,19 +2,20 @@
 
 from __future__ import annotations
 
+import functools
 import math
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import ConvergenceError, ParameterError, check_positive
-from . import _kernels as K
+from ..errors import ParameterError, check_positive
+from ..excitation import RoadTooShortWarning
+from ..slider_dynamics import SliderDynamics, stored_energy
 from .models import Device, HydraulicDevice, RectifierDevice, ScrewDevice
 from .motion import Motion
 
-__all__ = ["device_force", "DeviceForceResult", "parameter_vector"]
-
-_LAW = {"thesis": 0, "momentum": 1, "slider-dynamics": 2}
+__all__ = ["device_force", "device_rig", "initial_state", "DeviceForceResult"]
 
 
 @dataclass(frozen=True, kw_only=True, eq=False)
@@ -150,60 +151,67 @@ class DeviceForceResult:
         return ax
 
 
-def parameter_vector(device: Device) -> np.ndarray:
-    """The flat parameter vector the compiled kernels read (see ``_kernels``)."""
-    fw, tr = device.flywheel, device.transmission
-    P = np.zeros(K.NPAR)
-    P[K.SERIES] = 1.0 if device.series else 0.0
-    P[K.LAW] = _LAW[device.law]
-    P[K.RATIO] = tr.ratio
-    P[K.STIFF] = device.stiffness
-    P[K.DAMP] = device.damping
-    P[K.FRIC] = device.friction
-    P[K.VEPS] = device.friction_velocity
-    P[K.BACKLASH] = device.backlash
-    P[K.FREEWHEEL] = 1.0 if device.freewheel else 0.0
-    P[K.FWDRAG] = getattr(device, "flywheel_drag", 0.0)
-    P[K.FW0 : K.FW0 + 8] = (
-        fw.rest_inertia,
-        fw.inertia_coefficient,
-        fw.spring_stiffness,
-        fw.slider_mass,
-        fw.slider_min,
-        fw.slider_max,
-        fw.saturation_speed,
-        fw.power,
-    )
-    if device.law == "slider-dynamics":
-        P[K.SD0 : K.SD0 + 9] = device.slider_dynamics.coefficients(fw)
-    else:
-        P[K.SD0 + 1] = fw.n_sliders
-    return P
+@functools.lru_cache(maxsize=32)
+def device_rig(device: Device):
+    """The model core's rig (:func:`inerterlab.systems.rig`) holding ``device``: its
+    composite element (hydraulic, screw or rectifier) between the drive and the ground.
+    Devices are frozen, so equal devices share one compiled rig."""
+    if device.law == "slider-dynamics" and device.slider_dynamics != SliderDynamics():
+        raise ParameterError(
+            "slider_dynamics", device.slider_dynamics, "the default SliderDynamics() (the "
+            "network elements take the default slider options)",
+        )  # fmt: skip
+    from ..systems import rig
+
+    return rig(device)
 
 
-def _initial_state(device: Device, P: np.ndarray, x0: float, v0: float, a0: float):
+def _flywheel_speed_state(sys) -> int | None:
+    name = next((n for n in sys.state_names if n.endswith(".flywheel_speed")), None)
+    return None if name is None else sys.state_names.index(name)
+
+
+def initial_state(
+    device: Device, sys, x0: float, v0: float, a0: float, initial_force: float | None = None
+) -> np.ndarray:
+    """The rig's state (``sys`` = :func:`device_rig`) for a device that has been moving
+    steadily with its terminals up to now (displacement x0 [m], velocity v0 [m/s],
+    acceleration a0 [m/s^2]): for a series device the spring carries the branch force,
+    damper + friction + bearing drag (c_d r^2 v0) + inertia force, or ``initial_force``
+    [N] where given; the sliders sit at their quasi-static radius, a free-wheeling
+    flywheel turns with the shaft."""
     fw, r = device.flywheel, device.transmission.ratio
-    y = np.zeros(K.NSTATE)
     om = r * v0
     l0 = float(fw.slider_position(om))
-    y[2] = l0
+    y = np.zeros(sys.n_states)
+    for i, name in enumerate(sys.state_names):
+        if name.endswith(".slider_radius"):
+            y[i] = l0
+        elif name.endswith(".flywheel_speed"):
+            y[i] = abs(om)
     if not device.series:
-        y[0], y[1] = x0, v0
         return y
-    # steady motion before t0: the branch moves with the terminals and the spring
-    # carries the branch force, damper + friction + bearing drag of the flywheel
-    # (torque c_d omega, a force c_d r^2 v at the terminals) + inertia at the current
-    # acceleration
-    if device.law == "momentum":
-        m = r * r * float(fw.momentum_inertia(om))
+    if initial_force is None:
+        if device.law == "momentum":
+            m = r * r * float(fw.momentum_inertia(om))
+        else:
+            m = r * r * (fw.rest_inertia + fw.inertia_coefficient * l0**fw.power)
+        fb = device.damping * v0 + device.friction * math.tanh(v0 / device.friction_velocity)
+        fb += getattr(device, "flywheel_drag", 0.0) * r * r * v0
+        xk = (fb + m * a0) / device.stiffness
     else:
-        m = r * r * (fw.rest_inertia + fw.inertia_coefficient * l0**fw.power)
-    fb = device.damping * v0 + device.friction * math.tanh(v0 / device.friction_velocity)
-    fb += P[K.FWDRAG] * r * r * v0
-    y[0] = (fb + m * a0) / device.stiffness
-    y[1] = v0
-    y[6] = abs(om)
+        from ..errors import check_finite
+
+        xk = check_finite("initial_force", initial_force) / device.stiffness
+    node = _branch_node(sys)
+    y[sys.state_names.index(f"{node}.x")] = x0 - xk
+    y[sys.state_names.index(f"{node}.v")] = v0
     return y
+
+
+def _branch_node(sys) -> str:
+    """The node between a series device's spring and its branch."""
+    return next(n for n in sys.state_names if n.endswith(".x")).rpartition(".")[0]
 
 
 def device_force(
@@ -213,14 +221,17 @@ def device_force(
     duration: float | None = None,
     sample_rate: float = 1000.0,
     t=None,
-    rtol: float = 1e-7,
-    h_max: float | None = None,
-    event_tol: float = 1e-7,
-    max_steps: int = 50_000_000,
+    rtol: float = 1e-9,
+    max_steps: int = 10_000_000,
     initial_force: float | None = None,
     force_only: bool = False,
 ) -> DeviceForceResult:
     """Predict the force of ``device`` for the terminal ``motion``.
+
+    The device runs as a network of elements on the model core's rig
+    (:func:`device_rig`): its composite element (:mod:`inerterlab.elements`) between the
+    drive, which follows ``motion``, and the ground; the one-way clutch, the screw's
+    backlash and the bearing drag are elements of it.
 
     Parameters
     ----------
@@ -234,12 +245,12 @@ def device_force(
     t : array, optional
         Explicit increasing output times [s] (overrides duration and sample_rate).
     rtol : float
-        Relative tolerance of the adaptive integrator; absolute tolerances follow from
-        the device's force scale.
-    h_max : float, optional
-        Largest step [s] (default: a fiftieth of the period, at most 1e-3 s).
-    event_tol : float
-        Precision [s] to which a free-wheeling switch of the rectifier is located.
+        Relative tolerance of the adaptive integrator (absolute tolerances: rtol times
+        the rig's state scales). The rig's states are node displacements, of the size of
+        the motion, while a series device's force is its spring's stiffness times the
+        small difference of two of them: 1e-9 keeps that force to about 1e-6 of itself.
+    max_steps : int
+        Largest number of integrator steps.
     initial_force : float, optional
         Series devices: start with the spring carrying this force [N] (e.g. the measured
         force at the first sample). By default the device starts as if it had been
@@ -247,8 +258,10 @@ def device_force(
         flywheel bearing drag (c_d r^2 v) + inertia force at the initial velocity and
         acceleration.
     force_only : bool
-        Return only the force array [N] (the same numbers), skipping the other series
-        of the result; for identification, which runs a device thousands of times.
+        Return only the force array [N], from the rig without the energy ledger's
+        observer states (the result's force to the integration tolerance: the observers
+        take part in the step control); for identification and the rig simulator, which
+        run a device many times.
 
     Returns
     -------
@@ -288,75 +301,53 @@ def device_force(
             raise ParameterError("duration", duration, "at most 5e7 samples at this rate")
         t0 = float(motion.samples[0][0]) if motion.signal == "samples" else 0.0
         t_out = t0 + np.arange(n) / fs
-    kind, par, tn, xn, vn = motion.kernel_args()
-    P = parameter_vector(device)
-    x0, v0, a0 = (float(q[0]) for q in motion.evaluate(t_out[:1]))
-    y0 = _initial_state(device, P, x0, v0, a0)
-    if initial_force is not None and device.series:
-        from ..errors import check_finite
-
-        y0[0] = check_finite("initial_force", initial_force) / device.stiffness
-    if h_max is None:
-        h_max = 1e-3 if motion.signal == "samples" else min(1e-3, 0.02 / motion.frequency)
-    h_max = check_positive("h_max", h_max, "s")
     check_positive("rtol", rtol)
-    f_scale = max(
-        device.friction + device.damping * max(motion.velocity_amplitude, 1e-6),
-        device.stiffness * 1e-9,
-        1.0,
+    sys = device_rig(device) if force_only else _ledger_rig(device)
+    start = float(t_out[0])
+    x0, v0, a0 = (float(q[0]) for q in motion.evaluate(t_out[:1]))
+    y0 = initial_state(
+        device, sys, x0, v0, a0, initial_force if device.series else None
     )
-    atol = np.array(
-        [
-            rtol * f_scale / device.stiffness,  # x_k [m]
-            rtol * max(motion.velocity_amplitude, 1e-6),  # v_a [m/s]
-            rtol * device.flywheel.slider_max,  # l [m]
-            rtol * device.flywheel.slider_max * 100.0,  # l' [m/s]
-            rtol * 1e-3,  # W [J]
-            rtol * 1e-3,  # D [J]
-            rtol * device.transmission.ratio * max(motion.velocity_amplitude, 1e-6),
-        ]
-    )
-    if not device.series and device.law != "slider-dynamics" and motion.signal == "samples":
-        # the force is algebraic in the measured motion; the tracked x, v and the energy
-        # integrals need no step control (their integrands are piecewise cubic in t)
-        atol[[0, 1, 4, 5]] = np.inf
-    ys, force, meq, modes, status, steps = K.integrate(
-        t_out,
-        y0,
-        0,
-        P,
-        kind,
-        par,
-        tn,
-        xn,
-        vn,
-        float(rtol),
-        atol,
-        float(h_max),
-        float(event_tol),
-        int(max_steps),
-    )
-    if status != 0:
-        why = "too many steps" if status == 1 else "step size underflow"
-        raise ConvergenceError(
-            f"device_force: integration stopped at t={t_out[len(force) - 1]:.6g} s ({why}); "
-            "check the parameters or raise max_steps"
-        )
+    times = t_out - start
+    horizon = max(float(times[-1]), 1e-12)
+    with warnings.catch_warnings():  # a sampled motion is held at its last velocity
+        warnings.simplefilter("ignore", RoadTooShortWarning)
+        res = sys.simulate(
+            motion.drive(start), horizon, rtol=float(rtol), method="adaptive",
+            max_steps=int(max_steps), x0=y0, times=times,
+        )  # fmt: skip
+    force = np.asarray(res.outputs["force"], dtype=float)
     if force_only:
         return force
+    return _result(device, sys, motion, t_out, res, force)
+
+
+def _result(device, sys, motion, t_out, res, force) -> DeviceForceResult:
     x, v, a = motion.evaluate(t_out)
-    law = _LAW[device.law]
-    r = device.transmission.ratio
-    e_fw = K.flywheel_energies(ys, modes, law, r, P)
-    spring = 0.5 * device.stiffness * ys[:, 0] ** 2  # x_k, or x for the screw
-    stored = spring + e_fw
-    free = modes == 1
-    omega = np.where(free, ys[:, 6], r * np.abs(ys[:, 1]))
-    if device.law == "slider-dynamics":
-        lpos = ys[:, 2]
+    fw, r = device.flywheel, device.transmission.ratio
+    Y = res.states
+    names = sys.state_names
+    if device.series:
+        node = _branch_node(sys)
+        xk = res.outputs["drive.x"] - Y[:, names.index(f"{node}.x")]
+        va = Y[:, names.index(f"{node}.v")]
     else:
-        lpos = np.asarray(device.flywheel.slider_position(omega), dtype=float)
-    series = device.series
+        xk = np.zeros_like(t_out)
+        va = v
+    jw = _flywheel_speed_state(sys)
+    coupled = r * np.abs(va)
+    omega = coupled if jw is None else Y[:, jw]
+    free = np.zeros(t_out.size, bool) if jw is None else omega - coupled > 1e-9 * omega
+    if device.law == "slider-dynamics":
+        lpos = Y[:, [i for i, n in enumerate(names) if n.endswith(".slider_radius")][0]]
+        lrate = Y[:, [i for i, n in enumerate(names) if n.endswith(".slider_rate")][0]]
+        meq = r * r * (fw.rest_inertia + fw.inertia_coefficient * lpos**2)
+    else:
+        lpos = np.asarray(fw.slider_position(omega), dtype=float)
+        lrate = np.zeros_like(t_out)
+        meq = r * r * np.asarray(fw.inertia(omega), dtype=float)
+    stored = _stored_energy(device, xk if device.series else x, omega, lpos, lrate)
+    work, dissipated = _ledger(device, sys, res, stored)
     return DeviceForceResult(
         t=t_out,
         force=force,
@@ -364,14 +355,82 @@ def device_force(
         velocity=v,
         acceleration=a,
         equivalent_mass=meq,
-        spring_deflection=ys[:, 0] if series else np.zeros_like(t_out),
-        branch_velocity=ys[:, 1] if series else v,
+        spring_deflection=xk,
+        branch_velocity=va,
         slider_position=lpos,
-        slider_rate=ys[:, 3],
+        slider_rate=lrate,
         flywheel_speed=omega,
-        work=ys[:, 4],
-        dissipated=ys[:, 5],
+        work=work,
+        dissipated=dissipated,
         stored=stored - stored[0],
         freewheeling=free,
-        steps=int(steps),
+        steps=int(res.stats.get("steps", 0) + res.stats.get("rejected", 0)),
     )
+
+
+def _stored_energy(device, spring_x, omega, lpos, lrate) -> np.ndarray:
+    """Spring + flywheel energy [J]: 1/2 I omega^2 (thesis law), with the slider
+    springs at their quasi-static radius (momentum), or the sliders' own kinetic,
+    spring and stop energy (slider-dynamics)."""
+    fw = device.flywheel
+    e = 0.5 * device.stiffness * spring_x**2
+    if device.law == "slider-dynamics":
+        c = device.slider_dynamics.coefficients(fw)
+        return e + np.array(
+            [
+                stored_energy(l, ld, w, c[0], c[1], c[2], c[3], c[4], c[5], c[7])
+                for l, ld, w in zip(lpos, lrate, omega, strict=True)
+            ]
+        )
+    e = e + 0.5 * np.asarray(fw.inertia(omega)) * omega**2
+    if device.law == "momentum":
+        e = e + np.asarray(fw.spring_energy(omega))
+    return e
+
+
+def _ledger(device, sys, res, stored) -> tuple[np.ndarray, np.ndarray]:
+    """(work done on the device [J], energy dissipated [J]) since t_out[0], from the
+    ledger's observers (:func:`_ledger_rig`): the work the drive does; the dissipation
+    the work done on the dampers, the friction and the bearing drag (a damper beside a
+    coupled flywheel, c_d omega_f^2 behind a one-way clutch), and for
+    ``slider-dynamics`` the flywheel's own losses, the work done on it less the change
+    of its stored energy (the law conserves energy: tests/test_devices.py checks those
+    losses against the slider law's own loss rate)."""
+    names = sys.state_names
+
+    def col(name):
+        q = res.states[:, names.index(name)]
+        return q - q[0]
+
+    work = col("energy.input")
+    dissipated = np.zeros_like(work)
+    for name, el in zip(sys.element_names, sys.elements, strict=True):
+        if el.ROLE == "dissipative":
+            dissipated += col(f"energy.{name}")
+        elif f"loss.{name}" in names:
+            dissipated += col(f"loss.{name}")
+        elif device.law == "slider-dynamics" and el.ROLE == "inertial":
+            spring = 0.5 * device.stiffness * (
+                res.outputs["drive.x"] - res.outputs[f"{_branch_node(sys)}.x"]
+                if device.series else res.outputs["drive.x"]
+            ) ** 2  # fmt: skip
+            e_fw = stored - spring
+            dissipated += col(f"energy.{name}") - (e_fw - e_fw[0])
+    return work, dissipated
+
+
+@functools.lru_cache(maxsize=32)
+def _ledger_rig(device: Device):
+    """:func:`device_rig` with the energy ledger's observers: the work done on each
+    element and by the drive (:func:`inerterlab.systems.observers.energy`), and for a
+    flywheel behind a one-way clutch its bearing drag's loss, the integral of
+    c_d omega_f^2 over its own speed."""
+    from ..systems.observers import Observer, energy
+
+    sys = device_rig(device)
+    obs = list(energy(sys, scale=1e-2))
+    for name, el in zip(sys.element_names, sys.elements, strict=True):
+        if getattr(el, "drag", 0.0) > 0.0 and f"{name}.flywheel_speed" in sys.state_names:
+            sig = {f"{name}.flywheel_speed": math.sqrt(el.drag)}
+            obs.append(Observer(f"loss.{name}", "square", sig, scale=1e-2))
+    return sys.with_observers(obs)

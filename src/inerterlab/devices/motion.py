@@ -38,8 +38,9 @@ import numba as nb
 import numpy as np
 
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
+from ..excitation import Excitation
 
-__all__ = ["Motion", "SIGNALS", "motion_from_samples"]
+__all__ = ["Motion", "MotionDrive", "SIGNALS", "motion_from_samples"]
 
 SIGNALS = ("sine", "square", "triangle", "samples")
 _KIND = {"sine": 0, "square": 1, "triangle": 1, "samples": 2}
@@ -190,6 +191,12 @@ class Motion:
         out = self.evaluate(t)[i]
         return float(out[0]) if scalar else out
 
+    def drive(self, start: float = 0.0) -> MotionDrive:
+        """The motion from time ``start`` [s] on as the drive of a core rig
+        (:func:`inerterlab.systems.rig`), whose time 0 is ``start``: moving as the motion
+        moves there (no velocity jump at the start)."""
+        return MotionDrive(motion=self, start=float(start))
+
     def reversal_times(self, duration: float) -> np.ndarray:
         """Instants [s] in [0, duration] at which the velocity changes sign."""
         if self.signal == "sine":
@@ -206,6 +213,101 @@ class Motion:
             idx = np.nonzero(s[1:] * s[:-1] < 0)[0]
             t = 0.5 * (ts[idx] + ts[idx + 1])
         return t[(t >= 0) & (t <= duration)]
+
+
+@dataclass(frozen=True, kw_only=True, eq=False)
+class MotionDrive(Excitation):
+    """A :class:`Motion` from ``start`` [s] on, as road segments of the model core
+    (:mod:`inerterlab.excitation`): a sine is one sine segment; the square and triangle
+    motions are pieces of constant acceleration (the straight flanks and the parabolic
+    reversals) and a sampled motion its cubic Hermite pieces, both written as measured
+    drive pieces (kind 2), so the integrator runs through their edges without a
+    restart."""
+
+    motion: Motion
+    start: float = 0.0
+    name = "motion"
+    quarter_car_kernels = False
+
+    def _at_start(self):
+        x, v, _ = self.motion.evaluate(np.array([self.start]))
+        return float(x[0]), float(v[0])
+
+    def initial_road(self, horizon: float) -> float:
+        return self._at_start()[0]
+
+    def initial_road_velocity(self, horizon: float) -> float:
+        return self._at_start()[1]
+
+    def end_time(self) -> float:
+        if self.motion.signal == "samples":
+            return float(self.motion.samples[0][-1]) - self.start
+        return math.inf
+
+    def describe(self) -> dict:
+        return {"input": "motion", "signal": self.motion.signal, "start": self.start}
+
+    def segments(self, horizon: float) -> np.ndarray:
+        m, t0 = self.motion, self.start
+        if m.signal == "sine":
+            w = 2.0 * math.pi * m.frequency
+            return np.array([[0.0, horizon, 1.0, 0.0, 0.0, m.amplitude, w, w * t0]])
+        if m.signal == "samples":  # the measured drive's pieces, from ``start`` on
+            from ..excitation import DriveSeries
+
+            ts, xs, vs = m.samples
+            _, _, _, _, vn = m.kernel_args()
+            first = float(ts[0])
+            drive = DriveSeries(time=ts - first, displacement=xs, velocity=vs,
+                                acceleration=vn[ts.size :])  # fmt: skip
+            segs = drive.segments(max(t0 - first + horizon, float(ts[-1] - first)))
+            segs[:, :2] += first - t0
+            segs = segs[(segs[:, 1] > 0.0) & (segs[:, 0] < horizon)]
+            if segs[0, 0] > 0.0:  # before the first sample: its velocity
+                lead = [0.0, segs[0, 0], 0.0, xs[0] - vs[0] * segs[0, 0], vs[0], 0, 0, 0, 0]
+                segs = np.vstack([np.array([lead]), segs])
+            elif segs[0, 0] < 0.0:  # restate the first piece about time 0
+                _restart_piece(segs[0])
+            segs[-1, 1] = horizon
+            return segs
+        # square and triangle: the flanks and the ramps, each of constant acceleration
+        p, tau = 1.0 / m.frequency, m.edge_time
+        k0 = math.floor(t0 / p)
+        edges = [0.0]
+        k = k0
+        while True:
+            for c in (0.25, 0.75):
+                for d in ((-0.5 * tau, 0.5 * tau) if tau > 0 else (0.0,)):
+                    te = (k + c) * p + d - t0
+                    if 0.0 < te < horizon:
+                        edges.append(te)
+            if (k + 1) * p - t0 >= horizon:
+                break
+            k += 1
+        edges = np.array(sorted(set(edges)) + [horizon])
+        ta, tb = edges[:-1], edges[1:]
+        x, v, _ = m.evaluate(ta + t0)
+        _, _, a = m.evaluate(0.5 * (ta + tb) + t0)
+        seg = np.zeros((ta.size, 9))
+        seg[:, 0], seg[:, 1], seg[:, 2] = ta, tb, 2.0
+        seg[:, 3], seg[:, 4], seg[:, 5] = x, v, 0.5 * a
+        seg[:, 7], seg[:, 8] = a, a
+        return seg
+
+
+def _restart_piece(seg) -> None:
+    """Restate a road piece (linear or kind-2 cubic) that starts before time 0 as one
+    starting at 0 with the same displacement, velocity and acceleration."""
+    u0 = -seg[0]
+    if seg[2] == 0.0:
+        seg[3] += seg[4] * u0
+    else:
+        x0, c1, c2, c3 = seg[3], seg[4], seg[5], seg[6]
+        seg[3] = x0 + u0 * (c1 + u0 * (c2 + u0 * c3))
+        seg[4] = c1 + u0 * (2.0 * c2 + 3.0 * u0 * c3)
+        seg[5] = c2 + 3.0 * c3 * u0
+        seg[7] += (seg[8] - seg[7]) * u0 / (seg[1] - seg[0])
+    seg[0] = 0.0
 
 
 def _node_acceleration(t, x, v):

@@ -5,7 +5,8 @@ in a network text, ``k2``, ``afw_front``) to the element class, which declares i
 its parameters with units (and the optimiser's default search ranges), its law and its
 linearisation about rest. The network grammar (:mod:`inerterlab.networks`) reads names
 through :func:`element_class` only. A primitive element (spring, damper, inerter, friction, adaptive
-flywheel, backlash, gas spring, bump stop) has a compiled force law the system right-hand side calls; a composite element
+flywheel, backlash, gas spring, bump stop, bearing drag, one-way clutch, the ball
+screw's contact rule) has a compiled force law the system right-hand side calls; a composite element
 (hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
 Adding an element is one module and one line below (docs/decisions.md, "Model core").
 """
@@ -19,6 +20,7 @@ from ..errors import NetworkError
 from ._base import UNIT_QUANTITY, ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
 from .backlash import Backlash
+from .bearing_drag import BearingDrag
 from .bump_stop import BumpStop
 from .damper import Damper
 from .fluid_inerter import FluidInerter
@@ -26,8 +28,10 @@ from .friction import Friction
 from .gas_spring import GasSpring
 from .hydraulic import HydraulicElement
 from .inerter import Inerter
+from .one_way_clutch import OneWayClutch
 from .rectifier import RectifierElement
 from .screw import ScrewElement
+from .screw_backlash import ScrewContact
 from .spring import Spring
 
 __all__ = [
@@ -51,6 +55,9 @@ __all__ = [
     "Backlash",
     "GasSpring",
     "BumpStop",
+    "BearingDrag",
+    "OneWayClutch",
+    "ScrewContact",
 ]
 
 ELEMENTS: dict[str, type[ElementBase]] = {
@@ -66,6 +73,9 @@ ELEMENTS: dict[str, type[ElementBase]] = {
     "gap": Backlash,
     "gas": GasSpring,
     "bump": BumpStop,
+    "drag": BearingDrag,
+    "owc": OneWayClutch,
+    "sgap": ScrewContact,
 }
 
 

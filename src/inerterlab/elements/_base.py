@@ -22,7 +22,7 @@ from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_ran
 __all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
 
 #: floats per primitive element row in the compiled tables
-NPAR = 16
+NPAR = 18
 #: kernel codes of the primitive elements
 SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 0, 1, 2, 3, 4
 #: a tyre's point contact (spring and damper that cannot pull: lift-off), only between a
@@ -49,6 +49,7 @@ UNIT_QUANTITY = {
     "Pa": "pressure",
     "m^3": "volume",
     "N s/m^2": "viscosity",
+    "N m s/rad": "rotary damping",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
 

@@ -17,7 +17,7 @@ massless node held only by springs and backlash has no unique rest position insi
 play, so the system builder refuses such a node (it needs a mass, an inertance or a
 damper at it). In series with an inerter (``gap - b``) the inerter is disengaged while
 the play is open. (The thesis's screw device has its own backlash rule, (3.36)-(3.37),
-which stays in the device models of :mod:`inerterlab.devices`.)
+on its flywheel: :mod:`.screw_backlash`.)
 """
 
 from __future__ import annotations

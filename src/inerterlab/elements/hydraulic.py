@@ -16,8 +16,10 @@ from ..flywheels import FLYWHEEL_PRESETS
 from ..transmissions import FORCE_LAWS
 from ._base import ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter
+from .bearing_drag import BearingDrag
 from .damper import Damper
 from .friction import Friction
+from .one_way_clutch import OneWayClutch
 from .spring import Spring
 
 __all__ = ["HydraulicElement", "series_device_expansion", "resolve_inertance"]
@@ -70,7 +72,9 @@ def resolve_inertance(el, default_ratio: float) -> None:
 
 
 def series_device_expansion(el) -> tuple[str, dict]:
-    """k - (c | fric | afw) of a series device, without the parts that are zero."""
+    """k - (c | fric | afw | drag) of a series device, without the parts that are zero;
+    with a free-wheeling flywheel (``freewheel``) k - (c | fric | owc), the one-way
+    clutch carrying the bearing drag."""
     parts = {"k": Spring(stiffness=el.stiffness)}
     branch = []
     if el.damping > 0:
@@ -79,11 +83,17 @@ def series_device_expansion(el) -> tuple[str, dict]:
     if el.friction > 0:
         parts["fric"] = Friction(force=el.friction, velocity=el.friction_velocity)
         branch.append("fric")
-    if el.flywheel != "none":
-        parts["afw"] = AdaptiveFlywheelInerter(
-            flywheel=el.flywheel, changing_ratio=el.changing_ratio, ratio=el.ratio, law=el.law
-        )
+    drag = getattr(el, "flywheel_drag", 0.0)
+    wheel = dict(flywheel=el.flywheel, changing_ratio=el.changing_ratio, ratio=el.ratio, law=el.law)
+    if el.flywheel != "none" and getattr(el, "freewheel", False):
+        parts["owc"] = OneWayClutch(**wheel, drag=drag)
+        branch.append("owc")
+    elif el.flywheel != "none":
+        parts["afw"] = AdaptiveFlywheelInerter(**wheel)
         branch.append("afw")
+        if drag > 0:
+            parts["drag"] = BearingDrag(drag=drag, ratio=el.ratio)
+            branch.append("drag")
     return f"k - ({' | '.join(branch)})", parts
 
 

@@ -1,8 +1,8 @@
 """Inverse ball screw (3.34)-(3.38) as a composite: k_i | c_i | f_i | flywheel inerter,
 all on the terminal displacement. Identified values from
-:class:`inerterlab.devices.models.ScrewDevice` (nylon flywheel, r = 501.35 rad/m).
-The backlash of (3.36)-(3.37) is not published (the device default is 0, always in
-contact); the network element models contact only.
+:class:`inerterlab.devices.models.ScrewDevice` (nylon flywheel, r = 501.35 rad/m). With
+a total ``backlash`` rho > 0 the flywheel acts only in contact, (3.36)-(3.37)
+(:mod:`.screw_backlash`); the thesis publishes no value (default 0: always in contact).
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from .adaptive_flywheel import AdaptiveFlywheelInerter
 from .damper import Damper
 from .friction import Friction
 from .hydraulic import resolve_inertance
+from .screw_backlash import ScrewContact
 from .spring import Spring
 
 __all__ = ["ScrewElement"]
@@ -40,6 +41,7 @@ class ScrewElement(ElementBase):
     ratio: float | None = None
     law: str = _D.law
     inertance: float | None = None
+    backlash: float = 0.0
 
     prefix = "screw"
     ALTERNATIVES = {"inertance": "ratio"}
@@ -56,6 +58,7 @@ class ScrewElement(ElementBase):
         Param("ratio", "rad/m", optional=True),
         Param("law", choices=FORCE_LAWS),
         Param("inertance", "kg", optional=True),
+        Param("backlash", "m", low_open=False),
     )
 
     def __post_init__(self) -> None:
@@ -76,6 +79,12 @@ class ScrewElement(ElementBase):
                 law=self.law,
             ),
         }
+        if self.backlash > 0:
+            parts["afw"] = ScrewContact(
+                flywheel=self.flywheel, changing_ratio=self.changing_ratio, ratio=self.ratio,
+                law=self.law, backlash=self.backlash, stiffness=self.stiffness,
+                damping=self.damping,
+            )  # fmt: skip
         names = ["k"]
         if self.damping > 0:
             parts["c"] = Damper(damping=self.damping)

@@ -17,7 +17,7 @@ from ._base import SPRING, ElementBase, Param
 from .bump_stop import BUMP_LAW, bump_force
 from .gas_spring import GAS_LAW, gas_force
 
-__all__ = ["Spring", "spring_force", "spring_switch"]
+__all__ = ["Spring", "spring_force", "spring_slope", "spring_switch"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -38,6 +38,20 @@ def spring_force(tab, o, x):
         return k * (x - g)
     if x < -g:
         return k * (x + g)
+    return 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def spring_slope(tab, o, x):
+    """dF/dx [N/m] at relative displacement x [m]: k, or 0 inside a free play; the gas
+    spring's and the bump stop's by a central difference of their law."""
+    law = tab[o + 2]
+    if law == GAS_LAW or law == BUMP_LAW:
+        h = 1e-7 * max(abs(x + tab[o + 3]), 1e-3)
+        return (spring_force(tab, o, x + h) - spring_force(tab, o, x - h)) / (2.0 * h)
+    g = tab[o + 1]
+    if g == 0.0 or abs(x) > g:
+        return tab[o]
     return 0.0
 
 

@@ -6,8 +6,8 @@ predicted force over the samples of the identification tests, minimised by
 loss (``soft_l1``, ``huber``, ``cauchy``) whose scale ``f_scale`` defaults to three
 times the force-sensor noise, estimated from the data as the median absolute first
 difference / (0.6745 sqrt 2). The predicted force is the model core's rig driven by
-the record (:class:`inerterlab.systems.DriveRuns`), or the device model's integration
-for a device the core does not represent (:func:`core_represents`).
+the record (:class:`inerterlab.systems.DriveRuns`), for every device (a free-wheeling
+flywheel, backlash and bearing drag are elements of the rig).
 
 Methods
 -------
@@ -72,7 +72,6 @@ and refitted). Each parameter states which interval it carries
 from __future__ import annotations
 
 import dataclasses
-import functools
 import math
 from dataclasses import dataclass, field
 
@@ -80,7 +79,7 @@ import numpy as np
 from scipy.optimize import least_squares
 from scipy.stats import t as student_t
 
-from ..devices import PARAMETER_UNITS, device_force, motion_from_samples
+from ..devices import PARAMETER_UNITS, motion_from_samples
 from ..errors import (
     ConvergenceError,
     DataFileError,
@@ -517,65 +516,25 @@ def _prepare(test: RigTest, *, window: float, detrend: str, reversal_window: flo
     return _Prepared(test, test.t, x, v, test.force, motion, mask, runs)
 
 
-def core_represents(device) -> bool:
-    """True when the model core's rig (:func:`inerterlab.systems.rig`) holds the device
-    exactly: a coupled flywheel (no free-wheeling), no backlash, no bearing drag. Such a
-    device is identified on the core; the others on the device model's own compiled
-    integration (:func:`inerterlab.devices.device_force`), the only one that has those
-    three."""
-    return (
-        not getattr(device, "freewheel", False)
-        and getattr(device, "backlash", 0.0) == 0.0
-        and getattr(device, "flywheel_drag", 0.0) == 0.0
-    )
-
-
 def _core_state(device, sys, prep: _Prepared, initial_force: float | None) -> np.ndarray:
-    """The rig's state at the first sample that the device model starts from: the
-    series spring carrying ``initial_force`` (its deflection x_k = F / k, the internal
-    node at x - x_k, moving with the drive), the sliders where the device model puts
-    them (:func:`inerterlab.devices.force._initial_state`, one source for both)."""
-    from ..devices.force import _initial_state, parameter_vector
+    """The rig's state at the first sample: the device moving steadily with the record
+    (:func:`inerterlab.devices.force.initial_state`), its series spring carrying
+    ``initial_force`` where given."""
+    from ..devices.force import initial_state
 
     x0, v0 = float(prep.x[0]), float(prep.v[0])
-    y = _initial_state(device, parameter_vector(device), x0, v0, 0.0)
-    if initial_force is not None and device.series:
-        y[0] = initial_force / device.stiffness
-    state = np.zeros(sys.n_states)
-    for i, name in enumerate(sys.state_names):
-        if name.endswith(".slider_radius"):
-            state[i] = y[2]
-        elif name.endswith(".slider_rate"):
-            state[i] = y[3]
-        elif name.endswith(".x"):
-            state[i] = x0 - y[0]
-        elif name.endswith(".v"):
-            state[i] = y[1]
-    return state
-
-
-@functools.lru_cache(maxsize=16)
-def _device_rig(device):
-    """The core rig of a device (the base run and the probes of a prediction use the
-    same device; the devices are frozen, so equal devices share one rig)."""
-    from ..systems import rig
-
-    return rig(device)
+    return initial_state(device, sys, x0, v0, 0.0, initial_force if device.series else None)
 
 
 def _model_force(device, prep: _Prepared, *, rtol: float, m: int | None = None,
                  initial_force: float | None = None) -> np.ndarray:  # fmt: skip
-    """Force [N] of the device model at the first ``m`` samples of ``prep``: on the model
-    core's rig where it represents the device (:func:`core_represents`), else on the
-    device model's integration."""
+    """Force [N] of the device model at the first ``m`` samples of ``prep``, on the model
+    core's rig (:func:`inerterlab.devices.force.device_rig`)."""
+    from ..devices.force import device_rig
+
     n = prep.t.size if m is None else m
-    if core_represents(device):
-        sys = _device_rig(device)
-        return prep.runs.force(sys, _core_state(device, sys, prep, initial_force), n, rtol=rtol)
-    return device_force(
-        device, prep.motion, t=prep.t[:n], rtol=rtol, h_max=0.01, initial_force=initial_force,
-        force_only=True,
-    )  # fmt: skip
+    sys = device_rig(device)
+    return prep.runs.force(sys, _core_state(device, sys, prep, initial_force), n, rtol=rtol)
 
 
 def _initial_force_guess(prep: _Prepared) -> float:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 
 from ..flywheels import flywheel
-from ..slider_dynamics import SliderDynamics, rotor_torque, slider_state_derivative, stored_energy
+from ..slider_dynamics import SliderDynamics, slider_state_derivative, stored_energy
 from ..transmissions import transmission
 from .registry import FigureResult, ReproduceSettings, TableResult
 
@@ -207,6 +207,10 @@ def figure_flywheel_laws(settings: ReproduceSettings) -> FigureResult:
     )
 
 
+#: the slider-dynamics law's energy is summed over samples this many times finer
+DENSE = 50
+
+
 def compare_force_laws(
     *,
     preset: str = "nylon",
@@ -218,63 +222,71 @@ def compare_force_laws(
 ) -> dict:
     """Force and energy of an ideal inerter under v = V sin(2 pi f t) with each law.
 
-    Returns a dict with the time grid, the three forces and, for each law, the work
-    done on the device and the stored energy at the end [J].
+    Each law is the adaptive-flywheel element (:class:`inerterlab.elements.
+    AdaptiveFlywheelInerter`) on the model core's rig, driven by x = -(V / w) cos(w t)
+    from rest (no velocity jump). Returns a dict with the time grid, the three forces
+    and, for each law, the work done on the device, the stored energy at the end and
+    the energy dissipated [J]: the work the integral of F v over the samples; the
+    stored energy 1/2 I omega^2 + slider springs at the quasi-static radius (thesis and
+    momentum), or the sliders' kinetic, spring and stop energy from their states
+    (slider-dynamics); the dissipation the integral of the sliders' own loss rate
+    (:func:`inerterlab.slider_dynamics.slider_state_derivative`) over samples
+    :data:`DENSE` times finer (the sliders' impacts on their stops last about a
+    millisecond), a quadrature independent of the integration that made them.
     """
-    from scipy.integrate import solve_ivp
+    from scipy.integrate import cumulative_trapezoid
+
+    from ..elements import AdaptiveFlywheelInerter
+    from ..excitation import sine
+    from ..systems import rig
 
     fw = flywheel(preset)
     r = transmission(device).ratio
     w = 2 * math.pi * freq_hz
     t = np.linspace(0, periods / freq_hz, samples)
     v = velocity_amplitude * np.sin(w * t)
-    a = velocity_amplitude * w * np.cos(w * t)
     omega = r * v
-    f_thesis = r * r * np.asarray(fw.inertia(omega)) * a
-    f_momentum = r * r * np.asarray(fw.momentum_inertia(omega)) * a
+    drive = sine(velocity_amplitude / w, freq_hz, phase=-0.5 * math.pi)
     opts = SliderDynamics()
     ri, n, m, k, lmin, lmax, cs, kc, cc = opts.coefficients(fw)
-
-    def rhs(tt, y):
-        o = r * velocity_amplitude * math.sin(w * tt)
-        od = r * velocity_amplitude * w * math.cos(w * tt)
-        lacc, diss = slider_state_derivative(y[0], y[1], o, n, m, k, lmin, lmax, cs, kc, cc)
-        torque = rotor_torque(y[0], y[1], o, od, ri, n, m)
-        return [y[1], lacc, torque * o, diss]
-
-    sol = solve_ivp(
-        rhs, (0, t[-1]), [lmin, 0, 0, 0], t_eval=t, method="LSODA", rtol=1e-9, atol=1e-12
-    )
-    l, ld = sol.y[0], sol.y[1]
-    torque = np.array(
-        [rotor_torque(l[i], ld[i], omega[i], r * a[i], ri, n, m) for i in range(len(t))]
-    )
-    f_slider = r * torque
-
-    def work(force):
-        p = force * v
-        return float(np.sum(0.5 * (p[1:] + p[:-1]) * np.diff(t)))
-
-    e_end_quasi = 0.5 * float(fw.inertia(omega[-1])) * omega[-1] ** 2 + float(
-        fw.spring_energy(omega[-1])
-    )
-    e_end_slider = stored_energy(l[-1], ld[-1], omega[-1], ri, n, m, k, lmin, lmax, kc)
-    e_start_slider = stored_energy(lmin, 0.0, 0.0, ri, n, m, k, lmin, lmax, kc)
+    force, work, stored, dissipated = {}, {}, {}, {}
+    for law in ("thesis", "momentum", "slider-dynamics"):
+        el = AdaptiveFlywheelInerter(flywheel=preset, ratio=r, law=law, slider=opts)
+        sys = rig("afw", {"afw": el})
+        if law != "slider-dynamics":
+            res = sys.simulate(drive, float(t[-1]), rtol=1e-10, times=t)
+            force[law] = res.outputs["force"]
+            work[law] = float(cumulative_trapezoid(force[law] * v, t)[-1])
+        else:  # sampled DENSE times finer, to resolve the sliders' impacts on their stops
+            td = np.linspace(0.0, t[-1], DENSE * (t.size - 1) + 1)
+            vd = velocity_amplitude * np.sin(w * td)
+            res = sys.simulate(drive, float(t[-1]), rtol=1e-10, times=td)
+            fd = res.outputs["force"]
+            force[law] = fd[::DENSE]
+            work[law] = float(cumulative_trapezoid(fd * vd, td)[-1])
+            l = res.states[:, sys.state_names.index("afw.slider_radius")]
+            ld = res.states[:, sys.state_names.index("afw.slider_rate")]
+            od = r * vd
+            loss = np.array(
+                [slider_state_derivative(l[i], ld[i], od[i], n, m, k, lmin, lmax, cs, kc, cc)[1]
+                 for i in range(td.size)]
+            )  # fmt: skip
+            e_end = stored_energy(l[-1], ld[-1], od[-1], ri, n, m, k, lmin, lmax, kc)
+            e_start = stored_energy(lmin, 0.0, 0.0, ri, n, m, k, lmin, lmax, kc)
+            stored[law] = e_end - e_start
+            dissipated[law] = float(cumulative_trapezoid(loss, td)[-1])
+        if law != "slider-dynamics":
+            stored[law] = 0.5 * float(fw.inertia(omega[-1])) * omega[-1] ** 2 + float(
+                fw.spring_energy(omega[-1])
+            )
+            dissipated[law] = 0.0
     return {
         "t": t,
         "velocity": v,
-        "force": {"thesis": f_thesis, "momentum": f_momentum, "slider-dynamics": f_slider},
-        "work": {
-            "thesis": work(f_thesis),
-            "momentum": work(f_momentum),
-            "slider-dynamics": float(sol.y[2, -1]),
-        },
-        "stored": {
-            "thesis": e_end_quasi,
-            "momentum": e_end_quasi,
-            "slider-dynamics": e_end_slider - e_start_slider,
-        },
-        "dissipated": {"thesis": 0.0, "momentum": 0.0, "slider-dynamics": float(sol.y[3, -1])},
+        "force": force,
+        "work": work,
+        "stored": stored,
+        "dissipated": dissipated,
     }
 
 

@@ -56,16 +56,11 @@ import numba as nb
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING, TYRE
-from ..elements.adaptive_flywheel import (
-    flywheel_inertance,
-    flywheel_inertance_side,
-    flywheel_switch,
-    slider_derivative,
-)
+from ..elements._inertial import inertial_law, inertial_rate, inertial_switch
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
-from ..elements.spring import spring_force, spring_switch
+from ..elements.spring import spring_force, spring_slope, spring_switch
 from ..elements.tyre import tyre_force, tyre_switch
 
 GROUND, ROAD, DYN, VEL, POS, REL, RELV, LIN = 0, 1, 2, 3, 4, 5, 6, 7
@@ -165,13 +160,20 @@ def work_size(itab) -> int:
     times allocates once): node displacements, velocities and accelerations, element
     forces, then scratch."""
     nn, nd, ne, nv = int(itab[I_NN]), int(itab[I_ND]), int(itab[I_NE]), int(itab[I_NV])
-    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv
+    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv + 3 * ne
 
 
 @nb.njit(cache=True, inline="always")
 def _work_size(itab):
     nn, nd, ne, nv = itab[I_NN], itab[I_ND], itab[I_NE], itab[I_NV]
-    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv
+    return 3 * nn + ne + nd * nd + nd + ne + nv * nv + 3 * nv + 3 * ne
+
+
+@nb.njit(cache=True, inline="always")
+def _switch_slots(itab):
+    """Offset in the work array of the flywheel-row elements' switching functions (two
+    halves per element, then how many each has), which :func:`evaluate` fills."""
+    return _work_size(itab) - 3 * itab[I_NE]
 
 
 @nb.njit(cache=True, inline="always")
@@ -455,17 +457,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             me = inerter_inertance(ftab, o)
         elif code == TYRE:
             f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
-        else:
-            so = itab[b + 4]
-            if so >= 0:
-                me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
-                dx[so] = x[so + 1]
-                dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
-            elif held and road[hs + e] != 0.0:  # held on one side of its kink
-                me = flywheel_inertance_side(ftab, o, v, road[hs + e])
-                f = 0.0
-            else:
-                me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
+        else:  # the flywheel-row elements (held on one side of a kink: road[hs + e])
+            side = road[hs + e] if held else 0.0
+            me, f = inertial_law(ftab, o, W[top] - W[bot], v, x, itab[b + 4], dx, side)
         if jerk:
             f = 0.0
         W[iF + e] = f
@@ -507,6 +501,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
+    if nd > 0:
+        _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, imp.size > 0)
     if nd > 0 and not _solve(W, im, W, ir, nd):
         ok = False
     for n in range(nn):
@@ -536,14 +532,106 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 dx[itab[b + 1]] = 0.0
             elif itab[b] == VEL or itab[b] == RELV:
                 dx[itab[b + 1]] = 0.0
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
         _relative_unknown(itab, W, ia, nn, nrel)
         return ok
     for e in range(ne):
         if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
             W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
+    _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
     _relative_unknown(itab, W, ia, nn, nrel)
     return ok
+
+
+@nb.njit(cache=True)
+def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
+    """Once the accelerations and forces are known: the rates of the flywheel-row
+    elements' own states that need them (the clutch's flywheel speed) and their
+    switching functions (into the slots of :func:`_switch_slots`)."""
+    ne = itab[I_NE]
+    eo = itab[I_ELEM]
+    sg = _switch_slots(itab)
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        W[sg + 2 * ne + e] = 0.0
+        if itab[b] != FLYWHEEL:
+            continue
+        top = itab[b + 1]
+        bot = itab[b + 2]
+        o = itab[b + 3]
+        so = itab[b + 4]
+        nlen, _, hs = road_layout_of(itab)
+        side = road[hs + e] if road.size >= nlen else 0.0
+        v = W[iv + top] - W[iv + bot]
+        rate = inertial_rate(ftab, o, v, W[ia + top] - W[ia + bot], x, so, side)
+        if not math.isnan(rate):
+            dx[so] = rate
+        xr = W[top] - W[bot]
+        g, g0, a, kind = inertial_switch(ftab, o, xr, v, W[iF + e], x, so, side)
+        if kind == 2:
+            W[sg + 2 * e] = g
+            W[sg + 2 * e + 1] = g
+        else:
+            d = g - g0 if a >= 0.0 else g0 - g
+            W[sg + 2 * e] = g0 + d
+            W[sg + 2 * e + 1] = g0 - d
+        W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
+
+
+@nb.njit(cache=True)
+def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
+    """A dynamic node whose every inertance is disengaged (a one-way clutch running
+    free, a screw out of contact) has a zero row in the mass matrix: it is massless for
+    now. Its row becomes the time derivative of its force balance G, sum of the springs'
+    k (v_t - v_b) and of the dissipative elements' dF/dv (a_t - a_b) = -lambda G, which
+    keeps the balance that held when the inertance let go (G = 0) and pulls the
+    integration's drift of it back at the node's own rate lambda = sum k / sum dF/dv; in
+    an impulse flow its velocity does not change."""
+    eo = itab[I_ELEM]
+    for k in range(nd):
+        zero = True
+        for j in range(nd):
+            if W[im + k * nd + j] != 0.0:
+                zero = False
+                break
+        if not zero:
+            continue
+        g = W[ir + k]  # the force balance, zero but for the drift of the integration
+        W[ir + k] = 0.0
+        if flow:
+            W[im + k * nd + k] = 1.0
+            continue
+        ksum = 0.0
+        dsum = 0.0
+        for e in range(itab[I_NE]):
+            b = eo + ELEM_W * e
+            ti = itab[b + 5]
+            bi = itab[b + 6]
+            if ti != k and bi != k:
+                continue
+            code = itab[b]
+            top = itab[b + 1]
+            bot = itab[b + 2]
+            o = itab[b + 3]
+            sgn = -1.0 if ti == k else 1.0  # the force acts on the top as -F
+            if code == SPRING:
+                ks = spring_slope(ftab, o, W[top] - W[bot])
+                ksum += ks
+                W[ir + k] -= sgn * ks * (W[iv + top] - W[iv + bot])
+            elif code == DAMPER or code == FRICTION:
+                _, d = _dissipative(code, ftab, o, W[iv + top] - W[iv + bot])
+                dsum += d
+                if ti >= 0:
+                    W[im + k * nd + ti] += sgn * d
+                else:
+                    W[ir + k] -= sgn * d * W[ia + top]
+                if bi >= 0:
+                    W[im + k * nd + bi] -= sgn * d
+                else:
+                    W[ir + k] += sgn * d * W[ia + bot]
+        if dsum > 0.0:  # the drift decays at the node's own rate, sum k / sum dF/dv
+            W[ir + k] -= ksum / dsum * g
 
 
 @nb.njit(cache=True)
@@ -774,12 +862,13 @@ def switches(itab, ftab, W, out):
             g0 = spring_switch(ftab, o, 0.0)
             if ftab[o + 1] > 0.0:
                 count += 1
-        elif code == FLYWHEEL:
-            a = W[nn + top] - W[nn + bot]
-            g = flywheel_switch(ftab, o, a)
-            g0 = flywheel_switch(ftab, o, 0.0)
-            if ftab[o] != 2.0:
+        elif code == FLYWHEEL:  # computed by evaluate (_inertial_after)
+            sg = _switch_slots(itab)
+            out[2 * e] = W[sg + 2 * e]
+            out[2 * e + 1] = W[sg + 2 * e + 1]
+            if W[sg + 2 * itab[I_NE] + e] > 0.0:
                 count += 1
+            continue
         elif code == TYRE:  # one kink: the contact force, and a half that never changes sign
             out[2 * e] = tyre_switch(ftab, o, W[top] - W[bot], W[nn + top] - W[nn + bot])
             out[2 * e + 1] = -1.0

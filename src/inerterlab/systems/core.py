@@ -1537,14 +1537,15 @@ def _as_network(device_or_network, params):
         cls = {"hydraulic": HydraulicElement, "screw": ScrewElement, "rectifier": RectifierElement}[
             d.kind
         ]
-        if getattr(d, "backlash", 0.0):
-            raise ParameterError("backlash", d.backlash, "0 (the network element has contact only)")
-        if getattr(d, "freewheel", False):
-            raise ParameterError("freewheel", True, "False (the network element stays coupled)")
+        extra = {}
+        if d.kind == "screw":
+            extra = {"backlash": d.backlash}
+        elif d.kind == "rectifier":
+            extra = {"freewheel": d.freewheel, "flywheel_drag": d.flywheel_drag}
         el = cls(
             stiffness=d.stiffness, damping=d.damping, friction=d.friction,
             friction_velocity=d.friction_velocity, flywheel=d.flywheel,
-            ratio=d.transmission.ratio, law=d.law,
+            ratio=d.transmission.ratio, law=d.law, **extra,
         )  # fmt: skip
         return cls.prefix, {cls.prefix: el}
     raise ParameterError(
