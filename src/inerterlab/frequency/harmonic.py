@@ -31,7 +31,6 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..resources import check_memory
-from . import _kernels
 
 __all__ = [
     "FourierBasis",
@@ -128,55 +127,6 @@ FAILURE_REASONS = {
     3: "line search found no residual decrease",
     4: "non-finite residual",
 }
-
-
-class NumbaEngine:
-    """Compiled engine for the built-in one-degree-of-freedom systems (the specialised
-    kernel, kept while it is faster than the one engine: docs/decisions.md)."""
-
-    def __init__(self, system, basis: FourierBasis):
-        self.system = system
-        self.basis = basis
-        self.sys_id, self.p = system.kernel()
-        self.n_dof = 1
-
-    def residual(self, X, omega):
-        b = self.basis
-        return _kernels.residual(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def residual_jacobian(self, X, omega):
-        b = self.basis
-        return _kernels.residual_jacobian(
-            self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F
-        )
-
-    def relative_residuals(self, omegas, C):
-        b = self.basis
-        return _kernels.relative_residuals(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(C, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-        )  # fmt: skip
-
-    def hill_matrices(self, X, omega):
-        b = self.basis
-        return _kernels.hill_matrices(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def newton(self, X0, omega, rtol, max_iter, scale):
-        b = self.basis
-        return _kernels.newton(
-            self.sys_id, self.p, np.ascontiguousarray(X0, dtype=float), float(omega),
-            b.tau, b.E, b.E1, b.E2, b.F, rtol, max_iter, scale,
-        )  # fmt: skip
-
-    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
-        b = self.basis
-        cold = np.zeros(len(X_start)) if X_cold is None else X_cold
-        return _kernels.sweep(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(X_start, dtype=float),
-            np.ascontiguousarray(cold, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-            rtol, max_iter, scale, warm,
-        )  # fmt: skip
 
 
 class NumpyEngine:
@@ -322,14 +272,17 @@ def checked_samples(system, harmonics, n_samples: int | None, n_states: int = 1)
     return n
 
 
-def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: the specialised compiled kernel for the built-in
-    systems, numpy otherwise. (The built-in systems on the one engine of
-    :mod:`inerterlab.frequency.first_order`: ``frequency_response(system.first_order(),
-    ..., amplitude=system.input_amplitude)``.)"""
+def make_engine(system, harmonics: int, n_samples: int | None = None):
+    """The harmonic-balance engine for ``system``: the one engine of
+    :mod:`inerterlab.frequency.first_order` on the system's first-order form (the
+    built-in systems, ``system.first_order()``, with their own input amplitude), numpy
+    for a :class:`~inerterlab.frequency.UserSystem` given by Python functions."""
+    if hasattr(system, "first_order"):
+        from .first_order import make_first_order_engine
+
+        form = system.first_order()
+        return make_first_order_engine(form, harmonics, n_samples, form.input_amplitude)
     n = checked_samples(system, harmonics, n_samples)
-    if compiled and hasattr(system, "kernel"):
-        return NumbaEngine(system, fourier_basis(int(harmonics), n))
     return NumpyEngine(system, fourier_basis(int(harmonics), n))
 
 
@@ -339,8 +292,8 @@ def hill_exponents(engine, X, omega):
     Solves the quadratic eigenproblem (lambda^2 J2 + lambda J1 + J0) q = 0 through its
     companion form and keeps the 2 n eigenvalues with the smallest |Im lambda|, which
     approximate the Floquet exponents best (the others are copies shifted by
-    multiples of i Omega). The compiled engine gives them by its own Hill matrix
-    (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`).
+    multiples of i Omega). The one engine gives them by its own Hill matrix on every
+    harmonic (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`).
     """
     if hasattr(engine, "stability"):
         X = np.ascontiguousarray(X, dtype=float)[None]

@@ -9,7 +9,8 @@ The residual must be affine in x'' (a mass matrix times x'' plus the rest); time
 integration solves it for x''.
 
 Built-in systems (compiled): :class:`DuffingOscillator` and :class:`InerterSuspension`
-(thesis (7.1)). The harmonic balance and the brute force solve them on the one engine of
+(thesis (7.1)), the templates of :mod:`inerterlab.systems.oscillators` with their
+parameters. The harmonic balance and the brute force solve them on the one engine of
 :mod:`inerterlab.frequency.first_order`, as the states (x, x') in implicit form
 
     x' - v = 0,    r(tau, x, v, v') = 0,
@@ -26,13 +27,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
+from ..systems import oscillators
+from ..systems.oscillators import residual_partials
 from ..transmissions import Transmission, hydraulic
-from ._kernels import residual_partials
-from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
+from .first_order import FirstOrderSystem
 
 __all__ = [
     "DuffingOscillator",
@@ -46,57 +47,15 @@ __all__ = [
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
 
 
-@njit(TERMS_SIGNATURE, cache=True)
-def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
-    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with (when
-    ``partials``) their partials, at every sample; the base moves as amp sin(tau)."""
-    sys_id = itab[0]
-    p = _borrow(ftab)  # no reference counting per sample (see first_order._borrow)
-    for k in range(tau.shape[0]):
-        s = math.sin(tau[k])
-        r[0, k] = xds[0, k] - xs[1, k]
-        r1, g0, g1, g2 = residual_partials(
-            sys_id, p, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
-            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
-        )  # fmt: skip
-        r[1, k] = r1
-        if not partials:
-            continue
-        P[0, 0, k] = 0.0
-        P[0, 1, k] = -1.0
-        Q[0, 0, k] = 1.0
-        Q[0, 1, k] = 0.0
-        P[1, 0, k] = g0
-        P[1, 1, k] = g1
-        Q[1, 0, k] = 0.0
-        Q[1, 1, k] = g2
-    return True
-
-
-@njit(RHS_SIGNATURE, cache=True)
-def _rhs(t, y, road, itab, ftab, out):
-    """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t."""
-    omega = road[3]
-    r0, _, _, m = residual_partials(
-        itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
-    )
-    out[0] = y[1]
-    out[1] = -r0 / m
-    return True
-
-
-class _KernelSystem:
-    """Shared behaviour of the built-in one-degree-of-freedom systems."""
+class _TemplateSystem:
+    """Shared behaviour of the built-in one-degree-of-freedom systems (the templates of
+    :mod:`inerterlab.systems.oscillators`)."""
 
     n_dof = 1
     response_dof = 0
 
     def parameters(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
         raise AttributeError
-
-    def kernel(self) -> tuple[int, np.ndarray]:
-        """(system code, parameters) of the specialised kernel (``frequency._kernels``)."""
-        return self.parameters()
 
     @property
     def input_amplitude(self) -> float:
@@ -129,8 +88,8 @@ class _KernelSystem:
         scale = float(self.displacement_scale)
         return FirstOrderSystem(
             n_states=2,
-            rhs=_rhs,
-            terms=_terms,
+            rhs=oscillators.rhs,
+            terms=oscillators.terms,
             velocity_of=(1, -1),
             int_table=np.array([sys_id], dtype=np.int64),
             float_table=np.ascontiguousarray(p, dtype=float),
@@ -143,7 +102,7 @@ class _KernelSystem:
 
 
 @dataclass(frozen=True, kw_only=True)
-class DuffingOscillator(_KernelSystem):
+class DuffingOscillator(_TemplateSystem):
     """m x'' + c x' + k x + g x^3 = P cos(Omega t).
 
     Parameters
@@ -203,7 +162,7 @@ class DuffingOscillator(_KernelSystem):
 
 
 @dataclass(frozen=True, kw_only=True)
-class InerterSuspension(_KernelSystem):
+class InerterSuspension(_TemplateSystem):
     """Body on spring, damper and flywheel inerter over a moving base, thesis (7.1).
 
         M X1'' + F_in + K (X1 - X0) + C (X1' - X0') = 0,   X0 = B sin(Omega t)  (7.6)
@@ -281,6 +240,21 @@ class InerterSuspension(_KernelSystem):
             ]
         p = [self.body_mass, self.stiffness, self.damping, self.base_amplitude, *extra]
         return 1, np.array(p, dtype=float)
+
+    def core_system(self):
+        """The same body as a system of the model core,
+        ``inerterlab.systems.base_excited(M, "k | c | afw")`` (``"k | c"`` without
+        flywheel): its time simulation, linearisation and outputs."""
+        from ..elements import AdaptiveFlywheelInerter
+        from ..systems import base_excited
+
+        params: dict = {"k": self.stiffness, "c": self.damping}
+        if self.flywheel is None:
+            return base_excited(self.body_mass, "k | c", params)
+        params["afw"] = AdaptiveFlywheelInerter(
+            flywheel=self.flywheel, ratio=self.transmission.ratio, law=self.force_law
+        )
+        return base_excited(self.body_mass, "k | c | afw", params)
 
     def equivalent_mass_range(self) -> tuple[float, float]:
         """r^2 I_min and r^2 I_max [kg] (0, 0 without inerter)."""
