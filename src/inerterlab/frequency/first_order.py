@@ -77,9 +77,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit, types
-from numba.core import cgutils
-from numba.extending import intrinsic
 
+from .._views import borrow as _borrow
 from ..errors import ParameterError
 from .harmonic import FourierBasis, checked_samples, fourier_basis
 
@@ -131,31 +130,6 @@ def _no_terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):  # pr
 
 # ---------------------------------------------------------------------------------
 # compiled kernels (the system's functions are arguments, typed by their signature)
-
-
-@intrinsic
-def _borrow(typingctx, arr):
-    """A view of ``arr`` that carries no reference count (``arr`` must outlive it).
-
-    A call through a first-class function takes and releases a reference to every array
-    argument (two atomic operations each): for a right-hand side called four times per
-    Runge-Kutta step with five arrays that was half the time of the step. The kernels
-    hand the system's functions such views of their own work arrays instead."""
-
-    def codegen(context, builder, sig, args):
-        aty = sig.args[0]
-        src = cgutils.create_struct_proxy(aty)(context, builder, value=args[0])
-        dst = cgutils.create_struct_proxy(aty)(context, builder)
-        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
-        dst.parent = cgutils.get_null_value(dst.parent.type)
-        dst.nitems = src.nitems
-        dst.itemsize = src.itemsize
-        dst.data = src.data
-        dst.shape = src.shape
-        dst.strides = src.strides
-        return dst._getvalue()
-
-    return arr(arr), codegen
 
 
 #
@@ -991,6 +965,37 @@ def fo_outputs_at_states(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau)
     return _outputs_at(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau)
 
 
+@njit(cache=True, inline="always")
+def _refined_extreme(a0, a, b, t, best, limit, top):
+    """The largest (``top``) or smallest value of the trigonometric polynomial
+    a0 + sum_h a_h cos(h t) + b_h sin(h t) met by Newton on its derivative from the phase
+    t (at most 6 steps, each shorter than ``limit``), or ``best`` if that is beyond."""
+    H = a.shape[0]
+    for it in range(7):
+        c1 = math.cos(t)
+        s1 = math.sin(t)
+        c = c1
+        s = s1
+        val = a0
+        d1 = 0.0
+        d2 = 0.0
+        for h in range(H):
+            q = h + 1.0
+            val += a[h] * c + b[h] * s
+            d1 += q * (-a[h] * s + b[h] * c)
+            d2 -= q * q * (a[h] * c + b[h] * s)
+            c, s = c * c1 - s * s1, s * c1 + c * s1
+        if (top and val > best) or (not top and val < best):
+            best = val
+        if it == 6 or d2 == 0.0:
+            break
+        dt = -d1 / d2
+        if abs(dt) > limit:
+            break
+        t += dt
+    return best
+
+
 @njit(cache=True)
 def half_peak_to_peak(C):
     """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
@@ -1025,34 +1030,11 @@ def half_peak_to_peak(C):
             if val < best_lo:
                 best_lo = val
                 k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
-            val = 0.0
-            for _ in range(6):
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(H):
-                    q = h + 1.0
-                    c = math.cos(q * t)
-                    s = math.sin(q * t)
-                    a = C[i, 2 * h + 1]
-                    b = C[i, 2 * h + 2]
-                    d1 += q * (-a * s + b * c)
-                    d2 += -q * q * (a * c + b * s)
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / ng:
-                    break
-                t += dt
-            val = C[i, 0]
-            for h in range(H):
-                q = h + 1.0
-                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
-            ext[e] = val
-        hi = max(ext[0], best_hi)
-        lo = min(ext[1], best_lo)
+        a = C[i, 1::2]
+        b = C[i, 2::2]
+        step = 2.0 * math.pi / ng
+        hi = _refined_extreme(C[i, 0], a, b, step * k_hi, best_hi, step, True)
+        lo = _refined_extreme(C[i, 0], a, b, step * k_lo, best_lo, step, False)
         out[i] = 0.5 * (hi - lo)
     return out
 
@@ -1066,8 +1048,8 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
     and is refined by Newton on the interpolant (exact for a sampled trigonometric
     polynomial of degree <= Hd)."""
     n_pts, K = samples.shape
-    Hd = a.shape[1]
     out = np.empty(n_pts)
+    step = 2.0 * math.pi / K
     for p in range(n_pts):
         k_hi = 0
         k_lo = 0
@@ -1076,35 +1058,9 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
                 k_hi = k
             if samples[p, k] < samples[p, k_lo]:
                 k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            k0 = k_hi if e == 0 else k_lo
-            t = 2.0 * math.pi * k0 / K
-            best = samples[p, k0]
-            for _ in range(6):
-                c1 = math.cos(t)
-                s1 = math.sin(t)
-                c = c1
-                s = s1
-                val = a0[p]
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(Hd):
-                    q = h + 1.0
-                    val += a[p, h] * c + b[p, h] * s
-                    d1 += q * (-a[p, h] * s + b[p, h] * c)
-                    d2 -= q * q * (a[p, h] * c + b[p, h] * s)
-                    c, s = c * c1 - s * s1, s * c1 + c * s1
-                if (e == 0 and val > best) or (e == 1 and val < best):
-                    best = val
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / K:
-                    break
-                t += dt
-            ext[e] = best
-        out[p] = 0.5 * (ext[0] - ext[1])
+        hi = _refined_extreme(a0[p], a[p], b[p], step * k_hi, samples[p, k_hi], step, True)
+        lo = _refined_extreme(a0[p], a[p], b[p], step * k_lo, samples[p, k_lo], step, False)
+        out[p] = 0.5 * (hi - lo)
     return out
 
 

@@ -34,6 +34,7 @@ import math
 
 from numba import njit
 
+from .._views import borrow
 from ..elements.adaptive_flywheel import inertia_law
 
 __all__ = ["DUFFING", "BASE_EXCITED", "residual_partials", "terms", "rhs"]
@@ -81,11 +82,12 @@ def terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
     """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with (when
     ``partials``) their partials, at every sample; the base moves as amp sin(tau)."""
     sys_id = itab[0]
+    p = borrow(ftab)  # no reference counting per sample
     for k in range(tau.shape[0]):
         s = math.sin(tau[k])
         r[0, k] = xds[0, k] - xs[1, k]
         r1, g0, g1, g2 = residual_partials(
-            sys_id, ftab, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
+            sys_id, p, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
             -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
         )  # fmt: skip
         r[1, k] = r1
