@@ -17,6 +17,7 @@ from inerterlab.frequency import (
     nrmse,
     steady_state,
 )
+from inerterlab.systems.oscillators import FREQ_SLOT
 
 LINEAR = InerterSuspension(base_amplitude=0.02, flywheel=constant_flywheel(1e-3))
 FREQS = np.array([0.2, 0.7, 1.1, 1.4, 2.0, 4.0])
@@ -188,12 +189,13 @@ def test_template_is_the_core_base_excited_body(law, preset):
         t = rng.uniform(0, 1)
         x, v = rng.normal(0, 0.05), rng.normal(0, 1.0)
         tau = w * t
-        road = np.array([0.03 * np.sin(tau), 0.03 * w * np.cos(tau), -0.03 * w * w * np.sin(tau)])
+        road = np.zeros(FREQ_SLOT + 1)  # the base's motion, then the frequency
+        road[:3] = 0.03 * np.array([np.sin(tau), w * np.cos(tau), -w * w * np.sin(tau)])
+        road[FREQ_SLOT] = w
         a = np.zeros(2)
-        assert form.rhs(t, np.array([x, v]), np.append(road, w), form.int_table,
-                        form.float_table, a)  # fmt: skip
+        assert form.rhs(t, np.array([x, v]), road, form.int_table, form.float_table, a)
         b = np.zeros(2)
-        assert core.rhs(t, np.array([x, v]), np.append(road, w), itab, ftab, b)
+        assert core.rhs(t, np.array([x, v]), road, itab, ftab, b)
         assert a[1] == pytest.approx(b[1], rel=1e-12, abs=1e-12 * abs(b[1]) + 1e-12)
 
 

@@ -36,10 +36,14 @@ from numba import njit
 
 from .._views import borrow
 from ..elements.adaptive_flywheel import inertia_law
+from ._kernel import road_layout
 
 __all__ = ["DUFFING", "BASE_EXCITED", "residual_partials", "terms", "rhs"]
 
 DUFFING, BASE_EXCITED = 0, 1
+#: where the frequency is in the road vector ``rhs`` reads (one road, no held sides):
+#: the core's one layout (:func:`inerterlab.systems._kernel.road_layout`)
+FREQ_SLOT = road_layout(1, 0)[1]
 
 
 @njit(cache=True, inline="always")
@@ -107,8 +111,8 @@ def terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
 @njit(cache=True)
 def rhs(t, y, road, itab, ftab, out):
     """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t;
-    ``road`` = [X0, X0', X0'', Omega]."""
-    omega = road[3]
+    ``road`` = [X0, X0', X0'', Omega] (Omega at :data:`FREQ_SLOT`)."""
+    omega = road[FREQ_SLOT]
     r0, _, _, m = residual_partials(
         itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
     )
