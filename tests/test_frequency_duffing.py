@@ -154,7 +154,7 @@ def test_user_system_equals_builtin():
     user = UserSystem(residual=duffing)
     a = frequency_response(user, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
     b = frequency_response(DUFFING, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
-    assert a.settings["engine"] == "NumpyEngine" and b.settings["engine"] == "FirstOrderEngine"
+    assert a.settings["engine"] == b.settings["engine"] == "FirstOrderEngine"
     # the same points converge (one jump point past the lower fold may fail in both)
     np.testing.assert_array_equal(a.converged, b.converged)
     assert a.converged.sum() >= len(a) - 1
@@ -172,3 +172,13 @@ def test_sample_count_is_checked():
         make_engine(DUFFING, 7, 20)
     with pytest.raises(ParameterError, match="harmonics"):
         make_engine(DUFFING, 0)
+
+
+def test_user_residual_numba_cannot_compile_is_refused():
+    def residual(tau, omega, x, xd, xdd):
+        import math  # an import inside the function: numba refuses to compile it
+
+        return xdd + x * math.pi
+
+    with pytest.raises(ParameterError, match="residual"):
+        frequency_response(UserSystem(residual=residual), "mhb", freq_hz=[0.2], harmonics=3)

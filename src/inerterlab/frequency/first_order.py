@@ -53,7 +53,8 @@ the synthesis E; explicit: dr/dx = -df/dx, dr/dx' = I), where df/dx comes from
 ``jacobian`` or, without it, from central differences of ``rhs`` at each sample (step
 1e-6 of the state's size). Newton with a backtracking line search on ||R|| solves it;
 the scanning and continuation drivers of :mod:`inerterlab.frequency.response` run on
-this engine for every system but the numpy :class:`~inerterlab.frequency.UserSystem`.
+this engine for every system (a :class:`~inerterlab.frequency.UserSystem` with its residual
+compiled by numba).
 
 Stability (Hill's method): a perturbation e^(lambda t) q(t) with q periodic solves
 lambda Qf q = -Jf q with Jf the Jacobian of every state's equation and Qf the

@@ -35,7 +35,7 @@ from ..resources import check_memory, check_work
 from .brute import steady_state
 from .continuation import continue_branch
 from .first_order import half_peak_to_peak, make_first_order_engine
-from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
+from .harmonic import FAILURE_REASONS, coefficients_by_fft, make_engine
 
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
@@ -506,8 +506,7 @@ def frequency_response(
         engine = make_engine(system, int(harmonics), n_samples)  # Hill on every harmonic
     settings["n_samples"] = engine.basis.n_samples
     settings["engine"] = type(engine).__name__
-    m = engine.basis.size * engine.n_dof
-    cold = engine.cold_start() if hasattr(engine, "cold_start") else np.zeros(m)
+    cold = engine.cold_start()
     if method == "continuation":
         settings["step"] = step
         w0, w1 = 2 * np.pi * freqs[0], 2 * np.pi * freqs[-1]
@@ -557,22 +556,14 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
     mult = np.zeros(n)
     known = np.zeros(n, dtype=bool)
     outputs, units = {}, {}
-    if hasattr(engine, "stability"):
-        if stability and n:
-            best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
-            known = np.isfinite(best)
-            stable = known & (best < 1e-7 * omegas)
-            mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
-        outputs, units = _first_order_outputs(engine, system, omegas, coeffs, ok)
-        if outputs:
-            amp = outputs[next(iter(outputs))].data
-    elif stability:
-        for i in np.flatnonzero(ok):
-            lam = hill_exponents(engine, coeffs[i], omegas[i])
-            if np.all(np.isfinite(lam)):
-                stable[i] = is_stable(lam, omegas[i])
-                mult[i] = math.exp(float(np.max(lam.real)) * 2 * np.pi / omegas[i])
-                known[i] = True
+    if stability and n:
+        best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
+        known = np.isfinite(best)
+        stable = known & (best < 1e-7 * omegas)
+        mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
+    outputs, units = _first_order_outputs(engine, system, omegas, coeffs, ok)
+    if outputs:
+        amp = outputs[next(iter(outputs))].data
     reasons = tuple(
         "" if o else FAILURE_REASONS.get(int(c), "failed") for o, c in zip(ok, codes, strict=True)
     )

@@ -17,7 +17,8 @@ parameters. The harmonic balance and the brute force solve them on the one engin
 
 with the velocity's coefficients eliminated (V = Omega D X), so the balance is exactly
 that of r (whatever the effective mass does within a cycle) on the 2H+1 coefficients of
-x. Any other system is a :class:`UserSystem` built from plain numpy functions.
+x. Any other system is a :class:`UserSystem` built from plain numpy functions, which
+numba compiles for the same engine.
 """
 
 from __future__ import annotations
@@ -31,7 +32,7 @@ import numpy as np
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..systems import oscillators
-from ..systems.oscillators import residual_partials
+from ..systems.oscillators import FREQ_SLOT, residual_partials
 from ..transmissions import Transmission, hydraulic
 from .first_order import FirstOrderSystem
 
@@ -314,7 +315,8 @@ def traditional_suspension(base_amplitude: float = 0.01) -> InerterSuspension:
 
 @dataclass(frozen=True, kw_only=True)
 class UserSystem:
-    """A system given by Python functions (numpy path, no compilation).
+    """A system given by Python functions of numpy arrays, compiled by numba for the one
+    engine (:meth:`first_order`; numba's first compilation takes some seconds).
 
     Parameters
     ----------
@@ -322,14 +324,18 @@ class UserSystem:
         ``residual(tau, omega, x, xd, xdd) -> r``; ``tau`` has shape (K,) (phase
         Omega t [rad]), ``omega`` is the forcing frequency [rad/s], ``x``, ``xd``,
         ``xdd`` have shape (n_dof, K); returns r of shape (n_dof, K). Must be affine in
-        ``xdd`` (r = M xdd + f).
+        ``xdd`` (r = M xdd + f) and written so numba can compile it (numpy array
+        arithmetic and ufuncs; a function it cannot compile is refused naming
+        ``residual``). The harmonic balance takes its partials by central differences.
     n_dof : int
         Number of degrees of freedom.
     partials : callable, optional
         ``partials(tau, omega, x, xd, xdd) -> (dr_dx, dr_dxd, dr_dxdd)``, each of
-        shape (n_dof, n_dof, K) with [i, j, k] = d r_i / d x_j at sample k. Without it
-        the partials come from central differences per degree of freedom (all samples at
-        once, since r at one sample depends only on the state at that sample).
+        shape (n_dof, n_dof, K) with [i, j, k] = d r_i / d x_j at sample k, for the
+        numpy evaluation (:meth:`evaluate`: scipy's brute force and the Floquet
+        reference). Without it, and always in the harmonic balance, the partials come
+        from central differences per degree of freedom (all samples at once, since r at
+        one sample depends only on the state at that sample).
     nonlinearity_degree : int
         Polynomial degree of the nonlinearity for the aliasing rule (3 for cubic).
     displacement_scale : float
@@ -364,6 +370,32 @@ class UserSystem:
         if not 0 <= self.response_dof < self.n_dof:
             raise ParameterError("response_dof", self.response_dof, f"0 .. {self.n_dof - 1}")
 
+    def first_order(self) -> FirstOrderSystem:
+        """The system on the states (x, x') of the one harmonic-balance engine, in
+        implicit form with the velocities eliminated (x' - v = 0, r(tau, x, v, v') = 0),
+        its residual compiled by numba (partials by central differences)."""
+        form = getattr(self, "_form", None)
+        if form is None:
+            n = int(self.n_dof)
+            scale = float(self.displacement_scale)
+            terms, rhs = _user_forms(self.residual, n, scale)
+            form = FirstOrderSystem(
+                n_states=2 * n,
+                rhs=rhs,
+                terms=terms,
+                velocity_of=tuple(range(n, 2 * n)) + (-1,) * n,
+                int_table=np.zeros(1, dtype=np.int64),
+                float_table=np.zeros(1),
+                state_scales=np.full(2 * n, scale),
+                rest_state=np.zeros(2 * n),
+                nonlinearity_degree=int(self.nonlinearity_degree),
+                response_state=int(self.response_dof),
+                label="user system",
+                input_amplitude=0.0,
+            )
+            object.__setattr__(self, "_form", form)  # compiled once per system
+        return form
+
     def evaluate(self, tau, omega, x, xd, xdd):
         """r and its partials at the samples (see the class docstring for shapes)."""
         r = np.asarray(self.residual(tau, omega, x, xd, xdd), dtype=float).reshape(x.shape)
@@ -386,3 +418,96 @@ class UserSystem:
                 g[:, j, :] = (rp - rm) / (2.0 * h)
             out.append(g)
         return r, out[0], out[1], out[2]
+
+
+def _user_forms(residual, n: int, scale: float):
+    """Compiled ``terms`` and ``rhs`` of a user residual on the states (x, v) (see
+    :meth:`UserSystem.first_order`); the residual is compiled by numba."""
+    from numba import njit
+
+    from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE
+
+    try:
+        res = njit(cache=False)(residual)
+    except Exception as exc:  # noqa: BLE001 - numba's own error text follows
+        raise ParameterError("residual", residual, f"a function numba can compile ({exc})") from None
+
+    @njit(cache=False)
+    def _eval(tau, omega, x, v, a):
+        out = res(tau, omega, x, v, a)
+        return np.ascontiguousarray(out).reshape((n, tau.shape[0]))
+
+    def terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
+        K = tau.shape[0]
+        x = np.ascontiguousarray(xs[:n])
+        v = np.ascontiguousarray(xs[n:])
+        a = np.ascontiguousarray(xds[n:])
+        rr = _eval(tau, omega, x, v, a)
+        for i in range(n):
+            for k in range(K):
+                r[i, k] = xds[i, k] - xs[n + i, k]
+                r[n + i, k] = rr[i, k]
+        if not partials:
+            return True
+        P[:, :, :] = 0.0
+        Q[:, :, :] = 0.0
+        for i in range(n):
+            P[i, n + i, :] = -1.0
+            Q[i, i, :] = 1.0
+        # central differences in each dof's displacement, velocity and acceleration (r at
+        # one sample depends only on the state there: every sample at once)
+        for which in range(3):
+            size = scale * max(omega, 1e-12) ** which * 1e-6
+            for j in range(n):
+                xp, vp, ap = x.copy(), v.copy(), a.copy()
+                xm, vm, am = x.copy(), v.copy(), a.copy()
+                base = x if which == 0 else (v if which == 1 else a)
+                h = size + 1e-7 * np.abs(base[j])
+                if which == 0:
+                    xp[j] += h
+                    xm[j] -= h
+                elif which == 1:
+                    vp[j] += h
+                    vm[j] -= h
+                else:
+                    ap[j] += h
+                    am[j] -= h
+                g = (_eval(tau, omega, xp, vp, ap) - _eval(tau, omega, xm, vm, am)) / (2.0 * h)
+                for i in range(n):
+                    if which == 0:
+                        P[n + i, j] = g[i]
+                    elif which == 1:
+                        P[n + i, n + j] = g[i]
+                    else:
+                        Q[n + i, n + j] = g[i]
+        return True
+
+    def rhs_py(t, y, road, itab, ftab, out):
+        # x'' solves M x'' = -r(x, v, 0), M = dr/dx'' (r is affine in x'')
+        omega = road[FREQ_SLOT]
+        tau = np.array([omega * t])
+        x = y[:n].copy().reshape((n, 1))
+        v = y[n : 2 * n].copy().reshape((n, 1))
+        zero = np.zeros((n, 1))
+        r0 = _eval(tau, omega, x, v, zero)[:, 0]
+        M = np.empty((n, n))
+        for j in range(n):
+            e = np.zeros((n, 1))
+            e[j, 0] = 1.0
+            M[:, j] = _eval(tau, omega, x, v, e)[:, 0] - r0
+        acc = np.linalg.solve(M, -r0)
+        for i in range(n):
+            out[i] = y[n + i]
+            out[n + i] = acc[i]
+        return True
+
+    try:
+        terms = njit(TERMS_SIGNATURE, cache=False)(terms_py)
+        rhs = njit(RHS_SIGNATURE, cache=False)(rhs_py)
+    except Exception as exc:  # noqa: BLE001 - numba's typing error names the cause
+        first = str(exc).strip().splitlines()
+        raise ParameterError(
+            "residual", residual, "a function of numpy arrays numba can compile "
+            f"({first[0] if first else type(exc).__name__})",
+        ) from None  # fmt: skip
+    return terms, rhs
