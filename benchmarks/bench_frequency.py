@@ -19,9 +19,10 @@ Run: NUMBA_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python benchmarks/bench_frequenc
 
 With ``--baseline SRC`` (the ``src`` folder of another checkout, e.g. the tree before a
 change: ``git archive <commit> src | tar -x -C /tmp/base``) the timings alone are taken
-in child processes, alternately on SRC and on this tree, ``--rounds`` times each (each
-timing the fastest of several repeats); the fastest of each is printed with the ratio this tree / baseline (> 1: slower), so both
-are measured in the same run under the same machine load.
+in child processes, alternately on SRC and on this tree, ``--rounds`` times each, with the
+ratio this tree / baseline (> 1: slower), so both are measured in the same run under the
+same machine load. Every timing is the median of its repeats; the comparison prints the
+median over the rounds (and the fastest).
 """
 
 from __future__ import annotations
@@ -127,7 +128,7 @@ def timings(only) -> dict:
         frequency_response(car, "sihb", freq_hz=freqs[:20], amplitude=0.01)
         frequency_response(car, "brute", freq_hz=[5.0], amplitude=0.01, steps_per_period=400)
         out["quarter car sihb, 4000 solves, stability on [s]"] = timed(
-            lambda: frequency_response(car, "sihb", freq_hz=freqs, amplitude=0.01), 3, True
+            lambda: frequency_response(car, "sihb", freq_hz=freqs, amplitude=0.01), 3
         )[0]
         sub = [1.0, 5.0, 11.0]
         out["quarter car RK4 brute force, per point [s]"] = timed(
@@ -139,8 +140,7 @@ def timings(only) -> dict:
                 steps_per_period=4000,
                 brute_rtol=1e-10,
             ),  # fmt: skip
-            2,
-            True,
+            3,
         )[0] / len(sub)
     if only != "quarter-car":
         sys = chapter7_system(0.03)
@@ -156,11 +156,18 @@ def timings(only) -> dict:
                     sys, "sihb", freq_hz=grid, harmonics=15, n_samples=n, stability=stab
                 ),
                 reps,
-                True,
+            )[0]
+        for method, h in (("mhb", 7), ("shb", 1)):  # as the report runs them
+            frequency_response(sys, method, freq_hz=grid[:20], harmonics=h, stability=False)
+            out[f"chapter 7 {method} H={h}, 2000 solves from rest, stability off [s]"] = timed(
+                lambda method=method, h=h: frequency_response(
+                    sys, method, freq_hz=grid, harmonics=h, stability=False
+                ),
+                5,
             )[0]
         sub = np.array([0.3, 0.8, 1.15, 1.6, 2.5, 5.0])
         out["chapter 7 RK4 brute force, per point [s]"] = timed(
-            lambda: frequency_response(sys, "brute", freq_hz=sub), 5, True
+            lambda: frequency_response(sys, "brute", freq_hz=sub), 5
         )[0] / len(sub)
     return out
 
@@ -182,13 +189,23 @@ def compare(baseline: str, only, rounds: int) -> None:
                 cmd += ["--only", only]
             res = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
             runs[name].append(json.loads(res.stdout.strip().splitlines()[-1]))
-    print(f"same-run comparison, fastest of {rounds} alternating child runs each")
+    print(
+        f"same-run comparison, {rounds} alternating child runs each (each timing the median "
+        "of its repeats); median over the runs, the ratio of medians, then the fastest"
+    )
     print(f"  baseline: {baseline}")
     print(f"  this tree: {here}")
     for key in runs["baseline"][0]:
-        old = min(r[key] for r in runs["baseline"])
-        new = min(r[key] for r in runs["this tree"])
-        print(f"  {key}: baseline {old:.4f}, this tree {new:.4f}, ratio {new / old:.3f}")
+        if not all(key in r for r in runs["this tree"]):
+            continue
+        old = statistics.median(r[key] for r in runs["baseline"])
+        new = statistics.median(r[key] for r in runs["this tree"])
+        fo = min(r[key] for r in runs["baseline"])
+        fn = min(r[key] for r in runs["this tree"])
+        print(
+            f"  {key}: baseline {old:.4f}, this tree {new:.4f}, ratio {new / old:.3f} "
+            f"(fastest {fo:.4f} -> {fn:.4f})"
+        )
 
 
 def main() -> None:

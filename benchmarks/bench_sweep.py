@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import sys
 import tempfile
 import time
 
@@ -51,6 +52,13 @@ def main() -> None:
     t0 = time.perf_counter()
     quarter_car_point({**spec.fixed(), **spec.params_at(0)})
     print(f"first point (compilation or cache load): {time.perf_counter() - t0:.2f} s")
+    # the integrator the point function ran on: the old quarter-car kernel is imported
+    # only when a simulation runs on it
+    old = "inerterlab.suspension._kernels" in sys.modules
+    print(
+        "integrator: "
+        + ("the quarter-car kernel (suspension/_kernels.py)" if old else "the model core")
+    )
     rates, results = {}, {}
     with tempfile.TemporaryDirectory() as tmp:
         for name, kw in (
@@ -87,7 +95,8 @@ def main() -> None:
         f"{1e6 * dt / syn.size:.0f} us per point = {syn.size / dt:.0f} points/s"
     )
     print(
-        f"target >= 1500 points/s with 2 workers: {'met' if par >= 1500 else 'not met'} "
+        f"target >= 2000 points/s with 2 workers on the model core: "
+        f"{'met' if par >= 2000 and not old else 'not met'} "
         f"({par:.1f} points/s; one 10 s simulation takes {1e3 / base:.1f} ms serially)"
     )
 

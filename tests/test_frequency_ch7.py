@@ -17,6 +17,7 @@ from inerterlab.frequency import (
     nrmse,
     steady_state,
 )
+from inerterlab.systems.oscillators import FREQ_SLOT
 
 LINEAR = InerterSuspension(base_amplitude=0.02, flywheel=constant_flywheel(1e-3))
 FREQS = np.array([0.2, 0.7, 1.1, 1.4, 2.0, 4.0])
@@ -171,25 +172,41 @@ def test_nrmse_below_005_percent(amp):
         assert nrmse(fr, fb) <= 5e-4
 
 
-def test_one_engine_gives_the_kernel_results():
-    """The chapter-7 system in implicit form on the one engine (velocity eliminated)
-    balances the residual the specialised kernel balances: the same points converge to
-    the same amplitudes and Hill multipliers to round-off, and the one RK4 period
-    integrator settles on the kernel's brute-force amplitudes."""
-    sys = chapter7_system(0.03)
+@pytest.mark.parametrize(("law", "preset"), [("thesis", "metal"), ("momentum", "nylon"),
+                                             ("thesis", "none")])  # fmt: skip
+def test_template_is_the_core_base_excited_body(law, preset):
+    """The chapter-7 template (systems/oscillators.py) and the model core's
+    ``base_excited(M, "k | c | afw")``, built from the elements, give the body the same
+    acceleration at any state and base motion (below and above the saturation speed)."""
+    sys = chapter7_system(0.03, preset=preset, law=law)
     form = sys.first_order()
-    f = [0.4, 0.9, 1.15, 1.6, 3.0]
-    a = frequency_response(sys, "sihb", freq_hz=f, harmonics=15, stability=True)
-    b = frequency_response(
-        form, "sihb", freq_hz=f, harmonics=15, amplitude=sys.input_amplitude, stability=True,
-        stability_harmonics=15,
-    )  # fmt: skip
-    assert b.settings["engine"] == "FirstOrderEngine" and b.settings["n_samples"] == 128
-    np.testing.assert_array_equal(a.converged, b.converged)
-    np.testing.assert_allclose(b.amplitude_m.data, a.amplitude_m.data, rtol=1e-12)
-    np.testing.assert_allclose(b.max_multiplier.data, a.max_multiplier.data, rtol=1e-9)
-    np.testing.assert_array_equal(a.stable.data, b.stable.data)
-    ka = frequency_response(sys, "brute", freq_hz=[0.9, 1.6])
-    kb = frequency_response(form, "brute", freq_hz=[0.9, 1.6], amplitude=sys.input_amplitude)
-    assert kb.converged.all()
-    np.testing.assert_allclose(kb.amplitude_m.data, ka.amplitude_m.data, rtol=1e-7)
+    core = sys.core_system()
+    assert core.state_names == ("body.x", "body.v")
+    itab, ftab = core.tables
+    rng = np.random.default_rng(7)
+    w = 2 * np.pi * 1.3
+    for _ in range(40):
+        t = rng.uniform(0, 1)
+        x, v = rng.normal(0, 0.05), rng.normal(0, 1.0)
+        tau = w * t
+        road = np.zeros(FREQ_SLOT + 1)  # the base's motion, then the frequency
+        road[:3] = 0.03 * np.array([np.sin(tau), w * np.cos(tau), -w * w * np.sin(tau)])
+        road[FREQ_SLOT] = w
+        a = np.zeros(2)
+        assert form.rhs(t, np.array([x, v]), road, form.int_table, form.float_table, a)
+        b = np.zeros(2)
+        assert core.rhs(t, np.array([x, v]), road, itab, ftab, b)
+        assert a[1] == pytest.approx(b[1], rel=1e-12, abs=1e-12 * abs(b[1]) + 1e-12)
+
+
+def test_engine_and_brute_force_on_the_template():
+    """The balance runs on the one engine (velocity eliminated: 2H+1 unknowns), and its
+    amplitudes agree with time integration to steady state (RK4 and scipy's DOP853)."""
+    sys = chapter7_system(0.03)
+    f = [0.4, 0.9, 1.6, 3.0]
+    a = frequency_response(sys, "sihb", freq_hz=f, harmonics=15, direction="down")
+    assert a.settings["engine"] == "FirstOrderEngine" and a.settings["n_samples"] == 128
+    assert a.coefficients.shape[1:] == (1, 31)
+    b = frequency_response(sys, "brute", freq_hz=f)
+    assert a.converged.all() and b.converged.all()
+    assert nrmse(a, b) <= 5e-4

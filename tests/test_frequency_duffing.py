@@ -50,6 +50,37 @@ def test_one_harmonic_peak():
     assert w == pytest.approx(1.2666, rel=1e-3)
 
 
+def test_one_harmonic_balance_is_the_closed_form():
+    """With one harmonic the balance of the cubic is exact on enough samples: the
+    amplitude A solves ((k - m w^2 + 3/4 g A^2)^2 + (c w)^2) A^2 = P^2, and the peak lies
+    on the backbone m w^2 = k + 3/4 g A^2 at A = P / (c w)."""
+    m, c, k, g, p = 1.0, 0.05, 1.0, 0.1, 0.18
+    freqs = np.array([0.05, 0.1, 0.15, 0.25, 0.4])  # Hz, below the fold: one solution
+    fr = frequency_response(DUFFING, "shb", freq_hz=freqs)
+    assert fr.converged.all() and fr.settings["engine"] == "FirstOrderEngine"
+    a = fr.first_harmonic().data
+    w = fr.omega
+    closed = ((k - m * w**2 + 0.75 * g * a**2) ** 2 + (c * w) ** 2) * a**2
+    np.testing.assert_allclose(closed, p**2, rtol=1e-9)
+    path = continue_branch(make_engine(DUFFING, 1), np.zeros(3), 0.8, 1.6, step=0.01,
+                           max_step=0.01)  # fmt: skip
+    peak, wp = _peak(path)
+    assert m * wp**2 == pytest.approx(k + 0.75 * g * peak**2, rel=2e-3)
+    assert peak == pytest.approx(p / (c * wp), rel=2e-3)
+
+
+def test_linear_limit_equals_transfer_function():
+    """Without the cubic term the balance is the linear response P / |k - m w^2 + i c w|."""
+    lin = DuffingOscillator(mass=2.0, damping=0.3, stiffness=5.0, cubic_stiffness=0.0, force=0.7)
+    freqs = np.array([0.1, 0.25, 0.3, 0.5, 1.0])
+    w = 2 * np.pi * freqs
+    exact = 0.7 / np.abs(5.0 - 2.0 * w**2 + 0.3j * w)
+    for method in ("shb", "mhb", "sihb"):
+        fr = frequency_response(lin, method, freq_hz=freqs, direction="up")
+        np.testing.assert_allclose(fr.amplitude_m.data, exact, rtol=1e-9, err_msg=method)
+        assert fr.stable.all()
+
+
 def test_seven_harmonics_peak(path7):
     _, path = path7
     assert path.completed
@@ -123,7 +154,7 @@ def test_user_system_equals_builtin():
     user = UserSystem(residual=duffing)
     a = frequency_response(user, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
     b = frequency_response(DUFFING, "sihb", fmin=0.15, fmax=0.25, df=0.01, harmonics=5)
-    assert a.settings["engine"] == "NumpyEngine" and b.settings["engine"] == "NumbaEngine"
+    assert a.settings["engine"] == b.settings["engine"] == "FirstOrderEngine"
     # the same points converge (one jump point past the lower fold may fail in both)
     np.testing.assert_array_equal(a.converged, b.converged)
     assert a.converged.sum() >= len(a) - 1
@@ -141,3 +172,13 @@ def test_sample_count_is_checked():
         make_engine(DUFFING, 7, 20)
     with pytest.raises(ParameterError, match="harmonics"):
         make_engine(DUFFING, 0)
+
+
+def test_user_residual_numba_cannot_compile_is_refused():
+    def residual(tau, omega, x, xd, xdd):
+        import math  # an import inside the function: numba refuses to compile it
+
+        return xdd + x * math.pi
+
+    with pytest.raises(ParameterError, match="residual"):
+        frequency_response(UserSystem(residual=residual), "mhb", freq_hz=[0.2], harmonics=3)

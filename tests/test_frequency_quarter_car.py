@@ -11,15 +11,12 @@ import json
 import numpy as np
 import pytest
 
+from inerterlab import quarter_car
 from inerterlab.cli import main
 from inerterlab.errors import ParameterError
 from inerterlab.frequency import frequency_response
 from inerterlab.frequency.first_order import brute_force_point, monodromy_multipliers
 from inerterlab.frequency.quarter_car import quarter_car_system
-
-# the named suspension's description: the harmonic balance of frequency/quarter_car.py
-# takes it (inerterlab.quarter_car builds the core system around it)
-from inerterlab.suspension.model import describe_quarter_car as quarter_car
 
 FREQS = np.array([0.5, 0.9, 1.2, 1.5, 2.0, 3.0, 5.0, 8.0, 9.5, 11.0, 14.0, 20.0])
 
@@ -51,8 +48,9 @@ def test_bad_velocity_map_is_refused():
 def linear_amplitudes(car, freqs, amplitude):
     """|H(j w)| A of the four outputs from the mass, damping and stiffness matrices of
     (x2, x3) with an inertance b between the masses (b = 0 without inerter)."""
-    q = car.parameters
-    b = car.inertance or 0.0
+    model = car.info["model"]
+    q = model.parameters
+    b = model.inertance or 0.0
     M = np.array([[q.unsprung_mass + b, -b], [-b, q.sprung_mass + b]])
     C = np.array([[q.damping + q.tyre_damping, -q.damping], [-q.damping, q.damping]])
     K = np.array([[q.stiffness + q.tyre_stiffness, -q.stiffness], [-q.stiffness, q.stiffness]])

@@ -1,9 +1,9 @@
 """Steady-state frequency response: brute force, harmonic balance (AFT), continuation.
 
-Second-order systems (the chapter-7 system and Duffing on their specialised kernel,
-user residuals in numpy) and state equations (the quarter car, model-core systems, and
-the built-in systems' ``first_order()`` forms) on the engine of
-:mod:`inerterlab.frequency.first_order`. See docs/guide/frequency.md.
+The chapter-7 system and the Duffing oscillator (templates of
+:mod:`inerterlab.systems.oscillators`), the quarter car and every model-core system on
+the one engine of :mod:`inerterlab.frequency.first_order`; a user's residual given as
+Python functions (:class:`UserSystem`) in numpy. See docs/guide/frequency.md.
 Thesis ch. 7; docs/model.md §7.
 """
 

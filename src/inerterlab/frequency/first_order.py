@@ -53,7 +53,8 @@ the synthesis E; explicit: dr/dx = -df/dx, dr/dx' = I), where df/dx comes from
 ``jacobian`` or, without it, from central differences of ``rhs`` at each sample (step
 1e-6 of the state's size). Newton with a backtracking line search on ||R|| solves it;
 the scanning and continuation drivers of :mod:`inerterlab.frequency.response` run on
-this engine for every system but the numpy :class:`~inerterlab.frequency.UserSystem`.
+this engine for every system (a :class:`~inerterlab.frequency.UserSystem` with its residual
+compiled by numba).
 
 Stability (Hill's method): a perturbation e^(lambda t) q(t) with q periodic solves
 lambda Qf q = -Jf q with Jf the Jacobian of every state's equation and Qf the
@@ -77,9 +78,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from numba import njit, types
-from numba.core import cgutils
-from numba.extending import intrinsic
 
+from .._views import borrow as _borrow
 from ..errors import ParameterError
 from ..systems._kernel import road_layout
 from .harmonic import FourierBasis, checked_samples, fourier_basis
@@ -134,31 +134,6 @@ def _no_terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):  # pr
 # compiled kernels (the system's functions are arguments, typed by their signature)
 
 
-@intrinsic
-def _borrow(typingctx, arr):
-    """A view of ``arr`` that carries no reference count (``arr`` must outlive it).
-
-    A call through a first-class function takes and releases a reference to every array
-    argument (two atomic operations each): for a right-hand side called four times per
-    Runge-Kutta step with five arrays that was half the time of the step. The kernels
-    hand the system's functions such views of their own work arrays instead."""
-
-    def codegen(context, builder, sig, args):
-        aty = sig.args[0]
-        src = cgutils.create_struct_proxy(aty)(context, builder, value=args[0])
-        dst = cgutils.create_struct_proxy(aty)(context, builder)
-        dst.meminfo = cgutils.get_null_value(dst.meminfo.type)
-        dst.parent = cgutils.get_null_value(dst.parent.type)
-        dst.nitems = src.nitems
-        dst.itemsize = src.itemsize
-        dst.data = src.data
-        dst.shape = src.shape
-        dst.strides = src.strides
-        return dst._getvalue()
-
-    return arr(arr), codegen
-
-
 #
 # ``lay`` (int64) describes which coefficients are unknown: lay[0] = n states,
 # lay[1] = nf unknown blocks, then for every state j its block blk[j] (lay[2 + j]) and
@@ -194,6 +169,21 @@ def _power(omega, k):
 
 
 @njit(cache=True, inline="always")
+def _mv(A, x):
+    """A @ x; by loops when small (a BLAS call then costs more than its arithmetic)."""
+    rows, cols = A.shape
+    if rows * cols > 256:
+        return A @ x
+    out = np.zeros(rows)
+    for i in range(rows):
+        acc = 0.0
+        for j in range(cols):
+            acc += A[i, j] * x[j]
+        out[i] = acc
+    return out
+
+
+@njit(cache=True, inline="always")
 def _synth(Y, lay, omega, E, E1, E2, derivatives):
     """States xs (n, K) and, with ``derivatives``, their time derivatives xds (n, K) at
     the phases of E (K x m) from the unknown coefficients Y (each product E_k Y_c once)."""
@@ -210,9 +200,9 @@ def _synth(Y, lay, omega, E, E1, E2, derivatives):
                 if derivatives:
                     need[o + 1] = True
         Yc = Y[c * m : (c + 1) * m]
-        s0 = E @ Yc if need[0] else np.empty(0)
-        s1 = omega * (E1 @ Yc) if need[1] else np.empty(0)
-        s2 = omega * omega * (E2 @ Yc) if need[2] else np.empty(0)
+        s0 = _mv(E, Yc) if need[0] else np.empty(0)
+        s1 = omega * _mv(E1, Yc) if need[1] else np.empty(0)
+        s2 = omega * omega * _mv(E2, Yc) if need[2] else np.empty(0)
         for j in range(n):
             if lay[2 + j] != c:
                 continue
@@ -297,7 +287,7 @@ def _project(Y, omega, r, mode, lay, F, D1, D2):
     R = np.empty(nf * m)
     for q in range(nf):
         i = lay[2 + 2 * n + q]
-        seg = F @ r[i]
+        seg = _mv(F, r[i])
         if mode < 2:
             c = lay[2 + i]
             Yc = Y[c * m : (c + 1) * m]
@@ -332,19 +322,104 @@ def _is_constant(A, i, j):
     return True
 
 
+@njit(cache=True, inline="always")
+def _sums(W, coef):
+    """W @ coef; by loops when small (a BLAS call then costs more than its arithmetic)."""
+    rows, K = W.shape
+    if rows * K > 512:
+        return W @ coef
+    S = np.zeros((rows, 3))
+    for p in range(rows):
+        for kk in range(K):
+            w = W[p, kk]
+            S[p, 0] += w * coef[kk, 0]
+            S[p, 1] += w * coef[kk, 1]
+            S[p, 2] += w * coef[kk, 2]
+    return S
+
+
+@njit(cache=True, inline="always")
+def _fill_spectral(J, r0, c0, S, has, H):
+    """J[block at (r0, c0)] += T(c_0) + T(c_1) D + T(c_2) D^2 with T(c) = F diag(c) E.
+
+    ``S[:, k]`` = [a_0 .. a_2H, b_1 .. b_2H], the discrete Fourier sums of the samples
+    c_k (a_p = sum_j c_j cos(p tau_j) / N, b_p with sin). A product of two trigonometric
+    functions is a sum of two, so each entry of T is two of these sums (exact for the
+    discrete sums, whatever N): with d = h - k and p = h + k,
+    T[cos h, cos k] = a_d + a_p, T[sin h, sin k] = a_d - a_p,
+    T[cos h, sin k] = b_p - b_d, T[sin h, cos k] = b_p + b_d (b_-d = -b_d), and the
+    constant row and column are a_k, b_k and 2 a_h, 2 b_h (a_0 at the corner). D, the
+    derivative of the coefficients, maps the cos column of harmonic k to -k times the
+    sin column and the sin column to k times the cos column."""
+    w0 = 1.0 if has[0] else 0.0
+    w1 = 1.0 if has[1] else 0.0
+    w2 = 1.0 if has[2] else 0.0
+    for h in range(H + 1):
+        for k in range(H + 1):
+            p = h + k
+            d = h - k
+            ad = abs(d)
+            # the sums of each coefficient: a_d, a_p, b_d (signed), b_p
+            a_d0 = S[ad, 0] * w0
+            a_p0 = S[p, 0] * w0
+            a_d1 = S[ad, 1] * w1
+            a_p1 = S[p, 1] * w1
+            a_d2 = S[ad, 2] * w2
+            a_p2 = S[p, 2] * w2
+            b_p0 = S[2 * H + p, 0] * w0 if p > 0 else 0.0
+            b_p1 = S[2 * H + p, 1] * w1 if p > 0 else 0.0
+            b_p2 = S[2 * H + p, 2] * w2 if p > 0 else 0.0
+            b_d0 = 0.0
+            b_d1 = 0.0
+            b_d2 = 0.0
+            if d != 0:
+                sg = 1.0 if d > 0 else -1.0
+                b_d0 = sg * S[2 * H + ad, 0] * w0
+                b_d1 = sg * S[2 * H + ad, 1] * w1
+                b_d2 = sg * S[2 * H + ad, 2] * w2
+            if h == 0 and k == 0:
+                J[r0, c0] += a_p0
+                continue
+            if h == 0:  # constant row, columns cos k, sin k
+                ck = c0 + 2 * k - 1
+                J[r0, ck] += a_p0 - k * b_p1 - k * k * a_p2
+                J[r0, ck + 1] += b_p0 + k * a_p1 - k * k * b_p2
+                continue
+            rc = r0 + 2 * h - 1
+            if k == 0:  # constant column
+                J[rc, c0] += 2.0 * a_p0
+                J[rc + 1, c0] += 2.0 * b_p0
+                continue
+            ck = c0 + 2 * k - 1
+            kk = k * k
+            # T entries of each coefficient
+            cc0, ss0, cs0, sc0 = a_d0 + a_p0, a_d0 - a_p0, b_p0 - b_d0, b_p0 + b_d0
+            cc1, ss1, cs1, sc1 = a_d1 + a_p1, a_d1 - a_p1, b_p1 - b_d1, b_p1 + b_d1
+            cc2, ss2, cs2, sc2 = a_d2 + a_p2, a_d2 - a_p2, b_p2 - b_d2, b_p2 + b_d2
+            J[rc, ck] += cc0 - k * cs1 - kk * cc2
+            J[rc, ck + 1] += cs0 + k * cc1 - kk * cs2
+            J[rc + 1, ck] += sc0 - k * ss1 - kk * sc2
+            J[rc + 1, ck + 1] += ss0 + k * sc1 - kk * ss2
+
+
 @njit(cache=True)
-def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
+def _jacobian(P, Q, mode, omega, lay, D1, D2, W):
     """dR/dY of the balanced equations in the unknown blocks. Block (q, c) sums, over
     the states j given by block c, F diag(P_ij) Omega^o E_o + F diag(Q_ij) Omega^(o+1)
-    E_(o+1) (o the order of j; explicit equations: Q = identity, added as Omega D): the
-    coefficients of each E_k are summed per sample and G = sum_k c_k E_k formed in one
-    pass; a block whose terms are all constant in time is a sum of D_k directly
-    (F E_k = D_k)."""
+    E_(o+1) (o the order of j; explicit equations: Q = identity, added as Omega D).
+
+    The coefficients c_k of each E_k are summed per sample; with E_k = E D^k (D the
+    derivative of the coefficients, exact), the block is T(c_0) + T(c_1) D + T(c_2) D^2,
+    T(c) = F diag(c) E, and T(c) follows from the discrete Fourier sums of c up to
+    harmonic 2H (one product with ``W``, (4H+1) x N): O(H N) per coefficient instead of
+    the O(H^2 N) of forming F diag(c) E. A block whose terms are all constant in time is
+    a sum of D_k directly (F E_k = D_k)."""
     n, nf = lay[0], lay[1]
-    K, m = E.shape
+    K = P.shape[2]
+    m = D1.shape[0]
+    H = (m - 1) // 2
     J = np.zeros((nf * m, nf * m))
-    G = np.empty((K, m))
-    coef = np.empty((3, K))
+    coef = np.zeros((K, 3))
     has = np.zeros(3, dtype=np.bool_)
     const = np.ones((2, n, n), dtype=np.bool_)
     for q in range(nf):
@@ -376,32 +451,36 @@ def _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2):
                         continue
                     if has[k]:
                         for kk in range(K):
-                            coef[k, kk] += A[i, j, kk] * fac
+                            coef[kk, k] += A[i, j, kk] * fac
                     else:
                         for kk in range(K):
-                            coef[k, kk] = A[i, j, kk] * fac
+                            coef[kk, k] = A[i, j, kk] * fac
                         has[k] = True
             if varying:
-                for kk in range(K):
-                    c0 = coef[0, kk] if has[0] else 0.0
-                    c1 = coef[1, kk] if has[1] else 0.0
-                    c2 = coef[2, kk] if has[2] else 0.0
-                    if has[1] or has[2]:
-                        for s in range(m):
-                            G[kk, s] = c0 * E[kk, s] + c1 * E1[kk, s] + c2 * E2[kk, s]
-                    else:
-                        for s in range(m):
-                            G[kk, s] = c0 * E[kk, s]
-                J[q * m : (q + 1) * m, c * m : (c + 1) * m] = F @ G
+                for k in range(3):
+                    if not has[k]:
+                        coef[:, k] = 0.0
+                _fill_spectral(J, q * m, c * m, _sums(W, coef), has, H)
             if mode < 2 and lay[2 + i] == c:  # the x' term of an explicit equation
                 k = lay[2 + n + i] + 1
                 _add_constant(J, q * m, c * m, _power(omega, k), k, D1, D2)
     return J
 
 
+def spectral_sums(basis) -> np.ndarray:
+    """W, (4H+1) x N: W @ c gives [a_0 .. a_2H, b_1 .. b_2H] of samples c at the
+    basis's phases (a_p = sum_j c_j cos(p tau_j) / N, b_p with sin)."""
+    H, N = basis.harmonics, basis.n_samples
+    p = np.arange(2 * H + 1)[:, None]
+    tau = np.asarray(basis.tau)[None, :]
+    return np.ascontiguousarray(
+        np.vstack([np.cos(p * tau), np.sin(p[1:] * tau)]) / N, dtype=float
+    )
+
+
 @njit(cache=True)
 def fo_residual(
-    rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2
+    rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2, W
 ):
     """R(Y) at Omega."""
     xs, xds = _synth(Y, lay, omega, E, E1, E2, mode == 2)
@@ -413,16 +492,72 @@ def fo_residual(
 
 @njit(cache=True)
 def fo_residual_jacobian(
-    rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2,
+    rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2, W,
     scales,
 ):  # fmt: skip
     """R(Y) and dR/dY at Omega."""
+    R, P, Q = _residual_partials(
+        rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2,
+        scales,
+    )  # fmt: skip
+    return R, _jacobian(P, Q, mode, omega, lay, D1, D2, W)
+
+
+@njit(cache=True)
+def _residual_partials(
+    rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2,
+    scales,
+):  # fmt: skip
+    """R(Y) at Omega and the partials P, Q at the samples (see :func:`_evaluate`)."""
     xs, xds = _synth(Y, lay, omega, E, E1, E2, mode == 2)
     r, P, Q = _evaluate(
         rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, omega, amp, tau, scales, True, True
     )
-    R = _project(Y, omega, r, mode, lay, F, D1, D2)
-    return R, _jacobian(P, Q, mode, omega, lay, E, E1, E2, F, D1, D2)
+    return _project(Y, omega, r, mode, lay, F, D1, D2), P, Q
+
+
+@njit(cache=True)
+def _small_solve(J, b):
+    """J^-1 b by Gaussian elimination with partial pivoting (for small J, where LAPACK's
+    call costs more than its arithmetic); (x, False) when a pivot is exactly zero."""
+    n = J.shape[0]
+    A = J.copy()
+    x = b.copy()
+    for k in range(n):
+        p = k
+        best = abs(A[k, k])
+        for i in range(k + 1, n):
+            v = abs(A[i, k])
+            if v > best:
+                best = v
+                p = i
+        if best == 0.0 or not np.isfinite(best):
+            return x, False
+        if p != k:
+            for j in range(n):
+                t = A[k, j]
+                A[k, j] = A[p, j]
+                A[p, j] = t
+            t = x[k]
+            x[k] = x[p]
+            x[p] = t
+        piv = A[k, k]
+        for i in range(k + 1, n):
+            f = A[i, k] / piv
+            if f != 0.0:
+                for j in range(k + 1, n):
+                    A[i, j] -= f * A[k, j]
+                x[i] -= f * x[k]
+    for k in range(n - 1, -1, -1):
+        acc = x[k]
+        for j in range(k + 1, n):
+            acc -= A[k, j] * x[j]
+        x[k] = acc / A[k, k]
+    return x, True
+
+
+#: unknowns up to which Newton solves by :func:`_small_solve` rather than LAPACK
+SMALL_SOLVE = 24
 
 
 @njit(cache=True)
@@ -430,15 +565,23 @@ def _newton_step(J, R):
     """-J^-1 R; where J is singular (a state whose mean value the equations leave free,
     e.g. a node held by a damper and an inerter only) the least-squares step of
     smallest norm, which leaves such a mean where it is."""
-    ok = True
-    try:
-        dX = np.linalg.solve(J, -R)
-    except Exception:  # noqa: BLE001 - LAPACK reports a singular matrix
-        ok = False
-        dX = np.zeros_like(R)
+    n = R.shape[0]
+    if n <= SMALL_SOLVE:
+        dX, ok = _small_solve(J, -R)
+    else:
+        ok = True
+        try:
+            dX = np.linalg.solve(J, -R)
+        except Exception:  # noqa: BLE001 - LAPACK reports a singular matrix
+            ok = False
+            dX = np.zeros_like(R)
     if ok and np.all(np.isfinite(dX)):
         # reject the solve when it amplifies round-off (near-singular J)
-        if _norm(dX) * 1e-12 * np.max(np.abs(J)) <= _norm(R) + 1e-300:
+        big = 0.0
+        for i in range(n):
+            for j in range(n):
+                big = max(big, abs(J[i, j]))
+        if _norm(dX) * 1e-12 * big <= _norm(R) + 1e-300:
             return dX
     return np.linalg.lstsq(J, -R, rcond=1e-12)[0]
 
@@ -450,7 +593,7 @@ def _norm(v):
 
 @njit(cache=True)
 def fo_newton(
-    rhs, jac, terms, mode, itab, ftab, work, lay, Y0, omega, amp, tau, E, E1, E2, F, D1, D2,
+    rhs, jac, terms, mode, itab, ftab, work, lay, Y0, omega, amp, tau, E, E1, E2, F, D1, D2, W,
     scales, rtol, max_iter, scale,
 ):  # fmt: skip
     """Newton with backtracking on ||R||: Y, converged, iterations, ||R||, code.
@@ -458,12 +601,13 @@ def fo_newton(
     Converged when a full step is below ``rtol * (||Y|| + scale)``. Codes: 0 ok,
     1 iteration limit, 2 singular Jacobian, 3 no descent (line search failed),
     4 non-finite values. With an analytic Jacobian (``mode`` 1, 2) every trial point
-    carries its Jacobian (one evaluation per iteration when the full step is taken);
-    with finite differences the trials evaluate the residual only.
+    carries its partials (one evaluation per iteration when the full step is taken), and
+    the Jacobian is assembled from them only when another iteration needs it (not at
+    the converged point); with finite differences the trials evaluate the residual only.
     """
     Y = Y0.copy()
     R, J = fo_residual_jacobian(
-        rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2,
+        rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2, W,
         scales,
     )  # fmt: skip
     rn = _norm(R)
@@ -478,19 +622,20 @@ def fo_newton(
         accepted = False
         Yn = Y
         Rn = R
-        Jn = J
+        Pn = np.empty((1, 1, 1))
+        Qn = np.empty((1, 1, 1))
         rnn = rn
         for _ in range(12):
             Yn = Y + step * dY
             if analytic:
-                Rn, Jn = fo_residual_jacobian(
+                Rn, Pn, Qn = _residual_partials(
                     rhs, jac, terms, mode, itab, ftab, work, lay, Yn, omega, amp, tau, E, E1,
                     E2, F, D1, D2, scales,
                 )  # fmt: skip
             else:
                 Rn = fo_residual(
                     rhs, jac, terms, mode, itab, ftab, work, lay, Yn, omega, amp, tau, E, E1,
-                    E2, F, D1, D2,
+                    E2, F, D1, D2, W,
                 )  # fmt: skip
             rnn = _norm(Rn)
             if np.isfinite(rnn) and (rnn <= (1.0 - 1e-4 * step) * rn or rnn < 1e-300):
@@ -507,11 +652,11 @@ def fo_newton(
         if step == 1.0 and _norm(dY) <= rtol * (_norm(Y) + scale):
             return Y, True, it + 1, rn, 0
         if analytic:
-            J = Jn
+            J = _jacobian(Pn, Qn, mode, omega, lay, D1, D2, W)
         else:
             R, J = fo_residual_jacobian(
                 rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F,
-                D1, D2, scales,
+                D1, D2, W, scales,
             )  # fmt: skip
             rn = _norm(R)
     return Y, False, max_iter, rn, 1
@@ -519,7 +664,7 @@ def fo_newton(
 
 @njit(cache=True)
 def _chord(
-    rhs, jac, terms, mode, itab, ftab, work, lay, Y0, omega, amp, tau, E, E1, E2, F, D1, D2,
+    rhs, jac, terms, mode, itab, ftab, work, lay, Y0, omega, amp, tau, E, E1, E2, F, D1, D2, W,
     Jinv, rtol, scale, max_iter,
 ):  # fmt: skip
     """Quasi-Newton iterations from the inverse Jacobian of a nearby point, improved by
@@ -529,7 +674,7 @@ def _chord(
     Y = Y0.copy()
     prev = np.inf
     R = fo_residual(
-        rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2
+        rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1, D2, W
     )
     rn = _norm(R)
     for it in range(max_iter):
@@ -545,7 +690,7 @@ def _chord(
             return Y, True, it + 1, rn
         Rn = fo_residual(
             rhs, jac, terms, mode, itab, ftab, work, lay, Y, omega, amp, tau, E, E1, E2, F, D1,
-            D2,
+            D2, W,
         )  # fmt: skip
         u = Jinv @ (Rn - R)
         den = dY @ u
@@ -560,7 +705,7 @@ def _chord(
 @njit(cache=True)
 def fo_sweep(
     rhs, jac, terms, mode, itab, ftab, work, lay, omegas, Y_start, Y_cold, amp, tau, E, E1, E2,
-    F, D1, D2, scales, rtol, max_iter, scale, warm, chord,
+    F, D1, D2, W, scales, rtol, max_iter, scale, warm, chord,
 ):  # fmt: skip
     """Solve at each frequency of ``omegas`` in order.
 
@@ -602,20 +747,20 @@ def fo_sweep(
         if warm and chord and have_jinv:
             Y, conv, it, rn = _chord(
                 rhs, jac, terms, mode, itab, ftab, work, lay, guess, w, amp, tau, E, E1, E2, F,
-                D1, D2, Jinv, rtol, scale, 12,
+                D1, D2, W, Jinv, rtol, scale, 12,
             )  # fmt: skip
             if not conv:
                 Y = guess
         if not conv:
             Y, conv, its, rn, c = fo_newton(
                 rhs, jac, terms, mode, itab, ftab, work, lay, guess, w, amp, tau, E, E1, E2, F,
-                D1, D2, scales, rtol, max_iter, scale,
+                D1, D2, W, scales, rtol, max_iter, scale,
             )  # fmt: skip
             it += its
             if conv and warm and chord:
                 _, J = fo_residual_jacobian(
                     rhs, jac, terms, mode, itab, ftab, work, lay, Y, w, amp, tau, E, E1, E2, F,
-                    D1, D2, scales,
+                    D1, D2, W, scales,
                 )  # fmt: skip
                 Jinv = np.ascontiguousarray(np.linalg.pinv(J, rcond=1e-12))
                 have_jinv = np.all(np.isfinite(Jinv))
@@ -627,7 +772,7 @@ def fo_sweep(
                 ws = w_last + (w - w_last) * s / 8
                 Ys, cs, its, rn, c = fo_newton(
                     rhs, jac, terms, mode, itab, ftab, work, lay, Ys, ws, amp, tau, E, E1, E2,
-                    F, D1, D2, scales, rtol, max_iter, scale,
+                    F, D1, D2, W, scales, rtol, max_iter, scale,
                 )  # fmt: skip
                 it += its
                 if not cs:
@@ -638,7 +783,7 @@ def fo_sweep(
                 # a jump (fold passed): start afresh from the cold start
                 Y, conv, its, rn, c = fo_newton(
                     rhs, jac, terms, mode, itab, ftab, work, lay, Y_cold, w, amp, tau, E, E1,
-                    E2, F, D1, D2, scales, rtol, max_iter, scale,
+                    E2, F, D1, D2, W, scales, rtol, max_iter, scale,
                 )  # fmt: skip
                 it += its
             have_jinv = False
@@ -657,7 +802,7 @@ def fo_sweep(
 
 @njit(cache=True)
 def fo_relative_residuals(
-    rhs, jac, terms, mode, itab, ftab, work, lay, omegas, C, amp, tau, E, E1, E2, F, D1, D2
+    rhs, jac, terms, mode, itab, ftab, work, lay, omegas, C, amp, tau, E, E1, E2, F, D1, D2, W
 ):  # fmt: skip
     """||R(Y_i)|| / ||R(0)|| for each row Y_i of C at frequency omegas[i]."""
     n_pts, m = C.shape
@@ -667,9 +812,9 @@ def fo_relative_residuals(
         Y = np.ascontiguousarray(C[i])
         w = omegas[i]
         a = _norm(fo_residual(rhs, jac, terms, mode, itab, ftab, work, lay, Y, w, amp, tau, E,
-                              E1, E2, F, D1, D2))  # fmt: skip
+                              E1, E2, F, D1, D2, W))  # fmt: skip
         b = _norm(fo_residual(rhs, jac, terms, mode, itab, ftab, work, lay, zero, w, amp, tau,
-                              E, E1, E2, F, D1, D2))  # fmt: skip
+                              E, E1, E2, F, D1, D2, W))  # fmt: skip
         out[i] = a / b if b > 0.0 else a
     return out
 
@@ -827,6 +972,37 @@ def fo_outputs_at_states(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau)
     return _outputs_at(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau)
 
 
+@njit(cache=True, inline="always")
+def _refined_extreme(a0, a, b, t, best, limit, top):
+    """The largest (``top``) or smallest value of the trigonometric polynomial
+    a0 + sum_h a_h cos(h t) + b_h sin(h t) met by Newton on its derivative from the phase
+    t (at most 6 steps, each shorter than ``limit``), or ``best`` if that is beyond."""
+    H = a.shape[0]
+    for it in range(7):
+        c1 = math.cos(t)
+        s1 = math.sin(t)
+        c = c1
+        s = s1
+        val = a0
+        d1 = 0.0
+        d2 = 0.0
+        for h in range(H):
+            q = h + 1.0
+            val += a[h] * c + b[h] * s
+            d1 += q * (-a[h] * s + b[h] * c)
+            d2 -= q * q * (a[h] * c + b[h] * s)
+            c, s = c * c1 - s * s1, s * c1 + c * s1
+        if (top and val > best) or (not top and val < best):
+            best = val
+        if it == 6 or d2 == 0.0:
+            break
+        dt = -d1 / d2
+        if abs(dt) > limit:
+            break
+        t += dt
+    return best
+
+
 @njit(cache=True)
 def half_peak_to_peak(C):
     """Half peak-to-peak [same unit as X] of the signals with coefficients C (rows).
@@ -861,34 +1037,11 @@ def half_peak_to_peak(C):
             if val < best_lo:
                 best_lo = val
                 k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            t = 2.0 * math.pi * (k_hi if e == 0 else k_lo) / ng
-            val = 0.0
-            for _ in range(6):
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(H):
-                    q = h + 1.0
-                    c = math.cos(q * t)
-                    s = math.sin(q * t)
-                    a = C[i, 2 * h + 1]
-                    b = C[i, 2 * h + 2]
-                    d1 += q * (-a * s + b * c)
-                    d2 += -q * q * (a * c + b * s)
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / ng:
-                    break
-                t += dt
-            val = C[i, 0]
-            for h in range(H):
-                q = h + 1.0
-                val += C[i, 2 * h + 1] * math.cos(q * t) + C[i, 2 * h + 2] * math.sin(q * t)
-            ext[e] = val
-        hi = max(ext[0], best_hi)
-        lo = min(ext[1], best_lo)
+        a = C[i, 1::2]
+        b = C[i, 2::2]
+        step = 2.0 * math.pi / ng
+        hi = _refined_extreme(C[i, 0], a, b, step * k_hi, best_hi, step, True)
+        lo = _refined_extreme(C[i, 0], a, b, step * k_lo, best_lo, step, False)
         out[i] = 0.5 * (hi - lo)
     return out
 
@@ -902,8 +1055,8 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
     and is refined by Newton on the interpolant (exact for a sampled trigonometric
     polynomial of degree <= Hd)."""
     n_pts, K = samples.shape
-    Hd = a.shape[1]
     out = np.empty(n_pts)
+    step = 2.0 * math.pi / K
     for p in range(n_pts):
         k_hi = 0
         k_lo = 0
@@ -912,35 +1065,9 @@ def interpolant_half_peak_to_peak(samples, a0, a, b):
                 k_hi = k
             if samples[p, k] < samples[p, k_lo]:
                 k_lo = k
-        ext = np.empty(2)
-        for e in range(2):
-            k0 = k_hi if e == 0 else k_lo
-            t = 2.0 * math.pi * k0 / K
-            best = samples[p, k0]
-            for _ in range(6):
-                c1 = math.cos(t)
-                s1 = math.sin(t)
-                c = c1
-                s = s1
-                val = a0[p]
-                d1 = 0.0
-                d2 = 0.0
-                for h in range(Hd):
-                    q = h + 1.0
-                    val += a[p, h] * c + b[p, h] * s
-                    d1 += q * (-a[p, h] * s + b[p, h] * c)
-                    d2 -= q * q * (a[p, h] * c + b[p, h] * s)
-                    c, s = c * c1 - s * s1, s * c1 + c * s1
-                if (e == 0 and val > best) or (e == 1 and val < best):
-                    best = val
-                if d2 == 0.0:
-                    break
-                dt = -d1 / d2
-                if abs(dt) > 2.0 * math.pi / K:
-                    break
-                t += dt
-            ext[e] = best
-        out[p] = 0.5 * (ext[0] - ext[1])
+        hi = _refined_extreme(a0[p], a[p], b[p], step * k_hi, samples[p, k_hi], step, True)
+        lo = _refined_extreme(a0[p], a[p], b[p], step * k_lo, samples[p, k_lo], step, False)
+        out[p] = 0.5 * (hi - lo)
     return out
 
 
@@ -1064,7 +1191,7 @@ def fo_monodromy(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, scales):
 # entry points typed with the function signatures (compiled on first use, cached)
 
 _SYS = (_RHS, _JAC, _TERMS, _i8, _iv, _v, _i8, _iv)  # rhs, jac, terms, mode, itab, ftab, work, lay
-_BASIS = (_v, _m, _m, _m, _m, _m, _m)  # tau, E, E1, E2, F, D1, D2
+_BASIS = (_v, _m, _m, _m, _m, _m, _m, _m)  # tau, E, E1, E2, F, D1, D2, W, W
 _RK = (_RHS, _iv, _v, _i8, _i8)  # rhs, itab, ftab, work, n
 _ENTRY_TYPES = {
     "fo_residual": (*_SYS, _v, _f8, _f8, *_BASIS),
@@ -1298,13 +1425,14 @@ class FirstOrderEngine:
         self.tau, self.E, self.E1, self.E2, self.F = c(b.tau), c(b.E), c(b.E1), c(b.E2), c(b.F)
         self.D1 = c(b.F @ b.E1)
         self.D2 = c(b.F @ b.E2)
+        self.W = spectral_sums(b)
 
     def _s(self):
         return (self.rhs, self.jac, self.terms, self.mode, self.itab, self.ftab, self.work,
                 self.lay)  # fmt: skip
 
     def _b(self):
-        return (self.tau, self.E, self.E1, self.E2, self.F, self.D1, self.D2)
+        return (self.tau, self.E, self.E1, self.E2, self.F, self.D1, self.D2, self.W)
 
     def cold_start(self) -> np.ndarray:
         """The rest state as constant terms (zeros when the system gives none)."""

@@ -1,4 +1,6 @@
-"""Alternating frequency-time (AFT) harmonic balance: basis, residual, Jacobian, Newton.
+"""Alternating frequency-time (AFT) harmonic balance: the Fourier basis, the sample
+count and its checks, and the driver-level helpers of the one engine
+(:mod:`inerterlab.frequency.first_order`).
 
 Each degree of freedom is a truncated Fourier series in the phase tau = Omega t,
 
@@ -7,8 +9,8 @@ Each degree of freedom is a truncated Fourier series in the phase tau = Omega t,
 stored as X = [a0, a1, b1, ..., aH, bH] per degree of freedom (the thesis writes
 B0/2 and puts sine first; only the labels differ). The residual r(t) of the equation of
 motion is evaluated at N equally spaced phases and projected back on the same
-harmonics, R = F r (7.25)-(7.27); the real FFT does the projection in the numpy path and
-an explicit DFT matrix in the compiled path (they are the same linear map). The
+harmonics, R = F r (7.25)-(7.27), F an explicit DFT matrix (the real FFT of
+:func:`coefficients_by_fft` is the same linear map, used on brute-force samples). The
 Jacobian is exact:
 
     dR/dX = F [diag(dr/dx) E + Omega diag(dr/dx') E1 + Omega^2 diag(dr/dx'') E2]
@@ -31,7 +33,6 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..resources import check_memory
-from . import _kernels
 
 __all__ = [
     "FourierBasis",
@@ -130,172 +131,6 @@ FAILURE_REASONS = {
 }
 
 
-class NumbaEngine:
-    """Compiled engine for the built-in one-degree-of-freedom systems (the specialised
-    kernel, kept while it is faster than the one engine: docs/decisions.md)."""
-
-    def __init__(self, system, basis: FourierBasis):
-        self.system = system
-        self.basis = basis
-        self.sys_id, self.p = system.kernel()
-        self.n_dof = 1
-
-    def residual(self, X, omega):
-        b = self.basis
-        return _kernels.residual(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def residual_jacobian(self, X, omega):
-        b = self.basis
-        return _kernels.residual_jacobian(
-            self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F
-        )
-
-    def relative_residuals(self, omegas, C):
-        b = self.basis
-        return _kernels.relative_residuals(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(C, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-        )  # fmt: skip
-
-    def hill_matrices(self, X, omega):
-        b = self.basis
-        return _kernels.hill_matrices(self.sys_id, self.p, X, omega, b.tau, b.E, b.E1, b.E2, b.F)
-
-    def newton(self, X0, omega, rtol, max_iter, scale):
-        b = self.basis
-        return _kernels.newton(
-            self.sys_id, self.p, np.ascontiguousarray(X0, dtype=float), float(omega),
-            b.tau, b.E, b.E1, b.E2, b.F, rtol, max_iter, scale,
-        )  # fmt: skip
-
-    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
-        b = self.basis
-        cold = np.zeros(len(X_start)) if X_cold is None else X_cold
-        return _kernels.sweep(
-            self.sys_id, self.p, np.ascontiguousarray(omegas, dtype=float),
-            np.ascontiguousarray(X_start, dtype=float),
-            np.ascontiguousarray(cold, dtype=float), b.tau, b.E, b.E1, b.E2, b.F,
-            rtol, max_iter, scale, warm,
-        )  # fmt: skip
-
-
-class NumpyEngine:
-    """Engine for any system with ``evaluate`` (n degrees of freedom, numpy and FFT)."""
-
-    def __init__(self, system, basis: FourierBasis):
-        self.system = system
-        self.basis = basis
-        self.n_dof = int(system.n_dof)
-
-    def _samples(self, X, omega):
-        b = self.basis
-        Xm = X.reshape(self.n_dof, b.size)
-        return Xm @ b.E.T, omega * (Xm @ b.E1.T), omega**2 * (Xm @ b.E2.T)
-
-    def relative_residuals(self, omegas, C):
-        out = np.empty(len(omegas))
-        for i, w in enumerate(omegas):
-            r = np.linalg.norm(self.residual(C[i], w))
-            r0 = np.linalg.norm(self.residual(np.zeros(C.shape[1]), w))
-            out[i] = r / r0 if r0 > 0 else r
-        return out
-
-    def residual(self, X, omega):
-        x, xd, xdd = self._samples(X, omega)
-        r = self.system.evaluate(self.basis.tau, omega, x, xd, xdd)[0]
-        return coefficients_by_fft(r, self.basis.harmonics).ravel()
-
-    def _blocks(self, gx, gv, ga, omega, c1, c2):
-        b = self.basis
-        # G[i, j, unknown, sample] = d r_i(sample) / d X_j(unknown)
-        G = (
-            gx[:, :, None, :] * b.E.T[None, None]
-            + c1 * gv[:, :, None, :] * b.E1.T[None, None]
-            + c2 * ga[:, :, None, :] * b.E2.T[None, None]
-        )
-        C = coefficients_by_fft(G, b.harmonics)  # [i, j, unknown, equation]
-        n, m = self.n_dof, b.size
-        return C.transpose(0, 3, 1, 2).reshape(n * m, n * m)
-
-    def residual_jacobian(self, X, omega):
-        x, xd, xdd = self._samples(X, omega)
-        r, gx, gv, ga = self.system.evaluate(self.basis.tau, omega, x, xd, xdd)
-        R = coefficients_by_fft(np.asarray(r), self.basis.harmonics).ravel()
-        return R, self._blocks(gx, gv, ga, omega, omega, omega**2)
-
-    def hill_matrices(self, X, omega):
-        x, xd, xdd = self._samples(X, omega)
-        _, gx, gv, ga = self.system.evaluate(self.basis.tau, omega, x, xd, xdd)
-        z = np.zeros_like(gx)
-        J0 = self._blocks(gx, gv, ga, omega, omega, omega**2)
-        # d/d lambda: x' -> x' + lambda y, x'' -> x'' + 2 lambda y' + lambda^2 y
-        J1 = self._blocks(gv, ga, z, omega, 2.0 * omega, 0.0)
-        J2 = self._blocks(ga, z, z, omega, 0.0, 0.0)
-        return J0, J1, J2
-
-    def newton(self, X0, omega, rtol, max_iter, scale):
-        X = np.array(X0, dtype=float)
-        R, J = self.residual_jacobian(X, omega)
-        rn = float(np.linalg.norm(R))
-        for it in range(max_iter):
-            if not np.isfinite(rn):
-                return X, False, it, rn, 4
-            try:
-                dX = np.linalg.solve(J, -R)
-            except np.linalg.LinAlgError:
-                return X, False, it, rn, 2
-            step, accepted = 1.0, False
-            for _ in range(12):
-                Xn = X + step * dX
-                Rn, Jn = self.residual_jacobian(Xn, omega)
-                rnn = float(np.linalg.norm(Rn))
-                if np.isfinite(rnn) and (rnn <= (1.0 - 1e-4 * step) * rn or rnn < 1e-300):
-                    accepted = True
-                    break
-                step *= 0.5
-            if not accepted:
-                small = np.linalg.norm(dX) <= 1e3 * rtol * (np.linalg.norm(X) + scale)
-                return X, bool(small), it, rn, 0 if small else 3
-            X, R, J, rn = Xn, Rn, Jn, rnn
-            if step == 1.0 and np.linalg.norm(dX) <= rtol * (np.linalg.norm(X) + scale):
-                return X, True, it + 1, rn, 0
-        return X, False, max_iter, rn, 1
-
-    def sweep(self, omegas, X_start, rtol, max_iter, scale, warm, X_cold=None):
-        X_cold = np.zeros(len(X_start)) if X_cold is None else X_cold
-        n_pts, m = len(omegas), len(X_start)
-        out = np.zeros((n_pts, m))
-        ok = np.zeros(n_pts, dtype=bool)
-        iters = np.zeros(n_pts, dtype=np.int64)
-        res = np.zeros(n_pts)
-        code = np.zeros(n_pts, dtype=np.int64)
-        X_last, X_prev, w_last, w_prev = X_start.copy(), X_start.copy(), -1.0, -1.0
-        for i, w in enumerate(omegas):
-            guess = X_cold.copy()
-            if warm:
-                guess = X_last.copy()
-                if w_prev > 0 and w_last != w_prev:
-                    guess = X_last + (X_last - X_prev) * ((w - w_last) / (w_last - w_prev))
-            X, conv, it, rn, c = self.newton(guess, w, rtol, max_iter, scale)
-            if not conv and warm and w_last > 0:
-                Xs, conv = X_last.copy(), True
-                for s in range(1, 9):
-                    ws = w_last + (w - w_last) * s / 8
-                    Xs, cs, its, rn, c = self.newton(Xs, ws, rtol, max_iter, scale)
-                    it += its
-                    if not cs:
-                        conv = False
-                        break
-                X = Xs
-                if not conv:
-                    X, conv, its, rn, c = self.newton(X_cold, w, rtol, max_iter, scale)
-                    it += its
-            out[i], ok[i], iters[i], res[i], code[i] = X, conv, it, rn, c
-            if conv:
-                X_prev, w_prev, X_last, w_last = X_last, w_last, X, w
-        return out, ok, iters, res, code
-
-
 def checked_samples(system, harmonics, n_samples: int | None, n_states: int = 1) -> int:
     """The samples per period N of a balance with ``harmonics`` (checked: an integer
     >= 1) on ``n_states`` series: ``n_samples`` or the default for the system's
@@ -322,42 +157,28 @@ def checked_samples(system, harmonics, n_samples: int | None, n_states: int = 1)
     return n
 
 
-def make_engine(system, harmonics: int, n_samples: int | None = None, *, compiled=True):
-    """The engine for ``system``: the specialised compiled kernel for the built-in
-    systems, numpy otherwise. (The built-in systems on the one engine of
-    :mod:`inerterlab.frequency.first_order`: ``frequency_response(system.first_order(),
-    ..., amplitude=system.input_amplitude)``.)"""
-    n = checked_samples(system, harmonics, n_samples)
-    if compiled and hasattr(system, "kernel"):
-        return NumbaEngine(system, fourier_basis(int(harmonics), n))
-    return NumpyEngine(system, fourier_basis(int(harmonics), n))
+def make_engine(system, harmonics: int, n_samples: int | None = None):
+    """The harmonic-balance engine for ``system`` (a built-in system or a
+    :class:`~inerterlab.frequency.UserSystem`): the one engine of
+    :mod:`inerterlab.frequency.first_order` on the system's first-order form
+    (``system.first_order()``, with its own input amplitude)."""
+    from .first_order import make_first_order_engine
+
+    if not hasattr(system, "first_order"):
+        raise ParameterError(
+            "system", system, "a built-in system, a UserSystem or a first-order system"
+        )
+    form = system.first_order()
+    return make_first_order_engine(form, harmonics, n_samples, form.input_amplitude)
 
 
 def hill_exponents(engine, X, omega):
-    """Floquet exponents [1/s] of the HB solution by Hill's method.
-
-    Solves the quadratic eigenproblem (lambda^2 J2 + lambda J1 + J0) q = 0 through its
-    companion form and keeps the 2 n eigenvalues with the smallest |Im lambda|, which
-    approximate the Floquet exponents best (the others are copies shifted by
-    multiples of i Omega). The compiled engine gives them by its own Hill matrix
-    (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`).
-    """
-    if hasattr(engine, "stability"):
-        X = np.ascontiguousarray(X, dtype=float)[None]
-        return engine.stability(np.array([float(omega)]), X, np.array([True]))[1][0]
-    J0, J1, J2 = engine.hill_matrices(X, omega)
-    m = J0.shape[0]
-    try:
-        A = np.linalg.solve(J2, np.hstack([J0, J1]))
-    except np.linalg.LinAlgError:
-        return np.full(2 * engine.n_dof, np.nan + 0j)
-    comp = np.zeros((2 * m, 2 * m))
-    comp[:m, m:] = np.eye(m)
-    comp[m:, :m] = -A[:, :m]
-    comp[m:, m:] = -A[:, m:]
-    lam = np.linalg.eigvals(comp)
-    order = np.argsort(np.abs(lam.imag))
-    return lam[order[: 2 * engine.n_dof]]
+    """Floquet exponents [1/s] of the HB solution by Hill's method on every harmonic
+    (:meth:`~inerterlab.frequency.first_order.FirstOrderEngine.stability`): the
+    eigenvalues nearest the real axis of the Hill matrix, one per state (the others are
+    copies shifted by multiples of i Omega)."""
+    X = np.ascontiguousarray(X, dtype=float)[None]
+    return engine.stability(np.array([float(omega)]), X, np.array([True]))[1][0]
 
 
 def is_stable(exponents, omega, tol: float = 1e-7) -> bool:

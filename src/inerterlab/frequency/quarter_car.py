@@ -1,8 +1,8 @@
 """The quarter car as a first-order system for the harmonic balance.
 
-A :class:`~inerterlab.suspension.QuarterCar` is balanced as the model core's quarter car
-(:func:`inerterlab.systems.quarter_car`, the network ``k | c``, ``k | c | b`` or
-``k | c | afw`` between body and wheel with the car's values): the balance evaluates the
+A quarter car of :func:`inerterlab.quarter_car` with a named smooth suspension is
+balanced as the model core's quarter car (the suspension's preset network ``k | c``,
+``k | c | b`` or ``k | c | afw`` between body and wheel with the car's values): the balance evaluates the
 core's compiled right-hand side and outputs, the same functions its time simulation
 integrates (docs/model.md §11): no second copy of the physics. The states in the balance
 are the core system's (``state_names``); the outputs are computed from the periodic
@@ -41,28 +41,14 @@ QUARTER_CAR_OUTPUTS = {
 SMOOTH_SUSPENSIONS = ("traditional", "cfw", "afw")
 
 
-def core_quarter_car(car):
-    """The model core's quarter car of ``car`` (a smooth suspension, see below)."""
-    from ..systems import quarter_car as core_quarter
-
-    p = car.parameters
-    params: dict = {"k": p.stiffness, "c": p.damping}
-    if car.suspension == "traditional":
-        text = "k | c"
-    elif car.suspension == "cfw":
-        text = "k | c | b"
-        params["b"] = float(car.inertance)
-    else:
-        text = "k | c | afw"
-        afw = {"flywheel": car.flywheel, "law": car.law, "ratio": car.transmission.ratio}
-        if car.law == "slider-dynamics" and car.slider is not None:
-            afw["slider"] = car.slider
-        params["afw"] = afw
-    return core_quarter(text, params, parameters=p)
-
-
 def quarter_car_system(car) -> FirstOrderSystem:
-    """The first-order system of ``car`` (smooth suspensions only, see below).
+    """The first-order system of a quarter car with a named smooth suspension.
+
+    ``car`` is what :func:`inerterlab.quarter_car` returns for ``traditional``, ``cfw``
+    or ``afw`` (a core system carrying its description in ``info["model"]``), or that
+    description (:class:`~inerterlab.suspension.model.QuarterCar`), which is built into
+    the same core system from its preset network
+    (:func:`inerterlab.systems.quarter_car.preset_network`).
 
     ``device`` and ``device-afw`` carry the friction of the real device,
     F_fh tanh(u / v_eps) with v_eps of order 1e-3 m/s, a near-switch that needs hundreds
@@ -70,26 +56,36 @@ def quarter_car_system(car) -> FirstOrderSystem:
     that may lift off (a switch too).
     """
     from ..suspension.model import QuarterCar
+    from ..systems import System
+    from ..systems import quarter_car as core_quarter
+    from ..systems.quarter_car import preset_network
 
-    if not isinstance(car, QuarterCar):
-        raise ParameterError("system", car, "a QuarterCar (inerterlab.quarter_car)")
-    if car.suspension not in SMOOTH_SUSPENSIONS:
+    core = car if isinstance(car, System) else None
+    model = core.info.get("model") if core is not None else car
+    if not isinstance(model, QuarterCar):
+        raise ParameterError(
+            "system", car, "a quarter car of inerterlab.quarter_car with a named suspension"
+        )
+    if model.suspension not in SMOOTH_SUSPENSIONS:
         raise ParameterError(
             "suspension",
-            car.suspension,
+            model.suspension,
             "traditional, cfw or afw for the harmonic balance (the real device's friction "
             "tanh(u/v_eps) switches within millimetres per second, beyond a truncated "
             "Fourier series; use `inerterlab simulate` with a sine road for it)",
         )
-    if car.tyre_lift_off:
+    if model.tyre_lift_off:
         raise ParameterError(
             "tyre_lift_off", True, "False for the harmonic balance (a tyre leaving the road "
             "is a switch; use `inerterlab simulate` with a sine road for it)",
         )  # fmt: skip
-    fo = from_core_system(core_quarter_car(car))
+    if core is None:
+        text, elements = preset_network(model)
+        core = core_quarter(text, elements, parameters=model.parameters)
+    fo = from_core_system(core)
     return FirstOrderSystem(
         **{f: getattr(fo, f) for f in fo.__dataclass_fields__ if f != "label"},
-        label=f"quarter car, {car.suspension}",
+        label=f"quarter car, {model.suspension}",
     )
 
 

@@ -35,7 +35,7 @@ from ..resources import check_memory, check_work
 from .brute import steady_state
 from .continuation import continue_branch
 from .first_order import half_peak_to_peak, make_first_order_engine
-from .harmonic import FAILURE_REASONS, coefficients_by_fft, hill_exponents, is_stable, make_engine
+from .harmonic import FAILURE_REASONS, coefficients_by_fft, make_engine
 
 __all__ = ["FrequencyResponse", "frequency_response", "nrmse", "frequency_grid", "METHODS"]
 
@@ -503,11 +503,10 @@ def frequency_response(
             raise ParameterError(
                 "stability_harmonics", stability_harmonics, "no value (first-order systems only)"
             )
-        engine = make_engine(system, int(harmonics), n_samples)
+        engine = make_engine(system, int(harmonics), n_samples)  # Hill on every harmonic
     settings["n_samples"] = engine.basis.n_samples
     settings["engine"] = type(engine).__name__
-    m = engine.basis.size * engine.n_dof
-    cold = engine.cold_start() if hasattr(engine, "cold_start") else np.zeros(m)
+    cold = engine.cold_start()
     if method == "continuation":
         settings["step"] = step
         w0, w1 = 2 * np.pi * freqs[0], 2 * np.pi * freqs[-1]
@@ -557,22 +556,14 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
     mult = np.zeros(n)
     known = np.zeros(n, dtype=bool)
     outputs, units = {}, {}
-    if hasattr(engine, "stability"):
-        if stability and n:
-            best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
-            known = np.isfinite(best)
-            stable = known & (best < 1e-7 * omegas)
-            mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
-        outputs, units = _first_order_outputs(engine, system, omegas, coeffs, ok)
-        if outputs:
-            amp = outputs[next(iter(outputs))].data
-    elif stability:
-        for i in np.flatnonzero(ok):
-            lam = hill_exponents(engine, coeffs[i], omegas[i])
-            if np.all(np.isfinite(lam)):
-                stable[i] = is_stable(lam, omegas[i])
-                mult[i] = math.exp(float(np.max(lam.real)) * 2 * np.pi / omegas[i])
-                known[i] = True
+    if stability and n:
+        best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
+        known = np.isfinite(best)
+        stable = known & (best < 1e-7 * omegas)
+        mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
+    outputs, units = _first_order_outputs(engine, system, omegas, coeffs, ok)
+    if outputs:
+        amp = outputs[next(iter(outputs))].data
     reasons = tuple(
         "" if o else FAILURE_REASONS.get(int(c), "failed") for o, c in zip(ok, codes, strict=True)
     )
@@ -657,8 +648,8 @@ def _resolve_system(system, amplitude):
     from .first_order import FirstOrderSystem, is_first_order
     from .quarter_car import from_core_system, quarter_car_system
 
-    if isinstance(system, QuarterCar):
-        system = quarter_car_system(system)
+    if isinstance(system, QuarterCar) or "model" in getattr(system, "info", {}):
+        system = quarter_car_system(system)  # a named suspension
     elif (
         not isinstance(system, FirstOrderSystem)
         and hasattr(system, "tables")
@@ -679,29 +670,62 @@ def _resolve_system(system, amplitude):
     return system, False
 
 
-def _brute_first_order(system, passes, harmonics, settings, amplitude):
-    """Brute force of a first-order system: RK4 on its right-hand side to steady state."""
-    from .first_order import brute_force_point
-
-    freqs, oks, its, dirs, coeffs, reasons, xs_all, omegas = ([] for _ in range(8))
-    spp = int(settings["steps_per_period"])
+def _scan(passes, settings, solve):
+    """(direction, f [Hz], Omega [rad/s], solve(Omega, start)) of every brute-force point
+    in scan order; ``solve`` returns the end state first, and ``start`` is the last
+    point's end state with ``brute_start="previous"``, else None (rest)."""
     for name, fr in passes:
         y = None
         for f in fr:
             w = 2 * np.pi * f
-            start = y if settings["brute_start"] == "previous" else None
-            y, xs, ok, periods = brute_force_point(
-                system, w, amplitude, steps_per_period=spp, rtol=settings["brute_rtol"],
-                max_periods=settings["max_periods"], initial_state=start,
-            )  # fmt: skip
-            freqs.append(f)
-            omegas.append(w)
-            oks.append(ok)
-            its.append(periods)
-            dirs.append(name)
-            coeffs.append(coefficients_by_fft(xs, harmonics))
-            xs_all.append(xs)
-            reasons.append("" if ok else "no steady state within max_periods periods")
+            out = solve(w, y if settings["brute_start"] == "previous" else None)
+            y = out[0]
+            yield name, f, w, out
+
+
+def _brute_response(freqs, amp, coeffs, residual, ok, dirs, its, settings, outputs=None,
+                    units=None):  # fmt: skip
+    """The brute-force result: settled points are attractors (stable), no multipliers."""
+    ok = np.asarray(ok, dtype=bool)
+    return FrequencyResponse(
+        freq_hz=np.array(freqs),
+        amplitude_m=np.ma.masked_array(np.asarray(amp, dtype=float), mask=~ok),
+        coefficients=np.array(coeffs),
+        residual=np.asarray(residual, dtype=float),
+        converged=ok,
+        stable=np.ma.masked_array(ok.copy(), mask=~ok),
+        max_multiplier=np.ma.masked_array(np.zeros(len(ok)), mask=np.ones(len(ok), dtype=bool)),
+        failure_reason=tuple("" if o else "no steady state within max_periods periods" for o in ok),
+        direction=np.array(dirs),
+        iterations=np.array(its, dtype=np.int64),
+        method="brute",
+        settings=settings,
+        outputs=outputs or {},
+        output_units=units or {},
+    )
+
+
+def _brute_first_order(system, passes, harmonics, settings, amplitude):
+    """Brute force of a first-order system: RK4 on its right-hand side to steady state."""
+    from .first_order import brute_force_point
+
+    spp = int(settings["steps_per_period"])
+
+    def solve(w, start):
+        return brute_force_point(
+            system, w, amplitude, steps_per_period=spp, rtol=settings["brute_rtol"],
+            max_periods=settings["max_periods"], initial_state=start,
+        )  # fmt: skip
+
+    freqs, oks, its, dirs, coeffs, xs_all, omegas = ([] for _ in range(7))
+    for name, f, w, (_, xs, ok, periods) in _scan(passes, settings, solve):
+        freqs.append(f)
+        omegas.append(w)
+        oks.append(ok)
+        its.append(periods)
+        dirs.append(name)
+        coeffs.append(coefficients_by_fft(xs, harmonics))
+        xs_all.append(xs)
     ok = np.array(oks, dtype=bool)
     omegas = np.array(omegas)
     outputs, units = {}, {}
@@ -728,65 +752,38 @@ def _brute_first_order(system, passes, harmonics, settings, amplitude):
             outputs[name] = np.ma.masked_array(0.5 * (hi - lo), mask=~ok)
         units = dict(getattr(system, "output_units", {}))
     rs = int(getattr(system, "response_state", 0))
-    amp = np.array([0.5 * (x[rs].max() - x[rs].min()) for x in xs_all])
-    return FrequencyResponse(
-        freq_hz=np.array(freqs),
-        amplitude_m=np.ma.masked_array(amp, mask=~ok),
-        coefficients=np.array(coeffs),
-        residual=np.zeros(len(ok)),
-        converged=ok,
-        stable=np.ma.masked_array(ok.copy(), mask=~ok),
-        max_multiplier=np.ma.masked_array(np.zeros(len(ok)), mask=np.ones(len(ok), dtype=bool)),
-        failure_reason=tuple(reasons),
-        direction=np.array(dirs),
-        iterations=np.array(its, dtype=np.int64),
-        method="brute",
-        settings=settings,
-        outputs=outputs,
-        output_units=units,
+    amp = [0.5 * (x[rs].max() - x[rs].min()) for x in xs_all]
+    return _brute_response(
+        freqs, amp, coeffs, np.zeros(len(ok)), ok, dirs, its, settings, outputs, units
     )
 
 
 def _brute(system, passes, harmonics, settings):
+    """Brute force of a built-in or user system (:func:`~.brute.steady_state`)."""
     nd = int(system.n_dof)
     dof = int(getattr(system, "response_dof", 0))
-    freqs, amps, oks, res, its, dirs, coeffs, reasons = [], [], [], [], [], [], [], []
-    for name, fr in passes:
-        y = None
-        for f in fr:
-            w = 2 * np.pi * f
-            start = y if settings["brute_start"] == "previous" else None
-            s = steady_state(
-                system, w, initial_state=start, backend=settings["backend"],
-                steps_per_period=settings["steps_per_period"], rtol=settings["brute_rtol"],
-                max_periods=settings["max_periods"],
-            )  # fmt: skip
-            y = s.state
-            c = np.zeros((nd, 2 * harmonics + 1))
-            c[dof] = coefficients_by_fft(s.samples, harmonics)
-            freqs.append(f)
-            amps.append(s.amplitude)
-            oks.append(s.settled)
-            res.append(s.distance)
-            its.append(s.periods)
-            dirs.append(name)
-            coeffs.append(c)
-            reasons.append("" if s.settled else "no steady state within max_periods periods")
-    ok = np.array(oks, dtype=bool)
-    return FrequencyResponse(
-        freq_hz=np.array(freqs),
-        amplitude_m=np.ma.masked_array(np.array(amps), mask=~ok),
-        coefficients=np.array(coeffs),
-        residual=np.where(np.isfinite(res), res, 1.0),
-        converged=ok,
-        stable=np.ma.masked_array(ok.copy(), mask=~ok),
-        max_multiplier=np.ma.masked_array(np.zeros(len(ok)), mask=np.ones(len(ok), dtype=bool)),
-        failure_reason=tuple(reasons),
-        direction=np.array(dirs),
-        iterations=np.array(its, dtype=np.int64),
-        method="brute",
-        settings=settings,
-    )
+
+    def solve(w, start):
+        s = steady_state(
+            system, w, initial_state=start, backend=settings["backend"],
+            steps_per_period=settings["steps_per_period"], rtol=settings["brute_rtol"],
+            max_periods=settings["max_periods"],
+        )  # fmt: skip
+        return s.state, s
+
+    freqs, amps, oks, res, its, dirs, coeffs = ([] for _ in range(7))
+    for name, f, _, (_, s) in _scan(passes, settings, solve):
+        c = np.zeros((nd, 2 * harmonics + 1))
+        c[dof] = coefficients_by_fft(s.samples, harmonics)
+        freqs.append(f)
+        amps.append(s.amplitude)
+        oks.append(s.settled)
+        res.append(s.distance)
+        its.append(s.periods)
+        dirs.append(name)
+        coeffs.append(c)
+    residual = np.where(np.isfinite(res), res, 1.0) if res else np.zeros(0)
+    return _brute_response(freqs, amps, coeffs, residual, oks, dirs, its, settings)
 
 
 def nrmse(

@@ -9,14 +9,16 @@ The residual must be affine in x'' (a mass matrix times x'' plus the rest); time
 integration solves it for x''.
 
 Built-in systems (compiled): :class:`DuffingOscillator` and :class:`InerterSuspension`
-(thesis (7.1)). The harmonic balance and the brute force solve them on the one engine of
+(thesis (7.1)), the templates of :mod:`inerterlab.systems.oscillators` with their
+parameters. The harmonic balance and the brute force solve them on the one engine of
 :mod:`inerterlab.frequency.first_order`, as the states (x, x') in implicit form
 
     x' - v = 0,    r(tau, x, v, v') = 0,
 
 with the velocity's coefficients eliminated (V = Omega D X), so the balance is exactly
 that of r (whatever the effective mass does within a cycle) on the 2H+1 coefficients of
-x. Any other system is a :class:`UserSystem` built from plain numpy functions.
+x. Any other system is a :class:`UserSystem` built from plain numpy functions, which
+numba compiles for the same engine.
 """
 
 from __future__ import annotations
@@ -26,13 +28,13 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
-from numba import njit
 
 from ..errors import ParameterError, check_choice, check_nonnegative, check_positive
 from ..flywheels import AdaptiveFlywheel, flywheel
+from ..systems import oscillators
+from ..systems.oscillators import FREQ_SLOT, residual_partials
 from ..transmissions import Transmission, hydraulic
-from ._kernels import residual_partials
-from .first_order import FREQ_SLOT, RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
+from .first_order import FirstOrderSystem
 
 __all__ = [
     "DuffingOscillator",
@@ -46,57 +48,15 @@ __all__ = [
 FORCE_LAWS = ("thesis", "momentum", "thesis-literal")
 
 
-@njit(TERMS_SIGNATURE, cache=True)
-def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
-    """The implicit form on (x, v): r_0 = x' - v, r_1 = r(tau, x, v, v') with (when
-    ``partials``) their partials, at every sample; the base moves as amp sin(tau)."""
-    sys_id = itab[0]
-    p = _borrow(ftab)  # no reference counting per sample (see first_order._borrow)
-    for k in range(tau.shape[0]):
-        s = math.sin(tau[k])
-        r[0, k] = xds[0, k] - xs[1, k]
-        r1, g0, g1, g2 = residual_partials(
-            sys_id, p, tau[k], omega, amp * s, amp * omega * math.cos(tau[k]),
-            -amp * omega * omega * s, xs[0, k], xs[1, k], xds[1, k],
-        )  # fmt: skip
-        r[1, k] = r1
-        if not partials:
-            continue
-        P[0, 0, k] = 0.0
-        P[0, 1, k] = -1.0
-        Q[0, 0, k] = 1.0
-        Q[0, 1, k] = 0.0
-        P[1, 0, k] = g0
-        P[1, 1, k] = g1
-        Q[1, 0, k] = 0.0
-        Q[1, 1, k] = g2
-    return True
-
-
-@njit(RHS_SIGNATURE, cache=True)
-def _rhs(t, y, road, itab, ftab, out):
-    """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t."""
-    omega = road[FREQ_SLOT]
-    r0, _, _, m = residual_partials(
-        itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
-    )
-    out[0] = y[1]
-    out[1] = -r0 / m
-    return True
-
-
-class _KernelSystem:
-    """Shared behaviour of the built-in one-degree-of-freedom systems."""
+class _TemplateSystem:
+    """Shared behaviour of the built-in one-degree-of-freedom systems (the templates of
+    :mod:`inerterlab.systems.oscillators`)."""
 
     n_dof = 1
     response_dof = 0
 
     def parameters(self) -> tuple[int, np.ndarray]:  # pragma: no cover - overridden
         raise AttributeError
-
-    def kernel(self) -> tuple[int, np.ndarray]:
-        """(system code, parameters) of the specialised kernel (``frequency._kernels``)."""
-        return self.parameters()
 
     @property
     def input_amplitude(self) -> float:
@@ -129,8 +89,8 @@ class _KernelSystem:
         scale = float(self.displacement_scale)
         return FirstOrderSystem(
             n_states=2,
-            rhs=_rhs,
-            terms=_terms,
+            rhs=oscillators.rhs,
+            terms=oscillators.terms,
             velocity_of=(1, -1),
             int_table=np.array([sys_id], dtype=np.int64),
             float_table=np.ascontiguousarray(p, dtype=float),
@@ -143,7 +103,7 @@ class _KernelSystem:
 
 
 @dataclass(frozen=True, kw_only=True)
-class DuffingOscillator(_KernelSystem):
+class DuffingOscillator(_TemplateSystem):
     """m x'' + c x' + k x + g x^3 = P cos(Omega t).
 
     Parameters
@@ -203,7 +163,7 @@ class DuffingOscillator(_KernelSystem):
 
 
 @dataclass(frozen=True, kw_only=True)
-class InerterSuspension(_KernelSystem):
+class InerterSuspension(_TemplateSystem):
     """Body on spring, damper and flywheel inerter over a moving base, thesis (7.1).
 
         M X1'' + F_in + K (X1 - X0) + C (X1' - X0') = 0,   X0 = B sin(Omega t)  (7.6)
@@ -282,6 +242,21 @@ class InerterSuspension(_KernelSystem):
         p = [self.body_mass, self.stiffness, self.damping, self.base_amplitude, *extra]
         return 1, np.array(p, dtype=float)
 
+    def core_system(self):
+        """The same body as a system of the model core,
+        ``inerterlab.systems.base_excited(M, "k | c | afw")`` (``"k | c"`` without
+        flywheel): its time simulation, linearisation and outputs."""
+        from ..elements import AdaptiveFlywheelInerter
+        from ..systems import base_excited
+
+        params: dict = {"k": self.stiffness, "c": self.damping}
+        if self.flywheel is None:
+            return base_excited(self.body_mass, "k | c", params)
+        params["afw"] = AdaptiveFlywheelInerter(
+            flywheel=self.flywheel, ratio=self.transmission.ratio, law=self.force_law
+        )
+        return base_excited(self.body_mass, "k | c | afw", params)
+
     def equivalent_mass_range(self) -> tuple[float, float]:
         """r^2 I_min and r^2 I_max [kg] (0, 0 without inerter)."""
         if self.flywheel is None:
@@ -340,7 +315,8 @@ def traditional_suspension(base_amplitude: float = 0.01) -> InerterSuspension:
 
 @dataclass(frozen=True, kw_only=True)
 class UserSystem:
-    """A system given by Python functions (numpy path, no compilation).
+    """A system given by Python functions of numpy arrays, compiled by numba for the one
+    engine (:meth:`first_order`; numba's first compilation takes some seconds).
 
     Parameters
     ----------
@@ -348,14 +324,18 @@ class UserSystem:
         ``residual(tau, omega, x, xd, xdd) -> r``; ``tau`` has shape (K,) (phase
         Omega t [rad]), ``omega`` is the forcing frequency [rad/s], ``x``, ``xd``,
         ``xdd`` have shape (n_dof, K); returns r of shape (n_dof, K). Must be affine in
-        ``xdd`` (r = M xdd + f).
+        ``xdd`` (r = M xdd + f) and written so numba can compile it (numpy array
+        arithmetic and ufuncs; a function it cannot compile is refused naming
+        ``residual``). The harmonic balance takes its partials by central differences.
     n_dof : int
         Number of degrees of freedom.
     partials : callable, optional
         ``partials(tau, omega, x, xd, xdd) -> (dr_dx, dr_dxd, dr_dxdd)``, each of
-        shape (n_dof, n_dof, K) with [i, j, k] = d r_i / d x_j at sample k. Without it
-        the partials come from central differences per degree of freedom (all samples at
-        once, since r at one sample depends only on the state at that sample).
+        shape (n_dof, n_dof, K) with [i, j, k] = d r_i / d x_j at sample k, for the
+        numpy evaluation (:meth:`evaluate`: scipy's brute force and the Floquet
+        reference). Without it, and always in the harmonic balance, the partials come
+        from central differences per degree of freedom (all samples at once, since r at
+        one sample depends only on the state at that sample).
     nonlinearity_degree : int
         Polynomial degree of the nonlinearity for the aliasing rule (3 for cubic).
     displacement_scale : float
@@ -390,6 +370,32 @@ class UserSystem:
         if not 0 <= self.response_dof < self.n_dof:
             raise ParameterError("response_dof", self.response_dof, f"0 .. {self.n_dof - 1}")
 
+    def first_order(self) -> FirstOrderSystem:
+        """The system on the states (x, x') of the one harmonic-balance engine, in
+        implicit form with the velocities eliminated (x' - v = 0, r(tau, x, v, v') = 0),
+        its residual compiled by numba (partials by central differences)."""
+        form = getattr(self, "_form", None)
+        if form is None:
+            n = int(self.n_dof)
+            scale = float(self.displacement_scale)
+            terms, rhs = _user_forms(self.residual, n, scale)
+            form = FirstOrderSystem(
+                n_states=2 * n,
+                rhs=rhs,
+                terms=terms,
+                velocity_of=tuple(range(n, 2 * n)) + (-1,) * n,
+                int_table=np.zeros(1, dtype=np.int64),
+                float_table=np.zeros(1),
+                state_scales=np.full(2 * n, scale),
+                rest_state=np.zeros(2 * n),
+                nonlinearity_degree=int(self.nonlinearity_degree),
+                response_state=int(self.response_dof),
+                label="user system",
+                input_amplitude=0.0,
+            )
+            object.__setattr__(self, "_form", form)  # compiled once per system
+        return form
+
     def evaluate(self, tau, omega, x, xd, xdd):
         """r and its partials at the samples (see the class docstring for shapes)."""
         r = np.asarray(self.residual(tau, omega, x, xd, xdd), dtype=float).reshape(x.shape)
@@ -412,3 +418,96 @@ class UserSystem:
                 g[:, j, :] = (rp - rm) / (2.0 * h)
             out.append(g)
         return r, out[0], out[1], out[2]
+
+
+def _user_forms(residual, n: int, scale: float):
+    """Compiled ``terms`` and ``rhs`` of a user residual on the states (x, v) (see
+    :meth:`UserSystem.first_order`); the residual is compiled by numba."""
+    from numba import njit
+
+    from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE
+
+    try:
+        res = njit(cache=False)(residual)
+    except Exception as exc:  # noqa: BLE001 - numba's own error text follows
+        raise ParameterError("residual", residual, f"a function numba can compile ({exc})") from None
+
+    @njit(cache=False)
+    def _eval(tau, omega, x, v, a):
+        out = res(tau, omega, x, v, a)
+        return np.ascontiguousarray(out).reshape((n, tau.shape[0]))
+
+    def terms_py(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
+        K = tau.shape[0]
+        x = np.ascontiguousarray(xs[:n])
+        v = np.ascontiguousarray(xs[n:])
+        a = np.ascontiguousarray(xds[n:])
+        rr = _eval(tau, omega, x, v, a)
+        for i in range(n):
+            for k in range(K):
+                r[i, k] = xds[i, k] - xs[n + i, k]
+                r[n + i, k] = rr[i, k]
+        if not partials:
+            return True
+        P[:, :, :] = 0.0
+        Q[:, :, :] = 0.0
+        for i in range(n):
+            P[i, n + i, :] = -1.0
+            Q[i, i, :] = 1.0
+        # central differences in each dof's displacement, velocity and acceleration (r at
+        # one sample depends only on the state there: every sample at once)
+        for which in range(3):
+            size = scale * max(omega, 1e-12) ** which * 1e-6
+            for j in range(n):
+                xp, vp, ap = x.copy(), v.copy(), a.copy()
+                xm, vm, am = x.copy(), v.copy(), a.copy()
+                base = x if which == 0 else (v if which == 1 else a)
+                h = size + 1e-7 * np.abs(base[j])
+                if which == 0:
+                    xp[j] += h
+                    xm[j] -= h
+                elif which == 1:
+                    vp[j] += h
+                    vm[j] -= h
+                else:
+                    ap[j] += h
+                    am[j] -= h
+                g = (_eval(tau, omega, xp, vp, ap) - _eval(tau, omega, xm, vm, am)) / (2.0 * h)
+                for i in range(n):
+                    if which == 0:
+                        P[n + i, j] = g[i]
+                    elif which == 1:
+                        P[n + i, n + j] = g[i]
+                    else:
+                        Q[n + i, n + j] = g[i]
+        return True
+
+    def rhs_py(t, y, road, itab, ftab, out):
+        # x'' solves M x'' = -r(x, v, 0), M = dr/dx'' (r is affine in x'')
+        omega = road[FREQ_SLOT]
+        tau = np.array([omega * t])
+        x = y[:n].copy().reshape((n, 1))
+        v = y[n : 2 * n].copy().reshape((n, 1))
+        zero = np.zeros((n, 1))
+        r0 = _eval(tau, omega, x, v, zero)[:, 0]
+        M = np.empty((n, n))
+        for j in range(n):
+            e = np.zeros((n, 1))
+            e[j, 0] = 1.0
+            M[:, j] = _eval(tau, omega, x, v, e)[:, 0] - r0
+        acc = np.linalg.solve(M, -r0)
+        for i in range(n):
+            out[i] = y[n + i]
+            out[n + i] = acc[i]
+        return True
+
+    try:
+        terms = njit(TERMS_SIGNATURE, cache=False)(terms_py)
+        rhs = njit(RHS_SIGNATURE, cache=False)(rhs_py)
+    except Exception as exc:  # noqa: BLE001 - numba's typing error names the cause
+        first = str(exc).strip().splitlines()
+        raise ParameterError(
+            "residual", residual, "a function of numpy arrays numba can compile "
+            f"({first[0] if first else type(exc).__name__})",
+        ) from None  # fmt: skip
+    return terms, rhs
