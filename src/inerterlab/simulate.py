@@ -311,9 +311,14 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     if steps:
         iv = sys_.state_names.index("body.v")
         v = res.states[:, iv]
+        acc = res.outputs["body.a"]
         for t in steps:
             after = v[np.searchsorted(times, t)]
-            prior = v[np.searchsorted(times, t - _BEFORE_STEP * max(1.0, t))] if t > 0.0 else 0.0
+            prior = 0.0
+            if t > 0.0:  # the velocity read just before, carried to the step by a
+                d = _BEFORE_STEP * max(1.0, t)
+                j = np.searchsorted(times, t - d)
+                prior = v[j] + acc[j] * (t - times[j])
             if after != prior:
                 jumps.append((float(t), float(after - prior)))
     samples = None
@@ -568,10 +573,15 @@ def _sine_steps(
 ) -> float:
     """Steps the numba backend takes for a sine up to ``horizon`` (:func:`sine_steps`)."""
     return sine_steps(
-        lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+        lambda t: _attempts(_run_numba(model, excitation, t, options, want_series).stats),
         excitation,
         horizon,
     )
+
+
+def _attempts(stats: dict) -> int:
+    """The steps a run counts against ``max_steps``: accepted and rejected ones."""
+    return int(stats.get("steps", 0)) + int(stats.get("rejected") or 0)
 
 
 def sine_steps(steps_to, excitation: Excitation, horizon: float) -> float:
@@ -628,7 +638,7 @@ def _check_step_budget(
 
     if options.backend == "numba":
         check_sine_steps(
-            lambda t: _run_numba(model, excitation, t, options, want_series).stats["steps"],
+            lambda t: _attempts(_run_numba(model, excitation, t, options, want_series).stats),
             excitation,
             horizon,
             options.rtol,

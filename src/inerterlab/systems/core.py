@@ -897,7 +897,8 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
 
         def steps_to(t):  # the same run over the first periods (not measured again)
             res = _simulate(sys, excitation, t, options)
-            return res.stats.get("steps", 0) if res.method == "adaptive" else 0
+            st = res.stats  # attempts: accepted and rejected steps count against the budget
+            return st.get("steps", 0) + st.get("rejected", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
     segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
@@ -993,11 +994,12 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
         atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
         st = np.zeros(5, dtype=np.int64)
-        XE, XG, keys, thr, idx, cls = regime
+        XE, XG, keys, thr, idx, cls, *lev = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
             ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
             idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0), options.step_control,
+            lev[0] if lev else None,
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
@@ -1263,30 +1265,57 @@ def _regime_system(sys):
     return found
 
 
+#: exact steps in a linear regime between break points far apart (or past a break
+#: point the regime does not reach): lengths H, H/2, ..., H/2^(REGIME_LEVELS - 1) with
+#: H = min(REGIME_LEVEL_MAX, REGIME_LEVEL_PHASE / the fastest rate of the regime system
+#: and the road), so a guard's cubic through the ends of a step follows it closely; no
+#: levels where H would be below REGIME_LEVEL_MIN [s]
+REGIME_LEVELS = 4
+REGIME_LEVEL_MAX = 0.01
+REGIME_LEVEL_MIN = 1e-4
+REGIME_LEVEL_PHASE = 0.5
+
+
+def _regime_rate(sys, A) -> float:
+    """The largest |eigenvalue| [1/s] of the regime system's matrix A (cached)."""
+    if "regime_rate" not in sys.info:
+        sys.info["regime_rate"] = float(np.max(np.abs(np.linalg.eigvals(A)), initial=0.0))
+    return sys.info["regime_rate"]
+
+
 def _regime_tables(sys, segs, T, ts, plan):
     """Arguments of :func:`._integrate.integrate` for exact steps while every nonlinear
-    element sits in its linear regime (:meth:`ElementBase.linear_regime`): one matrix
-    exponential per distinct step length between break points (``plan``, as for a
-    linear system) and per sine frequency of the road (0 for its linear segments), or
-    :data:`_NO_REGIME`."""
+    element sits in its linear regime (:meth:`ElementBase.linear_regime`), one matrix
+    exponential per step length and per sine frequency of the road (0 for its linear
+    segments): (XE, XG, keys, thresholds, elements, classes, level rows). The lengths:
+    those between break points (``plan``, as for a linear system, where it has at most
+    :data:`EXACT_MAX_STEP_SIZES`) and the levels (see :data:`REGIME_LEVELS`);
+    :data:`_NO_REGIME` where the system has no such regime."""
     reg = _regime_system(sys)
-    if reg is None or plan is None:
+    if reg is None:
         return _NO_REGIME
-    sizes, _ = plan
-    if sizes.size > EXACT_MAX_STEP_SIZES:
-        return _NO_REGIME
+    q = EXACT_STEP_QUANTUM * max(T, 1.0)
+    sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
     ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
     cls = np.full(len(segs), -1, np.int64)
     for c, wc in enumerate(ws):
         cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     A, B, gx, gu, thr, idx = reg[:6]
+    rate = max(_regime_rate(sys, A), float(np.max(np.abs(ws), initial=0.0)))
+    top = REGIME_LEVEL_MAX if rate == 0.0 else min(REGIME_LEVEL_MAX, REGIME_LEVEL_PHASE / rate)
+    levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
+    lev_keys = np.rint(levels / q).astype(np.int64)
+    keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
+    keys = keys[keys > 0]
+    if keys.size == 0:
+        return _NO_REGIME
+    xlev = np.searchsorted(keys, lev_keys).astype(np.int64)  # longest first
     XE, XG = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        np.ascontiguousarray(sizes, float).tobytes(),
+        (keys * q).tobytes(),
     )  # fmt: skip
-    keys = np.rint(sizes / (EXACT_STEP_QUANTUM * max(T, 1.0))).astype(np.int64)
-    return XE, XG, keys, thr, idx, cls
+    return XE, XG, keys, thr, idx, cls, xlev
 
 
 @lru_cache(maxsize=16)
