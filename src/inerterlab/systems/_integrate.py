@@ -439,8 +439,13 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     span = t_end - t
     if span <= 0.0:
         return OK, k, h
-    if h <= 0.0 or h > span:
+    if h <= 0.0:
         h = min(span, 1e-3 * max(span, 1.0))
+    elif h > span:
+        # the step carried over from the last segment fits this one whole (a sampled
+        # road's samples end every step: starting again from 1e-3 s cost a second step
+        # per 2 ms sample)
+        h = span
     hmax = ctl[0]
     hfix = ctl[1]
     reject_prev = False
