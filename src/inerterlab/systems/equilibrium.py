@@ -23,8 +23,11 @@ equilibrium and every analysis of the core (time simulation, harmonic balance,
 linearisation) applies unchanged. :meth:`Equilibrium.linear_state_space` is the
 linearisation about the equilibrium (central differences of the right-hand side).
 
-Node formulation only: a body with several coordinates (pitch, roll) needs its
-generalised weight here too.
+The tyre element carries load at rest like a spring (its static extension is the
+wheel's sag on the road). A body with several coordinates (a vehicle's bounce, pitch
+and roll) has its weight on the translational coordinate alone: the coordinates that
+:attr:`System.info` ``["weightless"]`` names (pitch, roll: the body's centre of gravity
+is its reference point) take the body's moment of inertia as their mass and no weight.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..elements._base import NPAR, SPRING
+from ..elements._base import NPAR, SPRING, TYRE
 from ..errors import ConvergenceError, NetworkError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
@@ -108,7 +111,14 @@ def _structure(sys):
     masses = np.array([ftab[fm + n] for n in range(nn)])
     ends = [(int(itab[eo + ELEM_W * e + 1]), int(itab[eo + ELEM_W * e + 2])) for e in range(ne)]
     codes = [int(itab[eo + ELEM_W * e]) for e in range(ne)]
-    return nn, ne, types, xstate, masses, ends, codes
+    # a combination node (a body point) passes a force to its members by its coefficients
+    share = {n: [(n, 1.0)] for n in range(nn)}
+    for n in range(nn):
+        b = no + NODE_W * n
+        if types[n] == _kernel.LIN:
+            mo, cnt, co = int(itab[b + 1]), int(itab[b + 2]), int(itab[b + 3])
+            share[n] = [(int(itab[mo + j]), float(ftab[co + j])) for j in range(cnt)]
+    return nn, ne, types, xstate, masses, ends, codes, share
 
 
 def _rebuilt(sys, elements: list):
@@ -154,9 +164,9 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         gravity = float(system.info.get("car", {}).get("gravity", 9.81))
     g = check_positive("gravity", gravity, "m/s^2")
     itab, ftab = system.tables
-    nn, ne, types, xstate, masses, ends, codes = _structure(system)
-    springs = [e for e in range(ne) if codes[e] == SPRING]
-    sprung = {n for e in springs for n in ends[e]}
+    nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
+    springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
+    sprung = {m for e in springs for n in ends[e] for m, _ in share[n]}
     # a massless node that no spring touches (between a damper and an inerter) carries
     # nothing at rest anywhere: it stays where it is
     rows = [
@@ -165,6 +175,8 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     ]  # fmt: skip
     unknown = np.array([xstate[n] for n in rows], dtype=np.int64)
     weights = masses * g
+    for name in system.info.get("weightless", ()):  # rotational coordinates
+        weights[system.node_names.index(name)] = 0.0
     weight = float(weights.sum())
     scale = max(weight, 1.0)
     W = np.empty(_kernel.work_size(itab))
@@ -183,10 +195,12 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         R = np.zeros(len(rows))
         for e in springs:
             t, b = ends[e]
-            if t in pos:
-                R[pos[t]] -= F[e]
-            if b in pos:
-                R[pos[b]] += F[e]
+            for m, c in share[t]:
+                if m in pos:
+                    R[pos[m]] -= c * F[e]
+            for m, c in share[b]:
+                if m in pos:
+                    R[pos[m]] += c * F[e]
         for n in rows:
             R[pos[n]] -= weights[n]
         return X, F, R
