@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..systems._kernel import DYN as _DYN  # a node with mass
 
 __all__ = ["LinearVehicle", "linear_vehicle", "OUTPUT_UNITS"]
 
@@ -108,6 +109,58 @@ class LinearVehicle:
             for k in names:
                 out[k][i] = Cy[k] @ X + Dr[k] + s * Dd[k]
         return out
+
+    @property
+    def plain(self) -> bool:
+        """True where every state is a position or velocity of a body with mass (no
+        internal nodes): the car has an undamped mass-spring model."""
+        sys = self.system
+        return sys.n_states == 2 * sum(1 for t in sys.node_types if t == _DYN)
+
+    def mass_stiffness(self):
+        """(M, K, names): the mass and (tangent) stiffness matrices over the bodies'
+        coordinates ``names`` of a :attr:`plain` car. M^-1 column by column from the
+        core's impulse flow (a unit impulse on one coordinate), K = -M A_vx from the
+        state matrix."""
+        from ..systems import _kernel
+
+        sys = self.system
+        if not self.plain:
+            raise ParameterError(
+                "struts", "internal nodes", "a car without internal nodes (no undamped model)"
+            )
+        itab, ftab = sys.tables
+        no = int(itab[_kernel.I_NODE])
+        dyn = [n for n, t in enumerate(sys.node_types) if t == _DYN]
+        names = [sys.node_names[n] for n in dyn]
+        order = [int(itab[no + _kernel.NODE_W * n + 3]) for n in dyn]  # impulse slots
+        vs = [sys.state_names.index(f"{nm}.v") for nm in names]
+        xs = [sys.state_names.index(f"{nm}.x") for nm in names]
+        nd = len(dyn)
+        W = np.empty(_kernel.work_size(itab))
+        dx = np.empty(sys.n_states)
+        road = np.zeros(_kernel.road_layout_of(itab)[1])
+        Minv = np.empty((nd, nd))
+        for j, d in enumerate(order):
+            imp = np.zeros(nd)
+            imp[d] = 1.0
+            _kernel.evaluate(0.0, np.zeros(sys.n_states), road, itab, ftab, W, dx, imp)
+            Minv[:, j] = dx[vs]
+        M = np.linalg.inv(Minv)
+        M = 0.5 * (M + M.T)
+        K = -M @ self._ss[0][np.ix_(vs, xs)]
+        return M, 0.5 * (K + K.T), names
+
+    def natural_frequencies(self, rigid_tyres: bool = True) -> np.ndarray:
+        """Undamped natural frequencies [Hz], ascending (a :attr:`plain` car):
+        ``rigid_tyres`` holds the wheels (the body, and seat, on the struts' springs and
+        inerters alone); otherwise the whole undamped car."""
+        from scipy.linalg import eigh
+
+        M, K, names = self.mass_stiffness()
+        keep = [i for i, n in enumerate(names) if not (rigid_tyres and n.startswith("wheel_"))]
+        w2 = eigh(K[np.ix_(keep, keep)], M[np.ix_(keep, keep)], eigvals_only=True)
+        return np.sqrt(np.maximum(w2, 0.0)) / (2 * math.pi)
 
     def static_tyre_loads(self) -> dict:
         """Static contact force of each wheel station [N] from the equilibrium."""
