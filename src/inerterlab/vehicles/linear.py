@@ -114,8 +114,12 @@ class LinearVehicle:
     def plain(self) -> bool:
         """True where every state is a position or velocity of a body with mass (no
         internal nodes): the car has an undamped mass-spring model."""
+        from ..systems.equilibrium import _structure
+
         sys = self.system
-        return sys.n_states == 2 * sum(1 for t in sys.node_types if t == _DYN)
+        masses = _structure(sys)[4]
+        dyn = [n for n, t in enumerate(sys.node_types) if t == _DYN]
+        return sys.n_states == 2 * len(dyn) and all(masses[n] > 0 for n in dyn)
 
     def mass_stiffness(self):
         """(M, K, names): the mass and (tangent) stiffness matrices over the bodies'
