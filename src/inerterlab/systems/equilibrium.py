@@ -209,6 +209,14 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         return balance(z)[2]
 
     def singular(J):
+        # a massless node that only a spring with free play (inside its play) holds
+        # carries nothing at rest: Newton takes the least-squares step there
+        w, v = np.linalg.eigh(0.5 * (J + J.T))
+        null = np.abs(w) <= 1e-12 * max(float(np.abs(w).max(initial=0.0)), 1e-300)
+        if np.all(np.isfinite(J)) and null.any():
+            heavy = [i for i, n in enumerate(rows) if masses[n] > 0]
+            if np.abs(v[np.ix_(heavy, np.flatnonzero(null))]).max(initial=0.0) <= 1e-9:
+                return
         raise NetworkError(
             f"{system.description}: no static equilibrium: {_unheld(system, rows, J)} is "
             "held by no spring at rest (the static stiffness is singular); give it a spring "
@@ -240,7 +248,8 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
             continue
         if hasattr(el, "at_operating_point"):
             new[e] = el.at_operating_point(el.operating_point + y)
-        elif abs(y) > 1e-12:
+        elif abs(y) > 1e-12 and abs(forces[names[e]]) > 1e-12 * scale:
+            # (moved inside its free play, carrying nothing: at rest anywhere there)
             raise NetworkError(
                 f"{system.description}: {names[e]} ({el.description}) is moved {y:.6g} m at "
                 "rest by the static load, and its law is taken about the force-free "
@@ -268,7 +277,8 @@ def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations:
     """z with max |residual(z)| <= ``tol`` by Newton's method from z = 0: the Jacobian by
     central differences (steps ``step`` x max(0.01, |z_j|)), each step halved until the
     residual falls and stays finite (a law undefined there gives NaN). ``singular(J)``
-    raises where the Jacobian is singular. Returns (z, iterations); ConvergenceError
+    raises where the Jacobian is singular, or returns where the singular part carries no
+    load (then the least-squares step is taken). Returns (z, iterations); ConvergenceError
     naming ``what`` if it does not converge."""
     z = np.zeros(n)
     if n == 0:
@@ -292,8 +302,10 @@ def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations:
             zm[j] -= d
             J[:, j] = (residual(zp) - residual(zm)) / (2 * d)
         if not np.all(np.isfinite(J)) or np.linalg.cond(J) > 1e14:
-            singular(J)
-        dz = np.linalg.solve(J, -R)
+            singular(J)  # raises, or returns where the singular part carries no load
+            dz = np.linalg.lstsq(J, -R, rcond=None)[0]
+        else:
+            dz = np.linalg.solve(J, -R)
         lam = 1.0
         while True:
             zt = z + lam * dz
