@@ -110,8 +110,15 @@ def test_random_pr_functions_are_realised_exactly(n, x, k):
     assume(np.max(np.abs(num)) > 0)  # Y0 = 0 when every square is 0
     if k is not None:  # Y = k/s + Y0
         num, den = np.polyadd(k * den, np.polymul(num, [1.0, 0.0])), np.polymul(den, [1.0, 0.0])
-    r = realise(num, den, "bott-duffin")
-    assert _target_error(r.network, r.parameters, num, den) < 1e-9
+    try:
+        r = realise(num, den, "bott-duffin")
+    except RealisationError as e:
+        # the one admitted failure: a loud refusal, never a wrong network, when rounding
+        # in a nearly degenerate minimum function costs more than the check allows
+        # (see test_nearly_degenerate_minimum_function_is_refused)
+        assert "misses the target" in str(e)
+    else:
+        assert _target_error(r.network, r.parameters, num, den) < 1e-9
     for method in ("foster", "cauer"):
         try:
             r = realise(num, den, method)
@@ -121,6 +128,43 @@ def test_random_pr_functions_are_realised_exactly(n, x, k):
     b = brune(num, den)
     s = check_points() * 1.3
     assert np.max(np.abs(b["value"](s) / (np.polyval(num, s) / np.polyval(den, s)) - 1)) < 1e-9
+
+
+@settings(derandomize=True, max_examples=25, deadline=None)
+@given(
+    x=st.lists(_PARAM, min_size=3, max_size=3),
+    k=st.one_of(st.none(), st.floats(0.1, 10.0)),
+)
+def test_random_bilinear_functions_are_realised_by_the_catalogue(x, k):
+    """Every PR function of degree 1 is one of c, k1 - c, c - b, c | (k1 - c1),
+    c | (c1 - b) (partial fractions), so the catalogue realises it, exactly."""
+    N, D = pr_from_parameters(np.array(x), 1)
+    num, den = N[::-1].copy(), D[::-1].copy()
+    assume(np.max(np.abs(num)) > 0)
+    if k is not None:
+        num, den = np.polyadd(k * den, np.polymul(num, [1.0, 0.0])), np.polymul(den, [1.0, 0.0])
+    r = realise(num, den, "catalogue")
+    assert r.elements <= 3 + (k is not None)
+    assert _target_error(r.network, r.parameters, num, den) < 1e-9
+
+
+def test_nearly_degenerate_minimum_function_is_refused():
+    """Found by the property test: after the minimum real part is removed, this
+    biquadratic's zero of Re Y(j w) lies within 7e-6 (relative) of a numerator zero
+    pair a hair off the axis (real part 1e-11). Such a pair was once taken for an axis
+    zero, and the network missed its target by 2e-5; now only pairs with a real residue
+    count as axis poles, so the Bott-Duffin cycle runs, but its rounding still leaves
+    5e-7, and the realisation is refused with that figure. A nearby function that is
+    further from degenerate (0.999 instead of 0.99999) is realised to 1e-9, and a
+    second found function, whose near-axis pair had given a network 1e-9-1e-8 off
+    without being refused, to 1e-13."""
+    N, D = pr_from_parameters(np.array([-1.0, 1.0, 1.0, 0.99999, 0.0]), 2)
+    with pytest.raises(RealisationError, match="misses the target"):
+        realise(N[::-1], D[::-1], "bott-duffin")
+    for x in ([-1.0, 1.0, 1.0, 0.999, 0.0], [-1.0, 0.998046875, -1.0, -1.0, 0.0]):
+        N, D = pr_from_parameters(np.array(x), 2)
+        r = realise(N[::-1], D[::-1], "bott-duffin")
+        assert _target_error(r.network, r.parameters, N[::-1], D[::-1]) < 1e-9
 
 
 LAYOUT_VALUES = np.random.default_rng(11)

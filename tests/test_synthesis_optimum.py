@@ -134,6 +134,51 @@ def test_wk_weighted_optimum_is_confirmed():
     assert res.objective <= objective_value([5000.0, 90_000.0], [1.0, 0.0], "body_acc_wk")
 
 
+# the enumerated budgets (dampers, inerters, springs besides k) of §11's counts; the
+# layouts of (1, 1, 1), (1, 1, 2) and (2, 1, 1) are among those of (2, 1, 2)
+_BUDGETS = [(1, 1, 1), (1, 1, 2), (1, 2, 1), (2, 1, 1), (2, 1, 2)]
+_CHUNKS = 8
+
+
+@pytest.fixture(scope="module")
+def pr_optima():
+    out = {n: synthesize(n, "body_acc", static_stiffness=90_000.0) for n in (1, 2, 3)}
+    for res in out.values():
+        _check_pr(res)
+    return out
+
+
+def _budget_layouts():
+    seen = {}
+    for budget in _BUDGETS:
+        for net in enumerate_networks(*budget):
+            d = layout_degree(net)
+            if d <= 3:
+                seen.setdefault(net.text, d)
+    return sorted(seen.items())
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("chunk", range(_CHUNKS))
+def test_optimum_never_worse_than_any_enumerated_layout(chunk, pr_optima):
+    """Every layout of the enumerated budgets whose Y0 has degree d <= 3 is a member or a
+    limit of the degree-n PR family for every n >= d, so its optimum cannot beat the
+    degree-n PR optimum (up to the searches' tolerance, 1e-7 relative). Each layout is
+    optimised once (four starts, as in the comparison the command prints); the layouts
+    are split into chunks to keep each test short."""
+    layouts = _budget_layouts()
+    assert len(layouts) > 60
+    for text, d in layouts[chunk::_CHUNKS]:
+        lay = optimize_network(
+            text, "body_acc", fixed={"k": 90_000.0}, starts=4, compare=False, **CAR
+        )
+        for n in range(max(d, 1), 4):
+            assert pr_optima[n].objective <= lay.objective * (1 + 1e-7), (text, n)
+    # and a higher degree is never worse
+    assert pr_optima[3].objective <= pr_optima[2].objective * (1 + 1e-7)
+    assert pr_optima[2].objective <= pr_optima[1].objective * (1 + 1e-7)
+
+
 def test_suspension_deflection_alone_is_flagged():
     """Minimising the suspension deflection alone wants a rigid suspension: the search
     ends on the edge of its box, and says so."""

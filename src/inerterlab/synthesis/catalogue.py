@@ -1,4 +1,5 @@
-"""Minimal series-parallel realisation from the enumerated catalogue of layouts.
+"""Minimal series-parallel realisation from the enumerated catalogue of layouts, and
+the structural catalogue of small networks (series-parallel and bridges).
 
 The catalogue is :func:`inerterlab.networks.enumerate_networks` (every layout ``k | (N)``
 of a budget, without the numerical family merge, which only removes duplicates),
@@ -8,21 +9,32 @@ be chosen so that its admittance equals the target's coefficient by coefficient
 starts, on the frequency-normalised target); the first layout that fits to a
 relative 1e-10 is minimal within the catalogue. Layouts whose generic degrees or
 structural zeros differ from the target's are skipped before fitting.
+
+:func:`structural_catalogue` lists every two-terminal network of at most five elements
+with at most a given number of reactive elements (springs and inerters), series-parallel
+or bridge, once up to reordering (docs/model.md §13, "Counts"); with the defaults it is
+the starting list of Ladenheim's catalogue (148 networks).
 """
 
 from __future__ import annotations
 
+import itertools
+from collections import Counter
+from dataclasses import dataclass
+
 import numpy as np
 
+from ..errors import ParameterError
 from ..networks import MAX_LAYOUTS, Element, admittance, enumerate_networks, parse_network
 
-__all__ = ["fit_catalogue", "catalogue_layouts"]
+__all__ = ["fit_catalogue", "catalogue_layouts", "structural_catalogue", "Bridge", "OnePort"]
 
 _DEFAULT_BUDGET = (2, 2, 2)  # dampers, inerters, springs besides k
 
 
 #: the realisation trees' element kinds by the network grammar's prefixes
 _KIND = {"k": "spring", "c": "damper", "b": "inerter"}
+
 
 def catalogue_layouts(dampers: int = 2, inerters: int = 2, springs: int = 2) -> list[str]:
     """Sub-network texts N of the layouts ``k | (N)``, fewest elements first."""
@@ -111,7 +123,9 @@ def fit_catalogue(num, den, budget=_DEFAULT_BUDGET, starts: int = 6, seed: int =
                 continue
             vals = {n: float(np.exp(v)) for n, v in zip(names, r.x, strict=True)}
             # back to physical units
-            params = {n: vals[n] * scale_of[_KIND[kind]] for n, kind in zip(names, net.kinds, strict=True)}
+            params = {
+                n: vals[n] * scale_of[_KIND[kind]] for n, kind in zip(names, net.kinds, strict=True)
+            }
             full, fparams = _with_main_spring(net, params, k)
             from .realise import Realisation
 
@@ -154,3 +168,132 @@ def _with_main_spring(net, params, k):
         return (node.op, [tree_of(p) for p in node.parts])
 
     return _to_text(tree_of(net.tree), k)
+
+
+# ---------------------------------------------------------------------------------------
+# the structural catalogue: every network of at most five elements, SP or bridge
+
+#: the Wheatstone bridge's arms (terminals a, b; inner nodes c, d): a-c, a-d, c-b, d-b,
+#: and the bridging arm c-d
+BRIDGE_ARMS = (("a", "c"), ("a", "d"), ("c", "b"), ("d", "b"), ("c", "d"))
+#: its symmetries that keep the terminal pair (arm permutations): identity, c <-> d,
+#: a <-> b, both
+_BRIDGE_SYMMETRIES = ((0, 1, 2, 3, 4), (1, 0, 3, 2, 4), (2, 3, 0, 1, 4), (3, 2, 1, 0, 4))
+_PREFIX = {"spring": "k", "damper": "c", "inerter": "b"}
+
+
+@dataclass(frozen=True)
+class Bridge:
+    """A five-element bridge network (not series-parallel): one element per arm of
+    :data:`BRIDGE_ARMS`, ``kinds`` in the network grammar's letters (k, c, b)."""
+
+    kinds: tuple[str, str, str, str, str]
+
+    @property
+    def names(self) -> list[str]:
+        """Element names k, k1, ..., c, c1, ..., b, b1, ... in arm order."""
+        total = Counter(self.kinds)
+        seen: Counter = Counter()
+        out = []
+        for k in self.kinds:
+            if k == "k":  # extra springs are k1, k2, ... as in the enumeration
+                out.append(f"k{seen[k] + 1}")
+            else:
+                out.append(k if total[k] == 1 else f"{k}{seen[k] + 1}")
+            seen[k] += 1
+        return out
+
+    @property
+    def text(self) -> str:
+        arms = [f"{n}:{x}-{y}" for n, (x, y) in zip(self.names, BRIDGE_ARMS, strict=True)]
+        return "bridge(" + ", ".join(arms) + ")"
+
+    def admittance_at(self, values: dict, s) -> np.ndarray:
+        """Admittance F/v between the terminals a and b at the points ``s`` (nodal
+        analysis: unit velocity at a, b held, forces balanced at c and d)."""
+        s = np.atleast_1d(np.asarray(s, complex))
+        ys = []
+        for name, kind in zip(self.names, self.kinds, strict=True):
+            x = float(values[name])
+            ys.append({"k": x / s, "c": x + 0 * s, "b": x * s}[kind])
+        y_ac, y_ad, y_cb, y_db, y_cd = ys
+        # unknown velocities of c and d with v_a = 1, v_b = 0
+        a11 = y_ac + y_cb + y_cd
+        a22 = y_ad + y_db + y_cd
+        a12 = -y_cd
+        det = a11 * a22 - a12 * a12
+        vc = (y_ac * a22 - a12 * y_ad) / det
+        vd = (a11 * y_ad - a12 * y_ac) / det
+        return y_ac * (1 - vc) + y_ad * (1 - vd)
+
+
+@dataclass(frozen=True)
+class OnePort:
+    """One network of :func:`structural_catalogue`: ``text`` is a network text for a
+    series-parallel network, ``bridge`` is set for a bridge."""
+
+    text: str
+    springs: int
+    dampers: int
+    inerters: int
+    bridge: Bridge | None = None
+
+    @property
+    def elements(self) -> int:
+        return self.springs + self.dampers + self.inerters
+
+    @property
+    def reactive(self) -> int:
+        return self.springs + self.inerters
+
+
+def structural_catalogue(max_elements: int = 5, max_reactive: int = 2) -> list[OnePort]:
+    """Every two-terminal network of springs, dampers and inerters with at most
+    ``max_elements`` elements of which at most ``max_reactive`` are springs or inerters.
+
+    Counted once up to reordering: series-parallel networks up to the order of the
+    parts of each series or parallel connection (the tool's enumeration,
+    :func:`inerterlab.networks.enumerate_networks` without a main spring and without
+    the numerical family merge), bridges up to their symmetries. Networks with a part
+    made of one kind of element only are left out, since that part is one element: two
+    elements of one kind directly in series or in parallel, and a bridge of five
+    elements of one kind. Series-parallel networks come first (fewest elements first),
+    then the bridges. Under the force-current analogy (spring = inductor, damper =
+    resistor, inerter = capacitor; series and parallel keep their meaning) the defaults
+    give the 148 networks of Ladenheim's starting list (docs/model.md §13).
+    """
+    if not (isinstance(max_elements, int) and 1 <= max_elements <= 5):
+        raise ParameterError(
+            "max_elements", max_elements, "an integer 1-5 (larger needs more bridge graphs)"
+        )
+    if not (isinstance(max_reactive, int) and 0 <= max_reactive <= max_elements):
+        raise ParameterError("max_reactive", max_reactive, f"an integer 0-{max_elements}")
+    found: dict[str, OnePort] = {}
+    for springs in range(max_reactive + 1):
+        for inerters in range(max_reactive + 1 - springs):
+            # the enumeration takes at most four of a kind; five dampers in series-parallel
+            # are always one damper, which four already list
+            dampers = min(4, max_elements - springs - inerters)
+            if dampers < 0 or springs > 4 or inerters > 4:
+                continue
+            for net in enumerate_networks(
+                dampers, inerters, springs, main_spring=False, merge_equivalent=False,
+                max_layouts=10**6,
+            ):  # fmt: skip
+                kinds = Counter(net.kinds)
+                if len(net.names) <= max_elements and kinds["k"] + kinds["b"] <= max_reactive:
+                    found[net.text] = OnePort(net.text, kinds["k"], kinds["c"], kinds["b"])
+    out = sorted(found.values(), key=lambda o: (o.elements, o.reactive))
+    if max_elements == 5:
+        seen = set()
+        for kinds in itertools.product("kcb", repeat=5):
+            if sum(k != "c" for k in kinds) > max_reactive or len(set(kinds)) == 1:
+                continue
+            key = min(tuple(kinds[i] for i in perm) for perm in _BRIDGE_SYMMETRIES)
+            if key in seen:
+                continue
+            seen.add(key)
+            br = Bridge(key)  # type: ignore[arg-type]
+            c = Counter(key)
+            out.append(OnePort(br.text, c["k"], c["c"], c["b"], br))
+    return out

@@ -194,6 +194,21 @@ def _imag_pairs(q, tol=1e-9):
     return sorted(out)
 
 
+def _axis_poles(p, q):
+    """Frequencies w of the pole pairs +-j w of p/q on the imaginary axis: roots of q
+    within the root finder's tolerance whose residue is real (a PR function's is). A
+    pair that only rounds onto the axis (zeros a hair off it, e.g. a minimum function
+    whose reactance at its zero of Re is nearly 0) has a complex residue and is left
+    to the minimum-function step."""
+    out = []
+    for w in _imag_pairs(q):
+        q1 = _divide_exact(q, np.array([1.0, 0.0, w * w]))
+        v = np.polyval(p, 1j * w) / (1j * w * np.polyval(q1, 1j * w))
+        if abs(v.imag) <= 1e-8 * abs(v):
+            out.append(w)
+    return out
+
+
 def _remove_axis_poles(p, q, imp):
     """Extract poles at infinity, 0 and +-j w of F = p/q; returns (terms, p, q)."""
     terms = []
@@ -220,7 +235,7 @@ def _remove_axis_poles(p, q, imp):
         p = _trim(r[:-1]) if len(r) > 1 else np.zeros(1)
         q = q1
     # finite imaginary-axis poles
-    for w in _imag_pairs(q):
+    for w in _axis_poles(p, q):
         f = np.array([1.0, 0.0, w * w])
         q1 = _divide_exact(q, f)
         two_a = (np.polyval(p, 1j * w) / (1j * w * np.polyval(q1, 1j * w))).real
@@ -239,7 +254,7 @@ def _has_axis_zero(p, q) -> bool:
         return True
     if abs(p[-1]) <= _EPS * np.max(np.abs(p)):
         return True
-    return bool(_imag_pairs(p))
+    return bool(_axis_poles(q, p))
 
 
 def _min_real(p, q):
@@ -342,6 +357,12 @@ def _bott_duffin_cycle(p, q, imp, w0, x, depth):
     rd = np.polysub(k * fk * q, np.polymul(s, p))
     rn = _divide_exact(rn, [1.0, -k])
     rd = _divide_exact(rd, [1.0, -k])
+    # R's zeros at +-j w0 (exact in theory): make them exact, so the next preamble finds
+    # them whatever the rounding of the root finder (a near-double zero of Re F at w0
+    # leaves them off the axis by more than its tolerance)
+    f0 = np.array([1.0, 0.0, w0 * w0])
+    if _deg(rn) >= 2:
+        rn = np.polymul(_divide_exact(rn, f0), f0)
     # F = [F(k) R || k F(k)/s] + [F(k)/R || s F(k)/k]
     b1 = _join(
         _par(imp), [_synth(fk * rn, rd, imp, "bott-duffin", depth + 1), _term("1/s", k * fk, imp)]

@@ -1,0 +1,213 @@
+"""The right-hand side of a core system compiled for its structure.
+
+One source, :func:`._kernel.evaluate`, serves every system: it reads the structure
+(node types, element kinds, topology) from the integer table ``itab`` and the
+parameters from the float table ``ftab``. It is compiled in two tiers, both with the
+signature :data:`RHS_SIGNATURE`:
+
+* **generic**: ``itab`` is data. Compiled once for every system (cached on disk with
+  the other kernels).
+* **per structure**: the same source with ``itab`` frozen into the code as a constant
+  (a module generated for the structure, :func:`_structure_module`): the compiler
+  resolves every table look-up, drops the branches of the node types and element
+  kinds the system does not have and unrolls its short loops; ``ftab`` (masses,
+  stiffnesses, ...) stays data, so a parameter sweep or a fit reuses the code. The
+  module is named by a hash of ``itab`` and of the package's source
+  (:func:`inerterlab._numba_cache.package_source_stamp`), and numba caches its machine
+  code next to it: a structure is compiled once per package version (3-6 s of CPU),
+  and every later process loads it (about 10 ms).
+
+The integrator (:mod:`._integrate`) takes the right-hand side as a first-class function
+(a function pointer of :data:`RHS_SIGNATURE`), so it is compiled once for every
+structure and either tier. :func:`rhs_for` picks the tier: the per-structure code once
+it is on disk, or once the integrations of a structure in a process have taken
+:data:`SPECIALISE_AFTER_SECONDS` of CPU time (a sweep, a fit, a long study: the
+compilation then pays for itself; a test or a report that runs many structures a few
+times each does not pay for theirs), the generic code before. Both evaluate the same
+arithmetic in the same order: results agree to the last bit.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import importlib.util
+import math
+import os
+import sys
+import threading
+from pathlib import Path
+
+import numba as nb
+import numpy as np
+from numba import types
+from numba.core.typing.typeof import typeof_impl
+from numba.experimental.function_type import _get_wrapper_address
+
+from .._numba_cache import package_source_stamp
+from ._kernel import evaluate
+
+_ro_i = types.Array(types.int64, 1, "C", readonly=True)
+_ro_f = types.Array(types.float64, 1, "C", readonly=True)
+_f1 = types.float64[::1]
+#: (t, x, road, itab, ftab, W, dx, imp) -> ok: the contract of :func:`._kernel.evaluate`
+RHS_SIGNATURE = types.boolean(types.float64, _f1, _f1, _ro_i, _ro_f, _f1, _f1, _f1)
+RHS_TYPE = types.FunctionType(RHS_SIGNATURE)
+#: a structure gets its own compiled code once its integrations in a process have taken
+#: this much CPU time [s] with the generic code (the compilation, 2-3 s of CPU, then pays
+#: for itself: the structure's own code takes about a third less time), or at its first
+#: integration when an earlier process compiled it (then it only loads)
+SPECIALISE_AFTER_SECONDS = 2.0
+#: ``INERTERLAB_SPECIALISE``: ``auto`` (default, as above), ``always`` or ``never``
+_MODE_ENV = "INERTERLAB_SPECIALISE"
+
+#: :func:`._kernel.evaluate` inlined where it is called (so that a constant ``itab``
+#: reaches its table reads); division by zero gives inf or NaN, which the integrator
+#: reports as a non-finite solution (an exception cannot cross a function pointer)
+evaluate_inline = nb.njit(inline="always", error_model="numpy")(evaluate.py_func)
+
+
+def _generic_rhs(t, x, road, itab, ftab, W, dx, imp):
+    return evaluate_inline(t, x, road, itab, ftab, W, dx, imp)
+
+
+_generic_dispatcher = nb.njit(cache=True, error_model="numpy")(_generic_rhs)
+
+
+class CompiledRhs(types.WrapperAddressProtocol):
+    """A compiled right-hand side of :data:`RHS_SIGNATURE`, passed to the integrator as
+    a function pointer. ``specialised``: compiled for one structure."""
+
+    __slots__ = ("_address", "specialised", "_keep")
+
+    def __init__(self, dispatcher, specialised: bool):
+        dispatcher.compile(RHS_SIGNATURE)
+        self._keep = dispatcher
+        self._address = _get_wrapper_address(dispatcher, RHS_SIGNATURE)
+        self.specialised = specialised
+
+    def __wrapper_address__(self) -> int:
+        return self._address
+
+    def signature(self):
+        return RHS_SIGNATURE
+
+    def __repr__(self) -> str:
+        return f"<CompiledRhs {'per structure' if self.specialised else 'generic'}>"
+
+
+@typeof_impl.register(CompiledRhs)
+def _typeof_rhs(val, c):  # one type object: no signature parsing per call
+    return RHS_TYPE
+
+
+_lock = threading.Lock()
+_generic: list = []
+_specialised: dict[bytes, CompiledRhs] = {}
+_spent: dict[bytes, float] = {}  # CPU time [s] of integrations with the generic code
+_seen: set[bytes] = set()
+
+
+def generic() -> CompiledRhs:
+    """The right-hand side for any structure (``itab`` read as data)."""
+    if not _generic:
+        with _lock:
+            if not _generic:
+                _generic.append(CompiledRhs(_generic_dispatcher, False))
+    return _generic[0]
+
+
+def _cache_dir() -> Path:
+    base = os.environ.get("NUMBA_CACHE_DIR")
+    root = Path(base) if base else Path.home() / ".cache" / "inerterlab-numba"
+    return root / "structures"
+
+
+def structure_key(itab: np.ndarray) -> str:
+    """Hash of a structure table and of the package source: the name of its compiled
+    module."""
+    h = hashlib.sha256(np.ascontiguousarray(itab, dtype=np.int64).tobytes())
+    h.update(package_source_stamp().encode())
+    return h.hexdigest()[:24]
+
+
+_TEMPLATE = '''"""The right-hand side of one core-system structure (generated by
+inerterlab.systems._compiled; the structure table below is a compile-time constant)."""
+import numba as nb
+import numpy as np
+
+from inerterlab.systems._compiled import evaluate_inline
+
+#: package source {stamp}
+ITAB = np.array({itab}, dtype=np.int64)
+ITAB.setflags(write=False)
+
+
+@nb.njit(cache=True, error_model="numpy")
+def rhs(t, x, road, itab, ftab, W, dx, imp):
+    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)
+'''
+
+
+def _structure_module(itab: np.ndarray, key: str):
+    """Import (writing it first if absent) the module of this structure."""
+    path = _cache_dir() / f"s_{key}.py"
+    if not path.exists():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        text = _TEMPLATE.format(stamp=package_source_stamp(), itab=list(map(int, itab)))
+        tmp = path.with_suffix(f".{os.getpid()}.tmp")
+        tmp.write_text(text)
+        os.replace(tmp, path)  # atomic: a concurrent process writes the same text
+    name = f"inerterlab_structure_{key}"
+    if name in sys.modules:
+        return sys.modules[name]
+    spec = importlib.util.spec_from_file_location(name, path)
+    mod = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(mod)
+    sys.modules[name] = mod
+    return mod
+
+
+def specialised(itab: np.ndarray) -> CompiledRhs:
+    """The right-hand side compiled for the structure ``itab`` (compiling it, 3-6 s of
+    CPU, unless this or an earlier process did)."""
+    k = np.ascontiguousarray(itab, dtype=np.int64).tobytes()
+    got = _specialised.get(k)
+    if got is None:
+        with _lock:
+            got = _specialised.get(k)
+            if got is None:
+                key = structure_key(itab)
+                got = CompiledRhs(_structure_module(itab, key).rhs, True)
+                (_cache_dir() / f"s_{key}.done").touch()
+                _specialised[k] = got
+    return got
+
+
+def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
+    """The right-hand side to integrate the structure ``itab`` with (see the module
+    docstring for the tier). ``count``: this is a run of the structure (an
+    integration), not a pass over its samples after one."""
+    k = itab.tobytes()
+    got = _specialised.get(k)
+    if got is not None:
+        return got
+    mode = os.environ.get(_MODE_ENV, "auto")
+    if mode == "never":
+        return generic()
+    try:
+        if mode == "always" or _spent.get(k, 0.0) >= SPECIALISE_AFTER_SECONDS:
+            return specialised(itab)
+        if count and k not in _seen:
+            _seen.add(k)
+            if (_cache_dir() / f"s_{structure_key(itab)}.done").exists():
+                return specialised(itab)
+    except OSError:  # no writable cache directory: the generic code serves
+        _spent[k] = -math.inf
+    return generic()
+
+
+def record(itab: np.ndarray, seconds: float) -> None:
+    """Add the CPU time [s] of an integration of the structure ``itab`` with the
+    generic code (what :func:`rhs_for` weighs against compiling it)."""
+    k = itab.tobytes()
+    _spent[k] = _spent.get(k, 0.0) + seconds
