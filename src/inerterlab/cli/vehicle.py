@@ -22,7 +22,9 @@ _VEHICLE = typer.Option(
 _JSON = typer.Option("--json", help="Print the result as one JSON object.")
 
 
-def _load(path: Path | None, model: str):
+def _load(path: Path | None, model: str, linear: bool = False):
+    """(parameters, vehicle); ``linear``: the core car about its static equilibrium
+    (:func:`~inerterlab.vehicles.linear.linear_vehicle`) for the linear analyses."""
     from ..errors import check_choice
     from ..vehicles import build
     from ..vehicles.config import example_vehicle_path, load_vehicle
@@ -35,6 +37,10 @@ def _load(path: Path | None, model: str):
         from ..errors import ParameterError
 
         raise ParameterError("model", model, "'half' or 'file' for a half-car file")
+    if linear:
+        from ..vehicles.linear import linear_vehicle
+
+        return params, linear_vehicle(params)  # refuses a car that does not rest
     veh = build(params)
     # one rule for every command: the car must rest on its struts and tyres (a suspension
     # without static stiffness has no equilibrium, no static load and a 0 Hz mode)
@@ -120,7 +126,7 @@ def spectral_command(
     from ..errors import check_positive
     from ..vehicles.spectral import spectral_response
 
-    params, veh = _load(vehicle, model)
+    params, veh = _load(vehicle, model, linear=True)
     road = _road(road_class, gd_n0, coherence)
     check_positive("speed", speed, "m/s")
     if not 16 <= points <= MAX_POINTS:
@@ -156,12 +162,11 @@ def modes_command(
     Example: inerterlab vehicle modes --vehicle car.toml
     """
     from ..vehicles.spectral import modes
-    from ..vehicles.statics import linearised
 
-    params, veh = _load(vehicle, model)
-    veh, lin = linearised(veh)  # gas springs, bump stops: their stiffness at rest
+    params, veh = _load(vehicle, model, linear=True)
+    lin = veh.linearised  # gas springs, bump stops: their stiffness at rest
     what = "the car linearised about its static equilibrium" if lin else "the linear model"
-    plain = not any(c.law.internal_states() for c in veh.connections)
+    plain = veh.plain
     rigid = veh.natural_frequencies(rigid_tyres=True).tolist() if plain else None
     whole = veh.natural_frequencies(rigid_tyres=False).tolist() if plain else None
     osc, real = modes(veh)
@@ -234,7 +239,7 @@ def frequency_response_command(
     from ..vehicles.frequency import UNITS, frequency_response
     from ._common import atomic_savefig, atomic_write_text
 
-    params, veh = _load(vehicle, model)
+    params, veh = _load(vehicle, model, linear=True)
     lo = check_positive("fmin", fmin, "Hz")
     hi = check_positive("fmax", fmax, "Hz")
     if not hi > lo:

@@ -23,8 +23,11 @@ equilibrium and every analysis of the core (time simulation, harmonic balance,
 linearisation) applies unchanged. :meth:`Equilibrium.linear_state_space` is the
 linearisation about the equilibrium (central differences of the right-hand side).
 
-Node formulation only: a body with several coordinates (pitch, roll) needs its
-generalised weight here too.
+The tyre element carries load at rest like a spring (its static extension is the
+wheel's sag on the road). A body with several coordinates (a vehicle's bounce, pitch
+and roll) has its weight on the translational coordinate alone: the coordinates that
+:attr:`System.info` ``["weightless"]`` names (pitch, roll: the body's centre of gravity
+is its reference point) take the body's moment of inertia as their mass and no weight.
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..elements._base import NPAR, SPRING
+from ..elements._base import NPAR, SPRING, TYRE
 from ..errors import ConvergenceError, NetworkError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
@@ -89,11 +92,11 @@ class Equilibrium:
             f"residual {self.residual:.3g} N after {self.iterations} Newton steps>"
         )
 
-    def linear_state_space(self, step: float = 1e-7):
+    def linear_state_space(self, step: float = 1e-5):
         """(A, B, C, D) of the system linearised about this equilibrium, in the layout
         of :meth:`System.linear_state_space` (input: road displacement, velocity,
         acceleration; outputs :attr:`System.output_names`), by central differences of
-        the right-hand side with steps ``step`` x each state's scale."""
+        the right-hand side with steps ``step`` x each state's scale (:func:`linearise`)."""
         return linearise(self.system, step=step)
 
 
@@ -108,7 +111,14 @@ def _structure(sys):
     masses = np.array([ftab[fm + n] for n in range(nn)])
     ends = [(int(itab[eo + ELEM_W * e + 1]), int(itab[eo + ELEM_W * e + 2])) for e in range(ne)]
     codes = [int(itab[eo + ELEM_W * e]) for e in range(ne)]
-    return nn, ne, types, xstate, masses, ends, codes
+    # a combination node (a body point) passes a force to its members by its coefficients
+    share = {n: [(n, 1.0)] for n in range(nn)}
+    for n in range(nn):
+        b = no + NODE_W * n
+        if types[n] == _kernel.LIN:
+            mo, cnt, co = int(itab[b + 1]), int(itab[b + 2]), int(itab[b + 3])
+            share[n] = [(int(itab[mo + j]), float(ftab[co + j])) for j in range(cnt)]
+    return nn, ne, types, xstate, masses, ends, codes, share
 
 
 def _rebuilt(sys, elements: list):
@@ -154,9 +164,9 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         gravity = float(system.info.get("car", {}).get("gravity", 9.81))
     g = check_positive("gravity", gravity, "m/s^2")
     itab, ftab = system.tables
-    nn, ne, types, xstate, masses, ends, codes = _structure(system)
-    springs = [e for e in range(ne) if codes[e] == SPRING]
-    sprung = {n for e in springs for n in ends[e]}
+    nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
+    springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
+    sprung = {m for e in springs for n in ends[e] for m, _ in share[n]}
     # a massless node that no spring touches (between a damper and an inerter) carries
     # nothing at rest anywhere: it stays where it is
     rows = [
@@ -165,6 +175,8 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     ]  # fmt: skip
     unknown = np.array([xstate[n] for n in rows], dtype=np.int64)
     weights = masses * g
+    for name in system.info.get("weightless", ()):  # rotational coordinates
+        weights[system.node_names.index(name)] = 0.0
     weight = float(weights.sum())
     scale = max(weight, 1.0)
     W = np.empty(_kernel.work_size(itab))
@@ -183,10 +195,12 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         R = np.zeros(len(rows))
         for e in springs:
             t, b = ends[e]
-            if t in pos:
-                R[pos[t]] -= F[e]
-            if b in pos:
-                R[pos[b]] += F[e]
+            for m, c in share[t]:
+                if m in pos:
+                    R[pos[m]] -= c * F[e]
+            for m, c in share[b]:
+                if m in pos:
+                    R[pos[m]] += c * F[e]
         for n in rows:
             R[pos[n]] -= weights[n]
         return X, F, R
@@ -195,6 +209,14 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
         return balance(z)[2]
 
     def singular(J):
+        # a massless node that only a spring with free play (inside its play) holds
+        # carries nothing at rest: Newton takes the least-squares step there
+        w, v = np.linalg.eigh(0.5 * (J + J.T))
+        null = np.abs(w) <= 1e-12 * max(float(np.abs(w).max(initial=0.0)), 1e-300)
+        if np.all(np.isfinite(J)) and null.any():
+            heavy = [i for i, n in enumerate(rows) if masses[n] > 0]
+            if np.abs(v[np.ix_(heavy, np.flatnonzero(null))]).max(initial=0.0) <= 1e-9:
+                return
         raise NetworkError(
             f"{system.description}: no static equilibrium: {_unheld(system, rows, J)} is "
             "held by no spring at rest (the static stiffness is singular); give it a spring "
@@ -226,7 +248,8 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
             continue
         if hasattr(el, "at_operating_point"):
             new[e] = el.at_operating_point(el.operating_point + y)
-        elif abs(y) > 1e-12:
+        elif abs(y) > 1e-12 and abs(forces[names[e]]) > 1e-12 * scale:
+            # (moved inside its free play, carrying nothing: at rest anywhere there)
             raise NetworkError(
                 f"{system.description}: {names[e]} ({el.description}) is moved {y:.6g} m at "
                 "rest by the static load, and its law is taken about the force-free "
@@ -254,7 +277,8 @@ def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations:
     """z with max |residual(z)| <= ``tol`` by Newton's method from z = 0: the Jacobian by
     central differences (steps ``step`` x max(0.01, |z_j|)), each step halved until the
     residual falls and stays finite (a law undefined there gives NaN). ``singular(J)``
-    raises where the Jacobian is singular. Returns (z, iterations); ConvergenceError
+    raises where the Jacobian is singular, or returns where the singular part carries no
+    load (then the least-squares step is taken). Returns (z, iterations); ConvergenceError
     naming ``what`` if it does not converge."""
     z = np.zeros(n)
     if n == 0:
@@ -278,8 +302,10 @@ def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations:
             zm[j] -= d
             J[:, j] = (residual(zp) - residual(zm)) / (2 * d)
         if not np.all(np.isfinite(J)) or np.linalg.cond(J) > 1e14:
-            singular(J)
-        dz = np.linalg.solve(J, -R)
+            singular(J)  # raises, or returns where the singular part carries no load
+            dz = np.linalg.lstsq(J, -R, rcond=None)[0]
+        else:
+            dz = np.linalg.solve(J, -R)
         lam = 1.0
         while True:
             zt = z + lam * dz
@@ -306,12 +332,13 @@ def _unheld(system, rows, J) -> str:
     return f"node {system.node_names[rows[i]]}"
 
 
-def linearise(system, x0=None, *, step: float = 1e-7):
+def linearise(system, x0=None, *, step: float = 1e-5):
     """(A, B, C, D) of ``system`` about the state ``x0`` (default 0, the rest) with the
-    roads at rest, by central differences of the right-hand side and the outputs (steps
-    ``step`` x each state's scale; 1 m, m/s, m/s^2 x ``step`` for the road). Outputs
-    undefined at massless nodes (accelerations) are 0, as in
-    :meth:`System.linear_state_space`."""
+    roads at rest, by central differences of the right-hand side and the outputs with
+    Richardson's extrapolation (steps h and h/2, h = ``step`` x each state's scale; 1 m,
+    m/s, m/s^2 x ``step`` for the road): the error is of order h^4 for a smooth law, and
+    the round-off eps F / h stays small at these steps. Outputs undefined at massless
+    nodes (accelerations) are 0, as in :meth:`System.linear_state_space`."""
     itab, ftab = system.tables
     n = system.n_states
     no = len(system.output_names)
@@ -325,22 +352,24 @@ def linearise(system, x0=None, *, step: float = 1e-7):
         y = np.empty(no)
         system.rhs(0.0, x, u, itab, ftab, f)
         system.outputs(0.0, x, u, itab, ftab, y)
-        return f, np.nan_to_num(y)
+        return np.concatenate([f, np.nan_to_num(y)])
+
+    def slope(x, u, dx, du, d):
+        def central(h):
+            return (at(x + h * dx, u + h * du) - at(x - h * dx, u - h * du)) / (2 * h * d)
+
+        return (4.0 * central(0.5) - central(1.0)) / 3.0
 
     u0 = np.zeros(nu)
     for k in range(n):
         d = step * max(float(system.state_scales[k]), 1e-6)
         e = np.zeros(n)
         e[k] = d
-        fp, yp = at(x0 + e, u0)
-        fm, ym = at(x0 - e, u0)
-        A[:, k] = (fp - fm) / (2 * d)
-        C[:, k] = (yp - ym) / (2 * d)
+        col = slope(x0, u0, e, u0, d)
+        A[:, k], C[:, k] = col[:n], col[n:]
     for k in range(nu):
         e = np.zeros(nu)
         e[k] = step
-        fp, yp = at(x0, e)
-        fm, ym = at(x0, -e)
-        B[:, k] = (fp - fm) / (2 * step)
-        D[:, k] = (yp - ym) / (2 * step)
+        col = slope(x0, u0, np.zeros(n), e, step)
+        B[:, k], D[:, k] = col[:n], col[n:]
     return A, B, C, D

@@ -96,7 +96,9 @@ def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) 
     ``(network text, element values)`` or an element object, between the body point
     (top) and the wheel. ``lift_off``: the tyres lift off where the contact force would
     be negative (nonlinear), or always press (linear: the tyre a spring and damper).
-    The tyres' static loads come from the statics of the layout (:func:`_statics`)."""
+    The static equilibrium (and the tyres' static loads) come from Newton's method on
+    the whole nonlinear balance with gravity (:func:`_rest`); ``info["equilibrium"]``
+    holds it."""
     from ..vehicles.config import load_vehicle
 
     p = parameters
@@ -112,11 +114,56 @@ def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) 
         for h in hits:
             overrides[h] = val
     lin = _build(p, overrides, None)
-    loads = _static_loads(lin)
+    eq = _rest(lin)
+    loads = _loads(eq)
+    lin = eq.system
+    lin.info["static_tyre_loads"] = loads
+    lin.info["equilibrium"] = eq
     if not lift_off:
-        lin.info["static_tyre_loads"] = loads
         return lin
-    return _build(p, overrides, loads)
+    return _about(_build(p, overrides, loads), lin.elements, eq)
+
+
+def _rest(sys: System):
+    """The static equilibrium of the vehicle ``sys`` (tyres always in contact) under its
+    gravity, by Newton's method on the whole nonlinear balance
+    (:func:`~inerterlab.systems.equilibrium.equilibrium`): linear springs and tyres carry
+    their share (the coordinates stay deviations from rest for them), gas springs and bump
+    stops take their law about their static extension."""
+    from .equilibrium import equilibrium
+
+    try:
+        return equilibrium(sys, sys.info["parameters"].gravity)
+    except NetworkError as e:
+        if "held by no spring" in str(e):
+            raise ParameterError(
+                "struts", "no static stiffness",
+                "a suspension that carries the car at rest (a network whose springs all "
+                "sit in series with a damper carries no static load)",
+            ) from None  # fmt: skip
+        raise
+
+
+def _loads(eq) -> dict:
+    """Static contact force of each wheel station [N] from the equilibrium ``eq``."""
+    out = {}
+    for name in eq.original.info["stations"]:
+        out[name] = -eq.forces[f"{name}_tyre"]
+        if not out[name] > 0:
+            raise ParameterError(f"{name} static tyre load", out[name], "> 0 N (the car rests on it)")
+    return out
+
+
+def _about(sys: System, rested: tuple, eq) -> System:
+    """``sys`` (the same layout as ``eq``'s system, tyres that lift off) with its
+    load-carrying nonlinear springs at their static operating points (``rested``)."""
+    from .equilibrium import _rebuilt
+
+    new = [o if r is was else r
+           for o, r, was in zip(sys.elements, rested, eq.original.elements, strict=True)]  # fmt: skip
+    out = _rebuilt(sys, new)
+    out.info["equilibrium"] = eq
+    return out
 
 
 def half_car(parameters, **options) -> System:
@@ -196,7 +243,7 @@ def _build(p, overrides: dict, loads: dict | None) -> System:
     kind = "full_car" if full else "half_car"
     desc = kind.replace("_", " ") + (" (tyres lift off)" if loads is not None else "")
     info = {"roads": len(stations), "stations": tuple(s[0] for s in stations),
-            "parameters": p, "static_tyre_loads": loads, "body": tuple(body)}  # fmt: skip
+            "parameters": p, "static_tyre_loads": loads, "body": tuple(body), "weightless": tuple(body[1:])}  # fmt: skip
     sys, lay = _laid_out(kind, desc, make, info)
     sys.info["layout"] = lay
     return sys
@@ -279,26 +326,6 @@ def _statics(sys: System, forces: dict, heights) -> np.ndarray:
             "in series with a damper carries no static load)",
         )  # fmt: skip
     return P @ u + Xr
-
-
-def _static_loads(sys: System) -> dict:
-    """Static contact force of each wheel station [N]: the weights of the body, the
-    wheels and the seat through the springs at rest (:func:`_statics`)."""
-    p = sys.info["parameters"]
-    g = p.gravity
-    forces = {"bounce": -p.sprung_mass * g}
-    for name, _, _, corner in _stations(p)[1]:
-        forces[f"wheel_{name}"] = -corner.unsprung_mass * g
-    if p.seat is not None:
-        forces["seat"] = -p.seat.mass * g
-    X = _statics(sys, forces, np.zeros(sys.info["roads"]))
-    out = {}
-    for name in sys.info["stations"]:
-        el = sys.elements[sys.element_names.index(f"{name}_tyre")]
-        out[name] = float(-el.stiffness * X[sys.node_names.index(f"wheel_{name}")])
-        if not out[name] > 0:
-            raise ParameterError(f"{name} static tyre load", out[name], "> 0 N (the car rests on it)")
-    return out
 
 
 def static_tyre_loads(parameters, networks: dict | None = None) -> dict:

@@ -138,11 +138,11 @@ def _axle_max(rms: dict, corners, axle: str, what: str) -> float:
 
 def spectral_metrics(params, road_class: str = "C", speed: float = 20.0, points: int = 1500):
     """:data:`SPECTRAL_METRICS` of the vehicle ``params`` (HalfCar or FullCar)."""
-    from .model import build
+    from .linear import linear_vehicle
     from .roads import road_spectrum
     from .spectral import spectral_response
 
-    veh = build(params)
+    veh = linear_vehicle(params)
     res = spectral_response(veh, road_spectrum(road_class), speed, points=points)
     acc = "seat_acc_wk" if "seat_acc_wk" in res.rms else "bounce_acc_wk"
     out = {

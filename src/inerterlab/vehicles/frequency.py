@@ -14,13 +14,15 @@ front_right, rear_left, rear_right for a full car):
 
 The responses are steady-state complex amplitudes per unit road amplitude,
 H(j w) = C (j w I - A)^-1 (B_r + j w B_d) p + (D_r + j w D_d) p, taken from the state
-space of :meth:`~inerterlab.vehicles.model.LinearVehicle.state_space`: ``heave`` (the
+space of :meth:`~inerterlab.vehicles.linear.LinearVehicle.state_space` (the core vehicle about
+its static equilibrium): ``heave`` (the
 body's bounce at its centre of gravity) [m/m], ``pitch`` [rad/m] (positive: nose down,
 the model's sign), ``roll`` [rad/m] (full car; positive: left side up) and
 ``seat_acc`` [(m/s^2)/m] (the body's acceleration at its centre of gravity,
 ``bounce_acc``, for a car without a seat). Their magnitudes times A are the response
 amplitudes (half peak-to-peak). A car resting on gas springs or bump stops
-(:mod:`~inerterlab.vehicles.statics`) is linearised about its static equilibrium (each
+(Newton's method on the whole nonlinear balance,
+:func:`~inerterlab.systems.equilibrium.equilibrium`) is linearised about its static equilibrium (each
 at its stiffness at rest; the result says so: its response to a finite amplitude
 departs from this). A corner with an adaptive inerter or a device with internal nodes or
 friction is refused, naming it (its response depends on the amplitude; the time
@@ -35,7 +37,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
-from .model import LinearVehicle
+from .linear import LinearVehicle, linear_vehicle
 
 __all__ = ["VehicleFrequencyResponse", "frequency_response", "PATTERNS"]
 
@@ -141,16 +143,12 @@ class VehicleFrequencyResponse:
         return fig
 
 
-def _require_linear_corners(vehicle: LinearVehicle) -> None:
-    vehicle.require_linear("the frequency response")
-    for con in vehicle.connections:
-        if getattr(con.law, "adaptive_inerter", None) is not None:
-            raise ParameterError(
-                con.name,
-                "adaptive inerter",
-                "a linear corner for the frequency response (an adaptive inerter's response "
-                "depends on the amplitude; the time simulation, vehicle simulate, takes it)",
-            )
+def as_linear(vehicle) -> LinearVehicle:
+    """``vehicle`` as a :class:`~inerterlab.vehicles.linear.LinearVehicle` (from its
+    parameters, a HalfCar or FullCar, where it is not one)."""
+    if isinstance(vehicle, LinearVehicle):
+        return vehicle
+    return linear_vehicle(getattr(vehicle, "parameters", vehicle))
 
 
 def road_pattern(vehicle: LinearVehicle, freq, tracks: str, axles: str | None, speed):
@@ -195,11 +193,9 @@ def frequency_response(
     f = np.asarray(freq, dtype=float)
     if f.ndim != 1 or f.size < 1 or not np.all(np.isfinite(f)) or np.any(f <= 0):
         raise ParameterError("freq", "grid", "positive finite frequencies [Hz]")
-    from .statics import linearised
-
-    vehicle, lin = linearised(vehicle)
-    _require_linear_corners(vehicle)
-    A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
+    vehicle = as_linear(vehicle)
+    lin = vehicle.linearised
+    A, Br, Bd, Cy, Dr, Dd = vehicle.state_space(displacements=True)
     P = road_pattern(vehicle, f, tracks, axles, speed)
     acc = "seat_acc" if "seat_acc" in vehicle.outputs else "bounce_acc"
     names = ["heave", "pitch"] + (["roll"] if vehicle.kind == "full" else []) + [acc]
@@ -209,11 +205,8 @@ def frequency_response(
         s = 2j * math.pi * fi
         r = P[i]
         x = np.linalg.solve(s * eye - A, (Br + s * Bd) @ r)
-        out["heave"][i] = x[0]
-        out["pitch"][i] = x[1]
-        if vehicle.kind == "full":
-            out["roll"][i] = x[2]
-        out[acc][i] = Cy[acc] @ x + (Dr[acc] + s * Dd[acc]) @ r
+        for k in names:
+            out[k][i] = Cy[k] @ x + (Dr[k] + s * Dd[k]) @ r
     return VehicleFrequencyResponse(
         freq=f, transfer=out, amplitude=a, tracks=tracks, axles=axles, speed=speed,
         kind=vehicle.kind, linearised=lin,

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import ParameterError, check_positive
 from ..iso2631 import vibration_total_value, weighting
-from .model import LinearVehicle
+from .linear import LinearVehicle
 from .roads import RoadSpectrum
 
 __all__ = [

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import NetworkError
 
-__all__ = ["rest_on_springs", "rest_state", "linearised"]
+__all__ = ["rest_on_springs", "rest_state"]
 
 
 def _carriers(law) -> list:
@@ -134,34 +134,3 @@ def rest_state(vehicle, A, Br, r0) -> np.ndarray:
 
     tol = 1e-12 * max(1.0, float(np.abs(b).max(initial=0.0)))
     return newton(residual, A.shape[0], tol, "vehicle at rest on the first road heights", singular)[0]
-
-
-def linearised(vehicle):
-    """(``vehicle`` with each corner's gas springs and bump stops replaced by linear
-    springs of their stiffness at rest, True), or (``vehicle``, False) where none
-    carries load: the linearisation about the static equilibrium for the linear
-    analyses. A device with other nonlinear parts stays (and is refused there)."""
-    from ..elements import Spring
-    from .devices import _split
-
-    cons = list(vehicle.connections)
-    changed = False
-    for j, con in enumerate(cons):
-        c = _carriers(con.law)
-        if not c:
-            continue
-        dev = con.law.device
-        edges = list(dev.edges)
-        for i, el, _ in sorted(c, key=lambda t: -t[0]):
-            name, _, t, b = edges[i]
-            k = el.tangent(el.operating_point)
-            if k > 0.0:
-                edges[i] = (name, Spring(stiffness=k), t, b)
-            else:  # a bump stop clear of its stop: no force for small motions
-                del edges[i]
-        law = dataclasses.replace(con.law, device=_split(dev.source, dev.nodes, tuple(edges)))
-        cons[j] = dataclasses.replace(con, law=law)
-        changed = True
-    if not changed:
-        return vehicle, False
-    return dataclasses.replace(vehicle, connections=tuple(cons)), True
