@@ -147,13 +147,31 @@ def _linear(network: str, values: Mapping) -> bool:
     return True
 
 
+@functools.cache
+def _split_once():
+    """A NetworkStrut whose split of Z(s) into polynomial and rest is computed once: the
+    optimiser builds a vehicle per evaluation and its state space asks every strut for
+    the split several times (half the evaluation's time)."""
+    from ..vehicles import NetworkStrut
+
+    class _Once(NetworkStrut):
+        @functools.cached_property
+        def _split_value(self):
+            return NetworkStrut._split(self)
+
+        def _split(self):
+            return self._split_value
+
+    return _Once if hasattr(NetworkStrut, "_split") else NetworkStrut
+
+
 def _strut(network: str, values: Mapping):
     """The corner's law: a network strut for a linear network, else the main spring as
     the strut and the rest of the network as its device."""
-    from ..vehicles import NetworkStrut, Strut
+    from ..vehicles import Strut
 
     if _linear(network, values):
-        return NetworkStrut(network, {k: float(v) for k, v in values.items()})
+        return _split_once()(network, {k: float(v) for k, v in values.items()})
     rest, n = re.subn(r"^k \| ", "", network)
     if n != 1 or "k" not in values:
         raise ParameterError("network", network, "a layout k | (...) with the main spring k")
@@ -315,9 +333,12 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
 
     p = candidate_vehicle(car, cand)
     veh = build(p)
-    sub = SUBSTEPS
+    # explicit Runge-Kutta: |h lambda| < 2.5 for the fastest mode of the linear part (a
+    # stiff spring in series with a damper) and of every device's rig
+    rate = float(np.max(np.abs(np.linalg.eigvals(veh.state_space(devices=True)[0]))))
     for _con, dev in veh.nonlinear_devices():
-        sub = max(sub, math.ceil(dev.fastest_rate() * DT / 2.5))
+        rate = max(rate, dev.fastest_rate())
+    sub = max(SUBSTEPS, math.ceil(rate * DT / 2.5))
     if sub > MAX_SUBSTEPS:
         raise ConvergenceError(
             f"a device needs {sub} Runge-Kutta steps per road sample (more than {MAX_SUBSTEPS})"

@@ -305,13 +305,15 @@ def white_velocity_h2(
         P = gramian(Aa, Ba, what="vehicle H2 norms")
         val = float(Ca @ P @ Ca)
         if speed is not None:
-            from scipy.linalg import expm, solve_continuous_lyapunov
+            from scipy.linalg import solve_continuous_lyapunov
+            from scipy.sparse.linalg import expm_multiply
 
             tau = vehicle.parameters.wheelbase / float(speed)
             bf = np.column_stack([Ba[:, g[0]] for g in groups])
             br = np.column_stack([Ba[:, g[1]] for g in groups])
             X = solve_continuous_lyapunov(Aa, -(bf @ br.T))
-            val += 2.0 * float(Ca @ expm(Aa * tau) @ X @ Ca)
+            # C e^(A tau) = (e^(A^T tau) C^T)^T, one vector
+            val += 2.0 * float(expm_multiply(Aa.T * tau, Ca) @ X @ Ca)
         return math.sqrt(max(val, 0.0))
 
     vals, why = {}, {}
