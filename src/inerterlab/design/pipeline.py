@@ -468,6 +468,21 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     # 3. devices ---------------------------------------------------------------------
     single = [r for r in ok if r["network"] != "k | c" and not r["simpler"]
               and sum(1 for k in parse_network(r["network"]).kinds if k == "b") == 1]  # fmt: skip
+    if st.is_vehicle and st.devices:
+        # a vehicle optimisation per (layout, device) costs seconds: the best --top
+        # single-inerter layouts where every device can sit at a corner
+        from .vehicle import device_misfit, split_axles
+
+        fits = []
+        for r in single:
+            front = split_axles(r["parameters"])["front"]
+            why = next((f"{d}: {w}" for d in st.devices
+                        if (w := device_misfit(r["network"], front, d))), "")  # fmt: skip
+            if why:
+                notes.append(f"devices not tried in {r['network']} ({why})")
+            else:
+                fits.append(r)
+        single = fits[: st.top]
     base_cand = {"network": "k | c", "params": scoring.axle_params(base["parameters"], car)}
     dev_settings = {**common, "reference": json.dumps(base_cand, sort_keys=True)}
     device_linear = []

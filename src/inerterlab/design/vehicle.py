@@ -16,7 +16,8 @@ and the wheelbase delay (:func:`inerterlab.vehicles.design.h2_metrics`). It is
 minimised over the per-axle values in their logarithms by L-BFGS-B (SLSQP with
 limits), started from the quarter-car H2 optimum of each axle's corner
 (:func:`inerterlab.network_design.optimize_network`) and from the geometric middle of
-the bounds; the better end wins. Limits (RMS suspension deflection and dynamic tyre
+the bounds (at most 40 iterations each; a layout running to a bound that stands for a
+simpler one converges slowly and is reported as that one). Limits (RMS suspension deflection and dynamic tyre
 load of the worst corner) use the spectral method on the band-limited ISO 8608 road
 (both are infinite under white road velocity for a full car, see
 :func:`inerterlab.vehicles.spectral.white_velocity_h2`).
@@ -51,6 +52,7 @@ __all__ = [
     "axle_stiffness",
     "split_axles",
     "candidate_vehicle",
+    "device_misfit",
     "linear_objective",
     "optimize_layout",
     "simulate_vehicle_candidate",
@@ -179,6 +181,20 @@ def _strut(network: str, values: Mapping):
                  device_parameters={k: v for k, v in values.items() if k != "k"})  # fmt: skip
 
 
+def device_misfit(layout: str, values: Mapping[str, float], device: str) -> str:
+    """'' if ``device`` in place of the inerter of ``layout`` (one corner's ``values``)
+    can sit at a vehicle corner, else the reason in one line (its internal nodes would
+    carry static load, or an inertial part would touch the body's side)."""
+    from .scoring import device_network
+
+    net, elp = device_network(layout, values, device)
+    try:
+        _strut(net, elp)
+    except ParameterError as e:
+        return str(e).splitlines()[0]
+    return ""
+
+
 def candidate_vehicle(car: Mapping, cand: Mapping):
     """The vehicle parameters of a candidate {'network', 'params': {'front': {...},
     'rear': {...}}} (element values as the model core takes them)."""
@@ -305,10 +321,10 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
     for x0 in starts:
         if limits:
             r = minimize(f, x0, jac=grad, method="SLSQP", bounds=list(zip(lo, hi, strict=True)),
-                         constraints=cons, options={"maxiter": 200, "ftol": 1e-10})  # fmt: skip
+                         constraints=cons, options={"maxiter": 40, "ftol": 1e-10})  # fmt: skip
         else:
             r = minimize(f, x0, jac=grad, method="L-BFGS-B", bounds=list(zip(lo, hi, strict=True)),
-                         options={"maxiter": 200, "ftol": 1e-10, "gtol": 1e-6})  # fmt: skip
+                         options={"maxiter": 40, "ftol": 1e-10, "gtol": 1e-6})  # fmt: skip
         x = np.clip(r.x, lo, hi)
         val = f(x)
         lim = _limit_values(car, network, values(x), road_class, speed) if limits else {}

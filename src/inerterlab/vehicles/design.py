@@ -362,6 +362,20 @@ def optimize_vehicle(
     def f(u):
         return metrics(u)[objective]
 
+    jac = None
+    if h2_names:
+        # the Lyapunov norm carries rounding of about 1e-10 relative: central differences
+        # of step 1e-4 (SLSQP's forward step of 1.5e-8 would amplify it to 1e-2)
+        def jac(u):
+            g = np.empty(u.size)
+            for i in range(u.size):
+                e = np.zeros(u.size)
+                e[i] = 1e-4
+                g[i] = (f(np.clip(u + e, 0, 1)) - f(np.clip(u - e, 0, 1))) / (
+                    np.clip(u[i] + 1e-4, 0, 1) - np.clip(u[i] - 1e-4, 0, 1)
+                )
+            return g
+
     cons = [
         {"type": "ineq", "fun": (lambda u, k=k, v=v: 1.0 - metrics(u)[k] / v)}
         for k, v in limits.items()
@@ -377,7 +391,7 @@ def optimize_vehicle(
     order = sorted(range(len(U)), key=lambda i: penalised(U[i]))
     best = None
     for i in order[: max(1, int(starts))]:
-        r = minimize(f, U[i], method="SLSQP", bounds=[(0.0, 1.0)] * len(names),
+        r = minimize(f, U[i], jac=jac, method="SLSQP", bounds=[(0.0, 1.0)] * len(names),
                      constraints=cons, options={"maxiter": 200, "ftol": 1e-12})  # fmt: skip
         u = np.clip(r.x, 0.0, 1.0)
         m = metrics(u)
