@@ -102,12 +102,15 @@ def design_command(
         Path | None,
         typer.Option(
             help="Vehicle file (TOML): its half or full car is designed (the same layout at "
-            "every corner, values per axle), or with --model quarter one --corner."
+            "every corner, values per axle), or with --corner one corner as a quarter car."
         ),
     ] = None,
     corner: Annotated[
-        str, typer.Option(help="--model quarter with --vehicle: front or rear corner.")
-    ] = "front",
+        str | None,
+        typer.Option(
+            help="With --vehicle: design this corner (front or rear) as a quarter car."
+        ),
+    ] = None,
     model: Annotated[
         str | None,
         typer.Option(
@@ -176,6 +179,13 @@ def design_command(
 
     if model not in (None, "quarter", "half", "full"):
         raise ParameterError("--model", model, "quarter, half or full")
+    if corner is not None and corner not in ("front", "rear"):
+        raise ParameterError("--corner", corner, "front or rear")
+    if corner is not None and model in ("half", "full"):
+        raise ParameterError("--corner", corner, f"not given with --model {model} (a corner "
+                             "is designed as a quarter car)")  # fmt: skip
+    if corner is not None:
+        model = "quarter"
     if model in ("half", "full") and vehicle is None:
         raise ParameterError("--model", model, "quarter without --vehicle (a half or full car "
                              "comes from a vehicle file)")  # fmt: skip
@@ -194,9 +204,10 @@ def design_command(
                      ("--spring-stiffness", spring_stiffness)) if v is not None]  # fmt: skip
         if given_car:
             raise ParameterError(given_car[0], "given", f"not given with a {kind}-car --vehicle "
-                                 "(its values come from the file; or use --model quarter)")  # fmt: skip
+                                 "(its values come from the file; or use --corner front|rear)")  # fmt: skip
         source = f"{vehicle}, {kind} car"
     elif vehicle is not None:
+        corner = corner or "front"
         car.update(_car_from_vehicle(vehicle, corner))
         source = f"{vehicle}, {corner} corner"
     given = {

@@ -146,7 +146,7 @@ class DesignSettings:
                 raise ParameterError(
                     "--synthesize", self.synthesize,
                     "0 for a half or full car (the positive-real synthesis optimises a "
-                    "quarter car; design a corner with --model quarter --corner front|rear)",
+                    "quarter car; design a corner with --corner front|rear)",
                 )  # fmt: skip
         elif self.objective == "seat_wk":
             raise ParameterError(

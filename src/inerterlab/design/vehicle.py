@@ -379,7 +379,7 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
     return {
         "rms_body_acc": rms(y["bounce_acc"]),
         "rms_body_acc_wk": rms(bw),
-        "rms_seat_wk": rms(sw) if seat else math.nan,
+        "rms_seat_wk": rms(sw) if seat else None,
         "rms_tyre_load": max(rms(x) for x in loads),
         "rms_deflection": max(rms(x) for x in defl),
         "peak_deflection": max(float(np.max(np.abs(np.asarray(x)[keep]))) for x in defl),
