@@ -1,5 +1,10 @@
 """The design study: which layout, how much, and with which real device, for one car.
 
+The car is a quarter car, or the half or full car of a vehicle file with the same
+layout at every corner and its values per axle (:mod:`inerterlab.design.vehicle`: the
+linear stage by the vehicle's Lyapunov H2, the scores by vehicle simulations); the
+stages below are the same for both.
+
 Stages (each a sweep of :mod:`inerterlab.design.scoring`, stored under ``<out>/stores``
 keyed on its inputs, so a rerun resumes and a change recomputes):
 

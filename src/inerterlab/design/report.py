@@ -1,11 +1,14 @@
 """The HTML design report: one self-contained file (figures embedded as PNG).
 
-Figures: the H2 Pareto fronts of the best layouts and ``k | c`` (comfort against road
-holding, :func:`inerterlab.network_design.pareto_front`); |H(f)| of body acceleration
-per unit road velocity of the linear winners against ``k | c``; the PSDs of body
-acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO 8608 road
-(Welch); the body acceleration after a 5 cm bump. Tables: the ranking (expected values
-with intervals), the layouts' linear optima and the device requirements.
+Figures: every candidate's expected value and gain over ``k | c`` with their 95 %
+intervals; for the quarter car the H2 Pareto fronts of the best layouts and ``k | c``
+(comfort against road holding, :func:`inerterlab.network_design.pareto_front`), |H(f)|
+of body acceleration per unit road velocity of the linear winners against ``k | c``, the
+PSDs of body acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO
+8608 road (Welch) and the body acceleration after a 5 cm bump; for a half or full car
+the PSD of the Wk-weighted seat (or bounce) acceleration of the linear winners by the
+spectral method. Tables: the ranking (expected values with intervals), the layouts'
+linear optima and the device requirements.
 """
 
 from __future__ import annotations
