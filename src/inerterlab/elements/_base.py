@@ -19,12 +19,15 @@ import numpy as np
 
 from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_range, check_physical
 
-__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL"]
+__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
 
 #: floats per primitive element row in the compiled tables
 NPAR = 16
 #: kernel codes of the primitive elements
 SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 0, 1, 2, 3, 4
+#: a tyre's point contact (spring and damper that cannot pull: lift-off), only between a
+#: body and the road (:mod:`inerterlab.elements.tyre`)
+TYRE = 5
 
 
 #: the kind of physical quantity (a key of :data:`inerterlab.errors.PHYSICAL_RANGES`) of a

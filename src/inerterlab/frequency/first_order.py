@@ -81,6 +81,7 @@ from numba.core import cgutils
 from numba.extending import intrinsic
 
 from ..errors import ParameterError
+from ..systems._kernel import road_layout
 from .harmonic import FourierBasis, checked_samples, fourier_basis
 
 __all__ = [
@@ -169,13 +170,18 @@ def _borrow(typingctx, arr):
 # 2 implicit r(x, x') = 0 with ``terms`` (r and its partials at every sample in one call).
 
 
+#: the road vector of every system this engine drives (one road, then the frequency in
+#: the free slot; no held sides): the core's one layout (:func:`.systems._kernel.road_layout`)
+ROAD_LEN, FREQ_SLOT, _ = road_layout(1, 0)
+
+
 @njit(cache=True, inline="always")
 def _road(amp, omega, tau, road):
     s = math.sin(tau)
     road[0] = amp * s
     road[1] = amp * omega * math.cos(tau)
     road[2] = -amp * omega * omega * s
-    road[3] = omega
+    road[FREQ_SLOT] = omega
 
 
 @njit(cache=True, inline="always")
@@ -236,7 +242,7 @@ def _evaluate(
     x0 = np.zeros(work)
     out0 = np.zeros(work)
     outp0 = np.zeros(work)
-    road0 = np.empty(4)
+    road0 = np.empty(ROAD_LEN)
     P = np.empty((n, n, K) if want else (1, 1, 1))
     Q = np.empty((1, 1, 1))
     Pk0 = np.zeros((n, n))
@@ -764,7 +770,7 @@ def _rhs_samples(rhs, itab, ftab, work, n, xs, omega, amp, tau):
     K = tau.shape[0]
     x0 = np.zeros(work)
     out0 = np.zeros(work)
-    road0 = np.empty(4)
+    road0 = np.empty(ROAD_LEN)
     x, out, road = _borrow(x0), _borrow(out0), _borrow(road0)
     itab, ftab = _borrow(itab), _borrow(ftab)
     f = np.empty((n, K))
@@ -802,7 +808,7 @@ def _outputs_at(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau):
     res = np.empty((n_out, K))
     x0 = np.zeros(work)
     out0 = np.zeros(n_out)
-    road0 = np.empty(4)
+    road0 = np.empty(ROAD_LEN)
     x, out, road = _borrow(x0), _borrow(out0), _borrow(road0)
     itab, ftab = _borrow(itab), _borrow(ftab)
     for k in range(K):
@@ -947,7 +953,7 @@ def _rk4_period(rhs, itab, ftab, work, n, y0, omega, amp, n_steps, xs_out):
     """One forcing period with n_steps RK4 steps from y0; states at the step starts."""
     h = 2.0 * math.pi / omega / n_steps
     own = np.zeros((6, work))
-    road0 = np.empty(4)
+    road0 = np.empty(ROAD_LEN)
     y, yt = _borrow(own[0]), _borrow(own[1])
     k1, k2, k3, k4 = _borrow(own[2]), _borrow(own[3]), _borrow(own[4]), _borrow(own[5])
     road = _borrow(road0)

@@ -32,7 +32,7 @@ from ..errors import ParameterError, check_choice, check_nonnegative, check_posi
 from ..flywheels import AdaptiveFlywheel, flywheel
 from ..transmissions import Transmission, hydraulic
 from ._kernels import residual_partials
-from .first_order import RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
+from .first_order import FREQ_SLOT, RHS_SIGNATURE, TERMS_SIGNATURE, FirstOrderSystem, _borrow
 
 __all__ = [
     "DuffingOscillator",
@@ -76,7 +76,7 @@ def _terms(tau, omega, amp, xs, xds, itab, ftab, r, P, Q, partials):
 @njit(RHS_SIGNATURE, cache=True)
 def _rhs(t, y, road, itab, ftab, out):
     """x' = v, v' = -r(tau, x, v, 0) / (dr/dx'') (r is affine in x''), tau = Omega t."""
-    omega = road[3]
+    omega = road[FREQ_SLOT]
     r0, _, _, m = residual_partials(
         itab[0], ftab, omega * t, omega, road[0], road[1], road[2], y[0], y[1], 0.0
     )

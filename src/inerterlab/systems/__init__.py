@@ -3,7 +3,9 @@
 Build one with :func:`rig` (prescribed displacement across a network or device),
 :func:`base_excited` (a body on a network over a moving base, thesis ch. 7) or
 :func:`quarter_car` (sprung and unsprung masses, tyre spring and damper to the road; a
-named suspension of the thesis or any network).
+named suspension of the thesis or any network), or :func:`half_car` / :func:`full_car`
+(a body with bounce, pitch and roll on any network at each corner, tyres that lift off;
+:mod:`inerterlab.systems.vehicle`).
 :func:`equilibrium` solves the static balance under gravity (a nonlinear spring carrying
 the weight) and gives the system about that rest.
 Every element of :mod:`inerterlab.elements` may sit anywhere in a network.
@@ -62,6 +64,7 @@ from .core import (
 )
 from .equilibrium import Equilibrium, equilibrium
 from .quarter_car import QUARTER_CAR_PRESETS, SUSPENSIONS, quarter_car
+from .vehicle import full_car, half_car
 
 __all__ = [
     "System",
@@ -71,6 +74,8 @@ __all__ = [
     "base_excited",
     "device_network",
     "quarter_car",
+    "half_car",
+    "full_car",
     "QUARTER_CAR_PRESETS",
     "SUSPENSIONS",
     "RoadVelocityJumpWarning",

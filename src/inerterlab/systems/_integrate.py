@@ -31,6 +31,7 @@ from ._kernel import (
     _dissipative,
     _work_size,
     evaluate,
+    road_layout_of,
     switches,
 )
 
@@ -86,7 +87,12 @@ def road_at(segs, i, t, out):
     table and a row number, not a row: a slice per call costs a view)."""
     kind = segs[i, 2]
     t0 = segs[i, 0]
-    if kind == 0.0:
+    if kind == 3.0:  # several roads, each linear: (x_k, rate_k) from column 3 on
+        for k in range(min((segs.shape[1] - 3) // 2, out.size // 3)):
+            out[3 * k] = segs[i, 3 + 2 * k] + segs[i, 4 + 2 * k] * (t - t0)
+            out[3 * k + 1] = segs[i, 4 + 2 * k]
+            out[3 * k + 2] = 0.0
+    elif kind == 0.0:
         out[0] = segs[i, 3] + segs[i, 4] * (t - t0)
         out[1] = segs[i, 4]
         out[2] = 0.0
@@ -157,12 +163,13 @@ def _dense(y, yt, K, h, th, out):
 
 
 @nb.njit(cache=True)
-def _sides(sw, road):
-    """The side of each element's kink (road[4 + e], see :func:`._kernel.evaluate`) from
-    the signs of its two switching functions (:func:`._kernel.switches`)."""
+def _sides(sw, road, hs):
+    """The side of each element's kink (road[hs + e], hs the first held side of
+    :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
+    two switching functions (:func:`._kernel.switches`)."""
     for e in range(sw.size // 2):
         g = max(sw[2 * e], sw[2 * e + 1])
-        road[4 + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[4 + e])
+        road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
 
 
 @nb.njit(cache=True)
@@ -308,7 +315,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     switch. Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
-    road = np.zeros(4 + itab[I_NE])  # the road, a free slot (the HB's frequency), each element's side of its kink
+    road_n, _, hs = road_layout_of(itab)
+    road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
     K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
@@ -337,7 +345,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
-        _sides(sw, road)
+        _sides(sw, road, hs)
         _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
         for i in range(n):
             K[0, i] = dy[i]
@@ -416,7 +424,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 for i in range(n):
                     K[0, i] = dy[i]
                 switches(itab, ftab, work, sw)
-                _sides(sw, road)
+                _sides(sw, road, hs)
                 if t >= t_end:
                     break
         lim = t_end
@@ -528,7 +536,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = tn
             into = -1
             if flip >= 0:  # past the kink: its other side's law from here
-                road[4 + flip // 2] = past
+                road[hs + flip // 2] = past
                 _f_once(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
@@ -587,7 +595,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     h = 0.0
     prev = x1_before
     prev_v = v_before
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     rf = np.empty(3)
     atol_imp = np.empty(y.size)
     for i in range(y.size):
@@ -610,7 +618,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         # across their edges, so no jump checks and no restarts between them)
         e = s + 1
         if segs[s, 2] == 2.0:
-            while e < nseg and segs[e, 2] == 2.0 and segs[e, 0] < t_end:
+            while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
         rng[0] = s
         rng[1] = e
@@ -675,7 +683,7 @@ def outputs_many(t_out, Y, segs, itab, ftab, O):
     that holds each time (right-continuous)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(Y.shape[1])
     imp = np.empty(0)
@@ -700,7 +708,7 @@ def regime_outputs(t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr, O):
     ne = itab[I_NE]
     n = Y.shape[1]
     no = 3 * nn + ne
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     dx = np.empty(n)
     imp = np.empty(0)
@@ -751,7 +759,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
     it: springs, dampers and friction between the drive, the ground and nodes whose
     displacement and velocity are states (the caller checks)."""
     eo = itab[I_ELEM]
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     s = 0
     for j in range(t_out.size):
         s = _sample_road(segs, s, t_out[j], road)
@@ -794,7 +802,7 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     prev_v = v_before
     yn = np.empty(n)
     dx = np.empty(n)
-    road = np.empty(3)
+    road = np.zeros(road_layout_of(itab)[0])
     W = np.empty(_work_size(itab))
     jerk = np.full(1, np.nan)
     imp = np.empty(imp_unit.size)

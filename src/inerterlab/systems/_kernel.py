@@ -35,6 +35,17 @@ only, are split the same way: the reference is a spring-only node (the springs s
 common motion), the others relative velocity nodes (type RELV: the displacement
 relative to the reference is a state, the relative velocity solves the node's balance,
 in which only dampers inside the component act).
+
+Bodies with several coordinates (:mod:`inerterlab.systems.vehicle`): a body's coordinates
+(bounce, pitch, roll) are dynamic nodes whose masses are its mass and moments of
+inertia; an attachment point is a combination node (type LIN), its displacement a fixed
+linear combination sum c_j X_j of dynamic nodes (block: type, offset of the member list
+in ``itab``, member count, offset of the coefficients in ``ftab``, -1). An element with
+an end at a combination node (its mass-matrix row -2) passes its force to the members
+by the coefficients and stamps its inertance as me g g^T, g the combination of its end
+rows, so the mass matrix couples the coordinates. A road node's block holds the index k
+of its road: its displacement, velocity and acceleration are road[3k:3k+3]
+(:func:`road_layout`; the header's ``I_NRD`` counts the roads).
 """
 
 from __future__ import annotations
@@ -44,7 +55,7 @@ import math
 import numba as nb
 import numpy as np
 
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING, TYRE
 from ..elements.adaptive_flywheel import (
     flywheel_inertance,
     flywheel_inertance_side,
@@ -55,20 +66,39 @@ from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
 from ..elements.spring import spring_force, spring_switch
+from ..elements.tyre import tyre_force, tyre_switch
 
-GROUND, ROAD, DYN, VEL, POS, REL, RELV = 0, 1, 2, 3, 4, 5, 6
+GROUND, ROAD, DYN, VEL, POS, REL, RELV, LIN = 0, 1, 2, 3, 4, 5, 6, 7
 NODE_W = 5
 ELEM_W = 7
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
-    I_NI, I_NR,
-) = range(15)  # fmt: skip
-HEADER = 16
+    I_NI, I_NR, I_NL, I_NRD,
+) = range(17)  # fmt: skip
+HEADER = 17
 #: status of the velocity solve (written to the last slot of ``out`` by :func:`evaluate`)
 SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
 #: ``imp`` of :func:`evaluate` for the flow of a road velocity jump
 ROAD_JERK = np.array([np.nan])
+
+
+@nb.njit(cache=True, inline="always")
+def road_layout(nroads, ne):
+    """The layout of the road vector that :func:`evaluate` reads, the one place it is
+    defined: 3 entries per road (displacement, velocity, acceleration; road k from
+    3 k, at least one road), then one free slot (the harmonic balance keeps its
+    frequency there), then one held side per element (see :func:`evaluate`). Returns
+    (length, the free slot, the first held side) for ``nroads`` roads and ``ne``
+    elements."""
+    free = 3 * max(nroads, 1)
+    return free + 1 + ne, free, free + 1
+
+
+@nb.njit(cache=True, inline="always")
+def road_layout_of(itab):
+    """:func:`road_layout` of a compiled system (its roads and elements)."""
+    return road_layout(itab[I_NRD], itab[I_NE])
 
 
 @nb.njit(cache=True, inline="always")
@@ -296,10 +326,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
     defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
-    the derivative. Returns False if a balance could not be solved. ``road`` holds the
-    road's displacement, velocity and acceleration; road[3] is free (the harmonic balance
-    keeps its frequency there), and it may go on with one entry per element from road[4]:
-    where it is not 0, an element with a kink takes the law of that side of it
+    the derivative. Returns False if a balance could not be solved. ``road`` is laid out
+    by :func:`road_layout`: each road's displacement, velocity and acceleration, a free
+    slot (the harmonic balance's frequency), and it may go on with one held side per
+    element: where it is not 0, an element with a kink takes the law of that side of it
     (+1 above its switching function's zero, -1 below), continued past it. With a
     non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
     M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
@@ -315,6 +345,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ne = itab[I_NE]
     nd = itab[I_ND]
     jerk = imp.size == 1 and math.isnan(imp[0])
+    nlen, _, hs = road_layout_of(itab)
+    held = road.size >= nlen  # the held sides are given
     npn = itab[I_NP]
     no = itab[I_NODE]
     eo = itab[I_ELEM]
@@ -334,9 +366,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             W[iv + n] = 0.0
             W[ia + n] = 0.0
         elif typ == ROAD:
-            W[n] = road[0]
-            W[iv + n] = road[1]
-            W[ia + n] = road[2]
+            k = 3 * itab[b + 3] if itab[b + 3] > 0 else 0
+            W[n] = road[k]
+            W[iv + n] = road[k + 1]
+            W[ia + n] = road[k + 2]
         elif typ == DYN:
             W[n] = x[itab[b + 1]]
             W[iv + n] = x[itab[b + 2]]
@@ -352,6 +385,13 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         else:
             W[n] = 0.0
             W[iv + n] = 0.0
+    nlin = itab[I_NL]
+    if nlin > 0:
+        _combine(itab, ftab, W, 0, nn)
+        _combine(itab, ftab, W, nn, nn)
+        for n in range(nn):  # their acceleration slots gather forces until the solve
+            if itab[no + NODE_W * n] == LIN:
+                W[2 * nn + n] = 0.0
     # spring-only nodes: X_p = R X (R has zero columns for spring-only nodes; relative
     # nodes enter with their relative displacement)
     po = itab[I_POS]
@@ -406,14 +446,16 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         elif code == INERTER:
             f = 0.0
             me = inerter_inertance(ftab, o)
+        elif code == TYRE:
+            f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
         else:
             so = itab[b + 4]
             if so >= 0:
                 me, f = flywheel_inertance(ftab, o, v, x[so], x[so + 1])
                 dx[so] = x[so + 1]
                 dx[so + 1] = slider_derivative(ftab, o, x[so], x[so + 1], v)
-            elif road.size > 4 and road[4 + e] != 0.0:  # held on one side of its kink
-                me = flywheel_inertance_side(ftab, o, v, road[4 + e])
+            elif held and road[hs + e] != 0.0:  # held on one side of its kink
+                me = flywheel_inertance_side(ftab, o, v, road[hs + e])
                 f = 0.0
             else:
                 me, f = flywheel_inertance(ftab, o, v, 0.0, 0.0)
@@ -423,6 +465,13 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         W[ie + e] = me
         ti = itab[b + 5]
         bi = itab[b + 6]
+        if ti == -2 or bi == -2:  # an end at a combination node
+            if me == 0.0:  # a force only: gathered at the node, passed on once below
+                _gather(itab, W, top, -f, ia, ir)
+                _gather(itab, W, bot, f, ia, ir)
+            else:
+                _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd)
+            continue
         if ti >= 0:
             W[ir + ti] -= f
         if bi >= 0:
@@ -440,6 +489,14 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                     W[im + bi * nd + ti] -= me
                 else:
                     W[ir + bi] += me * W[ia + top]
+    if nlin > 0:  # the forces gathered at combination nodes to their members' rows
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == LIN:
+                mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
+                fn = W[ia + n]
+                for j in range(cnt):
+                    W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
@@ -460,6 +517,8 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             dx[itab[b + 2]] = W[ia + n]
         elif typ == RELV:
             dx[itab[b + 1]] = W[iv + n] - W[iv + itab[b + 4]]
+    if nlin > 0:
+        _combine(itab, ftab, W, ia, nn)
     if imp.size > 0:
         for i in range(x.size):
             if i >= itab[I_NS] - itab[I_NI]:
@@ -478,6 +537,97 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
     _relative_unknown(itab, W, ia, nn, nrel)
     return ok
+
+
+@nb.njit(cache=True)
+def _combine(itab, ftab, W, off, nn):
+    """W[off + n] = sum c_j W[off + m_j] at every combination node n (displacements,
+    velocities or accelerations of its members)."""
+    no = itab[I_NODE]
+    for n in range(nn):
+        b = no + NODE_W * n
+        if itab[b] == LIN:
+            mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
+            s = 0.0
+            for j in range(cnt):
+                s += ftab[co + j] * W[off + itab[mo + j]]
+            W[off + n] = s
+
+
+@nb.njit(cache=True, inline="always")
+def _gather(itab, W, n, f, ia, ir):
+    """Add the force f to node n: to its row if it has one, to the combination node's
+    gathering slot (its acceleration slot, until the solve) if it is one."""
+    b = itab[I_NODE] + NODE_W * n
+    typ = itab[b]
+    if typ == LIN:
+        W[ia + n] += f
+    elif typ == DYN or typ == REL:
+        W[ir + itab[b + 3]] += f
+
+
+@nb.njit(cache=True, inline="always")
+def _end(itab, n, j):
+    """(mass-matrix row, coefficient) of the j-th member of element end n: a dynamic or
+    relative node is its own single member, a combination node has its list; (-1, 0)
+    past the end or at a node with no row."""
+    b = itab[I_NODE] + NODE_W * n
+    typ = itab[b]
+    if typ == LIN:
+        if j < itab[b + 2]:
+            m = itab[itab[b + 1] + j]
+            return itab[itab[I_NODE] + NODE_W * m + 3], j
+        return -1, -1
+    if j == 0 and (typ == DYN or typ == REL):
+        return itab[b + 3], -1
+    return -1, -1
+
+
+@nb.njit(cache=True)
+def _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd):
+    """Stamp an element with an end at a combination node: force -f on the top end's
+    rows and +f on the bottom's (times the coefficients); an inertance me adds me g g^T
+    to the mass matrix and -me g (known accelerations of the ends) to the right-hand
+    side, g = (top rows) - (bottom rows)."""
+    no = itab[I_NODE]
+    known = 0.0
+    for side in range(2):
+        n = top if side == 0 else bot
+        sg = -1.0 if side == 0 else 1.0
+        typ = itab[no + NODE_W * n]
+        if typ != LIN and typ != DYN and typ != REL:
+            known -= sg * W[ia + n]  # + a_top, - a_bottom
+            continue
+        cnt = itab[no + NODE_W * n + 2] if typ == LIN else 1
+        co = itab[no + NODE_W * n + 3]
+        for j in range(cnt):
+            row, _ = _end(itab, n, j)
+            c = ftab[co + j] if typ == LIN else 1.0
+            W[ir + row] += sg * f * c
+    if me == 0.0:
+        return
+    for s1 in range(2):
+        n1 = top if s1 == 0 else bot
+        g1 = 1.0 if s1 == 0 else -1.0
+        t1 = itab[no + NODE_W * n1]
+        if t1 != LIN and t1 != DYN and t1 != REL:
+            continue
+        c1n = itab[no + NODE_W * n1 + 2] if t1 == LIN else 1
+        for j1 in range(c1n):
+            r1, _ = _end(itab, n1, j1)
+            a1 = g1 * (ftab[itab[no + NODE_W * n1 + 3] + j1] if t1 == LIN else 1.0)
+            W[ir + r1] -= me * a1 * known
+            for s2 in range(2):
+                n2 = top if s2 == 0 else bot
+                g2 = 1.0 if s2 == 0 else -1.0
+                t2 = itab[no + NODE_W * n2]
+                if t2 != LIN and t2 != DYN and t2 != REL:
+                    continue
+                c2n = itab[no + NODE_W * n2 + 2] if t2 == LIN else 1
+                for j2 in range(c2n):
+                    r2, _ = _end(itab, n2, j2)
+                    a2 = g2 * (ftab[itab[no + NODE_W * n2 + 3] + j2] if t2 == LIN else 1.0)
+                    W[im + r1 * nd + r2] += me * a1 * a2
 
 
 @nb.njit(cache=True, inline="always")
@@ -551,6 +701,12 @@ def switches(itab, ftab, W, out):
             g0 = flywheel_switch(ftab, o, 0.0)
             if ftab[o] != 2.0:
                 count += 1
+        elif code == TYRE:  # one kink: the contact force, and a half that never changes sign
+            out[2 * e] = tyre_switch(ftab, o, W[top] - W[bot], W[nn + top] - W[nn + bot])
+            out[2 * e + 1] = -1.0
+            if not math.isinf(ftab[o + 2]):
+                count += 1
+            continue
         d = g - g0 if a >= 0.0 else g0 - g
         out[2 * e] = g0 + d
         out[2 * e + 1] = g0 - d

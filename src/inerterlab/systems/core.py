@@ -8,14 +8,14 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, ElementBase
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
 from ..errors import ConvergenceError, ParameterError, check_positive
 from ..networks import NetworkError
 from . import _integrate, _kernel
-from ._kernel import DYN, ELEM_W, GROUND, HEADER, NODE_W, POS, REL, RELV, ROAD, VEL
+from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
 
-_TYPE = {"ground": GROUND, "road": ROAD}
+_TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 #: ``method="auto"`` takes exact steps where they need at most this many distinct step
 #: lengths (one matrix exponential each)
 EXACT_MAX_STEP_SIZES = 256
@@ -136,7 +136,8 @@ class System:
     # -- linear analysis ------------------------------------------------------------------
     def linear_state_space(self):
         """(A, B, C, D) of x' = A x + B u, y = C x + D u with u = (road displacement,
-        velocity, acceleration) and y the outputs (:attr:`output_names`).
+        velocity, acceleration), three per road where the system has several (a vehicle),
+        and y the outputs (:attr:`output_names`).
 
         Columns come from the right-hand side at unit vectors, exact for a linear system.
         NetworkError if an element is not linear."""
@@ -204,15 +205,18 @@ class System:
 
 def _state_space(sys, itab, ftab):
     """(A, B, C, D) of the system's right-hand side and outputs on the tables (itab,
-    ftab), from unit vectors: exact where they hold linear elements only."""
+    ftab), from unit vectors: exact where they hold linear elements only. The inputs are
+    each road's displacement, velocity and acceleration (3 per road, in the order of
+    :func:`._kernel.road_layout`)."""
     n = sys.n_states
     no = len(sys.output_names)
+    nu = _kernel.road_layout_of(itab)[1]  # the free slot follows the roads
     A = np.zeros((n, n))
-    B = np.zeros((n, 3))
+    B = np.zeros((n, nu))
     C = np.zeros((no, n))
-    D = np.zeros((no, 3))
+    D = np.zeros((no, nu))
     z = np.zeros(n)
-    r0 = np.zeros(3)
+    r0 = np.zeros(nu)
     for k in range(n):
         e = np.zeros(n)
         e[k] = 1.0
@@ -220,8 +224,8 @@ def _state_space(sys, itab, ftab):
         out = np.empty(no)
         _kernel.outputs(0.0, e, r0, itab, ftab, out)
         C[:, k] = out
-    for k in range(3):
-        u = np.zeros(3)
+    for k in range(nu):
+        u = np.zeros(nu)
         u[k] = 1.0
         _kernel.rhs(0.0, z, u, itab, ftab, B[:, k])
         out = np.empty(no)
@@ -462,6 +466,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
                 ref[i] = r
                 if i != r:
                     types[i] = RELV
+    _check_combinations(lay, types, edges)
     dyn = [i for i in range(nn) if types[i] in (DYN, REL)]
     vel = [i for i in range(nn) if types[i] in (VEL, RELV)]
     pos = [i for i in range(nn) if types[i] == POS]
@@ -490,7 +495,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             L[b, b] += k
             L[t, b] -= k
             L[b, t] -= k
-        if el.code in (INERTER, FLYWHEEL):
+        if el.code in (INERTER, FLYWHEEL) and LIN in (types[t], types[b]):
+            me = el.inertance if el.code == INERTER else el.inertance_min
+            g = _end_vector(lay, types, cls, t) - _end_vector(lay, types, cls, b)
+            Md += me * np.outer(g, g)
+        elif el.code in (INERTER, FLYWHEEL):
             me = el.inertance if el.code == INERTER else el.inertance_min
             for a_, c_ in ((t, b), (b, t)):
                 if types[a_] in (DYN, REL):
@@ -586,17 +595,26 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     fr = nn
     fe = fr + len(pos) * nn
     ftab = np.zeros(fe + NPAR * ne)
+    itab, ftab, combo = _combination_tables(lay, types, itab, ftab)
+    itab[_kernel.I_NL] = len(combo)
+    itab[_kernel.I_NRD] = 1 + max((nd.get("road", 0) for nd in lay.nodes), default=0)
     itab[_kernel.I_FMASS] = fmass
     itab[_kernel.I_FR] = fr
     for i in range(nn):
         itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (
             types[i], xs[i], vs[i], cls.get(i, -1), ref[i]
         )  # fmt: skip
+        if types[i] == ROAD:  # the index of its road
+            itab[no + NODE_W * i + 3] = lay.nodes[i].get("road", 0)
+        elif types[i] == LIN:  # member list, count, coefficients
+            itab[no + NODE_W * i : no + NODE_W * (i + 1)] = (LIN, *combo[i], -1)
         ftab[fmass + i] = lay.nodes[i]["mass"]
     ftab[fr:fe] = R.ravel()
     for e, (_, el, t, b) in enumerate(edges):
         ti = cls[t] if types[t] in (DYN, REL) else -1  # rows in the mass matrix, or -1
         bi = cls[b] if types[b] in (DYN, REL) else -1
+        if LIN in (types[t], types[b]):  # -2: an end at a combination node
+            ti = bi = -2
         itab[eo + ELEM_W * e : eo + ELEM_W * (e + 1)] = (
             el.code, t, b, fe + NPAR * e, so[e], ti, bi
         )  # fmt: skip
@@ -609,7 +627,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if not any(types[x] == ROAD for x in ends):
             continue
         other = b if types[t] == ROAD else t
-        if el.code in (INERTER, FLYWHEEL):
+        if el.code in (INERTER, FLYWHEEL, TYRE) or types[other] == LIN:
             jump_ok = False
         elif el.code == DAMPER:
             c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
@@ -655,6 +673,51 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             road_inertances=road_inertances,
         ),
     )
+
+
+def _check_combinations(lay: Layout, types: list, edges: list) -> None:
+    """A combination node's members must be dynamic nodes (masses), a tyre must join a
+    dynamic node to the road."""
+    for i, nd in enumerate(lay.nodes):
+        if types[i] == LIN:
+            for m, _ in nd["members"]:
+                if types[m] != DYN:
+                    raise NetworkError(
+                        f"the attachment point {nd['name']} combines "
+                        f"{lay.nodes[m]['name']}, which is not a body coordinate"
+                    )
+    for name, el, t, b in edges:
+        if el.code == TYRE and not (types[t] == DYN and types[b] == ROAD):
+            raise NetworkError(f"the tyre {name} must join a wheel (a mass) to the road")
+
+
+def _end_vector(lay: Layout, types: list, cls: dict, n: int) -> np.ndarray:
+    """The mass-matrix rows of element end n as a vector over the dynamic nodes."""
+    g = np.zeros(sum(1 for t in types if t in (DYN, REL)))
+    if types[n] == LIN:
+        for m, c in lay.nodes[n]["members"]:
+            g[cls[m]] += c
+    elif types[n] in (DYN, REL):
+        g[cls[n]] = 1.0
+    return g
+
+
+def _combination_tables(lay: Layout, types: list, itab: np.ndarray, ftab: np.ndarray):
+    """``itab`` and ``ftab`` with every combination node's member list and coefficients
+    appended, and {node: (member list offset, count, coefficient offset)}."""
+    combo = {}
+    ilist, flist = [], []
+    for i, nd in enumerate(lay.nodes):
+        if types[i] == LIN:
+            mem = nd["members"]
+            combo[i] = (itab.size + len(ilist), len(mem), ftab.size + len(flist))
+            ilist += [m for m, _ in mem]
+            flist += [float(c) for _, c in mem]
+    if not combo:
+        return itab, ftab, combo
+    itab = np.concatenate([itab, np.array(ilist, dtype=np.int64)])
+    ftab = np.concatenate([ftab, np.array(flist, float)])
+    return itab, ftab, combo
 
 
 def _spring_map(L, types, ref, pos, lay) -> np.ndarray:
@@ -792,6 +855,11 @@ def _simulate(
     if method not in ("auto", "adaptive", "exact"):
         raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
     excitation.check_horizon(T, stacklevel=3)
+    if _kernel.road_layout_of(sys.itab)[1] > 3:
+        raise ParameterError(
+            "system", sys.description,
+            "a system on one road (a vehicle, a road per wheel: systems.vehicle.simulate)",
+        )  # fmt: skip
     if times is None and x0 is None:
         from ..simulate import check_sine_steps
 
@@ -1087,7 +1155,8 @@ def _regime_system(sys):
         ftab.setflags(write=False)
         A, B, C, D = _state_space(sys, itab, ftab)
         out0 = np.empty(len(sys.output_names))
-        _kernel.outputs(0.0, np.zeros(sys.n_states), np.zeros(3), itab, ftab, out0)
+        u0 = np.zeros(_kernel.road_layout_of(itab)[1])
+        _kernel.outputs(0.0, np.zeros(sys.n_states), u0, itab, ftab, out0)
         names = list(sys.output_names)
         gx, gu, thr, idx = [], [], [], []
         for e, (_, arg, a) in regimes:
@@ -1228,7 +1297,8 @@ def _linear_outputs(sys, ss, Y, U):
     nodes)."""
     _, _, C, D = ss
     out0 = np.empty(len(sys.output_names))
-    sys.outputs(0.0, np.zeros(sys.n_states), np.zeros(3), sys.itab, sys.ftab, out0)
+    u0 = np.zeros(_kernel.road_layout_of(sys.itab)[1])
+    sys.outputs(0.0, np.zeros(sys.n_states), u0, sys.itab, sys.ftab, out0)
     O = np.empty((C.shape[0], Y.shape[0]))
     _integrate.linear_outputs(
         np.ascontiguousarray(Y.T), np.ascontiguousarray(U.T), C, D, np.isnan(out0), O

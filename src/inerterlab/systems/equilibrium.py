@@ -169,7 +169,7 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     scale = max(weight, 1.0)
     W = np.empty(_kernel.work_size(itab))
     dx = np.empty(system.n_states)
-    road = np.zeros(3)
+    road = np.zeros(_kernel.road_layout_of(itab)[1])  # every road at rest
     base = np.array(system.x0_template, dtype=float)
     pos = {n: i for i, n in enumerate(rows)}
 
@@ -308,7 +308,7 @@ def _unheld(system, rows, J) -> str:
 
 def linearise(system, x0=None, *, step: float = 1e-7):
     """(A, B, C, D) of ``system`` about the state ``x0`` (default 0, the rest) with the
-    road at rest, by central differences of the right-hand side and the outputs (steps
+    roads at rest, by central differences of the right-hand side and the outputs (steps
     ``step`` x each state's scale; 1 m, m/s, m/s^2 x ``step`` for the road). Outputs
     undefined at massless nodes (accelerations) are 0, as in
     :meth:`System.linear_state_space`."""
@@ -316,8 +316,9 @@ def linearise(system, x0=None, *, step: float = 1e-7):
     n = system.n_states
     no = len(system.output_names)
     x0 = np.zeros(n) if x0 is None else np.asarray(x0, float)
-    A, B = np.zeros((n, n)), np.zeros((n, 3))
-    C, D = np.zeros((no, n)), np.zeros((no, 3))
+    nu = _kernel.road_layout_of(itab)[1]  # 3 inputs per road (the free slot follows them)
+    A, B = np.zeros((n, n)), np.zeros((n, nu))
+    C, D = np.zeros((no, n)), np.zeros((no, nu))
 
     def at(x, u):
         f = np.empty(n)
@@ -326,7 +327,7 @@ def linearise(system, x0=None, *, step: float = 1e-7):
         system.outputs(0.0, x, u, itab, ftab, y)
         return f, np.nan_to_num(y)
 
-    u0 = np.zeros(3)
+    u0 = np.zeros(nu)
     for k in range(n):
         d = step * max(float(system.state_scales[k]), 1e-6)
         e = np.zeros(n)
@@ -335,8 +336,8 @@ def linearise(system, x0=None, *, step: float = 1e-7):
         fm, ym = at(x0 - e, u0)
         A[:, k] = (fp - fm) / (2 * d)
         C[:, k] = (yp - ym) / (2 * d)
-    for k in range(3):
-        e = np.zeros(3)
+    for k in range(nu):
+        e = np.zeros(nu)
         e[k] = step
         fp, yp = at(x0, e)
         fm, ym = at(x0, -e)

@@ -281,24 +281,14 @@ def _adaptive(table, where: str, fail):
         fail(where, name, f"{getattr(e, 'value', '')!r}: expected {getattr(e, 'valid', e)}")
 
 
-def _device(table, where: str, fail):
-    """A core element from a ``[front.device]`` table: ``kind`` (an element name of
-    :data:`inerterlab.elements.ELEMENTS`, e.g. ``hyd``, ``rect``, ``screw``, ``fluid``)
-    and its parameters by name, physical ones with units (``"700 kN/m"``), choices as
-    text, dimensionless ones as numbers. Missing parameters take the element's defaults
-    (for the thesis devices: their identified values)."""
-    from ..elements import ELEMENTS
-
-    if not isinstance(table, dict):
-        fail(where.split(".")[0], "device", "a table [.device] with kind and parameters")
-    kind = table.get("kind")
-    if kind not in ELEMENTS:
-        fail(where, "kind", f"{kind!r}: expected one of {', '.join(sorted(ELEMENTS))}")
-    cls = ELEMENTS[kind]
+def _element_values(cls, table: dict, where: str, fail, skip=()) -> dict:
+    """Parameters of an element of class ``cls`` from a table: physical ones with units,
+    read in the unit the element declares for each (:attr:`ElementBase.PARAMETERS`,
+    ``"700 kN/m"``), choices as text, dimensionless ones as numbers."""
     params = {p.name: p for p in cls.PARAMETERS}
     values = {}
     for key, value in table.items():
-        if key == "kind":
+        if key in skip:
             continue
         if key not in params:
             fail(where, key, "unknown parameter of a " + cls.description + "; expected one of "
@@ -316,6 +306,10 @@ def _device(table, where: str, fail):
             values[key] = parse_quantity(value, p.unit)
         except ParameterError as e:
             fail(where, key, f"{value!r}: expected {e.valid}")
+    return values
+
+
+def _make_element(cls, values: dict, where: str, fail):
     try:
         return cls(**values)
     except ParameterError as e:
@@ -325,29 +319,78 @@ def _device(table, where: str, fail):
         fail(where, missing[0] if missing else "kind", "missing (required)")
 
 
-def _network_values(network, values: dict, axle: str, keys: dict, fail) -> dict:
-    """Element values {name: SI value} of ``network = "..."`` in table ``[axle]``: each
-    element's value under its own name, with the unit of its kind."""
+def _device(table, where: str, fail):
+    """A core element from a ``[front.device]`` table: ``kind`` (an element name of
+    :data:`inerterlab.elements.ELEMENTS`, e.g. ``hyd``, ``rect``, ``screw``, ``fluid``)
+    and its parameters by name (:func:`_element_values`). Missing parameters take the
+    element's defaults (for the thesis devices: their identified values)."""
+    from ..elements import ELEMENTS
+
+    if not isinstance(table, dict):
+        fail(where.split(".")[0], "device", "a table [.device] with kind and parameters")
+    kind = table.get("kind")
+    if kind not in ELEMENTS:
+        fail(where, "kind", f"{kind!r}: expected one of {', '.join(sorted(ELEMENTS))}")
+    cls = ELEMENTS[kind]
+    return _make_element(cls, _element_values(cls, table, where, fail, skip=("kind",)), where, fail)
+
+
+def _network_values(network, values: dict, axle: str, fail):
+    """The strut of ``network = "..."`` in table ``[axle]`` and the keys it used. Each
+    element's value is under its own name: a quantity in the unit of the element's first
+    parameter (``k = "28 kN/m"``, ``b = "150 kg"``), or a table of its parameters by name
+    (``hyd = { stiffness = "700 kN/m", flywheel = "none" }``), or nothing for an element
+    whose parameters all have defaults. The units are those the elements declare. A
+    network of springs, linear dampers and inerters is a
+    :class:`~inerterlab.vehicles.parameters.NetworkStrut`; any other (devices, adaptive
+    flywheels, friction, free play, fluid inerters) a strut whose device is the network."""
+    from ..elements._base import DAMPER, INERTER, SPRING
     from ..networks import NetworkError, parse_network
 
     if not isinstance(network, str):
         fail(axle, "network", f"{network!r}: expected a network text such as 'k | (c - b)'")
     try:
         net = parse_network(network)
-        net.require_linear()
     except NetworkError as e:
         fail(axle, "network", str(e))
-    out = {}
+    elements = {}
     for e in net.tree.elements():
         name, cls = e.name, e.cls
-        if name not in values:
-            fail(axle, name, f"missing: the value of {cls.description} {name!r} of network {net.text!r}")
-        try:
-            # the quantity is the name of the element's one parameter (stiffness, ...)
-            out[name] = parse_quantity(values[name], keys[cls.PARAMETERS[0].name])
-        except ParameterError as e:
-            fail(axle, name, f"{values[name]!r}: expected {e.valid}")
-    return out
+        where = f"{axle}.{name}"
+        value = values.get(name)
+        if value is None:
+            if any(p.name not in _defaults(cls) for p in cls.PARAMETERS):
+                fail(axle, name, f"missing: the value of {cls.description} {name!r} of "
+                     f"network {net.text!r}")  # fmt: skip
+            elements[name] = _make_element(cls, {}, where, fail)
+        elif isinstance(value, dict) and set(value) != {"value", "unit"}:
+            elements[name] = _make_element(cls, _element_values(cls, value, where, fail), where, fail)
+        else:
+            first = cls.PARAMETERS[0]
+            try:
+                x = parse_quantity(value, first.unit)
+            except ParameterError as err:
+                fail(axle, name, f"{value!r}: expected {err.valid} ({cls.description} {first.name})")
+            elements[name] = _make_element(cls, {first.name: x}, where, fail)
+    linear = all(
+        el.code in (SPRING, DAMPER, INERTER) and el.is_linear and len(el.PARAMETERS) <= 2
+        for el in elements.values()
+    )
+    if linear:
+        vals = {n: float(el.rest_network()[1].popitem()[1]) for n, el in elements.items()}
+        return NetworkStrut(net.text, vals), set(elements)
+    return (Strut(stiffness=0.0, damping=0.0, device=net.text, device_parameters=elements),
+            set(elements))  # fmt: skip
+
+
+def _defaults(cls) -> set:
+    """Names of the parameters of ``cls`` that have defaults."""
+    import dataclasses
+
+    return {
+        f.name for f in dataclasses.fields(cls)
+        if f.default is not dataclasses.MISSING or f.default_factory is not dataclasses.MISSING
+    }  # fmt: skip
 
 
 def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
@@ -400,9 +443,12 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
         adaptive_table = values.pop("adaptive", None)
         device_table = values.pop("device", None)
         network = values.pop("network", None)
-        elements = {}
+        used: set = set()
         if network is not None:
-            elements = _network_values(network, values, axle, keys, fail)
+            try:
+                net_strut, used = _network_values(network, values, axle, fail)
+            except ParameterError as e:
+                fail(axle, "network", f"{e.value!r}: {e.valid}")
             for k in ("stiffness", "damping", "inertance"):
                 if k in values:
                     fail(axle, k, f"not with network = {network!r}: give each element's "
@@ -411,7 +457,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                 fail(axle, "adaptive", "not with a network (an adaptive inerter is a Strut's)")
             if device_table is not None:
                 fail(axle, "device", "not with a network (a device is a Strut's)")
-            values = {k: v for k, v in values.items() if k not in elements}
+            values = {k: v for k, v in values.items() if k not in used}
         q = quantities(axle, values, keys)
         adaptive = None
         if adaptive_table is not None:
@@ -427,7 +473,7 @@ def loads_vehicle(text: str, source: str = "<string>") -> HalfCar | FullCar:
                 fail(axle, k, "missing")
         try:
             if network is not None:
-                strut = NetworkStrut(network, elements)
+                strut = net_strut
             else:
                 strut = Strut(
                     stiffness=q["stiffness"],
