@@ -92,6 +92,9 @@ def vehicle_study(model: str, workers: int) -> None:
     warnings.simplefilter("ignore", RuntimeWarning)  # scipy's Lyapunov near-singular notes
     st = DesignSettings(vehicle=example_vehicle_path().read_text(), model=model,
                         objective="seat_wk")  # fmt: skip
+    import os
+
+    load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "design"
         t = time.perf_counter()
@@ -100,7 +103,10 @@ def vehicle_study(model: str, workers: int) -> None:
         figs = figures(res)
         (out / "report.html").write_text(render_html(res, figs))
         fresh = time.perf_counter() - t
+        fig_s = time.perf_counter() - t1
     best = res["ranking"][0]
+    print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f} "
+          "(other work on the machine)")  # fmt: skip
     print(
         f"{model}-car design study (example vehicle, seat_wk, budget 2/1/1, four devices, "
         f"{st.roads} roads of {st.horizon:g} s), fresh folder, {workers} workers: {fresh:.1f} s "
@@ -108,7 +114,7 @@ def vehicle_study(model: str, workers: int) -> None:
         f"{len(res['layouts'])} layouts, {len(res['ranking'])} candidates"
     )
     print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in res["stage_seconds"].items())
-          + f", report figures {time.perf_counter() - t1:.1f}")  # fmt: skip
+          + f", report figures {fig_s:.1f}")  # fmt: skip
     print(
         f"best: {best['label']}: {best['objective']} {best['expected']:.4g} "
         f"+- {best['interval95']:.2g} {best['unit']} (expected value, 95 % interval), "

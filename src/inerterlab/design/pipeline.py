@@ -360,10 +360,11 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             + ("; limits on the worst corner, spectral method on the band-limited road"
                if st.limits else "")
         )  # fmt: skip
-    elif "deflection" in st.limits:
-        constraints["suspension_deflection"] = st.limits["deflection"] / scale
-    if "tyre_load" in st.limits:
-        constraints["tyre_deflection"] = st.limits["tyre_load"] / st.tyre_stiffness / scale
+    else:
+        if "deflection" in st.limits:
+            constraints["suspension_deflection"] = st.limits["deflection"] / scale
+        if "tyre_load" in st.limits:
+            constraints["tyre_deflection"] = st.limits["tyre_load"] / st.tyre_stiffness / scale
     check_budget(st.dampers, st.inerters, st.springs, cli=True)
     nets = [n.text for n in enumerate_networks(st.dampers, st.inerters, st.springs)]
     if "k | c" not in nets:
