@@ -61,6 +61,7 @@ DESIGN_OBJECTIVES = ("seat_wk", "body_acc_wk", "body_acc", "tyre_load", "weighte
 _OUT_MEMBERS = ("stores", "design.json", "report.html")
 _STORES = (
     "layouts.zarr",
+    "layouts_polished.zarr",
     "devices_linear.zarr",
     "devices.zarr",
     "scores.zarr",
@@ -407,8 +408,23 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     layout_settings = {k: common[k] for k in keys}
     ds = _sweep("design-layout", {"network": nets}, {"settings": json.dumps(layout_settings, sort_keys=True)},
                 store("layouts.zarr"), workers, progress)  # fmt: skip
+    source = {text: ds for text in nets}
+    polished = set(nets)
+    if st.is_vehicle:
+        # the sweep above put each layout at its corners' quarter-car optima (one vehicle
+        # evaluation each); the vehicle search polishes k | c and the best top + 2
+        fin = sorted((float(ds.sel(network=t).objective), t) for t in nets
+                     if int(ds.sel(network=t).status) == 1
+                     and math.isfinite(float(ds.sel(network=t).objective)))  # fmt: skip
+        polished = {"k | c"} | {t for _, t in fin[: st.top + 2]}
+        say(f"design: polishing {len(polished)} layouts in the {st.model} car")
+        dsp = _sweep("design-layout", {"network": sorted(polished)},
+                     {"settings": json.dumps({**layout_settings, "polish": True}, sort_keys=True)},
+                     store("layouts_polished.zarr"), workers, progress)  # fmt: skip
+        source.update({t: dsp for t in polished})
     layouts = []
     for text in nets:
+        ds = source[text]
         row = ds.sel(network=text)
         if int(row.status) != 1 or not math.isfinite(float(row.objective)):
             reason = (
@@ -429,6 +445,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             "network": text,
             "objective": float(row.objective),
             "parameters": _unpack(ds, {"network": text}, names),
+            **({} if text in polished else {"polished": False}),
             "norms": {k: float(row[f"norm_{k}"]) for k in ("body_acc", "tyre_deflection",
                                                            "suspension_deflection")},
         })  # fmt: skip

@@ -237,7 +237,7 @@ def _limit_values(car, network, values, road_class, speed) -> dict:
 def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mapping,
                     fixed: Mapping | None = None, limits: Mapping | None = None,
                     road_class: str, speed: float, start: str = "quarter",
-                    initial: Mapping | None = None) -> dict:  # fmt: skip
+                    initial: Mapping | None = None, polish: bool = True) -> dict:  # fmt: skip
     """Per-axle values of ``network`` minimising the linear ``objective``.
 
     ``bounds``: element -> [low, high] (both axles; default the element's design
@@ -247,7 +247,8 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
     quarter-car optimum of each axle's corner), 'middle' (the bounds' geometric middle)
     or 'both' (the better end; the design uses 'quarter', the tests check that the
     middle start ends at the same optimum); ``initial`` (front_/rear_ values) replaces
-    them. Returns {'objective', 'parameters' (front_/rear_ names,
+    them. ``polish`` False: the values at the first start, without a search (the
+    design's first pass over every layout). Returns {'objective', 'parameters' (front_/rear_ names,
     k included), 'converged', 'limit_values'}."""
     from scipy.optimize import minimize
 
@@ -306,8 +307,8 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
         starts.append(np.clip(np.array(x0), lo, hi))
     if start in ("middle", "both"):
         starts.append(0.5 * (lo + hi))
-    if not names:
-        vals = values(np.zeros(0))
+    if not names or not polish:  # no search: the (first) start as it is
+        vals = values(starts[0] if names else np.zeros(0))
         obj = linear_objective(car, network, vals, objective, road_class, speed)
         lim = _limit_values(car, network, vals, road_class, speed) if limits else {}
         return {"objective": obj, "parameters": vals, "converged": True, "limit_values": lim}
