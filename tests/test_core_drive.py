@@ -6,11 +6,10 @@ import math
 import numpy as np
 import pytest
 
-from inerterlab import quarter_car as kernel_quarter_car
 from inerterlab.devices import device_force, device_preset, motion_from_samples
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import drive_series, road_displacement, sine
-from inerterlab.systems import rig
+from inerterlab.systems import quarter_car, rig
 
 FS = 500.0
 
@@ -114,7 +113,7 @@ def test_drive_bad_input_and_refusal_outside_the_core():
     from inerterlab.simulate import simulate
 
     with pytest.raises(ParameterError, match="core systems"):
-        simulate(kernel_quarter_car("traditional"), drive_series(t, x, v), horizon=0.1)
+        simulate(quarter_car("traditional"), drive_series(t, x, v), horizon=0.1)
 
 
 @pytest.mark.parametrize("method", ["exact", "adaptive"])
@@ -126,7 +125,10 @@ def test_explicit_sample_times_equal_the_uniform_samples(method):
     every = car.simulate(bump(), 1.0, method=method)
     some = car.simulate(bump(), 1.0, method=method, times=[0.1, 0.2, 0.55, 1.0])
     ref = every.outputs["body.x"][[100, 200, 550, 1000]]
-    assert np.abs(some.outputs["body.x"] - ref).max() <= 1e-15
+    # the uniform run carries the ride observers (their states share the step control:
+    # another step sequence for adaptive steps, another grid of exact ones)
+    tol = 1e-15 if method == "exact" else 1e-7 * np.abs(every.outputs["body.x"]).max()
+    assert np.abs(some.outputs["body.x"] - ref).max() <= tol
     assert some.metrics is None and every.metrics["rms_body_acc"] > 0
     for bad in ([0.5, 0.2], [0.1, 2.0], [-0.1, 0.2], [np.nan]):
         with pytest.raises(ParameterError, match="times"):

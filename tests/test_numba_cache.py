@@ -31,15 +31,15 @@ def _run(root: Path) -> dict:
 
 
 def _index_files(pkg: Path) -> dict:
-    return {p: p.stat().st_mtime_ns for p in (pkg / "suspension" / "__pycache__").glob("*.nbi")}
+    return {p: p.stat().st_mtime_ns for p in (pkg / "systems" / "__pycache__").glob("*.nbi")}
 
 
 @pytest.mark.slow
 def test_edit_in_a_helper_module_recompiles_the_kernel(tmp_path):
-    # the quarter-car kernel reads its parameters by the P_* slots defined in model.py;
-    # swapping two slots there (and nowhere else) changes the compiled code it needs. A
-    # cache keyed on _kernels.py alone would run the old code on the new packing and
-    # read the stiffness as the damping.
+    # the core's compiled right-hand side decides by the element codes defined in
+    # elements/_base.py; swapping two codes there (and nowhere else) changes the compiled
+    # code it needs. A cache keyed on systems/_kernel.py alone would run the old code on
+    # the new tables and take the spring for the damper.
     src = Path(inerterlab.__file__).resolve().parent
     pkg = tmp_path / "inerterlab"
     shutil.copytree(src, pkg, ignore=shutil.ignore_patterns("__pycache__"))
@@ -48,10 +48,11 @@ def test_edit_in_a_helper_module_recompiles_the_kernel(tmp_path):
     assert cached, "the kernels were not cached on disk"
     assert _run(tmp_path) == first  # from the cache
     assert _index_files(pkg) == cached  # nothing recompiled
-    model = pkg / "suspension" / "model.py"
-    text = model.read_text()
-    assert "    P_K,\n    P_C,\n" in text
-    model.write_text(text.replace("    P_K,\n    P_C,\n", "    P_C,\n    P_K,\n", 1))
+    base = pkg / "elements" / "_base.py"
+    text = base.read_text()
+    line = "SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 0, 1, 2, 3, 4"
+    assert line in text
+    base.write_text(text.replace(line, "SPRING, DAMPER, INERTER, FRICTION, FLYWHEEL = 1, 0, 2, 3, 4"))
     after = _run(tmp_path)
     assert after == first  # same physics, compiled afresh for the new slots
     assert _index_files(pkg) != cached

@@ -1,4 +1,4 @@
-"""Quarter-car simulation: compiled backend against the scipy reference, inputs, results."""
+"""Quarter-car simulation: the model core against the scipy reference, inputs, results."""
 
 import math
 
@@ -38,12 +38,15 @@ SUSPENSIONS = ["traditional", "cfw", "afw", "device", "device-afw"]
 NUMERIC_KEYS = [k for k in METRIC_KEYS if k != "tyre_lift_off"]
 
 
-def _assert_close(fast, ref, rtol):
+def _assert_close(fast, ref, rtol, load=(370.0 + 25.0) * 9.81):
     for k in NUMERIC_KEYS:
         if ref[k] is None:  # not finite across a road step: both backends must say so
             assert fast[k] is None, k
             continue
-        assert fast[k] == pytest.approx(ref[k], rel=rtol, abs=1e-12), k
+        # the least tyre force is the static load less the largest dynamic force: its
+        # error is relative to the load, not to the (small) difference
+        tol = rtol * load if k == "min_tyre_force" else 1e-12
+        assert fast[k] == pytest.approx(ref[k], rel=rtol, abs=tol), k
     assert fast["tyre_lift_off"] == ref["tyre_lift_off"]
 
 
@@ -116,122 +119,25 @@ def test_every_saturation_crossing_ends_a_step_even_with_long_steps():
     assert crossings >= 10
     for rtol in (1e-4, 1e-6, 1e-8):
         run = simulate(car, sine(), 1.0, options=SimulationOptions(rtol=rtol), output="metrics")
-        assert run.stats["kink_steps"] >= crossings, rtol
-
-
-def test_exact_step_tables_match_scipy_expm_and_the_right_hand_side():
-    # the linear model of the exact steps is the compiled right-hand side itself while
-    # the flywheel is saturated, and its tables are matrix exponentials
-    from scipy.linalg import expm
-
-    from inerterlab.simulate import _initial_state, _wk_sections
-    from inerterlab.suspension import _kernels as K
-
-    car = quarter_car("afw").info["model"]
-    p = car.kernel_parameters
-    ex = sine(0.05, 5.0)
-    seg = np.ascontiguousarray(ex.segments(1.0), dtype=float)[0]
-    wk = _wk_sections()
-    me = p[K.P_R2] * K.inertia(p, p[K.P_WSAT])
-    nz, no, npm = K.X_NZ, K.X_NO, K.X_N_POINTS_MAX
-    M = np.empty((nz, nz))
-    rows = np.empty((no, nz))
-    E = np.empty((K.X_N_LEVELS, nz, nz))
-    P = np.empty((2 ** (K.X_N_LEVELS - 1) + 1, nz, nz))
-    RT = np.empty((K.X_N_LEVELS, nz, npm * no))
-    T = np.empty((K.X_N_TAYLOR, no, nz))
-    K.x_setup(p, wk, me, 0.0, seg[6], M, rows, E, P, RT, T, np.empty((no, nz)), np.empty((nz, nz)))
-    for lev in range(K.X_N_LEVELS):
-        h = K.X_H_EXACT / 2**lev
-        ref = expm(M * h)
-        assert np.abs(E[lev] - ref).max() <= 1e-12 * np.abs(ref).max()
-        for i in range(K.X_NPTS[lev]):
-            r = rows @ expm(M * K.X_XS[lev, i] * h)
-            got = RT[lev][:, i * no : (i + 1) * no].T
-            assert np.abs(got - r).max() <= 1e-11 * np.abs(r).max()
-    # a saturated state: M z against the right-hand side
-    y, _ = _initial_state(car, ex, 1.0)
-    rng = np.random.default_rng(1)
-    y[:4] += 0.01 * rng.standard_normal(4)
-    y[3] = y[1] + 3.0 * p[K.P_WSAT] / p[K.P_R]
-    n = car.n_states
-    y[n + 3 : n + 11] = rng.standard_normal(8)
-    t = 0.123
-    dy = np.empty_like(y)
-    a3 = K.rhs(t, y, dy, p, seg, wk)
-    arg = seg[6] * t + seg[7]
-    z = np.r_[y[:4], y[n + 3 : n + 11], seg[3], seg[5] * np.sin(arg), seg[5] * seg[6] * np.cos(arg)]
-    dz = M @ z
-    np.testing.assert_allclose(dz[:4], dy[:4], rtol=1e-12, atol=1e-12 * np.abs(dy[:4]).max())
-    np.testing.assert_allclose(dz[4:12], dy[n + 3 : n + 11], rtol=1e-12, atol=1e-9)
-    assert rows[K.X_O_A3] @ z == pytest.approx(a3, rel=1e-12)
-    assert dz[12] == 0.0 and dz[13] == pytest.approx(z[14])  # the road generator
-
-
-@pytest.mark.parametrize("suspension", ["traditional", "cfw"])
-@pytest.mark.parametrize("name", ["drop", "bump", "sine"])
-def test_exact_steps_meet_a_tight_reference_on_linear_cars(suspension, name):
-    # no inerter or a constant one: the car is linear and nearly every step is a matrix
-    # exponential, with no truncation error, so the metric integrals meet a reference at
-    # rtol 1e-12 to 1e-10, far closer than the default tolerance would (2e-11 seen)
-    car = quarter_car(suspension)
-    ex = INPUTS[name]
-    run = simulate(car, ex, 0.5, options=_fast(), output="metrics")
-    # Runge-Kutta steps only for the last < 1.25 ms of each road segment
-    assert run.stats["steps"] - run.stats["exact_steps"] <= 5 * run.stats["segments"]
-    ref = simulate_metrics(car, ex, 0.5, options=SimulationOptions(backend="scipy", rtol=1e-12))
-    got = run.metrics()
-    for k in ("rms_body_acc", "rms_tyre_grip", "rms_deflection", "rms_body_acc_wk", "vdv"):
-        if ref[k] is None:
-            assert got[k] is None, k
-            continue
-        assert got[k] == pytest.approx(ref[k], rel=1e-10), k
-    # peaks: located on interpolating polynomials (and by scipy's scalar search)
-    for k in ("peak_body_acc", "peak_body_acc_wk", "peak_deflection", "min_tyre_force"):
-        if ref[k] is None:
-            assert got[k] is None, k
-            continue
-        assert got[k] == pytest.approx(ref[k], rel=1e-8), k
-
-
-@pytest.mark.parametrize("name", ["bump", "sine"])
-def test_exact_steps_agree_with_runge_kutta_throughout(name):
-    car = quarter_car("afw")
-    rk = simulate_metrics(car, INPUTS[name], 2.0, options=SimulationOptions(exact_steps=False))
-    run = simulate(car, INPUTS[name], 2.0, options=_fast(), output="metrics")
-    assert run.stats["exact_steps"] > 0
-    _assert_close(run.metrics(), rk, 1e-7)
+        assert run.stats["events"] >= crossings, rtol
 
 
 @pytest.mark.parametrize(
-    ("suspension", "kwargs", "linear_phases"),
-    [
-        ("afw", {}, True),
-        ("afw", {"law": "momentum"}, True),
-        ("afw", {"law": "slider-dynamics"}, False),
-        ("afw", {"tyre_lift_off": True}, False),
-        ("device", {}, False),
-        ("device-afw", {}, False),
-    ],
+    ("suspension", "kwargs"),
+    [("afw", {"law": "slider-dynamics"}), ("device", {}), ("device-afw", {})],
 )
-def test_exact_steps_only_where_the_car_is_linear(suspension, kwargs, linear_phases):
-    run = simulate(
-        quarter_car(suspension, **kwargs), sine(), 1.0, options=_fast(), output="metrics"
-    )
-    assert (run.stats["exact_steps"] > 0) == linear_phases
-    # a sampled series keeps every sample: steps never jump over one
+def test_a_sampled_series_keeps_every_sample(suspension, kwargs):
     res = simulate(quarter_car(suspension, **kwargs), sine(), 0.3, options=_fast())
     assert res.time.size == 301
 
 
 @pytest.mark.parametrize("suspension", ["cfw", "afw"])
-def test_exact_steps_between_sparse_samples(suspension):
-    # at 200 Hz exact steps fit between the samples; the samples themselves come from
-    # Runge-Kutta steps ending past them
+def test_sparse_samples_match_the_reference(suspension):
+    # at 200 Hz the steps are shorter than the sample interval: the samples come from
+    # the continuous extension of the step that holds them
     car = quarter_car(suspension)
     opts = SimulationOptions(sample_rate=200.0)
     a = simulate(car, bump(), 0.5, options=opts)
-    assert a.stats["exact_steps"] > 0
     b = simulate(
         car, bump(), 0.5, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=200.0)
     )
@@ -261,7 +167,8 @@ def test_series_backends_agree_on_samples():
     a = simulate(car, bump(), 0.2, options=SimulationOptions(rtol=1e-10))
     b = simulate(car, bump(), 0.2, options=REF)
     assert a.time.size == 201 and a.time[-1] == pytest.approx(0.2)
-    np.testing.assert_allclose(a.states, b.states, rtol=1e-6, atol=1e-9)
+    # the wheel and body states (the device's own are laid out differently)
+    np.testing.assert_allclose(a.states[:, :4], b.states[:, :4], rtol=1e-6, atol=1e-9)
     np.testing.assert_allclose(a.body_acc, b.body_acc, rtol=1e-6, atol=1e-6)
 
 
@@ -333,29 +240,3 @@ def test_result_to_pandas_and_errors():
         simulate(quarter_car("traditional"), "drop", 1.0)
 
 
-def test_exact_step_setup_is_built_once_per_system_and_never_stale():
-    # the set-up is kept between runs (per thread) and rebuilt only when the linear
-    # system or the road kind changes: a sequence of runs over three cars gives exactly
-    # the numbers of the same runs each made with an empty cache (a new thread)
-    import threading
-
-    cars = [quarter_car("afw", changing_ratio=0.2), quarter_car("afw", changing_ratio=0.4),
-            quarter_car("cfw")]  # fmt: skip
-    # consecutive runs on different cars with the same road kind: only the key's car
-    # part tells them apart
-    order = [(c, r) for c in cars for r in (drop(), bump())] + [(c, sine()) for c in cars]
-
-    def run(car, road):
-        r = simulate(car, road, 2.0, output="metrics")
-        return r.metrics(), r.stats["exact_setups"]
-
-    seq = [run(c, r) for c, r in order]
-    # drop: a new system; bump: the same system and road kind (reused); sine: new each
-    assert [s for _, s in seq] == [1, 0] * len(cars) + [1] * len(cars)
-    for i, (c, r) in enumerate(order):
-        out = {}
-        th = threading.Thread(target=lambda c=c, r=r, o=out: o.setdefault("m", run(c, r)))
-        th.start()
-        th.join()
-        assert out["m"][1] == 1
-        assert out["m"][0] == seq[i][0]

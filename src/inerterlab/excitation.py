@@ -83,8 +83,9 @@ class Excitation:
     """
 
     name = "excitation"
-    #: False for inputs only the core systems (:mod:`inerterlab.systems`) can run
-    quarter_car_kernels = True
+    #: False for a measured drive (a rig input: displacement, velocity and acceleration
+    #: samples), which a quarter car does not take as its road
+    is_road = True
 
     def initial_road(self, horizon: float) -> float:
         """X1 just before t = 0 [m]: the car starts in equilibrium on this level."""
@@ -387,7 +388,7 @@ class DriveSeries(Excitation):
     acceleration: np.ndarray
     label: str = "drive"
     name = "drive"
-    quarter_car_kernels = False
+    is_road = False
 
     def __post_init__(self) -> None:
         arrays = {}

@@ -1,20 +1,20 @@
-"""One simulation driver over two integration backends -> :class:`SimulationResult`.
+"""One simulation driver of the named quarter cars over two backends -> :class:`SimulationResult`.
 
 Backends (docs/model.md §5):
 
 ``numba`` (default)
-    Compiled kernel (:mod:`inerterlab.suspension._kernels`): exact matrix-exponential
-    steps wherever the car is linear (no inerter, a constant one, a saturated flywheel),
-    adaptive Dormand-Prince 5(4) elsewhere, with the metric integrals and the Wk filter
-    as extra states; dense output only for the sampled time series and the peaks.
+    The model core (:mod:`inerterlab.systems`): the named suspension as a network of
+    :func:`inerterlab.quarter_car`, integrated by the core's compiled Dormand-Prince
+    5(4) with events at the elements' kinks, the ride metrics carried as observer
+    states (:func:`inerterlab.systems.observers.ride`: the metric integrals, the Wk
+    filter, the peaks located on the continuous extension).
 ``scipy``
     :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on the plain-Python
-    right-hand side :class:`inerterlab.suspension.reference.ReferenceRHS`: the
-    reference the fast backend is tested against.
+    right-hand side :class:`inerterlab.suspension.reference.ReferenceRHS`, written
+    apart from the core: the oracle the core is tested against.
 
-Both integrate piecewise between the excitation's segment edges, restart at each edge
-and apply the tyre-damper impulse C_t * jump where the road jumps. Absolute tolerances
-are ``rtol`` times a typical size of each state (``QuarterCar.state_scales``).
+Both apply the tyre-damper impulse C_t * jump where the road jumps. Absolute
+tolerances are ``atol`` (default ``rtol``) times a typical size of each state.
 
 Examples
 --------
@@ -29,7 +29,6 @@ from __future__ import annotations
 
 import math
 import sys
-import threading
 import time
 import types
 from collections.abc import Callable
@@ -40,9 +39,10 @@ import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_choice, check_positive
 from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale, road_steps
-from .metrics import wk_sections, wk_state_space
+from .metrics import wk_state_space
 from .resources import check_memory
 from .suspension.model import N_METRIC_STATES, QuarterCar, model_of
+from .systems.options import BACKENDS, DEFAULT_OPTIONS, SimulationOptions
 
 __all__ = [
     "SimulationOptions",
@@ -52,69 +52,8 @@ __all__ = [
     "BACKENDS",
 ]
 
-BACKENDS = ("numba", "scipy")
-WK_TOLERANCE_FACTOR = 1e4  # absolute tolerance of the Wk filter states / the others'
 OUTPUTS = ("series", "metrics")
 
-
-@dataclass(frozen=True, kw_only=True)
-class SimulationOptions:
-    """How to integrate.
-
-    Parameters
-    ----------
-    backend : {"numba", "scipy"}
-        Compiled kernel (exact steps and Dormand-Prince 5(4)) or scipy ``solve_ivp`` on
-        a Python right-hand side.
-    rtol : float
-        Relative tolerance; absolute tolerances are rtol x the typical size of each
-        state. At the default 1e-8 the numba backend's metrics agree with a scipy
-        DOP853 run at 1e-10 to better than 1e-6 (tests/test_simulate.py).
-    method : str
-        scipy method (``DOP853``, ``RK45``, ``Radau``, ...); ignored by ``numba``.
-    sample_rate : float
-        Output sampling rate [Hz] of the time series (>= 1000 recommended).
-    refine_peaks : bool
-        Locate peaks between steps on the continuous extension (numba backend);
-        without it peaks are the largest values at step ends.
-    max_steps : int
-        Give up (ConvergenceError) after this many steps (scipy backend: after 16 x
-        this many right-hand-side evaluations, about as many steps of DOP853).
-    time_limit : float or None
-        Give up (ConvergenceError) after this many seconds of integration (scipy
-        backend, checked every 256 evaluations); None for no limit. The compiled
-        backend is bounded by ``max_steps`` alone.
-    exact_steps : bool
-        Numba backend: advance the linear phases (no inerter, a constant one, or a
-        saturated flywheel under the thesis or momentum law; not with tyre lift-off)
-        by the matrix exponential in steps of 10, 5, 2.5 or 1.25 ms instead of
-        Runge-Kutta steps, never across an output sample. Exact up to round-off; metric
-        integrals by Gauss-Legendre sums inside each step.
-    """
-
-    backend: str = "numba"
-    rtol: float = 1e-8
-    method: str = "DOP853"
-    sample_rate: float = 1000.0
-    refine_peaks: bool = True
-    max_steps: int = 10_000_000
-    exact_steps: bool = True
-    time_limit: float | None = None
-
-    def __post_init__(self) -> None:
-        check_choice("backend", self.backend, BACKENDS)
-        r = check_positive("rtol", self.rtol)
-        if not 1e-14 <= r <= 1e-2:
-            raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-14, 1e-2]")
-        check_choice("method", self.method, ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA"))
-        check_positive("sample_rate", self.sample_rate, "Hz")
-        if not isinstance(self.max_steps, int) or self.max_steps < 1:
-            raise ParameterError("max_steps", self.max_steps, "an integer >= 1")
-        if self.time_limit is not None:
-            check_positive("time_limit", self.time_limit, "s")
-
-
-DEFAULT_OPTIONS = SimulationOptions()
 
 #: units of the sampled series of a :class:`SimulationResult` ("1" = dimensionless)
 SERIES_UNITS = {
@@ -149,7 +88,10 @@ class SimulationResult:
     time : ndarray or None
         Sample times [s] (None for ``output="metrics"``).
     states : ndarray or None
-        Physical states at the samples, columns ``model.state_names``.
+        Physical states at the samples, columns :attr:`state_names` (the core's:
+        ``wheel.x``, ``wheel.v``, ``body.x``, ``body.v``, then the suspension's own;
+        the scipy backend's: ``model.state_names``).
+    state_names : tuple
     body_acc, body_acc_wk, road, road_velocity : ndarray or None
         a3 [m/s^2], Wk-weighted a3 [m/s^2], X1 [m], X1' [m/s] at the samples.
     stats : dict
@@ -163,6 +105,7 @@ class SimulationResult:
     values: dict
     time: np.ndarray | None = None
     states: np.ndarray | None = None
+    state_names: tuple = ()
     body_acc: np.ndarray | None = None
     body_acc_wk: np.ndarray | None = None
     road: np.ndarray | None = None
@@ -246,9 +189,11 @@ class SimulationResult:
         """Unit of every column of :meth:`to_pandas` (and variable of :meth:`to_xarray`);
         states of the slider-dynamics law by their name (``_pos`` m, ``_rate`` m/s)."""
         units = dict(SERIES_UNITS)
-        for name in self.model.state_names:
+        for name in self.state_names:
             if name not in units:
-                units[name] = "m/s" if name.endswith(("_vel", "_rate", "_velocity")) else "m"
+                units[name] = (
+                    "m/s" if name.endswith(("_vel", "_rate", "_velocity", ".v", ".v_rel")) else "m"
+                )
         return units
 
     def to_pandas(self, *, units_in_names: bool = False):
@@ -265,7 +210,7 @@ class SimulationResult:
             "road": self.road,
             "road_velocity": self.road_velocity,
         }
-        for i, name in enumerate(self.model.state_names):
+        for i, name in enumerate(self.state_names):
             data[name] = self.states[:, i]
         data.update(
             body_acc=self.body_acc,
@@ -319,18 +264,10 @@ class SimulationResult:
 # -- backends --------------------------------------------------------------------------
 @dataclass
 class _Run:
-    integrals: np.ndarray
-    peaks: np.ndarray  # a3, -a3, aw, -aw, z, -z, tyre force
-    samples: tuple | None  # (time, full state rows, a3)
+    values: dict  # the final values of the ride observers (systems.observers.ride)
+    samples: dict | None  # time, states, state_names, body_acc, body_acc_wk, road, road_velocity
     stats: dict
     jumps: tuple = ()  # ((time [s], body velocity jump [m/s]), ...) where not zero
-
-
-def _initial_state(model: QuarterCar, excitation: Excitation, horizon: float):
-    x1 = excitation.initial_road(horizon)
-    du, ds = excitation.initial_displacements
-    phys = model.initial_state(unsprung=x1 + du, sprung=x1 + ds)
-    return np.concatenate([phys, np.zeros(N_METRIC_STATES)]), x1
 
 
 #: arrays of this many floats per output sample are kept for a time series (states,
@@ -350,96 +287,47 @@ def _sample_times(horizon: float, rate: float) -> np.ndarray:
     return np.arange(n + 1) / rate
 
 
-_WK: dict = {}
-
-
-def _wk():
-    if not _WK:
-        _WK["ss"] = wk_state_space()
-        _WK["sections"] = np.ascontiguousarray(wk_sections())
-    return _WK["ss"]
-
-
-def _wk_sections():
-    _wk()
-    return _WK["sections"]
-
-
-_XBUF = threading.local()
-
-
-def _exact_step_buffers(n_p: int, n_wk: int):
-    """The exact-step set-up kept between runs of this thread (K.x_buffers): the kernel
-    rebuilds it only when the linear system or the road kind changes, so a sweep whose
-    points share a system (inputs, seeds) builds it once. Per thread: a set-up is
-    written by one kernel call at a time."""
-    from .suspension import _kernels as K
-
-    key = (n_p, n_wk)
-    buf = getattr(_XBUF, "buffers", None)
-    if buf is None or _XBUF.key != key:
-        _XBUF.buffers, _XBUF.key = K.x_buffers(n_p, n_wk), key
-    return _XBUF.buffers
+#: the body velocity before a road step is read this long [s] before it (x max(1, t)),
+#: on the continuous extension (an error of the acceleration times this)
+_BEFORE_STEP = 1e-9
 
 
 def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
-    from .suspension import _kernels as K
+    from .systems.core import _simulate
+    from .systems.quarter_car import system_of
 
-    y, x1 = _initial_state(model, excitation, horizon)
-    segs = np.ascontiguousarray(excitation.segments(horizon), dtype=float)
-    # the Wk filter states get a 1e4x looser absolute tolerance (decisions.md): the
-    # filter is linear and stable and would otherwise set the step size. Its 100 Hz
-    # section and the a_w integrals are advanced exactly by the kernel, outside the
-    # error norm. 1e4 keeps every metric within 3e-7 of the rtol 1e-10 reference on the
-    # suspension x input x law matrix
-    scales = model.state_scales.copy()
-    n = model.n_states
-    scales[n + 3 : n + 11] *= WK_TOLERANCE_FACTOR
-    atol = options.rtol * scales
-    wk = _wk_sections()
-    ts = _sample_times(horizon, options.sample_rate) if want_series else np.empty(0)
-    out_y = np.empty((ts.size, y.size))
-    out_a3 = np.empty(ts.size)
-    peaks = np.empty(K.N_PEAKS)
-    stats = np.zeros(7, dtype=np.int64)
-    jumps = np.zeros(len(segs))
-    status = K.integrate(
-        model.kernel_parameters, segs, y, float(x1), float(horizon), float(options.rtol), atol,
-        wk, ts, out_y, out_a3, peaks, stats, jumps, ROAD_JUMP_RTOL * road_scale(segs),
-        bool(options.refine_peaks),
-        int(options.max_steps), bool(options.exact_steps),
-        *_exact_step_buffers(model.kernel_parameters.size, wk.size),
-    )  # fmt: skip
-    if status != K.OK:
-        why = {
-            K.TOO_MANY_STEPS: f"more than max_steps={options.max_steps} steps",
-            K.STEP_TOO_SMALL: "the step size fell below round-off (stiff or discontinuous equations)",
-            K.NOT_FINITE: "the solution is not finite (unstable parameters?)",
-        }[status]
-        hint = (
-            "shorten --horizon (in Python: raise SimulationOptions.max_steps)"
-            if status == K.TOO_MANY_STEPS
-            else "try --backend scipy on the command line (in Python: "
-            "SimulationOptions(backend='scipy', method='Radau') for stiff cases)"
-        )
-        raise ConvergenceError(f"numba backend stopped: {why}; {hint}")
-    st = {
-        "steps": int(stats[0]),
-        "rejected": int(stats[1]),
-        "rhs_calls": int(stats[2]),
-        "kink_restarts": int(stats[3]),
-        "exact_steps": int(stats[4]),
-        "kink_steps": int(stats[5]),
-        "exact_setups": int(stats[6]),
-        "segments": len(segs),
-    }
-    samples = (ts, out_y, out_a3) if want_series else None
-    jl = tuple(
-        (float(segs[i, 0]), float(jumps[i]))
-        for i in np.flatnonzero(jumps)
-        if segs[i, 0] < horizon
-    )
-    return _Run(integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st, jumps=jl)
+    sys_ = system_of(model)
+    ts = _sample_times(horizon, options.sample_rate) if want_series else np.array([horizon])
+    # where the body velocity jumps at a road step (an inertance between wheel and body):
+    # the body velocity just before and at each step
+    steps = []
+    if sys_.info["velocity_jump_per_step"].get("body", 0.0) != 0.0:
+        x1 = excitation.initial_road(horizon)
+        steps = [t for t, _ in road_steps(excitation.segments(horizon), x1, horizon) if t < horizon]
+    before = [t - _BEFORE_STEP * max(1.0, t) for t in steps if t > 0.0]
+    times = np.union1d(ts, np.array(before + steps, float)) if steps else ts
+    res = _simulate(sys_, excitation, horizon, options, times=times, ride=True)
+    jumps = []
+    if steps:
+        iv = sys_.state_names.index("body.v")
+        v = res.states[:, iv]
+        for t in steps:
+            after = v[np.searchsorted(times, t)]
+            prior = v[np.searchsorted(times, t - _BEFORE_STEP * max(1.0, t))] if t > 0.0 else 0.0
+            if after != prior:
+                jumps.append((float(t), float(after - prior)))
+    samples = None
+    if want_series:
+        pick = np.searchsorted(times, ts)
+        o = res.outputs
+        samples = dict(
+            time=ts, states=res.states[pick], state_names=sys_.state_names,
+            body_acc=o["body_acc"][pick], body_acc_wk=o["body_acc_wk"][pick],
+            road=o["road.x"][pick], road_velocity=o["road.v"][pick],
+        )  # fmt: skip
+    values = {k: v for k, v in res.observed.items() if k.startswith("ride.")}
+    stats = dict(res.stats, segments=len(excitation.segments(horizon)))
+    return _Run(values=values, samples=samples, stats=stats, jumps=tuple(jumps))
 
 
 def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
@@ -448,10 +336,14 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
 
     from .suspension.reference import ReferenceRHS
 
+    options.warn_ignored("the scipy backend", "method", "max_step", "fixed_step")
     f = ReferenceRHS(model)
-    y, x_prev = _initial_state(model, excitation, horizon)
+    x_prev = excitation.initial_road(horizon)
+    du, ds = excitation.initial_displacements
+    phys = model.initial_state(unsprung=x_prev + du, sprung=x_prev + ds)
+    y = np.concatenate([phys, np.zeros(N_METRIC_STATES)])
     segs = excitation.segments(horizon)
-    atol = options.rtol * model.state_scales
+    atol = options.atol_factor * model.state_scales
     peaks = np.full(7, -np.inf)
     ts = _sample_times(horizon, options.sample_rate) if want_series else np.empty(0)
     out_y = np.empty((ts.size, y.size))
@@ -500,19 +392,19 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
                 rhs,
                 (t0, t1),
                 y,
-                method=options.method,
+                method=options.scipy_method,
                 rtol=options.rtol,
                 atol=atol,
                 dense_output=True,
             )
         except _OverBudget as exc:
             raise ConvergenceError(
-                f"scipy {options.method} stopped at t = {budget['t']:.6g} s of "
+                f"scipy {options.scipy_method} stopped at t = {budget['t']:.6g} s of "
                 f"{horizon:g} s: {exc}; the equations are stiff or the horizon is long "
                 "(try --backend numba, a shorter --horizon, or a larger --time-limit)"
             ) from None
         if sol.status != 0:
-            raise ConvergenceError(f"scipy {options.method} failed: {sol.message}")
+            raise ConvergenceError(f"scipy {options.scipy_method} failed: {sol.message}")
         nsteps += sol.t.size - 1
         nfev += sol.nfev
         # peaks: values at step ends and midpoints, then local maxima refined on the
@@ -554,10 +446,23 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
         if t1 >= horizon:
             break
     st = {"steps": nsteps, "rejected": None, "rhs_calls": nfev, "segments": len(segs)}
-    samples = (ts, out_y, out_a3) if want_series else None
-    return _Run(
-        integrals=y[model.n_states :], peaks=peaks, samples=samples, stats=st, jumps=tuple(jumps)
-    )
+    samples = None
+    if want_series:
+        n = model.n_states
+        _, _, wc, wd = wk_state_space()
+        x1, v1 = road_displacement(segs, ts)
+        samples = dict(
+            time=ts, states=out_y[:, :n].copy(), state_names=model.state_names, body_acc=out_a3,
+            body_acc_wk=out_y[:, n + 3 : n + 11] @ wc + wd * out_a3, road=x1, road_velocity=v1,
+        )  # fmt: skip
+    I = y[model.n_states :]
+    values = {
+        "ride.i_acc": I[0], "ride.i_grip": I[1], "ride.i_defl": I[2], "ride.i_wk": I[11],
+        "ride.i_wk4": I[12],
+    }  # fmt: skip
+    names = ("acc", "neg_acc", "wk", "neg_wk", "defl", "neg_defl", "tyre")
+    values.update({f"ride.peak_{k}": float(v) for k, v in zip(names, peaks, strict=True)})
+    return _Run(values=values, samples=samples, stats=st, jumps=tuple(jumps))
 
 
 _BACKEND_FUNCS: dict[str, Callable[..., _Run]] = {"numba": _run_numba, "scipy": _run_scipy}
@@ -597,27 +502,11 @@ def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: f
 def _metrics(
     model: QuarterCar, excitation: Excitation, run: _Run, horizon: float, not_finite=None
 ) -> dict:
-    I = run.integrals
-    pk = run.peaks
-    w = model.parameters.static_tyre_load
-    rms_wk = math.sqrt(max(I[11], 0.0) / horizon)
-    peak_wk = max(pk[2], pk[3])
-    min_force = float(w - pk[6])
+    from .systems.observers import ride_metrics
+
+    out = ride_metrics(run.values, horizon, model.parameters.static_tyre_load)
     if model.tyre_lift_off:
-        min_force = max(min_force, 0.0)  # the contact force is capped: it cannot pull
-    out = {
-        "rms_body_acc": math.sqrt(max(I[0], 0.0) / horizon),
-        "rms_tyre_grip": math.sqrt(max(I[1], 0.0) / horizon),
-        "rms_deflection": math.sqrt(max(I[2], 0.0) / horizon),
-        "rms_body_acc_wk": rms_wk,
-        "vdv": max(I[12], 0.0) ** 0.25,
-        "crest_factor": peak_wk / rms_wk if rms_wk > 0 else 0.0,
-        "peak_body_acc": float(max(pk[0], pk[1])),
-        "peak_body_acc_wk": float(peak_wk),
-        "peak_deflection": float(max(pk[4], pk[5])),
-        "min_tyre_force": min_force,
-        "tyre_lift_off": bool(pk[6] >= w),
-    }
+        out["min_tyre_force"] = max(out["min_tyre_force"], 0.0)  # it cannot pull
     if not_finite is None:
         not_finite = _not_finite(model, excitation, run, horizon)
     for key in not_finite:
@@ -632,7 +521,7 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
         raise ParameterError(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), iso8608(), ...)"
         )
-    if not excitation.quarter_car_kernels:
+    if not excitation.is_road:
         raise ParameterError(
             "excitation",
             excitation.name,
@@ -796,19 +685,7 @@ def simulate(
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, want)
     kw: dict = {}
     if want:
-        ts, ys, a3 = run.samples
-        n = model.n_states
-        wa, wb, wc, wd = _wk()
-        segs = excitation.segments(T)
-        x1, v1 = road_displacement(segs, ts)
-        kw = dict(
-            time=ts,
-            states=ys[:, :n].copy(),
-            body_acc=a3,
-            body_acc_wk=ys[:, n + 3 : n + 11] @ wc + wd * a3,
-            road=x1,
-            road_velocity=v1,
-        )
+        kw = dict(run.samples)
     nf = _not_finite(model, excitation, run, T)
     return SimulationResult(
         model=model,

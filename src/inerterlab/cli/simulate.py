@@ -95,7 +95,7 @@ def _simulate_network(
         method=res.method,
         states=sys_.n_states,
         road_steps=[{"time": t, "jump": j} for t, j in res.road_steps],
-        metrics_from="sampled series (1 kHz, trapezoidal rule)",
+        metrics_from="integrated as observer states (peaks located between steps)",
     )
     if res.not_finite:
         out["not_finite"] = dict(res.not_finite)

@@ -63,54 +63,7 @@ SUSPENSIONS = ("traditional", "cfw", "afw", "device", "device-afw")
 LAWS = ("thesis", "momentum", "slider-dynamics")
 CFW_INERTIA = 2.231e-4  # [kg m^2], I_afn,min of ch. 4.2.1, the constant flywheel
 
-# integer codes used by the compiled kernels
-KIND_TRADITIONAL, KIND_IDEAL, KIND_DEVICE, KIND_DEVICE_INERTER = 0, 1, 2, 3
-LAW_THESIS, LAW_MOMENTUM, LAW_SLIDER, LAW_CONSTANT = 0, 1, 2, 3
-_KIND = {"traditional": 0, "cfw": 1, "afw": 1, "device": 2, "device-afw": 3}
-_LAW = {"thesis": 0, "momentum": 1, "slider-dynamics": 2}
-
-# layout of the packed parameter vector handed to the kernels
-(
-    P_M,
-    P_MT,
-    P_K,
-    P_C,
-    P_KT,
-    P_CT,
-    P_W,
-    P_LIFT,
-    P_R,
-    P_IREST,
-    P_ICOEF,
-    P_KS,
-    P_MS,
-    P_LMIN,
-    P_LMAX,
-    P_WSAT,
-    P_POW,
-    P_BAH,
-    P_FFH,
-    P_KH,
-    P_VEPS,
-    P_NSL,
-    P_CS,
-    P_KC,
-    P_CC,
-    P_KIND,
-    P_LAW,
-    P_NPHYS,
-    P_GRIP,
-    P_IM,
-    P_IMT,
-    P_MU,
-    P_R2,
-    P_KSLMIN,
-    P_BRANCH,
-) = range(35)
-#: the last six are derived (reciprocal masses, r^2, k_s l_min) or set by the
-#: integrator (P_BRANCH: which side of the saturation kink the inertia law follows,
-#: -1 = the side the speed is on)
-N_PARAMS = 35
+#: metric states of the scipy oracle (:mod:`.reference`) after the physical ones
 N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw^2, int aw^4
 
 
@@ -237,58 +190,10 @@ class QuarterCar:
             y[self.state_names.index("slider_radius")] = self.flywheel.slider_min
         return y
 
-    # -- packing for the kernels ----------------------------------------------------
-    @cached_property
-    def kernel_parameters(self) -> np.ndarray:
-        """All scalars of the model as one float vector (layout ``P_*`` in this module)."""
-        q = self.parameters
-        p = np.zeros(N_PARAMS)
-        p[P_M], p[P_MT] = q.sprung_mass, q.unsprung_mass
-        p[P_K], p[P_C] = q.stiffness, q.damping
-        p[P_KT], p[P_CT] = q.tyre_stiffness, q.tyre_damping
-        p[P_W] = q.static_tyre_load
-        p[P_LIFT] = 1.0 if self.tyre_lift_off else 0.0
-        p[P_GRIP] = q.tyre_stiffness / q.static_tyre_load
-        p[P_KIND] = _KIND[self.suspension]
-        law = self.effective_law
-        p[P_LAW] = {"constant": LAW_CONSTANT, "none": LAW_THESIS}.get(law, _LAW.get(law, 0))
-        if self.uses_flywheel:
-            fw = self.flywheel
-            p[P_R] = self.transmission.ratio
-            p[P_IREST] = fw.rest_inertia
-            p[P_ICOEF] = fw.inertia_coefficient
-            p[P_KS], p[P_MS] = fw.spring_stiffness, fw.slider_mass
-            p[P_LMIN], p[P_LMAX] = fw.slider_min, fw.slider_max
-            p[P_WSAT] = fw.saturation_speed
-            p[P_POW] = fw.power
-            p[P_NSL] = fw.n_sliders
-            if law == "constant":
-                p[P_IREST] = fw.inertia_min
-                p[P_ICOEF] = 0.0
-            if law == "slider-dynamics":
-                coeffs = (self.slider or SliderDynamics()).coefficients(fw)
-                p[P_CS], p[P_KC], p[P_CC] = coeffs[6], coeffs[7], coeffs[8]
-        if self.device is not None and self.suspension in ("device", "device-afw"):
-            d = self.device
-            p[P_BAH], p[P_FFH], p[P_KH], p[P_VEPS] = (
-                d.damping,
-                d.friction,
-                d.stiffness,
-                d.friction_velocity,
-            )
-        p[P_NPHYS] = self.n_states
-        # derived once here so the right-hand side multiplies instead of dividing
-        p[P_IM], p[P_IMT] = 1.0 / q.sprung_mass, 1.0 / q.unsprung_mass
-        p[P_MU] = p[P_IM] + p[P_IMT]
-        p[P_R2] = p[P_R] * p[P_R]
-        p[P_KSLMIN] = p[P_KS] * p[P_LMIN]
-        p[P_BRANCH] = -1.0
-        p.setflags(write=False)
-        return p
-
     @cached_property
     def state_scales(self) -> np.ndarray:
-        """Typical magnitude of every state (physical + metric) for absolute tolerances."""
+        """Typical magnitude of every state of the scipy oracle (:mod:`.reference`:
+        physical + metric) for absolute tolerances."""
         s = {
             "unsprung_disp": 1e-2,
             "unsprung_vel": 1e-1,

@@ -1,6 +1,6 @@
-"""Plain-Python right-hand side of the quarter car, used by the scipy backend.
+"""Plain-Python right-hand side of the quarter car, used by the scipy backend: the oracle.
 
-Written independently of the compiled kernels (:mod:`._kernels`): the inertia law
+Written independently of the model core (:mod:`inerterlab.systems`): the inertia law
 comes from the :class:`~inerterlab.flywheels.AdaptiveFlywheel` methods' formulas
 re-typed with :mod:`math`, the slider force from the law in the
 :mod:`inerterlab.slider_dynamics` docstring, the impulse at road jumps from numerical

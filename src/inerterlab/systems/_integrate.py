@@ -25,13 +25,23 @@ from ._kernel import (
     I_ELEM,
     I_NE,
     I_NN,
+    I_NOB,
     I_NODE,
+    I_OBS,
     NODE_W,
+    OBS_FOURTH,
+    OBS_LINEAR,
+    OBS_PEAK,
+    OBS_SQUARE,
+    OBS_W,
     ROAD,
     _dissipative,
     _work_size,
     evaluate,
+    observe,
+    peaks,
     road_layout_of,
+    signal,
     switches,
 )
 
@@ -137,7 +147,10 @@ def _f(mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats
         road[0] = road_fixed[0]
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
-    return evaluate(t, y, road, itab, ftab, work, dy, imp)
+    ok = evaluate(t, y, road, itab, ftab, work, dy, imp)
+    if itab[I_NOB] > 0:
+        observe(itab, ftab, work, y, dy, mode != 0)
+    return ok
 
 
 @nb.njit(cache=True)
@@ -160,6 +173,88 @@ def _dense(y, yt, K, h, th, out):
             acc += _TAB_D[q] * K[q, i]
         r5 = h * acc
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+
+
+@nb.njit(cache=True)
+def _peak_values(itab, ftab, work, y, out):
+    """Each observer's signal at the last evaluation into ``out`` (peaks only; the
+    others are left as they are)."""
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        if itab[b] == OBS_PEAK:
+            out[q] = signal(itab, ftab, work, y, itab[b + 1])
+
+
+@nb.njit(cache=True)
+def _peak_at(q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
+             work, stats, yd):  # fmt: skip
+    """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
+    extension."""
+    _dense(y, yx, K, h, x, yd)
+    _f_once(mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
+
+
+@nb.njit(cache=True)
+def _peak_step(stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
+               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
+    """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
+    accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
+    state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
+    end and middle, and where the parabola through those three puts a maximum inside the
+    step above the peak so far, the maximum located by successive parabolic
+    interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
+    array does not hold the evaluation at the step's end. p0 receives the end values."""
+    if stale:
+        _f_once(mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
+                stats)  # fmt: skip
+    _peak_values(itab, ftab, work, yt, p1)
+    _dense(y, yx, K, h, 0.5 * thx, yd)
+    _f_once(mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
+            stats)  # fmt: skip
+    _peak_values(itab, ftab, work, yd, pm)
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        if itab[b] != OBS_PEAK:
+            continue
+        slot = itab[b + 3]
+        best = max(yt[slot], p0[q], pm[q], p1[q])
+        # the parabola through u = 0, 1/2, 1 (u = theta / thx): its vertex
+        c2 = 2.0 * (p0[q] - 2.0 * pm[q] + p1[q])
+        c1 = -3.0 * p0[q] + 4.0 * pm[q] - p1[q]
+        if c2 < 0.0:
+            xv = -c1 / (2.0 * c2)
+            if 0.0 < xv < 1.0 and p0[q] + xv * (c1 + xv * c2) > best:
+                # successive parabolic interpolation on a bracket (a, m, c) of u
+                xa, fa = 0.0, p0[q]
+                xm, fm = 0.5, pm[q]
+                xc, fc = 1.0, p1[q]
+                for _ in range(40):
+                    d1 = (xm - xa) * (fm - fc)
+                    d2 = (xm - xc) * (fm - fa)
+                    den = 2.0 * (d1 - d2)
+                    xn = xm - ((xm - xa) * d1 - (xm - xc) * d2) / den if den != 0.0 else -1.0
+                    if not (xa < xn < xc) or abs(xn - xm) < 1e-12:
+                        xn = 0.5 * (xa + xm) if xm - xa > xc - xm else 0.5 * (xm + xc)
+                    fn = _peak_at(q, xn * thx, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp,
+                                  road_fixed, dy, road, work, stats, yd)  # fmt: skip
+                    best = max(best, fn)
+                    if fn >= fm:
+                        if xn < xm:
+                            xc, fc = xm, fm
+                        else:
+                            xa, fa = xm, fm
+                        xm, fm = xn, fn
+                    elif xn < xm:
+                        xa, fa = xn, fn
+                    else:
+                        xc, fc = xn, fn
+                    if xc - xa <= 1e-9:
+                        break
+        yt[slot] = best
+        p0[q] = p1[q]
 
 
 @nb.njit(cache=True)
@@ -298,7 +393,7 @@ def _x_stays(a0, d0, a1, d1, h, lim):
 
 @nb.njit(cache=True)
 def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
-             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xq):  # fmt: skip
+             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, ctl):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
@@ -312,7 +407,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
     from break point (sample or segment end) to break point by ``XE[c, j]`` = exp(M h),
     h the length of row j of ``xkeys`` (units of ``xq``). A step that would leave the
     regime is not taken: the Dormand-Prince steps go on from there and locate the
-    switch. Returns (status, k, h)."""
+    switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
+    error control). Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
     road_n, _, hs = road_layout_of(itab)
@@ -324,11 +420,26 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
+    # running peaks (observers): the values at the start, and scratch
+    nob = itab[I_NOB]
+    track = mode == 0 and nob > 0
+    p0 = np.empty(nob)
+    pm = np.empty(nob)
+    p1 = np.empty(nob)
+    stale = False
+    yx = np.empty(n)  # an attempt's end when it was cut at an event
+    hx = 0.0
+    thx = 1.0
+    if track:
+        peaks(itab, ftab, work, y)
+        _peak_values(itab, ftab, work, y, p0)
     span = t_end - t
     if span <= 0.0:
         return OK, k, h
     if h <= 0.0 or h > span:
         h = min(span, 1e-3 * max(span, 1.0))
+    hmax = ctl[0]
+    hfix = ctl[1]
     reject_prev = False
     # events: the elements' switching functions at t (sw), at the step's end (swn); a
     # step across a sign change is cut at the crossing (forced: the element whose
@@ -444,6 +555,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             t = lim
             check = cx >= 0
             continue
+        if hfix > 0.0:
+            h = hfix
+        elif h > hmax:
+            h = hmax
         h_free = h
         if t + h >= lim or t + 1.01 * h >= lim:
             h = lim - t
@@ -455,6 +570,8 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
         # the stages, one call site (the right-hand side is compiled into this loop
         # once); the last stage's point is the order-5 solution (first same as last)
         ok = True
+        stale = False
+        thx = 1.0
         for st in range(1, 7):
             for i in range(n):
                 acc = 0.0
@@ -474,6 +591,12 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             e = h * acc
             err += (e / sc) ** 2
         err = math.sqrt(err / max(n, 1))
+        if hfix > 0.0:  # fixed steps: no error control, but a failure stays one
+            if not ok:
+                return BALANCE_FAILED, k, h
+            if not math.isfinite(err):
+                return NOT_FINITE, k, h
+            err = 0.0
         if not ok or not math.isfinite(err):
             if h < 1e-14 * max(abs(t), 1.0) or not ok and h < 1e-12:
                 return NOT_FINITE if ok else BALANCE_FAILED, k, h
@@ -489,6 +612,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                 th = 2.0
                 for e in range(2 * ne):
                     if sw[e] * swn[e] < 0.0:
+                        stale = True
                         x = _locate(e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
                                     ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
                         if x < th:
@@ -507,7 +631,10 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         k += 1
                     _dense(y, yt, K, h, th, yd)
                     for i in range(n):
+                        yx[i] = yt[i]
                         yt[i] = yd[i]
+                    hx = h
+                    thx = th
                     tn = tc
                     h_keep = h_free
                     h = th * h
@@ -530,6 +657,13 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
             if fresh >= 0 and flip < 0:
                 h_side[fresh] = h  # the first step that passed after a kink to this side
                 fresh = -1
+            if track:
+                if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
+                    _peak_step(stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                else:
+                    _peak_step(stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
@@ -577,7 +711,7 @@ def _advance(mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
 @nb.njit(cache=True)
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xq):  # fmt: skip
+              xthr, xel, xcls, xq, ctl):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -590,10 +724,11 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road. ``stats``:
     steps (exact ones included), rejected steps, right-hand-side calls, events, exact
     steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
-    none)."""
+    none); ``ctl``: the step control of :func:`_advance`."""
     k = 0
     h = 0.0
     prev = x1_before
+    free = np.array([math.inf, 0.0])  # the impulse flows: adaptive, in their own unit
     prev_v = v_before
     road = np.zeros(road_layout_of(itab)[0])
     rf = np.empty(3)
@@ -631,7 +766,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, free)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -644,7 +779,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
             rf[1] = road[1]
             st, _, _ = _advance(modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xq, free)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -655,7 +790,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
                             rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
-                            xthr, xel, xcls, xq)  # fmt: skip
+                            xthr, xel, xcls, xq, ctl)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)
@@ -781,8 +916,124 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 
 
 @nb.njit(cache=True)
+def _lagrange(xs, fs, x):
+    """The polynomial through the points (xs, fs) at x."""
+    acc = 0.0
+    for i in range(xs.size):
+        w = fs[i]
+        for j in range(xs.size):
+            if j != i:
+                w *= (x - xs[j]) / (xs[i] - xs[j])
+        acc += w
+    return acc
+
+
+@nb.njit(cache=True)
+def _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx, Su, xs, fs, sv):
+    """The observers of an exact step of length h from the augmented state z0 (the
+    states the linear system propagates: its own and its linear observers', rows ``ia``
+    of y), the road at its start xr and rate b, table row j: the integrals of squares,
+    fourth powers and products by Gauss-Legendre quadrature on the exact solution at the
+    nodes gx (weights gw; ``ON``, ``GXn``, ``GBn``: the exact tables to each node), the
+    running peaks from the values at the step's ends and nodes, a maximum inside it
+    located on the polynomial through them (7 points: exact to (w h)^7 / 7!)."""
+    na = ia.size
+    nsg = Sx.shape[0]
+    ng = gx.size
+    ob = itab[I_OBS]
+    nob = itab[I_NOB]
+    # only the signals the quadratures and peaks read (a filter's are in the tables)
+    need = np.zeros(nsg, np.bool_)
+    for o in range(nob):
+        bo = ob + OBS_W * o
+        if itab[bo] != OBS_LINEAR:
+            need[itab[bo + 1]] = True
+            if itab[bo + 2] >= 0:
+                need[itab[bo + 2]] = True
+    # signal values at theta = 0, the nodes and 1 (sv[node, signal])
+    zn = np.empty(na)
+    for p in range(ng + 2):
+        if p == 0:
+            th = 0.0
+        elif p == ng + 1:
+            th = 1.0
+        else:
+            th = gx[p - 1]
+        for q in range(na):  # the augmented state there
+            if p == 0:
+                zq = z0[q]
+            elif p == ng + 1:
+                zq = y[ia[q]]
+            else:
+                zq = GXn[p - 1, j, q] * xr + GBn[p - 1, j, q] * b
+                for r in range(na):
+                    zq += ON[p - 1, j, q, r] * z0[r]
+            zn[q] = zq
+        for k in range(nsg):
+            if not need[k]:
+                continue
+            acc = Su[k, 0] * (xr + b * th * h) + Su[k, 1] * b
+            for q in range(na):
+                acc += Sx[k, q] * zn[q]
+            sv[p, k] = acc
+    for o in range(nob):
+        bo = ob + OBS_W * o
+        kind = itab[bo]
+        if kind == OBS_LINEAR:  # propagated exactly with the system
+            continue
+        slot = itab[bo + 3]
+        ka = itab[bo + 1]
+        if kind == OBS_PEAK:
+            best = y[slot]
+            top = -1
+            for p in range(ng + 2):
+                xs[p] = 0.0 if p == 0 else (1.0 if p == ng + 1 else gx[p - 1])
+                fs[p] = sv[p, ka]
+                if fs[p] > best:
+                    best = fs[p]
+                    top = p
+            if top >= 0:  # a new maximum: located on the polynomial about its node
+                lo = xs[max(top - 1, 0)]
+                hi = xs[min(top + 1, ng + 1)]
+                g = 0.5 * (math.sqrt(5.0) - 1.0)
+                x1 = hi - g * (hi - lo)
+                x2 = lo + g * (hi - lo)
+                f1 = _lagrange(xs, fs, x1)
+                f2 = _lagrange(xs, fs, x2)
+                for _ in range(60):
+                    if f1 >= f2:
+                        hi = x2
+                        x2, f2 = x1, f1
+                        x1 = hi - g * (hi - lo)
+                        f1 = _lagrange(xs, fs, x1)
+                    else:
+                        lo = x1
+                        x1, f1 = x2, f2
+                        x2 = lo + g * (hi - lo)
+                        f2 = _lagrange(xs, fs, x2)
+                    if hi - lo < 1e-10:
+                        break
+                best = max(best, f1, f2)
+            y[slot] = best
+            continue
+        acc = 0.0
+        for p in range(ng):
+            a = sv[p + 1, ka]
+            if kind == OBS_SQUARE:
+                v = a * a
+            elif kind == OBS_FOURTH:
+                v = a * a
+                v = v * v
+            else:
+                v = a * sv[p + 1, itab[bo + 2]]
+            acc += gw[p] * v
+        y[slot] += h * acc
+
+
+@nb.njit(cache=True)
 def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps):  # fmt: skip
+               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, ON,
+               GXn, GBn, gw, gx, Sx, Su):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -793,8 +1044,20 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
     samples go to ``out_y`` and the road (X1, X1', X1'' = 0) at them to ``out_u``.
     Road steps and road velocity jumps pass their impulses as in :func:`integrate`
     (constant inertances: the impulse flows are constant and one Euler step of each
-    is exact); a road step with no finite response returns ROAD_STEP."""
+    is exact); a road step with no finite response returns ROAD_STEP.
+
+    Observers (``itab`` holds them): the tables act on the augmented state, the rows
+    ``ia`` of y (the system's states and its linear observers'); the other observers
+    by :func:`_observe_exact` (``ON``, ``GXn``, ``GBn`` the tables to the quadrature
+    nodes ``gx``, ``Sx``, ``Su`` the signals over the augmented state and the road).
+    Without observers ``ia`` is every state and the rest is empty."""
     n = y.size
+    na = ia.size
+    observed = itab[I_NOB] > 0
+    z0 = np.empty(na)
+    xs = np.empty(gx.size + 2)
+    fs = np.empty(gx.size + 2)
+    sv = np.empty((gx.size + 2, Sx.shape[0]))
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -821,6 +1084,8 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 road[1] = prev_v
                 road[2] = b - prev_v
                 evaluate(0.0, y, road, itab, ftab, W, dx, jerk)
+                if observed:
+                    observe(itab, ftab, W, y, dx, True)
                 for i in range(n):
                     y[i] += dx[i]
             jump = a - prev
@@ -834,6 +1099,8 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 road[1] = b
                 road[2] = 0.0
                 evaluate(0.0, y, road, itab, ftab, W, dx, imp)
+                if observed:
+                    observe(itab, ftab, W, y, dx, True)
                 for i in range(n):
                     y[i] += dx[i]
         t = t0
@@ -853,13 +1120,18 @@ def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjum
                 if apply:
                     j = idx[m]
                     xr = a + b * (t - t0)
-                    for i in range(n):
+                    for i in range(na):
+                        z0[i] = y[ia[i]]
+                    for i in range(na):
                         acc = GX[j, i] * xr + GB[j, i] * b
-                        for q in range(n):
-                            acc += Phi[j, i, q] * y[q]
+                        for q in range(na):
+                            acc += Phi[j, i, q] * z0[q]
                         yn[i] = acc
-                    for i in range(n):
-                        y[i] = yn[i]
+                    for i in range(na):
+                        y[ia[i]] = yn[i]
+                    if observed:
+                        _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx,
+                                       Su, xs, fs, sv)  # fmt: skip
                 else:
                     hs[m] = h
                 m += 1

@@ -73,9 +73,16 @@ NODE_W = 5
 ELEM_W = 7
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
-    I_NI, I_NR, I_NL, I_NRD,
-) = range(17)  # fmt: skip
-HEADER = 17
+    I_NI, I_NR, I_NL, I_NRD, I_NOB, I_OBS, I_NSG, I_SG, I_SGF,
+) = range(22)  # fmt: skip
+HEADER = 22
+#: observers (see :func:`observe`): the width of an observer row in ``itab`` and the
+#: kinds. A state observer q (its state ``y[slot]``) integrates q' = a (``OBS_LINEAR``,
+#: a filter state when a reads other observer states), a^2, a^4 or a b of its signals
+#: a and b; ``OBS_PEAK`` keeps the running maximum of a in y[slot] (derivative 0, set
+#: after each accepted step)
+OBS_W = 4
+OBS_LINEAR, OBS_SQUARE, OBS_FOURTH, OBS_PRODUCT, OBS_PEAK = 0, 1, 2, 3, 4
 #: status of the velocity solve (written to the last slot of ``out`` by :func:`evaluate`)
 SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
@@ -641,13 +648,85 @@ def _relative_unknown(itab, W, ia, nn, nrel):
                 W[ia + n] = math.nan
 
 
+@nb.njit(cache=True, inline="always")
+def signal(itab, ftab, W, x, k, impulsive=False):
+    """Signal k of the observers: a sum of coefficients times channels, the channels
+    being the outputs of the last :func:`evaluate` (``W[0:3nn+ne]``: node displacements,
+    velocities, accelerations, element forces) followed by the states ``x`` (observer
+    states included). Stored as compressed rows: itab[I_SG + k] .. itab[I_SG + k + 1]
+    index the channel numbers (from itab[I_SG + nsg + 1]) and their coefficients (from
+    ftab[I_SGF]). ``impulsive``: only the part an impulse flow carries, the acceleration
+    channels (an impulse is a Dirac in the accelerations; every other channel is
+    finite)."""
+    sg = itab[I_SG]
+    nsg = itab[I_NSG]
+    ci = sg + nsg + 1
+    cf = itab[I_SGF]
+    nn = itab[I_NN]
+    no = 3 * nn + itab[I_NE]
+    acc = 0.0
+    for j in range(itab[sg + k], itab[sg + k + 1]):
+        c = itab[ci + j]
+        if impulsive and not 2 * nn <= c < 3 * nn:
+            continue
+        acc += ftab[cf + j] * (W[c] if c < no else x[c - no])
+    return acc
+
+
+@nb.njit(cache=True)
+def observe(itab, ftab, W, x, dx, impulse):
+    """The derivatives of the observer states into ``dx`` from the last
+    :func:`evaluate` (its work array ``W``) at the state ``x``. During an impulse flow
+    (``impulse``: a road step or a road velocity jump, applied over a unit interval) a
+    linear observer moves by its signal's acceleration part only (a filter takes the
+    Dirac in its input as a jump of its states, exactly) and the others stand (the
+    integral of a Dirac's square is not finite: the driver reports it)."""
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        kind = itab[b]
+        slot = itab[b + 3]
+        if kind == OBS_PEAK:
+            dx[slot] = 0.0
+            continue
+        if impulse:
+            dx[slot] = signal(itab, ftab, W, x, itab[b + 1], True) if kind == OBS_LINEAR else 0.0
+            continue
+        a = signal(itab, ftab, W, x, itab[b + 1])
+        if kind == OBS_LINEAR:
+            dx[slot] = a
+        elif kind == OBS_SQUARE:
+            dx[slot] = a * a
+        elif kind == OBS_FOURTH:
+            a2 = a * a
+            dx[slot] = a2 * a2
+        else:
+            dx[slot] = a * signal(itab, ftab, W, x, itab[b + 2])
+
+
+@nb.njit(cache=True)
+def peaks(itab, ftab, W, x):
+    """Raise each running peak (``OBS_PEAK``) in ``x`` to its signal's value at the
+    last :func:`evaluate`."""
+    ob = itab[I_OBS]
+    for q in range(itab[I_NOB]):
+        b = ob + OBS_W * q
+        if itab[b] == OBS_PEAK:
+            a = signal(itab, ftab, W, x, itab[b + 1])
+            if a > x[itab[b + 3]]:
+                x[itab[b + 3]] = a
+
+
 @nb.njit(cache=True)
 def rhs(t, x, road, itab, ftab, out):
     """out = dx/dt at time t, state x, road (displacement, velocity, acceleration).
 
     Returns True, or False where a force balance could not be solved."""
     W = np.empty(_work_size(itab))
-    return evaluate(t, x, road, itab, ftab, W, out, np.empty(0))
+    ok = evaluate(t, x, road, itab, ftab, W, out, np.empty(0))
+    if itab[I_NOB] > 0:
+        observe(itab, ftab, W, x, out, False)
+    return ok
 
 
 @nb.njit(cache=True)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
@@ -14,6 +15,7 @@ from ..networks import NetworkError
 from . import _integrate, _kernel
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
+from .options import DEFAULT_OPTIONS, SimulationOptions
 
 _TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 #: ``method="auto"`` takes exact steps where they need at most this many distinct step
@@ -21,6 +23,10 @@ _TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 EXACT_MAX_STEP_SIZES = 256
 #: exact step lengths are rounded to this many seconds per second of horizon
 EXACT_STEP_QUANTUM = 1e-13
+#: the longest exact step [s] of a system with observers: their integrals are
+#: Gauss-Legendre sums over each step (five points: the error of a component of
+#: angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz section)
+EXACT_OBSERVER_STEP = 2.5e-3
 
 
 @dataclass(frozen=True, eq=False)
@@ -39,8 +45,8 @@ class CoreResult:
         also ``body_acc``, ``deflection``, ``tyre_force`` (dynamic), ``tyre_grip``; for a
         rig ``force`` (the force the rig applies).
     metrics : dict or None
-        Quarter car: the ride metrics of :func:`inerterlab.metrics.series_metrics` from
-        the samples.
+        Quarter car: the ride metrics (:func:`.observers.ride_metrics`), integrated as
+        observer states (:func:`.observers.ride`), not from the samples.
     method : str
         ``adaptive`` or ``exact``.
     stats : dict
@@ -57,6 +63,7 @@ class CoreResult:
     stats: dict
     road_steps: tuple = ()
     not_finite: dict = field(default_factory=dict)
+    observed: dict = field(default_factory=dict)
 
     def __repr__(self) -> str:
         t = self.time
@@ -103,6 +110,19 @@ class System:
     rhs = staticmethod(_kernel.rhs)
     outputs = staticmethod(_kernel.outputs)
 
+    def with_observers(self, observers) -> System:
+        """This system with observer states (:mod:`inerterlab.systems.observers`)
+        appended: integrals of signals, of their squares, fourth powers and products,
+        running peaks; their final values in :attr:`CoreResult.observed`."""
+        from .observers import with_observers
+
+        return with_observers(self, observers)
+
+    @property
+    def observers(self) -> tuple:
+        """The observers this system carries (``with_observers``)."""
+        return tuple(self.info.get("observers", ()))
+
     def __repr__(self) -> str:
         law = "linear" if self.linear else "nonlinear"
         return (
@@ -141,6 +161,8 @@ class System:
 
         Columns come from the right-hand side at unit vectors, exact for a linear system.
         NetworkError if an element is not linear."""
+        if "base" in self.info:  # the observers are not part of the linear dynamics
+            return self.info["base"].linear_state_space()
         if not self.linear:
             bad = [
                 n for n, e in zip(self.element_names, self.elements, strict=True) if _nonlinear(e)
@@ -173,34 +195,47 @@ class System:
         excitation,
         horizon: float = 10.0,
         *,
-        rtol: float = 1e-8,
-        sample_rate: float = 1000.0,
-        method: str = "auto",
-        max_steps: int = 10_000_000,
+        options: SimulationOptions = DEFAULT_OPTIONS,
         x0: np.ndarray | None = None,
         times=None,
+        **option_values,
     ) -> CoreResult:
         """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
 
-        Samples at ``times`` [s] (increasing, in [0, horizon]) when given, else every
-        1/``sample_rate`` from 0; with ``times`` a quarter car's ``metrics`` are None
-        (they are computed from uniform samples from t = 0).
+        ``options`` (:class:`~inerterlab.systems.options.SimulationOptions`): tolerances,
+        method, sampling, step control; keywords named as its fields (``rtol=1e-10``)
+        replace those of ``options``. Samples at ``times`` [s] (increasing, in [0,
+        horizon]) when given, else every 1/``sample_rate`` from 0; ``x0``: the initial
+        state (default: at rest, the input's initial displacements). A quarter car
+        started at rest carries its ride observers (:func:`.observers.ride`) and
+        returns their metrics.
 
         ``method``: ``adaptive`` (Dormand-Prince 5(4)), ``exact`` (matrix exponential,
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
         ISO 8608 and file roads; first-order hold, exact to round-off) or ``auto``
         (exact for a linear system on a piecewise-linear road whose edges and samples
-        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths, adaptive
-        otherwise)."""
-        model = self.info.get("model")
-        if model is not None and model.tyre_lift_off:
-            raise ParameterError(
-                "tyre_lift_off", True, "False here: the model core keeps the tyre on the "
-                "road (inerterlab.simulate runs the lift-off)",
-            )  # fmt: skip
-        return _simulate(
-            self, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times
-        )
+        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths and no
+        observers, adaptive otherwise)."""
+        options = _options(options, option_values)
+        return _simulate(self, excitation, horizon, options, x0, times)
+
+
+def _options(options, values: dict) -> SimulationOptions:
+    """``options`` with the fields named in ``values`` replaced; the core's own backend."""
+    if not isinstance(options, SimulationOptions):
+        raise ParameterError("options", options, "a SimulationOptions")
+    if values:
+        bad = sorted(set(values) - {f.name for f in dataclasses.fields(SimulationOptions)})
+        if bad:
+            raise ParameterError(bad[0], values[bad[0]], "a field of SimulationOptions")
+        options = dataclasses.replace(options, **values)
+    if options.backend != "numba":
+        raise ParameterError(
+            "backend", options.backend, "'numba' for a core system (the scipy oracle runs "
+            "the named suspensions through inerterlab.simulate)",
+        )  # fmt: skip
+    options.warn_ignored("the model core", "scipy_method", "time_limit")
+    return options
 
 
 def _state_space(sys, itab, ftab):
@@ -838,9 +873,9 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
-def _simulate(
-    sys, excitation, horizon, rtol, sample_rate, method, max_steps, x0, times=None
-) -> CoreResult:
+def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None) -> CoreResult:
+    """The run of :meth:`System.simulate`; ``ride``: carry a quarter car's ride observers
+    (None: when it starts at rest with uniform samples)."""
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
     if not isinstance(excitation, Excitation):
@@ -848,12 +883,9 @@ def _simulate(
             "excitation", excitation, "an Excitation (drop(), bump(), sine(), ...)"
         )
     T = check_positive("horizon", horizon, "s")
-    check_positive("sample_rate", sample_rate, "Hz")
-    r = check_positive("rtol", rtol)
-    if not 1e-14 <= r <= 1e-2:
-        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-14, 1e-2]")
-    if method not in ("auto", "adaptive", "exact"):
-        raise ParameterError("method", method, "'auto', 'adaptive' or 'exact'")
+    r = options.rtol
+    method = options.method
+    max_steps = options.max_steps
     excitation.check_horizon(T, stacklevel=3)
     if _kernel.road_layout_of(sys.itab)[1] > 3:
         raise ParameterError(
@@ -864,7 +896,7 @@ def _simulate(
         from ..simulate import check_sine_steps
 
         def steps_to(t):  # the same run over the first periods (not measured again)
-            res = _simulate(sys, excitation, t, rtol, sample_rate, method, max_steps, None)
+            res = _simulate(sys, excitation, t, options)
             return res.stats.get("steps", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
@@ -883,7 +915,7 @@ def _simulate(
         if y.shape != (sys.n_states,):
             raise ParameterError("x0", x0, f"{sys.n_states} states")
     if times is None:
-        ts = _sample_times(T, sample_rate)
+        ts = _sample_times(T, options.sample_rate)
     else:
         ts = np.array(times, dtype=float)
         if (
@@ -897,6 +929,13 @@ def _simulate(
             raise ParameterError(
                 "times", "array", f"increasing finite sample times in [0, horizon={T:g}] s"
             )
+    user = sys
+    if ride is None:
+        ride = sys.kind == "quarter_car" and times is None and x0 is None
+    if ride:
+        # the ride metrics, integrated as observer states
+        sys = sys.info.get("ride_system") or _ride_system(sys)
+        y = np.concatenate([y, sys.x0_template[y.size :]])
     piecewise_linear = bool(np.all(segs[:, 2] == 0.0))
     if method == "exact" and not (sys.linear and piecewise_linear):
         raise ParameterError(
@@ -908,8 +947,22 @@ def _simulate(
     # edges and the samples make many (incommensurate grids) the adaptive steps are faster
     plan = None
     regime = _NO_REGIME
-    if sys.n_states and sys.linear and piecewise_linear and method in ("auto", "exact"):
-        plan = _exact_plan(sys, segs, T, ts)
+    exact_ok = sys.linear and piecewise_linear
+    if sys.observers and exact_ok:
+        if "observer_system" not in sys.info:
+            sys.info["observer_system"] = _observer_system(sys, sys.linear_state_space())
+        exact_ok = sys.info["observer_system"] is not None
+        if method == "exact" and not exact_ok:
+            raise ParameterError(
+                "method", "exact", "'auto' or 'adaptive' here: an observer reads what the "
+                "exact steps do not give (an undefined output or a nonlinear observer)",
+            )  # fmt: skip
+    ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
+    if sys.n_states and exact_ok and method in ("auto", "exact"):
+        if sys.observers:
+            grid = np.arange(1, int(T / EXACT_OBSERVER_STEP) + 1) * EXACT_OBSERVER_STEP
+            ts_walk = np.union1d(ts, grid[grid < T])
+        plan = _exact_plan(sys, segs, T, ts_walk)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
     elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
@@ -929,19 +982,22 @@ def _simulate(
     elif plan is not None:
         ss = sys.linear_state_space()
         Y, U, stats = _exact(
-            sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps
+            sys, ss, plan, segs, y, x1, T, ts_walk, jumps, jump_tol, v_before, vjump_tol, vjumps
         )
-        O = _linear_outputs(sys, ss, Y, U)
+        if ts_walk is not ts:
+            pick = np.searchsorted(ts_walk, ts)
+            Y, U = Y[pick], U[pick]
+        O = _linear_outputs(sys, ss, Y[:, : ss[0].shape[0]], U)
         meth = "exact"
     else:
-        atol = r * np.maximum(sys.state_scales, 1e-12)
+        atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
         Y = np.empty((ts.size, sys.n_states))
         st = np.zeros(5, dtype=np.int64)
         XE, XG, keys, thr, idx, cls = regime
         status, k = _integrate.integrate(
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
             ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
-            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0),
+            idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0), options.step_control,
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
@@ -963,21 +1019,31 @@ def _simulate(
         O = np.ascontiguousarray(O.T)
     outs = {n: O[j] for j, n in enumerate(sys.output_names)}
     metrics = None
+    nb = sys.info["base"].n_states if "base" in sys.info else sys.n_states
+    observed = {o.name: float(y[nb + q]) for q, o in enumerate(sys.observers)}
     if sys.kind == "quarter_car":
         car = sys.info["car"]
         outs["body_acc"] = outs["body.a"]
         outs["deflection"] = outs["body.x"] - outs["wheel.x"]
-        outs["tyre_force"] = outs["tyre_k.force"] + outs.get("tyre_c.force", 0.0)
+        outs["tyre_force"] = (
+            outs["tyre.force"] if "tyre.force" in outs
+            else outs["tyre_k.force"] + outs.get("tyre_c.force", 0.0)
+        )  # fmt: skip
         load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
         outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
-        from ..metrics import series_metrics
 
-    if sys.kind == "quarter_car" and times is None:  # the metrics need uniform samples
-        acc = outs["body_acc"]
-        metrics = series_metrics(
-            ts, acc, outs["tyre_grip"], outs["deflection"], load - outs["tyre_force"],
-            weighted_acc=weighted_acceleration(ts, acc),
-        )  # fmt: skip
+    if sys is not user:  # the ride observers: the metrics, and the user's states back
+        from .observers import ride_metrics
+
+        metrics = ride_metrics(observed, T, load)
+        # the Wk-weighted body acceleration at the samples, from the filter's states
+        from ..metrics import wk_state_space
+
+        _, _, cw, dw = wk_state_space()
+        names = sys.state_names
+        z = Y[:, [names.index(f"ride.wk.z{i}") for i in range(cw.size)]]
+        outs["body_acc_wk"] = z @ cw + float(dw) * outs["body_acc"]
+        Y = Y[:, : user.n_states]
         steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
         if steps_:
             jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
@@ -1004,9 +1070,18 @@ def _simulate(
     if np.any(vjumps):
         stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
     return CoreResult(
-        system=sys, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
-        stats=stats, road_steps=steps, not_finite=not_finite,
+        system=user, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
+        stats=stats, road_steps=steps, not_finite=not_finite, observed=observed,
     )  # fmt: skip
+
+
+def _ride_system(sys):
+    """The quarter car with its ride observers (:func:`.observers.ride`), kept on it."""
+    from .observers import ride, with_observers
+
+    out = with_observers(sys, ride(sys))
+    sys.info["ride_system"] = out
+    return out
 
 
 def _failure(sys, status: int, max_steps: int) -> ConvergenceError:
@@ -1053,13 +1128,18 @@ class DriveRuns:
         self.segments = np.ascontiguousarray(segs[segs[:, 0] >= t[0]])
         self.start = float(drive.displacement[0])
 
-    def force(self, sys: System, x0, m: int | None = None, *, rtol: float = 1e-8,
-              max_steps: int = 10_000_000) -> np.ndarray:  # fmt: skip
+    def force(self, sys: System, x0, m: int | None = None, *,
+              options: SimulationOptions = DEFAULT_OPTIONS, **option_values) -> np.ndarray:  # fmt: skip
         """Force [N] the rig ``sys`` applies at the first ``m`` samples (all by
-        default), starting from the state ``x0`` at the first sample."""
+        default), starting from the state ``x0`` at the first sample. ``options`` as
+        :meth:`System.simulate` (its tolerances, step control and ``max_steps``; the
+        samples are the drive's)."""
         if sys.kind != "rig":
             raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
-        rtol = check_positive("rtol", rtol)
+        options = _options(options, option_values)
+        options.warn_ignored("DriveRuns.force", "method", "sample_rate")
+        rtol = options.rtol
+        max_steps = options.max_steps
         n = self.time.size if m is None else int(m)
         if not 1 <= n <= self.time.size:
             raise ParameterError("m", m, f"a sample count in [1, {self.time.size}]")
@@ -1070,13 +1150,14 @@ class DriveRuns:
             y = np.array(x0, dtype=float)
             if y.shape != (sys.n_states,):
                 raise ParameterError("x0", x0, f"{sys.n_states} states")
-            atol = rtol * np.maximum(sys.state_scales, 1e-12)
+            atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
             st = np.zeros(5, dtype=np.int64)
             nseg = len(segs)
             status, _ = _integrate.integrate(
                 sys.itab, sys.ftab, segs, y, self.start, float(ts[-1]), rtol, atol,
                 sys.imp_unit, sys.jump_ok, math.inf, ts, Y, st, np.zeros(nseg),
                 int(max_steps), math.nan, math.inf, np.zeros(nseg), *_NO_REGIME, 1.0,
+                options.step_control,
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
@@ -1113,7 +1194,8 @@ def _exact_plan(sys, segs, T, ts):
     _, m = _integrate.exact_walk(
         False, segs, ts, T, z, 0.0, math.nan, math.inf, math.inf, True, z, sys.itab, sys.ftab,
         hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)), np.empty((0, 0)),
-        np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
+        np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0), np.empty(0, np.int64),
+        *_NO_OBSERVERS,
     )  # fmt: skip
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
@@ -1141,6 +1223,9 @@ def _regime_system(sys):
     if "regime" in sys.info:
         return sys.info["regime"]
     found = None
+    if sys.observers:  # exact steps would skip the observer states
+        sys.info["regime"] = None
+        return None
     regimes = [(e, el.linear_regime()) for e, el in enumerate(sys.elements) if _nonlinear(el)]
     if all(r is not None for _, r in regimes) and sys.n_states:
         itab = sys.itab.copy()
@@ -1269,18 +1354,112 @@ def _exact_tables_of(A, B, sizes):
     return Phi, GX, np.ascontiguousarray(E[:, :, n + 1] + E[:, :, n + 3])
 
 
+#: Gauss-Legendre nodes (in [0, 1]) and weights of the observers' quadrature in an
+#: exact step: five points, exact for polynomials of degree 9
+_GL_X = 0.5 * (np.polynomial.legendre.leggauss(5)[0] + 1.0)
+_GL_W = 0.5 * np.polynomial.legendre.leggauss(5)[1]
+
+
+def _observer_system(sys, ss):
+    """The augmented linear system of a linear system with observers: its states and its
+    linear observers' (``integral`` of a signal of outputs and of those states) obey
+    z' = A z + B u; the other observers' signals as rows over (z, u). Returns (A, B, ia:
+    the rows of the state vector z holds, Sx, Su), or None where an observer reads
+    something the linear system does not give (an undefined output, a nonlinear
+    observer's state)."""
+    from ._kernel import OBS_LINEAR
+
+    base = sys.info["base"]
+    A0, B0, C0, D0 = ss
+    n = base.n_states
+    obs = sys.observers
+    lin = [q for q, o in enumerate(obs) if _kernel_kind(o) == OBS_LINEAR]
+    ia = np.array(list(range(n)) + [n + q for q in lin], np.int64)
+    pos = {int(s): i for i, s in enumerate(ia)}
+    na = ia.size
+    out0 = np.empty(len(base.output_names))
+    base.outputs(0.0, np.zeros(n), np.zeros(3), base.itab, base.ftab, out0)
+    outs = {name: i for i, name in enumerate(base.output_names)}
+    names = sys.state_names
+
+    def row(sig):
+        rx, ru = np.zeros(na), np.zeros(3)
+        for ch, c in sig.items():
+            if ch in outs:
+                i = outs[ch]
+                if np.isnan(out0[i]):
+                    return None
+                rx[:n] += c * C0[i]
+                ru += c * D0[i]
+            else:
+                s = names.index(ch)
+                if s not in pos:
+                    return None
+                rx[pos[s]] += c
+        return rx, ru
+
+    A = np.zeros((na, na))
+    B = np.zeros((na, 3))
+    A[:n, :n] = A0
+    B[:n] = B0
+    for i, q in enumerate(lin):
+        r = row(obs[q].signal)
+        if r is None:
+            return None
+        A[n + i], B[n + i] = r
+    nsg = int(sys.itab[_kernel.I_NSG])
+    sigs = [None] * nsg
+    ob = int(sys.itab[_kernel.I_OBS])
+    for q, o in enumerate(obs):
+        for k, sig in ((int(sys.itab[ob + 4 * q + 1]), o.signal), (int(sys.itab[ob + 4 * q + 2]), o.other)):
+            if k >= 0 and sig is not None:
+                r = row(sig)
+                if r is None:
+                    return None
+                sigs[k] = r
+    Sx = np.array([r[0] if r else np.zeros(na) for r in sigs]).reshape(nsg, na)
+    Su = np.array([r[1] if r else np.zeros(3) for r in sigs]).reshape(nsg, 3)
+    return A, B, ia, Sx, Su
+
+
+def _kernel_kind(o):
+    from .observers import KINDS
+
+    return KINDS[o.kind]
+
+
+#: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
+_NO_OBSERVERS = (
+    np.empty((0, 0, 0, 0)), np.empty((0, 0, 0)), np.empty((0, 0, 0)), np.empty(0), np.empty(0),
+    np.empty((0, 0)), np.empty((0, 3)),
+)  # fmt: skip
+
+
 def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
     """Matrix-exponential steps of a linear system on a piecewise-linear road
     (:func:`._integrate.exact_walk` with the tables of :func:`_exact_tables`): the
-    states and the road (X1, X1', X1'') at the samples, and the statistics."""
-    A, B, _, _ = ss
+    states and the road (X1, X1', X1'') at the samples, and the statistics. Observers:
+    the tables of the augmented system (:func:`_observer_system`) and to the quadrature
+    nodes."""
     sizes, idx = plan
-    Phi, GX, GB = _exact_tables(A, B, sizes)
+    if sys.observers:
+        A, B, ia, Sx, Su = sys.info["observer_system"]
+        Phi, GX, GB = _exact_tables(A, B, sizes)
+        nodes = [_exact_tables(A, B, sizes * c) for c in _GL_X]
+        extra = (
+            np.ascontiguousarray([t[0] for t in nodes]), np.ascontiguousarray([t[1] for t in nodes]),
+            np.ascontiguousarray([t[2] for t in nodes]), _GL_W, _GL_X, Sx, Su,
+        )  # fmt: skip
+    else:
+        A, B, _, _ = ss
+        Phi, GX, GB = _exact_tables(A, B, sizes)
+        ia = np.arange(sys.n_states, dtype=np.int64)
+        extra = _NO_OBSERVERS
     Y = np.empty((ts.size, sys.n_states))
     U = np.zeros((ts.size, 3))
     status, m = _integrate.exact_walk(
         True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
-        sys.itab, sys.ftab, np.empty(0), idx, Phi, GX, GB, Y, U, jumps, vjumps,
+        sys.itab, sys.ftab, np.empty(0), idx, Phi, GX, GB, Y, U, jumps, vjumps, ia, *extra,
     )  # fmt: skip
     if status != _integrate.OK:
         t0 = float(segs[np.flatnonzero(jumps)[-1], 0]) if np.any(jumps) else 0.0

@@ -1,5 +1,6 @@
-"""The quarter car: sprung and unsprung masses, a tyre spring and damper to the road, and
-any network between wheel and body (docs/model.md §5 and §11).
+"""The quarter car: sprung and unsprung masses, a tyre spring and damper to the road (the
+tyre element, which lifts off, with ``tyre_lift_off=True``), and any network between
+wheel and body (docs/model.md §5 and §11).
 
 :func:`quarter_car` is the one way to build one. A named suspension of the thesis
 (:data:`SUSPENSIONS`) is a network of the model core (:data:`QUARTER_CAR_PRESETS`) whose
@@ -11,15 +12,17 @@ transmission, force law, device); any other text is read as a network.
 from __future__ import annotations
 
 import re
+from functools import lru_cache
 from typing import Any
 
 from ..elements.damper import Damper
 from ..elements.spring import Spring
+from ..elements.tyre import Tyre
 from ..errors import NetworkError, ParameterError
 from ..suspension.model import SUSPENSIONS
 from ._network import Layout, elements_of
 
-__all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network"]
+__all__ = ["quarter_car", "SUSPENSIONS", "QUARTER_CAR_PRESETS", "preset_network", "system_of"]
 
 
 #: the network of each named suspension between body (top) and wheel (bottom): ``k`` the
@@ -209,15 +212,33 @@ def _build(text: str, params, car, description: str, info: dict):
     )  # fmt: skip
     tree, els = elements_of(text, params)
 
+    model = info.get("model")
+    lift_off = model is not None and model.tyre_lift_off
+
     def make(arrange):
         lay = Layout(arrange)
         road = lay.node("road", "road")
         wheel = lay.node("wheel", "mass", c["unsprung_mass"])
         body = lay.node("body", "mass", c["sprung_mass"])
-        lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
-        if c["tyre_damping"] > 0:
-            lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
+        if lift_off:  # the tyre that cannot pull: its kink is an event
+            load = (c["sprung_mass"] + c["unsprung_mass"]) * c["gravity"]
+            tyre = Tyre(stiffness=c["tyre_stiffness"], damping=c["tyre_damping"], static_load=load)
+            lay.edges.append(("tyre", tyre, wheel, road))
+        else:
+            lay.edges.append(("tyre_k", Spring(stiffness=c["tyre_stiffness"]), wheel, road))
+            if c["tyre_damping"] > 0:
+                lay.edges.append(("tyre_c", Damper(damping=c["tyre_damping"]), wheel, road))
         lay.place(tree, body, wheel, els)
         return lay
 
     return _laid_out("quarter_car", description, make, {"network": text, "car": c, **info})[0]
+
+
+@lru_cache(maxsize=64)
+def system_of(model):
+    """The core system of a named suspension's description
+    (:class:`~inerterlab.suspension.model.QuarterCar`), as :func:`quarter_car` builds it;
+    kept for the last few descriptions (a sweep over inputs or seeds builds it once)."""
+    text, els = preset_network(model)
+    return _build(text, els, model.parameters, f"quarter car with {model.suspension!r}",
+                  {"model": model})  # fmt: skip

@@ -35,7 +35,8 @@ from ..networks import NetworkError
 from . import _integrate
 from ._kernel import ROAD
 from ._network import Layout, elements_of
-from .core import _NO_REGIME, System, _failure, _laid_out
+from .core import _NO_REGIME, System, _failure, _laid_out, _options
+from .options import SimulationOptions
 
 __all__ = [
     "half_car", "full_car", "vehicle", "simulate", "VehicleResult", "static_tyre_loads",
@@ -336,8 +337,13 @@ class VehicleResult:
     stats: dict
 
 
-def simulate(sys: System, r, dt: float, *, rtol: float = 1e-8, x0=None,
-             max_steps: int = 50_000_000) -> VehicleResult:  # fmt: skip
+#: the step budget of a vehicle run unless the options say otherwise (a vehicle on a
+#: long road takes many more steps than a quarter car)
+VEHICLE_MAX_STEPS = 50_000_000
+
+
+def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = None, x0=None,
+             **option_values) -> VehicleResult:  # fmt: skip
     """Simulate the vehicle ``sys`` over the wheel heights ``r`` (n_t, stations) [m]
     sampled every ``dt`` [s], linear between samples (adaptive Dormand-Prince 5(4),
     ``atol`` = ``rtol`` x the state scales; the tyres' lift-off and landing located as
@@ -345,7 +351,10 @@ def simulate(sys: System, r, dt: float, *, rtol: float = 1e-8, x0=None,
     Outputs at the samples: ``bounce_acc``, ``pitch_acc``, ``roll_acc`` [m/s^2,
     rad/s^2], ``seat_acc``, ``<station>_deflection`` [m] (strut extension),
     ``<station>_tyre_load`` [N] (increase of the contact force), and every node and
-    element output of the system (:attr:`System.output_names`)."""
+    element output of the system (:attr:`System.output_names`). ``options``
+    (:class:`~inerterlab.systems.options.SimulationOptions`, with keywords named as its
+    fields replacing its values): tolerances, step control, ``max_steps`` (default
+    :data:`VEHICLE_MAX_STEPS`); the samples are the road's."""
     if sys.kind not in ("half_car", "full_car"):
         raise ParameterError("sys", sys.kind, "a vehicle (systems.vehicle.half_car/full_car)")
     dt = check_positive("dt", dt, "s")
@@ -353,23 +362,25 @@ def simulate(sys: System, r, dt: float, *, rtol: float = 1e-8, x0=None,
     m = sys.info["roads"]
     if r.ndim != 2 or r.shape[1] != m or r.shape[0] < 2 or not np.all(np.isfinite(r)):
         raise ParameterError("r", f"array of shape {r.shape}", f"finite heights (n_t >= 2, {m})")
-    rtol = check_positive("rtol", rtol)
-    if not 1e-14 <= rtol <= 1e-2:
-        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-14, 1e-2]")
+    if options is None:
+        options = SimulationOptions(max_steps=VEHICLE_MAX_STEPS)
+    options = _options(options, option_values)
+    options.warn_ignored("a vehicle run", "method", "sample_rate")
+    rtol, max_steps = options.rtol, options.max_steps
     segs = road_segments(r, dt)
     ts = dt * np.arange(r.shape[0])
     T = float(ts[-1])
     y = rest_state(sys, r[0]) if x0 is None else np.array(x0, float)
     if y.shape != (sys.n_states,) or not np.all(np.isfinite(y)):
         raise ParameterError("x0", x0, f"{sys.n_states} finite states ({', '.join(sys.state_names)})")
-    atol = rtol * np.maximum(sys.state_scales, 1e-12)
+    atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
     Y = np.empty((ts.size, sys.n_states))
     st = np.zeros(5, dtype=np.int64)
     nseg = len(segs)
     status, _ = _integrate.integrate(
         sys.itab, sys.ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
         math.inf, ts, Y, st, np.zeros(nseg), int(max_steps), math.nan, math.inf, np.zeros(nseg),
-        *_NO_REGIME, 1.0,
+        *_NO_REGIME, 1.0, options.step_control,
     )  # fmt: skip
     if status != _integrate.OK:
         raise _failure(sys, status, max_steps)

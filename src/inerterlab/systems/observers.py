@@ -1,0 +1,293 @@
+"""Observers: quantities integrated as states beside a system's own (docs/model.md,
+"Observers").
+
+An observer reads *signals*: weighted sums of the system's outputs (``<node>.x``,
+``<node>.v``, ``<node>.a``, ``<element>.force``) and states (observer states
+included). Kinds:
+
+``integral``  q' = a            (a linear filter when a reads other observer states)
+``square``    q' = a^2          (RMS: sqrt(q(T) / T))
+``fourth``    q' = a^4          (VDV: q(T)^(1/4))
+``product``   q' = a b          (power of an element: force times relative velocity)
+``peak``      q = max a         (running maximum, located on the continuous extension)
+
+The integrator carries them in its stages and its error norm (absolute tolerance
+``rtol`` x ``scale``), so an RMS, a weighted RMS or an energy is as accurate as the
+motion, not a sum over samples. :func:`with_observers` returns the system with them;
+:meth:`CoreResult.observed` reads their final values. Ready-made sets:
+:func:`weighted` (a linear filter of a signal, e.g. ISO 2631-1 Wk), :func:`energy`
+(the energy ledger: work done on every element and mass, and by the road) and
+:func:`ride` (the quarter car's ride metrics).
+
+>>> from inerterlab.systems import quarter_car
+>>> car = quarter_car("k | c")
+>>> obs = with_observers(car, [Observer("i_acc", "square", {"body.a": 1.0}, scale=1e-2)])
+>>> obs.state_names[-1], obs.n_states - car.n_states
+('i_acc', 1)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..errors import ParameterError
+from . import _kernel
+
+__all__ = ["Observer", "with_observers", "weighted", "energy", "ride", "KINDS"]
+
+KINDS = {
+    "integral": _kernel.OBS_LINEAR,
+    "square": _kernel.OBS_SQUARE,
+    "fourth": _kernel.OBS_FOURTH,
+    "product": _kernel.OBS_PRODUCT,
+    "peak": _kernel.OBS_PEAK,
+}
+#: a running peak starts here (a finite number: the continuous extension subtracts
+#: states, and -inf - -inf is NaN)
+PEAK_START = -1e300
+
+
+@dataclass(frozen=True)
+class Observer:
+    """One observer state.
+
+    Parameters
+    ----------
+    name : str
+        Its state name (unique in the system).
+    kind : {"integral", "square", "fourth", "product", "peak"}
+    signal : dict
+        a = sum of coefficient x channel, channels by name (outputs, then states).
+    other : dict, optional
+        b of a ``product``.
+    scale : float
+        Typical size of the state; its absolute tolerance is rtol x scale.
+    """
+
+    name: str
+    kind: str
+    signal: dict
+    other: dict | None = None
+    scale: float = 1.0
+
+    def __post_init__(self) -> None:
+        if self.kind not in KINDS:
+            raise ParameterError("kind", self.kind, f"one of {', '.join(KINDS)}")
+        if (self.kind == "product") != (self.other is not None):
+            raise ParameterError("other", self.other, "a signal for a product, none otherwise")
+        if not self.scale > 0:
+            raise ParameterError("scale", self.scale, "a positive typical size")
+
+
+def _channels(sys, names: tuple) -> dict:
+    out = {n: i for i, n in enumerate(sys.output_names)}
+    no = len(sys.output_names)
+    for i, n in enumerate(names):
+        out.setdefault(n, no + i)
+    return out
+
+
+def with_observers(sys, observers) -> System:  # noqa: F821
+    """``sys`` with the observer states of ``observers`` appended (after those it has)."""
+    base = sys.info.get("base", sys)
+    old = tuple(sys.info.get("observers", ()))
+    obs = old + tuple(observers)
+    names = base.state_names + tuple(o.name for o in obs)
+    if len(set(names)) != len(names):
+        dup = next(n for n in names if names.count(n) > 1)
+        raise ParameterError("name", dup, "a state name not used already")
+    ch = _channels(base, names)
+    sig_rows: list[dict] = []
+
+    def row(sig):
+        for k in sig:
+            if k not in ch:
+                raise ParameterError(
+                    "signal", k, f"an output or state of {base.description} "
+                    f"({', '.join(base.output_names)}, or a state name)",
+                )  # fmt: skip
+        sig_rows.append({ch[k]: float(v) for k, v in sig.items()})
+        return len(sig_rows) - 1
+
+    orows = []
+    nphys = base.n_states
+    for q, o in enumerate(obs):
+        a = row(o.signal)
+        b = row(o.other) if o.other is not None else -1
+        orows.append((KINDS[o.kind], a, b, nphys + q))
+    ptr = np.zeros(len(sig_rows) + 1, np.int64)
+    idx, coef = [], []
+    for k, r in enumerate(sig_rows):
+        for c, v in sorted(r.items()):
+            idx.append(c)
+            coef.append(v)
+        ptr[k + 1] = len(idx)
+    itab = np.array(base.itab, copy=True)
+    ftab = np.array(base.ftab, copy=True)
+    io = itab.size
+    sg = io + _kernel.OBS_W * len(obs)
+    itab = np.concatenate([itab, np.array(orows, np.int64).reshape(-1), ptr, np.array(idx, np.int64)])
+    itab[_kernel.I_NOB] = len(obs)
+    itab[_kernel.I_OBS] = io
+    itab[_kernel.I_NSG] = len(sig_rows)
+    itab[_kernel.I_SG] = sg
+    itab[_kernel.I_SGF] = ftab.size
+    ftab = np.concatenate([ftab, np.array(coef, float)])
+    itab.setflags(write=False)
+    ftab.setflags(write=False)
+    x0 = [PEAK_START if o.kind == "peak" else 0.0 for o in obs]
+    info = dict(base.info, base=base, observers=obs)
+    info.pop("regime", None)
+    return dataclasses.replace(
+        base,
+        state_names=names,
+        itab=itab,
+        ftab=ftab,
+        x0_template=np.concatenate([base.x0_template, np.array(x0, float)]),
+        state_scales=np.concatenate([base.state_scales, [o.scale for o in obs]]),
+        info=info,
+    )
+
+
+def weighted(name: str, signal: dict, A, B, C, D, *, scale: float = 1.0):
+    """(observers, weighted signal) of the linear filter z' = A z + B a, w = C z + D a
+    of the signal a: its states ``<name>.z0``, ... (``integral`` observers), and w as a
+    signal over them and a's channels (for a ``square``, ``fourth`` or ``peak``)."""
+    A = np.atleast_2d(np.asarray(A, float))
+    B = np.ravel(np.asarray(B, float))
+    C = np.ravel(np.asarray(C, float))
+    n = A.shape[0]
+    zs = [f"{name}.z{i}" for i in range(n)]
+    obs = []
+    for i in range(n):
+        sig = {zs[j]: A[i, j] for j in range(n) if A[i, j] != 0.0}
+        for k, v in signal.items():
+            if B[i] != 0.0:
+                sig[k] = sig.get(k, 0.0) + B[i] * v
+        obs.append(Observer(zs[i], "integral", sig, scale=scale))
+    w = {zs[j]: C[j] for j in range(n) if C[j] != 0.0}
+    for k, v in signal.items():
+        if float(D) != 0.0:
+            w[k] = w.get(k, 0.0) + float(D) * v
+    return obs, w
+
+
+def _masses(sys) -> dict:
+    it = sys.itab
+    fm = int(it[_kernel.I_FMASS])
+    return {
+        n: float(sys.ftab[fm + i])
+        for i, n in enumerate(sys.node_names)
+        if sys.ftab[fm + i] > 0.0
+    }
+
+
+def energy(sys, *, scale: float = 1e-2) -> list[Observer]:
+    """The energy ledger [J] of a system: ``energy.<element>``, the work done on each
+    element (its force times its relative velocity, integrated: the energy a spring
+    stores, a damper dissipates, an inerter holds as kinetic energy); ``energy.<node>``,
+    the kinetic energy a mass gains; ``energy.input``, the work the road (a rig's
+    drive) does on the system. Input = sum of the others, to the integration's
+    tolerance (tests/test_core_observers.py)."""
+    base = sys.info.get("base", sys)
+    nodes = base.node_names
+    obs = []
+    drive = []
+    for e, name in enumerate(base.element_names):
+        top, bot = int(base.itab[base.itab[_kernel.I_ELEM] + _kernel.ELEM_W * e + 1]), int(
+            base.itab[base.itab[_kernel.I_ELEM] + _kernel.ELEM_W * e + 2]
+        )
+        vt, vb = f"{nodes[top]}.v", f"{nodes[bot]}.v"
+        rel = {vt: 1.0} if top == bot else {vt: 1.0, vb: -1.0}
+        obs.append(Observer(f"energy.{name}", "product", {f"{name}.force": 1.0}, rel, scale=scale))
+        # the road pushes the element with +F at its top, -F at its bottom
+        if base.node_types[top] == _kernel.ROAD:
+            drive.append((name, 1.0, vt))
+        if base.node_types[bot] == _kernel.ROAD:
+            drive.append((name, -1.0, vb))
+    for n, m in _masses(base).items():
+        obs.append(Observer(f"energy.{n}", "product", {f"{n}.a": m}, {f"{n}.v": 1.0}, scale=scale))
+    if drive:
+        sig: dict = {}
+        for name, s, _ in drive:
+            sig[f"{name}.force"] = sig.get(f"{name}.force", 0.0) + s
+        obs.append(Observer("energy.input", "product", sig, {drive[0][2]: 1.0}, scale=scale))
+    return obs
+
+
+#: the ride observers of a quarter car and their typical sizes (absolute tolerance
+#: rtol x size): int a^2, int grip^2, int z^2, the Wk filter, int a_w^2, int a_w^4. The
+#: Wk filter's states (of the size of an acceleration, 0.1 m/s^2) get a 100 x looser
+#: absolute tolerance: the filter is linear and stable, its error does not grow, and
+#: at the acceleration's own tolerance its 100 Hz section sets the step size (the
+#: ch. 4-6 runs of the traditional, afw and device cars: 66 670 steps and rejections
+#: at 0.1, 47 313 at 10, 39 645 at 1000; docs/decisions.md, "Observers")
+RIDE_SCALES = {"i_acc": 1e-2, "i_grip": 1e-4, "i_defl": 1e-7, "wk": 1e1, "i_wk": 1e-2, "i_wk4": 1e-3}
+
+
+def ride(sys) -> list[Observer]:
+    """The ride observers of a quarter car (:func:`inerterlab.systems.quarter_car`):
+    ``ride.i_acc`` = int a3^2, ``ride.i_grip`` = int grip^2 (4.20), ``ride.i_defl`` =
+    int z^2, the ISO 2631-1 Wk filter of a3 (``ride.wk.z0``, ...), ``ride.i_wk`` = int
+    a_w^2, ``ride.i_wk4`` = int a_w^4 (VDV), and the running peaks of +-a3, +-a_w, +-z
+    and the tyre's dynamic force (``ride.peak_*``)."""
+    from ..metrics import wk_state_space
+
+    base = sys.info.get("base", sys)
+    if base.kind != "quarter_car":
+        raise ParameterError("sys", base.description, "a quarter car (systems.quarter_car)")
+    car = base.info["car"]
+    load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
+    g = car["tyre_stiffness"] / load
+    acc = {"body.a": 1.0}
+    defl = {"body.x": 1.0, "wheel.x": -1.0}
+    tyre = {f"{e}.force": 1.0 for e in base.element_names if e in ("tyre", "tyre_k", "tyre_c")}
+    s = RIDE_SCALES
+    wk_obs, aw = weighted("ride.wk", acc, *wk_state_space(), scale=s["wk"])
+    neg = lambda d: {k: -v for k, v in d.items()}  # noqa: E731
+    return [
+        Observer("ride.i_acc", "square", acc, scale=s["i_acc"]),
+        Observer("ride.i_grip", "square", {"wheel.x": g, "road.x": -g}, scale=s["i_grip"]),
+        Observer("ride.i_defl", "square", defl, scale=s["i_defl"]),
+        *wk_obs,
+        Observer("ride.i_wk", "square", aw, scale=s["i_wk"]),
+        Observer("ride.i_wk4", "fourth", aw, scale=s["i_wk4"]),
+        Observer("ride.peak_acc", "peak", acc),
+        Observer("ride.peak_neg_acc", "peak", neg(acc)),
+        Observer("ride.peak_wk", "peak", aw),
+        Observer("ride.peak_neg_wk", "peak", neg(aw)),
+        Observer("ride.peak_defl", "peak", defl),
+        Observer("ride.peak_neg_defl", "peak", neg(defl)),
+        Observer("ride.peak_tyre", "peak", tyre),
+    ]
+
+
+def ride_metrics(observed: dict, horizon: float, static_load: float) -> dict:
+    """The ride metrics (:data:`inerterlab.metrics.METRIC_KEYS`) from the final values of
+    the :func:`ride` observers over ``horizon`` [s]; ``static_load`` (M + M_t) g [N].
+
+    RMS = sqrt(int a^2 / T) (4.15, 4.21, 4.26), the Wk RMS likewise, VDV = (int a_w^4)^(1/4),
+    crest factor = peak |a_w| / RMS a_w, ``min_tyre_force`` = static load minus the
+    largest dynamic tyre force (unclipped: negative where the tyre would pull)."""
+    import math
+
+    v = observed
+    T = horizon
+    rms_wk = math.sqrt(max(v["ride.i_wk"], 0.0) / T)
+    peak_wk = max(v["ride.peak_wk"], v["ride.peak_neg_wk"])
+    return {
+        "rms_body_acc": math.sqrt(max(v["ride.i_acc"], 0.0) / T),
+        "rms_tyre_grip": math.sqrt(max(v["ride.i_grip"], 0.0) / T),
+        "rms_deflection": math.sqrt(max(v["ride.i_defl"], 0.0) / T),
+        "rms_body_acc_wk": rms_wk,
+        "vdv": max(v["ride.i_wk4"], 0.0) ** 0.25,
+        "crest_factor": peak_wk / rms_wk if rms_wk > 0 else 0.0,
+        "peak_body_acc": max(v["ride.peak_acc"], v["ride.peak_neg_acc"]),
+        "peak_body_acc_wk": peak_wk,
+        "peak_deflection": max(v["ride.peak_defl"], v["ride.peak_neg_defl"]),
+        "min_tyre_force": static_load - v["ride.peak_tyre"],
+        "tyre_lift_off": bool(v["ride.peak_tyre"] >= static_load),
+    }

@@ -1,0 +1,102 @@
+"""Observers integrated as states (systems/observers.py) against closed forms."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from inerterlab.excitation import bump, sine
+from inerterlab.metrics import wk_state_space, wk_weighting
+from inerterlab.systems import quarter_car, rig
+from inerterlab.systems.observers import Observer, energy, weighted, with_observers
+
+A, F = 0.01, 2.0  # drive amplitude [m], frequency [Hz]
+W = 2 * math.pi * F
+K, C = 1e4, 100.0
+
+
+def _rig(observers):
+    return with_observers(rig("k | c", {"k": K, "c": C}), observers)
+
+
+def test_rms_and_fourth_power_of_a_sine_drive():
+    """int F^2 of the rig force F = k A sin + c A w cos over whole periods, and int x^4 =
+    3/8 A^4 T, to 1e-9."""
+    sys = _rig([
+        Observer("f2", "square", {"k.force": 1.0, "c.force": 1.0}, scale=1.0),
+        Observer("x4", "fourth", {"drive.x": 1.0}, scale=1e-8),
+        Observer("xint", "integral", {"drive.x": 1.0}, scale=1e-3),
+    ])  # fmt: skip
+    T = 5.0
+    res = sys.simulate(sine(A, F), T, rtol=1e-10)
+    o = res.observed
+    exact_f2 = 0.5 * T * ((K * A) ** 2 + (C * A * W) ** 2)
+    assert o["f2"] == pytest.approx(exact_f2, rel=1e-9)
+    assert o["x4"] == pytest.approx(3.0 / 8.0 * A**4 * T, rel=1e-9)
+    assert abs(o["xint"]) < 1e-9 * A * T  # whole periods of a sine
+    assert res.observed.keys() == {"f2", "x4", "xint"}
+
+
+def test_peaks_located_between_steps():
+    """The running peaks of +-x and of the force of a sine drive: their exact maxima
+    (A, and A sqrt(k^2 + (c w)^2)) to 1e-9, wherever the steps fall (steps the size
+    the force's integral asks for at a loose tolerance: a peak is located within the
+    steps the states set)."""
+    sys = _rig([
+        Observer("f", "integral", {"k.force": 1.0}, scale=1.0),
+        Observer("px", "peak", {"drive.x": 1.0}),
+        Observer("nx", "peak", {"drive.x": -1.0}),
+        Observer("pf", "peak", {"k.force": 1.0, "c.force": 1.0}),
+    ])  # fmt: skip
+    o = sys.simulate(sine(A, F), 1.3, rtol=1e-6).observed
+    assert o["px"] == pytest.approx(A, rel=1e-9)
+    assert o["nx"] == pytest.approx(A, rel=1e-9)
+    assert o["pf"] == pytest.approx(A * math.hypot(K, C * W), rel=1e-9)
+
+
+def test_wk_weighted_integral_against_the_frequency_domain():
+    """The ISO 2631-1 Wk filter of the drive acceleration as observer states, started
+    on its steady state: int a_w^2 over whole periods = T/2 |Wk(f)|^2 (A w^2)^2."""
+    Af, Bf, Cf, Df = wk_state_space()
+    obs, aw = weighted("wk", {"drive.a": 1.0}, Af, Bf, Cf, Df, scale=1e-1)
+    sys = _rig([*obs, Observer("i_wk", "square", aw, scale=1e-2)])
+    # steady state of z' = A z + B a with a = -A w^2 sin(w t) = Im(-A w^2 e^{jwt}): at t = 0
+    zc = np.linalg.solve(1j * W * np.eye(Af.shape[0]) - Af, Bf) * (-A * W * W)
+    x0 = np.concatenate([zc.imag, [0.0]])
+    T = 10.0
+    res = sys.simulate(sine(A, F), T, rtol=1e-10, x0=x0)
+    exact = 0.5 * T * abs(wk_weighting(F)) ** 2 * (A * W * W) ** 2
+    assert res.observed["i_wk"] == pytest.approx(exact, rel=1e-8)
+
+
+@pytest.mark.parametrize("suspension", ["traditional", "afw", "device-afw"])
+def test_energy_balance(suspension):
+    """The energy ledger: the work of the road equals the work done on every element
+    and mass (stored plus dissipated), to 1e-8 of the input, on a nonlinear car too."""
+    car = quarter_car(suspension)
+    sys = with_observers(car, energy(car, scale=1e-4))
+    res = sys.simulate(bump(height=0.05, edge="ramp", edge_width=0.01), 2.0, rtol=1e-11,
+                       x0=sys.initial_state())  # fmt: skip
+    o = res.observed
+    parts = sum(v for k, v in o.items() if k != "energy.input")
+    assert o["energy.input"] != 0.0
+    assert parts == pytest.approx(o["energy.input"], rel=1e-8)
+    # each element's share has its sign: dampers dissipate
+    assert o["energy.c"] > 0 and o["energy.tyre_c"] > 0
+    # the springs and masses hold at the end what the states say they hold
+    xw, vw, xb, vb = (res.states[-1, car.state_names.index(n)]
+                      for n in ("wheel.x", "wheel.v", "body.x", "body.v"))  # fmt: skip
+    m = car.info["car"]
+    assert o["energy.body"] == pytest.approx(0.5 * m["sprung_mass"] * vb**2, rel=1e-7, abs=1e-9)
+    assert o["energy.wheel"] == pytest.approx(0.5 * m["unsprung_mass"] * vw**2, rel=1e-7, abs=1e-9)
+    if suspension == "traditional":
+        assert o["energy.k"] == pytest.approx(0.5 * 9e4 * (xb - xw) ** 2, rel=1e-7, abs=1e-9)
+
+
+def test_observer_errors():
+    with pytest.raises(Exception, match="signal"):
+        _rig([Observer("q", "square", {"nowhere.x": 1.0})])
+    with pytest.raises(Exception, match="kind"):
+        Observer("q", "cube", {"drive.x": 1.0})
