@@ -251,11 +251,11 @@ def estimate(st: DesignSettings, workers: int = 2) -> dict:
     t_req = nreq * 12 * st.tune_roads * st.horizon * _COST["device_s"]
     t_syn = _COST["synth"] * (4 if st.synthesize == 3 else 1) if st.synthesize else 0.0
     if st.is_vehicle:
-        # one vehicle polish about 50 s of CPU (a full car, measured on the loaded
+        # one vehicle polish about 80 s of CPU (a full car, measured on the loaded
         # machine), the first pass about 1 s per layout; a second of vehicle road about
         # 2.5 times a quarter car's device candidate
         n_lin = len([d for d in st.devices if d != "fluid"])
-        t_layout = layouts * 1.0 + min(layouts, st.top + 3) * 50.0
+        t_layout = layouts * 1.0 + min(layouts, st.top + 3) * 80.0
         t_dev = ndev * 12 * st.tune_roads * st.horizon * _COST["device_s"] * 2.5
         t_dev += min(layouts, st.top) * n_lin * 30.0
         t_score = st.roads * st.horizon * (cands + ndev) * _COST["device_s"] * 2.5
