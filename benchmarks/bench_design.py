@@ -13,7 +13,12 @@ Prints, each measured in this run:
 - the same study rerun into the same folder (every stage read from its stores), and
   the ratio fresh / resumed.
 
-Run: python benchmarks/bench_design.py [--workers 2]
+With ``--model full`` (or ``half``): the same study for the packaged example vehicle
+(docs/guide/vehicles.md) as a full (half) car, objective seat_wk (the same layout at
+every corner, values per axle; vehicle simulations on the roads); it prints the fresh
+time and its stages against the quarter car's target (the issue asks only to state it).
+
+Run: python benchmarks/bench_design.py [--workers 2] [--model quarter|half|full]
 """
 
 from __future__ import annotations
@@ -27,7 +32,11 @@ from pathlib import Path
 def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--model", choices=("quarter", "half", "full"), default="quarter")
     args = ap.parse_args()
+    if args.model != "quarter":
+        vehicle_study(args.model, args.workers)
+        return
 
     t = time.perf_counter()
     from inerterlab import excitation as ex
@@ -66,6 +75,46 @@ def main() -> None:
     print(
         f"same study resumed from its stores: {resumed:.1f} s; fresh / resumed = {fresh / resumed:.1f}"
     )
+    print(
+        f"best: {best['label']}: {best['objective']} {best['expected']:.4g} "
+        f"+- {best['interval95']:.2g} {best['unit']} (expected value, 95 % interval), "
+        f"{best['gain_percent']:+.2f} +- {best['gain_interval95']:.2f} % vs k | c"
+    )
+
+
+def vehicle_study(model: str, workers: int) -> None:
+    import warnings
+
+    from inerterlab.design import DesignSettings, run_design
+    from inerterlab.design.report import figures, render_html
+    from inerterlab.vehicles import example_vehicle_path
+
+    warnings.simplefilter("ignore", RuntimeWarning)  # scipy's Lyapunov near-singular notes
+    st = DesignSettings(vehicle=example_vehicle_path().read_text(), model=model,
+                        objective="seat_wk")  # fmt: skip
+    import os
+
+    load0 = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory() as tmp:
+        out = Path(tmp) / "design"
+        t = time.perf_counter()
+        res = run_design(st, out, workers=workers)
+        t1 = time.perf_counter()
+        figs = figures(res)
+        (out / "report.html").write_text(render_html(res, figs))
+        fresh = time.perf_counter() - t
+        fig_s = time.perf_counter() - t1
+    best = res["ranking"][0]
+    print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f} "
+          "(other work on the machine)")  # fmt: skip
+    print(
+        f"{model}-car design study (example vehicle, seat_wk, budget 2/1/1, four devices, "
+        f"{st.roads} roads of {st.horizon:g} s), fresh folder, {workers} workers: {fresh:.1f} s "
+        f"(the quarter car's target is 90 s; this time is stated, not targeted); "
+        f"{len(res['layouts'])} layouts, {len(res['ranking'])} candidates"
+    )
+    print("  stages (s): " + ", ".join(f"{k} {v:.1f}" for k, v in res["stage_seconds"].items())
+          + f", report figures {fig_s:.1f}")  # fmt: skip
     print(
         f"best: {best['label']}: {best['objective']} {best['expected']:.4g} "
         f"+- {best['interval95']:.2g} {best['unit']} (expected value, 95 % interval), "

@@ -580,9 +580,9 @@ def test_cli_limits_and_usage_errors():
 
     from inerterlab.cli.network import _limits
 
-    lim = _limits(None, 0.2, 12000.0, 120e3)  # tyre load 12 kN / k_t -> 0.1 m
-    assert lim == {"tyre_deflection": pytest.approx(0.1), "suspension_deflection": 0.2}
-    assert _limits(0.05, None, 12000.0, 120e3)["tyre_deflection"] == 0.05  # the tighter
+    lim = _limits(["tyre_load=12000", "suspension_deflection=0.2"])
+    assert lim == {"tyre_load": 12000.0, "suspension_deflection": 0.2}
+    assert _limits(["tyre_deflection=0.1,tyre_deflection=0.05"])["tyre_deflection"] == 0.05
     run = subprocess.run(
         [sys.executable, "-m", "inerterlab", "network", "optimize", "--all", "--network", "k | c"],
         capture_output=True,

@@ -250,9 +250,10 @@ def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping, network):
     )
     v = build(car)
     h2 = white_velocity_h2(v)
-    finite = [k for k, n in h2.items() if n is not None]
+    finite = [k for k, n in h2.items() if math.isfinite(n)]
     if tyre_damping > 0:  # the tyre load feeds through the road velocity
-        assert h2["front_tyre_load"] is None
+        assert h2["front_tyre_load"] == math.inf
+        assert "feed-through" in h2.reasons["front_tyre_load"]
     else:
         assert len(finite) == len(h2)
     spec = _h2_by_spectrum(v, finite)
@@ -263,8 +264,10 @@ def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping, network):
 def test_white_velocity_h2_flags_warp():
     # a full car on independent tracks: a warp step of the road leaves static deflections
     h2 = white_velocity_h2(build(full_car(front=REAR)))  # no inerter: no feed-through
-    assert h2["front_left_deflection"] is None
-    assert h2["bounce_acc"] is not None
+    assert h2["front_left_deflection"] == math.inf
+    assert "static" in h2.reasons["front_left_deflection"]
+    assert "0.01-10 cycle/m" in h2.reasons["front_left_deflection"]
+    assert math.isfinite(h2["bounce_acc"]) and "bounce_acc" not in h2.reasons
 
 
 def test_monte_carlo_rms_agrees_with_spectral():

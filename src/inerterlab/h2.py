@@ -44,6 +44,7 @@ __all__ = [
     "h2_rational",
     "h2_rational_gradient",
     "h2_rational_filtered",
+    "stable_scaled",
     "wk_realisation",
     "wk_polynomials",
 ]
@@ -205,6 +206,28 @@ def hurwitz(a, n):
 
 
 @nb.njit(cache=True)
+def stable_scaled(polys, n, which):
+    """The checks every norm of row ``which`` over Delta (row 0, degree ``n``) starts
+    with, and the scaled coefficients it then needs: (ok, w0, Delta's scaled monic
+    coefficients, the row's scaled coefficients). ``ok`` is False (the norm is
+    infinite) when Delta's end coefficients are not positive, Delta is not Hurwitz
+    (the car is not asymptotically stable) or the row's degree exceeds n."""
+    an = polys[0, n]
+    if not (polys[0, 0] > 0.0 and an > 0.0):
+        return False, 0.0, np.zeros(n + 1), np.zeros(n + 1)
+    w0, at, scale = _scaled(polys, n)
+    bt = np.empty(n + 1)
+    for i in range(n + 1):
+        bt[i] = polys[which, i] * scale[i]
+    if not hurwitz(at, n):
+        return False, w0, at, bt
+    for i in range(n + 1, polys.shape[1]):
+        if polys[which, i] != 0.0:
+            return False, w0, at, bt
+    return True, w0, at, bt
+
+
+@nb.njit(cache=True)
 def h2_rational(polys, n, out):
     """Squared H2 norms of the transfers row / Delta, rows 1.. of ``polys`` over Delta
     (row 0; ascending coefficients, degree ``n``), into ``out``; returns w0."""
@@ -313,19 +336,10 @@ def h2_rational_filtered(polys, n, which, fA, fB, fC):
     fA P21 + P21 A1^T + fB (C1 P11 + D1 B1^T) = 0 (Sylvester, Kronecker form) and
     fA P22 + P22 fA^T + fB C1 P12 + P21 C1^T fB^T + D1^2 fB fB^T = 0; the norm is
     fC P22 fC^T."""
-    an = polys[0, n]
-    if not (polys[0, 0] > 0.0 and an > 0.0):
+    ok, w0, at, bt = stable_scaled(polys, n, which)
+    if not ok:
         return np.inf
-    w0, at, scale = _scaled(polys, n)
-    if not hurwitz(at, n):
-        return np.inf
-    for i in range(n + 1, polys.shape[1]):
-        if polys[which, i] != 0.0:
-            return np.inf
     At, Pt = _companion(at, n)
-    bt = np.empty(n + 1)
-    for i in range(n + 1):
-        bt[i] = polys[which, i] * scale[i]
     D1 = bt[n]
     C1 = np.empty(n)
     for i in range(n):

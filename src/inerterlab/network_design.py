@@ -66,7 +66,7 @@ import numba as nb
 import numpy as np
 
 from .errors import PHYSICAL_RANGES, ParameterError, check_physical, check_seed, shorten
-from .h2 import _scaled, h2_rational, h2_rational_filtered, h2_rational_gradient, hurwitz
+from .h2 import h2_rational, h2_rational_filtered, h2_rational_gradient, stable_scaled
 from .networks import MAX_LAYOUTS, NetworkError, enumerate_networks, linearise, parse_network
 from .suspension.network_linear import (
     _QUANTITY,
@@ -188,18 +188,9 @@ _GRID = 801
 def _peak2(polys, n, which, wsec, use_w):
     """Squared largest gain over frequency of row ``which`` over Delta (through the
     weighting ``wsec`` if ``use_w``); inf if the car is not asymptotically stable."""
-    an = polys[0, n]
-    if not (polys[0, 0] > 0.0 and an > 0.0):
+    ok, w0, at, bt = stable_scaled(polys, n, which)
+    if not ok:
         return np.inf
-    w0, at, scale = _scaled(polys, n)
-    if not hurwitz(at, n):
-        return np.inf
-    for i in range(n + 1, polys.shape[1]):
-        if polys[which, i] != 0.0:
-            return np.inf
-    bt = np.empty(n + 1)
-    for i in range(n + 1):
-        bt[i] = polys[which, i] * scale[i]
     ls = np.linspace(-4.0, 4.0, _GRID) * math.log(10.0)
     v = np.empty(_GRID)
     for i in range(_GRID):

@@ -204,17 +204,23 @@ def _replace_b(network: str, text: str) -> str:
 
 
 def _fluid_parameters(b: float) -> dict:
+    """The fluid inerter of :data:`FLUID`'s geometry with inertance ``b`` [kg]: its
+    channel length and losses as the element resolves them (laminar loss from the
+    viscosity, entry and exit losses from the loss coefficient)."""
+    from .elements.fluid_inerter import FluidInerter
+
     g = FLUID
-    a1 = math.pi * g["piston_diameter"] ** 2 / 4
-    a2 = math.pi * g["channel_diameter"] ** 2 / 4
-    length = b * a2 / (g["density"] * a1 * a1)  # b = rho l A1^2 / A2
-    # Hagen-Poiseuille: dp = 128 mu l Q / (pi d^4), Q = A1 v, F = A1 dp
-    c_lin = 128.0 * g["viscosity"] * length * a1 * a1 / (math.pi * g["channel_diameter"] ** 4)
-    # entry/exit loss: dp = K rho u^2 / 2 with channel velocity u = (A1/A2) v
-    c_quad = 0.5 * g["loss_coefficient"] * g["density"] * a1 * (a1 / a2) ** 2
+    el = FluidInerter(
+        density=g["density"],
+        inertance=b,
+        piston_area=math.pi * g["piston_diameter"] ** 2 / 4,
+        channel_area=math.pi * g["channel_diameter"] ** 2 / 4,
+        viscosity=g["viscosity"],
+        loss_coefficient=g["loss_coefficient"],
+    )
     return dict(
-        density=g["density"], length=length, piston_area=a1, channel_area=a2,
-        damping=c_lin, quadratic=c_quad,
+        density=el.density, length=el.length, piston_area=el.piston_area,
+        channel_area=el.channel_area, damping=el.damping, quadratic=el.quadratic,
     )  # fmt: skip
 
 

@@ -83,23 +83,14 @@ def _limits(items: list[str] | None) -> dict:
 
 
 def _car_from_vehicle(path: Path, corner: str) -> dict:
+    """The quarter car of one corner of a vehicle file (docs/guide/design.md)."""
+    from ..design.vehicle import corner_car
     from ..errors import ParameterError
     from ..vehicles.config import load_vehicle
 
     if corner not in ("front", "rear"):
         raise ParameterError("--corner", corner, "front or rear")
-    v = load_vehicle(path)
-    wheelbase = v.cg_to_front + v.cg_to_rear
-    share = (v.cg_to_rear if corner == "front" else v.cg_to_front) / wheelbase
-    per_axle = 2.0 if type(v).__name__ == "FullCar" else 1.0
-    c = v.front if corner == "front" else v.rear
-    return {
-        "sprung_mass": v.sprung_mass * share / per_axle,
-        "unsprung_mass": c.unsprung_mass,
-        "tyre_stiffness": c.tyre.stiffness,
-        "tyre_damping": c.tyre.damping,
-        "stiffness": c.strut.stiffness,
-    }
+    return corner_car(load_vehicle(path), corner)
 
 
 def design_command(
@@ -109,12 +100,24 @@ def design_command(
     ],
     vehicle: Annotated[
         Path | None,
-        typer.Option(help="Vehicle file (TOML); its --corner gives the quarter car's values."),
+        typer.Option(
+            help="Vehicle file (TOML): its half or full car is designed (the same layout at "
+            "every corner, values per axle), or with --corner one corner as a quarter car."
+        ),
     ] = None,
-    corner: Annotated[str, typer.Option(help="With --vehicle: front or rear corner.")] = "front",
+    corner: Annotated[
+        str | None,
+        typer.Option(
+            help="With --vehicle: design this corner (front or rear) as a quarter car."
+        ),
+    ] = None,
     model: Annotated[
-        str, typer.Option(help="quarter (half- and full-car design are not available).")
-    ] = "quarter",
+        str | None,
+        typer.Option(
+            help="quarter, half or full (default: the vehicle file's model, else quarter; "
+            "half takes a full car's pitch-plane half car)."
+        ),
+    ] = None,
     sprung_mass: Annotated[str | None, typer.Option(help="Sprung mass per corner [kg].")] = None,
     unsprung_mass: Annotated[str | None, typer.Option(help="Unsprung mass [kg].")] = None,
     tyre_stiffness: Annotated[str | None, typer.Option(help="Tyre stiffness [N/m].")] = None,
@@ -174,17 +177,37 @@ def design_command(
     from ..studies import SweepInterrupted
     from ..studies.backends import check_workers
 
-    if model != "quarter":
-        raise ParameterError(
-            "--model",
-            model,
-            "quarter: the design optimises one corner (--vehicle with --corner front|rear "
-            "takes its quarter-car values); half- and full-car design are not available",
-        )
+    if model not in (None, "quarter", "half", "full"):
+        raise ParameterError("--model", model, "quarter, half or full")
+    if corner is not None and corner not in ("front", "rear"):
+        raise ParameterError("--corner", corner, "front or rear")
+    if corner is not None and model in ("half", "full"):
+        raise ParameterError("--corner", corner, f"not given with --model {model} (a corner "
+                             "is designed as a quarter car)")  # fmt: skip
+    if corner is not None:
+        model = "quarter"
+    if model in ("half", "full") and vehicle is None:
+        raise ParameterError("--model", model, "quarter without --vehicle (a half or full car "
+                             "comes from a vehicle file)")  # fmt: skip
     check_workers("--workers", workers)
     car = dict(_CAR_DEFAULTS)
     source = "options (thesis car defaults where not given)"
-    if vehicle is not None:
+    vehicle_text, kind = "", "quarter"
+    if vehicle is not None and model != "quarter":
+        from ..design.vehicle import vehicle_car
+        from ..io import CONFIG_SIZE_LIMIT, read_text_limited
+
+        vehicle_text = read_text_limited(vehicle, "vehicle file", limit=CONFIG_SIZE_LIMIT)
+        kind = vehicle_car(vehicle_text, model or "file", str(vehicle))["model"]
+        given_car = [o for o, v in (("--sprung-mass", sprung_mass), ("--unsprung-mass", unsprung_mass),
+                     ("--tyre-stiffness", tyre_stiffness), ("--tyre-damping", tyre_damping),
+                     ("--spring-stiffness", spring_stiffness)) if v is not None]  # fmt: skip
+        if given_car:
+            raise ParameterError(given_car[0], "given", f"not given with a {kind}-car --vehicle "
+                                 "(its values come from the file; or use --corner front|rear)")  # fmt: skip
+        source = f"{vehicle}, {kind} car"
+    elif vehicle is not None:
+        corner = corner or "front"
         car.update(_car_from_vehicle(vehicle, corner))
         source = f"{vehicle}, {corner} corner"
     given = {
@@ -215,6 +238,8 @@ def design_command(
         top=top,
         recheck=recheck,
         source=source,
+        vehicle=vehicle_text,
+        model=kind,
     ).check()
     check_out_folder(out)
     est = estimate(st, workers)

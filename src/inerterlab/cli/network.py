@@ -289,20 +289,13 @@ def _road(road_class, speed):
         raise
 
 
-def _limits(max_tyre_deflection, max_suspension_deflection, max_tyre_load, kt, limit=None) -> dict:
+def _limits(limit=None) -> dict:
+    """--limit quantity=value (repeatable, or comma-separated): the one way to limit a
+    quantity of the objectives (tyre_load [N], tyre_deflection [m], ...)."""
     from ..errors import ParameterError
     from ..network_design import QUANTITIES
 
     lim = {}
-    if max_tyre_deflection is not None:
-        lim["tyre_deflection"] = max_tyre_deflection
-    if max_tyre_load is not None:
-        if not max_tyre_load > 0:
-            raise ParameterError("max-tyre-load", max_tyre_load, "a number > 0")
-        t = max_tyre_load / kt
-        lim["tyre_deflection"] = min(lim.get("tyre_deflection", t), t)
-    if max_suspension_deflection is not None:
-        lim["suspension_deflection"] = max_suspension_deflection
     for item in limit or []:
         for part in item.split(","):
             name, eq, value = part.partition("=")
@@ -367,16 +360,6 @@ def optimize_command(
             "on body_acc, tyre_deflection, suspension_deflection)."
         ),
     ] = None,
-    max_tyre_deflection: Annotated[
-        float | None, typer.Option(help="Constraint: H2 of tyre deflection <= this [m].")
-    ] = None,
-    max_suspension_deflection: Annotated[
-        float | None, typer.Option(help="Constraint: H2 of suspension deflection <= this [m].")
-    ] = None,
-    max_tyre_load: Annotated[
-        float | None,
-        typer.Option(help="Constraint: H2 of the elastic tyre load k_t x deflection <= this [N]."),
-    ] = None,
     limit: Annotated[
         list[str] | None,
         typer.Option(
@@ -428,13 +411,7 @@ def optimize_command(
     car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
     road = _road(road_class, speed)
     cap = _inertance(max_inertance)
-    lim = _limits(
-        max_tyre_deflection,
-        max_suspension_deflection,
-        max_tyre_load,
-        car["tyre_stiffness"],
-        limit,
-    )
+    lim = _limits(limit)
     if all_ == (network is not None):
         raise ParameterError("network", network, "a network text, or --all (not both)")
     fix = list(fix or [])

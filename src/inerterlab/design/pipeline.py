@@ -1,5 +1,10 @@
 """The design study: which layout, how much, and with which real device, for one car.
 
+The car is a quarter car, or the half or full car of a vehicle file with the same
+layout at every corner and its values per axle (:mod:`inerterlab.design.vehicle`: the
+linear stage by the vehicle's Lyapunov H2, the scores by vehicle simulations); the
+stages below are the same for both.
+
 Stages (each a sweep of :mod:`inerterlab.design.scoring`, stored under ``<out>/stores``
 keyed on its inputs, so a rerun resumes and a change recomputes):
 
@@ -56,6 +61,7 @@ DESIGN_OBJECTIVES = ("seat_wk", "body_acc_wk", "body_acc", "tyre_load", "weighte
 _OUT_MEMBERS = ("stores", "design.json", "report.html")
 _STORES = (
     "layouts.zarr",
+    "layouts_polished.zarr",
     "devices_linear.zarr",
     "devices.zarr",
     "scores.zarr",
@@ -92,6 +98,10 @@ class DesignSettings:
     top: int = 4
     recheck: int = 1
     source: str = "options"
+    #: a half or full car: the vehicle file's TOML text (the stores are keyed on it) and
+    #: the model ('half' or 'full'); empty for the quarter car of the values above
+    vehicle: str = ""
+    model: str = "quarter"
     #: numerical settings: most adaptive steps per simulated road, the factor either side
     #: of the H2 inertance the time-domain device search spans, bisection halvings
     max_steps: int = 400_000
@@ -99,7 +109,13 @@ class DesignSettings:
     bisections: int = 8
 
     @property
+    def is_vehicle(self) -> bool:
+        return self.model in ("half", "full")
+
+    @property
     def car(self) -> dict:
+        if self.is_vehicle:
+            return {"vehicle": self.vehicle, "model": self.model}
         return {
             "sprung_mass": self.sprung_mass,
             "unsprung_mass": self.unsprung_mass,
@@ -121,7 +137,24 @@ class DesignSettings:
             raise ParameterError("--speed", self.speed, "a speed in [0.5, 100] m/s")
         if self.objective not in DESIGN_OBJECTIVES:
             raise ParameterError("--objective", self.objective, ", ".join(DESIGN_OBJECTIVES))
-        if self.objective == "seat_wk":
+        if self.is_vehicle:
+            from .vehicle import VEHICLE_OBJECTIVES, vehicle_car
+
+            vehicle_car(self.vehicle, self.model)
+            if self.objective not in VEHICLE_OBJECTIVES:
+                raise ParameterError(
+                    "--objective", self.objective,
+                    ", ".join(VEHICLE_OBJECTIVES) + " for a half or full car (its tyre loads "
+                    "and deflections are infinite under white road velocity; limit them "
+                    "with --limit, taken on the band-limited road)",
+                )  # fmt: skip
+            if self.synthesize:
+                raise ParameterError(
+                    "--synthesize", self.synthesize,
+                    "0 for a half or full car (the positive-real synthesis optimises a "
+                    "quarter car; design a corner with --corner front|rear)",
+                )  # fmt: skip
+        elif self.objective == "seat_wk":
             raise ParameterError(
                 "--objective",
                 "seat_wk",
@@ -160,6 +193,10 @@ class DesignSettings:
     def to_dict(self) -> dict:
         d = asdict(self)
         d["devices"] = list(self.devices)
+        if self.is_vehicle:
+            from .vehicle import axle_stiffness
+
+            d["stiffness"] = axle_stiffness(self.car)
         return d
 
 
@@ -213,6 +250,16 @@ def estimate(st: DesignSettings, workers: int = 2) -> dict:
     nreq = 2 * len(st.devices)
     t_req = nreq * 12 * st.tune_roads * st.horizon * _COST["device_s"]
     t_syn = _COST["synth"] * (4 if st.synthesize == 3 else 1) if st.synthesize else 0.0
+    if st.is_vehicle:
+        # one vehicle polish about 80 s of CPU (a full car, measured on the loaded
+        # machine), the first pass about 1 s per layout; a second of vehicle road about
+        # 2.5 times a quarter car's device candidate
+        n_lin = len([d for d in st.devices if d != "fluid"])
+        t_layout = layouts * 1.0 + min(layouts, st.top + 3) * 80.0
+        t_dev = ndev * 12 * st.tune_roads * st.horizon * _COST["device_s"] * 2.5
+        t_dev += min(layouts, st.top) * n_lin * 30.0
+        t_score = st.roads * st.horizon * (cands + ndev) * _COST["device_s"] * 2.5
+        t_req *= 2.5
     w = max(1, workers)
     seconds = t_layout / w + t_dev / w + t_score / w + t_req / w + t_syn + 10.0
     # one simulation keeps its samples (1000 per second, ~60 outputs) in memory, per worker
@@ -298,17 +345,29 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         return None if stores is None else str(stores / name)
 
     if (workers or 1) > 1:
-        _warm_up()
+        _warm_up(st.car if st.is_vehicle else None)
 
     car = st.car
     h2obj, note = _h2_objective(st.objective)
+    if st.is_vehicle:
+        h2obj, note = st.objective, ""
     notes = [note] if note else []
     scale = road_velocity_scale(st.road_class, st.speed)
     constraints = {}
-    if "deflection" in st.limits:
-        constraints["suspension_deflection"] = st.limits["deflection"] / scale
-    if "tyre_load" in st.limits:
-        constraints["tyre_deflection"] = st.limits["tyre_load"] / st.tyre_stiffness / scale
+    if st.is_vehicle:
+        notes.append(
+            "vehicle: the same layout at every corner, its values per axle; the linear "
+            f"stage minimised the RMS {st.objective} [m/s^2] under white road velocity "
+            "(Lyapunov, the Wk filter as states, tracks independent, the rear wheels "
+            "delayed by the wheelbase)"
+            + ("; limits on the worst corner, spectral method on the band-limited road"
+               if st.limits else "")
+        )  # fmt: skip
+    else:
+        if "deflection" in st.limits:
+            constraints["suspension_deflection"] = st.limits["deflection"] / scale
+        if "tyre_load" in st.limits:
+            constraints["tyre_deflection"] = st.limits["tyre_load"] / st.tyre_stiffness / scale
     check_budget(st.dampers, st.inerters, st.springs, cli=True)
     nets = [n.text for n in enumerate_networks(st.dampers, st.inerters, st.springs)]
     if "k | c" not in nets:
@@ -346,11 +405,28 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     # 1. layouts ---------------------------------------------------------------------
     say(f"design: optimising {len(nets)} layouts ({h2obj} H2, linear)")
     keys = ("car", "stiffness", "h2_objective", "constraints", "bounds_of", "seed")
+    if st.is_vehicle:
+        keys += ("limits", "road_class", "speed")
     layout_settings = {k: common[k] for k in keys}
     ds = _sweep("design-layout", {"network": nets}, {"settings": json.dumps(layout_settings, sort_keys=True)},
                 store("layouts.zarr"), workers, progress)  # fmt: skip
+    source = {text: ds for text in nets}
+    polished = set(nets)
+    if st.is_vehicle:
+        # the sweep above put each layout at its corners' quarter-car optima (one vehicle
+        # evaluation each); the vehicle search polishes k | c and the best top + 2
+        fin = sorted((float(ds.sel(network=t).objective), t) for t in nets
+                     if int(ds.sel(network=t).status) == 1
+                     and math.isfinite(float(ds.sel(network=t).objective)))  # fmt: skip
+        polished = {"k | c"} | {t for _, t in fin[: st.top + 2]}
+        say(f"design: polishing {len(polished)} layouts in the {st.model} car")
+        dsp = _sweep("design-layout", {"network": sorted(polished)},
+                     {"settings": json.dumps({**layout_settings, "polish": True}, sort_keys=True)},
+                     store("layouts_polished.zarr"), workers, progress)  # fmt: skip
+        source.update({t: dsp for t in polished})
     layouts = []
     for text in nets:
+        ds = source[text]
         row = ds.sel(network=text)
         if int(row.status) != 1 or not math.isfinite(float(row.objective)):
             reason = (
@@ -363,10 +439,15 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             layouts.append({"network": text, "objective": None, "reason": reason})
             continue
         names = list(design_parameters(text))
+        if st.is_vehicle:
+            from .vehicle import AXLES
+
+            names = [f"{a}_{n}" for a in AXLES for n in names]
         layouts.append({
             "network": text,
             "objective": float(row.objective),
             "parameters": _unpack(ds, {"network": text}, names),
+            **({} if text in polished else {"polished": False}),
             "norms": {k: float(row[f"norm_{k}"]) for k in ("body_acc", "tyre_deflection",
                                                            "suspension_deflection")},
         })  # fmt: skip
@@ -383,16 +464,22 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             if h2obj == "weighted"
             else r["objective"] * scale * (st.tyre_stiffness if h2obj == "tyre_deflection" else 1.0)
         )
+        if st.is_vehicle:  # the vehicle's linear objective is the RMS itself
+            r["h2_unit"] = "m/s^2 RMS (linear, white road velocity)"
+            r["predicted_rms"] = r["objective"]
         r["simpler"] = _simpler(r["network"], r["parameters"], bounds_of[r["network"]], st)
 
     # 2. synthesis ---------------------------------------------------------------------
     candidates = {}  # label -> candidate dict
-    candidates["k | c"] = {"kind": "reference", "network": "k | c", "params": base["parameters"]}
+    candidates["k | c"] = {"kind": "reference", "network": "k | c",
+                           "params": scoring.axle_params(base["parameters"], car),
+                           **({"values": base["parameters"]} if st.is_vehicle else {})}  # fmt: skip
     for r in [r for r in ok if r["network"] != "k | c" and not r["simpler"]][: st.top]:
         candidates[r["network"]] = {
             "kind": "layout",
             "network": r["network"],
-            "params": r["parameters"],
+            "params": scoring.axle_params(r["parameters"], car),
+            **({"values": r["parameters"]} if st.is_vehicle else {}),
         }
     synth = None
     if st.synthesize:
@@ -406,7 +493,22 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     # 3. devices ---------------------------------------------------------------------
     single = [r for r in ok if r["network"] != "k | c" and not r["simpler"]
               and sum(1 for k in parse_network(r["network"]).kinds if k == "b") == 1]  # fmt: skip
-    base_cand = {"network": "k | c", "params": base["parameters"]}
+    if st.is_vehicle and st.devices:
+        # a vehicle optimisation per (layout, device) costs seconds: the best --top
+        # single-inerter layouts where every device can sit at a corner
+        from .vehicle import device_misfit, split_axles
+
+        fits = []
+        for r in single:
+            front = split_axles(r["parameters"])["front"]
+            why = next((f"{d}: {w}" for d in st.devices
+                        if (w := device_misfit(r["network"], front, d))), "")  # fmt: skip
+            if why:
+                notes.append(f"devices not tried in {r['network']} ({why})")
+            else:
+                fits.append(r)
+        single = fits[: st.top]
+    base_cand = {"network": "k | c", "params": scoring.axle_params(base["parameters"], car)}
     dev_settings = {**common, "reference": json.dumps(base_cand, sort_keys=True)}
     device_linear = []
     jobs = []
@@ -455,7 +557,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
                 notes.append(f"{d} in {lay}: {str(row.reason.values)}")
                 continue
             vals = _unpack(dsd, {"job": tx}, list(j["values"]))
-            net, elp = scoring.device_network(lay, vals, d)
+            net, elp = scoring.device_candidate(lay, vals, d, car)
             candidates[f"{lay} [{d}]"] = {"kind": "device", "device": d, "layout": lay,
                                           "values": vals, "network": net, "params": elp}  # fmt: skip
 
@@ -557,13 +659,23 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     return result
 
 
-def _warm_up() -> None:
+def _warm_up(vehicle_car=None) -> None:
     """Load the compiled kernels the stages use into this process before the worker
     processes are forked from it, so each worker inherits them instead of loading them
     again for every stage."""
     from .. import excitation as ex
     from ..network_design import optimize_network
     from ..systems import quarter_car
+
+    if vehicle_car is not None:
+        from .vehicle import axle_stiffness, simulate_vehicle_candidate
+
+        ks = axle_stiffness(vehicle_car)
+        cand = {"network": "k | c", "params": {a: {"k": ks[a], "c": 2e3} for a in ks}}
+        simulate_vehicle_candidate(cand, vehicle_car, "C", 20.0, 0.5, 0)
+        net, elp = scoring.device_network("k | (c - b)", {"k": 5e4, "c": 2e3, "b": 200.0}, "screw")
+        cand = {"network": net, "params": {a: {**elp, "k": ks[a]} for a in ks}}
+        simulate_vehicle_candidate(cand, vehicle_car, "C", 20.0, 0.5, 0)
 
     optimize_network("k | (c - b)", "body_acc", fixed={"k": 5e4}, starts=1, samples=16,
                      evolve=False, compare=False)  # fmt: skip
@@ -589,6 +701,14 @@ def _simpler(text: str, params: dict, bounds: dict, st: DesignSettings) -> str:
     from ..network_design import design_parameters
 
     dp = design_parameters(text)
+    if st.is_vehicle:
+        # the simpler layout only where both axles stand for it
+        from .vehicle import split_axles
+
+        axles = split_axles(params)
+        per = [set(_simpler(text, v, bounds, DesignSettings()).split(", ")) - {""}
+               for v in axles.values()]  # fmt: skip
+        return ", ".join(sorted(set.intersection(*per)))
     said = []
     for n, v in params.items():
         if n == "k" or n not in dp:
@@ -668,8 +788,6 @@ def _synthesis(st, h2obj, car, notes):
             f"synthesis: the positive-real optimum minimises {obj} (the layouts' H2 search "
             f"used {h2obj}), so part of its lead over the layouts is the objective"
         )
-    if st.limits:
-        notes.append("synthesis: the positive-real optimum does not see --limit")
     try:
         res = synthesize(st.synthesize, obj, static_stiffness=st.stiffness, seed=st.seed, **car)
     except Exception as e:  # noqa: BLE001 - reported, the rest of the study goes on
@@ -689,16 +807,39 @@ def _synthesis(st, h2obj, car, notes):
         notes.append("synthesis: no realisation as a network text (Brune needs a lever)")
         return out
     params = dict(best.parameters)
-    big = [
-        n for n, v in params.items() if parse_kind(best.network, n) == "b" and v > st.max_inertance
-    ]
-    if big:
-        notes.append(
-            f"synthesis: the realisation's inertance {', '.join(big)} exceeds --max-inertance"
-        )
     out.update({"network": best.network, "parameters": params, "method": best.method,
                 "elements": best.elements, "max_relative_error": best.max_relative_error})  # fmt: skip
+    why = _synthesis_outside(best.network, params, st)
+    if why:
+        # the positive-real search has neither an inertance bound nor limits: its
+        # realisation is checked against them afterwards and left out if it breaks one
+        notes.append(f"synthesis: degree-{st.synthesize} realisation left out: {why}")
+        out["refused"] = why
+        out.pop("network")
     return out
+
+
+def _synthesis_outside(network: str, params: dict, st: DesignSettings) -> str:
+    """'' if the realisation keeps --max-inertance and every --limit (RMS on the
+    chosen road from its H2 norms), else the first one it breaks, in one line."""
+    from ..network_design import evaluate
+
+    for n, v in params.items():
+        if parse_kind(network, n) == "b" and v > st.max_inertance * (1 + 1e-9):
+            return (f"its inerter {n} = {v:.4g} kg exceeds --max-inertance "
+                    f"{st.max_inertance:g} kg (the positive-real search has no inertance bound)")  # fmt: skip
+    if not st.limits:
+        return ""
+    scale = road_velocity_scale(st.road_class, st.speed)
+    norms = evaluate(network, params, ("suspension_deflection", "tyre_load"), **st.car)
+    rms = {"deflection": (norms["suspension_deflection"] * scale, "m"),
+           "tyre_load": (norms["tyre_load"] * scale, "N")}  # fmt: skip
+    for k, lim in st.limits.items():
+        v, unit = rms[k]
+        if not v <= lim * (1 + 1e-6):
+            return (f"its RMS {k} {v:.4g} {unit} (linear, white road velocity) exceeds "
+                    f"--limit {k}={lim:g} {unit} (the positive-real search has no limits)")  # fmt: skip
+    return ""
 
 
 def parse_kind(text: str, name: str) -> str:

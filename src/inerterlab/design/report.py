@@ -1,11 +1,14 @@
 """The HTML design report: one self-contained file (figures embedded as PNG).
 
-Figures: the H2 Pareto fronts of the best layouts and ``k | c`` (comfort against road
-holding, :func:`inerterlab.network_design.pareto_front`); |H(f)| of body acceleration
-per unit road velocity of the linear winners against ``k | c``; the PSDs of body
-acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO 8608 road
-(Welch); the body acceleration after a 5 cm bump. Tables: the ranking (expected values
-with intervals), the layouts' linear optima and the device requirements.
+Figures: every candidate's expected value and gain over ``k | c`` with their 95 %
+intervals; for the quarter car the H2 Pareto fronts of the best layouts and ``k | c``
+(comfort against road holding, :func:`inerterlab.network_design.pareto_front`), |H(f)|
+of body acceleration per unit road velocity of the linear winners against ``k | c``, the
+PSDs of body acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO
+8608 road (Welch) and the body acceleration after a 5 cm bump; for a half or full car
+the PSD of the Wk-weighted seat (or bounce) acceleration of the linear winners by the
+spectral method. Tables: the ranking (expected values with intervals), the layouts'
+linear optima and the device requirements.
 """
 
 from __future__ import annotations
@@ -46,9 +49,13 @@ def figures(result: dict) -> dict:
     from ..systems.core import weighted_acceleration
 
     st = result["settings"]
-    car = {k: st[k] for k in ("sprung_mass", "unsprung_mass", "tyre_stiffness", "tyre_damping")}
     win = _winners(result)
-    out = {}
+    out = {"Expected values with their 95 % intervals (time domain, road realisations)":
+           _png(_ranking_figure(result))}  # fmt: skip
+    if st.get("model", "quarter") in ("half", "full"):
+        out.update(_vehicle_figures(result, win))
+        return out
+    car = {k: st[k] for k in ("sprung_mass", "unsprung_mass", "tyre_stiffness", "tyre_damping")}
 
     # Pareto fronts (H2, linear)
     lin = [r["network"] for r in win if r["kind"] in ("reference", "layout")][:3]
@@ -118,12 +125,73 @@ def figures(result: dict) -> dict:
     return out
 
 
+def _ranking_figure(result: dict):
+    """Every candidate's expected value with its 95 % interval, and its gain over
+    k | c on the same roads with that interval."""
+    from matplotlib.figure import Figure
+
+    rows = result["ranking"]
+    obj = result["objective"]
+    fig = Figure(figsize=(9.0, 0.35 * len(rows) + 1.6), layout="constrained")
+    a1, a2 = fig.subplots(1, 2, sharey=True)
+    y = np.arange(len(rows))[::-1]
+    a1.errorbar([r["expected"] for r in rows], y, xerr=[r["interval95"] for r in rows],
+                fmt="o", capsize=3)  # fmt: skip
+    a2.errorbar([r["gain_percent"] for r in rows], y, xerr=[r["gain_interval95"] for r in rows],
+                fmt="o", capsize=3, color="C1")  # fmt: skip
+    a2.axvline(0.0, color="k", lw=0.8)
+    a1.set_yticks(y)
+    a1.set_yticklabels([r["label"] for r in rows], fontsize=7)
+    a1.set_xlabel(f"{obj['name']} [{obj['unit']}], expected value and 95 % interval")
+    a2.set_xlabel("gain vs k | c on the same roads [%] (+ is better), 95 % interval")
+    for a in (a1, a2):
+        a.grid(True, alpha=0.3)
+    fig.suptitle(obj["time_domain"], fontsize=8)
+    return fig
+
+
+def _vehicle_figures(result: dict, win: list) -> dict:
+    """PSDs of the Wk-weighted seat (or bounce) acceleration of the linear winners on
+    the band-limited ISO 8608 road (spectral method, linear)."""
+    from matplotlib.figure import Figure
+
+    from ..vehicles import build, road_spectrum, spectral_response
+    from .vehicle import candidate_vehicle
+
+    st = result["settings"]
+    car = {"vehicle": st["vehicle"], "model": st["model"]}
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.add_subplot(1, 1, 1)
+    name = "?"
+    for r in win:
+        if r["kind"] == "device":
+            continue
+        veh = build(candidate_vehicle(car, r["core"]))
+        res = spectral_response(veh, road_spectrum(st["road_class"]), st["speed"], points=1500)
+        name = "seat_acc_wk" if "seat_acc_wk" in res.psd else "bounce_acc_wk"
+        ax.loglog(res.freq, res.psd[name],
+                  label=f"{r['label']} (RMS {res.rms[name]:.3g} m/s^2)", lw=1.2)  # fmt: skip
+    ax.set_xlim(0.3, 40.0)
+    ax.set_xlabel("frequency [Hz]")
+    ax.set_ylabel(f"PSD of {name} [(m/s^2)^2/Hz]")
+    ax.set_title("Wk-weighted acceleration, linear, spectral method (ISO 8608 band)", fontsize=9)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    return {f"PSD of {name}: the linear winners against k | c (linear, spectral method)": _png(fig)}
+
+
 def _fmt(x, spec=".4g") -> str:
     if x is None:
         return "-"
     if isinstance(x, float) and not math.isfinite(x):
         return "-"
     return format(x, spec) if isinstance(x, int | float) else html.escape(str(x))
+
+
+def _params(p: dict) -> str:
+    return ", ".join(
+        f"{k}={v:.4g}" if isinstance(v, int | float) else f"{k}={v}" for k, v in p.items()
+    )
 
 
 def render_html(result: dict, figs: dict) -> str:
@@ -133,7 +201,7 @@ def render_html(result: dict, figs: dict) -> str:
     e = html.escape
     rows = []
     for r in result["ranking"]:
-        params = ", ".join(f"{k}={v:.4g}" for k, v in r["parameters"].items())
+        params = _params(r["parameters"])
         rows.append(
             f"<tr><td>{r['rank']}</td><td>{e(r['label'])}</td><td>{e(r['kind'])}</td>"
             f"<td>{_fmt(r['expected'])} &plusmn; {_fmt(r['interval95'], '.2g')}</td>"
@@ -148,7 +216,7 @@ def render_html(result: dict, figs: dict) -> str:
                 f"<tr><td>{e(r['network'])}</td><td colspan=4>{e(r.get('reason', ''))}</td></tr>"
             )
             continue
-        params = ", ".join(f"{k}={v:.4g}" for k, v in r["parameters"].items())
+        params = _params(r["parameters"])
         lay.append(
             f"<tr><td>{e(r['network'])}</td><td>{_fmt(r['objective'])}</td>"
             f"<td>{_fmt(r.get('h2_improvement'), '+.2f')}</td><td>{e(r.get('simpler') or '')}</td>"
@@ -175,11 +243,18 @@ def render_html(result: dict, figs: dict) -> str:
         for t, b in figs.items()
     )
     notes = "".join(f"<li>{e(n)}</li>" for n in result["notes"])
-    car = (
-        f"sprung mass {st['sprung_mass']:g} kg, unsprung mass {st['unsprung_mass']:g} kg, "
-        f"tyre {st['tyre_stiffness']:g} N/m and {st['tyre_damping']:g} N s/m, main spring "
-        f"{st['stiffness']:g} N/m ({e(st['source'])})"
-    )
+    if st.get("model", "quarter") in ("half", "full"):
+        car = (
+            f"the {st['model']} car of {e(st['source'])}, the same layout at every corner with "
+            f"its values per axle, main springs held at the file's wheel rates (front "
+            f"{st['stiffness']['front']:g} N/m, rear {st['stiffness']['rear']:g} N/m)"
+        )
+    else:
+        car = (
+            f"sprung mass {st['sprung_mass']:g} kg, unsprung mass {st['unsprung_mass']:g} kg, "
+            f"tyre {st['tyre_stiffness']:g} N/m and {st['tyre_damping']:g} N s/m, main spring "
+            f"{st['stiffness']:g} N/m ({e(st['source'])})"
+        )
     return f"""<!DOCTYPE html>
 <html lang="en"><head><meta charset="utf-8"><title>inerterlab design report</title>
 <style>body{{font-family:sans-serif;max-width:1100px;margin:2em auto;}}

@@ -42,6 +42,8 @@ __all__ = [
     "DEVICES",
     "OBJECTIVE_METRIC",
     "device_network",
+    "device_candidate",
+    "axle_params",
     "simulate_candidate",
     "objective_of",
     "expected",
@@ -49,10 +51,13 @@ __all__ = [
 ]
 
 #: per-road metrics a score point returns; ``rms_tyre_load`` is the dynamic force of the
-#: tyre spring [N] (the core's tyre grip times the static load)
+#: tyre spring [N] (the core's tyre grip times the static load); for a vehicle the body
+#: is its bounce, the seat its seat (NaN for a quarter car), deflection and tyre load
+#: those of the worst corner
 SCORE_METRICS = (
     "rms_body_acc",
     "rms_body_acc_wk",
+    "rms_seat_wk",
     "rms_tyre_load",
     "rms_deflection",
     "peak_deflection",
@@ -65,6 +70,7 @@ DEVICES = ("hydraulic", "rectifier", "screw", "fluid")
 OBJECTIVE_METRIC = {
     "body_acc": ("rms_body_acc", "m/s^2"),
     "body_acc_wk": ("rms_body_acc_wk", "m/s^2"),
+    "seat_wk": ("rms_seat_wk", "m/s^2"),
     "tyre_load": ("rms_tyre_load", "N"),
     "weighted": ("weighted", "1"),
 }
@@ -149,6 +155,30 @@ def device_network(text: str, params: Mapping[str, float], device: str, **overri
     return net, elp
 
 
+def device_candidate(text: str, params: Mapping[str, float], device: str, car: Mapping,
+                     **override) -> tuple:  # fmt: skip
+    """:func:`device_network` for the quarter car, or for a vehicle (``car`` with a
+    ``vehicle``) per axle: (network, {'front': values, 'rear': values})."""
+    if "vehicle" not in car:
+        return device_network(text, params, device, **override)
+    from .vehicle import split_axles
+
+    out = {}
+    for axle, vals in split_axles(params).items():
+        net, out[axle] = device_network(text, vals, device, **override)
+    return net, out
+
+
+def axle_params(params: Mapping[str, float], car: Mapping):
+    """A layout's values as a candidate takes them: as they are for the quarter car,
+    per axle for a vehicle."""
+    if "vehicle" not in car:
+        return dict(params)
+    from .vehicle import split_axles
+
+    return split_axles(params)
+
+
 def candidate_text(network: str, params: Mapping[str, Any]) -> str:
     """The one text of a candidate: JSON of (network, values), keys sorted."""
     return json.dumps({"network": network, "params": params}, sort_keys=True)
@@ -165,6 +195,11 @@ def simulate_candidate(cand: Mapping, car: Mapping, road_class: str, speed: floa
     from .. import excitation as ex
     from ..systems import quarter_car
 
+    if "vehicle" in car:
+        from .vehicle import simulate_vehicle_candidate
+
+        return simulate_vehicle_candidate(cand, car, road_class, speed, horizon, seed)
+
     sys = quarter_car(cand["network"], dict(cand["params"]), **dict(car))
     res = sys.simulate(ex.iso8608(road_class, float(speed), seed=int(seed)), horizon=horizon,
                        max_steps=int(max_steps))  # fmt: skip
@@ -173,13 +208,16 @@ def simulate_candidate(cand: Mapping, car: Mapping, road_class: str, speed: floa
     out = {
         "rms_body_acc": m["rms_body_acc"],
         "rms_body_acc_wk": m["rms_body_acc_wk"],
+        "rms_seat_wk": None,
         "rms_tyre_load": m["rms_tyre_grip"] * load,
         "rms_deflection": m["rms_deflection"],
         "peak_deflection": m["peak_deflection"],
         "vdv": m["vdv"],
         "min_tyre_force": m["min_tyre_force"],
     }
-    return {k: (math.nan if v is None else float(v)) for k, v in out.items()}
+    # a quarter car has no seat: None (a missing value to the sweep, not a failure)
+    return {k: (v if k == "rms_seat_wk" else math.nan if v is None else float(v))
+            for k, v in out.items()}  # fmt: skip
 
 
 def objective_of(metrics: Mapping[str, np.ndarray], objective: str, reference=None) -> np.ndarray:
@@ -287,6 +325,19 @@ def _device_linear_point(params: Mapping[str, Any]) -> dict[str, float]:
     layout, device = params["layout"], params["device"]
     ideal = _j(params["ideal"])[layout]
     lin_text, lin_fixed = linear_device_network(layout, device)
+    if "vehicle" in s["car"]:
+        from .vehicle import optimize_layout
+
+        r = optimize_layout(
+            s["car"], lin_text, s["h2_objective"], bounds=dict(s["bounds_of"].get(layout, {})),
+            fixed=lin_fixed, limits=s["limits"], road_class=s["road_class"], speed=s["speed"],
+            initial=ideal,
+        )  # fmt: skip
+        out = {"objective": r["objective"] if math.isfinite(r["objective"]) else None}
+        names = sorted(ideal)
+        for i in range(_MAX_SLOTS):
+            out[f"p{i}"] = float(r["parameters"][names[i]]) if i < len(names) else _NO_SLOT
+        return out
     r = optimize_network(
         lin_text, s["h2_objective"], fixed={"k": s["stiffness"], **lin_fixed},
         bounds=dict(s["bounds_of"].get(layout, {})), constraints=s["constraints"], starts=4,
@@ -308,7 +359,11 @@ def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
     job = _j(params["job"])
     layout, device, p = job["layout"], job["device"], dict(job["values"])
     name = _inerter_name(layout)
-    b0 = p[name]
+    # a vehicle's inerters of both axles move by one factor (the same device, its size
+    # in the ratio the linear stage found)
+    names_b = [f"{a}_{name}" for a in ("front", "rear")] if "vehicle" in s["car"] else [name]
+    b_of = {n: p[n] for n in names_b}
+    b0 = max(b_of.values())
     hi_b = float(s["max_inertance"])
     span = float(s.get("device_span", 3.0))
     lo, hi = math.log(max(b0 / span, 1e-3)), math.log(min(b0 * span, hi_b))
@@ -317,10 +372,14 @@ def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
     seeds = s["tune_seeds"]
     ref = _reference_metrics(s, seeds)
 
-    def f(u):
+    def sized(u):
         q = dict(p)
-        q[name] = math.exp(u)
-        net, elp = device_network(layout, q, device)
+        for n, b in b_of.items():
+            q[n] = b * math.exp(u) / b0
+        return q
+
+    def f(u):
+        net, elp = device_candidate(layout, sized(u), device, s["car"])
         v = _mean_objective({"network": net, "params": elp}, s, seeds, ref)[0]
         return v if math.isfinite(v) else 1e300
 
@@ -328,7 +387,7 @@ def _device_point(params: Mapping[str, Any]) -> dict[str, float]:
     if not res.fun < 1e300:
         raise ArithmeticError(f"every inertance of the {device} device needs more than "
                               f"{s.get('max_steps', MAX_STEPS)} steps per road")  # fmt: skip
-    p[name] = float(math.exp(res.x))
+    p = sized(float(res.x))
     out = {"objective": float(res.fun), "evaluations": float(res.nfev)}
     names = sorted(p)
     for i in range(_MAX_SLOTS):
@@ -340,6 +399,21 @@ def _layout_point(params: Mapping[str, Any]) -> dict[str, float]:
     from ..network_design import optimize_network
 
     s = _j(params["settings"])
+    if "vehicle" in s["car"]:
+        from .vehicle import optimize_layout
+
+        r = optimize_layout(
+            s["car"], params["network"], s["h2_objective"],
+            bounds=s["bounds_of"].get(params["network"], {}), limits=s["limits"],
+            road_class=s["road_class"], speed=s["speed"], polish=bool(s.get("polish")),
+        )  # fmt: skip
+        out = {"objective": r["objective"] if math.isfinite(r["objective"]) else None,
+               "converged": float(r["converged"]), "norm_body_acc": None,
+               "norm_tyre_deflection": None, "norm_suspension_deflection": None}  # fmt: skip
+        names = sorted(r["parameters"])
+        for i in range(_MAX_SLOTS):
+            out[f"p{i}"] = float(r["parameters"][names[i]]) if i < len(names) else _NO_SLOT
+        return out
     r = optimize_network(
         params["network"], s["h2_objective"], fixed={"k": s["stiffness"]}, bounds=s["bounds_of"].get(params["network"], {}),
         constraints=s["constraints"], seed=int(s["seed"]), compare=False, **s["car"],
@@ -377,7 +451,7 @@ def _requirement_point(params: Mapping[str, Any]) -> dict[str, float]:
     def gain(x):
         # a road the integration cannot finish in max_steps (long sticking) counts as
         # no gain: the crossing found is then a lower bound of the true one
-        net, elp = device_network(layout, p, device, **{what: x, **other})
+        net, elp = device_candidate(layout, p, device, s["car"], **{what: x, **other})
         return 1.0 - _mean_objective({"network": net, "params": elp}, s, seeds, ref)[0] / base
 
     lo, hi = s.get("requirement_range", {}).get(what) or (

@@ -34,6 +34,7 @@ __all__ = [
     "spectral_response",
     "output_psd",
     "white_velocity_h2",
+    "WhiteVelocityH2",
     "simulate",
     "road_inputs",
     "generated_road",
@@ -230,30 +231,130 @@ def lift_off_probability(static_load: float, sigma: float, mean: float = 0.0) ->
     return 0.5 * math.erfc((static_load + mean) / (sigma * math.sqrt(2.0)))
 
 
-def white_velocity_h2(vehicle: LinearVehicle) -> dict:
-    """H2 norm of every output when each wheel's road velocity is independent unit white
-    noise (two-sided spectral density 1), by a Lyapunov equation.
+class WhiteVelocityH2(dict):
+    """Output name -> H2 norm per unit white road velocity [output unit per m/s of road
+    velocity, two-sided density 1], ``math.inf`` where infinite; ``reasons`` says in one
+    line why each infinite norm is infinite and which finite quantity to use instead."""
+
+    def __init__(self, values: dict, reasons: dict, road: str):
+        super().__init__(values)
+        self.reasons = dict(reasons)
+        self.road = road
+
+
+def _band_alternative() -> str:
+    return (
+        "the road band-limited to ISO 8608's 0.01-10 cycle/m (spectral_response gives its "
+        "RMS value over that band)"
+    )
+
+
+def white_velocity_h2(
+    vehicle: LinearVehicle, *, speed: float | None = None, weighted: dict | None = None,
+    outputs=None,
+) -> WhiteVelocityH2:  # fmt: skip
+    """H2 norm of outputs under white road velocity, by Lyapunov equations.
+
+    Road model: without ``speed``, each wheel's road velocity is independent unit
+    white noise (two-sided spectral density 1). With ``speed`` [m/s] the road is
+    tracks (half car: one; full car: left and right, independent of each other), each
+    of unit white velocity, and the rear wheels see their track delayed by
+    tau = wheelbase / speed: an ISO 8608 road of waviness 2 without band limits, per
+    unit of its velocity density. The delay is exact: with P the gramian of all wheel
+    inputs and X the solution of A X + X A^T + B_front B_rear^T = 0, the variance of
+    y = C x is C P C^T + 2 C e^(A tau) X C^T.
+
+    ``weighted`` maps new names to (acceleration output, weighting name), e.g.
+    {"seat_acc_wk": ("seat_acc", "Wk")}: the weighting filter of ISO 2631-1
+    (:meth:`inerterlab.iso2631.Weighting.state_space`, no feed-through) is cascaded
+    after the output as further states, so the norm is exact and finite even when the
+    output has a feed-through of road velocity.
 
     With r = u/s the transfer from u is G_r(0)/s + Cy (sI - A)^-1 (A^-1 Br + Bd) + Dd;
-    the norm is finite when G_r(0) = 0 (the output returns to 0 after a step in road
-    height) and Dd = 0 (no direct feed-through of road velocity). Outputs failing
-    either map to None.
+    an unweighted norm is finite when G_r(0) = 0 (summed over a track's wheels with a
+    delay: the output returns to 0 after a step of the road) and Dd = 0 (no direct
+    feed-through of road velocity). An infinite norm is ``math.inf`` and
+    ``result.reasons[name]`` says why and what to use instead.
     """
     from ..h2 import gramian
+    from ..iso2631 import WEIGHTINGS
 
     A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
     Ainv_Br = np.linalg.solve(A, Br)
     Bv = Ainv_Br + Bd
-    P = gramian(A, Bv, what="vehicle H2 norms")
-    out = {}
-    for k in Cy:
-        dc = Dr[k] - Cy[k] @ Ainv_Br
+    names = list(Cy) if outputs is None else list(outputs)
+    for k in names:
+        if k not in Cy:
+            raise ParameterError("output", k, "one of " + ", ".join(Cy))
+    weighted = dict(weighted or {})
+    if speed is None:
+        groups = [[i] for i in range(Bv.shape[1])]
+        road = "independent unit white road velocity at each wheel"
+    else:
+        v = check_positive("speed", speed, "m/s")
+        m = len(vehicle.inputs)
+        groups = [[0, 1]] if vehicle.kind == "half" else [[0, 2], [1, 3]]
+        assert sum(len(g) for g in groups) == m
+        road = (f"unit white road velocity on each track, the rear wheels delayed by "
+                f"{vehicle.parameters.wheelbase / v:.4g} s ({v:g} m/s)")  # fmt: skip
+
+    def track_sum(M):  # (rows, wheels) -> (rows, tracks) as the step of each track sees it
+        return np.column_stack([M[:, g].sum(axis=1) for g in groups])
+
+    def norm2(Aa, Ba, Ca):
+        P = gramian(Aa, Ba, what="vehicle H2 norms")
+        val = float(Ca @ P @ Ca)
+        if speed is not None:
+            from scipy.linalg import solve_continuous_lyapunov
+            from scipy.sparse.linalg import expm_multiply
+
+            tau = vehicle.parameters.wheelbase / float(speed)
+            bf = np.column_stack([Ba[:, g[0]] for g in groups])
+            br = np.column_stack([Ba[:, g[1]] for g in groups])
+            X = solve_continuous_lyapunov(Aa, -(bf @ br.T))
+            # C e^(A tau) = (e^(A^T tau) C^T)^T, one vector
+            val += 2.0 * float(expm_multiply(Aa.T * tau, Ca) @ X @ Ca)
+        return math.sqrt(max(val, 0.0))
+
+    vals, why = {}, {}
+    for k in names:
+        dc = track_sum(np.atleast_2d(Dr[k] - Cy[k] @ Ainv_Br))
         scale = 1.0 + float(np.max(np.abs(Cy[k])))
-        if np.max(np.abs(dc)) > 1e-9 * scale or np.max(np.abs(Dd[k])) > 1e-12 * scale:
-            out[k] = None
+        if np.max(np.abs(Dd[k])) > 1e-12 * scale:
+            vals[k] = math.inf
+            why[k] = (
+                f"{k} is infinite under white road velocity: the tyre damper passes the road "
+                "velocity straight to it (direct feed-through); use a weighted acceleration, "
+                f"zero tyre damping, or {_band_alternative()}"
+            )
+        elif np.max(np.abs(dc)) > 1e-9 * scale:
+            vals[k] = math.inf
+            why[k] = (
+                f"{k} is infinite under white road velocity: a step of the road leaves a "
+                "static change of it (white velocity makes the heights a random walk; e.g. "
+                "the warp of a full car on tracks of different widths); use "
+                + _band_alternative()
+            )
         else:
-            out[k] = math.sqrt(max(float(Cy[k] @ P @ Cy[k]), 0.0))
-    return out
+            vals[k] = norm2(A, Bv, Cy[k])
+    for new, (src, wname) in weighted.items():
+        if src not in Cy:
+            raise ParameterError("weighted", src, "an output of " + ", ".join(Cy))
+        if np.max(np.abs(track_sum(np.atleast_2d(Dr[src] - Cy[src] @ Ainv_Br)))) > 1e-9 * (
+            1.0 + float(np.max(np.abs(Cy[src])))
+        ):
+            raise ParameterError("weighted", src, "an acceleration (no static response)")
+        fA, fB, fC, _ = WEIGHTINGS[wname].state_space()
+        fB, fC = np.ravel(fB), np.ravel(fC)
+        n, nf = A.shape[0], fA.shape[0]
+        Aa = np.zeros((n + nf, n + nf))
+        Aa[:n, :n] = A
+        Aa[n:, :n] = np.outer(fB, Cy[src])
+        Aa[n:, n:] = fA
+        Ba = np.vstack([Bv, np.outer(fB, Dd[src])])
+        Ca = np.concatenate([np.zeros(n), fC])
+        vals[new] = norm2(Aa, Ba, Ca)
+    return WhiteVelocityH2(vals, why, road)
 
 
 def road_inputs(
