@@ -29,18 +29,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import ParameterError
+from .linear import OUTPUT_UNITS
 from .parameters import Corner, FullCar, HalfCar
 
 __all__ = ["Connection", "Output", "LinearVehicle", "build", "OUTPUT_UNITS"]
 
-OUTPUT_UNITS = {
-    "bounce_acc": "m/s^2",
-    "pitch_acc": "rad/s^2",
-    "roll_acc": "rad/s^2",
-    "seat_acc": "m/s^2",
-    "deflection": "m",
-    "tyre_load": "N",
-}
 
 
 @dataclass(frozen=True)
