@@ -20,7 +20,7 @@ motion, not a sum over samples. :func:`with_observers` returns the system with t
 :func:`ride` (the quarter car's ride metrics).
 
 >>> from inerterlab.systems import quarter_car
->>> car = quarter_car("k | c")
+>>> car = quarter_car("k | c", {"k": 3e4, "c": 1.5e3})
 >>> obs = with_observers(car, [Observer("i_acc", "square", {"body.a": 1.0}, scale=1e-2)])
 >>> obs.state_names[-1], obs.n_states - car.n_states
 ('i_acc', 1)

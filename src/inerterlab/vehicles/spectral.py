@@ -217,7 +217,10 @@ def modes(vehicle: LinearVehicle) -> tuple[list[Mode], list[Mode]]:
     lam = np.linalg.eigvals(vehicle.state_space()[0])
     tol = 1e-9 * max(1.0, float(np.abs(lam).max(initial=0.0)))
     osc = sorted((complex(x) for x in lam if x.imag > tol), key=lambda z: z.imag)
-    real = sorted((complex(x.real, 0.0) for x in lam if abs(x.imag) <= tol), key=lambda z: -z.real)
+    real = sorted(
+        (complex(x.real, 0.0) for x in lam if abs(x.imag) <= tol and abs(x) > tol),
+        key=lambda z: -z.real,
+    )
     return [Mode(z) for z in osc], [Mode(z) for z in real]
 
 
