@@ -29,6 +29,7 @@ from ._kernel import (
     I_NN,
     I_NOB,
     I_NODE,
+    I_NSG,
     I_OBS,
     NODE_W,
     OBS_FOURTH,
@@ -394,7 +395,8 @@ def _x_stays(a0, d0, a1, d1, h, lim):
 
 @nb.njit(cache=True)
 def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
-             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, ctl):  # fmt: skip
+             t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, ctl,
+             xo):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
@@ -411,7 +413,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). Returns (status, k, h)."""
+    error control). ``xo`` = (ia, SR, rows, gw, gx): with observers the tables act on
+    the rows ``ia`` of y (the states and the linear observers'), the other observers
+    follow each exact step by :func:`_observe_points` (``SR[c]`` as in
+    :func:`_exact_walk`, over z; empty ``ia``: no observers, z = (y, e)).
+    Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
     road_n, _, hs = road_layout_of(itab)
@@ -473,7 +479,15 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    z = np.empty(n + 3)
+    xia, xSR, xrows, xgw, xgx = xo
+    ia = xia if xia.size > 0 else np.arange(n)
+    na = ia.size
+    xobs = xia.size > 0 and nob > 0
+    z = np.empty(na + 3)
+    zs = np.empty(na + 3)  # z at the start of an exact step
+    xpts = np.empty(xgx.size + 2)
+    xfs = np.empty(xgx.size + 2)
+    xsv = np.empty((xgx.size + 2, itab[I_NSG]))
     ga0 = np.empty(ng)
     gd0 = np.empty(ng)
     ga1 = np.empty(ng)
@@ -491,9 +505,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 if max(sw[2 * xel[g]], sw[2 * xel[g] + 1]) <= 0.0:
                     inside = False
             if inside:
-                for i in range(n):
-                    z[i] = y[i]
-                _x_input(segs, rng[0], t, road, z, n)
+                for i in range(na):
+                    z[i] = y[ia[i]]
+                _x_input(segs, rng[0], t, road, z, na)
                 inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
             taken = 0
             while inside:
@@ -517,7 +531,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     break
                 if stats[0] + stats[1] >= max_steps:
                     return TOO_MANY_STEPS, k, h
-                ze0, ze1, ze2 = z[n], z[n + 1], z[n + 2]
+                for i in range(na + 3):
+                    zs[i] = z[i]
                 tn = tb
                 stay = False
                 while True:
@@ -527,28 +542,30 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                         j = xlev[r]
                         r += 1
                         tn = t + xkeys[j] * xq
-                    for i in range(n):
+                    for i in range(na):
                         acc = 0.0
-                        for q in range(n + 3):
-                            acc += XE[cx, j, i, q] * z[q]
+                        for q in range(na + 3):
+                            acc += XE[cx, j, i, q] * zs[q]
                         yt[i] = acc
-                    for i in range(n):
+                    for i in range(na):
                         z[i] = yt[i]
-                    _x_input(segs, rng[0], tn, road, z, n)
+                    _x_input(segs, rng[0], tn, road, z, na)
                     stay = _x_guards(XG, cx, z, xthr, X_MARGIN, ga1, gd1)
                     for g in range(ng):
                         stay = stay and _x_stays(ga0[g], gd0[g], ga1[g], gd1[g], tn - t,
                                                  X_MARGIN * xthr[g])  # fmt: skip
                     if stay:
                         break
-                    for i in range(n):
-                        z[i] = y[i]
-                    z[n], z[n + 1], z[n + 2] = ze0, ze1, ze2
+                    for i in range(na + 3):
+                        z[i] = zs[i]
                     j = -1
                 if not stay:
                     break
-                for i in range(n):
-                    y[i] = yt[i]
+                for i in range(na):
+                    y[ia[i]] = yt[i]
+                if xobs:
+                    _signals_at(xSR[cx], j, zs, xrows, xsv)
+                    _observe_points(itab, y, tn - t, xsv, xgw, xgx, xpts, xfs)
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -560,6 +577,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
+                if track:  # the peaks' signals at the new start
+                    _peak_values(itab, ftab, work, y, p0)
                 switches(itab, ftab, work, sw)
                 _sides(sw, road, hs)
                 if t >= t_end:
@@ -747,7 +766,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
 @nb.njit(cache=True)
 def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xlev, xq, ctl):  # fmt: skip
+              xthr, xel, xcls, xlev, xq, ctl, xo):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -760,7 +779,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
     ``vjumps[i]``; ``vjump_tol`` = inf where no inertance touches the road. ``stats``:
     steps (exact ones included), rejected steps, right-hand-side calls, events, exact
     steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
-    none); ``ctl``: the step control of :func:`_advance`."""
+    none); ``ctl``: the step control of :func:`_advance`, ``xo`` its observers in the
+    exact steps."""
     k = 0
     h = 0.0
     prev = x1_before
@@ -802,7 +822,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(ev, modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -815,7 +835,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[1] = road[1]
             st, _, _ = _advance(ev, modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -826,7 +846,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(ev, modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
                             rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
-                            xthr, xel, xcls, xlev, xq, ctl)  # fmt: skip
+                            xthr, xel, xcls, xlev, xq, ctl, xo)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)
@@ -965,54 +985,31 @@ def _lagrange(xs, fs, x):
 
 
 @nb.njit(cache=True)
-def _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx, Su, xs, fs, sv):
-    """The observers of an exact step of length h from the augmented state z0 (the
-    states the linear system propagates: its own and its linear observers', rows ``ia``
-    of y), the road at its start xr and rate b, table row j: the integrals of squares,
-    fourth powers and products by Gauss-Legendre quadrature on the exact solution at the
-    nodes gx (weights gw; ``ON``, ``GXn``, ``GBn``: the exact tables to each node), the
-    running peaks from the values at the step's ends and nodes, a maximum inside it
-    located on the polynomial through them (7 points: exact to (w h)^7 / 7!)."""
-    na = ia.size
-    nsg = Sx.shape[0]
+def _signals_at(SR, j, v, rows, sv):
+    """The observed signals at the points of an exact step (its start, the quadrature
+    nodes, its end): sv[p, rows[r]] = SR[p, j, r] . v, v the step's initial vector (the
+    augmented state and the road's part, see :func:`.core._point_tables`), j the row of
+    its length."""
+    for p in range(SR.shape[0]):
+        for r in range(rows.size):
+            acc = 0.0
+            for q in range(v.size):
+                acc += SR[p, j, r, q] * v[q]
+            sv[p, rows[r]] = acc
+
+
+@nb.njit(cache=True)
+def _observe_points(itab, y, h, sv, gw, gx, xs, fs):
+    """The observers over an exact step of length h from their signals' values at its
+    start, the Gauss-Legendre nodes gx and its end (sv[p, signal], p = 0, nodes, end;
+    exact, from :func:`_signals_at`): the integrals of squares, fourth powers and
+    products by the quadrature (weights gw), the running peaks from those values, a
+    maximum inside the step located on the polynomial through them (7 points for five
+    nodes: exact to (w h)^7 / 7!). The linear observers (filters) are propagated with
+    the system and left alone."""
     ng = gx.size
     ob = itab[I_OBS]
-    nob = itab[I_NOB]
-    # only the signals the quadratures and peaks read (a filter's are in the tables)
-    need = np.zeros(nsg, np.bool_)
-    for o in range(nob):
-        bo = ob + OBS_W * o
-        if itab[bo] != OBS_LINEAR:
-            need[itab[bo + 1]] = True
-            if itab[bo + 2] >= 0:
-                need[itab[bo + 2]] = True
-    # signal values at theta = 0, the nodes and 1 (sv[node, signal])
-    zn = np.empty(na)
-    for p in range(ng + 2):
-        if p == 0:
-            th = 0.0
-        elif p == ng + 1:
-            th = 1.0
-        else:
-            th = gx[p - 1]
-        for q in range(na):  # the augmented state there
-            if p == 0:
-                zq = z0[q]
-            elif p == ng + 1:
-                zq = y[ia[q]]
-            else:
-                zq = GXn[p - 1, j, q] * xr + GBn[p - 1, j, q] * b
-                for r in range(na):
-                    zq += ON[p - 1, j, q, r] * z0[r]
-            zn[q] = zq
-        for k in range(nsg):
-            if not need[k]:
-                continue
-            acc = Su[k, 0] * (xr + b * th * h) + Su[k, 1] * b
-            for q in range(na):
-                acc += Sx[k, q] * zn[q]
-            sv[p, k] = acc
-    for o in range(nob):
+    for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
         kind = itab[bo]
         if kind == OBS_LINEAR:  # propagated exactly with the system
@@ -1068,8 +1065,8 @@ def _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx, Su, x
 
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, ON,
-               GXn, GBn, gw, gx, Sx, Su):  # fmt: skip
+               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, SR,
+               rows, gw, gx):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1084,16 +1081,17 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
 
     Observers (``itab`` holds them): the tables act on the augmented state, the rows
     ``ia`` of y (the system's states and its linear observers'); the other observers
-    by :func:`_observe_exact` (``ON``, ``GXn``, ``GBn`` the tables to the quadrature
-    nodes ``gx``, ``Sx``, ``Su`` the signals over the augmented state and the road).
-    Without observers ``ia`` is every state and the rest is empty."""
+    by :func:`_observe_points` from their signals at the step's start, the quadrature
+    nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
+    applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
+    read). Without observers ``ia`` is every state and the rest is empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
-    z0 = np.empty(na)
+    z0 = np.empty(na + 2)
     xs = np.empty(gx.size + 2)
     fs = np.empty(gx.size + 2)
-    sv = np.empty((gx.size + 2, Sx.shape[0]))
+    sv = np.empty((gx.size + 2, itab[I_NSG]))
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1166,8 +1164,10 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:
-                        _observe_exact(itab, y, ia, z0, h, xr, b, j, ON, GXn, GBn, gw, gx, Sx,
-                                       Su, xs, fs, sv)  # fmt: skip
+                        z0[na] = xr
+                        z0[na + 1] = b
+                        _signals_at(SR, j, z0, rows, sv)
+                        _observe_points(itab, y, h, sv, gw, gx, xs, fs)
                 else:
                     hs[m] = h
                 m += 1
@@ -1197,14 +1197,20 @@ def _readonly(a):
 
 
 _NO_LEVELS = np.empty(0, np.int64)
+#: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
+_NO_XOBS = (
+    np.empty(0, np.int64), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64), np.empty(0),
+    np.empty(0),
+)  # fmt: skip
 
 
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xq, ctl, xlev=None):  # fmt: skip
+              xthr, xel, xcls, xq, ctl, xlev=None, xo=None):  # fmt: skip
     """:func:`_integrate` with the right-hand side compiled for the structure ``itab``
     (:func:`._compiled.rhs_for`); the arguments as there, ``xlev`` the rows of the
-    level lengths in the exact-step table (none by default)."""
+    level lengths in the exact-step table (none by default), ``xo`` the observers in
+    the exact steps (none by default)."""
     ev = rhs_for(itab)
     warm = bool(_integrate.signatures)  # not timed while the integrator compiles
     t0 = time.process_time()
@@ -1212,7 +1218,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         ev, _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
-        _NO_LEVELS if xlev is None else xlev, xq, ctl,
+        _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)

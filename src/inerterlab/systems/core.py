@@ -961,8 +961,7 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
     ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
     if sys.n_states and exact_ok and method in ("auto", "exact"):
         if sys.observers:
-            grid = np.arange(1, int(T / EXACT_OBSERVER_STEP) + 1) * EXACT_OBSERVER_STEP
-            ts_walk = np.union1d(ts, grid[grid < T])
+            ts_walk = _observer_grid(ts, T)
         plan = _exact_plan(sys, segs, T, ts_walk)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
@@ -999,7 +998,7 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
             sys.itab, sys.ftab, segs, y, x1, T, r, atol, sys.imp_unit, sys.jump_ok, jump_tol,
             ts, Y, st, jumps, int(max_steps), v_before, vjump_tol, vjumps, XE, XG, keys, thr,
             idx, cls, EXACT_STEP_QUANTUM * max(T, 1.0), options.step_control,
-            lev[0] if lev else None,
+            lev[0] if lev else None, lev[1] if len(lev) > 1 else None,
         )  # fmt: skip
         if status != _integrate.OK:
             raise _failure(sys, status, max_steps)
@@ -1011,7 +1010,10 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
     not_finite: dict = {}
     reg = _regime_system(sys) if O is None and sys.n_states else None
     if reg is not None:  # C x + D u where every element sits in its linear regime
-        _, _, gx, gu, thr, _, C, D, undefined = reg
+        _, _, gx, gu, thr, _, C, D, undefined, aug = reg
+        if aug is not None:  # over the base system's states
+            C = np.hstack([C, np.zeros((C.shape[0], sys.n_states - C.shape[1]))])
+            gx = np.hstack([gx, np.zeros((gx.shape[0], sys.n_states - gx.shape[1]))])
         O = np.empty((len(sys.output_names), ts.size))
         _integrate.regime_outputs(ts, Y, segs, sys.itab, sys.ftab, C, D, undefined, gx, gu,
                                   thr, O)  # fmt: skip
@@ -1187,6 +1189,21 @@ def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
     return idx, bool(direct)
 
 
+def _observer_grid(ts, T):
+    """The samples ``ts`` with every gap of [0, T] between them longer than
+    :data:`EXACT_OBSERVER_STEP` cut into equal pieces no longer than that (the break
+    points of exact steps with observers; ``ts`` itself where none is longer)."""
+    ends = np.r_[0.0, ts, T]
+    gaps = np.diff(ends)
+    cuts = np.ceil(gaps / EXACT_OBSERVER_STEP * (1.0 - 1e-12)).astype(np.int64)
+    if np.all(cuts <= 1):
+        return ts
+    extra = [
+        ends[i] + gaps[i] * np.arange(1, c) / c for i, c in enumerate(cuts) if c > 1
+    ]
+    return np.union1d(ts, np.concatenate(extra))
+
+
 def _exact_plan(sys, segs, T, ts):
     """The step lengths of exact steps on this road and these samples, as indices into
     their distinct values (rounded to :data:`EXACT_STEP_QUANTUM` x max(T, 1 s): a step
@@ -1220,14 +1237,17 @@ REGIME_MAX_CLASSES = 4
 def _regime_system(sys):
     """The system in the linear regime of every nonlinear element (a linear system: as
     it is), or None where one has none: (A, B, guard rows over (x, u) as (G_x, G_u),
-    thresholds, element indices, C, D, the outputs it leaves undefined), cached on the
-    system."""
+    thresholds, element indices, C, D, the outputs it leaves undefined, and for a system
+    with observers its augmented system (:func:`_augment`: A, B, ia, Sx, Su), else
+    None); all but the last over the base system's states. Cached on the system."""
     if "regime" in sys.info:
         return sys.info["regime"]
     found = None
-    if sys.observers:  # exact steps would skip the observer states
-        sys.info["regime"] = None
-        return None
+    if sys.observers:  # the base system's regime, with the observers
+        reg = _regime_system(sys.info["base"])
+        aug = None if reg is None else _augment(sys, reg[0], reg[1], reg[6], reg[7], reg[8])
+        sys.info["regime"] = None if aug is None else (*reg[:9], aug)
+        return sys.info["regime"]
     regimes = [(e, el.linear_regime()) for e, el in enumerate(sys.elements) if _nonlinear(el)]
     if all(r is not None for _, r in regimes) and sys.n_states:
         itab = sys.itab.copy()
@@ -1259,7 +1279,7 @@ def _regime_system(sys):
         n = sys.n_states
         found = (
             A, B, np.array(gx, float).reshape(-1, n), np.array(gu, float).reshape(-1, 3),
-            np.array(thr, float), np.array(idx, np.int64), C, D, np.isnan(out0),
+            np.array(thr, float), np.array(idx, np.int64), C, D, np.isnan(out0), None,
         )  # fmt: skip
     sys.info["regime"] = found
     return found
@@ -1290,20 +1310,27 @@ def _regime_tables(sys, segs, T, ts, plan):
     segments): (XE, XG, keys, thresholds, elements, classes, level rows). The lengths:
     those between break points (``plan``, as for a linear system, where it has at most
     :data:`EXACT_MAX_STEP_SIZES`) and the levels (see :data:`REGIME_LEVELS`);
-    :data:`_NO_REGIME` where the system has no such regime."""
+    :data:`_NO_REGIME` where the system has no such regime. With observers, the last
+    entry is ``xo`` of :func:`._integrate._advance` (their tables over the augmented
+    state) and no step is longer than :data:`EXACT_OBSERVER_STEP`."""
     reg = _regime_system(sys)
     if reg is None:
         return _NO_REGIME
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
+    aug = reg[9]
+    longest = REGIME_LEVEL_MAX if aug is None else EXACT_OBSERVER_STEP
+    sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
     ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
     cls = np.full(len(segs), -1, np.int64)
     for c, wc in enumerate(ws):
         cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     A, B, gx, gu, thr, idx = reg[:6]
-    rate = max(_regime_rate(sys, A), float(np.max(np.abs(ws), initial=0.0)))
-    top = REGIME_LEVEL_MAX if rate == 0.0 else min(REGIME_LEVEL_MAX, REGIME_LEVEL_PHASE / rate)
+    # the levels follow the motion (the base system's rates), not the observers' filters
+    base = sys.info.get("base", sys)
+    rate = max(_regime_rate(base, A), float(np.max(np.abs(ws), initial=0.0)))
+    top = longest if rate == 0.0 else min(longest, REGIME_LEVEL_PHASE / rate)
     levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
     lev_keys = np.rint(levels / q).astype(np.int64)
     keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
@@ -1311,27 +1338,44 @@ def _regime_tables(sys, segs, T, ts, plan):
     if keys.size == 0:
         return _NO_REGIME
     xlev = np.searchsorted(keys, lev_keys).astype(np.int64)  # longest first
-    XE, XG = _regime_exponentials(
+    hs = (keys * q).tobytes()
+    if aug is None:
+        XE, XG, _ = _regime_exponentials(
+            A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
+            hs, b"", b"",
+        )  # fmt: skip
+        return XE, XG, keys, thr, idx, cls, xlev
+    A, B, ia, Sx, Su = aug
+    rows = _read_rows(sys)
+    gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
+    XE, XG, SR = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        (keys * q).tobytes(),
+        hs, Sx[rows].tobytes(), Su[rows].tobytes(),
     )  # fmt: skip
-    return XE, XG, keys, thr, idx, cls, xlev
+    return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X)
 
 
 @lru_cache(maxsize=16)
-def _regime_exponentials(n, a, b, gx, gu, ws, sizes):
-    """(XE, XG): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows and
-    their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies ws."""
+def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
+    """(XE, XG, SR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows
+    and their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies
+    ws; SR[c, p, j] the observed signals' rows ``sx``, ``su`` (over x and u = Gin e) at
+    the points theta = :func:`_points` ()[p] of a step, over z at its start (empty
+    without observers)."""
     from scipy.linalg import expm
 
     A = np.frombuffer(a).reshape(n, n)
     B = np.frombuffer(b).reshape(n, 3)
     Gx = np.frombuffer(gx).reshape(-1, n)
     Gu = np.frombuffer(gu).reshape(-1, 3)
+    Sx = np.frombuffer(sx).reshape(-1, n)
+    Su = np.frombuffer(su).reshape(-1, 3)
     hs = np.frombuffer(sizes)
     ng = Gx.shape[0]
+    th = _points() if Sx.shape[0] else np.empty(0)
     XE = np.empty((len(ws), hs.size, n, n + 3))
     XG = np.empty((len(ws), 2 * ng, n + 3))
+    SR = np.empty((len(ws), th.size, hs.size, Sx.shape[0], n + 3))
     for c, w in enumerate(ws):
         Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
         M = np.zeros((n + 3, n + 3))
@@ -1343,7 +1387,10 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes):
         rows = np.hstack([Gx, Gu @ Gin])
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
-    return XE, XG  # writable, as the empty tables: one compiled integrator, not two
+        S = np.hstack([Sx, Su @ Gin])
+        for p, x in enumerate(th):
+            SR[c, p] = S @ expm((x * hs)[:, None, None] * M[None])
+    return XE, XG, SR  # writable, as the empty tables: one compiled integrator, not two
 
 
 def _exact_tables(A, B, sizes):
@@ -1390,25 +1437,31 @@ _GL_W = 0.5 * np.polynomial.legendre.leggauss(5)[1]
 
 
 def _observer_system(sys, ss):
-    """The augmented linear system of a linear system with observers: its states and its
-    linear observers' (``integral`` of a signal of outputs and of those states) obey
-    z' = A z + B u; the other observers' signals as rows over (z, u). Returns (A, B, ia:
-    the rows of the state vector z holds, Sx, Su), or None where an observer reads
-    something the linear system does not give (an undefined output, a nonlinear
-    observer's state)."""
+    """The augmented linear system of a linear system with observers
+    (:func:`_augment` of its state space), or None."""
+    base = sys.info["base"]
+    out0 = np.empty(len(base.output_names))
+    base.outputs(0.0, np.zeros(base.n_states), np.zeros(3), base.itab, base.ftab, out0)
+    return _augment(sys, *ss, np.isnan(out0))
+
+
+def _augment(sys, A0, B0, C0, D0, undefined):
+    """The augmented linear system of the linear system (A0, B0, C0, D0) of ``sys``'s
+    base (its own, or that of its linear regimes) with ``sys``'s observers: its states
+    and its linear observers' (``integral`` of a signal of outputs and of those states)
+    obey z' = A z + B u; the other observers' signals as rows over (z, u). Returns (A,
+    B, ia: the rows of the state vector z holds, Sx, Su), or None where an observer
+    reads something the linear system does not give (an output in ``undefined``, a
+    nonlinear observer's state)."""
     from ._kernel import OBS_LINEAR
 
-    base = sys.info["base"]
-    A0, B0, C0, D0 = ss
-    n = base.n_states
+    n = A0.shape[0]
     obs = sys.observers
     lin = [q for q, o in enumerate(obs) if _kernel_kind(o) == OBS_LINEAR]
     ia = np.array(list(range(n)) + [n + q for q in lin], np.int64)
     pos = {int(s): i for i, s in enumerate(ia)}
     na = ia.size
-    out0 = np.empty(len(base.output_names))
-    base.outputs(0.0, np.zeros(n), np.zeros(3), base.itab, base.ftab, out0)
-    outs = {name: i for i, name in enumerate(base.output_names)}
+    outs = {name: i for i, name in enumerate(sys.info["base"].output_names)}
     names = sys.state_names
 
     def row(sig):
@@ -1416,7 +1469,7 @@ def _observer_system(sys, ss):
         for ch, c in sig.items():
             if ch in outs:
                 i = outs[ch]
-                if np.isnan(out0[i]):
+                if undefined[i]:
                     return None
                 rx[:n] += c * C0[i]
                 ru += c * D0[i]
@@ -1451,6 +1504,42 @@ def _observer_system(sys, ss):
     return A, B, ia, Sx, Su
 
 
+def _read_rows(sys) -> np.ndarray:
+    """The signals the quadratures and peaks of ``sys``'s observers read (a filter's
+    own are in the augmented system)."""
+    from ._kernel import OBS_LINEAR
+
+    it = sys.itab
+    ob = int(it[_kernel.I_OBS])
+    rows = set()
+    for q in range(int(it[_kernel.I_NOB])):
+        if int(it[ob + 4 * q]) != OBS_LINEAR:
+            rows.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
+    return np.array(sorted(rows), np.int64)
+
+
+def _points() -> np.ndarray:
+    """theta of the points of an exact step the observers read: 0, the Gauss-Legendre
+    nodes, 1."""
+    return np.r_[0.0, _GL_X, 1.0]
+
+
+def _point_tables(A, B, Sx, Su, rows, sizes):
+    """SR[p, j, r] over v = (z, X1, X1') at the start of an exact step of length
+    sizes[j] on a linear road segment (:func:`_exact_tables_of`): the signal rows[r] at
+    theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there."""
+    na = A.shape[0]
+    th = _points()
+    SR = np.empty((th.size, sizes.size, rows.size, na + 2))
+    sx, su = Sx[rows], Su[rows]
+    for p, c in enumerate(th):
+        Phi, GX, GB = _exact_tables(A, B, sizes * c)
+        SR[p, :, :, :na] = np.einsum("rq,jqs->jrs", sx, Phi)
+        SR[p, :, :, na] = GX @ sx.T + su[:, 0]
+        SR[p, :, :, na + 1] = GB @ sx.T + su[None, :, 0] * (c * sizes[:, None]) + su[:, 1]
+    return SR
+
+
 def _kernel_kind(o):
     from .observers import KINDS
 
@@ -1458,27 +1547,21 @@ def _kernel_kind(o):
 
 
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
-_NO_OBSERVERS = (
-    np.empty((0, 0, 0, 0)), np.empty((0, 0, 0)), np.empty((0, 0, 0)), np.empty(0), np.empty(0),
-    np.empty((0, 0)), np.empty((0, 3)),
-)  # fmt: skip
+_NO_OBSERVERS = (np.empty((0, 0, 0, 0)), np.empty(0, np.int64), np.empty(0), np.empty(0))
 
 
 def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
     """Matrix-exponential steps of a linear system on a piecewise-linear road
     (:func:`._integrate.exact_walk` with the tables of :func:`_exact_tables`): the
     states and the road (X1, X1', X1'') at the samples, and the statistics. Observers:
-    the tables of the augmented system (:func:`_observer_system`) and to the quadrature
-    nodes."""
+    the tables of the augmented system (:func:`_observer_system`) and of their signals
+    at the quadrature nodes (:func:`_point_tables`)."""
     sizes, idx = plan
     if sys.observers:
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
-        nodes = [_exact_tables(A, B, sizes * c) for c in _GL_X]
-        extra = (
-            np.ascontiguousarray([t[0] for t in nodes]), np.ascontiguousarray([t[1] for t in nodes]),
-            np.ascontiguousarray([t[2] for t in nodes]), _GL_W, _GL_X, Sx, Su,
-        )  # fmt: skip
+        rows = _read_rows(sys)
+        extra = (_point_tables(A, B, Sx, Su, rows, sizes), rows, _GL_W, _GL_X)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)

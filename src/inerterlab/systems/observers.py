@@ -45,6 +45,10 @@ KINDS = {
     "product": _kernel.OBS_PRODUCT,
     "peak": _kernel.OBS_PEAK,
 }
+#: what :mod:`.core` computes for a system and keeps in its ``info`` (its linear
+#: regimes, their fastest rate, its augmented linear system, its ride observers): the
+#: system with observers computes its own
+_CACHED = ("regime", "regime_rate", "observer_system", "ride_system")
 #: a running peak starts here (a finite number: the continuous extension subtracts
 #: states, and -inf - -inf is NaN)
 PEAK_START = -1e300
@@ -139,8 +143,9 @@ def with_observers(sys, observers) -> System:  # noqa: F821
     itab.setflags(write=False)
     ftab.setflags(write=False)
     x0 = [PEAK_START if o.kind == "peak" else 0.0 for o in obs]
-    info = dict(base.info, base=base, observers=obs)
-    info.pop("regime", None)
+    # the base's information, not what was computed and cached for the base alone
+    info = {k: v for k, v in base.info.items() if k not in _CACHED}
+    info.update(base=base, observers=obs)
     return dataclasses.replace(
         base,
         state_names=names,
