@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from inerterlab.excitation import bump, sine
+from inerterlab.excitation import bump, road_series, sine
 from inerterlab.metrics import wk_state_space, wk_weighting
-from inerterlab.systems import quarter_car, rig
+from inerterlab.systems import base_excited, quarter_car, rig
 from inerterlab.systems.observers import Observer, energy, weighted, with_observers
 
 A, F = 0.01, 2.0  # drive amplitude [m], frequency [Hz]
@@ -100,3 +100,100 @@ def test_observer_errors():
         _rig([Observer("q", "square", {"nowhere.x": 1.0})])
     with pytest.raises(Exception, match="kind"):
         Observer("q", "cube", {"drive.x": 1.0})
+
+
+# ---------------------------------------------------------------------------------------
+# observers on the exact (matrix-exponential) steps
+
+X0, PHI = 0.01, 0.3  # amplitude [m] and phase [rad] of a free undamped oscillation
+M_OSC, F_OSC = 10.0, 2.0  # mass [kg], natural frequency [Hz]
+
+
+def _flat(T):
+    return road_series([0.0, T + 1.0], [0.0, 0.0])
+
+
+def _oscillator(observers):
+    """A mass on a spring over a base at rest, oscillating freely: x = X0 cos(w t + phi)
+    (a linear system on a piecewise-linear road: exact steps)."""
+    w = 2 * math.pi * F_OSC
+    sys = with_observers(base_excited(M_OSC, "k", {"k": M_OSC * w * w}), observers)
+    x0 = np.zeros(sys.n_states)
+    x0[:2] = X0 * math.cos(PHI), -X0 * w * math.sin(PHI)
+    return sys, x0, w
+
+
+def test_exact_steps_fourth_power_square_and_peaks_of_a_sine():
+    """On the exact path: int x^4 = 3/8 X0^4 T and int v^2 = (X0 w)^2 T / 2 over whole
+    periods, the peak of x (between samples) = X0, to 1e-10."""
+    sys, x0, w = _oscillator([
+        Observer("x4", "fourth", {"body.x": 1.0}, scale=1e-8),
+        Observer("v2", "square", {"body.v": 1.0}, scale=1e-2),
+        Observer("px", "peak", {"body.x": 1.0}),
+        Observer("pv", "peak", {"body.v": -1.0}),
+    ])  # fmt: skip
+    T = 5.0  # ten periods
+    res = sys.simulate(_flat(T), T, x0=x0)
+    assert res.method == "exact"
+    o = res.observed
+    assert o["x4"] == pytest.approx(3.0 / 8.0 * X0**4 * T, rel=1e-10)
+    assert o["v2"] == pytest.approx(0.5 * (X0 * w) ** 2 * T, rel=1e-10)
+    assert o["px"] == pytest.approx(X0, rel=1e-10)
+    assert o["pv"] == pytest.approx(X0 * w, rel=1e-10)
+
+
+def test_exact_steps_wk_integral_against_the_frequency_domain():
+    """On the exact path: the Wk filter of a pure sine acceleration (the oscillator's),
+    started on its steady state, int a_w^2 over whole periods = T/2 |Wk(f)|^2 (X0 w^2)^2
+    to 1e-10."""
+    Af, Bf, Cf, Df = wk_state_space()
+    obs, aw = weighted("wk", {"body.a": 1.0}, Af, Bf, Cf, Df, scale=1e-1)
+    sys, x0, w = _oscillator([*obs, Observer("i_wk", "square", aw, scale=1e-2)])
+    # a = Re(-X0 w^2 e^{j(w t + phi)}): the filter's steady state at t = 0
+    zc = np.linalg.solve(1j * w * np.eye(Af.shape[0]) - Af, Bf) * (-X0 * w * w * np.exp(1j * PHI))
+    x0[2 : 2 + Af.shape[0]] = zc.real
+    T = 5.0
+    res = sys.simulate(_flat(T), T, x0=x0)
+    assert res.method == "exact"
+    exact = 0.5 * T * abs(wk_weighting(F_OSC)) ** 2 * (X0 * w * w) ** 2
+    assert res.observed["i_wk"] == pytest.approx(exact, rel=1e-10)
+
+
+def test_exact_steps_square_against_the_lyapunov_value():
+    """On the exact path: a linear car's free decay from a displaced body, int (C x)^2
+    over [0, T] = x0' (P - e^{A'T} P e^{AT}) x0 with A'P + PA + C'C = 0, for the body
+    acceleration and the suspension deflection, to 1e-10."""
+    from scipy.linalg import expm, solve_continuous_lyapunov
+
+    car = quarter_car("k | c", {"k": 3e4, "c": 1.5e3})
+    sys = with_observers(car, [
+        Observer("i_acc", "square", {"body.a": 1.0}, scale=1e-2),
+        Observer("i_defl", "square", {"body.x": 1.0, "wheel.x": -1.0}, scale=1e-6),
+    ])  # fmt: skip
+    A, _, Cm, _ = car.linear_state_space()
+    x = car.initial_state(body=0.03)
+    T = 1.5
+    res = sys.simulate(_flat(T), T, x0=np.r_[x, 0.0, 0.0])
+    assert res.method == "exact"
+    E = expm(A * T)
+    out = car.output_names
+    rows = {"i_acc": Cm[out.index("body.a")], "i_defl": Cm[out.index("body.x")] - Cm[out.index("wheel.x")]}
+    for name, c in rows.items():
+        P = solve_continuous_lyapunov(A.T, -np.outer(c, c))
+        exact = x @ (P - E.T @ P @ E) @ x
+        assert res.observed[name] == pytest.approx(exact, rel=1e-10)
+
+
+def test_observers_ride_the_exact_steps_of_the_linear_regimes():
+    """The afw car (flywheel saturated through most of a 5 Hz sine) with its ride
+    observers takes exact steps in its linear regimes, and its metrics agree with
+    Dormand-Prince steps throughout at rtol 1e-11 to 1e-7."""
+    car = quarter_car("afw")
+    ex = sine(0.05, 5.0)
+    res = car.simulate(ex, 2.0)
+    assert res.stats["exact_steps"] > 0.8 * res.stats["steps"]
+    ref = car.simulate(ex, 2.0, method="adaptive", rtol=1e-11)
+    assert ref.stats["exact_steps"] == 0
+    for k, v in ref.metrics.items():
+        if isinstance(v, float):
+            assert res.metrics[k] == pytest.approx(v, rel=1e-7), k
