@@ -485,9 +485,13 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     xobs = xia.size > 0 and nob > 0
     z = np.empty(na + 3)
     zs = np.empty(na + 3)  # z at the start of an exact step
-    xpts = np.empty(xgx.size + 2)
+    xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
+    xpts[0] = 0.0
+    xpts[-1] = 1.0
+    xpts[1:-1] = xgx
     xfs = np.empty(xgx.size + 2)
     xsv = np.empty((xgx.size + 2, itab[I_NSG]))
+    xacc = np.empty(xSR.shape[3])
     ga0 = np.empty(ng)
     gd0 = np.empty(ng)
     ga1 = np.empty(ng)
@@ -564,8 +568,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for i in range(na):
                     y[ia[i]] = yt[i]
                 if xobs:
-                    _signals_at(xSR[cx], j, zs, xrows, xsv)
-                    _observe_points(itab, y, tn - t, xsv, xgw, xgx, xpts, xfs)
+                    _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
+                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, xfs)
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -985,29 +989,40 @@ def _lagrange(xs, fs, x):
 
 
 @nb.njit(cache=True)
-def _signals_at(SR, j, v, rows, sv):
+def _signals_at(SR, j, v, rows, sv, acc):
     """The observed signals at the points of an exact step (its start, the quadrature
-    nodes, its end): sv[p, rows[r]] = SR[p, j, r] . v, v the step's initial vector (the
-    augmented state and the road's part, see :func:`.core._point_tables`), j the row of
-    its length."""
-    for p in range(SR.shape[0]):
-        for r in range(rows.size):
-            acc = 0.0
-            for q in range(v.size):
-                acc += SR[p, j, r, q] * v[q]
-            sv[p, rows[r]] = acc
+    nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
+    + r] v[q] for r < nu (v the step's initial vector: the augmented state and the
+    road's part, see :func:`.core._point_tables`; j the row of its length; summed over q
+    in order, every point and signal at once), then the signals equal to one of those or
+    to its negative: sv[p, rows[r, 0]] = rows[r, 2] sv[p, rows[r, 1]]. ``acc``:
+    scratch of SR.shape[2]."""
+    npt = sv.shape[0]
+    nu = SR.shape[2] // npt
+    for i in range(acc.size):
+        acc[i] = 0.0
+    for q in range(v.size):
+        vq = v[q]
+        for i in range(acc.size):
+            acc[i] += SR[j, q, i] * vq
+    for p in range(npt):
+        for r in range(nu):
+            sv[p, rows[r, 0]] = acc[p * nu + r]
+        for r in range(nu, rows.shape[0]):
+            sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
 
 
 @nb.njit(cache=True)
-def _observe_points(itab, y, h, sv, gw, gx, xs, fs):
+def _observe_points(itab, y, h, sv, gw, xs, fs):
     """The observers over an exact step of length h from their signals' values at its
-    start, the Gauss-Legendre nodes gx and its end (sv[p, signal], p = 0, nodes, end;
-    exact, from :func:`_signals_at`): the integrals of squares, fourth powers and
-    products by the quadrature (weights gw), the running peaks from those values, a
+    start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
+    nodes, end; exact, from :func:`_signals_at`): the integrals of squares, fourth
+    powers and products by the quadrature (weights gw), the running peaks from those
+    values, a
     maximum inside the step located on the polynomial through them (7 points for five
     nodes: exact to (w h)^7 / 7!). The linear observers (filters) are propagated with
     the system and left alone."""
-    ng = gx.size
+    ng = gw.size
     ob = itab[I_OBS]
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
@@ -1020,12 +1035,12 @@ def _observe_points(itab, y, h, sv, gw, gx, xs, fs):
             best = y[slot]
             top = -1
             for p in range(ng + 2):
-                xs[p] = 0.0 if p == 0 else (1.0 if p == ng + 1 else gx[p - 1])
-                fs[p] = sv[p, ka]
-                if fs[p] > best:
-                    best = fs[p]
+                if sv[p, ka] > best:
+                    best = sv[p, ka]
                     top = p
             if top >= 0:  # a new maximum: located on the polynomial about its node
+                for p in range(ng + 2):
+                    fs[p] = sv[p, ka]
                 lo = xs[max(top - 1, 0)]
                 hi = xs[min(top + 1, ng + 1)]
                 g = 0.5 * (math.sqrt(5.0) - 1.0)
@@ -1089,9 +1104,13 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     na = ia.size
     observed = itab[I_NOB] > 0
     z0 = np.empty(na + 2)
-    xs = np.empty(gx.size + 2)
+    xs = np.empty(gx.size + 2)  # theta of the points: 0, the nodes, 1
+    xs[0] = 0.0
+    xs[-1] = 1.0
+    xs[1:-1] = gx
     fs = np.empty(gx.size + 2)
     sv = np.empty((gx.size + 2, itab[I_NSG]))
+    sacc = np.empty(SR.shape[2])
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1166,8 +1185,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     if observed:
                         z0[na] = xr
                         z0[na + 1] = b
-                        _signals_at(SR, j, z0, rows, sv)
-                        _observe_points(itab, y, h, sv, gw, gx, xs, fs)
+                        _signals_at(SR, j, z0, rows, sv, sacc)
+                        _observe_points(itab, y, h, sv, gw, xs, fs)
                 else:
                     hs[m] = h
                 m += 1
@@ -1199,7 +1218,7 @@ def _readonly(a):
 _NO_LEVELS = np.empty(0, np.int64)
 #: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
 _NO_XOBS = (
-    np.empty(0, np.int64), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64), np.empty(0),
+    np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
     np.empty(0),
 )  # fmt: skip
 

@@ -1346,11 +1346,12 @@ def _regime_tables(sys, segs, T, ts, plan):
         )  # fmt: skip
         return XE, XG, keys, thr, idx, cls, xlev
     A, B, ia, Sx, Su = aug
-    rows = _read_rows(sys)
+    rows, nu = _read_rows(sys, Sx, Su)
+    own = rows[:nu, 0]
     gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
     XE, XG, SR = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        hs, Sx[rows].tobytes(), Su[rows].tobytes(),
+        hs, Sx[own].tobytes(), Su[own].tobytes(),
     )  # fmt: skip
     return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X)
 
@@ -1359,9 +1360,9 @@ def _regime_tables(sys, segs, T, ts, plan):
 def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
     """(XE, XG, SR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows
     and their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies
-    ws; SR[c, p, j] the observed signals' rows ``sx``, ``su`` (over x and u = Gin e) at
-    the points theta = :func:`_points` ()[p] of a step, over z at its start (empty
-    without observers)."""
+    ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin e) at the
+    points theta = :func:`_points` ()[p] of a step, over z at its start, in the layout
+    of :func:`_point_tables` (empty without observers)."""
     from scipy.linalg import expm
 
     A = np.frombuffer(a).reshape(n, n)
@@ -1390,7 +1391,8 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
         S = np.hstack([Sx, Su @ Gin])
         for p, x in enumerate(th):
             SR[c, p] = S @ expm((x * hs)[:, None, None] * M[None])
-    return XE, XG, SR  # writable, as the empty tables: one compiled integrator, not two
+    # writable, as the empty tables: one compiled integrator, not two
+    return XE, XG, _point_layout(SR)
 
 
 def _exact_tables(A, B, sizes):
@@ -1504,18 +1506,32 @@ def _augment(sys, A0, B0, C0, D0, undefined):
     return A, B, ia, Sx, Su
 
 
-def _read_rows(sys) -> np.ndarray:
+def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
     """The signals the quadratures and peaks of ``sys``'s observers read (a filter's
-    own are in the augmented system)."""
+    own are in the augmented system), as rows (signal, source, sign) of
+    :func:`._integrate._signals_at`: first the distinct ones (source: their row in the
+    tables), then those equal to one of them (source: its signal) or to its negative
+    (sign -1), which cost nothing (a ride's peaks of +-a, +-a_w, +-z)."""
     from ._kernel import OBS_LINEAR
 
     it = sys.itab
     ob = int(it[_kernel.I_OBS])
-    rows = set()
+    read = set()
     for q in range(int(it[_kernel.I_NOB])):
         if int(it[ob + 4 * q]) != OBS_LINEAR:
-            rows.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
-    return np.array(sorted(rows), np.int64)
+            read.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
+    own, alias, seen = [], [], {}
+    for k in sorted(read):
+        row = np.r_[Sx[k], Su[k]]
+        key, neg = row.tobytes(), (-row).tobytes()
+        if key in seen:
+            alias.append((k, seen[key], 1))
+        elif neg in seen:
+            alias.append((k, seen[neg], -1))
+        else:
+            seen[key] = k
+            own.append((k, len(own), 1))
+    return np.array(own + alias, np.int64).reshape(-1, 3), len(own)
 
 
 def _points() -> np.ndarray:
@@ -1525,19 +1541,27 @@ def _points() -> np.ndarray:
 
 
 def _point_tables(A, B, Sx, Su, rows, sizes):
-    """SR[p, j, r] over v = (z, X1, X1') at the start of an exact step of length
-    sizes[j] on a linear road segment (:func:`_exact_tables_of`): the signal rows[r] at
-    theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there."""
+    """SR[j, q, p nu + r]: over v = (z, X1, X1') at the start of an exact step of length
+    sizes[j] on a linear road segment (:func:`_exact_tables_of`), the signal rows[r] (nu
+    of them) at theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there =
+    sum_q SR[j, q, p nu + r] v[q] (the layout :func:`._integrate._signals_at` sums
+    over)."""
     na = A.shape[0]
     th = _points()
     SR = np.empty((th.size, sizes.size, rows.size, na + 2))
-    sx, su = Sx[rows], Su[rows]
+    sx, su = Sx[rows], Su[rows]  # the distinct signals
     for p, c in enumerate(th):
         Phi, GX, GB = _exact_tables(A, B, sizes * c)
         SR[p, :, :, :na] = np.einsum("rq,jqs->jrs", sx, Phi)
         SR[p, :, :, na] = GX @ sx.T + su[:, 0]
         SR[p, :, :, na + 1] = GB @ sx.T + su[None, :, 0] * (c * sizes[:, None]) + su[:, 1]
-    return SR
+    return _point_layout(SR)
+
+
+def _point_layout(SR):
+    """SR[..., p, j, r, q] as SR[..., j, q, p nu + r] (contiguous)."""
+    SR = np.moveaxis(SR, (-4, -3, -2, -1), (-2, -4, -1, -3))  # [..., j, q, p, r]
+    return np.ascontiguousarray(SR.reshape(*SR.shape[:-2], -1))
 
 
 def _kernel_kind(o):
@@ -1547,7 +1571,7 @@ def _kernel_kind(o):
 
 
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
-_NO_OBSERVERS = (np.empty((0, 0, 0, 0)), np.empty(0, np.int64), np.empty(0), np.empty(0))
+_NO_OBSERVERS = (np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0))
 
 
 def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
@@ -1560,8 +1584,8 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
     if sys.observers:
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
-        rows = _read_rows(sys)
-        extra = (_point_tables(A, B, Sx, Su, rows, sizes), rows, _GL_W, _GL_X)
+        rows, nu = _read_rows(sys, Sx, Su)
+        extra = (_point_tables(A, B, Sx, Su, rows[:nu, 0], sizes), rows, _GL_W, _GL_X)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
