@@ -413,10 +413,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx): with observers the tables act on
-    the rows ``ia`` of y (the states and the linear observers'), the other observers
+    error control). ``xo`` = (ia, SR, rows, gw, gx, cap): with observers the tables act
+    on the rows ``ia`` of y (the states and the linear observers'), the other observers
     follow each exact step by :func:`_observe_points` (``SR[c]`` as in
-    :func:`_exact_walk`, over z; empty ``ia``: no observers, z = (y, e)).
+    :func:`_exact_walk`, over z), and no step of class c is longer than cap[c] (their
+    quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
@@ -479,7 +480,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx = xo
+    xia, xSR, xrows, xgw, xgx, xcap = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -526,8 +527,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 # the step to the break point if its length is in the table, else (or
                 # where it would leave the regime) the longest level that is shorter
                 j = _x_lookup(xkeys, gap, xq)
+                hcap = xcap[cx] * (1.0 + 1e-9) if xobs else math.inf
+                if j >= 0 and xkeys[j] * xq > hcap:
+                    j = -1
                 r = 0
-                while r < xlev.size and xkeys[xlev[r]] * xq >= gap:
+                while r < xlev.size and (xkeys[xlev[r]] * xq >= gap or xkeys[xlev[r]] * xq > hcap):
                     r += 1
                 if j < 0 and r == xlev.size:
                     if gap > 1e-9 * max(abs(t), 1.0):
@@ -1219,7 +1223,7 @@ _NO_LEVELS = np.empty(0, np.int64)
 #: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
 _NO_XOBS = (
     np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
-    np.empty(0),
+    np.empty(0), np.empty(0),
 )  # fmt: skip
 
 

@@ -27,6 +27,12 @@ EXACT_STEP_QUANTUM = 1e-13
 #: Gauss-Legendre sums over each step (five points: the error of a component of
 #: angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz section)
 EXACT_OBSERVER_STEP = 2.5e-3
+#: and at most this many radians of the road's sine or of the system's fastest mode
+#: (the base system's largest |eigenvalue|) per exact step with observers: the
+#: quadrature's error in the square of a component that fast is below (2 x 0.5)^10
+#: x 3.9e-13 of its own integral (the 1 ms half-cosine edges of a smoothed bump, a
+#: sine of 3142 rad/s, take 13 steps)
+EXACT_OBSERVER_PHASE = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -214,8 +220,10 @@ class System:
         linear systems on piecewise-linear roads: drop, bumps with ramp or step edges,
         ISO 8608 and file roads; first-order hold, exact to round-off) or ``auto``
         (exact for a linear system on a piecewise-linear road whose edges and samples
-        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths and no
-        observers, adaptive otherwise)."""
+        need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths and whose
+        observers read what the exact steps give, adaptive otherwise, with exact steps
+        while every nonlinear element sits in its linear regime; observers ride both
+        kinds of exact steps, docs/model.md §11)."""
         options = _options(options, option_values)
         return _simulate(self, excitation, horizon, options, x0, times)
 
@@ -961,7 +969,9 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
     ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
     if sys.n_states and exact_ok and method in ("auto", "exact"):
         if sys.observers:
-            ts_walk = _observer_grid(ts, T)
+            step = min(EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
+                _regime_rate(sys.info["base"], sys.linear_state_space()[0]), 1e-300))
+            ts_walk = _observer_grid(ts, T, step)
         plan = _exact_plan(sys, segs, T, ts_walk)
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
@@ -1189,13 +1199,13 @@ def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
     return idx, bool(direct)
 
 
-def _observer_grid(ts, T):
-    """The samples ``ts`` with every gap of [0, T] between them longer than
-    :data:`EXACT_OBSERVER_STEP` cut into equal pieces no longer than that (the break
-    points of exact steps with observers; ``ts`` itself where none is longer)."""
+def _observer_grid(ts, T, step):
+    """The samples ``ts`` with every gap of [0, T] between them longer than ``step``
+    cut into equal pieces no longer than that (the break points of exact steps with
+    observers; ``ts`` itself where none is longer)."""
     ends = np.r_[0.0, ts, T]
     gaps = np.diff(ends)
-    cuts = np.ceil(gaps / EXACT_OBSERVER_STEP * (1.0 - 1e-12)).astype(np.int64)
+    cuts = np.ceil(gaps / step * (1.0 - 1e-12)).astype(np.int64)
     if np.all(cuts <= 1):
         return ts
     extra = [
@@ -1312,7 +1322,9 @@ def _regime_tables(sys, segs, T, ts, plan):
     :data:`EXACT_MAX_STEP_SIZES`) and the levels (see :data:`REGIME_LEVELS`);
     :data:`_NO_REGIME` where the system has no such regime. With observers, the last
     entry is ``xo`` of :func:`._integrate._advance` (their tables over the augmented
-    state) and no step is longer than :data:`EXACT_OBSERVER_STEP`."""
+    state, and per class the longest step: :data:`EXACT_OBSERVER_STEP`, and
+    :data:`EXACT_OBSERVER_PHASE` over the class's sine frequency and the base system's
+    fastest rate)."""
     reg = _regime_system(sys)
     if reg is None:
         return _NO_REGIME
@@ -1329,8 +1341,12 @@ def _regime_tables(sys, segs, T, ts, plan):
     A, B, gx, gu, thr, idx = reg[:6]
     # the levels follow the motion (the base system's rates), not the observers' filters
     base = sys.info.get("base", sys)
-    rate = max(_regime_rate(base, A), float(np.max(np.abs(ws), initial=0.0)))
+    rate_x = _regime_rate(base, A)
+    rate = max(rate_x, float(np.max(np.abs(ws), initial=0.0)))
     top = longest if rate == 0.0 else min(longest, REGIME_LEVEL_PHASE / rate)
+    # with observers, each class's longest step (its sine and the system's modes)
+    fast = np.maximum(np.abs(ws), rate_x)
+    cap = np.minimum(longest, EXACT_OBSERVER_PHASE / np.maximum(fast, 1e-300))
     levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
     lev_keys = np.rint(levels / q).astype(np.int64)
     keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
@@ -1353,7 +1369,7 @@ def _regime_tables(sys, segs, T, ts, plan):
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
         hs, Sx[own].tobytes(), Su[own].tobytes(),
     )  # fmt: skip
-    return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X)
+    return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X, cap)
 
 
 @lru_cache(maxsize=16)
@@ -1541,15 +1557,34 @@ def _points() -> np.ndarray:
 
 
 def _point_tables(A, B, Sx, Su, rows, sizes):
+    """:func:`_point_tables_of`, kept for the last few systems and step lengths by
+    content (a sweep over roads or seeds computes them once)."""
+    sx, su = Sx[rows], Su[rows]  # the distinct signals
+    return _point_tables_cached(
+        A.shape[0], A.tobytes(), B.tobytes(), sx.tobytes(), su.tobytes(),
+        np.ascontiguousarray(sizes, float).tobytes(),
+    )  # fmt: skip
+
+
+@lru_cache(maxsize=16)
+def _point_tables_cached(n, a, b, sx, su, sizes):
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    SR = _point_tables_of(A, B, np.frombuffer(sx).reshape(-1, n), np.frombuffer(su).reshape(-1, 3),
+                          np.frombuffer(sizes))  # fmt: skip
+    SR.setflags(write=False)
+    return SR
+
+
+def _point_tables_of(A, B, sx, su, sizes):
     """SR[j, q, p nu + r]: over v = (z, X1, X1') at the start of an exact step of length
-    sizes[j] on a linear road segment (:func:`_exact_tables_of`), the signal rows[r] (nu
-    of them) at theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there =
+    sizes[j] on a linear road segment (:func:`_exact_tables_of`), the signal r (rows sx,
+    su over z and u; nu of them) at theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there =
     sum_q SR[j, q, p nu + r] v[q] (the layout :func:`._integrate._signals_at` sums
     over)."""
     na = A.shape[0]
     th = _points()
-    SR = np.empty((th.size, sizes.size, rows.size, na + 2))
-    sx, su = Sx[rows], Su[rows]  # the distinct signals
+    SR = np.empty((th.size, sizes.size, sx.shape[0], na + 2))
     for p, c in enumerate(th):
         Phi, GX, GB = _exact_tables(A, B, sizes * c)
         SR[p, :, :, :na] = np.einsum("rq,jqs->jrs", sx, Phi)

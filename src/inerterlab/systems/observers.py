@@ -13,7 +13,9 @@ included). Kinds:
 
 The integrator carries them in its stages and its error norm (absolute tolerance
 ``rtol`` x ``scale``), so an RMS, a weighted RMS or an energy is as accurate as the
-motion, not a sum over samples. :func:`with_observers` returns the system with them;
+motion, not a sum over samples; the exact (matrix-exponential) steps carry them too, the
+linear filters in the augmented matrix, the others by Gauss-Legendre sums of their exact
+values (docs/model.md §11). :func:`with_observers` returns the system with them;
 :meth:`CoreResult.observed` reads their final values. Ready-made sets:
 :func:`weighted` (a linear filter of a signal, e.g. ISO 2631-1 Wk), :func:`energy`
 (the energy ledger: work done on every element and mass, and by the road) and
