@@ -197,3 +197,17 @@ def test_observers_ride_the_exact_steps_of_the_linear_regimes():
     for k, v in ref.metrics.items():
         if isinstance(v, float):
             assert res.metrics[k] == pytest.approx(v, rel=1e-7), k
+
+
+def test_observed_system_keeps_its_own_observers_after_its_base_ran():
+    """A quarter car with a user observer, simulated after the plain car ran (which
+    cached its ride system): the run carries both the user's observer and the ride
+    metrics, and the observer equals the ride's own integral of a^2."""
+    car = quarter_car("k | c", {"k": 3e4, "c": 1.5e3})
+    ex = bump(height=0.05, edge="ramp", edge_width=0.01)
+    plain = car.simulate(ex, 1.0)
+    sys = with_observers(car, [Observer("mine", "square", {"body.a": 1.0}, scale=1e-2)])
+    res = sys.simulate(ex, 1.0)
+    assert "mine" in res.observed and "ride.i_acc" in res.observed
+    assert res.observed["mine"] == pytest.approx(res.observed["ride.i_acc"], rel=1e-12)
+    assert res.metrics["rms_body_acc"] == pytest.approx(plain.metrics["rms_body_acc"], rel=1e-12)
