@@ -1332,7 +1332,8 @@ def _regime_tables(sys, segs, T, ts, plan):
     sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
     aug = reg[9]
     longest = REGIME_LEVEL_MAX if aug is None else EXACT_OBSERVER_STEP
-    sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
+    if aug is not None:
+        sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
     ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
     cls = np.full(len(segs), -1, np.int64)
@@ -1596,7 +1597,7 @@ def _point_tables_of(A, B, sx, su, sizes):
 def _point_layout(SR):
     """SR[..., p, j, r, q] as SR[..., j, q, p nu + r] (contiguous)."""
     SR = np.moveaxis(SR, (-4, -3, -2, -1), (-2, -4, -1, -3))  # [..., j, q, p, r]
-    return np.ascontiguousarray(SR.reshape(*SR.shape[:-2], -1))
+    return np.ascontiguousarray(SR.reshape(*SR.shape[:-2], SR.shape[-2] * SR.shape[-1]))
 
 
 def _kernel_kind(o):
