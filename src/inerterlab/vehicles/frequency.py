@@ -306,11 +306,20 @@ def _balance(sys, f, a, tracks, axles, speed, harmonics) -> VehicleFrequencyResp
     """The harmonic balance of the core car ``sys`` on the one engine
     (:func:`inerterlab.frequency.frequency_response`, ``sihb``: each point starts from the
     last converged one), every wheel driven through the road pattern."""
+    from ..elements._base import FRICTION
     from ..frequency import frequency_response as balance
     from ..frequency.quarter_car import from_core_system
 
     kind = "full" if len(sys.info["body"]) == 3 else "half"
     _check_tracks(kind, tracks)
+    for name, el in zip(sys.element_names, sys.elements, strict=True):
+        if el.code == FRICTION:
+            raise ParameterError(
+                name, el.description,
+                "an element the harmonic balance resolves (friction switches within "
+                "millimetres per second, beyond a truncated Fourier series); the time "
+                "simulation, vehicle simulate, takes it",
+            )  # fmt: skip
     H = VEHICLE_HARMONICS if harmonics is None else harmonics
     P = pattern_rows(kind, tracks, axles, speed, sys.info["parameters"].wheelbase)
     fo = from_core_system(sys, pattern=P)
