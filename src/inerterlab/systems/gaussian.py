@@ -10,10 +10,10 @@ ch. 5), the expectation of its derivatives: F ~ k_eq y + c_eq v + b_eq a with
 
 y, v, a the element's relative displacement, velocity and acceleration (top minus
 bottom). In a stationary response y and v are uncorrelated, and so are v and a, hence
-(jointly Gaussian) independent. Each expectation here is a Gauss-Hermite quadrature of
-the element's *own* compiled force function, the one the time integration evaluates
-(spring, damper, friction and flywheel-row kernel laws), so a new element of an
-existing kernel law needs nothing extra:
+(jointly Gaussian) independent. Each expectation here is a quadrature against the
+Gaussian density of the element's *own* compiled force function, the one the time
+integration evaluates (spring, damper, friction and flywheel-row kernel laws), so a new
+element of an existing kernel law needs nothing extra:
 
 * elastic rows (springs, gas springs, bump stops, backlash): k_eq = E[y F(y)] / sigma_y^2;
 * dissipative rows (dampers with a quadratic or asymmetric law, friction):
@@ -31,10 +31,15 @@ element.
 of its own kernel law whose linearisation about rest is the equivalent (a spring row of
 stiffness k_eq; a damper row c_eq; a friction row whose slope at rest F_c / v_eps is
 c_eq; a flywheel row of constant inertance b_eq), so the one linearisation of the core
-(:func:`inerterlab.systems.equilibrium.linearise`) gives its state space. The
-quadrature uses :data:`GAUSS_HERMITE_POINTS` nodes: exact for a polynomial law of
-degree up to twice that, converging geometrically for a smooth law and algebraically
-(about 1e-4 relative here) across a kink such as Coulomb friction's.
+(:func:`inerterlab.systems.equilibrium.linearise`) gives its state space.
+
+The quadrature is adaptive Gauss-Kronrod (``scipy.integrate.quad``, relative tolerance
+:data:`QUADRATURE_RTOL`) over +-12 standard deviations, split where the law has a kink
+or a narrow transition: at rest (friction, asymmetric and quadratic dampers), at a free
+play's ends, at a bump stop's contact and at a flywheel's saturation speed. A fixed
+Gauss-Hermite rule would not do: its nodes near rest are a tenth of a standard
+deviation apart, wider than a friction's transition (v_eps of a few mm/s), where it
+errs by per cent.
 """
 
 from __future__ import annotations
@@ -48,13 +53,28 @@ from ..errors import ParameterError
 from . import _kernel
 from ._kernel import ELEM_W
 
-__all__ = ["GAUSS_HERMITE_POINTS", "nonlinear_elements", "gaussian_gains", "equivalent_system"]
+__all__ = ["QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "equivalent_system"]
 
-#: nodes of the Gauss-Hermite rule
-GAUSS_HERMITE_POINTS = 200
+#: relative tolerance of the Gaussian expectations
+QUADRATURE_RTOL = 1e-11
 
-_NODES, _WEIGHTS = np.polynomial.hermite_e.hermegauss(GAUSS_HERMITE_POINTS)
-_WEIGHTS = _WEIGHTS / math.sqrt(2.0 * math.pi)  # expectation over N(0, 1)
+
+def _expect(f, sigma: float, kinks) -> float:
+    """E[f(x)] for x ~ N(0, sigma^2), the interval split at ``kinks`` (and at 0)."""
+    from scipy.integrate import quad
+
+    lim = 12.0 * sigma
+    pts = sorted({0.0, *(float(k) for k in kinks if abs(k) < lim)})
+    c = 1.0 / (sigma * math.sqrt(2.0 * math.pi))
+
+    def g(x):
+        return f(x) * c * math.exp(-0.5 * (x / sigma) ** 2)
+
+    edges = [-lim, *pts, lim]
+    return float(sum(
+        quad(g, a, b, epsabs=0.0, epsrel=QUADRATURE_RTOL, limit=200)[0]
+        for a, b in zip(edges[:-1], edges[1:], strict=True)
+    ))  # fmt: skip
 
 
 def _row(sys, e: int) -> np.ndarray:
@@ -115,10 +135,19 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
     code = sys.elements[e].code
     row = _row(sys, e)
     if code == FLYWHEEL:
-        pts = [0.0] if sigma <= 0.0 else sigma * _NODES
-        vals = np.array([flywheel_inertance(row, 0, float(v), 0.0, 0.0)[0] for v in pts])
-        return float(vals[0]) if sigma <= 0.0 else float(_WEIGHTS @ vals)
+        if sigma <= 0.0:
+            return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
+        sat = row[8] / row[1] if row[1] else 0.0  # the saturation's relative speed
+        return _expect(lambda v: flywheel_inertance(row, 0, v, 0.0, 0.0)[0], sigma, (sat, -sat))
+    kinks: tuple = ()
     if code == SPRING:
+        from ..elements.bump_stop import BUMP_LAW
+        from ..elements.gas_spring import GAS_LAW
+
+        if row[2] == BUMP_LAW:
+            kinks = (-(row[3] + row[1]),)  # the contact (spring_switch)
+        elif row[2] != GAS_LAW and row[1] > 0.0:
+            kinks = (row[1], -row[1])  # a free play's ends
         if sigma <= 0.0:
             return float(spring_slope(row, 0, 0.0))
 
@@ -136,15 +165,16 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
 
         def law(v):
             return friction_force(row[0], row[1], v)[0]
-    x = sigma * _NODES
-    F = np.array([law(float(xi)) for xi in x])
-    if not np.all(np.isfinite(F)):
+    if code == FRICTION:
+        kinks = (row[1], -row[1])  # the transition's width
+    val = _expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
+    if not math.isfinite(val):
         raise ParameterError(
             sys.element_names[e], f"standard deviation {sigma:.4g}",
-            "a motion inside the element's working range (its law is undefined at "
-            f"{3 * sigma:.3g} m from rest)",
+            "a motion inside the element's working range (its law is undefined within "
+            f"{12 * sigma:.3g} from rest)",
         )  # fmt: skip
-    return float(_WEIGHTS @ (x * F)) / (sigma * sigma)
+    return val
 
 
 def _equivalent_row(sys, e: int, gain: float) -> np.ndarray:
