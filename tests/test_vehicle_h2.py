@@ -13,6 +13,7 @@ from inerterlab.iso2631 import WEIGHTINGS
 from inerterlab.network_design import road_scale
 from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
 from inerterlab.vehicles.design import h2_metrics, optimize_vehicle, vehicle_with
+from inerterlab.vehicles.linear import linear_vehicle
 from inerterlab.vehicles.spectral import white_velocity_h2
 
 SPEED = 25.0
@@ -81,7 +82,7 @@ def test_infinite_norms_say_why():
 def test_seat_wk_rms_scales_with_the_road():
     p = load_vehicle(example_vehicle_path())
     m = h2_metrics(p, "C", SPEED, ["seat_wk"])["seat_wk"]
-    veh = build(p)
+    veh = linear_vehicle(p)
     h = white_velocity_h2(veh, speed=SPEED, weighted={"s": ("seat_acc", "Wk")}, outputs=[])
     assert m == pytest.approx(h["s"] * road_scale("C", SPEED), rel=1e-14)
 

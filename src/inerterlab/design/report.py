@@ -155,7 +155,7 @@ def _vehicle_figures(result: dict, win: list) -> dict:
     the band-limited ISO 8608 road (spectral method, linear)."""
     from matplotlib.figure import Figure
 
-    from ..vehicles import build, road_spectrum, spectral_response
+    from ..vehicles import linear_vehicle, road_spectrum, spectral_response
     from .vehicle import candidate_vehicle
 
     st = result["settings"]
@@ -166,7 +166,7 @@ def _vehicle_figures(result: dict, win: list) -> dict:
     for r in win:
         if r["kind"] == "device":
             continue
-        veh = build(candidate_vehicle(car, r["core"]))
+        veh = linear_vehicle(candidate_vehicle(car, r["core"]))
         res = spectral_response(veh, road_spectrum(st["road_class"]), st["speed"], points=1500)
         name = "seat_acc_wk" if "seat_acc_wk" in res.psd else "bounce_acc_wk"
         ax.loglog(res.freq, res.psd[name],

@@ -178,7 +178,7 @@ def h2_metrics(params, road_class: str = "C", speed: float = 20.0, names=None) -
     cascaded after the output, the wheelbase delay exact) times the road's velocity
     scale pi n0 sqrt(2 Gd(n0) V). ``seat_wk`` needs a seat in the vehicle."""
     from ..network_design import road_scale
-    from .model import build
+    from .linear import linear_vehicle
     from .spectral import white_velocity_h2
 
     names = list(H2_METRICS if names is None else names)
@@ -186,7 +186,7 @@ def h2_metrics(params, road_class: str = "C", speed: float = 20.0, names=None) -
         raise ParameterError(
             "objective", "seat_wk", "a vehicle with a [seat] (this file has none; use body_acc_wk)"
         )
-    veh = build(params)
+    veh = linear_vehicle(params)
     weighted = {n: H2_METRICS[n] for n in names if H2_METRICS[n][1] is not None}
     plain = [H2_METRICS[n][0] for n in names if H2_METRICS[n][1] is None]
     h = white_velocity_h2(veh, speed=speed, weighted=weighted, outputs=plain)
