@@ -100,3 +100,24 @@ def test_auto_takes_the_balance_for_nonlinear_corners_and_refuses_bad_input():
         frequency_response(sys, [1.0], method="exact")
     with pytest.raises(ParameterError, match="tracks"):
         frequency_response(sys, [1.0], tracks="anti-phase")
+
+
+def test_cli_balances_a_car_on_a_gas_spring(tmp_path):
+    from inerterlab.cli import main
+
+    car = tmp_path / "gas.toml"
+    car.write_text(example_vehicle_path().read_text() + '\n[front.device]\nkind = "gas"\n'
+                   'pressure = "25 bar"\narea = "40 cm^2"\nvolume = "1.2e-3 m^3"\n')  # fmt: skip
+    out = tmp_path / "fr.csv"
+    args = ["vehicle", "frequency-response", "--vehicle", str(car), "--model", "half",
+            "--points", "3", "--fmin", "1", "--fmax", "4", "--harmonics", "3", "--csv", str(out)]  # fmt: skip
+    assert main(args) == 0
+    import pandas as pd
+
+    table = pd.read_csv(out)
+    p = load_vehicle(car).half_car()
+    fr = frequency_response(p, np.geomspace(1.0, 4.0, 3), harmonics=3)
+    assert fr.model == "harmonic balance, 3 harmonics"
+    np.testing.assert_allclose(table["heave amplitude [m]"], fr.amplitudes()["heave"], rtol=1e-9)
+    assert not any("phase" in c for c in table.columns)
+    assert main([*args[:-2], "--method", "fourier"]) == 2
