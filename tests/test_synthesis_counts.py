@@ -149,10 +149,9 @@ def test_two_bridges_realise_non_regular_biquadratics():
     networks that realise non-regular biquadratics form three quartets, the first of
     them "two bridge networks with two reactive elements". Of the 13 two-reactive
     bridges of the catalogue, exactly two give non-regular biquadratics (60 random draws
-    each; the other eleven gave only regular ones): the published two. Both have three
-    dampers, one spring and one inerter, which is what a bridge quartet reduced to two
-    networks must be (frequency inversion swaps spring and inerter, duality keeps the
-    bridge's shape)."""
+    each; the other eleven gave only regular ones): the published two. They form one
+    quartet reduced to two networks: frequency inversion (s -> 1/s, spring <-> inerter)
+    maps the one to the other up to the bridge's symmetries (checked below)."""
     rng = np.random.default_rng(3)
     s = np.exp(rng.uniform(-2, 2, 24)) * np.exp(1j * rng.uniform(-1.5, 1.5, 24))
     bridges = [
@@ -168,6 +167,9 @@ def test_two_bridges_realise_non_regular_biquadratics():
                 non_regular.add(br.kinds)
                 break
     assert non_regular == {("c", "c", "c", "k", "b"), ("b", "c", "c", "c", "k")}
+    # frequency inversion of the first, then the symmetry swapping both terminal pairs
+    inverted = tuple({"k": "b", "b": "k"}.get(x, x) for x in ("c", "c", "c", "k", "b"))
+    assert tuple(inverted[i] for i in (3, 2, 1, 0, 4)) == ("b", "c", "c", "c", "k")
 
 
 def test_structural_catalogue_bounds():
