@@ -1,4 +1,5 @@
-"""Frequency response of a half or full car to a sine road, from its linear state space.
+"""Frequency response of a half or full car to a sine road: from its linear state space,
+or by the harmonic balance of the core car where a corner is nonlinear.
 
 Every wheel's road height is r_i(t) = A Re(p_i e^{j w t}) with the road amplitude A [m]
 and a complex pattern p over the wheels (front, rear for a half car; front_left,
@@ -22,11 +23,18 @@ the model's sign), ``roll`` [rad/m] (full car; positive: left side up) and
 ``bounce_acc``, for a car without a seat). Their magnitudes times A are the response
 amplitudes (half peak-to-peak). A car resting on gas springs or bump stops
 (Newton's method on the whole nonlinear balance,
-:func:`~inerterlab.systems.equilibrium.equilibrium`) is linearised about its static equilibrium (each
-at its stiffness at rest; the result says so: its response to a finite amplitude
-departs from this). A corner with an adaptive inerter or a device with internal nodes or
-friction is refused, naming it (its response depends on the amplitude; the time
-simulation, ``vehicle simulate``, takes it).
+:func:`~inerterlab.systems.equilibrium.equilibrium`) is there linearised about its
+static equilibrium (each at its stiffness at rest; the result says so).
+
+Nonlinear corners (``method="harmonic-balance"``, and ``auto`` for a car with a
+nonlinear element): the core car (tyres always in contact, about its static equilibrium)
+is balanced on the one engine of :mod:`inerterlab.frequency` at the road amplitude,
+every wheel driven through the road pattern (:func:`pattern_rows`: a gain, a phase and a
+delay per wheel; :func:`inerterlab.frequency.quarter_car.from_core_system`). Each
+response is the half peak-to-peak of the steady periodic output divided by the road
+amplitude (no phase). Friction is refused there (it switches within millimetres per
+second, beyond a truncated Fourier series; the time simulation, ``vehicle simulate``,
+takes it).
 """
 
 from __future__ import annotations
@@ -39,7 +47,7 @@ import numpy as np
 from ..errors import ParameterError, check_choice, check_positive
 from .linear import LinearVehicle, linear_vehicle
 
-__all__ = ["VehicleFrequencyResponse", "frequency_response", "PATTERNS"]
+__all__ = ["VehicleFrequencyResponse", "frequency_response", "pattern_rows", "PATTERNS", "METHODS"]
 
 #: relative phase of the right track to the left, and of a rig's rear axle to the front
 PATTERNS = ("in-phase", "anti-phase")
