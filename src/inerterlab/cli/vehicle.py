@@ -121,7 +121,13 @@ def spectral_command(
     ] = "isotropic",
     points: Annotated[int, typer.Option(help="Frequencies of the log grid [-].")] = 4000,
     json_out: Annotated[bool, _JSON] = False,
-) -> None:
+    plot: Annotated[
+        Path | None,
+        typer.Option(help="Figure (.png/.pdf): the PSDs of the seat (or bounce) acceleration "
+                     "with and without Wk, of the pitch acceleration and of each corner's "
+                     "suspension deflection."),
+    ] = None,
+) -> None:  # fmt: skip
     """RMS of every output on an ISO 8608 road by the spectral method (no time simulation).
 
     Road band 0.01-10 cycle/m, waviness 2; rear wheels delayed by wheelbase/V.
@@ -143,6 +149,11 @@ def spectral_command(
     res = spectral_response(veh, road, speed, points=points)
     out = res.to_dict()
     out.update(model=veh.kind, gd_n0=road.gd_n0, coherence=road.coherence)
+    if plot is not None:
+        from ._common import atomic_savefig
+
+        atomic_savefig(_spectral_figure(veh, res, road, speed), plot)
+        out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
@@ -150,6 +161,29 @@ def spectral_command(
     rows += [(f"{c}_static_load [N]", _fmt(res.static_load[c])) for c in veh.corners]
     rows += [(f"{c}_lift_off_probability [-]", f"{res.lift_off[c]:.3g}") for c in veh.corners]
     _table(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s: RMS values", rows)
+
+
+def _spectral_figure(veh, res, road, speed):
+    """PSDs of the spectral method's outputs on log axes (one-sided, per Hz)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 4))
+    ax1, ax2 = fig.subplots(1, 2)
+    acc = "seat_acc" if "seat_acc" in res.psd else "bounce_acc"
+    ax1.loglog(res.freq, res.psd[acc], label=f"{acc} [(m/s^2)^2/Hz]")
+    ax1.loglog(res.freq, res.psd[f"{acc}_wk"], "--", label=f"{acc}, Wk weighted")
+    ax1.loglog(res.freq, res.psd["pitch_acc"], ":", label="pitch_acc [(rad/s^2)^2/Hz]")
+    for c in veh.corners:
+        ax2.loglog(res.freq, res.psd[f"{c}_deflection"], label=f"{c} deflection [m^2/Hz]")
+    for ax in (ax1, ax2):
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("one-sided PSD")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s "
+                 "(spectral method, linear)")  # fmt: skip
+    fig.tight_layout()
+    return fig
 
 
 def modes_command(
