@@ -138,13 +138,21 @@ def _segment_at(segs, rng, t):
     return i
 
 
+@nb.njit(cache=True, inline="always")
+def _linear_columns(segs, i):
+    """One past the last column of the (height, rate) pairs of a linear segment: one
+    road (kind 0) or several (kind 3)."""
+    return 5 if segs[i, 2] == 0.0 else segs.shape[1]
+
+
 @nb.njit(cache=True)
 def _kinked(segs, i, j):
-    """Whether the road's rate changes from segment i to segment j (kind 3: any of its
-    roads'; a measured drive's pieces, kind 2, join with continuous rates)."""
-    if segs[i, 2] != 3.0:
+    """Whether the road's rate changes from segment i to segment j (linear segments,
+    kinds 0 and 3: any of its roads'; a measured drive's pieces, kind 2, join with
+    continuous rates)."""
+    if segs[i, 2] != 3.0 and segs[i, 2] != 0.0:
         return False
-    for c in range(4, segs.shape[1], 2):
+    for c in range(4, _linear_columns(segs, i), 2):
         if segs[i, c] != segs[j, c]:
             return True
     return False
@@ -152,12 +160,13 @@ def _kinked(segs, i, j):
 
 @nb.njit(cache=True)
 def _joins(segs, i, jump_tol):
-    """Whether segment i + 1 of kind 3 (several linear roads) starts where segment i ends
-    on every road, to ``jump_tol``: one run of :func:`_advance` then crosses the edge."""
+    """Whether the linear segment i + 1 (kind 0 or 3, as segment i) starts where segment
+    i ends on every road, to ``jump_tol``: one run of :func:`_advance` then crosses the
+    edge."""
     dt = segs[i, 1] - segs[i, 0]
-    if segs[i + 1, 0] != segs[i, 1]:
+    if segs[i + 1, 0] != segs[i, 1] or segs[i + 1, 2] != segs[i, 2]:
         return False
-    for c in range(3, segs.shape[1] - 1, 2):
+    for c in range(3, _linear_columns(segs, i) - 1, 2):
         if abs(segs[i, c] + segs[i, c + 1] * dt - segs[i + 1, c]) > jump_tol:
             return False
     return True
@@ -630,6 +639,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                                     road, work, stats)  # fmt: skip
                     for q in range(n):
                         K[0, q] = dy[q]
+                    if track:  # a signal may jump with the rate: its value past the edge
+                        peaks(itab, ftab, work, y)
+                        _peak_values(itab, ftab, work, y, p0)
             if i + 1 < rng[1] and segs[i + 1, 0] < t_end:
                 lim = segs[i + 1, 0]
         if lim - t <= 1e-14 * max(abs(t), 1.0):
@@ -848,17 +860,20 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             break
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
         # across their edges, so no jump checks and no restarts between them), or a run
-        # of segments of several linear roads (kind 3, a vehicle's sampled roads) that
-        # join in displacement where no inertance touches a road (so no impulses): the
-        # steps end on their edges, where the first stage is evaluated again on the new
-        # rate (the step size carries over, nothing is set up again)
+        # of linear segments that join in displacement (a sampled road: kind 3, a
+        # vehicle's roads; kind 0, one road, where there are no exact steps in linear
+        # regimes, which take one segment at a time) where no inertance touches a road
+        # (so no impulses at the kinks): the steps end on the edges, where the first
+        # stage is evaluated again on the new rate (the step size carries over, nothing
+        # is set up again)
         e = s + 1
         if segs[s, 2] == 2.0:
             while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
-        elif segs[s, 2] == 3.0 and vjump_tol == math.inf:
-            while (e < nseg and segs[e, 2] == 3.0 and segs[e, 0] < t_end
-                   and _joins(segs, e - 1, jump_tol)):  # fmt: skip
+        elif (segs[s, 2] == 3.0 or segs[s, 2] == 0.0 and XE.shape[0] == 0) and (
+            vjump_tol == math.inf
+        ):
+            while e < nseg and segs[e, 0] < t_end and _joins(segs, e - 1, jump_tol):
                 e += 1
         rng[0] = s
         rng[1] = e
