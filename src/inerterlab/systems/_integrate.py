@@ -622,8 +622,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # samples): the first stage again, on the new segment, and each
                     # element's side from its switching functions there, as a segment's
                     # start takes them
-                    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                              road, work, stats):  # fmt: skip
+                    if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
+                                   road, work, stats):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
                         switches(itab, ftab, work, sw)
