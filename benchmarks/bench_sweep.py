@@ -3,7 +3,10 @@
 
 Prints points/s for each, their ratio (baseline: the serial backend measured in the same
 run), and the largest difference between the two results (must be 0: the backends
-evaluate the same function on the same points).
+evaluate the same function on the same points). The serial run is split into the time
+inside the integrator (the compiled integration calls: adaptive steps, exact steps) and
+everything around it (the point function, the car's description and core system, the
+observers, the metrics, the sweep machinery and the store writes).
 
     python benchmarks/bench_sweep.py            # 10,000 points
     python benchmarks/bench_sweep.py --points 200
@@ -19,6 +22,10 @@ import tempfile
 import time
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+# the steady state of a long sweep: the right-hand side compiled for the car's structure
+# from the first point on (by default a process compiles it once its integrations of
+# the structure have taken 2 s, which would put that compilation inside the timing)
+os.environ.setdefault("INERTERLAB_SPECIALISE", "always")
 
 import numpy as np  # noqa: E402
 
@@ -40,6 +47,20 @@ def grid(points: int):
     )
 
 
+def _timed(module, name: str, spent: list) -> None:
+    """Wrap ``module.name`` so that its CPU time is added to ``spent[0]``."""
+    fn = getattr(module, name)
+
+    def timed(*args, **kwargs):
+        t0 = time.process_time()
+        try:
+            return fn(*args, **kwargs)
+        finally:
+            spent[0] += time.process_time() - t0
+
+    setattr(module, name, timed)
+
+
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--points", type=int, default=10_000)
@@ -59,21 +80,38 @@ def main() -> None:
         "integrator: "
         + ("the quarter-car kernel (suspension/_kernels.py)" if old else "the model core")
     )
-    rates, results = {}, {}
+    # the time inside the integrator: the compiled integration calls of the core
+    from inerterlab.systems import _integrate, core
+
+    spent = [0.0]
+    _timed(_integrate, "integrate", spent)  # adaptive steps (and exact steps in regimes)
+    _timed(core, "_exact", spent)  # matrix-exponential steps of a linear system
+    rates, results, serial = {}, {}, None
     with tempfile.TemporaryDirectory() as tmp:
         for name, kw in (
             ("serial", {"backend": "serial"}),
             (f"{args.workers} processes", {"backend": "processes", "workers": args.workers}),
         ):
-            t0 = time.perf_counter()
+            spent[0] = 0.0
+            t0, c0 = time.perf_counter(), time.process_time()
             ds = sweep(spec, store=os.path.join(tmp, name.replace(" ", "_") + ".zarr"), **kw)
             dt = time.perf_counter() - t0
             rates[name] = spec.size / dt
             results[name] = ds
+            if serial is None:  # CPU times of this process: the split does not see the load
+                serial = (time.process_time() - c0, spent[0])
             print(
                 f"{name:>12}: {spec.size} points in {dt:7.2f} s = {rates[name]:8.1f} points/s "
                 f"(ok {ds.attrs['points_ok']}, failed {ds.attrs['points_failed']})"
             )
+    dt, inside = serial
+    print(
+        f"split of the serial run (CPU time per point): {1e3 * inside / spec.size:.3f} ms in "
+        f"the integrator, {1e3 * (dt - inside) / spec.size:.3f} ms around it (point "
+        f"function, description, core system, observers, metrics, sweep machinery, store) "
+        f"= {100 * (dt - inside) / dt:.1f} % of the time"
+    )
+    print(f"machine load (1-minute average) at the end: {os.getloadavg()[0]:.1f}")
     a, b = results.values()
     diff = max(
         float(np.nanmax(np.abs(a[m].values - b[m].values)))
@@ -86,6 +124,16 @@ def main() -> None:
     )
     # machinery overhead alone: the same grid on the closed-form synthetic point function
     syn = sweep_spec("synthetic", parameters={k: list(v) for k, v in spec.parameters})
+    with tempfile.TemporaryDirectory() as tmp:
+        c0 = time.process_time()
+        sweep(syn, store=os.path.join(tmp, "serial.zarr"), backend="serial")
+        machinery = (time.process_time() - c0) / syn.size
+    print(
+        f"  of the {1e3 * (dt - inside) / spec.size:.3f} ms around the integrator: "
+        f"{1e3 * machinery:.3f} ms the sweep machinery and the store (the same grid on the "
+        f"closed-form synthetic point function, serial), "
+        f"{1e3 * ((dt - inside) / spec.size - machinery):.3f} ms the point function"
+    )
     with tempfile.TemporaryDirectory() as tmp:
         t0 = time.perf_counter()
         sweep(syn, store=os.path.join(tmp, "s.zarr"), backend="processes", workers=args.workers)

@@ -75,7 +75,9 @@ def test_vehicle_objective_gradient_equals_central_differences(model, network, b
     values = _values(car, network, base)
     names = [n for n in values if not n.endswith("_k")]
     v, g = linear_objective_gradient(car, network, values, objective, "C", SPEED, names)
-    assert v == pytest.approx(linear_objective(car, network, values, objective, "C", SPEED), rel=1e-10)
+    # the objective's value through the assembled matrices against the core's
+    # linearisation (two constructions of one state space): they agree to about 1e-9
+    assert v == pytest.approx(linear_objective(car, network, values, objective, "C", SPEED), rel=1e-8)
 
     def fd(n, h):
         up = linear_objective(car, network, {**values, n: values[n] * math.exp(h)}, objective, "C", SPEED)

@@ -134,3 +134,26 @@ def test_linear_limit_reproduces_the_linear_optimum_on_a_long_road():
     ms = rms**2
     se = ms.std(ddof=1) / math.sqrt(ms.size)
     assert abs(ms.mean() - pred**2) < 4 * se + 0.01 * pred**2
+
+
+def test_metrics_only_gives_the_sampled_runs_metrics():
+    """One sample at the horizon instead of 1 kHz: the same observers, so the adaptive
+    steps give the same metrics to round-off; the exact steps of a linear car break at
+    fewer points, which moves the Gauss-Legendre sums of the observers by <= 1e-6."""
+    from inerterlab.excitation import bump, sine
+
+    values = {k: DESIGN[k] for k in ("k", "c")}
+    car = quarter_car("k | (c - b)", {**values, "b": DESIGN["b"]})  # linear: exact steps
+    afw = quarter_car(
+        "k | (c - afw)",
+        {**values, "afw": {"flywheel": "nylon", "changing_ratio": 0.3, "ratio": 50.0}},
+    )
+    for system, road, tol in ((car, bump(0.05), 1e-6), (afw, sine(0.05, 5.0), 1e-12)):
+        full = system.simulate(road, horizon=2.0)
+        one = system.simulate(road, horizon=2.0, metrics_only=True)
+        assert one.time.tolist() == [2.0] and full.time.size == 2001
+        assert one.method == full.method
+        for k in ("rms_body_acc_wk", "vdv", "rms_tyre_grip", "rms_deflection"):
+            assert one.metrics[k] == pytest.approx(full.metrics[k], rel=tol, abs=0.0)
+    with pytest.raises(ParameterError, match="metrics_only"):
+        car.simulate(bump(0.05), horizon=1.0, times=[0.5, 1.0], metrics_only=True)

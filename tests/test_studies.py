@@ -301,3 +301,25 @@ def test_report_tables_and_figures_quick(monkeypatch):
     assert set(fig.data.device) == {"ideal", "hydraulic"}
     for cache in (rs._ratio_sweep, rs._optimum, rs._on_demand):
         cache.cache_clear()
+
+
+def test_quarter_car_point_is_the_simulation_of_its_car():
+    """The point function keeps descriptions and inputs for the next points; every point
+    still gives the metrics of simulating its own car on its own input."""
+    import inerterlab
+    from inerterlab.excitation import bump, drop
+    from inerterlab.studies.quarter_car import QUARTER_CAR, quarter_car_point
+
+    base = {**QUARTER_CAR.defaults, "suspension": "afw", "horizon": 1.0}
+    for mass, ratio, name, road in (
+        (340.0, 0.2, "drop", drop(0.05)),
+        (340.0, 0.2, "bump", bump(0.05, duration=0.01)),
+        (380.0, 0.4, "drop", drop(0.05)),  # another car after the first
+        (340.0, 0.2, "drop", drop(0.05)),  # the first again
+    ):
+        got = quarter_car_point({**base, "sprung_mass": mass, "changing_ratio": ratio,
+                                 "input": name})  # fmt: skip
+        car = inerterlab.quarter_car("afw", sprung_mass=mass, changing_ratio=ratio)
+        want = inerterlab.simulate(car, road, 1.0).metrics()
+        for k, v in got.items():
+            assert v == (None if want[k] is None else float(want[k])), k

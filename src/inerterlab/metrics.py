@@ -22,6 +22,7 @@ ISO 8608 road of class Gd(n0) at speed V, rms = pi n0 sqrt(2 Gd(n0) V) ||H||_2.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -168,9 +169,15 @@ def wk_state_space():
     Order: high pass, step (Hs), transition (Ht), low pass. Each section's states
     are scaled to the size of its input, which keeps absolute tolerances meaningful.
     """
+    A, B, C, D = _wk_state_space()
+    return A.copy(), B.copy(), C.copy(), D
+
+
+@functools.lru_cache(maxsize=1)
+def _wk_state_space():
+    """:func:`wk_state_space`, built once (every quarter-car run reads it)."""
     secs = [_biquad(*b) for b in _wk_biquads()]
-    sys = _series(_series(_series(secs[0], secs[1]), secs[2]), secs[3])
-    A, B, C, D = sys
+    A, B, C, D = _series(_series(_series(secs[0], secs[1]), secs[2]), secs[3])
     return A, B, C, float(D)
 
 

@@ -8,6 +8,7 @@ validated without them.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping
 from typing import Any
 
@@ -18,23 +19,53 @@ __all__ = ["quarter_car_point", "QUARTER_CAR"]
 _POS = {"low": 0.0, "low_open": True}
 
 
+#: the parameters of each road input (keys of a point)
+_INPUT_KEYS = {
+    "drop": ("input_height",),
+    "bump": ("input_height", "bump_duration", "bump_shape", "bump_edge", "bump_edge_width"),
+    "sine": ("input_height", "sine_frequency"),
+    "iso8608": ("road_class", "road_speed", "seed"),
+}
+#: the parameters of the car (the keywords of describe_quarter_car)
+_CAR_KEYS = (
+    "suspension", "sprung_mass", "unsprung_mass", "stiffness", "damping", "tyre_stiffness",
+    "tyre_damping", "flywheel", "flywheel_law", "changing_ratio", "law",
+)  # fmt: skip
+_INPUT_DEFAULTS = {"bump_edge": "step", "bump_edge_width": 0.0}
+
+
 def _excitation(params: Mapping[str, Any]):
+    name = params["input"]
+    keys = _INPUT_KEYS.get(name, _INPUT_KEYS["iso8608"])
+    return _excitation_of(name, tuple(params.get(k, _INPUT_DEFAULTS.get(k)) for k in keys))
+
+
+@functools.lru_cache(maxsize=64)
+def _excitation_of(name: str, values: tuple):
+    """The road input (immutable), kept for the last few: a worker's points share few."""
     from .. import excitation as ex
 
-    name = params["input"]
     if name == "drop":
-        return ex.drop(params["input_height"])
+        return ex.drop(*values)
     if name == "bump":
-        return ex.bump(
-            params["input_height"],
-            duration=params["bump_duration"],
-            shape=params["bump_shape"],
-            edge=params.get("bump_edge", "step"),
-            edge_width=params.get("bump_edge_width", 0.0),
-        )
+        height, duration, shape, edge, width = values
+        return ex.bump(height, duration=duration, shape=shape, edge=edge, edge_width=width)
     if name == "sine":
-        return ex.sine(params["input_height"], params["sine_frequency"])
-    return ex.iso8608(params["road_class"], params["road_speed"], seed=int(params["seed"]))
+        return ex.sine(*values)
+    road_class, speed, seed = values
+    return ex.iso8608(road_class, speed, seed=int(seed))
+
+
+@functools.lru_cache(maxsize=64)
+def _model(values: tuple):
+    """The car's description (immutable) from the values of :data:`_CAR_KEYS`, kept for
+    the last few: a sweep over the inputs of one car describes it once."""
+    from ..suspension.model import describe_quarter_car
+
+    p = dict(zip(_CAR_KEYS, values, strict=True))
+    if p["suspension"] not in ("afw", "device-afw"):
+        p["changing_ratio"] = None  # applies to the adaptive flywheel only
+    return describe_quarter_car(p.pop("suspension"), **p)
 
 
 def quarter_car_point(params: Mapping[str, Any]) -> dict[str, float]:
@@ -44,30 +75,11 @@ def quarter_car_point(params: Mapping[str, Any]) -> dict[str, float]:
     ``device-afw`` only (the other suspensions ignore it).
     """
     from .. import simulate as sim
-    from ..suspension.model import describe_quarter_car
 
-    suspension = params["suspension"]
-    adaptive = suspension in ("afw", "device-afw")
-    # the description alone: simulate() integrates a named suspension from it, and a
-    # sweep point should not pay for the core system (0.5-1 ms to build)
-    model = describe_quarter_car(
-        suspension,
-        sprung_mass=params["sprung_mass"],
-        unsprung_mass=params["unsprung_mass"],
-        stiffness=params["stiffness"],
-        damping=params["damping"],
-        tyre_stiffness=params["tyre_stiffness"],
-        tyre_damping=params["tyre_damping"],
-        flywheel=params["flywheel"],
-        flywheel_law=params["flywheel_law"],
-        changing_ratio=params["changing_ratio"] if adaptive else None,
-        law=params["law"],
-    )
-    fast = getattr(sim, "simulate_metrics", None)  # metrics-only path, no stored series
-    if fast is not None:
-        metrics = fast(model, _excitation(params), params["horizon"])
-    else:
-        metrics = sim.simulate(model, _excitation(params), params["horizon"]).metrics()
+    # the description alone (simulate_metrics builds the core system from it, once per
+    # car: systems.quarter_car.system_of), metrics only: no sampled series
+    model = _model(tuple(params[k] for k in _CAR_KEYS))
+    metrics = sim.simulate_metrics(model, _excitation(params), params["horizon"])
     # None stays None: not finite across a road step (SimulationResult.not_finite)
     return {
         k: (None if metrics[k] is None else float(metrics[k])) for k in QUARTER_CAR_METRICS

@@ -125,15 +125,52 @@ def road_at(segs, i, t, out):
 
 @nb.njit(cache=True, inline="always")
 def _segment_at(segs, rng, t):
-    """The segment of rng[0] <= i < rng[1] that holds t (right-continuous), walking from
-    the last one found (rng[2], updated)."""
+    """The segment of rng[0] <= i < rng[1] that holds t, walking from the last one found
+    (rng[2], updated): the current one while t is inside it or on either of its ends, so
+    a step's stages all take the segment it started on, its last stage that segment's
+    left limit at the next edge (:func:`_advance` moves rng[2] on at the start of the
+    step that follows)."""
     i = rng[2]
-    while i + 1 < rng[1] and segs[i + 1, 0] <= t:
+    while i + 1 < rng[1] and segs[i + 1, 0] < t:
         i += 1
     while i > rng[0] and segs[i, 0] > t:
         i -= 1
     rng[2] = i
     return i
+
+
+@nb.njit(cache=True, inline="always")
+def _linear_columns(segs, i):
+    """One past the last column of the (height, rate) pairs of a linear segment: one
+    road (kind 0) or several (kind 3)."""
+    return 5 if segs[i, 2] == 0.0 else segs.shape[1]
+
+
+@nb.njit(cache=True)
+def _kinked(segs, i, j):
+    """Whether the road's rate changes from segment i to segment j (linear segments,
+    kinds 0 and 3: any of its roads'; a measured drive's pieces, kind 2, join with
+    continuous rates)."""
+    if segs[i, 2] != 3.0 and segs[i, 2] != 0.0:
+        return False
+    for c in range(4, _linear_columns(segs, i), 2):
+        if segs[i, c] != segs[j, c]:
+            return True
+    return False
+
+
+@nb.njit(cache=True)
+def _joins(segs, i, jump_tol):
+    """Whether the linear segment i + 1 (kind 0 or 3, as segment i) starts where segment
+    i ends on every road, to ``jump_tol``: one run of :func:`_advance` then crosses the
+    edge."""
+    dt = segs[i, 1] - segs[i, 0]
+    if segs[i + 1, 0] != segs[i, 1] or segs[i + 1, 2] != segs[i, 2]:
+        return False
+    for c in range(3, _linear_columns(segs, i) - 1, 2):
+        if abs(segs[i, c] + segs[i, c + 1] * dt - segs[i + 1, c]) > jump_tol:
+            return False
+    return True
 
 
 @nb.njit(cache=True, inline="always")
@@ -594,8 +631,44 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
         lim = t_end
         if cap < lim:
             lim = cap
-        if rng[1] - rng[0] > 1:  # the next edge of the measured drive
-            i = _segment_at(segs, rng, t)
+        if rng[1] - rng[0] > 1:  # the next edge of the run of segments
+            i = rng[2]
+            while i + 1 < rng[1] and segs[i + 1, 0] <= t:  # from an edge: the next one
+                i += 1
+            if i != rng[2]:
+                kinked = _kinked(segs, rng[2], i)
+                rng[2] = i
+                # the first step sizes past kinks are remembered per segment (as when
+                # each segment was integrated on its own: a step size remembered from a
+                # kink long ago held a sampled road's steps short)
+                h_side[0] = 0.0
+                h_side[1] = 0.0
+                fresh = -1
+                if kinked:
+                    # the road's rate changes at the edge (a sampled road, linear between
+                    # samples): the first stage again, on the new segment, and each
+                    # element's side from its switching functions there, as a segment's
+                    # start takes them
+                    if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
+                                   road, work, stats):  # fmt: skip
+                        return BALANCE_FAILED, k, h
+                    if events:
+                        switches(itab, ftab, work, sw)
+                        moved = False
+                        for e in range(ne):
+                            g = max(sw[2 * e], sw[2 * e + 1])
+                            sd = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
+                            if sd != road[hs + e]:
+                                road[hs + e] = sd
+                                moved = True
+                        if moved:
+                            _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
+                                    road, work, stats)  # fmt: skip
+                    for q in range(n):
+                        K[0, q] = dy[q]
+                    if track:  # a signal may jump with the rate: its value past the edge
+                        peaks(itab, ftab, work, y)
+                        _peak_values(itab, ftab, work, y, p0)
             if i + 1 < rng[1] and segs[i + 1, 0] < t_end:
                 lim = segs[i + 1, 0]
         if lim - t <= 1e-14 * max(abs(t), 1.0):
@@ -814,10 +887,21 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         if t0 >= t_end and s > 0:
             break
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
-        # across their edges, so no jump checks and no restarts between them)
+        # across their edges, so no jump checks and no restarts between them), or a run
+        # of linear segments that join in displacement (a sampled road: kind 3, a
+        # vehicle's roads; kind 0, one road, where there are no exact steps in linear
+        # regimes, which take one segment at a time) where no inertance touches a road
+        # (so no impulses at the kinks): the steps end on the edges, where the first
+        # stage is evaluated again on the new rate (the step size carries over, nothing
+        # is set up again)
         e = s + 1
         if segs[s, 2] == 2.0:
             while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
+                e += 1
+        elif (segs[s, 2] == 3.0 or segs[s, 2] == 0.0 and XE.shape[0] == 0) and (
+            vjump_tol == math.inf
+        ):
+            while e < nseg and segs[e, 0] < t_end and _joins(segs, e - 1, jump_tol):
                 e += 1
         rng[0] = s
         rng[1] = e

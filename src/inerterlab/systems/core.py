@@ -204,6 +204,7 @@ class System:
         options: SimulationOptions = DEFAULT_OPTIONS,
         x0: np.ndarray | None = None,
         times=None,
+        metrics_only: bool = False,
         **option_values,
     ) -> CoreResult:
         """Simulate on a road input of :mod:`inerterlab.excitation` from 0 to ``horizon``.
@@ -223,9 +224,18 @@ class System:
         need at most :data:`EXACT_MAX_STEP_SIZES` distinct step lengths and whose
         observers read what the exact steps give, adaptive otherwise, with exact steps
         while every nonlinear element sits in its linear regime; observers ride both
-        kinds of exact steps, docs/model.md §11)."""
+        kinds of exact steps, docs/model.md §11).
+
+        ``metrics_only`` (a quarter car started at rest): one sample, at the horizon;
+        the ride metrics are the same observers' (a study that needs only the metrics
+        skips sampling the outputs every 1/``sample_rate``)."""
         options = _options(options, option_values)
-        return _simulate(self, excitation, horizon, options, x0, times)
+        if metrics_only and (self.kind != "quarter_car" or times is not None or x0 is not None):
+            raise ParameterError(
+                "metrics_only", metrics_only, "False here: a quarter car started at rest "
+                "(no times=, no x0=) integrates its ride metrics",
+            )  # fmt: skip
+        return _simulate(self, excitation, horizon, options, x0, times, metrics_only=metrics_only)
 
 
 def _options(options, values: dict) -> SimulationOptions:
@@ -881,9 +891,12 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
-def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None) -> CoreResult:
+def _simulate(
+    sys, excitation, horizon, options, x0=None, times=None, ride=None, metrics_only=False
+) -> CoreResult:
     """The run of :meth:`System.simulate`; ``ride``: carry a quarter car's ride observers
-    (None: when it starts at rest with uniform samples)."""
+    (None: when it starts at rest with uniform samples); ``metrics_only``: one sample,
+    at the horizon (with the ride observers)."""
     from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
 
     if not isinstance(excitation, Excitation):
@@ -923,7 +936,9 @@ def _simulate(sys, excitation, horizon, options, x0=None, times=None, ride=None)
         y = np.array(x0, dtype=float)
         if y.shape != (sys.n_states,):
             raise ParameterError("x0", x0, f"{sys.n_states} states")
-    if times is None:
+    if metrics_only:
+        ts = np.array([T])
+    elif times is None:
         ts = _sample_times(T, options.sample_rate)
     else:
         ts = np.array(times, dtype=float)

@@ -90,9 +90,23 @@ class LinearVehicle:
 
     def state_space(self, displacements: bool = False):
         """(A, Br, Bd, Cy, Dr, Dd), ``Cy`` etc. dicts keyed by output name (module):
-        :attr:`outputs`, and the body's :attr:`displacements` too if asked."""
+        :attr:`outputs`, and the body's :attr:`displacements` too if asked.
+
+        States that nothing reads (no state's rate and no output depends on them: the
+        position of an internal node between a damper and an inerter, whose free drift
+        is a zero eigenvalue) are left out, so the system is Hurwitz where the car is
+        stable and its norms and static gains exist."""
         A, Br, Bd, Cy, Dr, Dd = self._ss
+        read = np.ones(A.shape[0], bool)
+        while True:
+            used = np.any(A[np.ix_(read, read)] != 0.0, axis=0)
+            used |= np.any([c[read] != 0.0 for c in Cy.values()], axis=0)
+            if used.all():
+                break
+            read[np.flatnonzero(read)[~used]] = False
         keep = list(self.outputs) + (list(self.displacements) if displacements else [])
+        A, Br, Bd = A[np.ix_(read, read)], Br[read], Bd[read]
+        Cy = {k: c[read] for k, c in Cy.items()}
         return (A, Br, Bd, *({k: d[k] for k in keep} for d in (Cy, Dr, Dd)))
 
     def frequency_response(self, freq_hz, outputs=None) -> dict:

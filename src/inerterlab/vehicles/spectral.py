@@ -323,9 +323,11 @@ def _road(vehicle, speed):
 
 
 def _step_response(ss, k, delay):
-    """The static change of output k after a unit step of each track's height."""
+    """The static change of output k after a unit step of each track's height. A
+    linearised core car may carry the free drift of an internal node (a zero eigenvalue
+    no output sees): the least-squares solve leaves that direction out."""
     A, Br, Bd, Cy, Dr, Dd = ss
-    dc = np.atleast_2d(Dr[k] - Cy[k] @ np.linalg.solve(A, Br))
+    dc = np.atleast_2d(Dr[k] - Cy[k] @ np.linalg.lstsq(A, Br, rcond=None)[0])
     if delay is None:
         return dc
     _, front, rear = delay
