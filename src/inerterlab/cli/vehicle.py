@@ -39,30 +39,14 @@ def _params(path: Path | None, model: str):
     return params
 
 
-def _load(path: Path | None, model: str, linear: bool = False):
-    """(parameters, vehicle); ``linear``: the core car about its static equilibrium
-    (:func:`~inerterlab.vehicles.linear.linear_vehicle`) for the linear analyses."""
-    from ..errors import check_choice
-    from ..vehicles import build
-    from ..vehicles.config import example_vehicle_path, load_vehicle
+def _load(path: Path | None, model: str, linear: bool = True):
+    """(parameters, vehicle): the core car about its static equilibrium
+    (:func:`~inerterlab.vehicles.linear.linear_vehicle`) for the linear analyses; it
+    refuses a car that does not rest."""
+    from ..vehicles.linear import linear_vehicle
 
-    check_choice("model", model, ("file", "half", "full"))
-    params = load_vehicle(path if path is not None else example_vehicle_path())
-    if model == "half" and hasattr(params, "half_car"):
-        params = params.half_car()
-    elif model == "full" and not hasattr(params, "half_car"):
-        from ..errors import ParameterError
-
-        raise ParameterError("model", model, "'half' or 'file' for a half-car file")
-    if linear:
-        from ..vehicles.linear import linear_vehicle
-
-        return params, linear_vehicle(params)  # refuses a car that does not rest
-    veh = build(params)
-    # one rule for every command: the car must rest on its struts and tyres (a suspension
-    # without static stiffness has no equilibrium, no static load and a 0 Hz mode)
-    veh.static_tyre_loads()
-    return params, veh
+    params = _params(path, model)
+    return params, linear_vehicle(params)
 
 
 #: most frequencies of the spectral grid (a response matrix per frequency is kept)

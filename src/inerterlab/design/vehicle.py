@@ -26,9 +26,9 @@ Time domain: a candidate is built as the vehicle file with a network strut at ev
 corner (:class:`~inerterlab.vehicles.parameters.NetworkStrut`) or, with a real device,
 the main spring as the strut and the rest of the layout as the corner's device
 (:class:`~inerterlab.vehicles.parameters.Strut` ``device``), and driven over a generated
-ISO 8608 road, exact at every Runge-Kutta stage, by
-:func:`inerterlab.vehicles.nonlinear.simulate_nonlinear` (the ``vehicle simulate``
-path; one-sided tyres).
+ISO 8608 road (its series at the wheels, linear between samples) by the model core's
+vehicle, :func:`inerterlab.vehicles.simulation.simulate_vehicle` (the ``vehicle
+simulate`` path; one-sided tyres).
 """
 
 from __future__ import annotations

@@ -252,7 +252,7 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
                     f"ranges: {names[e]} ({el.description}) would take {-y:.6g} m of "
                     f"compression carrying {-forces[names[e]]:.6g} N, beyond {what}"
                 )
-        if el.is_linear:
+        if el.is_linear or codes[e] == TYRE:  # a tyre's law is about its static load
             continue
         if hasattr(el, "at_operating_point"):
             new[e] = el.at_operating_point(el.operating_point + y)
