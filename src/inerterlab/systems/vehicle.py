@@ -345,7 +345,11 @@ def rest_state(sys: System, heights) -> np.ndarray:
     if not np.any(h):
         return np.array(sys.x0_template, dtype=float)
     base = sys.info.get("base", sys)
-    x = equilibrium(base, 0.0, heights=h).state
+    # with the tyres in contact (the same layout and states): a tyre that may lift off
+    # has no stiffness where a start from the level rest would put it off the road
+    eq = base.info.get("equilibrium")
+    contact = eq.system if eq is not None else base
+    x = equilibrium(contact, 0.0, heights=h).state
     return np.concatenate([x, sys.x0_template[base.n_states :]])
 
 
