@@ -213,7 +213,7 @@ def test_the_same_element_gives_the_same_force_in_a_vehicle():
     t = dt * np.arange(401)
     r = np.stack([0.01 * np.sin(8 * t), 0.01 * np.sin(8 * t - 1.0)], 1)
     res = simulate(sys, r, dt, rtol=1e-10)
-    o = res.outputs
+    o = res.signals
     rel = o["body_front.a"] - o["wheel_front.a"]
     ab = o["bounce.a"] - p.cg_to_front * o["pitch.a"]
     assert np.abs(o["body_front.a"] - ab).max() <= 1e-12 * np.abs(ab).max()
@@ -317,7 +317,7 @@ def test_the_same_element_gives_the_same_force_in_the_rig_and_the_vehicle(name, 
     t = dt * np.arange(401)
     wave = 0.03 * np.sin(2 * np.pi * 2.0 * t) * np.minimum(t / 0.3, 1.0)
     r = np.stack([wave, 0.3 * wave, np.roll(wave, 40), np.roll(wave, 45)], 1)
-    o = simulate(sys, r, dt, rtol=1e-9).outputs
+    o = simulate(sys, r, dt, rtol=1e-9).signals
     el = f"front_left.{name}"
     i = sys.element_names.index(el)
     top, bot = (sys.node_names[j] for j in sys.info["layout"].edges[i][2:4])
