@@ -180,7 +180,8 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
     for name in system.info.get("weightless", ()):  # rotational coordinates
         weights[system.node_names.index(name)] = 0.0
     weight = float(weights.sum())
-    scale = max(weight, float(masses.sum()) * 9.81, 1.0)
+    # the tolerance's scale: the weight (or, without gravity, the weight it would be)
+    scale = max(weight if g > 0 else float(masses.sum()) * 9.81, 1.0)
     W = np.empty(_kernel.work_size(itab))
     dx = np.empty(system.n_states)
     road = np.zeros(_kernel.road_layout_of(itab)[1])  # every road at rest
