@@ -288,3 +288,50 @@ def test_bott_duffin_on_the_textbook_function_matches_the_hand_derivation():
     )
     assert got == want
     assert _target_error(r.network, r.parameters, [1.0, 1.0, 4.0], [1.0, 1.0, 1.0]) < 1e-12
+
+
+def _interior_minimum_biquadratics(rng, count):
+    """PR biquadratics Y0 that are not regular and not minimum functions: Re Y0(j w)
+    has its least value, > 0, strictly inside (0, inf), and so has Re (1/Y0)."""
+    from inerterlab.synthesis.positive_real import is_regular
+
+    out = []
+    while len(out) < count:
+        N, D = pr_from_parameters(rng.uniform(-1.0, 1.0, 5), 2)
+        num, den = N[::-1].copy(), D[::-1].copy()
+        if min(np.min(num), np.min(den)) <= 1e-2 * max(np.max(num), np.max(den)):
+            continue
+        if is_regular(num, den):
+            continue
+        w = np.logspace(-3, 3, 20001)
+        re = (np.polyval(num, 1j * w) / np.polyval(den, 1j * w)).real
+        if np.min(re) < 1e-2 * np.max(re):
+            continue  # keep away from minimum functions (Re Y0 = 0 somewhere)
+        out.append((num, den))
+    return out
+
+
+def test_bott_duffin_uses_ten_elements_for_a_bicubic_with_a_pole_at_the_origin():
+    """Published count: Wang, Chen & Liu (2023, J. Franklin Inst. 360(8), 5442-5480;
+    arXiv:2303.14196, abstract) compare their at-most-six-element realisations of
+    positive-real bicubic admittances with a simple pole at s = 0 against "the
+    ten-element realization circuit by the well-known Bott-Duffin" procedure.
+
+    The count follows from the procedure: the pole at 0 is one spring, the least real
+    part of the biquadratic remainder one damper, and Bott-Duffin's single cycle on the
+    biquadratic minimum function that is left eight elements (three springs, three
+    inerters, two dampers). Checked on random remainders that need that cycle
+    (not regular, least real part inside (0, inf) and above 0)."""
+    rng = np.random.default_rng(2023)
+    for num0, den0 in _interior_minimum_biquadratics(rng, 4):
+        k = float(10 ** rng.uniform(-1, 1))
+        num = np.polyadd(np.polymul(num0, [1.0, 0.0]), k * den0)  # Y = k/s + Y0
+        den = np.polymul(den0, [1.0, 0.0])
+        r = realise(num, den, "bott-duffin")
+        kinds = [name.rstrip("0123456789") for name in r.parameters]
+        assert r.elements == 10, (r.network, num0, den0)
+        assert (kinds.count("k"), kinds.count("b"), kinds.count("c")) == (4, 3, 3)
+        assert r.parameters["k"] == pytest.approx(k, rel=1e-9)  # the pole at the origin
+        assert _target_error(r.network, r.parameters, num, den) < 1e-9
+    # the biquadratic minimum function alone: the eight of the cycle
+    assert realise([1.0, 1.0, 4.0], [1.0, 1.0, 1.0], "bott-duffin").elements == 8

@@ -143,10 +143,15 @@ def _biquadratic(bridge, vals, s):
 
 
 def test_two_bridges_realise_non_regular_biquadratics():
-    """Jiang & Smith (2011): a biquadratic is realised by a *series-parallel* network with
-    two reactive elements iff it is regular (checked in test_synthesis_regular.py).
-    Bridges are outside that statement: two of the 13 two-reactive bridges give
-    non-regular biquadratics for some element values (a finding of this check)."""
+    """Published count: Jiang & Smith (2011, IEEE TAC 56(6), 1275-1290, abstract): a
+    biquadratic is realised by a series-parallel network with two reactive elements iff
+    it is regular (checked in test_synthesis_regular.py), and the only five-element
+    networks that realise non-regular biquadratics form three quartets, the first of
+    them "two bridge networks with two reactive elements". Of the 13 two-reactive
+    bridges of the catalogue, exactly two give non-regular biquadratics (60 random draws
+    each; the other eleven gave only regular ones): the published two. They form one
+    quartet reduced to two networks: frequency inversion (s -> 1/s, spring <-> inerter)
+    maps the one to the other up to the bridge's symmetries (checked below)."""
     rng = np.random.default_rng(3)
     s = np.exp(rng.uniform(-2, 2, 24)) * np.exp(1j * rng.uniform(-1.5, 1.5, 24))
     bridges = [
@@ -162,6 +167,9 @@ def test_two_bridges_realise_non_regular_biquadratics():
                 non_regular.add(br.kinds)
                 break
     assert non_regular == {("c", "c", "c", "k", "b"), ("b", "c", "c", "c", "k")}
+    # frequency inversion of the first, then the symmetry swapping both terminal pairs
+    inverted = tuple({"k": "b", "b": "k"}.get(x, x) for x in ("c", "c", "c", "k", "b"))
+    assert tuple(inverted[i] for i in (3, 2, 1, 0, 4)) == ("b", "c", "c", "c", "k")
 
 
 def test_structural_catalogue_bounds():
