@@ -448,9 +448,11 @@ def simulate_command(
     nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices or adaptive
     if road_file is None:
         check_positive("length", length, "m")
-        if length / (v * h) > 5_000_000:
+        # the states and every node and element output at each sample (a full car with
+        # its comfort observers: about 40 states and 100 outputs): at most 1e6 samples
+        if length / (v * h) > 1_000_000:
             raise ParameterError(
-                "length", length, f"at most {5e6 * v * h:g} m at this speed and dt"
+                "length", length, f"at most {1e6 * v * h:g} m at this speed and dt"
             )
         _check_samples(length / (v * h), v, h, length)
         road = road_spectrum(road_class)
@@ -601,10 +603,10 @@ def monte_carlo_command(
     check_positive("length", length, "m")
     if not 1e-12 <= rtol <= 1e-2:
         raise ParameterError("rtol", rtol, "a relative tolerance in [1e-12, 1e-2]")
-    # the road's samples and the states at each (4 wheels, about 30 states) per worker:
-    # at most 5e6 samples (about 1.5 GB)
-    if length / (v * h) > 5_000_000:
-        raise ParameterError("length", length, f"at most {5e6 * v * h:g} m at this speed and dt")
+    # the states and every node and element output at each sample, per worker (a full
+    # car with its comfort observers: about 40 states and 100 outputs): at most 1e6
+    if length / (v * h) > 1_000_000:
+        raise ParameterError("length", length, f"at most {1e6 * v * h:g} m at this speed and dt")
     _check_samples(length / (v * h), v, h, length)
     path = "" if vehicle is None else str(vehicle)
     from ..systems.vehicle import _stations
