@@ -429,8 +429,9 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
         res["seat_acc"] = outs["seat.a"]
     contact, lift = {}, {}
     loads = sys.info["static_tyre_loads"]
-    for name in sys.info["stations"]:
+    for name in sys.info["stations"]:  # the deflections, then the tyre loads
         res[f"{name}_deflection"] = outs[f"body_{name}.x"] - outs[f"wheel_{name}.x"]
+    for name in sys.info["stations"]:
         f = outs[f"{name}_tyre.force"]
         res[f"{name}_tyre_load"] = -f
         contact[name] = loads[name] - f
