@@ -24,9 +24,16 @@ Run: python benchmarks/bench_design.py [--workers 2] [--model quarter|half|full]
 from __future__ import annotations
 
 import argparse
+import os
 import tempfile
 import time
 from pathlib import Path
+
+
+def _cpu() -> float:
+    """CPU seconds of this process and of its finished worker processes."""
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def main() -> None:
@@ -52,19 +59,25 @@ def main() -> None:
     st = DesignSettings(objective="body_acc_wk")
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "design"
-        times, stages, fig_s = [], [], []
+        times, stages, fig_s, cpu = [], [], [], []
+        load0 = os.getloadavg()[0]
         for _ in range(2):
             t = time.perf_counter()
+            c = _cpu()
             res = run_design(st, out, workers=args.workers)
             t1 = time.perf_counter()
             figs = figures(res)
             (out / "report.html").write_text(render_html(res, figs))
             times.append(time.perf_counter() - t)
+            cpu.append(_cpu() - c)
             fig_s.append(time.perf_counter() - t1)
             stages.append(res["stage_seconds"])
     fresh, resumed = times
     best = res["ranking"][0]
     print(f"warm-up (compiled kernels, one simulation, one H2 optimisation): {warm:.1f} s")
+    print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f} "
+          f"(other work on the machine); CPU of the fresh study {cpu[0]:.1f} s "
+          f"(this process and its workers; / {args.workers} = {cpu[0] / args.workers:.1f} s)")
     print(
         f"default design study, fresh folder, {args.workers} workers: {fresh:.1f} s "
         f"(target 90 s: {'met' if fresh <= 90 else 'missed'}); "
@@ -92,21 +105,21 @@ def vehicle_study(model: str, workers: int) -> None:
     warnings.simplefilter("ignore", RuntimeWarning)  # scipy's Lyapunov near-singular notes
     st = DesignSettings(vehicle=example_vehicle_path().read_text(), model=model,
                         objective="seat_wk")  # fmt: skip
-    import os
-
     load0 = os.getloadavg()[0]
     with tempfile.TemporaryDirectory() as tmp:
         out = Path(tmp) / "design"
         t = time.perf_counter()
+        c = _cpu()
         res = run_design(st, out, workers=workers)
         t1 = time.perf_counter()
         figs = figures(res)
         (out / "report.html").write_text(render_html(res, figs))
         fresh = time.perf_counter() - t
+        cpu = _cpu() - c
         fig_s = time.perf_counter() - t1
     best = res["ranking"][0]
     print(f"load average (1 min) at the start {load0:.1f}, at the end {os.getloadavg()[0]:.1f} "
-          "(other work on the machine)")  # fmt: skip
+          f"(other work on the machine); CPU {cpu:.1f} s (this process and its workers)")  # fmt: skip
     print(
         f"{model}-car design study (example vehicle, seat_wk, budget 2/1/1, four devices, "
         f"{st.roads} roads of {st.horizon:g} s), fresh folder, {workers} workers: {fresh:.1f} s "

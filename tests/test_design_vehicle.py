@@ -153,3 +153,16 @@ def test_synthesis_candidate_outside_the_limits_is_named():
     assert "--limit deflection" in why
     st = DesignSettings(limits={"deflection": 1.0}, max_inertance=300.0)
     assert _synthesis_outside("k | (c - b)", {"k": 9e4, "c": 3e3, "b": 200.0}, st) == ""
+
+
+@pytest.mark.slow
+def test_vehicle_report_draws_its_figures(study):
+    """The vehicle report: the ranking, |H(f)| and the Wk-weighted PSD of the linear
+    winners, each a PNG (none 'not drawn')."""
+    from inerterlab.design.report import figures, render_html
+
+    res, _, _ = study
+    figs = figures(res)
+    assert any(t.startswith("|H(f)|") for t in figs) and any(t.startswith("PSD of") for t in figs)
+    assert not any(b.startswith("not drawn") for b in figs.values())
+    assert "data:image/png;base64" in render_html(res, figs)

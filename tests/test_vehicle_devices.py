@@ -225,13 +225,14 @@ def test_vehicle_file_device_errors_name_key_and_line(extra, match):
         loads_vehicle(example_vehicle_path().read_text() + extra)
 
 
-def test_statistical_linearisation_refuses_devices(tmp_path):
+def test_statistical_linearisation_takes_a_device_element_by_element(tmp_path):
     from inerterlab.vehicles.stochastic import statistical_linearisation
 
     path = tmp_path / "car.toml"
     path.write_text(example_vehicle_path().read_text() + VEHICLE_DEVICE)
-    with pytest.raises(ParameterError, match="front.device"):
-        statistical_linearisation(vehicle=str(path))
+    lin = statistical_linearisation(vehicle=str(path), points=800)
+    assert lin.converged and lin.equivalents
+    assert all(name.startswith("front") for name in lin.equivalents)
 
 
 def test_cli_simulate_runs_a_device_car_nonlinearly(tmp_path):

@@ -29,6 +29,7 @@ from inerterlab.vehicles import (
     load_vehicle,
 )
 from inerterlab.vehicles.frequency import frequency_response, road_pattern
+from inerterlab.vehicles.linear import linear_vehicle
 
 FREQ = np.geomspace(0.3, 30.0, 57)
 
@@ -90,7 +91,7 @@ def _quarter(M, f, m=80.0, k=50e3, c=4e3, kt=400e3, ct=100.0):
 
 def test_symmetric_half_car_is_two_quarter_cars():
     p = _symmetric_half()
-    veh = build(p)
+    veh = linear_vehicle(p)
     heave = frequency_response(veh, FREQ, axles="in-phase")
     np.testing.assert_allclose(heave.transfer["heave"], _quarter(550.0, FREQ), rtol=1e-10)
     assert np.abs(heave.transfer["pitch"]).max() <= 1e-12
@@ -109,7 +110,7 @@ def test_symmetric_half_car_is_two_quarter_cars():
 def test_wheelbase_filter_of_the_half_car():
     """At speed V the heave of a symmetric half car is X_s/X_r (1 + e^{-j w L/V})/2:
     nothing where the wavelength is 2L/(2i+1)."""
-    veh = build(_symmetric_half())
+    veh = linear_vehicle(_symmetric_half())
     V, L = 20.0, 2.6
     fr = frequency_response(veh, FREQ, speed=V)
     delay = np.exp(-2j * math.pi * FREQ * L / V)
@@ -129,20 +130,20 @@ def test_full_car_on_identical_tracks_is_the_half_car():
                    cg_to_front=1.15, cg_to_rear=1.45, front_track=1.52, rear_track=1.50,
                    front=corner, rear=rear, front_anti_roll=8e3,
                    seat=Seat(x=0.3, y=0.0, mass=80.0, stiffness=60e3, damping=800.0))  # fmt: skip
-    a = frequency_response(build(full), FREQ, speed=18.0)
-    b = frequency_response(build(full.half_car()), FREQ, speed=18.0)
+    a = frequency_response(linear_vehicle(full), FREQ, speed=18.0)
+    b = frequency_response(linear_vehicle(full.half_car()), FREQ, speed=18.0)
     for k in ("heave", "pitch", "seat_acc"):
         np.testing.assert_allclose(
             a.transfer[k], b.transfer[k], rtol=1e-9, atol=1e-12 * np.abs(b.transfer[k]).max()
         )
     assert np.abs(a.transfer["roll"]).max() <= 1e-12
-    roll = frequency_response(build(full), FREQ, tracks="anti-phase", speed=18.0)
+    roll = frequency_response(linear_vehicle(full), FREQ, tracks="anti-phase", speed=18.0)
     assert np.abs(roll.transfer["heave"]).max() <= 1e-12 * np.abs(roll.transfer["roll"]).max()
 
 
 def test_refusals():
     params = load_vehicle(example_vehicle_path())
-    half = build(params.half_car())
+    half = linear_vehicle(params.half_car())
     with pytest.raises(ParameterError, match="tracks.*half car"):
         frequency_response(half, FREQ, tracks="anti-phase")
     with pytest.raises(ParameterError, match="axles"):
@@ -153,14 +154,14 @@ def test_refusals():
     dev = dev.replace(front=Corner(unsprung_mass=80.0, tyre=Tyre(stiffness=4e5),
                                    strut=Strut(stiffness=5e4, damping=4e3, device=HydraulicElement())))  # fmt: skip
     with pytest.raises(ParameterError, match=r"front\.dev\..*Coulomb friction"):
-        frequency_response(build(dev), FREQ)
+        frequency_response(dev, FREQ)
 
 
 def test_cli_frequency_response(tmp_path):
     run = [sys.executable, "-m", "inerterlab", "vehicle", "frequency-response", "--speed", "20",
            "--points", "40", "--json", "--csv", str(tmp_path / "fr.csv")]  # fmt: skip
     data = json.loads(subprocess.run(run, capture_output=True, text=True, check=True).stdout)
-    veh = build(load_vehicle(example_vehicle_path()))
+    veh = linear_vehicle(load_vehicle(example_vehicle_path()))
     fr = frequency_response(veh, np.geomspace(0.5, 25.0, 40), speed=20.0)
     np.testing.assert_allclose(data["amplitude"]["roll"], fr.amplitudes()["roll"], rtol=1e-12)
     assert data["amplitude_units"]["seat_acc"] == "m/s^2" and data["model"] == "linear"

@@ -165,8 +165,10 @@ def _tangent_half():
 
 
 def test_frequency_response_and_modes_are_the_linearisation_about_rest():
-    """A car on gas springs: its frequency response and modes are those of the car on
-    the tangent stiffnesses (closed-form compressions), and say they are linearised.
+    """A car on gas springs: its linear frequency response (``method="linear"``; the
+    default balances it at the amplitude, tests/test_vehicle_harmonic.py) and modes are
+    those of the car on the tangent stiffnesses (closed-form compressions), and say they
+    are linearised.
     The core car is linearised about its Newton equilibrium by central differences
     with Richardson's extrapolation (systems.equilibrium.linearise): equal to the
     closed-form tangents to its accuracy, 1e-8 relative."""
@@ -174,9 +176,9 @@ def test_frequency_response_and_modes_are_the_linearisation_about_rest():
     from inerterlab.vehicles.linear import linear_vehicle
     from inerterlab.vehicles.spectral import modes
 
-    car, ref = build(_half()), _tangent_half()
+    car, ref = linear_vehicle(_half()), _tangent_half()
     freq = np.geomspace(0.5, 20.0, 31)
-    fr = frequency_response(car, freq, speed=20.0)
+    fr = frequency_response(car, freq, speed=20.0, method="linear")
     fr0 = frequency_response(ref, freq, speed=20.0)
     assert fr.linearised and fr.to_dict()["model"] == "linearised about the static equilibrium"
     assert not fr0.linearised

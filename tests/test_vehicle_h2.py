@@ -11,8 +11,9 @@ from scipy.integrate import quad
 
 from inerterlab.iso2631 import WEIGHTINGS
 from inerterlab.network_design import road_scale
-from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
+from inerterlab.vehicles import example_vehicle_path, load_vehicle
 from inerterlab.vehicles.design import h2_metrics, optimize_vehicle, vehicle_with
+from inerterlab.vehicles.linear import linear_vehicle
 from inerterlab.vehicles.spectral import white_velocity_h2
 
 SPEED = 25.0
@@ -52,7 +53,7 @@ def test_seat_wk_equals_the_frequency_integral(kind):
     p = load_vehicle(example_vehicle_path())
     if kind == "half":
         p = p.half_car()
-    veh = build(p)
+    veh = linear_vehicle(p)
     h = white_velocity_h2(
         veh, speed=SPEED, weighted={"seat_wk": ("seat_acc", "Wk"), "body_wk": ("bounce_acc", "Wk")}
     )
@@ -63,14 +64,14 @@ def test_seat_wk_equals_the_frequency_integral(kind):
 
 
 def test_the_delay_matters_and_without_speed_the_wheels_are_independent():
-    veh = build(load_vehicle(example_vehicle_path()))
+    veh = linear_vehicle(load_vehicle(example_vehicle_path()))
     delayed = white_velocity_h2(veh, speed=SPEED, outputs=["pitch_acc"])["pitch_acc"]
     indep = white_velocity_h2(veh, outputs=["pitch_acc"])["pitch_acc"]
     assert abs(delayed / indep - 1.0) > 0.01
 
 
 def test_infinite_norms_say_why():
-    veh = build(load_vehicle(example_vehicle_path()))
+    veh = linear_vehicle(load_vehicle(example_vehicle_path()))
     h = white_velocity_h2(veh, speed=SPEED)
     assert h["front_left_tyre_load"] == math.inf
     why = h.reasons["front_left_tyre_load"]
@@ -81,7 +82,7 @@ def test_infinite_norms_say_why():
 def test_seat_wk_rms_scales_with_the_road():
     p = load_vehicle(example_vehicle_path())
     m = h2_metrics(p, "C", SPEED, ["seat_wk"])["seat_wk"]
-    veh = build(p)
+    veh = linear_vehicle(p)
     h = white_velocity_h2(veh, speed=SPEED, weighted={"s": ("seat_acc", "Wk")}, outputs=[])
     assert m == pytest.approx(h["s"] * road_scale("C", SPEED), rel=1e-14)
 

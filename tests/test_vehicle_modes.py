@@ -19,7 +19,7 @@ import sys
 import numpy as np
 import pytest
 
-from inerterlab.vehicles import Corner, HalfCar, Strut, Tyre, build
+from inerterlab.vehicles import Corner, HalfCar, Strut, Tyre, linear_vehicle
 from inerterlab.vehicles.spectral import modes
 
 
@@ -28,7 +28,7 @@ def _car(c):
                   tyre=Tyre(stiffness=400e3))  # fmt: skip
     p = HalfCar(sprung_mass=1100.0, pitch_inertia=1500.0, cg_to_front=1.3, cg_to_rear=1.3,
                 front=axle, rear=axle)  # fmt: skip
-    return p, build(p)
+    return p, linear_vehicle(p)
 
 
 def _quarter_roots(M, m, k, c, kt):
@@ -76,7 +76,7 @@ def test_cli_modes_prints_damped_frequency_and_real_modes(tmp_path):
     data = json.loads(subprocess.run(run, capture_output=True, text=True, check=True).stdout)
     from inerterlab.vehicles import example_vehicle_path, load_vehicle
 
-    osc, real = modes(build(load_vehicle(example_vehicle_path())))
+    osc, real = modes(linear_vehicle(load_vehicle(example_vehicle_path())))
     assert [m["damped_frequency_hz"] for m in data["damped_modes"]] == pytest.approx(
         [m.damped_hz for m in osc], rel=1e-12
     )

@@ -3,37 +3,21 @@
 from __future__ import annotations
 
 import json
-import math
 
 import numpy as np
 import pytest
-from scipy.integrate import quad
 
-from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
+from inerterlab.vehicles import example_vehicle_path, load_vehicle
+from inerterlab.vehicles.linear import linear_vehicle
 from inerterlab.vehicles.roads import road_spectrum
 from inerterlab.vehicles.spectral import spectral_response
 from inerterlab.vehicles.stochastic import (
-    _friction_gain,
     _wilson,
     monte_carlo,
     statistical_linearisation,
 )
 
 SHORT = dict(road_class="C", speed=20.0, length=300.0, dt=0.002, warmup=2.0)
-
-
-def test_friction_gain_is_the_gaussian_mean_of_g_v_over_variance():
-    F, vf = 150.0, 0.02
-    for sigma in (0.005, 0.05, 0.4):
-
-        def integrand(v, sigma=sigma):
-            pdf = math.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2 * math.pi))
-            return F * math.tanh(v / vf) * v * pdf
-
-        exact = quad(integrand, -12 * sigma, 12 * sigma, limit=400, points=[0.0])[0] / sigma**2
-        assert _friction_gain(sigma, F, vf) == pytest.approx(exact, rel=1e-8)
-    # Coulomb limit v_f -> 0: F sqrt(2/pi) / sigma
-    assert _friction_gain(0.3, F, 1e-6) == pytest.approx(F * math.sqrt(2 / math.pi) / 0.3, 1e-4)
 
 
 def test_wilson_interval_known_values():
@@ -46,33 +30,10 @@ def test_wilson_interval_known_values():
 def test_linearisation_of_symmetric_linear_vehicle_is_the_vehicle():
     lin = statistical_linearisation(model="half", road_class="C", speed=15.0)
     params = load_vehicle(example_vehicle_path()).half_car()
-    ref = spectral_response(build(params), road_spectrum("C"), 15.0)
-    assert lin.converged
-    assert lin.damping == {"front": params.front.strut.damping, "rear": params.rear.strut.damping}
+    ref = spectral_response(linear_vehicle(params), road_spectrum("C"), 15.0)
+    assert lin.converged and lin.equivalents == {}
     for k in ("bounce_acc", "front_deflection", "rear_tyre_load"):
         assert lin.rms[k] == pytest.approx(ref.rms[k], rel=1e-9)
-
-
-def test_asymmetric_damper_linearises_to_the_mean_rate():
-    lin = statistical_linearisation(model="full", rebound=1.6, compression=0.6)
-    params = load_vehicle(example_vehicle_path())
-    assert lin.converged
-    assert lin.damping["front"] == pytest.approx(1.1 * params.front.strut.damping, rel=1e-12)
-    # the rectified part sets the car down: every strut's mean deflection is negative
-    # (more damping while extending pulls the strut shorter on average)
-    assert all(lin.mean[f"{c}_deflection"] < 0 for c in ("front_left", "rear_right"))
-
-
-def test_friction_fixed_point_is_self_consistent():
-    lin = statistical_linearisation(model="full", friction=120.0, friction_velocity=0.01)
-    params = load_vehicle(example_vehicle_path())
-    assert lin.converged
-    for axle in ("front", "rear"):
-        c0 = getattr(params, axle).strut.damping
-        assert lin.damping[axle] == pytest.approx(
-            c0 + _friction_gain(lin.velocity_rms[axle], 120.0, 0.01), rel=1e-8
-        )
-        assert lin.damping[axle] > c0
 
 
 @pytest.mark.slow

@@ -47,6 +47,7 @@ __all__ = [
     "stable_scaled",
     "wk_realisation",
     "wk_polynomials",
+    "variance_gradient",
 ]
 
 
@@ -384,3 +385,62 @@ def h2_rational_filtered(polys, n, which, fA, fB, fC):
     if not (acc >= 0.0):
         return np.inf
     return acc
+
+
+# ---------------------------------------------------------------------------------------
+# the variance of one output and its adjoint gradient (general state space)
+
+
+def variance_gradient(A, B, c, *, delay=None, gradient: bool = True, what: str = "H2 norms"):
+    """Variance J of y = c x for x' = A x + B w, w unit white noise, and its gradients.
+
+    J = c P c^T with A P + P A^T + B B^T = 0. ``delay`` = (tau, front, rear): the
+    columns ``rear`` of B carry the inputs of the columns ``front`` delayed by tau [s]
+    (a vehicle's rear wheels on the front wheels' track), which adds
+    2 c e^(A tau) X c^T, A X + X A^T + B_front B_rear^T = 0.
+
+    Returns (J, dJ/dA, dJ/dB, dJ/dc) with the gradients as arrays of the shapes of A, B,
+    c, so that dJ = <dJ/dA, dA> + <dJ/dB, dB> + <dJ/dc, dc> (elementwise products
+    summed) for any change of the matrices; (J, None, None, None) without ``gradient``.
+    The gradients come from the adjoint equations: L from A^T L + L A + c^T c = 0 gives
+    the first term's 2 L P, 2 L B, 2 c P; the delay term's X is differentiated through
+    the adjoint M of A^T M + M A = e^(A^T tau) c^T c and e^(A tau) through its Fréchet
+    derivative (one evaluation, transposed: <G, L(A, E)> = <L(A^T, G), E>).
+    """
+    from scipy.linalg import expm_frechet, solve_continuous_lyapunov
+    from scipy.sparse.linalg import expm_multiply
+
+    A = np.asarray(A, dtype=float)
+    B = np.asarray(B, dtype=float)
+    c = np.asarray(c, dtype=float)
+    P = gramian(A, B, what=what)
+    J = float(c @ P @ c)
+    if delay is not None:
+        tau, front, rear = delay
+        bf, br = B[:, list(front)], B[:, list(rear)]
+        X = solve_continuous_lyapunov(A, -(bf @ br.T))
+        if not gradient:  # c e^(A tau) = (e^(A^T tau) c^T)^T, one vector
+            J += 2.0 * float(expm_multiply(A.T * tau, c) @ X @ c)
+        else:
+            E = expm_frechet(A * tau, np.zeros_like(A), compute_expm=True)[0]
+            J += 2.0 * float(c @ E @ X @ c)
+    if not gradient:
+        return J, None, None, None
+    cc = np.outer(c, c)
+    L = solve_continuous_lyapunov(A.T, -cc)
+    gA = 2.0 * L @ P
+    gB = 2.0 * L @ B
+    gc = 2.0 * c @ P
+    if delay is not None:
+        EX = E @ X
+        gc = gc + 2.0 * (EX @ c + c @ EX)
+        # through X: A dX + dX A^T = -(dA X + X dA^T + dB_f B_r^T + B_f dB_r^T)
+        M = solve_continuous_lyapunov(A.T, E.T @ cc)
+        gA = gA - 2.0 * (M @ X.T + M.T @ X)
+        gB = gB.copy()
+        gB[:, list(front)] -= 2.0 * M @ br
+        gB[:, list(rear)] -= 2.0 * M.T @ bf
+        # through e^(A tau): c dE X c^T = <c^T c X^T, L(A tau, tau dA)>
+        _, Lt = expm_frechet(A.T * tau, cc @ X.T)
+        gA = gA + 2.0 * tau * Lt
+    return J, gA, gB, gc

@@ -48,6 +48,7 @@ __all__ = [
     "Network",
     "parse_network",
     "admittance",
+    "admittance_coefficients",
     "enumerate_networks",
     "MAX_LAYOUTS",
     "same_family",
@@ -355,7 +356,7 @@ def _strip_s(num: np.ndarray, den: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 def _padd(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     n = max(len(a), len(b))
-    out = np.zeros(n)
+    out = np.zeros(n, dtype=np.result_type(a, b))
     out[: len(a)] += a
     out[: len(b)] += b
     return out
@@ -394,7 +395,16 @@ def admittance(network: str | Network, params: dict) -> tuple[np.ndarray, np.nda
     """
     net = parse_network(network)
     vec = net.parameter_vector(params)
-    num, den = _adm_asc(net.tree, dict(zip(net.names, vec, strict=True)))
+    return admittance_coefficients(net, dict(zip(net.names, vec, strict=True)))
+
+
+def admittance_coefficients(network: str | Network, values: dict):
+    """The polynomials of :func:`admittance` for element ``values`` taken as given (no
+    check): any numeric type, so a complex value k + i h gives, in the imaginary parts
+    over h, the derivatives of the coefficients in k (the complex step; the
+    coefficients are polynomials in the values, so the step is exact to rounding)."""
+    net = parse_network(network)
+    num, den = _adm_asc(net.tree, values)
     num = np.trim_zeros(num, "b") if np.any(num) else np.zeros(1)
     den = np.trim_zeros(den, "b")
     return num[::-1].copy(), den[::-1].copy()

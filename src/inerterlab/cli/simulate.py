@@ -11,7 +11,19 @@ import typer
 
 from ..io import atomic_path
 from ..metrics import METRIC_KEYS, METRIC_UNITS
-from ._common import atomic_savefig, atomic_write_text, emit_json, print_table, seed_option
+from ._common import (
+    Axle,
+    CarSprungMass,
+    CarTyreDamping,
+    CarTyreStiffness,
+    CarUnsprungMass,
+    VehicleFile,
+    atomic_savefig,
+    atomic_write_text,
+    emit_json,
+    print_table,
+    seed_option,
+)
 
 _CAR_HELP = "Quarter car (SI units; base values of thesis (4.16))."
 _JSON_KEYS = METRIC_KEYS
@@ -302,14 +314,20 @@ def h2_command(
     inertance: Annotated[
         float | None, typer.Option(help="cfw only: inertance b [kg] (default r^2 x 2.231e-4).")
     ] = None,
-    sprung_mass: Annotated[
-        float, typer.Option("--sprung-mass", "--body-mass", help="Sprung mass [kg].")
-    ] = 370.0,
-    unsprung_mass: Annotated[float, typer.Option(help="Unsprung mass [kg].")] = 25.0,
-    stiffness: Annotated[float, typer.Option(help="Suspension stiffness [N/m].")] = 90_000.0,
-    damping: Annotated[float, typer.Option(help="Suspension damping [N s/m].")] = 5000.0,
-    tyre_stiffness: Annotated[float, typer.Option(help="Tyre stiffness [N/m].")] = 120_000.0,
-    tyre_damping: Annotated[float, typer.Option(help="Tyre damping [N s/m].")] = 1300.0,
+    sprung_mass: CarSprungMass = None,
+    unsprung_mass: CarUnsprungMass = None,
+    stiffness: Annotated[
+        float | None,
+        typer.Option(help="Suspension stiffness [N/m] (default: the --vehicle strut's, else 90000)."),
+    ] = None,
+    damping: Annotated[
+        float | None,
+        typer.Option(help="Suspension damping [N s/m] (default: the --vehicle strut's, else 5000)."),
+    ] = None,
+    tyre_stiffness: CarTyreStiffness = None,
+    tyre_damping: CarTyreDamping = None,
+    vehicle: VehicleFile = None,
+    axle: Axle = "front",
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     network: Annotated[
         str | None,
@@ -319,20 +337,29 @@ def h2_command(
         list[str] | None,
         typer.Option("--param", "-p", help="With --network: element parameter name=value."),
     ] = None,
-) -> None:
+    plot: Annotated[
+        Path | None,
+        typer.Option(help="Figure (.png/.pdf): |H(f)| of the body acceleration against k | c, "
+                     "and its PSD with and without the Wk weighting."),
+    ] = None,
+) -> None:  # fmt: skip
     """H2 norms from unit white road velocity (Lyapunov equation, no time stepping).
 
-    Infinite norms (direct feed-through) are printed as null with the reason under
-    "infinite". Example: inerterlab h2 --suspension cfw --tyre-damping 0 --json
+    Infinite norms (direct feed-through) are printed as "infinite" (null in JSON) with
+    the reason under "infinite". Example: inerterlab h2 --suspension cfw --tyre-damping
+    0 --json
     """
     from ..errors import ParameterError
     from ..metrics import h2_norms
+    from ..network_design import unit_of
     from ..systems import quarter_car
+    from ._common import car_options
 
+    car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
     if network is not None:
         _h2_network(
-            network, _parse_params(param), sprung_mass, unsprung_mass, tyre_stiffness,
-            tyre_damping, json_out,
+            network, _parse_params(param), car["sprung_mass"], car["unsprung_mass"],
+            car["tyre_stiffness"], car["tyre_damping"], json_out,
         )  # fmt: skip
         return
     if param:
@@ -341,22 +368,46 @@ def h2_command(
         raise ParameterError(
             "suspension", suspension, "'traditional' or 'cfw' (linear suspensions)"
         )
+    if stiffness is None:
+        stiffness = car.spring if car.spring is not None else 90_000.0
+    if damping is None:
+        damping = car.damping if car.damping is not None else 5000.0
     extra = {"inertance": inertance} if inertance is not None else {}
-    car = quarter_car(
+    model = quarter_car(
         suspension,
-        **_car_kwargs(sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping),
+        **_car_kwargs(car["sprung_mass"], car["unsprung_mass"], stiffness, damping,
+                      car["tyre_stiffness"], car["tyre_damping"]),
         **extra,
-    )
-    n = h2_norms(car)
+    )  # fmt: skip
+    n = h2_norms(model)
     out = {k: n.norms[k] for k in ("body_acc", "tyre_deflection", "suspension_deflection")}
     out.update(tyre_grip=n.norms["tyre_grip"], body_acc_wk=n.norms["body_acc_wk"])
+    units = {k: unit_of(k) for k in ("body_acc", "tyre_deflection", "suspension_deflection",
+                                     "body_acc_wk")}  # fmt: skip
+    units["tyre_grip"] = "-"
     if n.infinite:
         out["infinite"] = dict(n.infinite)
+    out["units"] = units
+    out["per"] = "H2 norms per unit white road velocity (two-sided density 1 (m/s)^2 per rad/s)"
+    out["car"] = car.describe()
+    if plot is not None:
+        from ..network_design import network_figure
+
+        params = {"k": stiffness, "c": damping}
+        if suspension == "cfw":
+            params["b"] = float(model.elements[model.element_names.index("b")].inertance)
+        net = "k | c | b" if suspension == "cfw" else "k | c"
+        atomic_savefig(network_figure(net, params, **dict(car)), plot)
+        out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
-    rows = [(k, "infinite" if v is None else f"{v:.6g}") for k, v in out.items() if k != "infinite"]
+    rows = [(f"{k} [{units[k]}]", "infinite" if v is None else f"{v:.6g}")
+            for k, v in out.items() if k in units]  # fmt: skip
     print_table(f"H2 norms, {suspension}, unit white road velocity", rows)
+    print(car.describe())
+    for k, why in n.infinite.items():
+        print(f"{k}: {why}")
 
 
 def _h2_network(network, params, ms, mu, kt, ct, json_out) -> None:

@@ -22,9 +22,8 @@ _VEHICLE = typer.Option(
 _JSON = typer.Option("--json", help="Print the result as one JSON object.")
 
 
-def _params(path: Path | None, model: str):
-    """The car's parameters from the file (or the packaged example), ``model`` half
-    taking a full car's half car."""
+def _parameters(path: Path | None, model: str):
+    """The HalfCar or FullCar of the vehicle file (``model``: file, half or full)."""
     from ..errors import check_choice
     from ..vehicles.config import example_vehicle_path, load_vehicle
 
@@ -45,7 +44,7 @@ def _load(path: Path | None, model: str, linear: bool = True):
     refuses a car that does not rest."""
     from ..vehicles.linear import linear_vehicle
 
-    params = _params(path, model)
+    params = _parameters(path, model)
     return params, linear_vehicle(params)
 
 
@@ -115,7 +114,13 @@ def spectral_command(
     ] = "isotropic",
     points: Annotated[int, typer.Option(help="Frequencies of the log grid [-].")] = 4000,
     json_out: Annotated[bool, _JSON] = False,
-) -> None:
+    plot: Annotated[
+        Path | None,
+        typer.Option(help="Figure (.png/.pdf): the PSDs of the seat (or bounce) acceleration "
+                     "with and without Wk, of the pitch acceleration and of each corner's "
+                     "suspension deflection."),
+    ] = None,
+) -> None:  # fmt: skip
     """RMS of every output on an ISO 8608 road by the spectral method (no time simulation).
 
     Road band 0.01-10 cycle/m, waviness 2; rear wheels delayed by wheelbase/V.
@@ -137,6 +142,11 @@ def spectral_command(
     res = spectral_response(veh, road, speed, points=points)
     out = res.to_dict()
     out.update(model=veh.kind, gd_n0=road.gd_n0, coherence=road.coherence)
+    if plot is not None:
+        from ._common import atomic_savefig
+
+        atomic_savefig(_spectral_figure(veh, res, road, speed), plot)
+        out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
@@ -144,6 +154,29 @@ def spectral_command(
     rows += [(f"{c}_static_load [N]", _fmt(res.static_load[c])) for c in veh.corners]
     rows += [(f"{c}_lift_off_probability [-]", f"{res.lift_off[c]:.3g}") for c in veh.corners]
     _table(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s: RMS values", rows)
+
+
+def _spectral_figure(veh, res, road, speed):
+    """PSDs of the spectral method's outputs on log axes (one-sided, per Hz)."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(10, 4))
+    ax1, ax2 = fig.subplots(1, 2)
+    acc = "seat_acc" if "seat_acc" in res.psd else "bounce_acc"
+    ax1.loglog(res.freq, res.psd[acc], label=f"{acc} [(m/s^2)^2/Hz]")
+    ax1.loglog(res.freq, res.psd[f"{acc}_wk"], "--", label=f"{acc}, Wk weighted")
+    ax1.loglog(res.freq, res.psd["pitch_acc"], ":", label="pitch_acc [(rad/s^2)^2/Hz]")
+    for c in veh.corners:
+        ax2.loglog(res.freq, res.psd[f"{c}_deflection"], label=f"{c} deflection [m^2/Hz]")
+    for ax in (ax1, ax2):
+        ax.set_xlabel("frequency [Hz]")
+        ax.set_ylabel("one-sided PSD")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle(f"{veh.kind} car, Gd(n0) = {road.gd_n0:.3g} m^3, V = {speed:g} m/s "
+                 "(spectral method, linear)")  # fmt: skip
+    fig.tight_layout()
+    return fig
 
 
 def modes_command(
@@ -219,18 +252,33 @@ def frequency_response_command(
     fmin: Annotated[float, typer.Option(help="Lowest frequency [Hz].")] = 0.5,
     fmax: Annotated[float, typer.Option(help="Highest frequency [Hz].")] = 25.0,
     points: Annotated[int, typer.Option(help="Frequencies, log spaced [-].")] = 200,
+    method: Annotated[
+        str,
+        typer.Option(
+            help="auto (linear car: state space; nonlinear corners: harmonic balance), "
+            "linear or harmonic-balance."
+        ),
+    ] = "auto",
+    harmonics: Annotated[
+        int | None, typer.Option(help="Harmonics of the harmonic balance [-] (default 7).")
+    ] = None,
     json_out: Annotated[bool, _JSON] = False,
     csv: Annotated[Path | None, typer.Option(help="Write one row per frequency to this CSV.")] = None,
     plot: Annotated[Path | None, typer.Option(help="Write the amplitudes to this figure.")] = None,
 ) -> None:
     """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
-    linear car on a sine road of amplitude A, and per unit road amplitude, over a log
-    grid of frequencies (from the state space, steady state).
+    car on a sine road of amplitude A, and per unit road amplitude, over a log grid of
+    frequencies (steady state).
 
     Front and rear move together on a rig (--axles in-phase, default), against each other
     (--axles anti-phase), or as on the road at --speed V (the rear wheels see the road
-    wheelbase/V later). A corner with an adaptive inerter or a nonlinear device is
-    refused (use vehicle simulate). Prints each response's peak; --csv for every row.
+    wheelbase/V later). A linear car's response comes from its state space; a car with a
+    nonlinear element at a corner (gas spring, bump stop, quadratic damper, adaptive
+    inerter) from the harmonic balance of the whole car at this amplitude, its amplitude
+    the half peak-to-peak of the steady response (--method harmonic-balance forces it,
+    --method linear takes the linearisation about the static equilibrium). Friction is
+    refused by the balance (use vehicle simulate). Prints each response's peak; --csv for
+    every row.
 
     Example: inerterlab vehicle frequency-response --vehicle car.toml --tracks anti-phase --csv fr.csv
     """
@@ -240,16 +288,18 @@ def frequency_response_command(
     from ..vehicles.frequency import UNITS, frequency_response
     from ._common import atomic_savefig, atomic_write_text
 
-    params, veh = _load(vehicle, model, linear=True)
+    params = _parameters(vehicle, model)
     lo = check_positive("fmin", fmin, "Hz")
     hi = check_positive("fmax", fmax, "Hz")
     if not hi > lo:
         raise ParameterError("fmax", fmax, f"a frequency above fmin = {fmin:g} Hz")
     if not 2 <= points <= MAX_POINTS:
         raise ParameterError("points", points, f"an integer in [2, {MAX_POINTS}]")
+    if harmonics is not None and not 1 <= harmonics <= 50:
+        raise ParameterError("harmonics", harmonics, "an integer in [1, 50]")
     fr = frequency_response(
-        veh, np.geomspace(lo, hi, points), amplitude=amplitude, tracks=tracks, axles=axles,
-        speed=speed,
+        params, np.geomspace(lo, hi, points), amplitude=amplitude, tracks=tracks, axles=axles,
+        speed=speed, method=method, harmonics=harmonics,
     )  # fmt: skip
     out = fr.to_dict()
     if csv is not None:
@@ -267,6 +317,8 @@ def frequency_response_command(
         unit = out["amplitude_units"][k]
         rows.append((f"peak {k} amplitude [{unit}]", f"{a:.4g} at {f:.3f} Hz"))
         rows.append((f"  per road amplitude [{UNITS[k]}]", f"{a / fr.amplitude:.4g}"))
+    if fr.failed:
+        rows.append(("frequencies where the balance failed [-]", str(fr.failed)))
     _table(f"frequency response ({fr.model}): {fr.input_label()}", rows)
     for key in ("csv", "plot"):
         if key in out:
@@ -437,7 +489,7 @@ def simulate_command(
     from ..vehicles.simulation import simulate_vehicle
     from ..vehicles.spectral import generated_road, road_inputs, spectral_response
 
-    params = _params(vehicle, model)
+    params = _parameters(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
     full = hasattr(params, "front_track")
@@ -611,7 +663,7 @@ def monte_carlo_command(
     path = "" if vehicle is None else str(vehicle)
     from ..systems.vehicle import _stations
 
-    params = _params(vehicle, model)
+    params = _parameters(vehicle, model)
     devices = any(st[3].strut.device is not None for st in _stations(params)[1]
                   if hasattr(st[3].strut, "device"))  # fmt: skip
     settings = dict(

@@ -61,7 +61,6 @@ DESIGN_OBJECTIVES = ("seat_wk", "body_acc_wk", "body_acc", "tyre_load", "weighte
 _OUT_MEMBERS = ("stores", "design.json", "report.html")
 _STORES = (
     "layouts.zarr",
-    "layouts_polished.zarr",
     "devices_linear.zarr",
     "devices.zarr",
     "scores.zarr",
@@ -251,13 +250,14 @@ def estimate(st: DesignSettings, workers: int = 2) -> dict:
     t_req = nreq * 12 * st.tune_roads * st.horizon * _COST["device_s"]
     t_syn = _COST["synth"] * (4 if st.synthesize == 3 else 1) if st.synthesize else 0.0
     if st.is_vehicle:
-        # one vehicle polish about 80 s of CPU (a full car, measured on the loaded
-        # machine), the first pass about 1 s per layout; a second of vehicle road about
-        # 2.5 times a quarter car's device candidate
+        # one vehicle layout (two quarter-car starts and the polish with exact
+        # gradients) about 4 s of CPU, a device's linear search about 2 s (a full car,
+        # measured on the loaded machine); a second of vehicle road about 2.5 times a
+        # quarter car's device candidate
         n_lin = len([d for d in st.devices if d != "fluid"])
-        t_layout = layouts * 1.0 + min(layouts, st.top + 3) * 80.0
+        t_layout = layouts * 4.0
         t_dev = ndev * 12 * st.tune_roads * st.horizon * _COST["device_s"] * 2.5
-        t_dev += min(layouts, st.top) * n_lin * 30.0
+        t_dev += min(layouts, st.top) * n_lin * 2.0
         t_score = st.roads * st.horizon * (cands + ndev) * _COST["device_s"] * 2.5
         t_req *= 2.5
     w = max(1, workers)
@@ -408,22 +408,12 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     if st.is_vehicle:
         keys += ("limits", "road_class", "speed")
     layout_settings = {k: common[k] for k in keys}
+    if st.is_vehicle:  # every layout searched in the vehicle, on exact gradients (a store
+        # of the former first pass, at the quarter-car optima alone, is not reused)
+        layout_settings["polish"] = True
     ds = _sweep("design-layout", {"network": nets}, {"settings": json.dumps(layout_settings, sort_keys=True)},
                 store("layouts.zarr"), workers, progress)  # fmt: skip
     source = {text: ds for text in nets}
-    polished = set(nets)
-    if st.is_vehicle:
-        # the sweep above put each layout at its corners' quarter-car optima (one vehicle
-        # evaluation each); the vehicle search polishes k | c and the best top + 2
-        fin = sorted((float(ds.sel(network=t).objective), t) for t in nets
-                     if int(ds.sel(network=t).status) == 1
-                     and math.isfinite(float(ds.sel(network=t).objective)))  # fmt: skip
-        polished = {"k | c"} | {t for _, t in fin[: st.top + 2]}
-        say(f"design: polishing {len(polished)} layouts in the {st.model} car")
-        dsp = _sweep("design-layout", {"network": sorted(polished)},
-                     {"settings": json.dumps({**layout_settings, "polish": True}, sort_keys=True)},
-                     store("layouts_polished.zarr"), workers, progress)  # fmt: skip
-        source.update({t: dsp for t in polished})
     layouts = []
     for text in nets:
         ds = source[text]
@@ -447,7 +437,6 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             "network": text,
             "objective": float(row.objective),
             "parameters": _unpack(ds, {"network": text}, names),
-            **({} if text in polished else {"polished": False}),
             "norms": {k: float(row[f"norm_{k}"]) for k in ("body_acc", "tyre_deflection",
                                                            "suspension_deflection")},
         })  # fmt: skip

@@ -155,18 +155,24 @@ def _vehicle_figures(result: dict, win: list) -> dict:
     the band-limited ISO 8608 road (spectral method, linear)."""
     from matplotlib.figure import Figure
 
-    from ..vehicles import build, road_spectrum, spectral_response
+    from ..vehicles import linear_vehicle, road_spectrum, spectral_response
     from .vehicle import candidate_vehicle
 
     st = result["settings"]
     car = {"vehicle": st["vehicle"], "model": st["model"]}
     fig = Figure(figsize=(6.4, 4.2))
     ax = fig.add_subplot(1, 1, 1)
+    fig_h = Figure(figsize=(6.4, 4.2))
+    ax_h = fig_h.add_subplot(1, 1, 1)
+    f = np.geomspace(0.3, 30.0, 300)
     name = "?"
     for r in win:
         if r["kind"] == "device":
             continue
-        veh = build(candidate_vehicle(car, r["core"]))
+        veh = linear_vehicle(candidate_vehicle(car, r["core"]))
+        out = "seat_acc" if "seat_acc" in veh.outputs else "bounce_acc"
+        h = veh.frequency_response(f, [out])[out][:, 0]  # from the front (left) wheel's road
+        ax_h.loglog(f, np.abs(h), label=r["label"], lw=1.2)
         res = spectral_response(veh, road_spectrum(st["road_class"]), st["speed"], points=1500)
         name = "seat_acc_wk" if "seat_acc_wk" in res.psd else "bounce_acc_wk"
         ax.loglog(res.freq, res.psd[name],
@@ -177,7 +183,15 @@ def _vehicle_figures(result: dict, win: list) -> dict:
     ax.set_title("Wk-weighted acceleration, linear, spectral method (ISO 8608 band)", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
-    return {f"PSD of {name}: the linear winners against k | c (linear, spectral method)": _png(fig)}
+    ax_h.set_xlabel("frequency [Hz]")
+    ax_h.set_ylabel(f"|H| of {out} per m of road height under the front (left) wheel [(m/s^2)/m]")
+    ax_h.set_title("Transfer from one front wheel's road height (linear)", fontsize=9)
+    ax_h.grid(True, which="both", alpha=0.3)
+    ax_h.legend(fontsize=7)
+    return {
+        f"|H(f)| of {out}: the linear winners against k | c (linear)": _png(fig_h),
+        f"PSD of {name}: the linear winners against k | c (linear, spectral method)": _png(fig),
+    }
 
 
 def _fmt(x, spec=".4g") -> str:

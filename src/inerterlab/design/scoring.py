@@ -405,7 +405,7 @@ def _layout_point(params: Mapping[str, Any]) -> dict[str, float]:
         r = optimize_layout(
             s["car"], params["network"], s["h2_objective"],
             bounds=s["bounds_of"].get(params["network"], {}), limits=s["limits"],
-            road_class=s["road_class"], speed=s["speed"], polish=bool(s.get("polish")),
+            road_class=s["road_class"], speed=s["speed"],
         )  # fmt: skip
         out = {"objective": r["objective"] if math.isfinite(r["objective"]) else None,
                "converged": float(r["converged"]), "norm_body_acc": None,

@@ -14,10 +14,12 @@ Linear stage: the objective is the RMS of the Wk-weighted seat acceleration
 ``body_acc``) under white road velocity, exact by Lyapunov with the Wk filter as states
 and the wheelbase delay (:func:`inerterlab.vehicles.design.h2_metrics`). It is
 minimised over the per-axle values in their logarithms by L-BFGS-B (SLSQP with
-limits), started from the quarter-car H2 optimum of each axle's corner
-(:func:`inerterlab.network_design.optimize_network`) and from the geometric middle of
-the bounds (at most 40 iterations each; a layout running to a bound that stands for a
-simpler one converges slowly and is reported as that one). Limits (RMS suspension deflection and dynamic tyre
+limits) on its exact gradient (adjoint Lyapunov equations, the state space's
+derivatives by complex steps: :func:`linear_objective_gradient`), started from the
+quarter-car H2 optimum of each axle's corner
+(:func:`inerterlab.network_design.optimize_network`) or from the geometric middle of
+the bounds (at most 100 iterations each; a layout running to a bound that stands for a
+simpler one is reported as that one). Limits (RMS suspension deflection and dynamic tyre
 load of the worst corner) use the spectral method on the band-limited ISO 8608 road
 (both are infinite under white road velocity for a full car, see
 :func:`inerterlab.vehicles.spectral.white_velocity_h2`).
@@ -54,6 +56,7 @@ __all__ = [
     "candidate_vehicle",
     "device_misfit",
     "linear_objective",
+    "linear_objective_gradient",
     "optimize_layout",
     "simulate_vehicle_candidate",
 ]
@@ -219,6 +222,23 @@ def linear_objective(car: Mapping, network: str, values: Mapping, objective: str
     return float(v)
 
 
+#: largest projected gradient of a converged polish [objective per unit log value]
+_GTOL = 1e-5
+def linear_objective_gradient(car: Mapping, network: str, values: Mapping, objective: str,
+                              road_class: str, speed: float, names) -> tuple:  # fmt: skip
+    """:func:`linear_objective` and its derivatives in the logarithms of the per-axle
+    values ``names`` (front_/rear_ element names), exact
+    (:func:`inerterlab.vehicles.design.h2_metric_gradient`). (inf, None) where the
+    objective is infinite or the vehicle unstable."""
+    from ..vehicles.design import h2_metric_gradient
+
+    p = candidate_vehicle(car, {"network": network, "params": split_axles(values)})
+    try:
+        return h2_metric_gradient(p, objective, names, road_class, speed)
+    except ConvergenceError:
+        return math.inf, None
+
+
 def _limit_values(car, network, values, road_class, speed) -> dict:
     """Worst-corner RMS deflection [m] and dynamic tyre load [N] on the band-limited
     ISO 8608 road (spectral method)."""
@@ -235,7 +255,7 @@ def _limit_values(car, network, values, road_class, speed) -> dict:
 def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mapping,
                     fixed: Mapping | None = None, limits: Mapping | None = None,
                     road_class: str, speed: float, start: str = "quarter",
-                    initial: Mapping | None = None, polish: bool = True) -> dict:  # fmt: skip
+                    initial: Mapping | None = None) -> dict:  # fmt: skip
     """Per-axle values of ``network`` minimising the linear ``objective``.
 
     ``bounds``: element -> [low, high] (both axles; default the element's design
@@ -245,8 +265,8 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
     quarter-car optimum of each axle's corner), 'middle' (the bounds' geometric middle)
     or 'both' (the better end; the design uses 'quarter', the tests check that the
     middle start ends at the same optimum); ``initial`` (front_/rear_ values) replaces
-    them. ``polish`` False: the values at the first start, without a search (the
-    design's first pass over every layout). Returns {'objective', 'parameters' (front_/rear_ names,
+    them. Each start is polished by L-BFGS-B (SLSQP with limits) on the exact gradient
+    (:func:`linear_objective_gradient`). Returns {'objective', 'parameters' (front_/rear_ names,
     k included), 'converged', 'limit_values'}."""
     from scipy.optimize import minimize
 
@@ -272,20 +292,22 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
         out.update(dict(zip(var, np.exp(np.clip(x, lo, hi)), strict=True)))
         return out
 
-    def f(x):
-        v = linear_objective(car, network, values(x), objective, road_class, speed)
-        return v if math.isfinite(v) else 1e6
+    cache: dict = {}
 
-    def grad(x):
-        # central differences in the logarithms, step 1e-4: the norm carries rounding
-        # of about 1e-10 relative (Lyapunov solutions over time scales from the tyre's
-        # to the Wk filter's 0.08 Hz), which a smaller step would amplify
-        g = np.empty(x.size)
-        for i in range(x.size):
-            e = np.zeros(x.size)
-            e[i] = 1e-4
-            g[i] = (f(x + e) - f(x - e)) / 2e-4
-        return g
+    def fg(x):
+        # the objective and its exact gradient in the logarithms (adjoint Lyapunov
+        # equations, the matrices' derivatives by complex steps): one evaluation
+        key = np.asarray(x, dtype=float).tobytes()
+        if key not in cache:
+            v, g = linear_objective_gradient(car, network, values(x), objective, road_class,
+                                             speed, var)  # fmt: skip
+            inside = (x >= lo) & (x <= hi)  # values(x) clips: flat outside the bounds
+            cache.clear()
+            cache[key] = (v, np.where(inside, g, 0.0)) if math.isfinite(v) else (1e6, np.zeros(x.size))
+        return cache[key]
+
+    def f(x):
+        return fg(x)[0]
 
     starts = []
     if initial is not None:  # e.g. the ideal layout's optimum for a device's network
@@ -305,8 +327,8 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
         starts.append(np.clip(np.array(x0), lo, hi))
     if start in ("middle", "both"):
         starts.append(0.5 * (lo + hi))
-    if not names or not polish:  # no search: the (first) start as it is
-        vals = values(starts[0] if names else np.zeros(0))
+    if not names:  # nothing to search
+        vals = values(np.zeros(0))
         obj = linear_objective(car, network, vals, objective, road_class, speed)
         lim = _limit_values(car, network, vals, road_class, speed) if limits else {}
         return {"objective": obj, "parameters": vals, "converged": True, "limit_values": lim}
@@ -319,16 +341,20 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
     best = None
     for x0 in starts:
         if limits:
-            r = minimize(f, x0, jac=grad, method="SLSQP", bounds=list(zip(lo, hi, strict=True)),
-                         constraints=cons, options={"maxiter": 40, "ftol": 1e-10})  # fmt: skip
+            r = minimize(fg, x0, jac=True, method="SLSQP", bounds=list(zip(lo, hi, strict=True)),
+                         constraints=cons, options={"maxiter": 100, "ftol": 1e-10})  # fmt: skip
         else:
-            r = minimize(f, x0, jac=grad, method="L-BFGS-B", bounds=list(zip(lo, hi, strict=True)),
-                         options={"maxiter": 40, "ftol": 1e-10, "gtol": 1e-6})  # fmt: skip
+            r = minimize(fg, x0, jac=True, method="L-BFGS-B", bounds=list(zip(lo, hi, strict=True)),
+                         options={"maxiter": 100, "ftol": 1e-10, "gtol": _GTOL})  # fmt: skip
         x = np.clip(r.x, lo, hi)
-        val = f(x)
+        val, g = fg(x)
+        # the norm's rounding (about 1e-10 relative) can stop the line search once the
+        # gradient is near 1e-5: a stationary point in the bounds is converged too
+        pg = np.where(x <= lo, np.minimum(g, 0.0), np.where(x >= hi, np.maximum(g, 0.0), g))
+        done = bool(r.success) or (not limits and float(np.max(np.abs(pg), initial=0.0)) <= _GTOL)
         lim = _limit_values(car, network, values(x), road_class, speed) if limits else {}
         ok = all(lim[k] <= v * (1 + 1e-4) for k, v in limits.items())
-        cand = (not ok, val, x, bool(r.success), lim)
+        cand = (not ok, val, x, done, lim)
         if best is None or cand[:2] < best[:2]:
             best = cand
     obj = best[1] if best[1] < 1e6 else math.inf

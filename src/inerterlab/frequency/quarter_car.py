@@ -13,15 +13,25 @@ states afterwards:
 ``suspension_deflection`` [m]  body.x - wheel.x
 ``tyre_force`` [N]             the tyre spring's and damper's forces
 
-The road is X1 = A sin(Omega t).
+The road is X1 = A sin(Omega t). A system with several roads (a half or full car) is
+driven through a *road pattern* (:func:`from_core_system` ``pattern``): road k is
+A g_k sin(Omega t + phi_k - Omega d_k), a gain g_k, a phase phi_k and a delay d_k [s]
+(the rear wheels a wheelbase behind the front ones at a speed V: d = L / V). The engine
+still drives one sine; the compiled right-hand side of :func:`patterned_rhs` spreads it
+over the roads, so the balance, its Jacobian, the stability and the brute-force time
+integration are the same code for one road or several.
 """
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
+from numba import njit
 
 from ..errors import ParameterError
-from .first_order import FirstOrderSystem
+from ..systems import _kernel
+from .first_order import FREQ_SLOT, FirstOrderSystem
 
 __all__ = [
     "FirstOrderSystem",
@@ -29,6 +39,8 @@ __all__ = [
     "from_core_system",
     "QUARTER_CAR_OUTPUTS",
     "SMOOTH_SUSPENSIONS",
+    "patterned_rhs",
+    "patterned_outputs",
 ]
 
 #: output name -> unit
@@ -92,7 +104,7 @@ def quarter_car_system(car) -> FirstOrderSystem:
 _PAIRS = ((".x", ".v"), (".x_rel", ".v_rel"), (".slider_radius", ".slider_rate"))
 
 
-def velocity_pairs(system) -> tuple[int, ...]:
+def velocity_pairs(system, rhs=None, tables=None) -> tuple[int, ...]:
     """``velocity_of`` of a core system: each displacement state whose derivative is,
     by its name, a velocity state (``n.x``/``n.v``, ``n.x_rel``/``n.v_rel``, the
     sliders' radius and rate), kept only where the compiled right-hand side returns
@@ -106,18 +118,75 @@ def velocity_pairs(system) -> tuple[int, ...]:
                 vel[i] = names.index(name[: -len(a)] + b)
     if max(vel) < 0:
         return tuple(vel)
-    itab, ftab = system.tables
+    itab, ftab = system.tables if tables is None else tables
     x = np.asarray(system.initial_state(), dtype=float).copy()
     x += 1e-3 * np.sin(np.arange(1, n + 1)) * np.asarray(system.state_scales, dtype=float)
     out = np.zeros(n)
     road = np.array([1e-3, 1e-2, 1e-1, 2.0 * np.pi])
-    ok = system.rhs(0.1, x, road, np.array(itab), np.array(ftab), out)
+    ok = (system.rhs if rhs is None else rhs)(0.1, x, road, np.array(itab), np.array(ftab), out)
     return tuple(j if ok and j >= 0 and out[i] == x[j] else -1 for i, j in enumerate(vel))
 
 
-def from_core_system(system) -> FirstOrderSystem:
+@njit(cache=True, inline="always")
+def _spread(road, itab, ftab):
+    """The core road vector of every road of a pattern from the engine's one sine
+    ``road`` = [A sin tau, A Omega cos tau, -A Omega^2 sin tau, Omega] (the pattern at
+    the end of the tables: itab[-2] roads, from ftab[itab[-1]] (gain, phase, delay) each)."""
+    n = itab.size
+    m = itab[n - 2]
+    po = itab[n - 1]
+    _, free, _ = _kernel.road_layout_of(itab)
+    r = np.zeros(free + 1)  # no held sides: the elements' own laws
+    w = road[FREQ_SLOT]
+    u0, u1, u2 = road[0], road[1], road[2]
+    for k in range(m):
+        g = ftab[po + 3 * k]
+        th = ftab[po + 3 * k + 1] - w * ftab[po + 3 * k + 2]
+        c = math.cos(th)
+        s = math.sin(th)
+        # A g sin(tau + th) and its derivatives, from the one sine and its derivatives
+        r[3 * k] = g * (c * u0 + s * u1 / w)
+        r[3 * k + 1] = g * (c * u1 + s * u2 / w)
+        r[3 * k + 2] = g * (c * u2 - s * w * u1)
+    r[free] = w
+    return r
+
+
+@njit(cache=True)
+def patterned_rhs(t, x, road, itab, ftab, out):
+    """The core right-hand side (:func:`inerterlab.systems._kernel.rhs`) with every road
+    driven by the pattern at the end of the tables (:func:`_spread`)."""
+    return _kernel.rhs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+
+
+@njit(cache=True)
+def patterned_outputs(t, x, road, itab, ftab, out):
+    """The core outputs (:func:`inerterlab.systems._kernel.outputs`) under the pattern."""
+    return _kernel.outputs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+
+
+def _pattern_tables(system, pattern):
+    """The system's tables with the road pattern (m, 3: gain, phase [rad], delay [s])
+    appended (the core reads its tables by the offsets of their headers, so what follows
+    them is not seen)."""
+    itab, ftab = system.tables
+    m = max(int(system.info.get("roads", 1)), 1)
+    P = np.asarray(pattern, dtype=float)
+    if P.shape != (m, 3) or not np.all(np.isfinite(P)) or np.any(P[:, 2] < 0):
+        raise ParameterError(
+            "pattern", P.tolist(), f"{m} rows (gain, phase [rad], delay >= 0 [s]) of finite values"
+        )
+    ft = np.concatenate([np.asarray(ftab, float), P.ravel()])
+    it = np.concatenate([np.asarray(itab, np.int64), [m, len(ftab)]]).astype(np.int64)
+    return it, ft
+
+
+def from_core_system(system, pattern=None) -> FirstOrderSystem:
     """A system of the model core (``inerterlab.systems``: ``n_states``, ``rhs``,
     ``tables``, compiled ``outputs`` and ``output_names``) as a first-order system.
+
+    ``pattern`` (one row per road: gain, phase [rad], delay [s]) drives a system of
+    several roads (a vehicle; module docstring); a system of one road may go without.
 
     Every velocity state that is the derivative of a displacement state is eliminated
     from the unknowns (:func:`velocity_pairs`). A quarter car (nodes ``body``, ``wheel``
@@ -126,7 +195,17 @@ def from_core_system(system) -> FirstOrderSystem:
     """
     names = tuple(system.output_names)
     index = {name: i for i, name in enumerate(names)}
-    itab, ftab = system.tables
+    roads = int(getattr(system, "info", {}).get("roads", 1))
+    if pattern is None and roads > 1:
+        raise ParameterError(
+            "pattern", None, f"a road pattern (gain, phase, delay) for each of the {roads} roads"
+        )
+    if pattern is None:
+        itab, ftab = system.tables
+        rhs, outfn = system.rhs, system.outputs
+    else:
+        itab, ftab = _pattern_tables(system, pattern)
+        rhs, outfn = patterned_rhs, patterned_outputs
     quarter = all(k in index for k in ("body.x", "wheel.x", "body.a", "tyre_k.force"))
 
     if quarter:
@@ -154,13 +233,13 @@ def from_core_system(system) -> FirstOrderSystem:
         response = 0
     return FirstOrderSystem(
         n_states=int(system.n_states),
-        rhs=system.rhs,
-        velocity_of=velocity_pairs(system),
+        rhs=rhs,
+        velocity_of=velocity_pairs(system, rhs, (itab, ftab)),
         int_table=np.array(itab, dtype=np.int64),
         float_table=np.array(ftab, dtype=float),
         state_scales=np.asarray(system.state_scales, dtype=float),
         rest_state=np.asarray(system.initial_state(), dtype=float),
-        compiled_outputs=system.outputs,
+        compiled_outputs=outfn,
         n_outputs=len(names),
         combine_outputs=combine,
         output_units=units,

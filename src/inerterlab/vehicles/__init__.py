@@ -1,7 +1,8 @@
 """Linear half-car and full-car models, road tracks and their stochastic response.
 
 See docs/guide/vehicles.md. Main entry points: :func:`load_vehicle` (TOML file),
-:func:`build` (parameters -> :class:`LinearVehicle`), :func:`road_spectrum`,
+:func:`linear_vehicle` (parameters -> :class:`LinearVehicle`, the core car's state space
+about its static equilibrium), :func:`road_spectrum`,
 :func:`spectral_response`, :func:`simulate`, :func:`generated_road` (a generated road,
 exact at the wheels), :func:`simulate_vehicle` (time simulation on the model core), :func:`iri`, :func:`fit_iso8608`.
 """
@@ -9,7 +10,8 @@ exact at the wheels), :func:`simulate_vehicle` (time simulation on the model cor
 from .config import example_vehicle_path as example_vehicle_path
 from .config import load_vehicle as load_vehicle
 from .config import loads_vehicle as loads_vehicle
-from .model import LinearVehicle as LinearVehicle
+from .linear import LinearVehicle as LinearVehicle
+from .linear import linear_vehicle as linear_vehicle
 from .model import build as build
 from .parameters import Corner as Corner
 from .parameters import FullCar as FullCar

@@ -25,7 +25,8 @@ import numpy as np
 from ..errors import ParameterError, check_seed, check_unique
 from ..studies.points import ParameterSpec, PointFunction, register_point_function
 
-__all__ = ["DESIGN_PARAMETERS", "SPECTRAL_METRICS", "H2_METRICS", "h2_metrics", "vehicle_with",
+__all__ = ["DESIGN_PARAMETERS", "SPECTRAL_METRICS", "H2_METRICS", "h2_metrics",
+           "h2_metric_gradient", "vehicle_with",
            "spectral_metrics",
            "optimize_vehicle", "VehicleOptimum", "design_parameters", "default_parameters"]  # fmt: skip
 
@@ -178,7 +179,7 @@ def h2_metrics(params, road_class: str = "C", speed: float = 20.0, names=None) -
     cascaded after the output, the wheelbase delay exact) times the road's velocity
     scale pi n0 sqrt(2 Gd(n0) V). ``seat_wk`` needs a seat in the vehicle."""
     from ..network_design import road_scale
-    from .model import build
+    from .linear import linear_vehicle
     from .spectral import white_velocity_h2
 
     names = list(H2_METRICS if names is None else names)
@@ -186,12 +187,99 @@ def h2_metrics(params, road_class: str = "C", speed: float = 20.0, names=None) -
         raise ParameterError(
             "objective", "seat_wk", "a vehicle with a [seat] (this file has none; use body_acc_wk)"
         )
-    veh = build(params)
+    veh = linear_vehicle(params)
     weighted = {n: H2_METRICS[n] for n in names if H2_METRICS[n][1] is not None}
     plain = [H2_METRICS[n][0] for n in names if H2_METRICS[n][1] is None]
     h = white_velocity_h2(veh, speed=speed, weighted=weighted, outputs=plain)
     k = road_scale(road_class, speed)
     return {n: h[n if H2_METRICS[n][1] else H2_METRICS[n][0]] * k for n in names}
+
+
+#: complex step of a design value (relative, in its logarithm)
+_STEP = 1e-20
+
+
+class _SteppedLaw:
+    """A strut's law with one value stepped by i h: (b, c, k) and, for a network strut,
+    the split of Z(s) carry the derivatives in their imaginary parts."""
+
+    def __init__(self, mck, split=None):
+        self._mck, self._value = tuple(mck), split
+
+    def mck(self):
+        return self._mck
+
+    def internal_states(self) -> int:
+        return 0 if self._value is None else int(self._value[4].size - 1)
+
+    def _split(self):
+        return self._value
+
+    def realisation(self):
+        from .parameters import NetworkStrut
+
+        return NetworkStrut.realisation(self)
+
+
+def _stepped(strut, field: str, h: float, log: bool) -> _SteppedLaw:
+    """``strut`` with its value ``field`` (an element of a network strut; stiffness,
+    damping or inertance of a Strut, which enter (b, c, k) additively) plus i h, times
+    the value if ``log`` (the derivative in its logarithm)."""
+    if getattr(strut, "network", None) is not None:
+        from ..networks import admittance_coefficients
+        from .parameters import split_stiffness
+
+        vals = {k: complex(v) for k, v in strut.parameters.items()}
+        vals[field] += 1j * h * (vals[field].real if log else 1.0)
+        split = split_stiffness(strut.network, *admittance_coefficients(strut.network, vals))
+        return _SteppedLaw(split[:3], split)
+    mck = [complex(x) for x in strut.mck()]
+    value = float(getattr(strut, field)) if log else 1.0
+    mck[("inertance", "damping", "stiffness").index(field)] += 1j * h * value
+    return _SteppedLaw(mck)
+
+
+def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
+                       speed: float = 20.0, *, log: bool = True) -> tuple:  # fmt: skip
+    """The RMS value of :data:`H2_METRICS` ``objective`` [m/s^2] of the vehicle ``params``
+    (as :func:`h2_metrics`) and its derivatives in the logarithms of the design
+    parameters ``names`` (:func:`design_parameters`: ``front_damping``, ``rear_c``...;
+    one axle's value sets both its corners), or in the values themselves if not ``log``.
+
+    Exact: the variance's gradient with respect to the state-space matrices comes from
+    the adjoint Lyapunov equations (:func:`inerterlab.h2.variance_gradient`, the
+    wheelbase delay and the Wk states included); the matrices' derivatives in each
+    parameter from a complex step of that value through the strut's law (a network's
+    admittance polynomials and their split, or the strut's b, c, k) and the assembled
+    state space, exact to rounding (no difference is taken). (inf, None) where the norm
+    is infinite; ConvergenceError where a Lyapunov equation has no finite solution."""
+    from ..network_design import road_scale
+    from .model import build
+    from .spectral import white_velocity_h2_gradient
+
+    if objective not in H2_METRICS:
+        raise ParameterError("objective", objective, "one of " + ", ".join(H2_METRICS))
+    if objective == "seat_wk" and getattr(params, "seat", None) is None:
+        raise ParameterError(
+            "objective", "seat_wk", "a vehicle with a [seat] (this file has none; use body_acc_wk)"
+        )
+    veh = build(params)
+    steps = []
+    for n in names:
+        axle, _, field = n.partition("_")
+        law = _stepped(getattr(params, axle).strut, field, _STEP, log)
+        cons = tuple(
+            dataclasses.replace(c, law=law)
+            if c.name.startswith(axle + "_") and c.name.endswith("_strut") else c
+            for c in veh.connections
+        )  # fmt: skip
+        steps.append((dataclasses.replace(veh, connections=cons), _STEP))
+    out, weighting = H2_METRICS[objective]
+    v, g = white_velocity_h2_gradient(veh, out, steps, speed=speed, weighting=weighting)
+    if not math.isfinite(v):
+        return math.inf, None
+    k = road_scale(road_class, speed)
+    return v * k, np.asarray(g) * k
 
 
 def _load(path: str):
@@ -364,17 +452,23 @@ def optimize_vehicle(
 
     jac = None
     if h2_names:
-        # the Lyapunov norm carries rounding of about 1e-10 relative: central differences
-        # of step 1e-4 (SLSQP's forward step of 1.5e-8 would amplify it to 1e-2)
+        # exact (adjoint Lyapunov equations, complex steps of the matrices): a central
+        # difference would amplify the norm's rounding of about 1e-10 relative
+        span = np.where(logs, np.log(hi / np.where(logs, lo, 1.0)), hi - lo)
+
         def jac(u):
-            g = np.empty(u.size)
-            for i in range(u.size):
-                e = np.zeros(u.size)
-                e[i] = 1e-4
-                g[i] = (f(np.clip(u + e, 0, 1)) - f(np.clip(u - e, 0, 1))) / (
-                    np.clip(u[i] + 1e-4, 0, 1) - np.clip(u[i] - 1e-4, 0, 1)
-                )
-            return g
+            from ..errors import ConvergenceError
+
+            x = x_of(u)
+            try:
+                _, g = h2_metric_gradient(vehicle_with(base, **dict(zip(names, x, strict=True))),
+                                          objective, names, road_class, speed, log=False)  # fmt: skip
+            except ConvergenceError:
+                g = None
+            if g is None:
+                return np.zeros(u.size)
+            inside = (np.asarray(u) >= 0.0) & (np.asarray(u) <= 1.0)
+            return np.where(inside, g * np.where(logs, x, 1.0) * span, 0.0)
 
     cons = [
         {"type": "ineq", "fun": (lambda u, k=k, v=v: 1.0 - metrics(u)[k] / v)}

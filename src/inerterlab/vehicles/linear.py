@@ -32,7 +32,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..systems._kernel import DYN as _DYN  # a node with mass
 
-__all__ = ["LinearVehicle", "linear_vehicle", "OUTPUT_UNITS"]
+__all__ = ["LinearVehicle", "linear_vehicle", "from_state_space", "OUTPUT_UNITS"]
 
 OUTPUT_UNITS = {
     "bounce_acc": "m/s^2",
@@ -197,10 +197,21 @@ def linear_vehicle(parameters, networks: dict | None = None) -> LinearVehicle:
                 bad[0], el.description,
                 "an element with a linear model about rest for the linear analyses (its "
                 "response depends on the amplitude: the time simulation, vehicle simulate, "
-                "and the frequency response by harmonic balance take it)",
+                "the frequency response by harmonic balance and the statistical "
+                "linearisation take it)",
             )  # fmt: skip
         A, B, C, D = linearise(sys)
         lin = True
+    return from_state_space(sys, (A, B, C, D), lin)
+
+
+def from_state_space(sys, ss, linearised: bool) -> LinearVehicle:
+    """The :class:`LinearVehicle` of the core vehicle ``sys`` (tyres always in contact)
+    with the state space ``ss`` = (A, B, C, D) in the core's layout
+    (:meth:`~inerterlab.systems.System.linear_state_space`): the rows of the vehicle's
+    outputs picked from the core's. ``linearised``: whether ``ss`` is a linearisation
+    (said in every result)."""
+    A, B, C, D = ss
     m = sys.info["roads"]
     acc = B[:, 2 : 3 * m : 3]
     if np.any(np.abs(acc) > 1e-12 * (1.0 + np.abs(B).max())):
@@ -233,7 +244,7 @@ def linear_vehicle(parameters, networks: dict | None = None) -> LinearVehicle:
     Dr = {k: r[1] for k, r in rows.items()}
     Dd = {k: r[2] for k, r in rows.items()}
     return LinearVehicle(
-        parameters=sys.info["parameters"], system=sys, linearised=lin,
+        parameters=sys.info["parameters"], system=sys, linearised=linearised,
         _ss=(A, Br, Bd, Cy, Dr, Dd), outputs=units,
         displacements={k: Output(OUTPUT_UNITS[k]) for k in disp},
     )  # fmt: skip

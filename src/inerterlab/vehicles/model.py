@@ -129,7 +129,9 @@ class LinearVehicle:
         Without it such a strut is refused, naming it.
         """
         n, m = len(self.dofs), len(self.inputs)
-        law = np.zeros((len(self.connections), 3))  # b, c, k of each connection
+        mck = [con.law.mck() for con in self.connections]
+        # b, c, k of each connection (complex where a law carries a complex step)
+        law = np.zeros((len(self.connections), 3), dtype=np.result_type(float, *(x for t in mck for x in t)))
         for j, con in enumerate(self.connections):
             if con.law.internal_states() and not internal:
                 raise ParameterError(
@@ -140,7 +142,7 @@ class LinearVehicle:
                     "space, the frequency response, the spectral method and the linear "
                     "and nonlinear time simulations",
                 )
-            b, c, k = law[j] = con.law.mck()
+            b, c, k = law[j] = mck[j]
             if b and np.any(con.v):
                 raise ParameterError(con.name, b, "no inertance on an element touching the road")
         U = np.array([con.u for con in self.connections]).reshape(-1, n)
@@ -160,7 +162,8 @@ class LinearVehicle:
             if con.law.internal_states():
                 blocks.append((con, *con.law.realisation()))
         nz = sum(b[1].shape[0] for b in blocks)
-        Az, Zq, Zr, Fz = np.zeros((nz, nz)), np.zeros((nz, n)), np.zeros((nz, m)), np.zeros((n, nz))
+        dt = np.result_type(float, *(x for b in blocks for x in b[1:]))  # complex: a step
+        Az, Zq, Zr, Fz = (np.zeros(shape, dtype=dt) for shape in ((nz, nz), (nz, n), (nz, m), (n, nz)))
         i = 0
         for con, A, B, Cc in blocks:
             k = A.shape[0]
@@ -207,7 +210,7 @@ class LinearVehicle:
         Az, Zq, Zr, Fz = self.internal_realisation()
         n, nz = len(self.dofs), Az.shape[0]
         Minv = np.linalg.inv(M)
-        A = np.zeros((2 * n + nz, 2 * n + nz))
+        A = np.zeros((2 * n + nz, 2 * n + nz), dtype=np.result_type(M, C, K, Fz, Az))
         A[:n, n : 2 * n] = np.eye(n)
         A[n : 2 * n, :n] = -Minv @ K
         A[n : 2 * n, n : 2 * n] = -Minv @ C

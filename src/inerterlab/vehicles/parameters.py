@@ -17,7 +17,7 @@ import numpy as np
 
 from ..errors import ParameterError, check_finite, check_nonnegative, check_positive
 
-__all__ = ["CornerDevice", "corner_device", "Strut", "NetworkStrut", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
+__all__ = ["CornerDevice", "corner_device", "Strut", "NetworkStrut", "split_stiffness", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
 
 GRAVITY = 9.81  # [m/s^2]
 
@@ -178,6 +178,30 @@ class Strut:
         )
 
 
+def split_stiffness(network: str, num, den):
+    """Z(s) = s num(s)/den(s) (the admittance's polynomials, highest power first) split
+    exactly as b s^2 + c s + k + N(s)/D(s), D monic, deg N < deg D: (b, c, k, N, D).
+    Any numeric type (complex values give the complex-step derivatives)."""
+    zn = np.append(num, 0.0)  # s * num
+    zd = np.asarray(den).copy()
+    while zn.size > 1 and zd.size > 1 and zn[-1] == 0.0 and zd[-1] == 0.0:
+        zn, zd = zn[:-1], zd[:-1]  # common factors s
+    lead = zd[0]
+    zn, zd = zn / lead, zd / lead
+    if zn.size < zd.size:
+        q, r = np.zeros(1), zn
+    else:
+        q, r = np.polydiv(zn, zd)
+    q = np.concatenate([np.zeros(max(0, 3 - q.size)), q])
+    if q.size > 3 or np.any(q[:-3]):
+        raise ParameterError("network", network, "a dynamic stiffness of degree <= 2")
+    r = np.atleast_1d(r)
+    r = np.concatenate([np.zeros(max(0, zd.size - 1 - r.size)), r])[-(zd.size - 1) :]
+    if zd.size == 1:
+        r = np.zeros(0)
+    return q[-3], q[-2], q[-1], r, zd
+
+
 @dataclass(frozen=True)
 class NetworkStrut:
     """Suspension law of one corner given as a linear two-terminal network.
@@ -241,25 +265,8 @@ class NetworkStrut:
         highest power first, D monic, deg N < deg D."""
         from ..networks import admittance
 
-        num, den = admittance(self.network, self.parameters)
-        zn = np.append(num, 0.0)  # s * num
-        zd = den.copy()
-        while zn.size > 1 and zd.size > 1 and zn[-1] == 0.0 and zd[-1] == 0.0:
-            zn, zd = zn[:-1], zd[:-1]  # common factors s
-        lead = zd[0]
-        zn, zd = zn / lead, zd / lead
-        if zn.size < zd.size:
-            q, r = np.zeros(1), zn
-        else:
-            q, r = np.polydiv(zn, zd)
-        q = np.concatenate([np.zeros(max(0, 3 - q.size)), q])
-        if q.size > 3 or np.any(q[:-3]):
-            raise ParameterError("network", self.network, "a dynamic stiffness of degree <= 2")
-        r = np.atleast_1d(r)
-        r = np.concatenate([np.zeros(max(0, zd.size - 1 - r.size)), r])[-(zd.size - 1) :]
-        if zd.size == 1:
-            r = np.zeros(0)
-        return float(q[-3]), float(q[-2]), float(q[-1]), r, zd
+        b, c, k, r, d = split_stiffness(self.network, *admittance(self.network, self.parameters))
+        return float(b), float(c), float(k), r, d
 
     def mck(self) -> tuple[float, float, float]:
         """(b [kg], c [N s/m], k [N/m]) of the polynomial part of Z(s) (k may be < 0
@@ -275,7 +282,7 @@ class NetworkStrut:
         """(A, B, C) of the rest R(s) = C (sI - A)^-1 B: z' = A z + B x, force C z."""
         _, _, _, r, d = self._split()
         n = d.size - 1
-        A = np.zeros((n, n))
+        A = np.zeros((n, n), dtype=d.dtype)  # complex for a complex step
         if n:
             A[:-1, 1:] = np.eye(n - 1)
             A[-1, :] = -d[1:][::-1]

@@ -34,6 +34,7 @@ __all__ = [
     "spectral_response",
     "output_psd",
     "white_velocity_h2",
+    "white_velocity_h2_gradient",
     "WhiteVelocityH2",
     "simulate",
     "road_inputs",
@@ -278,85 +279,132 @@ def white_velocity_h2(
     feed-through of road velocity). An infinite norm is ``math.inf`` and
     ``result.reasons[name]`` says why and what to use instead.
     """
-    from ..h2 import gramian
-    from ..iso2631 import WEIGHTINGS
+    from ..h2 import variance_gradient
 
     A, Br, Bd, Cy, Dr, Dd = vehicle.state_space()
-    Ainv_Br = np.linalg.solve(A, Br)
-    Bv = Ainv_Br + Bd
     names = list(Cy) if outputs is None else list(outputs)
     for k in names:
         if k not in Cy:
             raise ParameterError("output", k, "one of " + ", ".join(Cy))
     weighted = dict(weighted or {})
-    if speed is None:
-        groups = [[i] for i in range(Bv.shape[1])]
-        road = "independent unit white road velocity at each wheel"
-    else:
-        v = check_positive("speed", speed, "m/s")
-        m = len(vehicle.inputs)
-        groups = [[0, 1]] if vehicle.kind == "half" else [[0, 2], [1, 3]]
-        assert sum(len(g) for g in groups) == m
-        road = (f"unit white road velocity on each track, the rear wheels delayed by "
-                f"{vehicle.parameters.wheelbase / v:.4g} s ({v:g} m/s)")  # fmt: skip
+    delay, road = _road(vehicle, speed)
 
-    def track_sum(M):  # (rows, wheels) -> (rows, tracks) as the step of each track sees it
-        return np.column_stack([M[:, g].sum(axis=1) for g in groups])
-
-    def norm2(Aa, Ba, Ca):
-        P = gramian(Aa, Ba, what="vehicle H2 norms")
-        val = float(Ca @ P @ Ca)
-        if speed is not None:
-            from scipy.linalg import solve_continuous_lyapunov
-            from scipy.sparse.linalg import expm_multiply
-
-            tau = vehicle.parameters.wheelbase / float(speed)
-            bf = np.column_stack([Ba[:, g[0]] for g in groups])
-            br = np.column_stack([Ba[:, g[1]] for g in groups])
-            X = solve_continuous_lyapunov(Aa, -(bf @ br.T))
-            # C e^(A tau) = (e^(A^T tau) C^T)^T, one vector
-            val += 2.0 * float(expm_multiply(Aa.T * tau, Ca) @ X @ Ca)
+    def norm(Aa, Ba, Ca):
+        val = variance_gradient(Aa, Ba, Ca, delay=delay, gradient=False, what="vehicle H2 norms")[0]
         return math.sqrt(max(val, 0.0))
 
     vals, why = {}, {}
     for k in names:
-        dc = track_sum(np.atleast_2d(Dr[k] - Cy[k] @ Ainv_Br))
-        scale = 1.0 + float(np.max(np.abs(Cy[k])))
-        if np.max(np.abs(Dd[k])) > 1e-12 * scale:
-            vals[k] = math.inf
-            why[k] = (
-                f"{k} is infinite under white road velocity: the tyre damper passes the road "
-                "velocity straight to it (direct feed-through); use a weighted acceleration, "
-                f"zero tyre damping, or {_band_alternative()}"
-            )
-        elif np.max(np.abs(dc)) > 1e-9 * scale:
-            vals[k] = math.inf
-            why[k] = (
-                f"{k} is infinite under white road velocity: a step of the road leaves a "
-                "static change of it (white velocity makes the heights a random walk; e.g. "
-                "the warp of a full car on tracks of different widths); use "
-                + _band_alternative()
-            )
+        why_k = _infinite(vehicle, (A, Br, Bd, Cy, Dr, Dd), k, delay)
+        if why_k:
+            vals[k], why[k] = math.inf, why_k
         else:
-            vals[k] = norm2(A, Bv, Cy[k])
+            vals[k] = norm(*_h2_system((A, Br, Bd, Cy, Dr, Dd), k, None))
     for new, (src, wname) in weighted.items():
         if src not in Cy:
             raise ParameterError("weighted", src, "an output of " + ", ".join(Cy))
-        if np.max(np.abs(track_sum(np.atleast_2d(Dr[src] - Cy[src] @ Ainv_Br)))) > 1e-9 * (
-            1.0 + float(np.max(np.abs(Cy[src])))
-        ):
-            raise ParameterError("weighted", src, "an acceleration (no static response)")
-        fA, fB, fC, _ = WEIGHTINGS[wname].state_space()
-        fB, fC = np.ravel(fB), np.ravel(fC)
-        n, nf = A.shape[0], fA.shape[0]
-        Aa = np.zeros((n + nf, n + nf))
-        Aa[:n, :n] = A
-        Aa[n:, :n] = np.outer(fB, Cy[src])
-        Aa[n:, n:] = fA
-        Ba = np.vstack([Bv, np.outer(fB, Dd[src])])
-        Ca = np.concatenate([np.zeros(n), fC])
-        vals[new] = norm2(Aa, Ba, Ca)
+        vals[new] = norm(*_h2_system((A, Br, Bd, Cy, Dr, Dd), src, wname, delay))
     return WhiteVelocityH2(vals, why, road)
+
+
+def _road(vehicle, speed):
+    """(delay, description) of the white-velocity road: delay (tau, front, rear) of
+    :func:`inerterlab.h2.variance_gradient` (None without a speed)."""
+    if speed is None:
+        return None, "independent unit white road velocity at each wheel"
+    v = check_positive("speed", speed, "m/s")
+    tau = vehicle.parameters.wheelbase / v
+    front, rear = ([0], [1]) if vehicle.kind == "half" else ([0, 1], [2, 3])
+    return (tau, front, rear), (
+        f"unit white road velocity on each track, the rear wheels delayed by {tau:.4g} s "
+        f"({v:g} m/s)"
+    )
+
+
+def _step_response(ss, k, delay):
+    """The static change of output k after a unit step of each track's height."""
+    A, Br, Bd, Cy, Dr, Dd = ss
+    dc = np.atleast_2d(Dr[k] - Cy[k] @ np.linalg.solve(A, Br))
+    if delay is None:
+        return dc
+    _, front, rear = delay
+    return dc[:, front] + dc[:, rear]
+
+
+def _infinite(vehicle, ss, k, delay) -> str:
+    """'' if the unweighted H2 norm of output k is finite, else why not (one line)."""
+    A, Br, Bd, Cy, Dr, Dd = ss
+    scale = 1.0 + float(np.max(np.abs(Cy[k])))
+    if np.max(np.abs(Dd[k])) > 1e-12 * scale:
+        return (
+            f"{k} is infinite under white road velocity: the tyre damper passes the road "
+            "velocity straight to it (direct feed-through); use a weighted acceleration, "
+            f"zero tyre damping, or {_band_alternative()}"
+        )
+    if np.max(np.abs(_step_response(ss, k, delay))) > 1e-9 * scale:
+        return (
+            f"{k} is infinite under white road velocity: a step of the road leaves a "
+            "static change of it (white velocity makes the heights a random walk; e.g. "
+            "the warp of a full car on tracks of different widths); use "
+            + _band_alternative()
+        )
+    return ""
+
+
+def _h2_system(ss, src, wname, delay=None):
+    """(A, B, c) driven by white road velocity whose output c x is ``src`` (through the
+    weighting ``wname``'s states, or alone for None). With r = u/s the road velocity
+    u enters as B = A^-1 Br + Bd (the static part G_r(0)/s must vanish, checked by the
+    caller). Any dtype: a state space carrying a complex step gives its derivative."""
+    from ..iso2631 import WEIGHTINGS
+
+    A, Br, Bd, Cy, Dr, Dd = ss
+    Bv = np.linalg.solve(A, Br) + Bd
+    if wname is None:
+        return A, Bv, Cy[src]
+    if np.max(np.abs(_step_response(ss, src, delay))) > 1e-9 * (
+        1.0 + float(np.max(np.abs(Cy[src])))
+    ):
+        raise ParameterError("weighted", src, "an acceleration (no static response)")
+    fA, fB, fC, _ = WEIGHTINGS[wname].state_space()
+    fB, fC = np.ravel(fB), np.ravel(fC)
+    n, nf = A.shape[0], fA.shape[0]
+    Aa = np.zeros((n + nf, n + nf), dtype=A.dtype)
+    Aa[:n, :n] = A
+    Aa[n:, :n] = np.outer(fB, Cy[src])
+    Aa[n:, n:] = fA
+    Ba = np.vstack([Bv, np.outer(fB, Dd[src])])
+    Ca = np.concatenate([np.zeros(n), fC])
+    return Aa, Ba, Ca
+
+
+def white_velocity_h2_gradient(vehicle, output: str, steps, *, speed=None, weighting=None):
+    """The H2 norm of :func:`white_velocity_h2` of one ``output`` (through the weighting
+    named ``weighting``, e.g. "Wk") and its derivatives, by the adjoint equations
+    (:func:`inerterlab.h2.variance_gradient`).
+
+    ``steps``: (vehicle, h) pairs, each the same vehicle with a parameter stepped by
+    i h (complex laws: :class:`~inerterlab.vehicles.model.LinearVehicle` keeps the
+    dtype): the imaginary parts of its state space over h are the derivatives of the
+    matrices, exact to rounding (complex step, no subtraction). Returns (norm, list of
+    d norm / d parameter); (inf, None) where the norm is infinite."""
+    from ..h2 import variance_gradient
+
+    ss = vehicle.state_space()
+    delay, _ = _road(vehicle, speed)
+    if weighting is None and _infinite(vehicle, ss, output, delay):
+        return math.inf, None
+    Aa, Ba, Ca = _h2_system(ss, output, weighting, delay)
+    J, gA, gB, gc = variance_gradient(Aa, Ba, Ca, delay=delay, what="vehicle H2 norms")
+    if J <= 0.0:
+        return 0.0, [0.0] * len(steps)
+    val = math.sqrt(J)
+    out = []
+    for veh, h in steps:
+        A2, B2, c2 = _h2_system(veh.state_space(), output, weighting, delay)
+        dJ = (np.sum(gA * A2.imag) + np.sum(gB * B2.imag) + float(gc @ c2.imag)) / h
+        out.append(float(dJ) / (2.0 * val))
+    return val, out
 
 
 def road_inputs(

@@ -18,27 +18,21 @@ Monte Carlo
     probability that a road of that length lifts the tyre at all (Wilson interval).
 
 Statistical linearisation
-    An adaptive inerter's force m_e(v) dv/dt (laws ``thesis``, ``momentum``) becomes the
-    constant inertance E[m_e(v)]: for a stationary Gaussian response v and dv/dt are
-    independent, so E[m_e(v) a^2] / E[a^2] = E[m_e(v)].
-    Each nonlinear strut force g(v) of the strut's extension rate v (asymmetric damper,
-    regularised Coulomb friction) is replaced by the damper c_eq that minimises the
-    mean square error E[(g(v) - c_eq v)^2] for a zero-mean Gaussian v of standard
-    deviation sigma_v (Roberts and Spanos, *Random Vibration and Statistical
-    Linearization*, Wiley 1990, ch. 5): c_eq = E[g(v) v] / sigma_v^2. For the
-    asymmetric damper this is c (rebound + compression) / 2 whatever sigma_v; for
-    the friction F_f tanh(v / v_f) it is F_f E[sech^2(v / v_f)] / v_f (Gaussian
-    integration by parts), -> F_f sqrt(2 / pi) / sigma_v as v_f -> 0. sigma_v comes
-    from the spectral response of the equivalent linear vehicle, so c_eq is a fixed
-    point, found by iteration. Tyre lift-off is not linearised; its probability is the
-    Gaussian tail of the linear tyre load (as in :func:`spectral_response`). The
-    linearisation ignores the mean (static) offset an asymmetric damper builds up and
-    the non-Gaussian shape of the response; :func:`monte_carlo` measures the error.
+    :func:`statistical_linearisation` replaces every nonlinear element of the core
+    vehicle (gas springs, bump stops, quadratic or asymmetric dampers, friction, adaptive
+    inerters, a device's nonlinear parts) by its Gaussian equivalent, the expectation of
+    the derivative of its own force law under the Gaussian motion of its argument
+    (:mod:`inerterlab.systems.gaussian`; Roberts and Spanos, *Random Vibration and
+    Statistical Linearization*, Wiley 1990, ch. 5), with the argument's variance from the
+    spectral integral of the equivalent linear car on the road, iterated to a fixed
+    point. Tyre lift-off is not linearised: its probability is the Gaussian tail of the
+    equivalent tyre load (as in :func:`spectral_response`). The linearisation ignores
+    the mean (static) offset a rectifying law builds up and the non-Gaussian shape of the
+    response; :func:`monte_carlo` measures the error.
 """
 
 from __future__ import annotations
 
-import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -388,126 +382,133 @@ def monte_carlo(
 
 @dataclass(frozen=True)
 class LinearisationResult:
-    """Gaussian equivalent linear vehicle.
+    """Gaussian-equivalent linear vehicle (:func:`statistical_linearisation`).
 
     Attributes
     ----------
-    damping : dict
-        Axle (``front``, ``rear``) -> equivalent strut damping c_eq [N s/m] (both
-        corners of a full car's axle see the same road statistics).
-    inertance : dict
-        Axle -> equivalent inertance of its adaptive inerter, E[m_e(v)] [kg] (0 without).
-    velocity_rms : dict
-        Axle -> RMS strut extension rate sigma_v [m/s] at the fixed point.
+    equivalents : dict
+        Nonlinear element (its name in the core vehicle, e.g. ``front_left.c``) ->
+        (argument, equivalent gain): ``displacement`` -> stiffness k_eq [N/m],
+        ``velocity`` -> damping c_eq [N s/m], ``acceleration`` -> inertance b_eq [kg].
+    argument_rms : dict
+        Element -> RMS of the argument its equivalent depends on at the fixed point
+        [m for a displacement, m/s for a velocity and for an inertance's speed].
     spectral : SpectralResult
-        The equivalent linear vehicle's spectral response (RMS values, lift-off
-        probabilities from the Gaussian tail).
-    mean : dict
-        Output name -> mean offset (non-zero for deflections and tyre loads when the
-        damper is asymmetric: E[g(v)] = c (rebound - compression) sigma_v / sqrt(2 pi)
-        acts on the strut like a constant force and sets the vehicle down or up).
+        The equivalent linear vehicle's spectral response on the road (RMS values of
+        every output, lift-off probabilities from the Gaussian tail of the tyre loads).
+    vehicle : LinearVehicle
+        The equivalent linear vehicle (``linearised`` True where a nonlinear element was
+        replaced).
     iterations : int
     converged : bool
     """
 
-    damping: dict
-    inertance: dict
-    velocity_rms: dict
+    equivalents: dict
+    argument_rms: dict
     spectral: Any
-    mean: dict
+    vehicle: Any
     iterations: int
     converged: bool
 
-    @property
-    def lift_off(self) -> dict:
-        """Corner -> P(contact force < 0) [-] of the equivalent linear tyre: the Gaussian
-        tail of its dynamic load, shifted by the load's mean offset."""
-        from .spectral import lift_off_probability
+    def _gains(self, argument: str) -> dict:
+        return {k: g for k, (a, g) in self.equivalents.items() if a == argument}
 
-        res = self.spectral
-        return {
-            c: lift_off_probability(
-                res.static_load[c], res.rms[f"{c}_tyre_load"], self.mean.get(f"{c}_tyre_load", 0.0)
-            )
-            for c in res.static_load
-        }
+    @property
+    def stiffness(self) -> dict:
+        """Element -> k_eq [N/m] of the elastic nonlinear elements."""
+        return self._gains("displacement")
+
+    @property
+    def damping(self) -> dict:
+        """Element -> c_eq [N s/m] of the dissipative nonlinear elements."""
+        return self._gains("velocity")
+
+    @property
+    def inertance(self) -> dict:
+        """Element -> b_eq [kg] of the nonlinear inertances (adaptive inerters)."""
+        return self._gains("acceleration")
 
     @property
     def rms(self) -> dict:
-        """RMS of each output about zero: sqrt(sigma^2 + mean^2), comparable with the
-        time simulation's RMS."""
+        """RMS of each output of the equivalent vehicle (:class:`SpectralResult` names
+        and units; a Gaussian response about the static equilibrium)."""
+        return dict(self.spectral.rms)
+
+    @property
+    def lift_off(self) -> dict:
+        """Corner -> P(contact force < 0) [-]: the Gaussian tail of the equivalent
+        vehicle's dynamic tyre load on its static load."""
+        return dict(self.spectral.lift_off)
+
+    def to_dict(self) -> dict:
+        units = {"displacement": "N/m", "velocity": "N s/m", "acceleration": "kg"}
         return {
-            k: math.sqrt(v * v + self.mean.get(k, 0.0) ** 2) for k, v in self.spectral.rms.items()
+            "model": "statistical linearisation (Gaussian equivalent)",
+            "equivalents": {k: {"argument": a, "value": g, "unit": units[a]}
+                            for k, (a, g) in self.equivalents.items()},  # fmt: skip
+            "argument_rms": dict(self.argument_rms),
+            "rms": self.rms,
+            "units": dict(self.spectral.units),
+            "lift_off_probability_gaussian": self.lift_off,
+            "iterations": self.iterations,
+            "converged": self.converged,
         }
 
 
-def _friction_gain(sigma: float, friction: float, v_f: float) -> float:
-    """E[F_f tanh(v/v_f) v] / sigma^2 for v ~ N(0, sigma^2) = F_f E[sech^2(v/v_f)] / v_f."""
-    if friction == 0.0:
-        return 0.0
-    if sigma <= 0.0:
-        return friction / v_f
-    # trapezoid over the narrower of the Gaussian and the sech^2 bump, both smooth and
-    # decaying fast, so the rule converges geometrically
-    half = min(9.0 * sigma, 40.0 * v_f)
-    n = int(2 * half / (min(sigma, v_f) / 20.0)) + 1
-    v = np.linspace(-half, half, n)
-    pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2.0 * math.pi))
-    val = np.trapezoid(pdf / np.cosh(v / v_f) ** 2, v)
-    return friction * float(val) / v_f
+def _parameters_of(vehicle, model: str):
+    """The HalfCar or FullCar of ``vehicle`` (a file path, '' for the packaged example,
+    or parameters) as ``model`` (``half`` takes a full car's half car)."""
+    from .config import example_vehicle_path, load_vehicle
+
+    if model not in ("half", "full"):
+        raise ParameterError("model", model, "'half' or 'full'")
+    if isinstance(vehicle, str | type(None)) or hasattr(vehicle, "read_text"):
+        params = load_vehicle(vehicle if vehicle else example_vehicle_path())
+    else:
+        params = vehicle
+    full = hasattr(params, "half_car")
+    if model == "half" and full:
+        params = params.half_car()
+    elif model == "full" and not full:
+        raise ParameterError("vehicle", vehicle or "(example)", "a full-car file for 'full'")
+    return params
 
 
-def _adaptive_gain(adaptive, sigma: float) -> float:
-    """E[m_e(v)] [kg] for v ~ N(0, sigma^2): the Gaussian equivalent inertance of an
-    adaptive inerter whose force is m_e(v) dv/dt (laws ``thesis`` and ``momentum``).
+def _argument_rms(sys, veh, els, ss, fac, freq) -> dict:
+    """RMS [m, m/s] of each nonlinear element's argument (relative displacement, or
+    relative velocity for a damper and an inertance) under the road of the input factor
+    ``fac`` (:func:`~inerterlab.vehicles.spectral.input_factor`), from the state space
+    ``ss`` of the core layout: the spectral integral over ``freq``."""
+    from ..systems.equilibrium import _structure
+    from .spectral import _mean_square
 
-    In a stationary Gaussian response v and dv/dt are uncorrelated, hence independent,
-    so E[m_e(v) a a] / E[a^2] = E[m_e(v)]."""
-    from ..elements.adaptive_flywheel import flywheel_inertance
-
-    row = adaptive.row()
-    if sigma <= 0.0:
-        return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
-    # m_e is smooth except for a kink at the saturation speed: a fine trapezoid
-    v = np.linspace(-9.0 * sigma, 9.0 * sigma, 4001)
-    me = np.array([flywheel_inertance(row, 0, float(x), 0.0, 0.0)[0] for x in v])
-    pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2.0 * math.pi))
-    return float(np.trapezoid(me * pdf, v))
-
-
-def _with_damping(params, damping: dict, inertance: dict | None = None):
-    """Vehicle parameters with each axle's strut damping replaced (``front``, ``rear``)
-    and, where ``inertance`` gives one, the adaptive inerter replaced by a constant one.
-    A network strut gets ``damping`` as a damper in parallel (its friction's equivalent)."""
-
-    def corner(c, name):
-        network = getattr(c.strut, "network", None)
-        if network is not None:
-            if damping[name] <= 0.0:
-                return c
-            from .parameters import NetworkStrut
-
-            values = c.strut.parameters
-            extra = "c_friction"
-            while extra in values:
-                extra += "_"
-            strut = NetworkStrut(f"({network}) | {extra}", {**values, extra: damping[name]})
-            return dataclasses.replace(c, strut=strut)
-        strut = dataclasses.replace(c.strut, damping=damping[name])
-        if inertance is not None and c.strut.adaptive is not None:
-            strut = dataclasses.replace(
-                strut, inertance=c.strut.inertance + inertance[name], adaptive=None
-            )
-        return dataclasses.replace(c, strut=strut)
-
-    return dataclasses.replace(
-        params, **{axle: corner(getattr(params, axle), axle) for axle in _HALF_CORNERS}
-    )
+    A, B, C, D = ss
+    m = sys.info["roads"]
+    Br, Bd = B[:, 0 : 3 * m : 3], B[:, 1 : 3 * m : 3]
+    ends = _structure(sys)[5]
+    names = list(sys.output_names)
+    rows = []
+    for e, _, arg in els:
+        sfx = ".x" if arg == "displacement" else ".v"
+        t, b = (names.index(sys.node_names[n] + sfx) for n in ends[e])
+        rows.append((C[t] - C[b], D[t, 0 : 3 * m : 3] - D[b, 0 : 3 * m : 3],
+                     D[t, 1 : 3 * m : 3] - D[b, 1 : 3 * m : 3]))  # fmt: skip
+    Cr = np.array([r[0] for r in rows])
+    Rr = np.array([r[1] for r in rows])
+    Sr = np.array([r[2] for r in rows])
+    eye = np.eye(A.shape[0])
+    psd = np.empty((len(rows), freq.size))
+    for i, f in enumerate(freq):
+        s = 2j * math.pi * f
+        X = np.linalg.solve(s * eye - A, Br + s * Bd)
+        H = Cr @ X + Rr + s * Sr  # (elements, wheels)
+        psd[:, i] = np.sum(np.abs(H @ fac[i]) ** 2, axis=1)
+    return {name: math.sqrt(_mean_square(freq, psd[j])) for j, (_, name, _) in enumerate(els)}
 
 
 def statistical_linearisation(
     *,
-    vehicle: str = "",
+    vehicle: Any = "",
     model: str = "full",
     road_class: str = "C",
     speed: float = 20.0,
@@ -515,115 +516,84 @@ def statistical_linearisation(
     compression: float = 1.0,
     friction: float = 0.0,
     friction_velocity: float = 0.01,
+    networks: dict | None = None,
     tol: float = 1e-10,
     max_iter: int = 200,
     points: int = 4000,
 ) -> LinearisationResult:
-    """Equivalent linear vehicle of the asymmetric dampers and strut friction.
+    """Gaussian-equivalent linear vehicle of the core car on an ISO 8608 road.
 
-    Fixed-point iteration on the strut damping, c_eq = c (rebound + compression) / 2
-    + friction gain(sigma_v), sigma_v from the spectral response of the current
-    linear vehicle (the RMS of the axle's strut extension rate; a full car's axle uses
-    its left corner's, since both corners share the axle's parameters). See the module
-    docstring.
+    The car is the core vehicle (:func:`inerterlab.systems.vehicle.vehicle`, tyres that
+    always press) of ``vehicle`` (a file path, '' for the packaged example, or a HalfCar
+    / FullCar) as ``model``, with ``networks`` at its corners and, where given, the
+    struts' ``rebound`` / ``compression`` factors and ``friction`` [N] over
+    ``friction_velocity`` [m/s] (the time simulation's options). Every nonlinear element
+    is replaced by its Gaussian equivalent (:mod:`inerterlab.systems.gaussian`: the
+    expectation of its own law's derivative under the Gaussian motion of its argument),
+    the argument's variance from the spectral integral of the equivalent linear car
+    (the road of class ``road_class`` at ``speed`` [m/s] with its coherence and the
+    wheelbase delay, ``points`` frequencies over its band, as
+    :func:`~inerterlab.vehicles.spectral.spectral_response`), iterated to a fixed point
+    (damped: the mean of the new and the last gains) until no gain changes by more than
+    ``tol`` relative. A linear car is its own equivalent (no iteration). The mean
+    offset a rectifying law (an asymmetric damper) builds up is left out: the response
+    is about the static equilibrium.
     """
-    from .model import build
+    from ..systems.equilibrium import linearise
+    from ..systems.gaussian import equivalent_system, gaussian_gains, nonlinear_elements
+    from ..systems.vehicle import vehicle as core_vehicle
+    from .linear import from_state_space
     from .roads import road_spectrum
-    from .spectral import spectral_response
+    from .spectral import input_factor, spectral_response
 
-    params, vehicle_lin = _load_vehicle(vehicle, model)
+    params = _parameters_of(vehicle, model)
     for name, val in (("rebound", rebound), ("compression", compression)):
         check_positive(name, val)
     check_nonnegative("friction", friction, "N")
-    v_f = check_positive("friction_velocity", friction_velocity, "m/s")
+    check_positive("friction_velocity", friction_velocity, "m/s")
+    v = check_positive("speed", speed, "m/s")
+    if not isinstance(max_iter, int) or max_iter < 1:
+        raise ParameterError("max_iter", max_iter, "an integer >= 1")
+    opts = {}
+    if rebound != 1.0 or compression != 1.0:
+        opts.update(rebound=rebound, compression=compression)
+    if friction > 0.0:
+        opts.update(friction=friction, friction_velocity=friction_velocity)
+    sys = core_vehicle(params, networks=networks, lift_off=False, **opts)
+    els = nonlinear_elements(sys)
     road = road_spectrum(road_class)
-    corners = _HALF_CORNERS  # axles; the left corner stands for a full car's axle
-    probe = {a: (a if vehicle_lin.kind == "half" else f"{a}_left") for a in corners}
-    devices = [c for c in corners if getattr(getattr(params, c).strut, "device", None)]
-    if devices:
-        raise ParameterError(
-            f"{devices[0]}.device",
-            getattr(params, devices[0]).strut.device.source,
-            "no device: the statistical linearisation covers asymmetric dampers, strut "
-            "friction and adaptive inerters; a device's response comes from the Monte "
-            "Carlo (vehicle monte-carlo)",
-        )
-    networks = [c for c in corners if getattr(getattr(params, c).strut, "network", None)]
-    if networks and (rebound != 1.0 or compression != 1.0):
-        raise ParameterError(
-            "rebound/compression",
-            (rebound, compression),
-            f"1 with the network strut at {networks[0]} ("
-            f"{getattr(params, networks[0]).strut.network}): an asymmetric damper needs a "
-            "Strut, whose damper is one element",
-        )
-    # a network strut's friction becomes a damper in parallel with the network
-    base = {c: 0.0 if c in networks else getattr(params, c).strut.damping for c in corners}
-    adaptive = {c: getattr(params, c).strut.adaptive for c in corners}
-    inertance = {c: (0.0 if a is None else a.inertance_min) for c, a in adaptive.items()}
-    damping = {c: base[c] * 0.5 * (rebound + compression) for c in corners}
-    sigma = dict.fromkeys(corners, 0.0)
+    lo, hi = road.band
+    freq = np.geomspace(lo * v, hi * v, int(points))
+    if not els:  # linear: its own equivalent
+        veh = from_state_space(sys, sys.linear_state_space(), False)
+        res = spectral_response(veh, road, v, freq=freq)
+        return LinearisationResult({}, {}, res, veh, 0, True)
+    gains = {e: gaussian_gains(sys, e, 0.0) for e, _, _ in els}  # the slope at rest
+    fac = None
     converged = False
     it = 0
-    res = None
+    sigma: dict = {}
     while it < max_iter:
         it += 1
-        veh = build(_with_damping(params, damping, inertance))
-        lo, hi = road.band
-        freq = np.geomspace(lo * speed, hi * speed, points)
-        res = spectral_response(veh, road, speed, freq=freq)
-        w2 = (2.0 * math.pi * freq) ** 2
-        new = {}
-        for c in corners:
-            psd = res.psd[f"{probe[c]}_deflection"]
-            ms_rate = float(np.trapezoid(psd * w2 * freq, np.log(freq)))
-            sigma[c] = math.sqrt(ms_rate)
-            new[c] = base[c] * 0.5 * (rebound + compression) + _friction_gain(
-                sigma[c], friction, v_f
-            )
-        new_b = {
-            c: (0.0 if adaptive[c] is None else _adaptive_gain(adaptive[c], sigma[c]))
-            for c in corners
-        }
-        change = max(abs(new[c] - damping[c]) / max(new[c], 1e-300) for c in corners)
-        change = max(
-            change,
-            max(abs(new_b[c] - inertance[c]) / max(new_b[c], 1e-300) for c in corners),
-        )
-        # damped update: the friction gain falls like 1/sigma, and sigma falls with c
-        damping = {c: 0.5 * (new[c] + damping[c]) for c in corners}
-        inertance = {c: 0.5 * (new_b[c] + inertance[c]) for c in corners}
+        eq = equivalent_system(sys, gains)
+        ss = linearise(eq)
+        veh = from_state_space(eq, ss, True)
+        if fac is None:
+            fac = input_factor(veh, road, v, freq)
+        sigma = _argument_rms(eq, veh, els, ss, fac, freq)
+        new = {e: gaussian_gains(sys, e, sigma[name]) for e, name, _ in els}
+        change = max(abs(new[e] - gains[e]) / max(abs(new[e]), 1e-300) for e in gains)
         if change < tol:
-            damping, inertance = new, new_b
+            gains = new
             converged = True
-            veh = build(_with_damping(params, damping, inertance))
-            res = spectral_response(veh, road, speed, freq=freq)
             break
-    # mean offset from the rectified part of the asymmetric damper: a constant
-    # tension f_j = c (rebound - compression) sigma_v / sqrt(2 pi) in every strut
-    K = veh.static_stiffness_matrix()
-    gen = np.zeros(K.shape[0])
-    for con in veh.connections:
-        if con.name.endswith("_strut"):
-            name = con.name[: -len("_strut")]
-            axle = name.split("_")[0]
-            f = base[axle] * (rebound - compression) * sigma[axle] / math.sqrt(2.0 * math.pi)
-            gen -= con.u * f
-    q_mean = np.linalg.solve(K, gen)
-    mean = {}
-    for name, o in veh.outputs.items():
-        if name.endswith("_tyre_load"):
-            # dynamic load from the tyre's own extension (Tyre law, no road offset)
-            con = next(c for c in veh.connections if c.name == name.replace("_load", ""))
-            mean[name] = -float(con.law.mck()[2] * (con.u @ q_mean))
-        else:
-            mean[name] = float(o.P @ q_mean)
+        # damped: a friction's gain falls like 1 / sigma, and sigma falls with the gain
+        gains = {e: 0.5 * (new[e] + gains[e]) for e in gains}
+    eq = equivalent_system(sys, gains)
+    veh = from_state_space(eq, linearise(eq), True)
+    res = spectral_response(veh, road, v, freq=freq)
+    equivalents = {name: (arg, float(gains[e])) for e, name, arg in els}
     return LinearisationResult(
-        damping=damping,
-        inertance=inertance,
-        velocity_rms=sigma,
-        spectral=res,
-        mean=mean,
-        iterations=it,
-        converged=converged,
-    )
+        equivalents=equivalents, argument_rms=sigma, spectral=res, vehicle=veh,
+        iterations=it, converged=converged,
+    )  # fmt: skip

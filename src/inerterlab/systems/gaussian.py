@@ -1,0 +1,211 @@
+"""Gaussian-equivalent (statistical) linearisation of the elements of a core system.
+
+Under a stationary zero-mean Gaussian response, the linear law that comes closest to a
+nonlinear element's force F in mean square is, by Gaussian integration by parts (Stein's
+lemma; Roberts and Spanos, *Random Vibration and Statistical Linearization*, Wiley 1990,
+ch. 5), the expectation of its derivatives: F ~ k_eq y + c_eq v + b_eq a with
+
+    k_eq = E[dF/dy] = E[y F] / sigma_y^2,   c_eq = E[dF/dv] = E[v F] / sigma_v^2,
+    b_eq = E[dF/da],
+
+y, v, a the element's relative displacement, velocity and acceleration (top minus
+bottom). In a stationary response y and v are uncorrelated, and so are v and a, hence
+(jointly Gaussian) independent. Each expectation here is a quadrature against the
+Gaussian density of the element's *own* compiled force function, the one the time
+integration evaluates (spring, damper, friction and flywheel-row kernel laws), so a new
+element of an existing kernel law needs nothing extra:
+
+* elastic rows (springs, gas springs, bump stops, backlash): k_eq = E[y F(y)] / sigma_y^2;
+* dissipative rows (dampers with a quadratic or asymmetric law, friction):
+  c_eq = E[v F(v)] / sigma_v^2;
+* the adaptive-flywheel inerter (force m_e(v) a, laws ``thesis`` and ``momentum``):
+  b_eq = E[m_e(v)] (v and a independent, so E[m_e(v) a^2] / E[a^2] = E[m_e(v)]).
+
+Linear elements (springs, linear dampers, inerters, a tyre that always presses) keep
+their law. Elements whose force depends on states of their own or on a contact rule (a
+one-way clutch, a ball screw with backlash, sliders with dynamics) and a tyre that
+lifts off have no such equivalent: :func:`nonlinear_elements` refuses them, naming the
+element.
+
+:func:`equivalent_system` is the system with every nonlinear element replaced by a row
+of its own kernel law whose linearisation about rest is the equivalent (a spring row of
+stiffness k_eq; a damper row c_eq; a friction row whose slope at rest F_c / v_eps is
+c_eq; a flywheel row of constant inertance b_eq), so the one linearisation of the core
+(:func:`inerterlab.systems.equilibrium.linearise`) gives its state space.
+
+The quadrature is adaptive Gauss-Kronrod (``scipy.integrate.quad``, relative tolerance
+:data:`QUADRATURE_RTOL`) over +-12 standard deviations, split where the law has a kink
+or a narrow transition: at rest (friction, asymmetric and quadratic dampers), at a free
+play's ends, at a bump stop's contact and at a flywheel's saturation speed. A fixed
+Gauss-Hermite rule would not do: its nodes near rest are a tenth of a standard
+deviation apart, wider than a friction's transition (v_eps of a few mm/s), where it
+errs by per cent.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE
+from ..errors import ParameterError
+from . import _kernel
+from ._kernel import ELEM_W
+
+__all__ = ["QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "equivalent_system"]
+
+#: relative tolerance of the Gaussian expectations
+QUADRATURE_RTOL = 1e-11
+
+
+def _expect(f, sigma: float, kinks) -> float:
+    """E[f(x)] for x ~ N(0, sigma^2), the interval split at ``kinks`` (and at 0)."""
+    from scipy.integrate import quad
+
+    lim = 12.0 * sigma
+    pts = sorted({0.0, *(float(k) for k in kinks if abs(k) < lim)})
+    c = 1.0 / (sigma * math.sqrt(2.0 * math.pi))
+
+    def g(x):
+        return f(x) * c * math.exp(-0.5 * (x / sigma) ** 2)
+
+    edges = [-lim, *pts, lim]
+    return float(sum(
+        quad(g, a, b, epsabs=0.0, epsrel=QUADRATURE_RTOL, limit=200)[0]
+        for a, b in zip(edges[:-1], edges[1:], strict=True)
+    ))  # fmt: skip
+
+
+def _row(sys, e: int) -> np.ndarray:
+    itab, ftab = sys.tables
+    o = int(itab[int(itab[_kernel.I_ELEM]) + ELEM_W * e + 3])
+    return np.array(ftab[o : o + NPAR], dtype=float)
+
+
+def _argument(code: int) -> str:
+    return "displacement" if code == SPRING else (
+        "velocity" if code in (DAMPER, FRICTION) else "acceleration"
+    )  # fmt: skip
+
+
+def nonlinear_elements(sys) -> list[tuple[int, str, str]]:
+    """(element index, name, argument) of every element of ``sys`` whose law is not
+    linear, the argument its equivalent depends on (``displacement``, ``velocity`` or
+    ``acceleration`` for an inertance); ParameterError naming an element that has no
+    Gaussian equivalent (module docstring)."""
+    from ..elements._inertial import CLUTCH, GATED
+
+    out = []
+    for e, (name, el) in enumerate(zip(sys.element_names, sys.elements, strict=True)):
+        code = el.code
+        row = _row(sys, e)
+        if code == INERTER or el.is_linear:
+            continue
+        if code == TYRE:
+            if math.isfinite(row[2]):
+                raise ParameterError(
+                    name, "a tyre that lifts off",
+                    "a tyre that always presses for the statistical linearisation (its "
+                    "lift-off probability is the Gaussian tail of its load)",
+                )  # fmt: skip
+            continue
+        own = code == FLYWHEEL and (row[14] in (CLUTCH, GATED) or row[0] == 2.0)
+        if code not in (SPRING, DAMPER, FRICTION, FLYWHEEL) or own:
+            raise ParameterError(
+                name, el.description,
+                "an element without states or contact rules of its own for the statistical "
+                "linearisation (springs, dampers, friction, adaptive inerters); the Monte "
+                "Carlo of the time simulation takes it",
+            )  # fmt: skip
+        out.append((e, name, _argument(code)))
+    return out
+
+
+def gaussian_gains(sys, e: int, sigma: float) -> float:
+    """The Gaussian equivalent of element ``e`` of ``sys`` whose argument (see
+    :func:`nonlinear_elements`) is zero-mean Gaussian of standard deviation ``sigma``
+    [m, m/s; for an inertance the relative velocity's]: k_eq [N/m], c_eq [N s/m] or
+    b_eq [kg] (module docstring). ``sigma`` = 0 gives the slope at rest."""
+    from ..elements.adaptive_flywheel import flywheel_inertance
+    from ..elements.damper import damper_force
+    from ..elements.friction import friction_force
+    from ..elements.spring import spring_force, spring_slope
+
+    code = sys.elements[e].code
+    row = _row(sys, e)
+    if code == FLYWHEEL:
+        if sigma <= 0.0:
+            return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
+        sat = row[8] / row[1] if row[1] else 0.0  # the saturation's relative speed
+        return _expect(lambda v: flywheel_inertance(row, 0, v, 0.0, 0.0)[0], sigma, (sat, -sat))
+    kinks: tuple = ()
+    if code == SPRING:
+        from ..elements.bump_stop import BUMP_LAW
+        from ..elements.gas_spring import GAS_LAW
+
+        if row[2] == BUMP_LAW:
+            kinks = (-(row[3] + row[1]),)  # the contact (spring_switch)
+        elif row[2] != GAS_LAW and row[1] > 0.0:
+            kinks = (row[1], -row[1])  # a free play's ends
+        if sigma <= 0.0:
+            return float(spring_slope(row, 0, 0.0))
+
+        def law(y):
+            return spring_force(row, 0, y)
+    elif code == DAMPER:
+        if sigma <= 0.0:
+            return float(damper_force(row, 0, 0.0)[1])
+
+        def law(v):
+            return damper_force(row, 0, v)[0]
+    else:
+        if sigma <= 0.0:
+            return float(friction_force(row[0], row[1], 0.0)[1])
+
+        def law(v):
+            return friction_force(row[0], row[1], v)[0]
+    if code == FRICTION:
+        kinks = (row[1], -row[1])  # the transition's width
+    val = _expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
+    if not math.isfinite(val):
+        raise ParameterError(
+            sys.element_names[e], f"standard deviation {sigma:.4g}",
+            "a motion inside the element's working range (its law is undefined within "
+            f"{12 * sigma:.3g} from rest)",
+        )  # fmt: skip
+    return val
+
+
+def _equivalent_row(sys, e: int, gain: float) -> np.ndarray:
+    code = sys.elements[e].code
+    old = _row(sys, e)
+    row = np.zeros(NPAR)
+    if code == SPRING:
+        row[0] = gain
+    elif code == DAMPER:
+        row[0] = gain
+    elif code == FRICTION:
+        row[0], row[1] = gain * old[1], old[1]  # slope at rest F_c / v_eps = c_eq
+    else:  # a flywheel row of constant inertance: no slider term, I_rest = b_eq / r^2
+        row[:] = old
+        row[0] = 0.0
+        row[2] = gain / (old[1] * old[1])
+        row[3] = 0.0
+    return row
+
+
+def equivalent_system(sys, gains: dict):
+    """``sys`` with element ``e`` replaced, for every ``e`` in ``gains``, by a row of its
+    own kernel law whose linearisation about rest is the gain (module docstring); the
+    elements' objects stay (they name and describe the elements)."""
+    import dataclasses
+
+    itab, ftab = sys.tables
+    eo = int(itab[_kernel.I_ELEM])
+    ft = np.array(ftab, dtype=float, copy=True)
+    for e, g in gains.items():
+        o = int(itab[eo + ELEM_W * e + 3])
+        ft[o : o + NPAR] = _equivalent_row(sys, e, float(g))
+    ft.setflags(write=False)
+    return dataclasses.replace(sys, ftab=ft)
