@@ -522,6 +522,7 @@ def simulate_command(
             kind = "full" if full else "half"
 
         r = road_inputs(_Axles, x, zl, zr, v, h, periodic=False)
+        _check_samples(r.shape[0], v, h, None)  # the wheels' samples over the file's length
     nt = r.shape[0]
     run = simulate_vehicle(params, r, h, lift_off=lift_off, rebound=rebound,
                            compression=compression, warmup=5.0)  # fmt: skip

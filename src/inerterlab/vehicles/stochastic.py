@@ -334,7 +334,10 @@ def monte_carlo(
     if not isinstance(first_seed, int) or first_seed < 0:
         raise ParameterError("first_seed", first_seed, "an integer >= 0")
     seeds = list(range(first_seed, first_seed + roads))
-    _car(vehicle, model)  # a bad file fails here, not in every worker
+    from ..systems.vehicle import vehicle as core_vehicle
+
+    # a bad file, or a car that does not rest on its struts, fails here, not in every worker
+    core_vehicle(_car(vehicle, model), lift_off=False)
     ds = sweep(
         {
             "point": f"{model}-car-road",
