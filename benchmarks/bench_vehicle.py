@@ -1,11 +1,12 @@
-"""Full car with tyre lift-off: compiled fixed-step RK4 vs scipy solve_ivp on a Python RHS.
+"""Full car with tyre lift-off and asymmetric dampers: the model core vs scipy solve_ivp
+on a Python right-hand side.
 
 2 s of the packaged example car at 20 m/s on an ISO 8608 class E road (tyres lift
 off), dampers 1.6x in rebound and 0.6x in compression, road sampled every 1 ms. Prints
 wall time (median of 3, first compiled call excluded) and the largest error of the
-front-left suspension deflection relative to its peak, against the RK4 kernel with 32
-substeps per sample (itself checked against scipy DOP853 in
-tests/test_vehicle_nonlinear.py). Run: python benchmarks/bench_vehicle.py
+front-left suspension deflection relative to its peak, against the core at rtol 1e-11
+(checked against scipy DOP853 on hand-written equations in tests/test_vehicle_time.py).
+Run: python benchmarks/bench_vehicle.py
 """
 
 import statistics
@@ -22,10 +23,11 @@ from inerterlab.vehicles import (
     road_inputs,
     road_spectrum,
 )
-from inerterlab.vehicles.nonlinear import simulate_nonlinear
+from inerterlab.vehicles.simulation import simulate_vehicle
 
 REBOUND, COMPRESSION = 1.6, 0.6
-car = build(load_vehicle(example_vehicle_path()))
+params = load_vehicle(example_vehicle_path())
+car = build(params)
 speed, dt = 20.0, 1e-3
 x, zl, zr = generate_tracks(road_spectrum("E"), length=45.0, step=speed * dt, seed=5)
 r = road_inputs(car, x, zl, zr, speed, dt)
@@ -42,12 +44,12 @@ def timed(fn, n=3):
     return statistics.median(times), res
 
 
-def kernel(sub):
-    res = simulate_nonlinear(car, r, dt, rebound=REBOUND, compression=COMPRESSION, substeps=sub)
-    return res.outputs["front_left_deflection"]
+def core(rtol):
+    res = simulate_vehicle(params, r, dt, rebound=REBOUND, compression=COMPRESSION, rtol=rtol)
+    return res.outputs["front_left_deflection"], res.stats["rhs_calls"]
 
 
-ref = kernel(32)
+ref = core(1e-11)[0]
 scale = np.abs(ref).max()
 
 # scipy: the same equations written with the model's matrices, road by np.interp
@@ -89,26 +91,17 @@ def scipy_run(method, rtol):
     return sol.y[:n].T @ out, sol.nfev
 
 
-kernel(1)  # compile (or load the cache) outside the timings
 print(f"{'solver':20s} {'rtol':>7s} {'time [s]':>10s} {'RHS calls':>10s} {'max rel err':>12s}")
 rows = []
-for sub in (1, 2, 4):
-    tk, y = timed(lambda sub=sub: kernel(sub))
-    rows.append(
-        (
-            f"inerterlab RK4 x{sub}",
-            "-",
-            tk,
-            4 * sub * (r.shape[0] - 1),
-            np.abs(y - ref).max() / scale,
-        )
-    )
+for rtol in (1e-4, 1e-6, 1e-8):
+    tk, (y, calls) = timed(lambda rtol=rtol: core(rtol))
+    rows.append(("inerterlab core", f"{rtol:g}", tk, calls, np.abs(y - ref).max() / scale))
     print("{:20s} {:>7s} {:10.4f} {:10d} {:12.2e}".format(*rows[-1]), flush=True)
 for method, rtol in (("RK45", 1e-6), ("DOP853", 1e-8)):
     ts, (y, nfev) = timed(lambda m=method, rt=rtol: scipy_run(m, rt), n=1)
     rows.append((f"scipy {method}", f"{rtol:g}", ts, nfev, np.abs(y - ref).max() / scale))
     print("{:20s} {:>7s} {:10.4f} {:10d} {:12.2e}".format(*rows[-1]), flush=True)
-lift = simulate_nonlinear(car, r, dt, rebound=REBOUND, compression=COMPRESSION).lift_off_fraction
+lift = simulate_vehicle(params, r, dt, rebound=REBOUND, compression=COMPRESSION).lift_off_fraction
 print(
     f"simulated {t[-1]:.2f} s; lift-off fraction per corner: "
     + ", ".join(f"{k} {v:.3f}" for k, v in lift.items())

@@ -113,7 +113,7 @@ def test_refused_networks_and_values():
 
 
 def test_vehicle_corner_with_backlash_scales_stiffness_not_play():
-    from inerterlab.vehicles.devices import corner_device
+    from inerterlab.vehicles.parameters import corner_device
 
     d = corner_device("k1 | c1 | (gap - b)", {"k1": 1e4, "c1": 1e3, "gap": dict(GAP), "b": 100.0})
     gap = {n: e for n, e, _, _ in d.scaled(2.0).edges}["gap"]

@@ -125,6 +125,10 @@ NO_LINEARISATION = {
     "so a small oscillation spins the flywheel up and then lets it run free (re-engaging "
     "briefly where the bearing drag has slowed it): a force that is not linear in the "
     "motion, and a flywheel speed whose mean no periodic balance determines",
+    "asym": "an asymmetric damper has a kink at rest and a force positively homogeneous "
+    "in the motion, so the mean and even harmonics of its force keep their share of the "
+    "force however small the motion; its linearisation is the first-harmonic damping "
+    "(tests/test_vehicle_time.py)",
 }
 
 

@@ -10,7 +10,7 @@ from scipy.integrate import solve_ivp
 
 from inerterlab.errors import DataFileError
 from inerterlab.vehicles import build, example_vehicle_path, loads_vehicle
-from inerterlab.vehicles.nonlinear import simulate_nonlinear
+from inerterlab.vehicles.simulation import simulate_vehicle
 from inerterlab.vehicles.stochastic import _adaptive_gain
 
 
@@ -67,8 +67,8 @@ def test_vanishing_changing_ratio_is_the_constant_inerter():
         example_vehicle_path().read_text().replace('inertance = "0 kg"', 'inertance = "150 kg"')
     )
     r = _road()
-    a = simulate_nonlinear(build(tiny), r, 0.002, substeps=2)
-    b = simulate_nonlinear(build(const), r, 0.002, substeps=2)
+    a = simulate_vehicle(tiny, r, 0.002, rtol=1e-10)
+    b = simulate_vehicle(const, r, 0.002, rtol=1e-10)
     for k in ("bounce_acc", "front_left_deflection", "rear_right_tyre_load"):
         scale = np.abs(b.outputs[k]).max()
         assert np.abs(a.outputs[k] - b.outputs[k]).max() < 1e-7 * scale, k
@@ -76,8 +76,9 @@ def test_vanishing_changing_ratio_is_the_constant_inerter():
 
 @pytest.mark.slow
 def test_adaptive_car_matches_independent_python_integration():
-    """RK4 kernel against DOP853 (rtol 1e-11) on the equations written in Python with
-    the flywheel's numpy law (not the compiled one)."""
+    """The core vehicle (rtol 1e-10) against DOP853 (rtol 1e-10) on the equations
+    written in Python with the assembled mass matrix and the flywheel's numpy law (not
+    the compiled one)."""
     # thesis law: the inertance is continuous in v (a kink at saturation); the momentum
     # law's inertance jumps at saturation, where fixed and adaptive steps differ at O(h)
     params = loads_vehicle(
@@ -113,22 +114,15 @@ def test_adaptive_car_matches_independent_python_integration():
     P = car.outputs["front_left_deflection"].P
     y = sol.y[:n].T @ P
 
-    def error(sub):
-        res = simulate_nonlinear(car, r, dt, substeps=sub, tyre_lift_off=False)
-        return np.abs(res.outputs["front_left_deflection"] - y).max() / np.abs(y).max()
-
-    # the kink of the inertance at saturation costs RK4 its order locally: the error
-    # still falls at least like h^2 and is small
-    e4, e16 = error(4), error(16)
-    assert e16 < e4 / 10 and e16 < 2e-5
-    err = e16
+    res = simulate_vehicle(params, r, dt, lift_off=False, rtol=1e-10)
+    err = np.abs(res.outputs["front_left_deflection"] - y).max() / np.abs(y).max()
+    assert err < 1e-6  # DOP853 steps over the inertance's kinks at saturation
     # and the adaptive law matters here: the constant-inertance car differs by far more
-    lin = simulate_nonlinear(
-        build(loads_vehicle(_text('changing_ratio = 1e-9, rest_inertance = "200 kg"'))),
+    lin = simulate_vehicle(
+        loads_vehicle(_text('changing_ratio = 1e-9, rest_inertance = "200 kg"')),
         r,
         dt,
-        substeps=4,
-        tyre_lift_off=False,
+        lift_off=False,
     )
     assert np.abs(lin.outputs["front_left_deflection"] - y).max() / np.abs(y).max() > 100 * err
 
@@ -147,64 +141,3 @@ def test_gaussian_equivalent_inertance_limits():
     me = a.ratio**2 * a.wheel.inertia(np.abs(a.ratio * v))
     pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2 * math.pi))
     assert _adaptive_gain(a, sigma) == pytest.approx(np.trapezoid(me * pdf, v), rel=1e-6)
-
-
-@pytest.mark.parametrize("law", ["thesis", "momentum"])
-def test_kernel_step_equals_python_rk4_with_the_full_mass_matrix(law):
-    """The kernel's accelerations (Woodbury update about the saturated flywheels, only
-    the unsaturated ones in the small system) equal a plain solve with the whole mass
-    matrix: the same RK4 steps written in Python agree to rounding, over a road where
-    the four flywheels cross saturation at different times (mixed sets at most steps)."""
-    params = loads_vehicle(
-        _text(f'changing_ratio = 0.45, law = "{law}", rest_inertance = "200 kg"')
-    )
-    car = build(params)
-    dt, r = 0.002, _road(n=400)
-    M0 = car.matrices()[0]
-    n = len(car.dofs)
-    slopes = np.vstack([np.diff(r, axis=0) / dt, np.zeros((1, 4))])
-    ad = [(c.u, c.law.adaptive) for c in car.connections if getattr(c.law, "adaptive", None)]
-    assert len(ad) == 4
-    saturated = []
-
-    def inertance(a, v):
-        w = abs(a.ratio * v)
-        if law == "thesis":
-            return a.ratio**2 * a.wheel.inertia(w)
-        return a.ratio**2 * a.wheel.momentum_inertia(w)
-
-    def rhs(i, tau, x):
-        rr = r[i] + slopes[i] * tau
-        q, qd = x[:n], x[n:]
-        gen = np.zeros(n)
-        for c in car.connections:
-            _, cc, k = c.law.mck()
-            gen -= c.u * (k * (c.u @ q - c.v @ rr) + cc * (c.u @ qd - c.v @ slopes[i]))
-        M = M0.copy()
-        flags = []
-        for u, a in ad:
-            v = u @ qd
-            flags.append(abs(a.ratio * v) >= a.wheel.saturation_speed)
-            me = max(inertance(a, v), a.inertance_min)
-            M += (me - a.inertance_min) * np.outer(u, u)
-        saturated.append(flags)
-        return np.concatenate([qd, np.linalg.solve(M, gen)])
-
-    A, Br, *_ = car.state_space()
-    x = -np.linalg.solve(A, Br @ r[0])
-    P = car.outputs["front_left_deflection"].P
-    y = [x[:n] @ P]
-    for i in range(r.shape[0] - 1):
-        k1 = rhs(i, 0.0, x)
-        k2 = rhs(i, dt / 2, x + dt / 2 * k1)
-        k3 = rhs(i, dt / 2, x + dt / 2 * k2)
-        k4 = rhs(i, dt, x + dt * k3)
-        x = x + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)
-        y.append(x[:n] @ P)
-    y = np.array(y)
-    flags = np.array(saturated)
-    mixed = np.mean(flags.any(axis=1) & ~flags.all(axis=1))
-    assert 0.2 < mixed and flags.all(axis=1).mean() > 0.05 and (~flags).all(axis=1).mean() > 0.05
-    res = simulate_nonlinear(car, r, dt, tyre_lift_off=False)
-    err = np.abs(res.outputs["front_left_deflection"] - y).max() / np.abs(y).max()
-    assert err < 1e-9

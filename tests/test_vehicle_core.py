@@ -1,9 +1,9 @@
 """Half and full cars as systems of the model core (systems/vehicle.py).
 
 Oracles: the linear vehicle model (vehicles/model.py: M, C, K assembled by hand, its
-own frequency response and state space), the fixed-step RK4 of vehicles/nonlinear.py
-refined until its own error is small, the core quarter car (a separate template), and
-the symmetry of a full car on identical tracks (the half car that lumps each axle).
+own frequency response and state space), the core quarter car (a separate template),
+and the symmetry of a full car on identical tracks (the half car that lumps each axle).
+The time simulation's oracles are in tests/test_vehicle_time.py.
 """
 
 from __future__ import annotations
@@ -186,60 +186,6 @@ def _class_c(car, dt, seconds, seed=11):
     return road_inputs(car, x, zl, zr, 20.0, dt)[: int(round(seconds / dt)) + 1]
 
 
-@pytest.mark.slow
-def test_adaptive_inerters_and_lift_off_equal_the_vehicle_rk4():
-    """Adaptive flywheels at the four corners, tyres that lift off, 3 s of a class C
-    road at 20 m/s: the core (adaptive Dormand-Prince at rtol 1e-10, lift-off located as
-    an event) and the vehicle model's fixed-step RK4 agree to the RK4's own error, which
-    shrinks as it is refined (8 and 32 steps per road sample), and the lift-off
-    fractions agree to a sample."""
-    from inerterlab.vehicles.nonlinear import simulate_nonlinear
-
-    p = _afw_car()
-    car = build(p)
-    dt = 2e-3
-    r = _class_c(car, dt, 3.0)
-    res = simulate(vehicle(p), r, dt, rtol=1e-10)
-    o8 = simulate_nonlinear(car, r, dt, substeps=8)
-    o32 = simulate_nonlinear(car, r, dt, substeps=32)
-    assert max(res.lift_off_fraction.values()) > 0.0  # the tyres do lift off
-    for k in ("bounce_acc", "roll_acc", "seat_acc", "front_left_deflection", "rear_right_tyre_load"):
-        scale = np.abs(o32.outputs[k]).max()
-        e8 = np.abs(res.outputs[k] - o8.outputs[k]).max() / scale
-        e32 = np.abs(res.outputs[k] - o32.outputs[k]).max() / scale
-        rk = np.abs(o8.outputs[k] - o32.outputs[k]).max() / scale  # the RK4's error at 8
-        # at least first-order convergence of the RK4 onto the core's answer across the
-        # kinks (lift-off, flywheel saturation) it steps over: err32 <= err8 / 4, and
-        # rk = |o8 - o32| >= err8 - err32 gives err32 <= rk / 3
-        assert e8 < 1.5 * rk and e32 < rk / 3, (k, e8, e32, rk)
-        assert e32 < 5e-6, (k, e32)
-    for st, frac in o32.lift_off_fraction.items():
-        assert abs(res.lift_off_fraction[st] - frac) <= 2.0 / r.shape[0]
-
-
-@pytest.mark.slow
-def test_hydraulic_device_at_the_front_equals_the_vehicle_rk4():
-    """The thesis hydraulic device (internal nodes, friction, adaptive flywheel) at both
-    front corners of a half car: the core agrees with the vehicle model's RK4 (device as
-    a rig inside it) to the RK4's error."""
-    from inerterlab.vehicles.nonlinear import simulate_nonlinear
-
-    p = _half(Strut(stiffness=30e3, damping=1500.0, device=HydraulicElement()),
-              Strut(stiffness=25e3, damping=1800.0))  # fmt: skip
-    car = build(p)
-    dt = 1e-3
-    r = _class_c(car, dt, 1.5, seed=5)
-    r = r - r[0]
-    res = simulate(vehicle(p), r, dt, rtol=1e-10)
-    o4 = simulate_nonlinear(car, r, dt, substeps=4)
-    o16 = simulate_nonlinear(car, r, dt, substeps=16)
-    for k in ("bounce_acc", "front_deflection", "front_tyre_load"):
-        scale = np.abs(o16.outputs[k]).max()
-        e16 = np.abs(res.outputs[k] - o16.outputs[k]).max() / scale
-        rk = np.abs(o4.outputs[k] - o16.outputs[k]).max() / scale
-        assert e16 < max(rk / 4, 1e-7), (k, e16, rk)
-
-
 def test_lift_off_is_an_event_and_contact_never_pulls():
     """A light car dropped onto its tyres from a step-free but violent road: the
     contact force is never negative and the lift-offs are located as events."""
@@ -267,7 +213,7 @@ def test_the_same_element_gives_the_same_force_in_a_vehicle():
     t = dt * np.arange(401)
     r = np.stack([0.01 * np.sin(8 * t), 0.01 * np.sin(8 * t - 1.0)], 1)
     res = simulate(sys, r, dt, rtol=1e-10)
-    o = res.outputs
+    o = res.signals
     rel = o["body_front.a"] - o["wheel_front.a"]
     ab = o["bounce.a"] - p.cg_to_front * o["pitch.a"]
     assert np.abs(o["body_front.a"] - ab).max() <= 1e-12 * np.abs(ab).max()
@@ -371,7 +317,7 @@ def test_the_same_element_gives_the_same_force_in_the_rig_and_the_vehicle(name, 
     t = dt * np.arange(401)
     wave = 0.03 * np.sin(2 * np.pi * 2.0 * t) * np.minimum(t / 0.3, 1.0)
     r = np.stack([wave, 0.3 * wave, np.roll(wave, 40), np.roll(wave, 45)], 1)
-    o = simulate(sys, r, dt, rtol=1e-9).outputs
+    o = simulate(sys, r, dt, rtol=1e-9).signals
     el = f"front_left.{name}"
     i = sys.element_names.index(el)
     top, bot = (sys.node_names[j] for j in sys.info["layout"].edges[i][2:4])

@@ -3,7 +3,8 @@
 The decisive check is cross-model: a half car whose pitch inertia decouples the axles
 (I_y = m a b) must move at each axle like the model core's quarter car with the same
 device in parallel with the strut (``k | c | hyd``), a separate program: node
-formulation, adaptive Dormand-Prince at rtol 1e-10 against the vehicle's fixed-step RK4.
+formulation, adaptive Dormand-Prince at rtol 1e-10 against the core vehicle's
+combination nodes and several roads at rtol 1e-10.
 """
 
 from __future__ import annotations
@@ -28,9 +29,9 @@ from inerterlab.vehicles import (
     example_vehicle_path,
     loads_vehicle,
 )
-from inerterlab.vehicles.devices import corner_device
-from inerterlab.vehicles.nonlinear import simulate_nonlinear
+from inerterlab.vehicles.parameters import corner_device
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
+from inerterlab.vehicles.simulation import simulate_vehicle
 from inerterlab.vehicles.spectral import road_inputs
 
 M, A, B = 1200.0, 1.2, 1.4
@@ -40,13 +41,20 @@ TYRE = Tyre(stiffness=2.4e5, damping=200.0)
 def _half(strut, rear=None):
     front = Corner(unsprung_mass=45.0, strut=strut, tyre=TYRE)
     rear = front if rear is None else Corner(unsprung_mass=45.0, strut=rear, tyre=TYRE)
-    return build(HalfCar(sprung_mass=M, pitch_inertia=M * A * B, cg_to_front=A, cg_to_rear=B,
-                         front=front, rear=rear))  # fmt: skip
+    return HalfCar(sprung_mass=M, pitch_inertia=M * A * B, cg_to_front=A, cg_to_rear=B,
+                   front=front, rear=rear)  # fmt: skip
+
+
+def _axles(car):
+    """What road_inputs reads of a car: its parameters and kind."""
+    from types import SimpleNamespace
+
+    return SimpleNamespace(parameters=car, kind="full" if isinstance(car, FullCar) else "half")
 
 
 def _road(car, dt=1e-3, n=3001, seed=5):
     x, zl, zr = generate_tracks(road_spectrum("C"), length=80.0, step=20.0 * dt, seed=seed)
-    r = road_inputs(car, x, zl, zr, 20.0, dt)[:n]
+    r = road_inputs(_axles(car), x, zl, zr, 20.0, dt)[:n]
     return r - r[0]
 
 
@@ -65,14 +73,15 @@ def test_decoupled_half_car_with_a_device_equals_the_core_quarter_car(device):
     dt = 1e-3
     r = _road(half, dt)
     t = dt * np.arange(r.shape[0])
-    veh = simulate_nonlinear(half, r, dt, tyre_lift_off=False, substeps=4).outputs
+    run = simulate_vehicle(half, r, dt, lift_off=False, rtol=1e-10)
+    veh = run.outputs
     qc = quarter_car(f"k | c | {device.prefix}", {"k": 30e3, "c": 1500.0, device.prefix: device},
                      sprung_mass=M * B / (A + B), unsprung_mass=45.0, tyre_stiffness=2.4e5,
                      tyre_damping=200.0)  # fmt: skip
     core = qc.simulate(road_series(t, r[:, 0]), horizon=t[-1], rtol=1e-10, sample_rate=1 / dt)
     defl = core.outputs["body.x"] - core.outputs["wheel.x"]
     err = np.abs(veh["front_deflection"] - defl).max() / np.abs(defl).max()
-    assert err < 1e-4, err
+    assert err < 1e-8, err
     # accelerations: the road's slope changes at each sample and the tyre damper and the
     # inerters pass that to the body, so the acceleration jumps there; the vehicle
     # reports the value just after the sample, so evaluate the core there too
@@ -86,18 +95,18 @@ def test_decoupled_half_car_with_a_device_equals_the_core_quarter_car(device):
         right[i] = out[names.index("body.a")]
     acc = (veh["bounce_acc"] - A * veh["pitch_acc"])[:-1]
     err = np.abs(acc - right).max() / np.abs(right).max()
-    assert err < 2e-4, err
+    assert err < 1e-6, err
 
 
 def test_device_parts_straight_across_join_the_strut():
+    """The assembled linear model reads a device's direct linear parts and adaptive
+    inerter; anything else makes the device nonlinear (the core vehicle takes it all)."""
     screw = corner_device(ScrewElement())  # k | c | fric | afw: all across the terminals
     assert screw.stiffness == ScrewElement().stiffness
     assert screw.damping == ScrewElement().damping
-    assert screw.adaptive is not None
-    assert screw.n_states == 0 and screw.system is not None  # friction only: no states
-    hyd = corner_device(HydraulicElement())  # k - (c | fric | afw): a rig with states
-    assert (hyd.stiffness, hyd.damping, hyd.adaptive) == (0.0, 0.0, None)
-    assert hyd.n_states == 2  # the internal node's displacement and velocity
+    assert screw.adaptive is not None and screw.nonlinear  # the friction
+    hyd = corner_device(HydraulicElement())  # k - (c | fric | afw): internal node
+    assert (hyd.stiffness, hyd.damping, hyd.adaptive, hyd.nonlinear) == (0.0, 0.0, None, True)
 
 
 def test_linear_device_equals_the_same_strut_in_every_linear_analysis():
@@ -105,8 +114,8 @@ def test_linear_device_equals_the_same_strut_in_every_linear_analysis():
     fluid = FluidInerter(density=870.0, length=3.0, piston_area=2e-3, channel_area=3e-5,
                          damping=400.0, quadratic=0.0)  # fmt: skip
     b, c = fluid.inertance, fluid.damping
-    with_device = _half(Strut(stiffness=30e3, damping=1500.0, device=fluid))
-    plain = _half(Strut(stiffness=30e3, damping=1500.0 + c, inertance=b))
+    with_device = build(_half(Strut(stiffness=30e3, damping=1500.0, device=fluid)))
+    plain = build(_half(Strut(stiffness=30e3, damping=1500.0 + c, inertance=b)))
     f = np.geomspace(0.3, 30.0, 25)
     h1, h2 = with_device.frequency_response(f), plain.frequency_response(f)
     for name in h1:
@@ -115,7 +124,8 @@ def test_linear_device_equals_the_same_strut_in_every_linear_analysis():
 
 def test_full_car_with_devices_equals_the_half_car():
     """Identical tracks, no seat: the half car lumps each axle's two devices into one
-    (every force and inertia doubled), which must move exactly alike."""
+    (every force and inertia doubled), which must move alike (rtol 1e-12, two-sided
+    tyres)."""
     tyre = Tyre(stiffness=200e3, damping=80.0)
     full = FullCar(
         sprung_mass=1200.0, pitch_inertia=1800.0, roll_inertia=450.0, cg_to_front=1.15,
@@ -125,21 +135,26 @@ def test_full_car_with_devices_equals_the_half_car():
         rear=Corner(unsprung_mass=38.0, tyre=tyre,
                     strut=Strut(stiffness=25e3, damping=1600.0, device=RectifierElement())),
     )  # fmt: skip
-    cf, ch = build(full), build(full.half_car())
+    cf, ch = _axles(full), _axles(full.half_car())
     dt = 2e-3
     x, zl, _ = generate_tracks(road_spectrum("C"), length=60.0, step=20.0 * dt, seed=2)
     rf = road_inputs(cf, x, zl, zl, 20.0, dt)[:1001]
     rh = road_inputs(ch, x, zl, zl, 20.0, dt)[:1001]
-    yf = simulate_nonlinear(cf, rf, dt, substeps=4).outputs
-    yh = simulate_nonlinear(ch, rh, dt, substeps=4).outputs
+    rf, rh = rf - rf[0], rh - rh[0]
+    yf = simulate_vehicle(full, rf, dt, lift_off=False, rtol=1e-12).outputs
+    yh = simulate_vehicle(full.half_car(), rh, dt, lift_off=False, rtol=1e-12).outputs
     for a, b in (("bounce_acc", "bounce_acc"), ("front_left_deflection", "front_deflection"),
                  ("rear_right_deflection", "rear_deflection")):  # fmt: skip
-        np.testing.assert_allclose(yf[a], yh[b], rtol=1e-9, atol=1e-9 * np.abs(yh[b]).max())
+        # not 1e-9: the devices' kinks (the rectifier's clutches, flywheel saturation) fall
+        # at the same instant on both sides of the full car, and those simultaneous events
+        # leave the half car by about 1e-5 of the peak (docs/decisions.md)
+        err = np.abs(yf[a] - yh[b]).max() / np.abs(yh[b]).max()
+        assert err < 1e-4, (a, err)
 
 
 def test_linear_analyses_refuse_a_nonlinear_device_by_corner():
-    car = _half(Strut(stiffness=30e3, damping=1500.0, device=HydraulicElement()))
-    with pytest.raises(ParameterError, match="front_strut.*nonlinear time simulation"):
+    car = build(_half(Strut(stiffness=30e3, damping=1500.0, device=HydraulicElement())))
+    with pytest.raises(ParameterError, match="front_strut.*model core's vehicle"):
         car.frequency_response([1.0])
     with pytest.raises(ParameterError, match="front_strut"):
         car.state_space()
@@ -149,24 +164,16 @@ def test_linear_analyses_refuse_a_nonlinear_device_by_corner():
         modes(car)
 
 
-@pytest.mark.parametrize(
-    "text,params,match",
-    [
-        ("b - c", {"b": 100.0, "c": 2000.0}, "'c - b'"),
-        ("k2 - k3", {"k2": 1e5, "k3": 2e5}, "static load"),
-    ],
-)
-def test_devices_that_cannot_sit_at_a_corner_are_refused(text, params, match):
-    with pytest.raises(ParameterError, match=match):
-        Strut(stiffness=30e3, damping=1500.0, device=text, device_parameters=params)
+def test_devices_the_split_refused_sit_at_a_corner_of_the_core():
+    """An inerter at the body-side terminal (``b - c``) and series springs that carry
+    load were refused when a device was split into matrix parts and a rig; the core
+    vehicle places them as networks, and its statics carry the load."""
+    from inerterlab.systems.vehicle import vehicle
 
-
-def test_unresolved_device_rate_asks_for_substeps():
-    fast = HydraulicElement(friction_velocity=1e-6)  # friction as a very stiff damper
-    car = _half(Strut(stiffness=30e3, damping=1500.0, device=fast))
-    r = _road(car, 2e-3, n=50)
-    with pytest.raises(ParameterError, match="substeps.*at least"):
-        simulate_nonlinear(car, r, 2e-3, substeps=1)
+    for text, params in (("b - c", {"b": 100.0, "c": 2000.0}), ("k2 - k3", {"k2": 1e5, "k3": 2e5})):
+        car = _half(Strut(stiffness=30e3, damping=1500.0, device=text, device_parameters=params))
+        loads = vehicle(car).info["static_tyre_loads"]
+        assert sum(loads.values()) == pytest.approx((M + 90.0) * 9.81, rel=1e-12), text
 
 
 def test_energy_of_a_device_corner_decays_without_road():
@@ -176,7 +183,7 @@ def test_energy_of_a_device_corner_decays_without_road():
     dt = 1e-3
     r = np.zeros((4001, 2))
     r[0] = 0.02  # start on a 2 cm step that drops at the first sample
-    y = simulate_nonlinear(car, r, dt, tyre_lift_off=False, substeps=4).outputs
+    y = simulate_vehicle(car, r, dt, lift_off=False).outputs
     d = np.abs(y["front_deflection"])
     assert d[-500:].max() < 0.05 * d.max()
 

@@ -12,8 +12,8 @@ from scipy.stats import norm
 
 from inerterlab.cli import main
 from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
-from inerterlab.vehicles.nonlinear import simulate_nonlinear
 from inerterlab.vehicles.roads import road_spectrum
+from inerterlab.vehicles.simulation import simulate_vehicle
 from inerterlab.vehicles.spectral import generated_road, spectral_response
 from inerterlab.vehicles.stochastic import statistical_linearisation
 
@@ -49,9 +49,8 @@ def test_linear_tyre_pulls_as_often_as_the_gaussian_tail_says():
     static = car.static_tyre_loads()
     fr = {c: [] for c in car.corners}
     for seed in range(6):
-        g = generated_road(car, road, length=2000.0, speed=20.0, dt=0.002, substeps=2,
-                           track=1.5, seed=seed)  # fmt: skip
-        res = simulate_nonlinear(car, g, 0.002, tyre_lift_off=False, substeps=2)
+        g = generated_road(p, road, length=2000.0, speed=20.0, dt=0.002, track=1.5, seed=seed)
+        res = simulate_vehicle(p, g, 0.002, lift_off=False)
         for c in car.corners:
             load = res.outputs[f"{c}_tyre_load"][2500:]
             fr[c].append(np.mean(static[c] + load < 0.0))
@@ -65,13 +64,13 @@ def test_simulate_fractions_leave_out_the_start_up_and_say_what_they_are(capsys,
     base = ["vehicle", "simulate", "--model", "half", "--road-class", "F", "--length", "200",
             "--json"]  # fmt: skip
     one = _json(capsys, [*base, "--lift-off"])
-    # recomputed here: the same road, 4 Runge-Kutta steps per sample, after 5 s
-    car = build(load_vehicle(example_vehicle_path()).half_car())
-    g = generated_road(car, road_spectrum("F"), length=200.0, speed=20.0, dt=0.002,
-                       substeps=4, track=1.5, seed=0)  # fmt: skip
-    res = simulate_nonlinear(car, g, 0.002, tyre_lift_off=True, substeps=4)
-    keep = slice(min(2500, g.samples.shape[0] // 2), None)
-    for c in car.corners:
+    # recomputed here: the same road and car, after 5 s
+    p = load_vehicle(example_vehicle_path()).half_car()
+    g = generated_road(p, road_spectrum("F"), length=200.0, speed=20.0, dt=0.002, track=1.5,
+                       seed=0)  # fmt: skip
+    res = simulate_vehicle(p, g, 0.002, lift_off=True)
+    keep = slice(min(2500, g.shape[0] // 2), None)
+    for c in ("front", "rear"):
         want = float(np.mean(res.contact_force[c][keep] <= 0.0))
         assert one["lift_off_fraction"][c] == pytest.approx(want, abs=1e-12)
         assert one["lift_off_fraction"][c] != pytest.approx(res.lift_off_fraction[c], abs=1e-9)

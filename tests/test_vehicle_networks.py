@@ -26,8 +26,8 @@ from inerterlab.vehicles import (
     example_vehicle_path,
     loads_vehicle,
 )
-from inerterlab.vehicles.nonlinear import simulate_nonlinear
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
+from inerterlab.vehicles.simulation import simulate_vehicle
 from inerterlab.vehicles.spectral import road_inputs, simulate, white_velocity_h2
 
 NETWORKS = [  # (text, values): each with internal nodes (internal states >= 1)
@@ -148,16 +148,17 @@ def test_full_car_equals_half_car_with_networks():
     assert rf.static_load["rear_right"] == pytest.approx(0.5 * rh.static_load["rear"], rel=1e-9)
 
 
-def test_compiled_rk4_agrees_with_the_exact_linear_simulation():
-    car = build(_full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[1])))
+def test_core_time_simulation_agrees_with_the_exact_linear_simulation():
+    params = _full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[1]))
+    car = build(params)
     speed, dt = 20.0, 1e-3
     x, zl, zr = generate_tracks(road_spectrum("B"), length=120.0, step=speed * dt, seed=3)
     r = road_inputs(car, x, zl, zr, speed, dt)[:3001]
     exact = simulate(car, r, dt)
-    rk = simulate_nonlinear(car, r, dt, tyre_lift_off=False).outputs
+    rk = simulate_vehicle(params, r, dt, lift_off=False, rtol=1e-11).outputs
     for name in ("bounce_acc", "front_left_deflection", "rear_right_deflection", "pitch_acc"):
         err = np.abs(rk[name] - exact[name]).max() / np.abs(exact[name]).max()
-        assert err < 2e-4, (name, err)
+        assert err < 1e-8, (name, err)
 
 
 def test_static_loads_use_the_static_stiffness():
@@ -177,7 +178,7 @@ def test_state_space_only_analyses_refuse_a_network_by_name():
         car.natural_frequencies()
     with pytest.raises(ParameterError, match="asymmetric damper needs a Strut"):
         r = np.zeros((10, 4))
-        simulate_nonlinear(car, r, 1e-3, rebound=1.5)
+        simulate_vehicle(_full(NetworkStrut(*NETWORKS[0])), r, 1e-3, rebound=1.5)
 
 
 def test_bad_network_values_name_the_parameter():

@@ -7,7 +7,7 @@ import json
 import numpy as np
 import pytest
 
-from inerterlab.vehicles import build, example_vehicle_path, load_vehicle
+from inerterlab.vehicles import example_vehicle_path, load_vehicle
 from inerterlab.vehicles.linear import linear_vehicle
 from inerterlab.vehicles.roads import road_spectrum
 from inerterlab.vehicles.spectral import spectral_response
@@ -17,7 +17,7 @@ from inerterlab.vehicles.stochastic import (
     statistical_linearisation,
 )
 
-SHORT = dict(road_class="C", speed=20.0, length=300.0, dt=0.002, substeps=2, warmup=2.0)
+SHORT = dict(road_class="C", speed=20.0, length=300.0, dt=0.002, warmup=2.0)
 
 
 def test_wilson_interval_known_values():
@@ -76,33 +76,3 @@ def test_cli_monte_carlo_json_and_bad_input(capsys):
     assert "roads" in capsys.readouterr().err
     assert main([*args, "--roads", "3", "--model", "quarter"]) == 2
     assert "model" in capsys.readouterr().err
-
-
-def test_nonlinear_friction_step_check():
-    from inerterlab.errors import ParameterError
-    from inerterlab.vehicles.nonlinear import simulate_nonlinear
-
-    car = build(load_vehicle(example_vehicle_path()))
-    r = np.zeros((10, 4))
-    with pytest.raises(ParameterError, match="substeps"):
-        simulate_nonlinear(car, r, 0.002, friction=500.0, friction_velocity=1e-5)
-
-
-def test_nonlinear_friction_converges_with_the_step():
-    from inerterlab.vehicles.nonlinear import simulate_nonlinear
-
-    car = build(load_vehicle(example_vehicle_path()).half_car())
-    t = np.arange(0.0, 1.0, 0.002)
-    bump = 0.02 * np.clip(np.sin(2 * np.pi * 3 * t), 0, None)
-    r = np.column_stack([bump, np.roll(bump, 50)])
-
-    def run(sub):
-        res = simulate_nonlinear(car, r, 0.002, friction=200.0, friction_velocity=0.01, substeps=sub)
-        return res.outputs["front_deflection"]
-
-    a, b, c = run(2), run(4), run(8)
-    e1, e2 = np.abs(a - c).max(), np.abs(b - c).max()
-    assert e2 < e1 / 8  # fourth order: halving the step cuts the error ~16 x
-    # the friction changes the response (the test is not blind to it)
-    lin = simulate_nonlinear(car, r, 0.002, substeps=4).outputs["front_deflection"]
-    assert np.abs(lin - b).max() > 100 * e2

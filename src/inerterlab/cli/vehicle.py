@@ -38,21 +38,14 @@ def _parameters(path: Path | None, model: str):
     return params
 
 
-def _load(path: Path | None, model: str, linear: bool = False):
-    """(parameters, vehicle); ``linear``: the core car about its static equilibrium
-    (:func:`~inerterlab.vehicles.linear.linear_vehicle`) for the linear analyses."""
-    from ..vehicles import build
+def _load(path: Path | None, model: str, linear: bool = True):
+    """(parameters, vehicle): the core car about its static equilibrium
+    (:func:`~inerterlab.vehicles.linear.linear_vehicle`) for the linear analyses; it
+    refuses a car that does not rest."""
+    from ..vehicles.linear import linear_vehicle
 
     params = _parameters(path, model)
-    if linear:
-        from ..vehicles.linear import linear_vehicle
-
-        return params, linear_vehicle(params)  # refuses a car that does not rest
-    veh = build(params)
-    # one rule for every command: the car must rest on its struts and tyres (a suspension
-    # without static stiffness has no equilibrium, no static load and a 0 Hz mode)
-    veh.static_tyre_loads()
-    return params, veh
+    return params, linear_vehicle(params)
 
 
 #: most frequencies of the spectral grid (a response matrix per frequency is kept)
@@ -459,7 +452,7 @@ def simulate_command(
         bool,
         typer.Option(
             "--lift-off",
-            help="Tyres cannot pull: contact force max(0, ...) (Runge-Kutta, not exact steps).",
+            help="Tyres cannot pull: contact force max(0, ...) (lift-off and landing as events).",
         ),
     ] = False,
     rebound: Annotated[
@@ -474,9 +467,10 @@ def simulate_command(
 
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
     [m/s^2], VDV [m/s^1.75] and crest factor [-]. The first 5 s (start-up) are left out
-    of every number. A generated road is driven exactly (its Fourier series at every
-    Runge-Kutta stage, 4 steps per sample); a road file is linear between its samples
-    (exact steps for a linear car). Beside each value on a generated road: the
+    of every number. The car is the model core's (adaptive Dormand-Prince, rtol 1e-6);
+    the road is its samples joined by straight lines (a generated road's series at the
+    wheels, a road file's profile read at the wheels); the Wk-weighted RMS and the VDV
+    are integrated beside the motion. Beside each value on a generated road: the
     spectral RMS of the linear car, or, when the car is nonlinear (--lift-off,
     --rebound/--compression, adaptive inerters), the RMS of its Gaussian-equivalent
     (statistical) linearisation, labelled "linearised". Per corner: with --lift-off the
@@ -488,33 +482,33 @@ def simulate_command(
     """
     import numpy as np
 
-    from .. import iso2631
     from ..errors import ParameterError, check_positive
+    from ..systems.vehicle import _stations
+    from ..vehicles.linear import OUTPUT_UNITS
     from ..vehicles.roads import read_track_pair, road_spectrum
-    from ..vehicles.spectral import generated_road, road_inputs, simulate, spectral_response
+    from ..vehicles.simulation import simulate_vehicle
+    from ..vehicles.spectral import generated_road, road_inputs, spectral_response
 
-    params, veh = _load(vehicle, model)
+    params = _parameters(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
-    width = 0.5 * (params.front_track + params.rear_track) if veh.kind == "full" else 1.5
-    adaptive = any(getattr(c.law, "adaptive_inerter", None) for c in veh.connections)
-    devices = bool(veh.nonlinear_devices())
+    full = hasattr(params, "front_track")
+    width = 0.5 * (params.front_track + params.rear_track) if full else 1.5
+    struts = [st[3].strut for st in _stations(params)[1]]
+    adaptive = any(getattr(st, "adaptive", None) is not None for st in struts)
+    devices = any(getattr(st, "device", None) is not None for st in struts)
     nonlinear = lift_off or rebound != 1.0 or compression != 1.0 or devices or adaptive
-    substeps = 4
     if road_file is None:
         check_positive("length", length, "m")
-        # the road at every stage: 8 heights and 8 rates per sample and wheel, at most
-        # 8e6 per wheel (0.5 GB for four wheels)
+        # the states and every node and element output at each sample (a full car with
+        # its comfort observers: about 40 states and 100 outputs): at most 1e6 samples
         if length / (v * h) > 1_000_000:
             raise ParameterError(
                 "length", length, f"at most {1e6 * v * h:g} m at this speed and dt"
             )
         _check_samples(length / (v * h), v, h, length)
         road = road_spectrum(road_class)
-        r = generated_road(
-            veh, road, length=length, speed=v, dt=h, substeps=substeps, track=width, seed=seed
-        )
-        nt = r.samples.shape[0]
+        r = generated_road(params, road, length=length, speed=v, dt=h, track=width, seed=seed)
     else:
         road = None
         # the file's own samples: the wheels are read off them once, by linear interpolation
@@ -522,39 +516,30 @@ def simulate_command(
         if (x[-1] - x[0]) / (v * h) > 5_000_000:
             raise ParameterError("dt", dt, "a step giving at most 5e6 samples of the road")
         _check_samples(x.size, v, h, None)
-        r = road_inputs(veh, x, zl, zr, v, h, periodic=False)
-        nt = r.shape[0]
-    if nonlinear or road is not None:
-        from ..vehicles.nonlinear import simulate_nonlinear
 
-        res = simulate_nonlinear(
-            veh,
-            r,
-            h,
-            tyre_lift_off=lift_off,
-            rebound=rebound,
-            compression=compression,
-            substeps=substeps,
-        )
-        y = res.outputs
-    else:
-        y = simulate(veh, r, h)
+        class _Axles:  # road_inputs reads the wheelbase and the kind
+            parameters = params
+            kind = "full" if full else "half"
+
+        r = road_inputs(_Axles, x, zl, zr, v, h, periodic=False)
+        _check_samples(r.shape[0], v, h, None)  # the wheels' samples over the file's length
+    nt = r.shape[0]
+    run = simulate_vehicle(params, r, h, lift_off=lift_off, rebound=rebound,
+                           compression=compression, warmup=5.0)  # fmt: skip
+    y = run.outputs
     keep = slice(min(int(5.0 / h), nt // 2), None)
     rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
-    acc = "seat_acc" if "seat_acc" in y else "bounce_acc"
-    aw = iso2631.weight(y[acc], 1.0 / h, "Wk")[keep]
+    acc = run.comfort["signal"]
     out = {
         "rms": rms,
-        f"{acc}_wk": float(math.sqrt((aw**2).mean())),
-        "vdv": iso2631.vibration_dose_value(aw, 1.0 / h),
-        "crest_factor": iso2631.crest_factor(aw),
-        "duration_s": float(aw.size * h),
+        f"{acc}_wk": run.comfort["wk_rms"],
+        "vdv": run.comfort["vdv"],
+        "crest_factor": run.comfort["crest_factor"],
+        "duration_s": run.comfort["duration"],
         "model": "nonlinear" if nonlinear else "linear",
     }
     # contact force = static load + dynamic tyre load; 0 while a one-sided tyre is off
-    static = veh.static_tyre_loads()
-    contact = {c: static[c] + y[f"{c}_tyre_load"][keep] for c in veh.corners}
-    frac = {c: float(np.mean(f <= 0.0)) for c, f in contact.items()}
+    frac = {c: float(np.mean(f[keep] <= 0.0)) for c, f in run.contact_force.items()}
     frac_key = "lift_off_fraction" if lift_off else "negative_contact_fraction"
     out[frac_key] = frac
     ref, ref_name, gauss = None, None, None
@@ -564,7 +549,7 @@ def simulate_command(
 
             lin = statistical_linearisation(
                 vehicle="" if vehicle is None else str(vehicle),
-                model=veh.kind,
+                model="full" if full else "half",
                 road_class=road_class,
                 speed=v,
                 rebound=rebound,
@@ -573,7 +558,9 @@ def simulate_command(
             ref, ref_name, gauss = lin.rms, "linearised", lin.lift_off
             out["linearisation_converged"] = lin.converged
         else:
-            spec = spectral_response(veh, road, v)
+            from ..vehicles.linear import linear_vehicle
+
+            spec = spectral_response(linear_vehicle(params), road, v)
             ref, ref_name, gauss = spec.rms, "spectral", spec.lift_off
         out[f"{ref_name}_rms"] = {k: ref[k] for k in rms}
         out[f"{acc}_wk_{ref_name}"] = ref[f"{acc}_wk"]
@@ -589,7 +576,10 @@ def simulate_command(
     def cell(k, value):
         return f"{value:.4g}" + (f" ({label} {ref[k]:.4g})" if ref else "")
 
-    rows = [(f"{k} [{veh.outputs[k].unit}]", cell(k, rms[k])) for k in rms]
+    def unit(k):
+        return next(u for q, u in OUTPUT_UNITS.items() if k == q or k.endswith("_" + q))
+
+    rows = [(f"{k} [{unit(k)}]", cell(k, rms[k])) for k in rms]
     rows += [
         (f"{acc}_wk [m/s^2]", cell(f"{acc}_wk", out[f"{acc}_wk"])),
         ("VDV [m/s^1.75]", f"{out['vdv']:.4g}"),
@@ -613,7 +603,7 @@ def monte_carlo_command(
     speed: Annotated[float, typer.Option(help="Speed V [m/s].")] = 20.0,
     length: Annotated[float, typer.Option(help="Road length per realisation [m].")] = 1200.0,
     dt: Annotated[float, typer.Option(help="Road sample interval [s].")] = 0.002,
-    substeps: Annotated[int, typer.Option(help="Runge-Kutta steps per sample [-].")] = 2,
+    rtol: Annotated[float, typer.Option(help="Relative tolerance of the integration [-].")] = 1e-6,
     warmup: Annotated[float, typer.Option(help="Start-up left out of each road [s].")] = 5.0,
     roads: Annotated[int, typer.Option(help="Number of road realisations [-].")] = 100,
     first_seed: Annotated[int, seed_option("Seed of the first road [-].")] = 0,
@@ -664,27 +654,25 @@ def monte_carlo_command(
         raise ParameterError("roads", roads, "an integer in [2, 1000000]")
     check_seed("first-seed", first_seed, roads)  # every road's seed fits
     check_positive("length", length, "m")
-    if not isinstance(substeps, int) or substeps < 1:
-        raise ParameterError("substeps", substeps, "an integer >= 1")
-    # each road is held at every Runge-Kutta stage: 2 x substeps heights and rates per
-    # sample and wheel, at most 8e6 per wheel (0.5 GB for four wheels) per worker
-    most = 8e6 / (2 * substeps)
-    if length / (v * h) > most:
-        raise ParameterError(
-            "length",
-            length,
-            f"at most {most * v * h:g} m at this speed, dt and {substeps} substeps",
-        )
+    if not 1e-12 <= rtol <= 1e-2:
+        raise ParameterError("rtol", rtol, "a relative tolerance in [1e-12, 1e-2]")
+    # the states and every node and element output at each sample, per worker (a full
+    # car with its comfort observers: about 40 states and 100 outputs): at most 1e6
+    if length / (v * h) > 1_000_000:
+        raise ParameterError("length", length, f"at most {1e6 * v * h:g} m at this speed and dt")
     _check_samples(length / (v * h), v, h, length)
     path = "" if vehicle is None else str(vehicle)
-    _, veh = _load(vehicle, model)
-    devices = bool(veh.nonlinear_devices())
+    from ..systems.vehicle import _stations
+
+    params = _parameters(vehicle, model)
+    devices = any(st[3].strut.device is not None for st in _stations(params)[1]
+                  if hasattr(st[3].strut, "device"))  # fmt: skip
     settings = dict(
         road_class=road_class,
         speed=v,
         length=length,
         dt=h,
-        substeps=substeps,
+        rtol=rtol,
         warmup=warmup,
         lift_off="on" if lift_off else "off",
         rebound=rebound,

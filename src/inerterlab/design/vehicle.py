@@ -28,9 +28,9 @@ Time domain: a candidate is built as the vehicle file with a network strut at ev
 corner (:class:`~inerterlab.vehicles.parameters.NetworkStrut`) or, with a real device,
 the main spring as the strut and the rest of the layout as the corner's device
 (:class:`~inerterlab.vehicles.parameters.Strut` ``device``), and driven over a generated
-ISO 8608 road, exact at every Runge-Kutta stage, by
-:func:`inerterlab.vehicles.nonlinear.simulate_nonlinear` (the ``vehicle simulate``
-path; one-sided tyres).
+ISO 8608 road (its series at the wheels, linear between samples) by the model core's
+vehicle, :func:`inerterlab.vehicles.simulation.simulate_vehicle` (the ``vehicle
+simulate`` path; one-sided tyres).
 """
 
 from __future__ import annotations
@@ -65,11 +65,9 @@ AXLES = ("front", "rear")
 #: design objectives a vehicle takes (the tyre loads and deflections of a full car are
 #: infinite under white road velocity: they are limits, on the band-limited road)
 VEHICLE_OBJECTIVES = ("seat_wk", "body_acc_wk", "body_acc")
-#: road sample interval [s], Runge-Kutta steps per sample and start-up left out [s] of
-#: a time-domain score
-DT, SUBSTEPS, WARMUP = 0.002, 4, 2.0
-#: most Runge-Kutta steps per sample a device's fastest rate may ask for
-MAX_SUBSTEPS = 64
+#: road sample interval [s] and start-up left out [s] of a time-domain score (the car
+#: of the model core, error-controlled: no step count to choose)
+DT, WARMUP = 0.002, 2.0
 
 
 def vehicle_car(text: str, model: str, source: str = "vehicle file") -> dict:
@@ -371,26 +369,15 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
     tyres. Accelerations of the body's bounce and the seat (Wk weighted from rest over
     the whole run), deflection and tyre load of the worst corner."""
     from .. import iso2631
-    from ..vehicles import build, generated_road, road_spectrum
-    from ..vehicles.nonlinear import simulate_nonlinear
+    from ..vehicles import generated_road, road_spectrum
+    from ..vehicles.simulation import simulate_vehicle
 
     p = candidate_vehicle(car, cand)
-    veh = build(p)
-    # explicit Runge-Kutta: |h lambda| < 2.5 for the fastest mode of the linear part (a
-    # stiff spring in series with a damper) and of every device's rig
-    rate = float(np.max(np.abs(np.linalg.eigvals(veh.state_space(devices=True)[0]))))
-    for _con, dev in veh.nonlinear_devices():
-        rate = max(rate, dev.fastest_rate())
-    sub = max(SUBSTEPS, math.ceil(rate * DT / 2.5))
-    if sub > MAX_SUBSTEPS:
-        raise ConvergenceError(
-            f"a device needs {sub} Runge-Kutta steps per road sample (more than {MAX_SUBSTEPS})"
-        )
-    width = 0.5 * (p.front_track + p.rear_track) if veh.kind == "full" else 1.5
+    width = 0.5 * (p.front_track + p.rear_track) if hasattr(p, "front_track") else 1.5
     length = float(speed) * (float(horizon) + WARMUP) + p.wheelbase + 4 * float(speed) * DT
-    r = generated_road(veh, road_spectrum(road_class), length=length, speed=float(speed), dt=DT,
-                       substeps=sub, track=width, seed=int(seed))  # fmt: skip
-    res = simulate_nonlinear(veh, r, DT, tyre_lift_off=True, substeps=sub)
+    r = generated_road(p, road_spectrum(road_class), length=length, speed=float(speed), dt=DT,
+                       track=width, seed=int(seed))  # fmt: skip
+    res = simulate_vehicle(p, r, DT, lift_off=True)
     y = res.outputs
     keep = slice(int(round(WARMUP / DT)), None)
 
@@ -401,8 +388,9 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
     seat = "seat_acc" in y
     sw = iso2631.weight(y["seat_acc"], 1.0 / DT, "Wk") if seat else None
     cw = sw if seat else bw
-    defl = [y[f"{c}_deflection"] for c in veh.corners]
-    loads = [y[f"{c}_tyre_load"] for c in veh.corners]
+    corners = tuple(res.contact_force)
+    defl = [y[f"{c}_deflection"] for c in corners]
+    loads = [y[f"{c}_tyre_load"] for c in corners]
     return {
         "rms_body_acc": rms(y["bounce_acc"]),
         "rms_body_acc_wk": rms(bw),
@@ -411,5 +399,5 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
         "rms_deflection": max(rms(x) for x in defl),
         "peak_deflection": max(float(np.max(np.abs(np.asarray(x)[keep]))) for x in defl),
         "vdv": float(iso2631.vibration_dose_value(np.asarray(cw)[keep], 1.0 / DT)),
-        "min_tyre_force": min(float(np.min(res.contact_force[c][keep])) for c in veh.corners),
+        "min_tyre_force": min(float(np.min(res.contact_force[c][keep])) for c in corners),
     }

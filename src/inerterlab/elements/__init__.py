@@ -4,7 +4,7 @@
 in a network text, ``k2``, ``afw_front``) to the element class, which declares its role,
 its parameters with units (and the optimiser's default search ranges), its law and its
 linearisation about rest. The network grammar (:mod:`inerterlab.networks`) reads names
-through :func:`element_class` only. A primitive element (spring, damper, inerter, friction, adaptive
+through :func:`element_class` only. A primitive element (spring, damper, asymmetric damper, inerter, friction, adaptive
 flywheel, backlash, gas spring, bump stop, bearing drag, one-way clutch, the ball
 screw's contact rule) has a compiled force law the system right-hand side calls; a composite element
 (hydraulic, screw and rectifier devices, fluid inerter) is a small network of primitives.
@@ -19,6 +19,7 @@ import re
 from ..errors import NetworkError
 from ._base import UNIT_QUANTITY, ElementBase, Param
 from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
+from .asymmetric_damper import AsymmetricDamper
 from .backlash import Backlash
 from .bearing_drag import BearingDrag
 from .bump_stop import BumpStop
@@ -45,6 +46,7 @@ __all__ = [
     "inertia_law",
     "Spring",
     "Damper",
+    "AsymmetricDamper",
     "Inerter",
     "Friction",
     "AdaptiveFlywheelInerter",
@@ -76,6 +78,7 @@ ELEMENTS: dict[str, type[ElementBase]] = {
     "drag": BearingDrag,
     "owc": OneWayClutch,
     "sgap": ScrewContact,
+    "asym": AsymmetricDamper,
 }
 
 

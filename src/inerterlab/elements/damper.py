@@ -14,7 +14,12 @@ __all__ = ["Damper", "damper_force"]
 
 @nb.njit(cache=True, inline='always')
 def damper_force(tab, o, v):
-    """(F [N], dF/dv [N s/m]) at relative velocity v [m/s]."""
+    """(F [N], dF/dv [N s/m]) at relative velocity v [m/s]. A row whose law code
+    (row[2]) is 1 is an asymmetric damper (:mod:`.asymmetric_damper`): rate row[0]
+    while extending (v > 0), row[3] while shortening."""
+    if tab[o + 2] == 1.0:
+        c = tab[o] if v > 0.0 else tab[o + 3]
+        return c * v, c
     a = abs(v)
     c, c2 = tab[o], tab[o + 1]
     return c * v + c2 * v * a, c + 2.0 * c2 * a

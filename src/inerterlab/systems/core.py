@@ -684,7 +684,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             jump_ok = False
         elif el.code == DAMPER:
             c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
-            if c_quad > 0 or types[other] != DYN:
+            if c_quad > 0 or not el.is_linear or types[other] != DYN:
                 jump_ok = False
             else:
                 imp[cls[other]] += c_lin

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..elements._base import NPAR, SPRING, TYRE
-from ..errors import ConvergenceError, NetworkError, check_positive
+from ..errors import ConvergenceError, NetworkError, ParameterError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
 
@@ -144,9 +144,11 @@ def _rebuilt(sys, elements: list):
     return dataclasses.replace(sys, ftab=ft, elements=tuple(elements), info=info)
 
 
-def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 100) -> Equilibrium:
+def equilibrium(system, gravity: float | None = None, *, heights=None,
+                max_iterations: int = 100) -> Equilibrium:  # fmt: skip
     """The static equilibrium of ``system`` (a core :class:`System`) under ``gravity``
-    [m/s^2] (default: a quarter car's own, else 9.81), the road and ground at 0.
+    [m/s^2] (default: a quarter car's own, else 9.81; 0: no weight, for a system about
+    its rest), the ground at 0 and each road at its entry of ``heights`` [m] (default 0).
 
     Newton's method on the nonlinear force balance of every node with a displacement
     state (module docstring), from the force-free configuration. Raises NetworkError
@@ -162,7 +164,7 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     """
     if gravity is None:
         gravity = float(system.info.get("car", {}).get("gravity", 9.81))
-    g = check_positive("gravity", gravity, "m/s^2")
+    g = 0.0 if gravity == 0.0 else check_positive("gravity", gravity, "m/s^2")
     itab, ftab = system.tables
     nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
     springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
@@ -178,10 +180,17 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
     for name in system.info.get("weightless", ()):  # rotational coordinates
         weights[system.node_names.index(name)] = 0.0
     weight = float(weights.sum())
-    scale = max(weight, 1.0)
+    # the tolerance's scale: the weight (or, without gravity, the weight it would be)
+    scale = max(weight if g > 0 else float(masses.sum()) * 9.81, 1.0)
     W = np.empty(_kernel.work_size(itab))
     dx = np.empty(system.n_states)
     road = np.zeros(_kernel.road_layout_of(itab)[1])  # every road at rest
+    if heights is not None:
+        h = np.atleast_1d(np.asarray(heights, dtype=float))
+        nr = max(int(itab[_kernel.I_NRD]), 1)
+        if h.shape != (nr,) or not np.all(np.isfinite(h)):
+            raise ParameterError("heights", heights, f"{nr} finite road heights [m]")
+        road[0 : 3 * nr : 3] = h
     base = np.array(system.x0_template, dtype=float)
     pos = {n: i for i, n in enumerate(rows)}
 
@@ -244,7 +253,7 @@ def equilibrium(system, gravity: float | None = None, *, max_iterations: int = 1
                     f"ranges: {names[e]} ({el.description}) would take {-y:.6g} m of "
                     f"compression carrying {-forces[names[e]]:.6g} N, beyond {what}"
                 )
-        if el.is_linear:
+        if el.is_linear or codes[e] == TYRE:  # a tyre's law is about its static load
             continue
         if hasattr(el, "at_operating_point"):
             new[e] = el.at_operating_point(el.operating_point + y)

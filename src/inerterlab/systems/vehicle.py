@@ -33,31 +33,58 @@ import numpy as np
 from ..errors import ParameterError, check_positive
 from ..networks import NetworkError
 from . import _integrate
-from ._kernel import ROAD
 from ._network import Layout, elements_of
 from .core import _NO_REGIME, System, _failure, _laid_out, _options
 from .options import SimulationOptions
 
 __all__ = [
     "half_car", "full_car", "vehicle", "simulate", "VehicleResult", "static_tyre_loads",
-    "rest_state", "road_segments", "enveloped",
+    "rest_state", "road_segments", "enveloped", "StrutOptions",
 ]
 
 
-def _strut_network(strut) -> tuple[str | None, dict, object]:
+@dataclass(frozen=True)
+class StrutOptions:
+    """What the time-domain options change at every corner: the damper's factors
+    ``rebound`` (while the strut extends) and ``compression`` (while it shortens) [-],
+    and a Coulomb ``friction`` [N] across each strut, regularised over
+    ``friction_velocity`` [m/s] (:class:`~inerterlab.elements.Friction`)."""
+
+    rebound: float = 1.0
+    compression: float = 1.0
+    friction: float = 0.0
+    friction_velocity: float = 1e-3
+
+    @property
+    def asymmetric(self) -> bool:
+        return self.rebound != 1.0 or self.compression != 1.0
+
+
+def _strut_network(strut, opts: StrutOptions) -> tuple[str | None, dict, object]:
     """(network text, element values, device) of a corner strut of
-    :mod:`inerterlab.vehicles.parameters`: its parallel spring, damper, inerter and
-    adaptive inerter as a network, and its device (placed from its own layout)."""
-    from ..elements import Damper, Inerter, Spring
+    :mod:`inerterlab.vehicles.parameters`: its parallel spring, damper (asymmetric with
+    ``opts``' factors), inerter and adaptive inerter as a network, and its device
+    (placed from its own layout)."""
+    from ..elements import AsymmetricDamper, Damper, Inerter, Spring
     from ..vehicles.parameters import NetworkStrut
 
     if isinstance(strut, NetworkStrut):
+        if opts.asymmetric:
+            raise ParameterError(
+                "rebound/compression", (opts.rebound, opts.compression),
+                f"1 with the network strut {strut.network!r}: an asymmetric damper needs a "
+                "Strut, whose damper is one element (or write an asym element in the network)",
+            )  # fmt: skip
         return strut.network, strut.parameters, None
     parts, vals = [], {}
     if strut.stiffness > 0:
         parts.append("k")
         vals["k"] = Spring(stiffness=strut.stiffness)
-    if strut.damping > 0:
+    if strut.damping > 0 and opts.asymmetric:
+        parts.append("asym")
+        vals["asym"] = AsymmetricDamper(rebound=opts.rebound * strut.damping,
+                                        compression=opts.compression * strut.damping)  # fmt: skip
+    elif strut.damping > 0:
         parts.append("c")
         vals["c"] = Damper(damping=strut.damping)
     if strut.inertance > 0:
@@ -87,7 +114,9 @@ def _stations(p):
     raise ParameterError("vehicle", type(p).__name__, "a HalfCar or a FullCar")
 
 
-def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) -> System:
+def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True,
+            rebound: float = 1.0, compression: float = 1.0, friction: float = 0.0,
+            friction_velocity: float = 1e-3) -> System:  # fmt: skip
     """The core system of a :class:`~inerterlab.vehicles.parameters.HalfCar` or
     :class:`~inerterlab.vehicles.parameters.FullCar` (or a vehicle file's path).
 
@@ -96,14 +125,23 @@ def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) 
     ``(network text, element values)`` or an element object, between the body point
     (top) and the wheel. ``lift_off``: the tyres lift off where the contact force would
     be negative (nonlinear), or always press (linear: the tyre a spring and damper).
-    The static equilibrium (and the tyres' static loads) come from Newton's method on
+    ``rebound``, ``compression`` [-]: every strut's damper becomes an
+    :class:`~inerterlab.elements.AsymmetricDamper` of rates rebound x c (extending) and
+    compression x c (shortening); ``friction`` [N]: a Coulomb friction across every
+    corner's suspension, regularised over ``friction_velocity`` [m/s]. The static equilibrium (and the tyres' static loads) come from Newton's method on
     the whole nonlinear balance with gravity (:func:`_rest`); ``info["equilibrium"]``
     holds it."""
+    from ..errors import check_nonnegative
     from ..vehicles.config import load_vehicle
 
     p = parameters
     if isinstance(p, str) or hasattr(p, "read_text"):
         p = load_vehicle(p)
+    opts = StrutOptions(
+        check_positive("rebound", rebound), check_positive("compression", compression),
+        check_nonnegative("friction", friction, "N"),
+        check_positive("friction_velocity", friction_velocity, "m/s"),
+    )  # fmt: skip
     _, stations = _stations(p)
     names = [s[0] for s in stations]
     overrides = {}
@@ -113,7 +151,7 @@ def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) 
             raise ParameterError("networks", key, f"a station or axle of {', '.join(names)}")
         for h in hits:
             overrides[h] = val
-    lin = _build(p, overrides, None)
+    lin = _build(p, overrides, None, opts)
     eq = _rest(lin)
     loads = _loads(eq)
     lin = eq.system
@@ -121,7 +159,7 @@ def vehicle(parameters, *, networks: dict | None = None, lift_off: bool = True) 
     lin.info["equilibrium"] = eq
     if not lift_off:
         return lin
-    return _about(_build(p, overrides, loads), lin.elements, eq)
+    return _about(_build(p, overrides, loads, opts), lin.elements, eq)
 
 
 def _rest(sys: System):
@@ -188,7 +226,7 @@ def full_car(parameters, **options) -> System:
     return vehicle(p, **options)
 
 
-def _build(p, overrides: dict, loads: dict | None) -> System:
+def _build(p, overrides: dict, loads: dict | None, opts: StrutOptions) -> System:
     """The vehicle's system; tyres with these static loads (None: no lift-off)."""
     from ..elements import Damper, Spring
     from ..elements.tyre import Tyre
@@ -222,7 +260,7 @@ def _build(p, overrides: dict, loads: dict | None) -> System:
             tyre = Tyre(stiffness=t.stiffness, damping=t.damping,
                         static_load=None if loads is None else loads[name])  # fmt: skip
             lay.edges.append((f"{name}_tyre", tyre, wheel, road))
-            _place_corner(lay, name, corner.strut, overrides.get(name), top, wheel)
+            _place_corner(lay, name, corner.strut, overrides.get(name), top, wheel, opts)
         if full:
             for axle, rate in (("front", p.front_anti_roll), ("rear", p.rear_anti_roll)):
                 if rate > 0:  # a spring between the two strut extensions of the axle
@@ -249,12 +287,21 @@ def _build(p, overrides: dict, loads: dict | None) -> System:
     return sys
 
 
-def _place_corner(lay: Layout, name: str, strut, override, top: int, wheel: int) -> None:
+def _place_corner(lay: Layout, name: str, strut, override, top: int, wheel: int,
+                  opts: StrutOptions) -> None:  # fmt: skip
     """Place a corner's suspension between the body point ``top`` and ``wheel``."""
-    from ..elements import ElementBase
+    from ..elements import ElementBase, Friction
 
     device = None
+    if opts.friction > 0:
+        fric = Friction(force=opts.friction, velocity=opts.friction_velocity)
+        lay.edges.append((f"{name}.strut_friction", fric, top, wheel))
     if override is not None:
+        if opts.asymmetric:
+            raise ParameterError(
+                "rebound/compression", (opts.rebound, opts.compression),
+                f"1 with a network at {name}: write an asym element in the network instead",
+            )  # fmt: skip
         if isinstance(override, ElementBase):
             text, vals = override.prefix, {override.prefix: override}
         else:
@@ -265,7 +312,7 @@ def _place_corner(lay: Layout, name: str, strut, override, top: int, wheel: int)
                     f"networks[{name!r}]", override, "(network text, element values) or an element"
                 ) from None
     else:
-        text, vals, device = _strut_network(strut)
+        text, vals, device = _strut_network(strut, opts)
     if text is not None:
         try:
             tree, els = elements_of(text, vals)
@@ -281,53 +328,6 @@ def _place_corner(lay: Layout, name: str, strut, override, top: int, wheel: int)
             lay.edges.append((f"{name}.dev.{ename}", el, where[t], where[b]))
 
 
-def _statics(sys: System, forces: dict, heights) -> np.ndarray:
-    """Node displacements [m] of the static balance: the springs (tyres and anti-roll
-    bars included; inerters, dampers and friction carry nothing at rest) against the
-    node ``forces`` {node name: N} with the roads at ``heights``. Nodes that no spring
-    holds take the least-squares (minimum-norm) position."""
-    from ..elements._base import SPRING, TYRE
-    from ._kernel import GROUND, LIN
-
-    lay = sys.info["layout"]
-    types = sys.node_types
-    nn = len(types)
-    L = np.zeros((nn, nn))
-    for _, el, t, b in lay.edges:
-        if el.code in (SPRING, TYRE):
-            k = el.row()[0]
-            L[t, t] += k
-            L[b, b] += k
-            L[t, b] -= k
-            L[b, t] -= k
-    free = [i for i in range(nn) if types[i] not in (GROUND, ROAD, LIN)]
-    col = {i: j for j, i in enumerate(free)}
-    P = np.zeros((nn, len(free)))
-    Xr = np.zeros(nn)
-    for i in range(nn):
-        if i in col:
-            P[i, col[i]] = 1.0
-        elif types[i] == LIN:
-            for m, c in lay.nodes[i]["members"]:
-                P[i, col[m]] += c
-        elif types[i] == ROAD:
-            Xr[i] = heights[lay.nodes[i].get("road", 0)]
-    G = np.zeros(nn)
-    for name, f in forces.items():
-        G[sys.node_names.index(name)] = f
-    K = P.T @ L @ P
-    rhs = P.T @ (G - L @ Xr)
-    u = np.linalg.lstsq(K, rhs, rcond=None)[0]
-    scale = np.linalg.norm(P.T @ G) + np.linalg.norm(P.T @ (L @ Xr)) + 1e-300
-    if np.linalg.norm(K @ u - rhs) > 1e-9 * scale:
-        raise ParameterError(
-            "struts", "no static stiffness",
-            "a suspension that carries the car at rest (a network whose springs all sit "
-            "in series with a damper carries no static load)",
-        )  # fmt: skip
-    return P @ u + Xr
-
-
 def static_tyre_loads(parameters, networks: dict | None = None) -> dict:
     """Static contact force of each wheel station [N] (see :func:`vehicle`)."""
     return dict(vehicle(parameters, networks=networks, lift_off=True).info["static_tyre_loads"])
@@ -335,25 +335,30 @@ def static_tyre_loads(parameters, networks: dict | None = None) -> dict:
 
 def rest_state(sys: System, heights) -> np.ndarray:
     """The state at rest in static equilibrium on the road ``heights`` [m] (one per
-    station, coordinates measured from the equilibrium on a level road): node
-    displacements from the spring balance, velocities zero, element states at rest."""
-    from ._kernel import REL
+    station, coordinates measured from the equilibrium on a level road): Newton's method
+    on the whole nonlinear static balance of the system about its rest
+    (:func:`~inerterlab.systems.equilibrium.equilibrium` without weight, which its rest
+    already carries), velocities zero, element and observer states at rest."""
+    from .equilibrium import equilibrium
 
     h = np.asarray(heights, float)
-    X = _statics(sys, {}, h)
-    x = sys.x0_template.copy()
-    ref = sys.info.get("references") or [-1] * len(X)
-    for i, nm in enumerate(sys.node_names):
-        if f"{nm}.x" in sys.state_names:
-            x[sys.state_names.index(f"{nm}.x")] = X[i]
-        elif sys.node_types[i] == REL:
-            x[sys.state_names.index(f"{nm}.x_rel")] = X[i] - X[ref[i]]
-    return x
+    if not np.any(h):
+        return np.array(sys.x0_template, dtype=float)
+    base = sys.info.get("base", sys)
+    # with the tyres in contact (the same layout and states): a tyre that may lift off
+    # has no stiffness where a start from the level rest would put it off the road
+    eq = base.info.get("equilibrium")
+    contact = eq.system if eq is not None else base
+    x = equilibrium(contact, 0.0, heights=h).state
+    return np.concatenate([x, sys.x0_template[base.n_states :]])
 
 
 @dataclass(frozen=True, eq=False)
 class VehicleResult:
-    """A time simulation of a core vehicle."""
+    """A time simulation of a core vehicle: ``outputs`` the vehicle's named outputs
+    (:func:`simulate`), ``signals`` every node and element output of the system,
+    ``contact_force`` [N] and ``lift_off_fraction`` [-] per station, the integrator's
+    ``stats``."""
 
     system: System
     time: np.ndarray
@@ -362,6 +367,7 @@ class VehicleResult:
     contact_force: dict
     lift_off_fraction: dict
     stats: dict
+    signals: dict
 
 
 #: the step budget of a vehicle run unless the options say otherwise (a vehicle on a
@@ -377,8 +383,8 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     events). Starts at rest in static equilibrium on the first heights (or at ``x0``).
     Outputs at the samples: ``bounce_acc``, ``pitch_acc``, ``roll_acc`` [m/s^2,
     rad/s^2], ``seat_acc``, ``<station>_deflection`` [m] (strut extension),
-    ``<station>_tyre_load`` [N] (increase of the contact force), and every node and
-    element output of the system (:attr:`System.output_names`). ``options``
+    ``<station>_tyre_load`` [N] (increase of the contact force); every node and
+    element output of the system (:attr:`System.output_names`) in ``signals``. ``options``
     (:class:`~inerterlab.systems.options.SimulationOptions`, with keywords named as its
     fields replacing its values): tolerances, step control, ``max_steps`` (default
     :data:`VEHICLE_MAX_STEPS`); the samples are the road's."""
@@ -414,7 +420,7 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     O = np.empty((ts.size, len(sys.output_names)))
     _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
     outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
-    res = dict(outs)
+    res = {}
     res["bounce_acc"] = outs["bounce.a"]
     res["pitch_acc"] = outs["pitch.a"]
     if "roll.a" in outs:
@@ -423,15 +429,16 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
         res["seat_acc"] = outs["seat.a"]
     contact, lift = {}, {}
     loads = sys.info["static_tyre_loads"]
-    for name in sys.info["stations"]:
+    for name in sys.info["stations"]:  # the deflections, then the tyre loads
         res[f"{name}_deflection"] = outs[f"body_{name}.x"] - outs[f"wheel_{name}.x"]
+    for name in sys.info["stations"]:
         f = outs[f"{name}_tyre.force"]
         res[f"{name}_tyre_load"] = -f
         contact[name] = loads[name] - f
         lift[name] = float(np.mean(contact[name] <= 1e-9 * loads[name]))
     stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
              "events": int(st[3])}  # fmt: skip
-    return VehicleResult(sys, ts, Y, res, contact, lift, stats)
+    return VehicleResult(sys, ts, Y, res, contact, lift, stats, outs)
 
 
 def road_segments(r: np.ndarray, dt: float) -> np.ndarray:

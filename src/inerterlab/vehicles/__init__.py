@@ -4,7 +4,7 @@ See docs/guide/vehicles.md. Main entry points: :func:`load_vehicle` (TOML file),
 :func:`linear_vehicle` (parameters -> :class:`LinearVehicle`, the core car's state space
 about its static equilibrium), :func:`road_spectrum`,
 :func:`spectral_response`, :func:`simulate`, :func:`generated_road` (a generated road,
-exact at the wheels), :func:`iri`, :func:`fit_iso8608`.
+exact at the wheels), :func:`simulate_vehicle` (time simulation on the model core), :func:`iri`, :func:`fit_iso8608`.
 """
 
 from .config import example_vehicle_path as example_vehicle_path
@@ -26,8 +26,9 @@ from .roads import generate_tracks as generate_tracks
 from .roads import iri as iri
 from .roads import isotropic_coherence as isotropic_coherence
 from .roads import road_spectrum as road_spectrum
+from .simulation import VehicleRun as VehicleRun
+from .simulation import simulate_vehicle as simulate_vehicle
 from .spectral import SpectralResult as SpectralResult
-from .spectral import StageRoad as StageRoad
 from .spectral import generated_road as generated_road
 from .spectral import road_inputs as road_inputs
 from .spectral import simulate as simulate

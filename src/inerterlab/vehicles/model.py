@@ -194,20 +194,18 @@ class LinearVehicle:
                 con.name,
                 dev.source,
                 f"a linear strut for {what}: this device has internal nodes, "
-                "friction or a nonlinear spring, which only the nonlinear time simulation "
-                "(simulate_nonlinear, vehicle simulate, vehicle monte-carlo) integrates",
+                "friction or a nonlinear spring, which only the model core's vehicle "
+                "(vehicle simulate, vehicle monte-carlo, vehicles.linear) takes",
             )
 
-    def state_space(self, devices: bool = False):
+    def state_space(self):
         """x = (q, q', z): x' = A x + Br r + Bd r', y = Cy[name] x + Dr[name] r + Dd[name] r'.
 
         z are the internal states of network struts (none for struts of springs,
         dampers and inerters in parallel). Returns (A, Br, Bd, Cy, Dr, Dd) with Cy, Dr,
-        Dd dicts keyed by output name. A strut with a nonlinear device is refused
-        unless ``devices`` (then its rig part is left out: the nonlinear model's use).
+        Dd dicts keyed by output name. A strut with a nonlinear device is refused.
         """
-        if not devices:
-            self.require_linear("the state space")
+        self.require_linear("the state space")
         M, C, K, Kr, Cr = self.matrices(internal=True)
         Az, Zq, Zr, Fz = self.internal_realisation()
         n, nz = len(self.dofs), Az.shape[0]

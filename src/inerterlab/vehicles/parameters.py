@@ -10,14 +10,14 @@ positive left side up. A body point at (x, y) moves z - x theta + y phi.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from ..errors import ParameterError, check_finite, check_nonnegative, check_positive
 
-__all__ = ["Strut", "NetworkStrut", "split_stiffness", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
+__all__ = ["CornerDevice", "corner_device", "Strut", "NetworkStrut", "split_stiffness", "Tyre", "Corner", "Seat", "HalfCar", "FullCar", "GRAVITY"]
 
 GRAVITY = 9.81  # [m/s^2]
 
@@ -44,19 +44,19 @@ class Strut:
         b [kg], >= 0.
     adaptive : AdaptiveFlywheelInerter, optional
         An adaptive-flywheel inerter (:mod:`inerterlab.elements`) in parallel with the
-        strut, laws ``thesis`` or ``momentum``. The nonlinear model
-        (:mod:`inerterlab.vehicles.nonlinear`) uses its speed-dependent inertance; the
-        linear model (spectral method, modes) uses its rest inertance r^2 I_min, and
+        strut, laws ``thesis`` or ``momentum``. The time simulation (the model core's
+        vehicle, :mod:`inerterlab.vehicles.simulation`) uses its speed-dependent
+        inertance; the linear model (spectral method, modes) uses its rest inertance r^2 I_min, and
         :func:`~inerterlab.vehicles.stochastic.statistical_linearisation` its Gaussian
         equivalent.
     device : element or network text, optional
         A device of the model core in parallel with the strut: an element of
         :mod:`inerterlab.elements` (``HydraulicElement()``, ``RectifierElement()``,
         ``ScrewElement()``, ...) or a core network text whose element values come with
-        ``device_parameters``. Its springs, linear dampers and inerters straight across
-        the strut join k, c and b; the rest (internal nodes, friction) is integrated by
-        the nonlinear model only (:mod:`inerterlab.vehicles.devices`). A strut with such
-        a part is nonlinear: the linear analyses refuse it, naming the corner.
+        ``device_parameters`` (:class:`CornerDevice`). The model core's vehicle places
+        it as it is; the assembled linear model reads its springs, linear dampers and
+        inerters straight across the strut into k, c and b and refuses the rest
+        (internal nodes, friction), naming the corner.
     device_parameters : dict, optional
         Element values by name for a ``device`` given as network text.
     """
@@ -82,8 +82,6 @@ class Strut:
                     "adaptive.law", self.adaptive.law, "'thesis' or 'momentum' in a vehicle"
                 )
         if self.device is not None:
-            from .devices import corner_device
-
             dev = corner_device(self.device, self.device_parameters)
             object.__setattr__(self, "device", dev)
             object.__setattr__(self, "device_parameters", None)
@@ -106,9 +104,10 @@ class Strut:
 
     @property
     def nonlinear_device(self):
-        """The device part that only the nonlinear model integrates (a
-        :class:`~inerterlab.vehicles.devices.CornerDevice` with a rig part), or None."""
-        if self.device is not None and self.device.system is not None:
+        """The device if it has parts beyond springs, linear dampers and inerters
+        straight across it and an adaptive inerter (a :class:`CornerDevice` that the
+        assembled linear model cannot take; the core vehicle takes any), or None."""
+        if self.device is not None and self.device.nonlinear:
             return self.device
         return None
 
@@ -143,7 +142,7 @@ class Strut:
 
     def mck(self) -> tuple[float, float, float]:
         """(b [kg], c [N s/m], k [N/m]); b includes an adaptive inerter at rest and k, c,
-        b a device's direct parts (its rig part is not here: see ``nonlinear_device``)."""
+        b a device's direct parts (the rest is not here: see ``nonlinear_device``)."""
         k, c = self._kc()
         return (self.linear_inertance, c, k)
 
@@ -152,8 +151,7 @@ class Strut:
         return 0
 
     def static_stiffness(self) -> float:
-        """k [N/m] (a device's direct springs included; its rig part carries no static
-        load)."""
+        """k [N/m] (a device's direct springs included)."""
         return self._kc()[0]
 
     def scaled(self, factor: float) -> Strut:
@@ -517,3 +515,86 @@ class FullCar:
             seat=self.seat,
             gravity=self.gravity,
         )
+
+
+@dataclass(frozen=True, eq=False)
+class CornerDevice:
+    """A device at a vehicle corner, in parallel with the strut (build with
+    :func:`corner_device`): an element of :mod:`inerterlab.elements` or a network of
+    them between the body-side terminal (node 0) and the wheel-side one (node 1).
+
+    The model core's vehicle (:func:`inerterlab.systems.vehicle.vehicle`) places its
+    ``nodes`` and ``edges`` as they are. The assembled linear model
+    (:mod:`inerterlab.vehicles.model`) reads its springs, linear dampers and ideal
+    inerters straight across the terminals (``stiffness``, ``damping``,
+    ``inertance``) and an adaptive-flywheel inerter straight across (``adaptive``);
+    anything else (internal nodes, friction, nonlinear springs) makes it ``nonlinear``,
+    which that model refuses.
+    """
+
+    source: str
+    stiffness: float
+    damping: float
+    inertance: float
+    adaptive: Any
+    nonlinear: bool
+    edges: tuple = field(repr=False)
+    nodes: tuple = field(repr=False)
+
+    def __repr__(self) -> str:
+        return f"CornerDevice({self.source!r})"
+
+    def scaled(self, factor: float) -> CornerDevice:
+        """``factor`` identical devices in parallel, moving together, as one."""
+        edges = tuple((n, el.scaled(factor), t, b) for n, el, t, b in self.edges)
+        return _split(f"{factor:g} x {self.source}", self.nodes, edges)
+
+
+def corner_device(device, params: dict | None = None) -> CornerDevice:
+    """``device`` (an element object, or a core network text with ``params``) laid out
+    for a vehicle corner. ParameterError naming the network when it does not parse."""
+    from ..elements import ElementBase
+    from ..networks import NetworkError
+    from ..systems._network import Layout, elements_of
+
+    if isinstance(device, CornerDevice):
+        return device
+    if isinstance(device, ElementBase):
+        text, params, source = device.prefix, {device.prefix: device}, device.description
+    elif isinstance(device, str):
+        text, source = device, device
+    else:
+        raise ParameterError("device", device, "an element of inerterlab.elements or a network text")
+    try:
+        tree, els = elements_of(text, params)
+        lay = Layout()
+        top = lay.node("drive", "road")
+        bot = lay.node("ground", "ground")
+        lay.place(tree, top, bot, els)
+    except NetworkError as e:
+        raise ParameterError("device", source, str(e)) from None
+    return _split(source, tuple(lay.nodes), tuple(lay.edges))
+
+
+def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
+    """The device of these edges, its direct linear parts and adaptive inerter read off."""
+    from ..elements._base import FLYWHEEL
+
+    k = c = b = 0.0
+    adaptive = None
+    nonlinear = False
+    for _name, el, t, bt in edges:
+        direct = {t, bt} == {0, 1}
+        if direct and el.is_linear:  # one spring, damper or inerter by its linear law
+            ((kind, value),) = el.rest_network()[1].items()
+            if kind == "k":
+                k += value
+            elif kind == "c":
+                c += value
+            else:
+                b += value
+        elif direct and el.code == FLYWHEEL and el.law in ("thesis", "momentum") and adaptive is None:
+            adaptive = el
+        else:
+            nonlinear = True
+    return CornerDevice(source, k, c, b, adaptive, nonlinear, edges, nodes)

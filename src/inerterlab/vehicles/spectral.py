@@ -39,7 +39,6 @@ __all__ = [
     "simulate",
     "road_inputs",
     "generated_road",
-    "StageRoad",
     "Mode",
     "modes",
 ]
@@ -440,85 +439,53 @@ def road_inputs(
     return np.column_stack([at(z_left, s + wb), at(z_right, s + wb), at(z_left, s), at(z_right, s)])
 
 
-@dataclass(frozen=True)
-class StageRoad:
-    """Wheel heights of a generated road, exact at every Runge-Kutta stage time.
-
-    ``samples`` (n_t, n_inputs) [m] at the sample interval ``dt`` [s]; ``heights`` [m]
-    and ``rates`` [m/s] at every half step of ``substeps`` Runge-Kutta steps per
-    sample, ((n_t - 1) 2 substeps + 1, n_inputs), so ``heights[::2 * substeps]`` are the
-    samples. :func:`inerterlab.vehicles.nonlinear.simulate_nonlinear` reads the road
-    from ``heights`` and ``rates`` at each stage instead of joining the samples by
-    straight lines.
-    """
-
-    samples: np.ndarray
-    heights: np.ndarray
-    rates: np.ndarray
-    dt: float
-    substeps: int
-
-
 def generated_road(
-    vehicle: LinearVehicle,
+    vehicle,
     spectrum: RoadSpectrum,
     *,
     length: float,
     speed: float,
     dt: float,
-    substeps: int,
     track: float,
     seed: int | None = 0,
-) -> StageRoad:
-    """The wheel inputs of a generated ISO 8608 road (:func:`~.roads.track_coefficients`,
-    sample spacing speed x dt, left/right ``track`` [m] apart), evaluated exactly.
+) -> np.ndarray:
+    """Wheel heights (n_t, stations) [m] every ``dt`` [s] of a generated ISO 8608 road
+    (:func:`~.roads.track_coefficients`, sample spacing speed x dt, left/right
+    ``track`` [m] apart) under ``vehicle`` (a car's parameters, or a vehicle with them).
 
-    The road is the trigonometric series of its Fourier coefficients, so it is
-    evaluated where the wheels are, not interpolated: a wheel a distance d ahead of the
-    rear axle sees the coefficients times exp(2 pi i n_k d) (the series shifted), and
-    zero-padding the inverse FFT by 2 x ``substeps`` gives the heights at every
-    Runge-Kutta stage time; the rates are the series of 2 pi i n_k V Z_k. Joining
-    samples by straight lines instead (:func:`road_inputs`) takes power out of the top
-    of the band (the triangle kernel's sinc^2), and a second time for the front wheels,
-    which sit between the samples: the Monte Carlo tyre loads fell 0.7-2 % and the
-    accelerations up to 0.7 % below the spectral value (docs/decisions.md). The rear wheels start at
-    x = 0, the front wheels a wheelbase ahead, and the run ends when the front wheels
-    reach the end of the period, as in :func:`road_inputs`.
+    The road is the trigonometric series of its Fourier coefficients, so each wheel's
+    heights are the series evaluated where that wheel is: a wheel a distance d ahead of
+    the rear axle sees the coefficients times exp(2 pi i n_k d) (the series shifted), so
+    the front wheels, which sit between the road's samples, are not interpolated. The
+    simulation joins these samples by straight lines (a first-order hold), which takes
+    a little power out of the top of the band (docs/decisions.md, "The vehicle's time
+    domain on the core"). The rear wheels start at x = 0, the front wheels a wheelbase
+    ahead, and the run ends when the front wheels reach the end of the period, as in
+    :func:`road_inputs`.
     """
+    from .parameters import FullCar
     from .roads import track_coefficients
 
+    p = getattr(vehicle, "parameters", vehicle)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
-    if not isinstance(substeps, int) or isinstance(substeps, bool) or substeps < 1:
-        raise ParameterError("substeps", substeps, "an integer >= 1")
     dx, n, zl, zr = track_coefficients(spectrum, length=length, step=v * h, track=track, seed=seed)
     count = 2 * (n.size - 1)
-    wb = vehicle.parameters.wheelbase
+    wb = p.wheelbase
     end = count * dx
     if end <= wb:
         raise ParameterError("length", end, f"longer than the wheelbase {wb:g} m")
     nt = int(math.floor((end - wb) / dx))
     if nt < 2:
         raise ParameterError("length", end, f"at least two samples beyond the wheelbase {wb:g} m")
-    k = 2 * substeps
-    rows = (nt - 1) * k + 1
-    if vehicle.kind == "half":
-        wheels = [(zl, wb), (zl, 0.0)]
-    else:
+    if isinstance(p, FullCar):
         wheels = [(zl, wb), (zr, wb), (zl, 0.0), (zr, 0.0)]
-    heights = np.empty((rows, len(wheels)))
-    rates = np.empty((rows, len(wheels)))
+    else:
+        wheels = [(zl, wb), (zl, 0.0)]
+    heights = np.empty((nt, len(wheels)))
     for i, (z, ahead) in enumerate(wheels):
-        zs = z * np.exp(2j * math.pi * n * ahead)
-        heights[:, i] = k * np.fft.irfft(zs, n=count * k)[:rows]
-        rates[:, i] = k * np.fft.irfft(2j * math.pi * n * v * zs, n=count * k)[:rows]
-    return StageRoad(
-        samples=np.ascontiguousarray(heights[::k]),
-        heights=heights,
-        rates=rates,
-        dt=h,
-        substeps=substeps,
-    )
+        heights[:, i] = np.fft.irfft(z * np.exp(2j * math.pi * n * ahead), n=count)[:nt]
+    return heights
 
 
 def simulate(vehicle: LinearVehicle, r, dt: float, outputs=None) -> dict:

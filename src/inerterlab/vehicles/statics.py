@@ -25,7 +25,7 @@ import numpy as np
 
 from ..errors import NetworkError
 
-__all__ = ["rest_on_springs", "rest_state"]
+__all__ = ["rest_on_springs"]
 
 
 def _carriers(law) -> list:
@@ -60,7 +60,7 @@ def rest_on_springs(vehicle):
     spring about its static extension and ``static_state`` the equilibrium q0 [m, rad]
     from the force-free configuration."""
     from ..systems.equilibrium import newton
-    from .devices import _split
+    from .parameters import _split
 
     carriers = [(j, _carriers(con.law)) for j, con in enumerate(vehicle.connections)]
     carriers = [(j, c) for j, c in carriers if c]
@@ -104,33 +104,3 @@ def rest_on_springs(vehicle):
         law = dataclasses.replace(con.law, device=_split(dev.source, dev.nodes, tuple(edges)))
         cons[j] = dataclasses.replace(con, law=law)
     return dataclasses.replace(vehicle, connections=tuple(cons), static_state=q0)
-
-
-def rest_state(vehicle, A, Br, r0) -> np.ndarray:
-    """The state x = (q, q', z) at rest on the road heights ``r0`` [m] of the vehicle's
-    state space (A, Br) with its nonlinear springs' rig forces (which A leaves out, see
-    :meth:`~inerterlab.vehicles.model.LinearVehicle.state_space` ``devices``) added:
-    -A^-1 Br r0 for a vehicle without load-carrying nonlinear springs, else by Newton's
-    method from the rest on a level road."""
-    r0 = np.asarray(r0, float)
-    carriers = [(con.u, _carriers(con.law)) for con in vehicle.connections]
-    carriers = [(u, c) for u, c in carriers if c]
-    if not carriers:
-        return -np.linalg.solve(A, Br @ r0)
-    from ..systems.equilibrium import newton
-
-    n = len(vehicle.dofs)
-    Minv = np.linalg.inv(vehicle.matrices(internal=True)[0])
-    b = Br @ r0
-
-    def residual(x):
-        r = A @ x + b
-        for u, c in carriers:
-            r[n : 2 * n] -= Minv @ (u * _tension(c, float(u @ x[:n]), rebased=True))
-        return r
-
-    def singular(J):
-        raise NetworkError("vehicle: no rest on these road heights (singular static stiffness)")
-
-    tol = 1e-12 * max(1.0, float(np.abs(b).max(initial=0.0)))
-    return newton(residual, A.shape[0], tol, "vehicle at rest on the first road heights", singular)[0]
