@@ -61,3 +61,55 @@ def test_flywheel_saturation_against_the_scipy_oracle():
     idx = [core.state_names.index(n) for n in ("wheel.x", "wheel.v", "body.x", "body.v")]
     a, b = res.states[:, idx], ref.states[:, :4]
     assert (np.abs(a - b).max(axis=0) / np.abs(b).max(axis=0)).max() < 1e-7
+
+
+def _twin_rattles(lead: float):
+    """Two masses of the free-play system of :func:`_rattle`, independent (each on its
+    own play over the one base), the second started ``lead`` seconds along its own
+    flight: its contacts come ``lead`` earlier, at the first's instants when 0."""
+    from inerterlab.systems._network import Layout, elements_of
+    from inerterlab.systems.core import _laid_out
+
+    tree, els = elements_of("gap", {"gap": Backlash(stiffness=K, free_play=2 * G)})
+
+    def make(arrange):
+        lay = Layout(arrange)
+        base = lay.node("base", "road")
+        for name in ("one", "two"):
+            body = lay.node(name, "mass", M)
+            lay.place(tree, body, base, {k: v for k, v in els.items()}, path=name,
+                      fixed=(True, False))  # fmt: skip
+        return lay
+
+    sys_ = _laid_out("twins", "two rattling masses", make, {})[0]
+    x0 = np.zeros(sys_.n_states)
+    x0[sys_.state_names.index("one.v")] = V0
+    x0[sys_.state_names.index("two.x")] = V0 * lead
+    x0[sys_.state_names.index("two.v")] = V0
+    return sys_.simulate(bump(1e-300), 0.5, rtol=1e-10, x0=x0, method="adaptive",
+                         sample_rate=10_000)  # fmt: skip
+
+
+def test_simultaneous_contacts_switch_together():
+    """Two identical rattling masses make and break their contacts at the same
+    instants, one event each: each moves as the one mass alone does (and as the closed
+    form), to rounding (1e-16; 2e-7 when the second switched a step late); with the second's
+    contacts 1e-9 s earlier the events are two, each located, and the second mass
+    follows the closed form shifted by that lead."""
+    amp = G + V0 / math.sqrt(K / M)
+    one = base_excited(M, "gap", {"gap": Backlash(stiffness=K, free_play=2 * G)}).simulate(
+        bump(1e-300), 0.5, rtol=1e-10, x0=np.array([0.0, V0]), method="adaptive",
+        sample_rate=10_000)  # fmt: skip
+    x1 = one.outputs["body.x"]
+    both = _twin_rattles(0.0)
+    assert both.stats["events"] == one.stats["events"]  # one event: both switch
+    for name in ("one", "two"):
+        x = both.outputs[f"{name}.x"]
+        assert np.abs(x - x1).max() / amp < 1e-12, name
+        assert np.abs(x - _rattle(both.time)).max() / amp < 2e-8, name
+    lead = 1e-9
+    apart = _twin_rattles(lead)
+    assert apart.stats["events"] == 2 * one.stats["events"]
+    # 3e-8 (each mass's contacts cut the other's steps; the one mass alone: 5e-9)
+    assert np.abs(apart.outputs["one.x"] - _rattle(apart.time)).max() / amp < 1e-7
+    assert np.abs(apart.outputs["two.x"] - _rattle(apart.time + lead)).max() / amp < 1e-7

@@ -145,11 +145,11 @@ def test_full_car_with_devices_equals_the_half_car():
     yh = simulate_vehicle(full.half_car(), rh, dt, lift_off=False, rtol=1e-12).outputs
     for a, b in (("bounce_acc", "bounce_acc"), ("front_left_deflection", "front_deflection"),
                  ("rear_right_deflection", "rear_deflection")):  # fmt: skip
-        # not 1e-9: the devices' kinks (the rectifier's clutches, flywheel saturation) fall
-        # at the same instant on both sides of the full car, and those simultaneous events
-        # leave the half car by about 1e-5 of the peak (docs/decisions.md)
+        # the devices' kinks (the rectifier's clutches, flywheel saturation) fall at the
+        # same instant on both sides of the full car: one event, both switch (3e-11;
+        # 1e-5 when the second side switched a step late, docs/decisions.md)
         err = np.abs(yf[a] - yh[b]).max() / np.abs(yh[b]).max()
-        assert err < 1e-4, (a, err)
+        assert err < 1e-9, (a, err)
 
 
 def test_linear_analyses_refuse_a_nonlinear_device_by_corner():

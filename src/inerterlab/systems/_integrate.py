@@ -91,6 +91,9 @@ IMPULSE_RTOL = 1e-13
 #: an exact step in a linear regime keeps every regime's argument at least this many
 #: times its threshold
 X_MARGIN = 1.1
+# crossings closer than this (a fraction of the step) to the earliest one in a step are
+# one event: their elements switch together at its instant
+SIMULTANEOUS = 1e-9
 
 
 @nb.njit(cache=True)
@@ -502,7 +505,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     swx = np.empty(2 * ne)
     yd = np.empty(n)
     flip = -1
-    past = 0.0
+    xloc = np.empty(2 * ne)  # each switching function's crossing in the attempt (theta)
+    xfl = np.empty(ne)  # the earliest crossing of each element's two
+    pastv = np.zeros(ne)  # each switching element's side past its crossing
+    flipm = np.zeros(ne, np.bool_)  # the elements that switch at the crossing
+    swf = np.zeros(2 * ne, np.bool_)  # their switching functions that cross there
     h_side = np.zeros(2)  # a first step size past a kink, into each side
     fresh = -1
     cut = False
@@ -734,20 +741,54 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             continue
         if err <= 1.0 and events:
             switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
-            if forced < 0:
-                th = 2.0
+            th = 2.0
+            forced = -1
+            for e in range(2 * ne):
+                xloc[e] = 2.0
+                if sw[e] * swn[e] < 0.0:
+                    stale = True
+                    xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
+                                      itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
+                                      swx)  # fmt: skip
+                    if xloc[e] < th:
+                        th = xloc[e]
+                        forced = e
+            h_keep = 0.0
+            if forced >= 0:
+                # every switching function whose crossing lies within SIMULTANEOUS (in
+                # theta) of the earliest switches with it, at its instant (two tyres of
+                # an axle lifting off together: the second one's crossing, a rounding
+                # later, was otherwise found again at the start of the next step and its
+                # side flipped only at that step's end)
+                for q in range(ne):
+                    flipm[q] = False
+                    xfl[q] = 2.0
                 for e in range(2 * ne):
-                    if sw[e] * swn[e] < 0.0:
-                        stale = True
-                        x = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng, itab,
-                                    ftab, imp, road_fixed, dy, road, work, stats, yd, swx)  # fmt: skip
-                        if x < th:
-                            th = x
-                            forced = e
-                            # the element's side past this crossing: above its band if
-                            # this half turns positive, inside it if it turns negative
-                            past = 1.0 if sw[e] < 0.0 else -1.0
-                if forced >= 0 and 1e-9 < th < 1.0 - 1e-9:
+                    swf[e] = xloc[e] <= th + SIMULTANEOUS
+                    q = e // 2
+                    if swf[e] and xloc[e] < xfl[q]:
+                        xfl[q] = xloc[e]
+                        flipm[q] = True
+                        # the element's side past this crossing: above its band if
+                        # this half turns positive, inside it if it turns negative
+                        pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
+                if th <= SIMULTANEOUS:
+                    # the crossings are at the step's start: the elements take their
+                    # other side's law there and the step is tried again from it
+                    for q in range(ne):
+                        if flipm[q]:
+                            road[hs + q] = pastv[q]
+                    for e in range(2 * ne):
+                        if swf[e]:
+                            sw[e] = 0.0
+                    if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
+                                   road, work, stats):  # fmt: skip
+                        return BALANCE_FAILED, k, h
+                    for i in range(n):
+                        K[0, i] = dy[i]
+                    stats[1] += 1
+                    continue
+                if th < 1.0 - SIMULTANEOUS:
                     # the step ends at the crossing, on its continuous extension (the
                     # attempt followed one law throughout: its extension is smooth)
                     stats[3] += 1
@@ -765,13 +806,13 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     h_keep = h_free
                     h = th * h
                     cut = True
-                else:
-                    h_keep = 0.0
             for e in range(2 * ne):
                 sw[e] = swn[e]
             flip = forced
             if forced >= 0:
-                sw[forced] = 0.0  # on the kink: the next step starts past it
+                for e in range(2 * ne):
+                    if swf[e]:
+                        sw[e] = 0.0  # on the kink: the next step starts past it
             forced = -1
         if err <= 1.0:
             stats[0] += 1
@@ -796,16 +837,20 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             t = tn
             into = -1
             if flip >= 0:  # past the kink: its other side's law from here
-                road[hs + flip // 2] = past
+                for q in range(ne):
+                    if flipm[q]:
+                        road[hs + q] = pastv[q]
                 _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
                     switches(itab, ftab, work, sw)
-                    sw[flip] = 0.0
+                    for e in range(2 * ne):
+                        if swf[e]:
+                            sw[e] = 0.0
                     cut = False
+                into = 0 if pastv[flip // 2] < 0.0 else 1
                 flip = -1
-                into = 0 if past < 0.0 else 1
             # safety factor 0.8 while an element sits inside its kink's band, where
             # the error per step grows along the way (the flywheel's inertance
             # steepens towards saturation: with 0.9 a third of the attempts there were
