@@ -77,8 +77,7 @@ def _twin_rattles(lead: float):
         base = lay.node("base", "road")
         for name in ("one", "two"):
             body = lay.node(name, "mass", M)
-            lay.place(tree, body, base, {k: v for k, v in els.items()}, path=name,
-                      fixed=(True, False))  # fmt: skip
+            lay.place(tree, body, base, els, path=name, fixed=(True, False))
         return lay
 
     sys_ = _laid_out("twins", "two rattling masses", make, {})[0]
