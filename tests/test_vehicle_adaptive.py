@@ -9,9 +9,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 from inerterlab.errors import DataFileError
+from inerterlab.systems.gaussian import gaussian_gains, nonlinear_elements
+from inerterlab.systems.vehicle import vehicle
 from inerterlab.vehicles import build, example_vehicle_path, loads_vehicle
 from inerterlab.vehicles.simulation import simulate_vehicle
-from inerterlab.vehicles.stochastic import _adaptive_gain
 
 
 def _text(adaptive: str, axle: str | None = None) -> str:
@@ -128,16 +129,21 @@ def test_adaptive_car_matches_independent_python_integration():
 
 
 def test_gaussian_equivalent_inertance_limits():
+    """The statistical linearisation's equivalent inertance of the adaptive element
+    (systems/gaussian.py, from the compiled law) against the Python law: its rest value,
+    its saturated value and the Gaussian average by direct quadrature."""
     p = loads_vehicle(_text('changing_ratio = 0.4, rest_inertance = "100 kg"'))
     a = p.front.strut.adaptive
-    assert _adaptive_gain(a, 0.0) == pytest.approx(100.0, rel=1e-12)
-    assert _adaptive_gain(a, 1e-5) == pytest.approx(100.0, rel=1e-6)
+    sys = vehicle(p, lift_off=False)
+    e = {name: i for i, name, _ in nonlinear_elements(sys)}["front_left.afw"]
+    assert gaussian_gains(sys, e, 0.0) == pytest.approx(100.0, rel=1e-12)
+    assert gaussian_gains(sys, e, 1e-5) == pytest.approx(100.0, rel=1e-6)
     # far beyond saturation the flywheel sits at I_max: inertance 100 / (1 - 0.4)
     v_sat = a.wheel.saturation_speed / a.ratio
-    assert _adaptive_gain(a, 1e4 * v_sat) == pytest.approx(100.0 / 0.6, rel=1e-3)
+    assert gaussian_gains(sys, e, 1e4 * v_sat) == pytest.approx(100.0 / 0.6, rel=1e-3)
     # in between: the Gaussian average by direct quadrature of the Python law
     sigma = 0.8 * v_sat
     v = np.linspace(-10 * sigma, 10 * sigma, 20001)
     me = a.ratio**2 * a.wheel.inertia(np.abs(a.ratio * v))
     pdf = np.exp(-0.5 * (v / sigma) ** 2) / (sigma * math.sqrt(2 * math.pi))
-    assert _adaptive_gain(a, sigma) == pytest.approx(np.trapezoid(me * pdf, v), rel=1e-6)
+    assert gaussian_gains(sys, e, sigma) == pytest.approx(np.trapezoid(me * pdf, v), rel=1e-6)
