@@ -22,6 +22,7 @@ import time
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
+from bench_sweep import _timed  # noqa: E402  (the same CPU-time wrapper)
 
 from inerterlab.network_truth import LAYOUTS, TRUTH_METRICS, network_truth  # noqa: E402
 
@@ -36,20 +37,6 @@ def _compiled_structures() -> set[str]:
 def _cpu_children() -> float:
     r = resource.getrusage(resource.RUSAGE_CHILDREN)
     return r.ru_utime + r.ru_stime
-
-
-def _timed(module, name: str, spent: list) -> None:
-    """Wrap ``module.name`` so that its CPU time is added to ``spent[0]``."""
-    fn = getattr(module, name)
-
-    def timed(*args, **kwargs):
-        t0 = time.process_time()
-        try:
-            return fn(*args, **kwargs)
-        finally:
-            spent[0] += time.process_time() - t0
-
-    setattr(module, name, timed)
 
 
 def main() -> None:
