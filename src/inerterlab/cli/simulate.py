@@ -329,14 +329,6 @@ def h2_command(
     vehicle: VehicleFile = None,
     axle: Axle = "front",
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
-    network: Annotated[
-        str | None,
-        typer.Option(help="A linear suspension network, e.g. 'k | (c - b)' or 'k | fluid'."),
-    ] = None,
-    param: Annotated[
-        list[str] | None,
-        typer.Option("--param", "-p", help="With --network: element parameter name=value."),
-    ] = None,
     plot: Annotated[
         Path | None,
         typer.Option(help="Figure (.png/.pdf): |H(f)| of the body acceleration against k | c, "
@@ -347,7 +339,7 @@ def h2_command(
 
     Infinite norms (direct feed-through) are printed as "infinite" (null in JSON) with
     the reason under "infinite". Example: inerterlab h2 --suspension cfw --tyre-damping
-    0 --json
+    0 --json. Any network: inerterlab network h2 --network 'k | (c - b)' -p ...
     """
     from ..errors import ParameterError
     from ..metrics import h2_norms
@@ -356,14 +348,6 @@ def h2_command(
     from ._common import car_options
 
     car = car_options(sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping, vehicle, axle)
-    if network is not None:
-        _h2_network(
-            network, _parse_params(param), car["sprung_mass"], car["unsprung_mass"],
-            car["tyre_stiffness"], car["tyre_damping"], json_out,
-        )  # fmt: skip
-        return
-    if param:
-        raise ParameterError("param", param[0], "no value without --network")
     if suspension not in ("traditional", "cfw"):
         raise ParameterError(
             "suspension", suspension, "'traditional' or 'cfw' (linear suspensions)"
@@ -408,38 +392,6 @@ def h2_command(
     print(car.describe())
     for k, why in n.infinite.items():
         print(f"{k}: {why}")
-
-
-def _h2_network(network, params, ms, mu, kt, ct, json_out) -> None:
-    """``h2 --network``: admittance-based H2 norms of a linear network (composite linear
-    elements such as a loss-free fluid inerter replaced by their springs, dampers and
-    inerters)."""
-    import math
-
-    from ..networks import linearise
-    from ..suspension.network_linear import network_quarter_car
-
-    text, lin = linearise(network, params, exact=True)
-    q = network_quarter_car(
-        text, sprung_mass=ms, unsprung_mass=mu, tyre_stiffness=kt, tyre_damping=ct
-    )
-    norms = q.h2(lin)
-    out = {
-        k: (None if not math.isfinite(norms[k]) else norms[k])
-        for k in ("body_acc", "tyre_deflection", "suspension_deflection")
-    }
-    reasons = q.h2_reasons(lin)
-    if reasons:
-        out["infinite"] = reasons
-    out["network"] = network
-    if json_out:
-        emit_json(out)
-        return
-    rows = [
-        (k, "infinite" if out[k] is None else f"{out[k]:.6g}")
-        for k in ("body_acc", "tyre_deflection", "suspension_deflection")
-    ]
-    print_table(f"H2 norms, {network}, unit white road velocity", rows)
 
 
 def register(app: typer.Typer) -> None:
