@@ -15,6 +15,7 @@ from inerterlab.design.scoring import simulate_candidate
 from inerterlab.design.vehicle import (
     corner_car,
     linear_objective,
+    linear_pareto_front,
     optimize_layout,
     vehicle_car,
     vehicle_of,
@@ -158,11 +159,57 @@ def test_synthesis_candidate_outside_the_limits_is_named():
 @pytest.mark.slow
 def test_vehicle_report_draws_its_figures(study):
     """The vehicle report: the ranking, |H(f)| and the Wk-weighted PSD of the linear
-    winners, each a PNG (none 'not drawn')."""
+    winners, the linear Pareto fronts and the bump's time history, each a PNG (none
+    'not drawn')."""
     from inerterlab.design.report import figures, render_html
 
     res, _, _ = study
     figs = figures(res)
     assert any(t.startswith("|H(f)|") for t in figs) and any(t.startswith("PSD of") for t in figs)
+    assert any(t.startswith("Pareto fronts:") and "H2, linear" in t for t in figs)
+    assert any(t.startswith("Bump:") and "time domain" in t for t in figs)
     assert not any(b.startswith("not drawn") for b in figs.values())
     assert "data:image/png;base64" in render_html(res, figs)
+
+
+def test_vehicle_pareto_front_ends_at_the_layout_optimum(kc_optimum):
+    """The front's w = 1 end of k | c, searched from dampers of 1000 N s/m (far from the
+    optimum), equals optimize_layout's seat_wk optimum to 1e-6 relative and is not beaten
+    by it; along the front the seat_wk rises and the deflection falls (weighted sums)."""
+    start = dict(kc_optimum["parameters"], front_c=1000.0, rear_c=1000.0)
+    front = linear_pareto_front(FULL, "k | c", "seat_wk", start, bounds={}, road_class="C",
+                                speed=SPEED, weights=(1.0, 0.6, 0.3))  # fmt: skip
+    best = kc_optimum["objective"]
+    assert front[0]["objective"] == pytest.approx(best, rel=1e-6)
+    assert front[0]["objective"] <= best * (1 + 1e-6)
+    for a, b in zip(front, front[1:], strict=False):
+        assert b["objective"] >= a["objective"] * (1 - 1e-9)
+        assert b["deflection"] <= a["deflection"] * (1 + 1e-9)
+    assert front[-1]["deflection"] < 0.99 * front[0]["deflection"]
+
+
+def test_vehicle_deflection_measure_and_its_gradient(kc_optimum):
+    """The front's deflection measure of the full car equals sqrt of the mean of the
+    axles' squared H2 norms of its pitch-plane half car by white_velocity_h2 (no gradient
+    path), times the road scale; its exact gradient matches central differences in the
+    log values to 1e-5 relative."""
+    from inerterlab.design.vehicle import _deflection_gradient, candidate_vehicle, split_axles
+    from inerterlab.network_design import road_scale
+    from inerterlab.vehicles import linear_vehicle
+    from inerterlab.vehicles.spectral import white_velocity_h2
+
+    vals = kc_optimum["parameters"]
+
+    def veh(v):
+        return candidate_vehicle(FULL, {"network": "k | c", "params": split_axles(v)})
+
+    names = ["front_c", "rear_c"]
+    d, g = _deflection_gradient(veh(vals), names, "C", SPEED)
+    h = white_velocity_h2(linear_vehicle(veh(vals).half_car()), speed=SPEED)
+    ms = 0.5 * (h["front_deflection"] ** 2 + h["rear_deflection"] ** 2)
+    assert d == pytest.approx(math.sqrt(ms) * road_scale("C", SPEED), rel=1e-9)
+    eps = 1e-4
+    for i, n in enumerate(names):
+        up = _deflection_gradient(veh(dict(vals, **{n: vals[n] * math.exp(eps)})), [], "C", SPEED)[0]
+        dn = _deflection_gradient(veh(dict(vals, **{n: vals[n] * math.exp(-eps)})), [], "C", SPEED)[0]
+        assert g[i] == pytest.approx((up - dn) / (2 * eps), rel=1e-5), n

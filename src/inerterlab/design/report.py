@@ -7,7 +7,9 @@ of body acceleration per unit road velocity of the linear winners against ``k | 
 PSDs of body acceleration and of its ISO 2631-1 Wk-weighted version on one long ISO
 8608 road (Welch) and the body acceleration after a 5 cm bump; for a half or full car
 the PSD of the Wk-weighted seat (or bounce) acceleration of the linear winners by the
-spectral method. Tables: the ranking (expected values with intervals), the layouts'
+spectral method, the linear Pareto fronts of the objective against the axles' RMS
+suspension deflection (H2) of ``k | c`` and the best layouts, and the seat (or bounce)
+acceleration after a bump under the front then the rear wheels. Tables: the ranking (expected values with intervals), the layouts'
 linear optima and the device requirements.
 """
 
@@ -188,10 +190,124 @@ def _vehicle_figures(result: dict, win: list) -> dict:
     ax_h.set_title("Transfer from one front wheel's road height (linear)", fontsize=9)
     ax_h.grid(True, which="both", alpha=0.3)
     ax_h.legend(fontsize=7)
-    return {
+    figs = {
         f"|H(f)| of {out}: the linear winners against k | c (linear)": _png(fig_h),
         f"PSD of {name}: the linear winners against k | c (linear, spectral method)": _png(fig),
     }
+    figs.update(_vehicle_pareto(result, win))
+    figs.update(_vehicle_bump(result, win))
+    return figs
+
+
+def _vehicle_pareto(result: dict, win: list) -> dict:
+    """The linear fronts of the study's objective against the axles' RMS suspension
+    deflection (:func:`inerterlab.design.vehicle.linear_pareto_front`) of k | c and the
+    best linear layouts, each from its own optimum (five weighted sums)."""
+    from matplotlib.figure import Figure
+
+    from .vehicle import linear_pareto_front
+
+    st = result["settings"]
+    car = {"vehicle": st["vehicle"], "model": st["model"]}
+    obj = result["objective"]["name"]
+    rows = {r["network"]: r for r in result["layouts"] if r.get("objective") is not None}
+    title = (f"Pareto fronts: {obj} against suspension deflection (H2, linear, white road "
+             f"velocity scaled to ISO 8608 class {st['road_class']} at {st['speed']:g} m/s)")  # fmt: skip
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.add_subplot(1, 1, 1)
+    why = []
+    for r in win:
+        if r["kind"] not in ("reference", "layout"):
+            continue
+        lay = rows.get(r["network"])
+        if lay is None:
+            why.append(f"{r['label']}: no linear optimum of its layout")
+            continue
+        bounds = {n: [min(lo, st["max_inertance"] / 10), st["max_inertance"]]
+                  for n, (lo, _) in _inertance_design(r["network"]).items()}  # fmt: skip
+        try:
+            front = linear_pareto_front(car, r["network"], obj, lay["parameters"], bounds=bounds,
+                                        road_class=st["road_class"], speed=st["speed"],
+                                        maxiter=40)  # fmt: skip
+        except Exception as e:  # noqa: BLE001 - a front that cannot be drawn is said
+            why.append(f"{r['label']}: {str(e).splitlines()[0]}")
+            continue
+        ax.plot([1e3 * q["deflection"] for q in front], [q["objective"] for q in front], "o-",
+                label=r["label"], lw=2.0 if r["label"] == "k | c" else 1.2, ms=4)  # fmt: skip
+    if not ax.lines:
+        return {title: "not drawn: " + "; ".join(why or ["no linear layout"])}
+    half = " of the pitch-plane half car" if st["model"] == "full" else ""
+    ax.set_xlabel(f"RMS suspension deflection of the axles{half} [mm], H2, linear")
+    ax.set_ylabel(f"RMS {obj} [m/s^2], H2, linear")
+    ax.set_title("Weighted sums of the two, each layout from its own optimum (right end)", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    out = {title: _png(fig)}
+    for w in why:
+        out[f"Pareto front not drawn for {w.split(':')[0]}"] = "not drawn: " + w
+    return out
+
+
+def _inertance_design(network: str) -> dict:
+    """Inerter name -> its design range (the design's bounds raise the upper end to the
+    inertance limit)."""
+    from ..network_design import design_parameters
+    from ..networks import parse_network
+
+    net = parse_network(network)
+    dp = design_parameters(network)
+    return {n: dp[n].design for n, k in zip(net.names, net.kinds, strict=True) if k == "b"}
+
+
+#: the vehicle bump: height [m], length of the pulse [s], time the front wheels reach it [s]
+BUMP = (0.05, 0.01, 0.1)
+
+
+def _vehicle_bump(result: dict, win: list) -> dict:
+    """Seat (or bounce) acceleration after a 5 cm, 10 ms bump under both front wheels,
+    the rear wheels reaching it a wheelbase later at the study's speed (time domain,
+    the core's simulation with one-sided tyres)."""
+    from matplotlib.figure import Figure
+
+    from ..vehicles.simulation import simulate_vehicle
+    from .vehicle import candidate_vehicle
+
+    st = result["settings"]
+    car = {"vehicle": st["vehicle"], "model": st["model"]}
+    h, dur, t0 = BUMP
+    dt, horizon = 1e-3, 3.0
+    t = np.arange(int(round(horizon / dt)) + 1) * dt
+    title = (f"Bump: acceleration after a {100 * h:g} cm, {1e3 * dur:g} ms bump under the front "
+             f"wheels, the rear wheels a wheelbase later at {st['speed']:g} m/s (time domain)")  # fmt: skip
+    fig = Figure(figsize=(6.4, 4.2))
+    ax = fig.add_subplot(1, 1, 1)
+    why, sig = [], "?"
+    for r in win:
+        try:
+            p = candidate_vehicle(car, r["core"])
+            delay = p.wheelbase / float(st["speed"])
+            front = np.where((t >= t0) & (t < t0 + dur), h, 0.0)
+            rear = np.where((t >= t0 + delay) & (t < t0 + delay + dur), h, 0.0)
+            n = 4 if type(p).__name__ == "FullCar" else 2
+            cols = [front] * (n // 2) + [rear] * (n // 2)
+            res = simulate_vehicle(p, np.column_stack(cols), dt, lift_off=True)
+        except Exception as e:  # noqa: BLE001 - a run that cannot be drawn is said
+            why.append(f"{r['label']}: {str(e).splitlines()[0]}")
+            continue
+        sig = res.comfort["signal"]
+        ax.plot(res.time, res.outputs[sig], label=r["label"],
+                lw=1.6 if r["label"] == "k | c" else 0.9)  # fmt: skip
+    if not ax.lines:
+        return {title: "not drawn: " + "; ".join(why)}
+    ax.set_xlabel("time [s]")
+    ax.set_ylabel(f"{sig} [m/s^2]")
+    ax.set_title(f"{sig}, one-sided tyres, road heights linear between 1 ms samples", fontsize=9)
+    ax.grid(True, alpha=0.3)
+    ax.legend(fontsize=7)
+    out = {title: _png(fig)}
+    for w in why:
+        out[f"Bump not drawn for {w.split(':')[0]}"] = "not drawn: " + w
+    return out
 
 
 def _fmt(x, spec=".4g") -> str:

@@ -58,6 +58,7 @@ __all__ = [
     "linear_objective",
     "linear_objective_gradient",
     "optimize_layout",
+    "linear_pareto_front",
     "simulate_vehicle_candidate",
 ]
 
@@ -360,6 +361,107 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
     obj = best[1] if best[1] < 1e6 else math.inf
     return {"objective": obj, "parameters": values(best[2]), "converged": best[3],
             "limit_values": best[4], "feasible": not best[0]}  # fmt: skip
+
+
+def _deflection_gradient(p, names, road_class: str, speed: float) -> tuple:
+    """The RMS suspension deflection of the corners, sqrt of the mean of their squared
+    RMS deflections [m] under white road velocity of the class and speed (linear; the
+    left and right corners of an axle alike, so the mean of the axles' squares), and
+    its derivatives in the logarithms of ``names`` (exact, as
+    :func:`inerterlab.vehicles.design.h2_metric_gradient`: adjoint Lyapunov equations,
+    the matrices' derivatives by complex steps). (inf, None) where a norm is infinite.
+
+    A full car is measured on its pitch-plane half car (each axle's wheels lumped): its
+    own corner deflections have infinite norms under independent tracks, since a step
+    under one track warps a body whose front and rear tracks differ, or that has an
+    anti-roll bar, into a lasting deflection."""
+    from ..network_design import road_scale
+    from ..vehicles.design import _STEP, _stepped
+    from ..vehicles.model import build
+    from ..vehicles.spectral import white_velocity_h2_gradient
+
+    if type(p).__name__ == "FullCar":
+        p = p.half_car()
+    veh = build(p)
+    steps = []
+    for n in names:
+        axle, _, field = n.partition("_")
+        law = _stepped(getattr(p, axle).strut, field, _STEP, True)
+        cons = tuple(
+            dataclasses.replace(c, law=law)
+            if c.name.startswith(axle + "_") and c.name.endswith("_strut") else c
+            for c in veh.connections
+        )  # fmt: skip
+        steps.append((dataclasses.replace(veh, connections=cons), _STEP))
+    outs = sorted(o for o in veh.state_space()[3] if o.endswith("_deflection"))
+    vals, grads = [], []
+    for o in outs:
+        v, g = white_velocity_h2_gradient(veh, o, steps, speed=speed)
+        if not math.isfinite(v):
+            return math.inf, None
+        vals.append(v)
+        grads.append(np.asarray(g))
+    ms = sum(v * v for v in vals) / len(vals)
+    d = math.sqrt(ms)
+    g = sum(v * gi for v, gi in zip(vals, grads, strict=True)) / (len(vals) * d) if d > 0 else 0.0
+    k = road_scale(road_class, speed)
+    return d * k, np.asarray(g) * k
+
+
+def linear_pareto_front(car: Mapping, network: str, objective: str, values: Mapping, *,
+                        bounds: Mapping, road_class: str, speed: float,
+                        weights=(1.0, 0.85, 0.7, 0.5, 0.3), maxiter: int = 60) -> list:  # fmt: skip
+    """The front of the linear ``objective`` (RMS [m/s^2], :func:`linear_objective`)
+    against the RMS suspension deflection of the axles (:func:`_deflection_gradient`
+    [m]) of ``network`` at every corner, per-axle values free (k held as ``values``
+    gives it): for each weight w the minimum of w J / J0 + (1 - w) D / D0 (J0, D0 at
+    ``values``, the start), by L-BFGS-B on the exact gradients from the previous
+    weight's optimum. ``bounds``: element -> [low, high] (default the element's design
+    range). Unconstrained: the design's limits are not applied. Returns one dict per
+    weight: {'weight', 'objective', 'deflection', 'parameters'}."""
+    from scipy.optimize import minimize
+
+    from ..network_design import design_parameters
+
+    dp = design_parameters(network)
+    names = [n for n in dp if n != "k"]
+    var = [f"{a}_{n}" for a in AXLES for n in names]
+    lo = np.array([math.log(max(float((bounds.get(n) or dp[n].design)[0]), 1e-9))
+                   for _a in AXLES for n in names])  # fmt: skip
+    hi = np.array([math.log(float((bounds.get(n) or dp[n].design)[1])) for _a in AXLES for n in names])
+    base = {k: float(v) for k, v in values.items()}
+
+    def vals(x):
+        return {**base, **dict(zip(var, np.exp(np.clip(x, lo, hi)), strict=True))}
+
+    def both(x):
+        v = vals(x)
+        p = candidate_vehicle(car, {"network": network, "params": split_axles(v)})
+        j, gj = linear_objective_gradient(car, network, v, objective, road_class, speed, var)
+        d, gd = _deflection_gradient(p, var, road_class, speed)
+        return j, gj, d, gd
+
+    x = np.clip(np.array([math.log(base[v]) for v in var]), lo, hi)
+    j0, _, d0, _ = both(x)
+    if not (math.isfinite(j0) and math.isfinite(d0)):
+        raise ParameterError("values", network, "a start with finite H2 norms")
+    out = []
+    for w in weights:
+        def fg(y, w=w):
+            j, gj, d, gd = both(y)
+            if not (math.isfinite(j) and math.isfinite(d)):
+                return 1e6, np.zeros(y.size)
+            inside = (y >= lo) & (y <= hi)
+            g = w * np.asarray(gj) / j0 + (1.0 - w) * np.asarray(gd) / d0
+            return w * j / j0 + (1.0 - w) * d / d0, np.where(inside, g, 0.0)
+
+        if var:
+            r = minimize(fg, x, jac=True, method="L-BFGS-B", bounds=list(zip(lo, hi, strict=True)),
+                         options={"maxiter": maxiter, "ftol": 1e-12, "gtol": 1e-7})  # fmt: skip
+            x = np.clip(r.x, lo, hi)
+        j, _, d, _ = both(x)
+        out.append({"weight": float(w), "objective": j, "deflection": d, "parameters": vals(x)})
+    return out
 
 
 def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, speed: float,
