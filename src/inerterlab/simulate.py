@@ -691,6 +691,8 @@ def simulate(
     model = model_of(model)
     T = _check_inputs(model, excitation, horizon, options, output)
     want = output == "series"
+    if want:  # the series' memory first: refused before any step is taken
+        _sample_times(T, options.sample_rate)
     _check_step_budget(model, excitation, T, options, want)
     run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, want)
     kw: dict = {}

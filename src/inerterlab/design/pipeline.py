@@ -433,13 +433,16 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
             from .vehicle import AXLES
 
             names = [f"{a}_{n}" for a in AXLES for n in names]
-        layouts.append({
+        entry = {
             "network": text,
             "objective": float(row.objective),
             "parameters": _unpack(ds, {"network": text}, names),
-            "norms": {k: float(row[f"norm_{k}"]) for k in ("body_acc", "tyre_deflection",
-                                                           "suspension_deflection")},
-        })  # fmt: skip
+        }
+        if not st.is_vehicle:  # the quarter car's three H2 norms (a vehicle has none)
+            norms = {k: float(row[f"norm_{k}"]) for k in ("body_acc", "tyre_deflection",
+                                                          "suspension_deflection")}  # fmt: skip
+            entry["norms"] = {k: (v if math.isfinite(v) else None) for k, v in norms.items()}
+        layouts.append(entry)
     ok = sorted((r for r in layouts if r["objective"] is not None), key=lambda r: r["objective"])
     base = next((r for r in ok if r["network"] == "k | c"), None)
     if base is None:
