@@ -322,4 +322,9 @@ def test_quarter_car_point_is_the_simulation_of_its_car():
         car = inerterlab.quarter_car("afw", sprung_mass=mass, changing_ratio=ratio)
         want = inerterlab.simulate(car, road, 1.0).metrics()
         for k, v in got.items():
-            assert v == (None if want[k] is None else float(want[k])), k
+            if want[k] is None:
+                assert v is None, k
+            else:  # the point reads one sample at the horizon, simulate 1 kHz samples:
+                # exact steps break at different points (step-level differences: the
+                # afw drop's VDV 9.6e-8 relative, the RMS values 5e-12)
+                assert v == pytest.approx(float(want[k]), rel=1e-6, abs=1e-12), k
