@@ -63,7 +63,7 @@ def _steady_amplitudes(sys, f, amp, rows, names):
     r = np.column_stack([g * amp * np.sin(w * t + ph - w * d) for g, ph, d in rows])
     res = simulate(sys, r, dt, rtol=1e-10)
     tail = t >= t[-1] - 2.0 / f
-    return {k: 0.5 * np.ptp(res.outputs[c][tail]) for k, c in names.items()}
+    return {k: 0.5 * np.ptp(res.signals[c][tail]) for k, c in names.items()}
 
 
 @pytest.mark.slow
