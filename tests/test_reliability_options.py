@@ -317,7 +317,6 @@ _DUPLICATES = [
     ["network", "optimize", "--network", "k | c", "--objective", "weighted",
      "--weight", "body_acc=1,body_acc=2"],  # fmt: skip
     ["network", "pareto", "--network", "k | c", "--fix", "k=5e4", "--fix", "k=6e4"],
-    ["h2", "--network", "k | c", "-p", "k=1,k=90000,c=5000"],
     ["simulate", "--network", "k | c", "-p", "k=90000,c=5000,c=6000"],
     ["vehicle", "optimize", "--bound", "front_damping=1:2", "--bound", "front_damping=3:4"],
     ["vehicle", "optimize", "--limit", "front_deflection=0.01", "--limit",
