@@ -376,23 +376,14 @@ def _deflection_gradient(p, names, road_class: str, speed: float) -> tuple:
     under one track warps a body whose front and rear tracks differ, or that has an
     anti-roll bar, into a lasting deflection."""
     from ..network_design import road_scale
-    from ..vehicles.design import _STEP, _stepped
+    from ..vehicles.design import stepped_vehicles
     from ..vehicles.model import build
     from ..vehicles.spectral import white_velocity_h2_gradient
 
     if type(p).__name__ == "FullCar":
         p = p.half_car()
     veh = build(p)
-    steps = []
-    for n in names:
-        axle, _, field = n.partition("_")
-        law = _stepped(getattr(p, axle).strut, field, _STEP, True)
-        cons = tuple(
-            dataclasses.replace(c, law=law)
-            if c.name.startswith(axle + "_") and c.name.endswith("_strut") else c
-            for c in veh.connections
-        )  # fmt: skip
-        steps.append((dataclasses.replace(veh, connections=cons), _STEP))
+    steps = stepped_vehicles(p, veh, names)
     outs = sorted(o for o in veh.state_space()[3] if o.endswith("_deflection"))
     vals, grads = [], []
     for o in outs:

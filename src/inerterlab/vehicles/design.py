@@ -264,6 +264,20 @@ def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
             "objective", "seat_wk", "a vehicle with a [seat] (this file has none; use body_acc_wk)"
         )
     veh = build(params)
+    steps = stepped_vehicles(params, veh, names, log)
+    out, weighting = H2_METRICS[objective]
+    v, g = white_velocity_h2_gradient(veh, out, steps, speed=speed, weighting=weighting)
+    if not math.isfinite(v):
+        return math.inf, None
+    k = road_scale(road_class, speed)
+    return v * k, np.asarray(g) * k
+
+
+def stepped_vehicles(params, veh, names, log: bool = True) -> list:
+    """(vehicle, h) per design parameter of ``names``: the assembled ``veh`` of
+    ``params`` with that axle's strut law stepped by i h in the value (its logarithm if
+    ``log``), for the complex-step derivatives of
+    :func:`~inerterlab.vehicles.spectral.white_velocity_h2_gradient`."""
     steps = []
     for n in names:
         axle, _, field = n.partition("_")
@@ -274,12 +288,7 @@ def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
             for c in veh.connections
         )  # fmt: skip
         steps.append((dataclasses.replace(veh, connections=cons), _STEP))
-    out, weighting = H2_METRICS[objective]
-    v, g = white_velocity_h2_gradient(veh, out, steps, speed=speed, weighting=weighting)
-    if not math.isfinite(v):
-        return math.inf, None
-    k = road_scale(road_class, speed)
-    return v * k, np.asarray(g) * k
+    return steps
 
 
 def _load(path: str):
