@@ -14,7 +14,22 @@ logarithms from the geometric middle of the element's design range, with
 Prints per layout and in total the process CPU seconds, the objective evaluations and
 the optimum of each, and the ratio baseline / exact.
 
-Run: python benchmarks/bench_design_gradient.py [--model full|half] [layout ...]
+With ``--model quarter``: the quarter car's ``body_acc_wk`` (the RMS of the ISO 2631-1
+Wk-weighted body acceleration, H2 by Lyapunov with the Wk filter as states) in the H2
+optimiser of ``inerterlab network optimize`` / the design's layout stage, for every
+layout of the default budget (2 springs, 1 damper, 1 inerter) on the thesis car with the
+main spring held at 90 kN/m:
+
+- exact: the adjoint of the cascade's Lyapunov equations
+  (``h2.h2_rational_filtered_gradient``), the optimiser's route;
+- baseline: central differences in the leaves' logarithms (one compiled batch of
+  2 n + 1 values per gradient), the optimiser's former route for this objective.
+
+Prints per layout and in total the CPU seconds of the whole optimisation (Sobol sample,
+differential evolution, polish), the optima, and the ratio baseline / exact; and the
+CPU time of one gradient by each route.
+
+Run: python benchmarks/bench_design_gradient.py [--model full|half|quarter] [layout ...]
 """
 
 from __future__ import annotations
@@ -30,10 +45,14 @@ import numpy as np
 
 def main() -> None:
     ap = argparse.ArgumentParser()
-    ap.add_argument("--model", choices=("full", "half"), default="full")
-    ap.add_argument("layouts", nargs="*", default=["k | c", "k | (c - b)", "k | c | (k1 - b)",
-                                                   "k | (b - (k1 | c))"])  # fmt: skip
+    ap.add_argument("--model", choices=("full", "half", "quarter"), default="full")
+    ap.add_argument("layouts", nargs="*")
     args = ap.parse_args()
+    if args.model == "quarter":
+        quarter(args.layouts)
+        return
+    args.layouts = args.layouts or ["k | c", "k | (c - b)", "k | c | (k1 - b)",
+                                    "k | (b - (k1 | c))"]  # fmt: skip
     warnings.simplefilter("ignore", RuntimeWarning)
     from scipy.optimize import minimize
 
@@ -99,6 +118,62 @@ def main() -> None:
     print(f"total: exact {tot['exact']:.1f} s CPU, central differences {tot['central']:.1f} s CPU, "
           f"ratio {tot['central'] / tot['exact']:.1f} (seat_wk, {args.model} car, RMS linear "
           f"under white road velocity, class C at 25 m/s)")  # fmt: skip
+
+
+def quarter(layouts) -> None:
+    from inerterlab import network_design as nd
+    from inerterlab.networks import enumerate_networks
+    from inerterlab.suspension.network_linear import network_quarter_car
+
+    car = {"sprung_mass": 370.0, "unsprung_mass": 25.0, "tyre_stiffness": 120e3,
+           "tyre_damping": 1300.0}  # fmt: skip
+    layouts = layouts or [n.text for n in enumerate_networks(1, 1, 2)]
+    exact_set = nd._EXACT
+    central_set = tuple(i for i in exact_set if i != nd.QUANTITIES.index("body_acc_wk"))
+
+    def run(route, net):
+        nd._EXACT = exact_set if route == "exact" else central_set
+        try:
+            c0 = time.process_time()
+            r = nd.optimize_network(net, "body_acc_wk", fixed={"k": 9e4}, compare=False,
+                                    simplify=False, **car)  # fmt: skip
+            return time.process_time() - c0, r
+        finally:
+            nd._EXACT = exact_set
+
+    # one gradient by each route (a layout with six leaves), after a first call of each
+    q = network_quarter_car("k | c | (k1 - b) | (c1 - k2)", **car)
+    th = q.theta({"k": 5e4, "c": 2e3, "k1": 3e4, "b": 80.0, "c1": 900.0, "k2": 4e4})
+    g = np.empty(len(th))
+    per = {}
+    for route in ("exact", "central"):
+        nd._EXACT = exact_set if route == "exact" else central_set
+        nd._quantity_gradient(q, th, 3, g)
+        c0 = time.process_time()
+        for _ in range(2000):
+            nd._quantity_gradient(q, th, 3, g)
+        per[route] = (time.process_time() - c0) / 2000
+    nd._EXACT = exact_set
+    run("exact", "k | c")  # compiled kernels loaded before timing
+    print(f"load average (1 min) at the start {os.getloadavg()[0]:.1f} (other work on the machine)")
+    print(f"one gradient of body_acc_wk^2 (6 leaves): exact {1e6 * per['exact']:.0f} us CPU, "
+          f"central differences {1e6 * per['central']:.0f} us, ratio "
+          f"{per['central'] / per['exact']:.1f}")  # fmt: skip
+    tot = {"exact": 0.0, "central": 0.0}
+    worst = 0.0
+    for net in layouts:
+        row = {route: run(route, net) for route in ("exact", "central")}
+        (ce, re_), (cc, rc) = row["exact"], row["central"]
+        tot["exact"] += ce
+        tot["central"] += cc
+        if math.isfinite(re_.objective) and math.isfinite(rc.objective):
+            worst = max(worst, abs(re_.objective / rc.objective - 1.0))
+        print(f"{net:>26}: exact {ce:5.2f} s CPU, body_acc_wk {re_.objective:.10g} | central "
+              f"differences {cc:5.2f} s, {rc.objective:.10g} | ratio {cc / ce:.2f}")  # fmt: skip
+    print(f"total: exact {tot['exact']:.1f} s CPU, central differences {tot['central']:.1f} s CPU, "
+          f"ratio {tot['central'] / tot['exact']:.2f}; largest relative difference of the optima "
+          f"{worst:.1e} (body_acc_wk H2 norm per unit white road velocity [m/s^2], thesis car, "
+          f"k = 90 kN/m held)")  # fmt: skip
 
 
 if __name__ == "__main__":

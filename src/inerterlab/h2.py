@@ -44,6 +44,7 @@ __all__ = [
     "h2_rational",
     "h2_rational_gradient",
     "h2_rational_filtered",
+    "h2_rational_filtered_gradient",
     "stable_scaled",
     "wk_realisation",
     "wk_polynomials",
@@ -326,6 +327,56 @@ def wk_polynomials() -> tuple[np.ndarray, np.ndarray]:
 
 
 @nb.njit(cache=True)
+def _sylvester(M, N, R):
+    """X (m x n) of M X + X N + R = 0 (M m x m, N n x n), by its Kronecker form on the
+    column-major entries of X (small m n)."""
+    m, n = M.shape[0], N.shape[0]
+    K = np.zeros((m * n, m * n))
+    rhs = np.empty(m * n)
+    for j in range(n):
+        for i in range(m):
+            r = j * m + i
+            rhs[r] = -R[i, j]
+            for q in range(m):
+                K[r, j * m + q] += M[i, q]
+            for q in range(n):
+                K[r, q * m + i] += N[q, j]
+    x = np.linalg.solve(K, rhs)
+    X = np.empty((m, n))
+    for j in range(n):
+        for i in range(m):
+            X[i, j] = x[j * m + i]
+    return X
+
+
+@nb.njit(cache=True)
+def _cascade(w0, at, bt, n, fA, fB):
+    """The car's block of the cascade (physical time) and the gramian blocks P11, P21
+    (see :func:`h2_rational_filtered`): (A~, C1, D1, P11, P21)."""
+    At, Pt = _companion(at, n)
+    D1 = bt[n]
+    C1 = np.empty(n)
+    for i in range(n):
+        C1[i] = w0 * (bt[i] - D1 * at[i])
+    P11 = Pt / w0
+    m = fA.shape[0]
+    # Sylvester fA X + X A1^T = -fB (C1 P11 + D1 e_n^T), X = P21 (m x n)
+    g = np.empty(n)
+    for j in range(n):
+        acc = 0.0
+        for i in range(n):
+            acc += C1[i] * P11[i, j]
+        g[j] = acc
+    g[n - 1] += D1
+    R = np.empty((m, n))
+    for i in range(m):
+        for j in range(n):
+            R[i, j] = fB[i] * g[j]
+    P21 = _sylvester(fA, w0 * At.T, R)
+    return At, C1, D1, P11, P21
+
+
+@nb.njit(cache=True)
 def h2_rational_filtered(polys, n, which, fA, fB, fC):
     """Squared H2 norm of W(s) row(s)/Delta(s): row ``which`` of ``polys`` over Delta
     (row 0, degree ``n``) followed by the filter W = fC (sI - fA)^-1 fB; inf if the car
@@ -340,38 +391,8 @@ def h2_rational_filtered(polys, n, which, fA, fB, fC):
     ok, w0, at, bt = stable_scaled(polys, n, which)
     if not ok:
         return np.inf
-    At, Pt = _companion(at, n)
-    D1 = bt[n]
-    C1 = np.empty(n)
-    for i in range(n):
-        C1[i] = w0 * (bt[i] - D1 * at[i])
-    A1 = w0 * At
-    P11 = Pt / w0
+    _, C1, D1, _, P21 = _cascade(w0, at, bt, n, fA, fB)
     m = fA.shape[0]
-    # Sylvester fA X + X A1^T = -fB (C1 P11 + D1 e_n^T), X = P21 (m x n), column-major
-    g = np.empty(n)
-    for j in range(n):
-        acc = 0.0
-        for i in range(n):
-            acc += C1[i] * P11[i, j]
-        g[j] = acc
-    g[n - 1] += D1
-    N = m * n
-    K = np.zeros((N, N))
-    rhs = np.empty(N)
-    for j in range(n):
-        for i in range(m):
-            r = j * m + i
-            rhs[r] = -fB[i] * g[j]
-            for q in range(m):
-                K[r, j * m + q] += fA[i, q]
-            for q in range(n):
-                K[r, q * m + i] += A1[j, q]
-    x = np.linalg.solve(K, rhs)
-    P21 = np.empty((m, n))
-    for j in range(n):
-        for i in range(m):
-            P21[i, j] = x[j * m + i]
     h = P21 @ C1  # P21 C1^T (m)
     R = np.empty((m, m))
     for i in range(m):
@@ -385,6 +406,66 @@ def h2_rational_filtered(polys, n, which, fA, fB, fC):
     if not (acc >= 0.0):
         return np.inf
     return acc
+
+
+@nb.njit(cache=True)
+def h2_rational_filtered_gradient(polys, n, which, fA, fB, fC, g):
+    """:func:`h2_rational_filtered` and its derivatives in the coefficients of Delta
+    (``g[0, :n+1]``) and of row ``which`` (``g[1, :n+1]``), exact, by the adjoint of the
+    cascade's Lyapunov equation; inf (and ``g`` NaN) where the norm is infinite.
+
+    With the cascade A = [[A1, 0], [fB C1, fA]], B = [B1; fB D1], C = [0, fC] and its
+    observability gramian L (A^T L + L A + C^T C = 0), solved block by block:
+    fA^T L22 + L22 fA + fC^T fC = 0, fA^T L21 + L21 A1 + L22 fB C1 = 0 (Sylvester),
+    A1^T L11 + L11 A1 + C1^T fB^T L21 + L21^T fB C1 = 0, the norm is B^T L B and its
+    derivatives in A and B are 2 L P and 2 L B. A1's last row is -w0 at, C1 = w0 (bt -
+    D1 at), D1 = bt[n]; the scaled coefficients are the polynomials' divided by
+    Delta_n w0^(n-i), with w0 held (only the choice of realisation) and Delta_n
+    scaling all of them."""
+    ok, w0, at, bt = stable_scaled(polys, n, which)
+    g[:, :] = np.nan
+    if not ok:
+        return np.inf
+    an = polys[0, n]
+    _, _, sc = _scaled(polys, n)
+    At, C1, D1, P11, P21 = _cascade(w0, at, bt, n, fA, fB)
+    m = fA.shape[0]
+    fAT = fA.T.copy()
+    L22 = lyapunov_packed(fAT, np.outer(fC, fC))
+    G = np.outer(fB, C1)  # m x n
+    L21 = _sylvester(fAT, w0 * At, L22 @ G)
+    R = G.T @ L21
+    L11 = lyapunov_packed(At.T.copy(), (R + R.T) / w0)
+    # J = B^T L B, B = [e_n; fB D1]
+    Lb = L22 @ fB
+    l21 = np.ascontiguousarray(L21[:, n - 1])
+    J = L11[n - 1, n - 1] + 2.0 * D1 * (fB @ l21) + D1 * D1 * (fB @ Lb)
+    if not (J >= 0.0) or not np.isfinite(J):
+        return np.inf
+    # 2 L P on the rows that vary: n-1 (A1's last row) and the filter's (fB C1)
+    LPlast = 2.0 * (np.ascontiguousarray(L11[n - 1, :]) @ P11 + l21 @ P21)
+    LPf = 2.0 * (L21 @ P11 + L22 @ P21)  # m x n
+    H = fB @ LPf  # dJ/dC1
+    dat = np.empty(n)
+    dbt = np.empty(n + 1)
+    for j in range(n):
+        dat[j] = -w0 * LPlast[j] - w0 * D1 * H[j]
+        dbt[j] = w0 * H[j]
+    LBf = 2.0 * (l21 + D1 * Lb)  # 2 L B on the filter's rows
+    dD1 = fB @ LBf
+    for j in range(n):
+        dD1 -= w0 * H[j] * at[j]
+    dbt[n] = dD1
+    g[:, :] = 0.0
+    s = 0.0
+    for j in range(n):
+        g[0, j] = dat[j] * sc[j]
+        s += dat[j] * at[j]
+    for j in range(n + 1):
+        g[1, j] = dbt[j] * sc[j]
+        s += dbt[j] * bt[j]
+    g[0, n] = -s / an
+    return J
 
 
 # ---------------------------------------------------------------------------------------

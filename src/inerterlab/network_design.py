@@ -41,10 +41,12 @@ parameter's ``design`` range in the registry; fixed ones, e.g. the main spring, 
 held). A scrambled Sobol sample of the box is
 evaluated in one compiled batch, the best few distinct points are polished by L-BFGS-B
 (unconstrained) or SLSQP (with limits on other quantities), and the best polished point
-wins. For the first three H2 norms (and ``tyre_load``) the gradient is exact up to
-rounding and costs one batch call: every polynomial coefficient of the car is affine
-in each single network parameter, so the squared norm is differentiated through the
-coefficients by the adjoint of the Lyapunov equation (observability gramian), see
+wins. For the H2 norms of the first three outputs, ``body_acc_wk`` and ``tyre_load``
+the gradient is exact up to rounding and costs one compiled call: every polynomial
+coefficient of the car is affine in each single network parameter, so the squared
+norm is differentiated through the coefficients by the adjoint of the Lyapunov
+equation (observability gramian; for ``body_acc_wk`` that of the cascade of the car
+and the Wk filter, :func:`inerterlab.h2.h2_rational_filtered_gradient`), see
 :func:`gradient`; the others use central differences in the logarithms (one batch).
 A peak objective, whose optimum often has two equal peaks (a kink), is polished by
 Nelder-Mead instead.
@@ -66,7 +68,13 @@ import numba as nb
 import numpy as np
 
 from .errors import PHYSICAL_RANGES, ParameterError, check_physical, check_seed, shorten
-from .h2 import h2_rational, h2_rational_filtered, h2_rational_gradient, stable_scaled
+from .h2 import (
+    h2_rational,
+    h2_rational_filtered,
+    h2_rational_filtered_gradient,
+    h2_rational_gradient,
+    stable_scaled,
+)
 from .networks import MAX_LAYOUTS, NetworkError, enumerate_networks, linearise, parse_network
 from .suspension.network_linear import (
     _QUANTITY,
@@ -417,20 +425,26 @@ def transfer(quantity: str, q: NetworkQuarterCar, params: dict):
 
 
 @nb.njit(cache=True)
-def _grad_batch(prog, theta, car, which, grad):
-    """Squared norm of output ``which`` (1..3) and its derivatives in log-parameters."""
+def _grad_batch(prog, theta, car, which, filtered, fA, fB, fC, grad):
+    """Squared norm of output ``which`` (1..3; through the filter fA, fB, fC if
+    ``filtered``) and its derivatives in log-parameters."""
     num = np.zeros(MAXC)
     den = np.zeros(MAXC)
     ln, ld = _assemble(prog, theta, num, den)
     base = np.zeros((4, MAXC))
     n = _car_polys(num, ln, den, ld, car[0], car[1], car[2], car[3], base)
-    sq = np.empty(3)
-    h2_rational(base, n, sq)
-    if not np.isfinite(sq[which - 1]):
-        grad[:] = np.nan
-        return sq[which - 1]
     g = np.zeros((2, n + 1))
-    h2_rational_gradient(base, n, which, g)
+    if filtered:
+        val = h2_rational_filtered_gradient(base, n, which, fA, fB, fC, g)
+    else:
+        sq = np.empty(3)
+        h2_rational(base, n, sq)
+        val = sq[which - 1]
+        if np.isfinite(val):
+            h2_rational_gradient(base, n, which, g)
+    if not np.isfinite(val):
+        grad[:] = np.nan
+        return val
     pert = np.zeros((4, MAXC))
     th = theta.copy()
     for k in range(theta.shape[0]):
@@ -448,14 +462,25 @@ def _grad_batch(prog, theta, car, which, grad):
             acc += g[0, i] * (pert[0, i] - base[0, i])
             acc += g[1, i] * (pert[which, i] - base[which, i])
         grad[k] = acc
-    return sq[which - 1]
+    return val
+
+
+#: the quantities whose gradient is exact (adjoint), by index in :data:`QUANTITIES`:
+#: the three H2 norms of :data:`OUTPUTS`, body_acc_wk and tyre_load
+_EXACT = (0, 1, 2, 3, 4)
 
 
 def gradient(car: NetworkQuarterCar, params: dict, output: str) -> tuple[float, dict]:
-    """Squared H2 norm of ``output`` and its derivative in the log of each parameter."""
+    """Squared H2 norm of ``output`` (a name of :data:`OUTPUTS`, ``body_acc_wk`` or
+    ``tyre_load``) and its exact derivative in the log of each parameter."""
+    index = QUANTITIES.index(output) if output in QUANTITIES else -1
+    if index not in _EXACT:
+        raise NetworkError(
+            f"gradient of {output!r}: expected one of {', '.join(QUANTITIES[i] for i in _EXACT)}"
+        )
     th = car.theta(params)
     g = np.empty(len(th))
-    val = _grad_batch(car.program, th, car.car_vector, OUTPUTS.index(output) + 1, g)
+    val = _quantity_gradient(car, th, index, g)
     return float(val), dict(zip(car.network.names, g.tolist(), strict=True))
 
 
@@ -465,11 +490,12 @@ _FD_STEP = 2e-5
 
 def _quantity_gradient(q: NetworkQuarterCar, th: np.ndarray, index: int, gfull: np.ndarray):
     """Squared value of quantity ``index`` and its derivatives in the leaves' logs:
-    exact (adjoint) for the first three H2 norms and tyre_load, central differences in
-    one compiled batch otherwise."""
-    if index in (0, 1, 2, 4):
-        which = 2 if index == 4 else index + 1
-        v = _grad_batch(q.program, th, q.car_vector, which, gfull)
+    exact (adjoint) for :data:`_EXACT`, central differences in one compiled batch
+    otherwise."""
+    if index in _EXACT:
+        which = {0: 1, 1: 2, 2: 3, 3: 1, 4: 2}[index]
+        A, B, C, _ = _wk()
+        v = _grad_batch(q.program, th, q.car_vector, which, index == 3, A, B, C, gfull)
         if index == 4:
             f = q.tyre_stiffness**2
             v *= f
@@ -919,7 +945,7 @@ class _Problem:
         for o in np.flatnonzero(self.wvec > 0):
             w = self.wvec[o]
             v = _quantity_gradient(self.q, th, int(o), gfull)
-            self.neval += 1 + 2 * len(th)
+            self.neval += 1 if o in _EXACT else 1 + 2 * len(th)
             g = self.design.chain(u, gfull)
             if not np.isfinite(v) or not np.all(np.isfinite(g)):
                 return _BIG, np.zeros(len(self.free))
@@ -1069,7 +1095,7 @@ def _kkt(pb: _Problem, u: np.ndarray, val: float) -> bool:
     g = np.where((u - pb.lo <= tol) & (g > 0), 0.0, g)
     g = np.where((pb.hi - u <= tol) & (g < 0), 0.0, g)
     # exact gradients meet 1e-5; central differences carry about 1e-6 of rounding
-    exact = all(i in (0, 1, 2, 4) for i in np.flatnonzero(pb.wvec > 0))
+    exact = all(i in _EXACT for i in np.flatnonzero(pb.wvec > 0))
     return bool(np.max(np.abs(g)) <= (1e-5 if exact else 1e-4) * val)
 
 
