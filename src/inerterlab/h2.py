@@ -429,7 +429,6 @@ def h2_rational_filtered_gradient(polys, n, which, fA, fB, fC, g):
     an = polys[0, n]
     _, _, sc = _scaled(polys, n)
     At, C1, D1, P11, P21 = _cascade(w0, at, bt, n, fA, fB)
-    m = fA.shape[0]
     fAT = fA.T.copy()
     L22 = lyapunov_packed(fAT, np.outer(fC, fC))
     G = np.outer(fB, C1)  # m x n

@@ -24,7 +24,7 @@ keyed on its inputs, so a rerun resumes and a change recomputes):
 4. every candidate, ``k | c`` included, simulated on ``roads`` ISO 8608 roads by the
    model core: expected value with its 95 % interval, gain over ``k | c`` road by road;
 5. for each device's best candidate, the friction and parasitic damping at which its
-   gain over ``k | c`` vanishes (``design-requirement`` point, bisection).
+   gain over ``k | c`` vanishes (``design-requirement`` point, Brent's method).
 
 The linear objective and the time-domain score are the same quantity where the H2
 optimiser has it: ``body_acc`` (RMS body acceleration), ``tyre_load`` (RMS dynamic
@@ -102,7 +102,8 @@ class DesignSettings:
     vehicle: str = ""
     model: str = "quarter"
     #: numerical settings: most adaptive steps per simulated road, the factor either side
-    #: of the H2 inertance the time-domain device search spans, bisection halvings
+    #: of the H2 inertance the time-domain device search spans, the requirement's accuracy
+    #: in halvings of its range
     max_steps: int = 400_000
     device_span: float = 3.0
     bisections: int = 8
@@ -615,7 +616,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         if r["kind"] == "device" and r["device"] not in best_dev:
             best_dev[r["device"]] = r
     if best_dev:
-        say(f"design: device requirements for {len(best_dev)} devices (bisection)")
+        say(f"design: device requirements for {len(best_dev)} devices (Brent's method)")
         req_settings = {**dev_settings, "baseline": json.dumps(base_cand, sort_keys=True)}
         jobs = []
         for d, r in best_dev.items():
@@ -761,7 +762,11 @@ def _requirements(jobs, settings, store, workers, progress) -> list:
         out.append({
             "device": j[1], "layout": j[0], "parameter": j[2], "unit": unit[j[2]],
             "threshold": thr, "bracket": br, "identified": identified,
-            "gain_at_low_percent": float(row.gain_low), "gain_at_high_percent": float(row.gain_high),
+            "gain_at_low_percent": float(row.gain_low),
+            # None: a road at the top of the range needs more than max_steps steps
+            # (long sticking), counted as no gain
+            "gain_at_high_percent": (float(row.gain_high) if math.isfinite(float(row.gain_high))
+                                     else None),
             "text": text,
         })  # fmt: skip
     return out

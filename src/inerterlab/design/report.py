@@ -407,8 +407,8 @@ expected value; gain over the optimised k | c on the same roads [%] &plusmn; its
 <h2>Device requirements</h2>
 <p>The friction or parasitic damping at which the ideal design of the device's layout,
 built with the device (its stiffness as identified, the other loss off), loses its
-expected gain over k | c on {st["tune_roads"]} tuning roads (bisection on the gain crossing
-zero).</p><ul>{req or "<li>no device candidates</li>"}</ul>
+expected gain over k | c on {st["tune_roads"]} tuning roads (Brent's method on the gain
+crossing zero, in the logarithm).</p><ul>{req or "<li>no device candidates</li>"}</ul>
 <h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
 <table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
 <h2>Figures</h2>{figs_html}

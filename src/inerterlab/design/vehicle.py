@@ -323,7 +323,8 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
             k = cc.pop("stiffness")
             r = optimize_network(network, q_obj, fixed={"k": k, **fixed},
                                  bounds={n: bounds[n] for n in names if n in bounds},
-                                 starts=2, samples=64, evolve=False, compare=False, **cc)  # fmt: skip
+                                 starts=2, samples=64, evolve=False, compare=False, simplify=False,
+                                 **cc)  # fmt: skip
             x0 += [math.log(r.parameters[n]) for n in names]
         starts.append(np.clip(np.array(x0), lo, hi))
     if start in ("middle", "both"):
