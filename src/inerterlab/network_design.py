@@ -1540,7 +1540,9 @@ def pareto_front(
     rows = []
     all_names: list[str] = []
     for text in nets:
-        kw = dict(fixed=fixed, bounds=bounds, seed=seed, compare=False, **car)
+        # simplify=False: the front reads each optimum's own norms, not those of the
+        # simpler layout an optimum on a bound stands for
+        kw = dict(fixed=fixed, bounds=bounds, seed=seed, compare=False, simplify=False, **car)
         anchor = optimize_network(text, first, **kw)
         ranges = []
         for o in others:
