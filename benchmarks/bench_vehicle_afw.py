@@ -24,7 +24,9 @@ import argparse
 import math
 import os
 import statistics
+import sys
 import time
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
@@ -33,7 +35,6 @@ from scipy.integrate import solve_ivp  # noqa: E402
 
 from inerterlab.systems.vehicle import simulate, vehicle  # noqa: E402
 from inerterlab.vehicles import (  # noqa: E402
-    build,
     example_vehicle_path,
     generate_tracks,
     loads_vehicle,
@@ -41,6 +42,10 @@ from inerterlab.vehicles import (  # noqa: E402
     road_spectrum,
 )
 from inerterlab.vehicles.simulation import simulate_vehicle  # noqa: E402
+
+# the scipy baseline's equations: the hand-assembled M, C, K oracle of the tests
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from _vehicle_oracle import build  # noqa: E402
 
 ADAPTIVE = (
     'adaptive = { flywheel = "nylon", changing_ratio = 0.285, law = "thesis", '

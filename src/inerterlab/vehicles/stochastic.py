@@ -79,21 +79,6 @@ HALF_CAR_METRICS = _metric_names(_HALF_CORNERS)
 FULL_CAR_METRICS = _metric_names(_FULL_CORNERS)
 
 
-def _load_vehicle(path: str, kind: str):
-    from .config import example_vehicle_path, load_vehicle
-    from .model import build
-
-    params = load_vehicle(path if path else example_vehicle_path())
-    if kind == "half" and hasattr(params, "half_car"):
-        params = params.half_car()
-    vehicle = build(params)
-    if vehicle.kind != kind:
-        raise ParameterError(
-            "vehicle", path or "(example)", f"a {kind}-car file or a full-car file for 'half'"
-        )
-    return params, vehicle
-
-
 def _tracks(p, params: Mapping[str, Any], seed: int) -> np.ndarray:
     """The wheel heights of road realisation ``seed`` under the car ``p``."""
     from .roads import road_spectrum
