@@ -285,9 +285,9 @@ def state_space_derivatives(params, veh, names, log: bool = True) -> list:
     Exact to rounding: each corner's element value enters the state space as a rank-one
     term, so two more state spaces of the core car with that value moved fix the
     direction and the curvature of the whole (:func:`_moebius_slope`); the axle's
-    derivative is the sum over its corners. Checked against central differences and
-    against the former complex step through hand-assembled matrices
-    (tests/test_vehicle_design_gradient.py)."""
+    derivative is the sum over its corners. Checked against central differences of the
+    core's state space (tests/test_vehicle_design_gradient.py; the H2 gradients against
+    differences of the norm in tests/test_design_gradient.py)."""
     base = _blocks(veh._ss)
     out = []
     for n in names:
