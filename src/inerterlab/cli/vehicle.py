@@ -464,9 +464,10 @@ def simulate_command(
     fixed_step: Annotated[
         float | None,
         typer.Option(
-            help="Classical Runge-Kutta (RK4) steps of at most this length [s], ending on "
-            "every road sample (the --dt: one step per sample), without error control; "
-            "lift-off and the other switches still located. Default: adaptive."
+            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
+            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
+            "without error control; lift-off and the other switches still "
+            "located. Default: adaptive."
         ),
     ] = None,
     json_out: Annotated[bool, _JSON] = False,
@@ -501,6 +502,10 @@ def simulate_command(
     params = _parameters(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
+    if fixed_step is not None and not h / 100.0 <= fixed_step <= 0.1:
+        raise ParameterError(
+            "fixed-step", fixed_step, f"a step in [{h / 100:g}, 0.1] s (dt/100 on)"
+        )
     full = hasattr(params, "front_track")
     width = 0.5 * (params.front_track + params.rear_track) if full else 1.5
     struts = [st[3].strut for st in _stations(params)[1]]
@@ -533,8 +538,6 @@ def simulate_command(
         r = road_inputs(_Axles, x, zl, zr, v, h, periodic=False)
         _check_samples(r.shape[0], v, h, None)  # the wheels' samples over the file's length
     nt = r.shape[0]
-    if fixed_step is not None:
-        check_positive("fixed-step", fixed_step, "s")
     run = simulate_vehicle(params, r, h, lift_off=lift_off, rebound=rebound,
                            compression=compression, warmup=5.0, fixed_step=fixed_step)  # fmt: skip
     y = run.outputs
@@ -618,9 +621,10 @@ def monte_carlo_command(
     fixed_step: Annotated[
         float | None,
         typer.Option(
-            help="Classical Runge-Kutta (RK4) steps of at most this length [s], ending on "
-            "every road sample (the --dt: one step per sample), without error control; "
-            "lift-off and the other switches still located. Default: adaptive."
+            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
+            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
+            "without error control; lift-off and the other switches still "
+            "located. Default: adaptive."
         ),
     ] = None,
     warmup: Annotated[float, typer.Option(help="Start-up left out of each road [s].")] = 5.0,
@@ -675,8 +679,10 @@ def monte_carlo_command(
     check_positive("length", length, "m")
     if not 1e-12 <= rtol <= 1e-2:
         raise ParameterError("rtol", rtol, "a relative tolerance in [1e-12, 1e-2]")
-    if fixed_step is not None and not 0.0 < fixed_step <= 0.1:
-        raise ParameterError("fixed-step", fixed_step, "a step in (0, 0.1] s")
+    if fixed_step is not None and not h / 100.0 <= fixed_step <= 0.1:
+        raise ParameterError(
+            "fixed-step", fixed_step, f"a step in [{h / 100:g}, 0.1] s (dt/100 on)"
+        )
     # the states and every node and element output at each sample, per worker (a full
     # car with its comfort observers: about 40 states and 100 outputs): at most 1e6
     if length / (v * h) > 1_000_000:
