@@ -1,8 +1,8 @@
 """Fixed classical Runge-Kutta steps of the vehicle (``fixed_method="rk4"``,
-systems/_integrate.py ``_fixed_rk4``): fourth-order convergence through lift-off and
-flywheel saturation against the adaptive pair at a tight tolerance (which only holds
-where every crossing is located: a step across a kink of the force law is first-order
-accurate there), the events found, and the options' checks."""
+systems/_integrate.py ``_fixed_rk4``; the vehicle commands' ``--fixed-step``): fourth-order convergence
+through lift-off and flywheel saturation against the adaptive pair at a tight tolerance
+(which only holds where every crossing is located: a step across a kink of the force law
+is first-order accurate there), the events found, and the options' checks."""
 
 from __future__ import annotations
 
@@ -38,8 +38,8 @@ def _order(sys, r, dt, key, steps):
 
 def test_rk4_converges_at_fourth_order_through_lift_off():
     """Half car on class F at 30 m/s (tyres off the road about a tenth of the time):
-    halving the step divides the error by about 16; every lift-off and landing is
-    found (the adaptive reference's count), and no contact force goes negative."""
+    halving the step divides the error by about 16 or more; every lift-off and landing
+    is found (the adaptive reference's count), and no contact force goes negative."""
     dt = 2e-3
     r = _road("F", 30.0, dt, 30.0, seed=3)
     sys = core.vehicle(HALF)
@@ -78,8 +78,8 @@ def test_rk4_on_the_full_car_with_adaptive_inerters():
 
 
 def test_one_step_per_sample_and_the_comfort_observers():
-    """``fixed_step = dt``: one step per sample plus one per event; the observers'
-    comfort figures within 1e-3 of the adaptive run's at rtol 1e-10."""
+    """``simulate_vehicle(fixed_step=dt)``: one step per sample plus one per event; the
+    observers' comfort figures within 1e-3 of the adaptive run's at rtol 1e-10."""
     dt = 2e-3
     r = _road("E", 20.0, dt, 40.0, seed=4)
     fix = simulate_vehicle(HALF, r, dt, fixed_step=dt)

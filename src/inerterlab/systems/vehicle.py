@@ -387,11 +387,13 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     element output of the system (:attr:`System.output_names`) in ``signals``. ``options``
     (:class:`~inerterlab.systems.options.SimulationOptions`, with keywords named as its
     fields replacing its values): tolerances, step control, ``max_steps`` (default
-    :data:`VEHICLE_MAX_STEPS`); the samples are the road's. ``fixed_step`` with
-    ``fixed_method="rk4"``: classical Runge-Kutta steps of at most ``fixed_step``
-    ending on every sample, no error control, lift-off and the other switches still
-    located (:func:`._integrate.integrate_fixed`); ``fixed_step = dt``: one step per
-    road sample (its error: docs/guide/vehicles.md, "Fixed steps")."""
+    :data:`VEHICLE_MAX_STEPS`); the samples are the road's. ``fixed_step``: steps of at
+    most that length ending on every sample, no error control, lift-off and the other
+    switches still located (``fixed_step = dt``: one step per road sample); by the
+    Dormand-Prince pair's order-5 solution, or with ``fixed_method="rk4"`` (what the
+    vehicle commands' ``--fixed-step`` take) by classical Runge-Kutta in its own driver
+    (:func:`._integrate.integrate_fixed`; their errors and costs: docs/guide/vehicles.md,
+    "Fixed steps")."""
     if sys.kind not in ("half_car", "full_car"):
         raise ParameterError("sys", sys.kind, "a vehicle (systems.vehicle.half_car/full_car)")
     dt = check_positive("dt", dt, "s")
