@@ -90,6 +90,16 @@ def test_one_step_per_sample_and_the_comfort_observers():
 
 
 def test_fixed_method_options():
+    """rk4 needs a step; a name outside the two is refused; System.simulate, which runs
+    the fixed Dormand-Prince steps only, warns that it ignores rk4."""
+    from inerterlab.elements import Spring
+    from inerterlab.excitation import bump
+    from inerterlab.systems import base_excited
+    from inerterlab.systems.options import IgnoredOptionWarning
+
+    rig = base_excited(100.0, "k", {"k": Spring(stiffness=1e4)})
+    with pytest.warns(IgnoredOptionWarning, match="fixed_method"):
+        rig.simulate(bump(0.01), 0.1, fixed_step=1e-3, fixed_method="rk4")
     with pytest.raises(ParameterError, match="fixed_method"):
         SimulationOptions(fixed_method="rk4")  # no step given
     with pytest.raises(ParameterError, match="fixed_method"):
