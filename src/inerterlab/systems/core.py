@@ -230,6 +230,8 @@ class System:
         the ride metrics are the same observers' (a study that needs only the metrics
         skips sampling the outputs every 1/``sample_rate``)."""
         options = _options(options, option_values)
+        options.warn_ignored("System.simulate (rk4 runs in systems.vehicle.simulate)",
+                             "fixed_method")  # fmt: skip
         if metrics_only and (self.kind != "quarter_car" or times is not None or x0 is not None):
             raise ParameterError(
                 "metrics_only", metrics_only, "False here: a quarter car started at rest "
@@ -1166,7 +1168,7 @@ class DriveRuns:
         if sys.kind != "rig":
             raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
         options = _options(options, option_values)
-        options.warn_ignored("DriveRuns.force", "method", "sample_rate")
+        options.warn_ignored("DriveRuns.force", "method", "sample_rate", "fixed_method")
         rtol = options.rtol
         max_steps = options.max_steps
         n = self.time.size if m is None else int(m)

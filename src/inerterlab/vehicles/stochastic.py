@@ -128,6 +128,7 @@ def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
         friction_velocity=float(params["friction_velocity"]),
         rtol=float(params["rtol"]),
         warmup=float(params["warmup"]),
+        fixed_step=float(params["fixed_step"]) or None,
     )
     keep = slice(min(int(float(params["warmup"]) / dt), r.shape[0] // 2), None)
     y = res.outputs
@@ -168,6 +169,9 @@ _PARAMETERS = {
     "length": ParameterSpec(**_POS, high=1e6, unit="m", doc="road length per realisation"),
     "dt": ParameterSpec(**_POS, high=0.1, unit="s", doc="road sample interval"),
     "rtol": ParameterSpec(low=1e-12, high=1e-2, doc="relative tolerance of the integration"),
+    "fixed_step": ParameterSpec(
+        low=0.0, high=0.1, unit="s", doc="fixed Runge-Kutta (RK4) step; 0: adaptive at rtol"
+    ),
     "warmup": ParameterSpec(low=0.0, high=1e4, unit="s", doc="start-up left out"),
     "seed": ParameterSpec(kind="int", low=0.0, doc="road realisation"),
     "lift_off": ParameterSpec(kind="choice", choices=("on", "off"), doc="one-sided tyres"),
@@ -183,6 +187,7 @@ _DEFAULTS = {
     "length": 1200.0,
     "dt": 0.002,
     "rtol": 1e-6,
+    "fixed_step": 0.0,
     "warmup": 5.0,
     "seed": 0,
     "lift_off": "on",
@@ -311,7 +316,7 @@ def monte_carlo(
     """Drive the nonlinear vehicle over ``roads`` ISO 8608 road realisations.
 
     ``settings`` are the point function's parameters (``road_class``, ``speed``,
-    ``length``, ``dt``, ``rtol``, ``warmup``, ``lift_off`` "on"/"off", ``rebound``,
+    ``length``, ``dt``, ``rtol``, ``fixed_step`` (0: adaptive), ``warmup``, ``lift_off`` "on"/"off", ``rebound``,
     ``compression``, ``friction``, ``friction_velocity``; defaults in the point
     function). ``store`` (a Zarr folder) keeps every finished chunk, so a rerun resumes.
     """
