@@ -33,6 +33,11 @@ EXACT_OBSERVER_STEP = 2.5e-3
 #: x 3.9e-13 of its own integral (the 1 ms half-cosine edges of a smoothed bump, a
 #: sine of 3142 rad/s, take 13 steps)
 EXACT_OBSERVER_PHASE = 0.5
+#: both halved where an observer integrates a fourth power (the VDV): its integrand
+#: holds twice the frequencies of a square, and at the square's step its quadrature
+#: error was 9.6e-8 of the VDV after a road step (the Wk filter's 100 Hz ringing;
+#: docs/decisions.md)
+EXACT_FOURTH_POWER_SHARE = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -984,7 +989,7 @@ def _simulate(
     ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
     if sys.n_states and exact_ok and method in ("auto", "exact"):
         if sys.observers:
-            step = min(EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
+            step = _observer_share(sys) * min(EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
                 _regime_rate(sys.info["base"], sys.linear_state_space()[0]), 1e-300))
             ts_walk = _observer_grid(ts, T, step)
         plan = _exact_plan(sys, segs, T, ts_walk)
@@ -1229,19 +1234,29 @@ def _observer_grid(ts, T, step):
     return np.union1d(ts, np.concatenate(extra))
 
 
+def _observer_share(sys) -> float:
+    """The part of the longest exact step (:data:`EXACT_OBSERVER_STEP`,
+    :data:`EXACT_OBSERVER_PHASE`) that ``sys``'s observers allow: 1, or
+    :data:`EXACT_FOURTH_POWER_SHARE` with a fourth power among them."""
+    fourth = any(_kernel_kind(o) == _kernel.OBS_FOURTH for o in sys.observers)
+    return EXACT_FOURTH_POWER_SHARE if fourth else 1.0
+
+
 def _exact_plan(sys, segs, T, ts):
     """The step lengths of exact steps on this road and these samples, as indices into
     their distinct values (rounded to :data:`EXACT_STEP_QUANTUM` x max(T, 1 s): a step
-    that long shifts a state by less than 1e-12 of its change over 1 s)."""
+    that long shifts a state by less than 1e-12 of its change over 1 s; break points
+    closer than half that, a sample and a segment edge apart by round-off, take no
+    step)."""
     hs = np.empty(len(segs) + ts.size + 1)
     z = np.empty(0)
+    q = EXACT_STEP_QUANTUM * max(T, 1.0)
     _, m = _integrate.exact_walk(
         False, segs, ts, T, z, 0.0, math.nan, math.inf, math.inf, True, z, sys.itab, sys.ftab,
-        hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)), np.empty((0, 0)),
-        np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0), np.empty(0, np.int64),
-        *_NO_OBSERVERS,
+        0.5 * q, hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)),
+        np.empty((0, 0)), np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
+        np.empty(0, np.int64), *_NO_OBSERVERS,
     )  # fmt: skip
-    q = EXACT_STEP_QUANTUM * max(T, 1.0)
     keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
     return keys * q, idx.astype(np.int64)
 
@@ -1363,6 +1378,8 @@ def _regime_tables(sys, segs, T, ts, plan):
     # with observers, each class's longest step (its sine and the system's modes)
     fast = np.maximum(np.abs(ws), rate_x)
     cap = np.minimum(longest, EXACT_OBSERVER_PHASE / np.maximum(fast, 1e-300))
+    if aug is not None:
+        cap = cap * _observer_share(sys)
     levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
     lev_keys = np.rint(levels / q).astype(np.int64)
     keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
@@ -1372,7 +1389,7 @@ def _regime_tables(sys, segs, T, ts, plan):
     xlev = np.searchsorted(keys, lev_keys).astype(np.int64)  # longest first
     hs = (keys * q).tobytes()
     if aug is None:
-        XE, XG, _ = _regime_exponentials(
+        XE, XG, *_ = _regime_exponentials(
             A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
             hs, b"", b"",
         )  # fmt: skip
@@ -1381,20 +1398,22 @@ def _regime_tables(sys, segs, T, ts, plan):
     rows, nu = _read_rows(sys, Sx, Su)
     own = rows[:nu, 0]
     gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
-    XE, XG, SR = _regime_exponentials(
+    XE, XG, SR, XM, XS = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
         hs, Sx[own].tobytes(), Su[own].tobytes(),
     )  # fmt: skip
-    return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X, cap)
+    xo = (ia, SR, rows, _GL_W, _GL_X, cap, XM, XS, _signal_refs(rows, nu, Sx.shape[0]))
+    return XE, XG, keys, thr, idx, cls, xlev, xo
 
 
 @lru_cache(maxsize=16)
 def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
-    """(XE, XG, SR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows
-    and their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies
-    ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin e) at the
-    points theta = :func:`_points` ()[p] of a step, over z at its start, in the layout
-    of :func:`_point_tables` (empty without observers)."""
+    """(XE, XG, SR, XM, XS): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the
+    guard rows and their rates over z = (x, e) (see :mod:`._integrate`), for the sine
+    frequencies ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin
+    e) at the points theta = :func:`_points` ()[p] of a step, over z at its start, in
+    the layout of :func:`_point_tables` (empty without observers); XM[c] = M_c and
+    XS[c] those signals' rows over z (z' = M_c z: the peaks inside a step)."""
     from scipy.linalg import expm
 
     A = np.frombuffer(a).reshape(n, n)
@@ -1409,6 +1428,8 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
     XE = np.empty((len(ws), hs.size, n, n + 3))
     XG = np.empty((len(ws), 2 * ng, n + 3))
     SR = np.empty((len(ws), th.size, hs.size, Sx.shape[0], n + 3))
+    XM = np.empty((len(ws), n + 3, n + 3))
+    XS = np.empty((len(ws), Sx.shape[0], n + 3))
     for c, w in enumerate(ws):
         Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
         M = np.zeros((n + 3, n + 3))
@@ -1421,10 +1442,12 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
+        XM[c] = M
+        XS[c] = S
         for p, x in enumerate(th):
             SR[c, p] = S @ expm((x * hs)[:, None, None] * M[None])
     # writable, as the empty tables: one compiled integrator, not two
-    return XE, XG, _point_layout(SR)
+    return XE, XG, _point_layout(SR), XM, XS
 
 
 def _exact_tables(A, B, sizes):
@@ -1554,8 +1577,8 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
             read.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
     own, alias, seen = [], [], {}
     for k in sorted(read):
-        row = np.r_[Sx[k], Su[k]]
-        key, neg = row.tobytes(), (-row).tobytes()
+        row = np.r_[Sx[k], Su[k]] + 0.0  # + 0.0: -0.0 and 0.0 alike
+        key, neg = row.tobytes(), (0.0 - row).tobytes()
         if key in seen:
             alias.append((k, seen[key], 1))
         elif neg in seen:
@@ -1564,6 +1587,17 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
             seen[key] = k
             own.append((k, len(own), 1))
     return np.array(own + alias, np.int64).reshape(-1, 3), len(own)
+
+
+def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
+    """For each signal k, sign(s) (r + 1) where it equals s times the distinct signal
+    r of the rows of :func:`_read_rows` (0: not read): how
+    :func:`._integrate._observe_points` finds a peak's row."""
+    ref = np.zeros(nsg, np.int64)
+    for r in range(rows.shape[0]):
+        k, src, sign = (int(v) for v in rows[r])
+        ref[k] = r + 1 if r < nu else sign * ref[src]
+    return ref
 
 
 def _points() -> np.ndarray:
@@ -1622,7 +1656,10 @@ def _kernel_kind(o):
 
 
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
-_NO_OBSERVERS = (np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0))
+_NO_OBSERVERS = (
+    np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0), np.empty((0, 0)),
+    np.empty((0, 0)), np.empty(0, np.int64),
+)  # fmt: skip
 
 
 def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
@@ -1636,7 +1673,18 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
         rows, nu = _read_rows(sys, Sx, Su)
-        extra = (_point_tables(A, B, Sx, Su, rows[:nu, 0], sizes), rows, _GL_W, _GL_X)
+        own = rows[:nu, 0]
+        # v = (z, X1, X1') on a road segment: v' = Mv v (X1'' = 0)
+        na = A.shape[0]
+        Mv = np.zeros((na + 2, na + 2))
+        Mv[:na, :na] = A
+        Mv[:na, na : na + 2] = B[:, :2]
+        Mv[na, na + 1] = 1.0
+        Sv = np.hstack([Sx[own], Su[own, :2]])
+        extra = (
+            _point_tables(A, B, Sx, Su, own, sizes), rows, _GL_W, _GL_X, Mv, Sv,
+            _signal_refs(rows, nu, Sx.shape[0]),
+        )  # fmt: skip
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
@@ -1646,7 +1694,8 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
     U = np.zeros((ts.size, 3))
     status, m = _integrate.exact_walk(
         True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
-        sys.itab, sys.ftab, np.empty(0), idx, Phi, GX, GB, Y, U, jumps, vjumps, ia, *extra,
+        sys.itab, sys.ftab, 0.5 * EXACT_STEP_QUANTUM * max(T, 1.0), np.empty(0), idx, Phi, GX,
+        GB, Y, U, jumps, vjumps, ia, *extra,
     )  # fmt: skip
     if status != _integrate.OK:
         t0 = float(segs[np.flatnonzero(jumps)[-1], 0]) if np.any(jumps) else 0.0
