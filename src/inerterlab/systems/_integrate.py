@@ -94,9 +94,6 @@ X_MARGIN = 1.1
 # crossings closer than this (a fraction of the step) to the earliest one in a step are
 # one event: their elements switch together at its instant
 SIMULTANEOUS = 1e-9
-#: terms of the Taylor series of an exact step's solution at most (their size falls as
-#: (rate h)^k / k!: below round-off within 40 terms for rate h <= 2)
-TAYLOR_TERMS = 60
 
 
 @nb.njit(cache=True)
@@ -456,12 +453,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, XM, XS, sref): with observers
-    the tables act on the rows ``ia`` of y (the states and the linear observers'), the
-    other observers follow each exact step by :func:`_observe_points` (``SR[c]`` as in
-    :func:`_exact_walk`, over z; z' = XM[c] z, the signals' rows XS[c] over z), and no
-    step of class c is longer than cap[c] (their quadrature's accuracy); empty ``ia``:
-    no observers, z = (y, e).
+    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref): with observers the
+    tables act on the rows ``ia`` of y (the states and the linear observers'), the other
+    observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
+    as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
+    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
@@ -528,7 +524,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx, xcap, xM, xS, xref = xo
+    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -538,9 +534,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     xpts[0] = 0.0
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
-    xcoef = np.empty(TAYLOR_TERMS)
-    xw = np.empty(na + 3)
-    xwn = np.empty(na + 3)
+    xcoef = np.empty(xTR.shape[3])
     xsv = np.empty((xgx.size + 2, itab[I_NSG]))
     xacc = np.empty(xSR.shape[3])
     ga0 = np.empty(ng)
@@ -623,8 +617,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     y[ia[i]] = yt[i]
                 if xobs:
                     _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
-                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xM[cx], xS[cx], xref,
-                                    xcoef, xw, xwn)  # fmt: skip
+                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xTR[cx, j], xref, xcoef)
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1139,40 +1132,6 @@ def _signals_at(SR, j, v, rows, sv, acc):
             sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
 
 
-@nb.njit(cache=True)
-def _taylor_signal(v0, Mv, Sv, r, sgn, h, coef, w, wn):
-    """The coefficients of the signal sgn Sv[r] . v(theta h) of the exact solution v'
-    = Mv v from v0 over a step of length h, as a power series in theta (into ``coef``,
-    returns their number): c_k = sgn Sv[r] . (h^k / k!) Mv^k v0, summed until the terms
-    fall below round-off (``w``, ``wn``: scratch of v0's size)."""
-    nv = v0.size
-    big = 0.0
-    for i in range(nv):
-        w[i] = v0[i]
-        big = max(big, abs(v0[i]))
-    small = 0
-    for k in range(coef.size):
-        acc = 0.0
-        for i in range(nv):
-            acc += Sv[r, i] * w[i]
-        coef[k] = sgn * acc
-        f = h / (k + 1)
-        top = 0.0
-        for i in range(nv):
-            s = 0.0
-            for q in range(nv):
-                s += Mv[i, q] * w[q]
-            wn[i] = f * s
-        for i in range(nv):
-            w[i] = wn[i]
-            top = max(top, abs(wn[i]))
-        big = max(big, top)
-        small = small + 1 if top <= 1e-18 * big else 0
-        if small == 2:
-            return k + 1
-    return coef.size
-
-
 @nb.njit(cache=True, inline="always")
 def _series(coef, m, x):
     acc = 0.0
@@ -1182,7 +1141,7 @@ def _series(coef, m, x):
 
 
 @nb.njit(cache=True)
-def _observe_points(itab, y, h, sv, gw, xs, v0, Mv, Sv, sref, coef, w, wn):
+def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
     """The observers over an exact step of length h from their signals' values at its
     start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
     nodes, end; exact, from :func:`_signals_at`): the integrals of squares, fourth
@@ -1190,10 +1149,11 @@ def _observe_points(itab, y, h, sv, gw, xs, v0, Mv, Sv, sref, coef, w, wn):
     values and, where a maximum inside the step may exceed the peak so far (a point
     above it less a tenth of the points' range: between the points a smooth signal
     rises above them by a few hundredths of that), the maximum of the exact solution:
-    its Taylor series from the step's start (v' = Mv v from v0, :func:`_taylor_signal`;
-    the signal k is sign(sref[k]) Sv[|sref[k]| - 1] . v), maximised by golden section
-    about the highest point. The linear observers (filters) are propagated with the
-    system and left alone. ``coef``, ``w``, ``wn``: scratch."""
+    its Taylor series in theta from the step's start, sum_k (TR[r, k] . v0) theta^k
+    (v0 the vector the step starts from, TR of :func:`.core._taylor_rows`; the signal
+    k is sign(sref[k]) times the distinct signal r = |sref[k]| - 1), maximised by
+    golden section about the highest point. The linear observers (filters) are
+    propagated with the system and left alone. ``coef``: scratch of TR.shape[1]."""
     ng = gw.size
     npt = ng + 2
     ob = itab[I_OBS]
@@ -1219,8 +1179,14 @@ def _observe_points(itab, y, h, sv, gw, xs, v0, Mv, Sv, sref, coef, w, wn):
             if high > y[slot] - 0.1 * (high - low):
                 # the exact solution's maximum about the highest point
                 ref = sref[ka]
-                m = _taylor_signal(v0, Mv, Sv, abs(ref) - 1, 1.0 if ref > 0 else -1.0, h,
-                                   coef, w, wn)  # fmt: skip
+                r = abs(ref) - 1
+                sgn = 1.0 if ref > 0 else -1.0
+                m = TR.shape[1]
+                for k in range(m):
+                    acc = 0.0
+                    for i in range(v0.size):
+                        acc += TR[r, k, i] * v0[i]
+                    coef[k] = sgn * acc
                 lo = xs[max(top - 1, 0)]
                 hi = xs[min(top + 1, npt - 1)]
                 x1 = hi - g * (hi - lo)
@@ -1260,7 +1226,7 @@ def _observe_points(itab, y, h, sv, gw, xs, v0, Mv, Sv, sref, coef, w, wn):
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
                imp_unit, itab, ftab, hmin, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia,
-               SR, rows, gw, gx, Mv, Sv, sref):  # fmt: skip
+               SR, rows, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1282,9 +1248,9 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     by :func:`_observe_points` from their signals at the step's start, the quadrature
     nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
     applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
-    read), the peaks inside a step from v' = Mv v and the signals' rows ``Sv`` over v
-    (``sref``: see :func:`_observe_points`). Without observers ``ia`` is every state
-    and the rest is empty."""
+    read), the peaks inside a step from the Taylor rows ``TR[j]`` (``sref``: see
+    :func:`_observe_points`). Without observers ``ia`` is every state and the rest is
+    empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
@@ -1295,9 +1261,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     xs[1:-1] = gx
     sv = np.empty((gx.size + 2, itab[I_NSG]))
     sacc = np.empty(SR.shape[2])
-    coef = np.empty(TAYLOR_TERMS)
-    tw = np.empty(na + 2)
-    twn = np.empty(na + 2)
+    coef = np.empty(TR.shape[2])
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1373,7 +1337,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                         z0[na] = xr
                         z0[na + 1] = b
                         _signals_at(SR, j, z0, rows, sv, sacc)
-                        _observe_points(itab, y, h, sv, gw, xs, z0, Mv, Sv, sref, coef, tw, twn)
+                        _observe_points(itab, y, h, sv, gw, xs, z0, TR[j], sref, coef)
                 else:
                     hs[m] = h
                 m += 1
@@ -1406,7 +1370,7 @@ _NO_LEVELS = np.empty(0, np.int64)
 #: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
 _NO_XOBS = (
     np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
-    np.empty(0), np.empty(0), np.empty((0, 0, 0)), np.empty((0, 0, 0)), np.empty(0, np.int64),
+    np.empty(0), np.empty(0), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64),
 )  # fmt: skip
 
 
