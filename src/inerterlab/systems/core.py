@@ -1709,10 +1709,12 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
     if sys.observers:
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
-        rows, nu = _read_rows(sys, Sx, Su)
-        own = rows[:nu, 0]
-        SR, TR = _point_tables(A, B, Sx, Su, own, sizes)
-        extra = (SR, rows, _GL_W, _GL_X, TR, _signal_refs(rows, nu, Sx.shape[0]))
+        if "observer_rows" not in sys.info:  # the signals read: fixed by the system
+            rows, nu = _read_rows(sys, Sx, Su)
+            sys.info["observer_rows"] = (rows, nu, _signal_refs(rows, nu, Sx.shape[0]))
+        rows, nu, sref = sys.info["observer_rows"]
+        SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes)
+        extra = (SR, rows, _GL_W, _GL_X, TR, sref)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
