@@ -453,11 +453,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx, cap): with observers the tables act
-    on the rows ``ia`` of y (the states and the linear observers'), the other observers
-    follow each exact step by :func:`_observe_points` (``SR[c]`` as in
-    :func:`_exact_walk`, over z), and no step of class c is longer than cap[c] (their
-    quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
+    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref): with observers the
+    tables act on the rows ``ia`` of y (the states and the linear observers'), the other
+    observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
+    as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
+    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
@@ -524,7 +524,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx, xcap = xo
+    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -534,7 +534,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     xpts[0] = 0.0
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
-    xfs = np.empty(xgx.size + 2)
+    xcoef = np.empty(xTR.shape[3])
     xsv = np.empty((xgx.size + 2, itab[I_NSG]))
     xacc = np.empty(xSR.shape[3])
     ga0 = np.empty(ng)
@@ -617,7 +617,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     y[ia[i]] = yt[i]
                 if xobs:
                     _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
-                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, xfs)
+                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xTR[cx, j], xref, xcoef)
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1109,19 +1109,6 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 
 
 @nb.njit(cache=True)
-def _lagrange(xs, fs, x):
-    """The polynomial through the points (xs, fs) at x."""
-    acc = 0.0
-    for i in range(xs.size):
-        w = fs[i]
-        for j in range(xs.size):
-            if j != i:
-                w *= (x - xs[j]) / (xs[i] - xs[j])
-        acc += w
-    return acc
-
-
-@nb.njit(cache=True)
 def _signals_at(SR, j, v, rows, sv, acc):
     """The observed signals at the points of an exact step (its start, the quadrature
     nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
@@ -1145,18 +1132,32 @@ def _signals_at(SR, j, v, rows, sv, acc):
             sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
 
 
+@nb.njit(cache=True, inline="always")
+def _series(coef, m, x):
+    acc = 0.0
+    for k in range(m - 1, -1, -1):
+        acc = acc * x + coef[k]
+    return acc
+
+
 @nb.njit(cache=True)
-def _observe_points(itab, y, h, sv, gw, xs, fs):
+def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
     """The observers over an exact step of length h from their signals' values at its
     start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
     nodes, end; exact, from :func:`_signals_at`): the integrals of squares, fourth
     powers and products by the quadrature (weights gw), the running peaks from those
-    values, a
-    maximum inside the step located on the polynomial through them (7 points for five
-    nodes: exact to (w h)^7 / 7!). The linear observers (filters) are propagated with
-    the system and left alone."""
+    values and, where a maximum inside the step may exceed the peak so far (a point
+    above it less a tenth of the points' range: between the points a smooth signal
+    rises above them by a few hundredths of that), the maximum of the exact solution:
+    its Taylor series in theta from the step's start, sum_k (TR[r, k] . v0) theta^k
+    (v0 the vector the step starts from, TR of :func:`.core._taylor_rows`; the signal
+    k is sign(sref[k]) times the distinct signal r = |sref[k]| - 1), maximised by
+    golden section about the highest point. The linear observers (filters) are
+    propagated with the system and left alone. ``coef``: scratch of TR.shape[1]."""
     ng = gw.size
+    npt = ng + 2
     ob = itab[I_OBS]
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
         kind = itab[bo]
@@ -1166,33 +1167,44 @@ def _observe_points(itab, y, h, sv, gw, xs, fs):
         ka = itab[bo + 1]
         if kind == OBS_PEAK:
             best = y[slot]
-            top = -1
-            for p in range(ng + 2):
-                if sv[p, ka] > best:
-                    best = sv[p, ka]
+            top = 0
+            low = sv[0, ka]
+            for p in range(1, npt):
+                if sv[p, ka] > sv[top, ka]:
                     top = p
-            if top >= 0:  # a new maximum: located on the polynomial about its node
-                for p in range(ng + 2):
-                    fs[p] = sv[p, ka]
+                low = min(low, sv[p, ka])
+            high = sv[top, ka]
+            if high > best:
+                best = high
+            if high > y[slot] - 0.1 * (high - low):
+                # the exact solution's maximum about the highest point
+                ref = sref[ka]
+                r = abs(ref) - 1
+                sgn = 1.0 if ref > 0 else -1.0
+                m = TR.shape[1]
+                for k in range(m):
+                    acc = 0.0
+                    for i in range(v0.size):
+                        acc += TR[r, k, i] * v0[i]
+                    coef[k] = sgn * acc
                 lo = xs[max(top - 1, 0)]
-                hi = xs[min(top + 1, ng + 1)]
-                g = 0.5 * (math.sqrt(5.0) - 1.0)
+                hi = xs[min(top + 1, npt - 1)]
                 x1 = hi - g * (hi - lo)
                 x2 = lo + g * (hi - lo)
-                f1 = _lagrange(xs, fs, x1)
-                f2 = _lagrange(xs, fs, x2)
-                for _ in range(60):
+                f1 = _series(coef, m, x1)
+                f2 = _series(coef, m, x2)
+                for _ in range(80):
                     if f1 >= f2:
                         hi = x2
                         x2, f2 = x1, f1
                         x1 = hi - g * (hi - lo)
-                        f1 = _lagrange(xs, fs, x1)
+                        f1 = _series(coef, m, x1)
                     else:
                         lo = x1
                         x1, f1 = x2, f2
                         x2 = lo + g * (hi - lo)
-                        f2 = _lagrange(xs, fs, x2)
-                    if hi - lo < 1e-10:
+                        f2 = _series(coef, m, x2)
+                    if hi - lo < 1e-11:
                         break
                 best = max(best, f1, f2)
             y[slot] = best
@@ -1213,8 +1225,8 @@ def _observe_points(itab, y, h, sv, gw, xs, fs):
 
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, SR,
-               rows, gw, gx):  # fmt: skip
+               imp_unit, itab, ftab, hmin, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia,
+               SR, rows, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1227,12 +1239,18 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     (constant inertances: the impulse flows are constant and one Euler step of each
     is exact); a road step with no finite response returns ROAD_STEP.
 
+    Break points closer than ``hmin`` [s] to the last are passed without a step (a
+    sample and a segment edge that differ by round-off: such a step's table is the
+    identity).
+
     Observers (``itab`` holds them): the tables act on the augmented state, the rows
     ``ia`` of y (the system's states and its linear observers'); the other observers
     by :func:`_observe_points` from their signals at the step's start, the quadrature
     nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
     applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
-    read). Without observers ``ia`` is every state and the rest is empty."""
+    read), the peaks inside a step from the Taylor rows ``TR[j]`` (``sref``: see
+    :func:`_observe_points`). Without observers ``ia`` is every state and the rest is
+    empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
@@ -1241,9 +1259,9 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     xs[0] = 0.0
     xs[-1] = 1.0
     xs[1:-1] = gx
-    fs = np.empty(gx.size + 2)
     sv = np.empty((gx.size + 2, itab[I_NSG]))
     sacc = np.empty(SR.shape[2])
+    coef = np.empty(TR.shape[2])
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1302,7 +1320,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             sample = k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1))
             tn = t_out[k] if sample else t1
             h = tn - t
-            if h > 0.0:
+            if h > hmin:
                 if apply:
                     j = idx[m]
                     xr = a + b * (t - t0)
@@ -1319,7 +1337,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                         z0[na] = xr
                         z0[na + 1] = b
                         _signals_at(SR, j, z0, rows, sv, sacc)
-                        _observe_points(itab, y, h, sv, gw, xs, fs)
+                        _observe_points(itab, y, h, sv, gw, xs, z0, TR[j], sref, coef)
                 else:
                     hs[m] = h
                 m += 1
@@ -1352,7 +1370,7 @@ _NO_LEVELS = np.empty(0, np.int64)
 #: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
 _NO_XOBS = (
     np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
-    np.empty(0), np.empty(0),
+    np.empty(0), np.empty(0), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64),
 )  # fmt: skip
 
 
