@@ -13,9 +13,9 @@ from inerterlab.errors import ParameterError
 from inerterlab.systems import vehicle as core
 from inerterlab.systems.options import SimulationOptions
 from inerterlab.vehicles import (
-    build,
     example_vehicle_path,
     generate_tracks,
+    linear_vehicle,
     loads_vehicle,
     road_inputs,
     road_spectrum,
@@ -65,7 +65,7 @@ def test_rk4_on_the_full_car_with_adaptive_inerters():
         'law = "thesis", rest_inertance = "150 kg" }\n',
     )
     params = loads_vehicle(text)
-    car = build(params)
+    car = linear_vehicle(params)
     dt, speed = 2e-3, 20.0
     x, zl, zr = generate_tracks(road_spectrum("C"), length=60.0, step=speed * dt, seed=11)
     r = road_inputs(car, x, zl, zr, speed, dt)[:1001]
