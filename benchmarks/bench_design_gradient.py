@@ -7,7 +7,7 @@ per-axle values (main spring held at the wheel rate) are searched by L-BFGS-B in
 logarithms from the geometric middle of the element's design range, with
 
 - the exact gradient (``design.vehicle.linear_objective_gradient``: adjoint Lyapunov
-  equations, the matrices' derivatives by complex steps), the design's route;
+  equations, the core matrices' derivatives), the design's route;
 - the baseline: central differences of the objective with step 1e-4 in the
   logarithms (the design's former route; 2 n evaluations per gradient).
 

@@ -10,13 +10,14 @@ Run: python benchmarks/bench_vehicle.py
 """
 
 import statistics
+import sys
 import time
+from pathlib import Path
 
 import numpy as np
 from scipy.integrate import solve_ivp
 
 from inerterlab.vehicles import (
-    build,
     example_vehicle_path,
     generate_tracks,
     load_vehicle,
@@ -24,6 +25,10 @@ from inerterlab.vehicles import (
     road_spectrum,
 )
 from inerterlab.vehicles.simulation import simulate_vehicle
+
+# the scipy baseline's equations: the hand-assembled M, C, K oracle of the tests
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from _vehicle_oracle import build  # noqa: E402
 
 REBOUND, COMPRESSION = 1.6, 0.6
 params = load_vehicle(example_vehicle_path())
@@ -52,7 +57,7 @@ def core(rtol):
 ref = core(1e-11)[0]
 scale = np.abs(ref).max()
 
-# scipy: the same equations written with the model's matrices, road by np.interp
+# scipy: the same equations written with the oracle's matrices, road by np.interp
 M, C, K, Kr, Cr = car.matrices()
 Minv = np.linalg.inv(M)
 n = len(car.dofs)

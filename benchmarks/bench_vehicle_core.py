@@ -8,9 +8,11 @@ compilation excluded).
    1e-8; scipy RK45 at rtol 1e-6 on the same equations in Python over the first
    ``--scipy-span`` seconds, scaled to 60 s. Accuracy: largest error of the front-left
    deflection over the scipy span relative to its peak, against the core at rtol 1e-11.
+   Also fixed classical Runge-Kutta steps (``fixed_method="rk4"``) of dt (one step per
+   road sample) and dt/2, events located as in the adaptive runs.
 2. The thesis hydraulic device (``k | c`` strut plus ``hyd``) at both front corners of
-   the packaged car, 20 s of class C at 20 m/s: the core at rtol 1e-6 (target 100 ms),
-   its error against the core at rtol 1e-10.
+   the packaged car, 20 s of class C at 20 m/s: the core at rtol 1e-6 and RK4 at dt and
+   dt/2 (target 100 ms), their errors against the core at rtol 1e-10.
 
 Run: python benchmarks/bench_vehicle_core.py [--scipy-span 3]
 """
@@ -54,17 +56,23 @@ def main() -> None:
     params, car, r, dt = setup()
     core = vehicle(params)
     print("case 1: adaptive inerters at four corners, 60 s class C at 20 m/s, dt 2 ms")
+    runs = {
+        "core DOPRI5 rtol 1e-6": dict(rtol=1e-6),
+        "core DOPRI5 rtol 1e-8": dict(rtol=1e-8),
+        "core RK4 fixed dt": dict(fixed_step=dt, fixed_method="rk4"),
+        "core RK4 fixed dt/2": dict(fixed_step=dt / 2, fixed_method="rk4"),
+    }
     t_core = {}
-    for rtol in (1e-6, 1e-8):
-        t_core[rtol], res = timed(lambda rtol=rtol: simulate(core, r, dt, rtol=rtol))
-        t_core[rtol] = (t_core[rtol], res.stats)
+    for label, kw in runs.items():
+        tc, res = timed(lambda kw=kw: simulate(core, r, dt, **kw))
+        t_core[label] = (tc, res.stats)
     ns = int(round(args.scipy_span / dt)) + 1
     ref = simulate(core, r[:ns], dt, rtol=1e-11).outputs["front_left_deflection"]
     scale = float(np.abs(ref).max())
     e_core = {
-        rt: float(np.abs(simulate(core, r[:ns], dt, rtol=rt).outputs["front_left_deflection"]
-                         - ref).max() / scale)
-        for rt in t_core
+        label: float(np.abs(simulate(core, r[:ns], dt, **kw).outputs["front_left_deflection"]
+                            - ref).max() / scale)
+        for label, kw in runs.items()
     }  # fmt: skip
     rhs = python_rhs(car, params, r[:ns], dt)
     A, Br, *_ = car.state_space()
@@ -73,13 +81,13 @@ def main() -> None:
     solve_ivp(rhs, (0, dt * (ns - 1)), x0, method="RK45", rtol=1e-6, atol=1e-10)
     t_scipy = (time.perf_counter() - t0) * 60.0 / (dt * (ns - 1))
     print(f"{'solver':30s} {'time 60 s [s]':>14s} {'scipy/this':>11s} {'max rel err':>12s}")
-    for rt, (tc, st) in t_core.items():
-        label = f"core DOPRI5 rtol {rt:g}"
-        print(f"{label:30s} {tc:14.4f} {t_scipy / tc:11.0f} {e_core[rt]:12.2e}   "
+    for label, (tc, st) in t_core.items():
+        print(f"{label:30s} {tc:14.4f} {t_scipy / tc:11.0f} {e_core[label]:12.2e}   "
               f"({st['steps']} steps, {st['rhs_calls']} rhs, {st['events']} events)")  # fmt: skip
     print(f"{'scipy RK45 rtol 1e-6 (scaled)':30s} {t_scipy:14.2f}")
-    print(f"ratio scipy RK45 / core(1e-6): {t_scipy / t_core[1e-6][0]:.0f} "
-          f"(targets: at most 30 ms, at least 3000)")  # fmt: skip
+    for label in ("core DOPRI5 rtol 1e-6", "core RK4 fixed dt"):
+        print(f"ratio scipy RK45 / {label}: {t_scipy / t_core[label][0]:.0f} "
+              f"({1e3 * t_core[label][0]:.0f} ms; targets: at most 30 ms, at least 3000)")  # fmt: skip
 
     print("\ncase 2: hydraulic device at both front corners, 20 s class C at 20 m/s, dt 2 ms")
     front = replace(params.front, strut=Strut(stiffness=params.front.strut.stiffness,
@@ -88,13 +96,16 @@ def main() -> None:
     n20 = int(round(20.0 / dt)) + 1
     r2 = r[:n20]
     core2 = vehicle(p2)
-    t_c2, res2 = timed(lambda: simulate(core2, r2, dt, rtol=1e-6))
     fine = simulate(core2, r2, dt, rtol=1e-10)
     k = "front_left_deflection"
-    d = float(np.abs(res2.outputs[k] - fine.outputs[k]).max() / np.abs(fine.outputs[k]).max())
-    print(f"core DOPRI5 rtol 1e-6: {1e3 * t_c2:.0f} ms ({res2.stats['steps']} steps, "
-          f"{res2.stats['events']} events; target 100 ms); error of {k} against rtol 1e-10: "
-          f"{d:.1e} of its peak")  # fmt: skip
+    for label, kw in (("core DOPRI5 rtol 1e-6", dict(rtol=1e-6)),
+                      ("core RK4 fixed dt", dict(fixed_step=dt, fixed_method="rk4")),
+                      ("core RK4 fixed dt/2", dict(fixed_step=dt / 2, fixed_method="rk4"))):
+        t_c2, res2 = timed(lambda kw=kw: simulate(core2, r2, dt, **kw))
+        d = float(np.abs(res2.outputs[k] - fine.outputs[k]).max() / np.abs(fine.outputs[k]).max())
+        print(f"{label}: {1e3 * t_c2:.0f} ms for 20 s ({res2.stats['steps']} steps, "
+              f"{res2.stats['rhs_calls']} rhs, {res2.stats['events']} events; target 100 ms); "
+              f"error of {k} against rtol 1e-10: {d:.1e} of its peak")  # fmt: skip
 
 
 if __name__ == "__main__":

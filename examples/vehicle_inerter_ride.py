@@ -8,8 +8,8 @@ deflection [mm] and the rear-left dynamic tyre load [N] at three speeds.
 from dataclasses import replace
 
 from inerterlab.vehicles import (
-    build,
     example_vehicle_path,
+    linear_vehicle,
     load_vehicle,
     road_spectrum,
     spectral_response,
@@ -30,7 +30,7 @@ print(f"{'speed':>6s} {'inertance':>10s} {'seat Wk':>9s} {'defl FL':>8s} {'tyre 
 print(f"{'[m/s]':>6s} {'[kg]':>10s} {'[m/s^2]':>9s} {'[mm]':>8s} {'[N]':>8s}")
 for speed in (10.0, 20.0, 30.0):
     for b in (0.0, 30.0):
-        res = spectral_response(build(with_inertance(b)), road, speed)
+        res = spectral_response(linear_vehicle(with_inertance(b)), road, speed)
         r = res.rms
         print(
             f"{speed:6.0f} {b:10.0f} {r['seat_acc_wk']:9.3f} "

@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+from _vehicle_oracle import build
 from inerterlab.errors import DataFileError
 from inerterlab.systems.gaussian import gaussian_gains, nonlinear_elements
 from inerterlab.systems.vehicle import vehicle
-from inerterlab.vehicles import build, example_vehicle_path, loads_vehicle
+from inerterlab.vehicles import example_vehicle_path, loads_vehicle
 from inerterlab.vehicles.simulation import simulate_vehicle
 
 
@@ -85,7 +86,7 @@ def test_adaptive_car_matches_independent_python_integration():
     params = loads_vehicle(
         _text('changing_ratio = 0.45, law = "thesis", rest_inertance = "200 kg"')
     )
-    car = build(params)
+    car = build(params)  # the hand-assembled oracle (tests/_vehicle_oracle.py)
     dt, r = 0.002, _road(n=250)
     M0 = car.matrices()[0]
     n = len(car.dofs)

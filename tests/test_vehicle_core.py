@@ -1,6 +1,6 @@
 """Half and full cars as systems of the model core (systems/vehicle.py).
 
-Oracles: the linear vehicle model (vehicles/model.py: M, C, K assembled by hand, its
+Oracles: the linear vehicle model (tests/_vehicle_oracle.py: M, C, K assembled by hand, its
 own frequency response and state space), the core quarter car (a separate template),
 and the symmetry of a full car on identical tracks (the half car that lumps each axle).
 The time simulation's oracles are in tests/test_vehicle_time.py.
@@ -13,6 +13,7 @@ import math
 import numpy as np
 import pytest
 
+from _vehicle_oracle import build
 from inerterlab.elements import AdaptiveFlywheelInerter, HydraulicElement, Inerter
 from inerterlab.errors import ParameterError
 from inerterlab.networks import NetworkError
@@ -26,7 +27,6 @@ from inerterlab.vehicles import (
     Seat,
     Strut,
     Tyre,
-    build,
     example_vehicle_path,
     load_vehicle,
 )

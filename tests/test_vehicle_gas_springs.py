@@ -1,4 +1,4 @@
-"""Vehicles resting on gas springs (vehicles.statics with systems.equilibrium's Newton).
+"""Vehicles resting on gas springs (the core car's rest by systems.equilibrium's Newton).
 
 The half car's axle loads are statically determinate, so each gas spring's compression
 has a closed form; a half car with pitch inertia m a b splits into two quarter cars,
@@ -19,8 +19,8 @@ from inerterlab.vehicles import (
     HalfCar,
     Strut,
     Tyre,
-    build,
     example_vehicle_path,
+    linear_vehicle,
     loads_vehicle,
 )
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
@@ -46,15 +46,14 @@ def _compression(load, gas=GAS):
 
 
 def test_half_car_on_gas_springs_statics():
-    car = build(_half())
-    q0 = car.static_state
+    car = linear_vehicle(_half())
+    eq, sys = car.equilibrium, car.system
     front_load, rear_load = M * G * B / (A + B), M * G * A / (A + B)
     for name, load in (("front", front_load), ("rear", rear_load)):
-        con = next(c for c in car.connections if c.name == f"{name}_strut")
-        assert con.u @ q0 == pytest.approx(-_compression(load), rel=1e-12)
+        assert eq.extensions[f"{name}.dev.gas"] == pytest.approx(-_compression(load), rel=1e-10)
         # the gas spring now sits at that compression: no force at rest
-        gas = next(el for n, el, _, _ in con.law.device.edges if n == "gas")
-        assert gas.operating_point == pytest.approx(-_compression(load), rel=1e-12)
+        gas = sys.elements[sys.element_names.index(f"{name}.dev.gas")]
+        assert gas.operating_point == pytest.approx(-_compression(load), rel=1e-10)
         # the balance by the element law, to 1e-9 of the weight
         assert abs(-GAS.force(gas.operating_point) - load) <= 1e-9 * M * G
     loads = car.static_tyre_loads()
@@ -68,13 +67,13 @@ def test_full_car_on_gas_springs_and_anti_roll_bars():
     full = FullCar(sprung_mass=M, pitch_inertia=1800.0, roll_inertia=450.0, cg_to_front=A,
                    cg_to_rear=B, front_track=1.5, rear_track=1.5, front=corner, rear=corner,
                    front_anti_roll=1e4)  # fmt: skip
-    car = build(full)
+    car = linear_vehicle(full)
     loads = car.static_tyre_loads()
     total = (M + 4 * MU / 2) * G
     assert sum(loads.values()) == pytest.approx(total, rel=1e-12)
     assert loads["front_left"] == pytest.approx(loads["front_right"], rel=1e-12)
     # the full car on identical tracks rests like its half car
-    half = build(full.half_car())
+    half = linear_vehicle(full.half_car())
     np.testing.assert_allclose(
         2 * loads["front_left"], half.static_tyre_loads()["front"], rtol=1e-12
     )
@@ -90,13 +89,13 @@ def _road(car, dt, n, amp):
 def test_small_motion_equals_the_tangent_car():
     """1e-5 m of road: the nonlinear simulation about the rest equals the linear car
     whose struts are the gas springs' tangents n p A^2 / V at the static compression."""
-    car = build(_half())
+    car = linear_vehicle(_half())
     dt = 1e-3
     r = _road(car, dt, 3001, 1e-5)
     y = simulate_vehicle(_half(), r, dt, lift_off=False, rtol=1e-10).outputs
     cf, cr = _compression(M * G * B / (A + B)), _compression(M * G * A / (A + B))
     kf, kr = GAS.tangent(-cf), GAS.tangent(-cr)
-    lin = build(HalfCar(
+    lin = linear_vehicle(HalfCar(
         sprung_mass=M, pitch_inertia=M * A * B, cg_to_front=A, cg_to_rear=B,
         front=Corner(unsprung_mass=MU, strut=Strut(stiffness=kf, damping=1500.0), tyre=TYRE),
         rear=Corner(unsprung_mass=MU, strut=Strut(stiffness=kr, damping=1500.0), tyre=TYRE),
@@ -114,7 +113,7 @@ def test_decoupled_half_car_on_gas_springs_equals_the_core_quarter_car():
     from inerterlab.excitation import road_series
     from inerterlab.systems import equilibrium, quarter_car
 
-    half = build(_half(k=10e3))
+    half = linear_vehicle(_half(k=10e3))
     dt = 1e-3
     r = _road(half, dt, 3001, 0.03)  # large motion: the gas law, not its tangent
     t = dt * np.arange(r.shape[0])
@@ -123,8 +122,8 @@ def test_decoupled_half_car_on_gas_springs_equals_the_core_quarter_car():
                      **{"sprung_mass": M * B / (A + B), "unsprung_mass": MU,
                           "tyre_stiffness": 2.4e5, "tyre_damping": 200.0, "gravity": G})  # fmt: skip
     eq = equilibrium(qc)
-    con = next(c for c in half.connections if c.name == "front_strut")
-    assert eq.extensions["gas"] == pytest.approx(con.u @ half.static_state, rel=1e-10)
+    assert eq.extensions["gas"] == pytest.approx(half.equilibrium.extensions["front.dev.gas"],
+                                                 rel=1e-10)  # fmt: skip
     core = eq.system.simulate(road_series(t, r[:, 0]), horizon=t[-1], rtol=1e-10, sample_rate=1 / dt)
     defl = core.outputs["body.x"] - core.outputs["wheel.x"]
     err = np.abs(veh["front_deflection"] - defl).max() / np.abs(defl).max()
@@ -138,26 +137,25 @@ def test_decoupled_half_car_on_gas_springs_equals_the_core_quarter_car():
 
 def test_out_of_range_and_file_input():
     weak = GasSpring(pressure=3e5, area=4e-3, volume=1.2e-3, stroke=0.1)
-    with pytest.raises(NetworkError, match=r"front_strut the gas spring \(gas\).*beyond its stroke"):
-        build(_half(weak))
+    with pytest.raises(NetworkError, match=r"front\.dev\.gas \(gas spring\).*beyond its stroke"):
+        linear_vehicle(_half(weak))
     text = example_vehicle_path().read_text() + (
         '\n[front.device]\nkind = "gas"\npressure = "25 bar"\narea = "40 cm^2"\n'
         'volume = "1.2e-3 m^3"\n'
     )
-    car = build(loads_vehicle(text))
-    assert car.static_state is not None
-    dev = next(c for c in car.connections if c.name == "front_left_strut").law.device
-    gas = next(el for n, el, _, _ in dev.edges if n == "gas")
+    car = linear_vehicle(loads_vehicle(text))
+    sys = car.system
+    gas = sys.elements[sys.element_names.index("front_left.dev.gas")]
     assert gas.pressure == pytest.approx(2.5e6) and gas.area == pytest.approx(4e-3)
     assert gas.operating_point < 0.0  # compressed by its share of the weight
     loads = car.static_tyre_loads()
-    weight = -float(car.gravity_force.sum())  # body, wheels and seat; 0 on pitch, roll
+    weight = car.equilibrium.weight  # body, wheels and seat; 0 on pitch, roll
     assert sum(loads.values()) == pytest.approx(weight, rel=1e-12)
 
 
 def _tangent_half():
     cf, cr = _compression(M * G * B / (A + B)), _compression(M * G * A / (A + B))
-    return build(HalfCar(
+    return linear_vehicle(HalfCar(
         sprung_mass=M, pitch_inertia=M * A * B, cg_to_front=A, cg_to_rear=B,
         front=Corner(unsprung_mass=MU, strut=Strut(stiffness=GAS.tangent(-cf), damping=1500.0), tyre=TYRE),
         rear=Corner(unsprung_mass=MU, strut=Strut(stiffness=GAS.tangent(-cr), damping=1500.0), tyre=TYRE),

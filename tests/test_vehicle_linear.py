@@ -1,6 +1,6 @@
 """The linear vehicle is the core car about its Newton equilibrium (vehicles/linear.py).
 
-Oracles: the hand-assembled M, C, K model (vehicles/model.py: its state space, transfer
+Oracles: the hand-assembled M, C, K model (tests/_vehicle_oracle.py: its state space, transfer
 functions, static loads and undamped frequencies), scipy's own evaluation of the core's
 state space (scipy.signal.freqresp), the statics of a car on gas springs (every wheel's
 contact force and the moment about the centre of gravity balance the weights), and the
@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 
+from _vehicle_oracle import build
 from inerterlab.elements import GasSpring
 from inerterlab.vehicles import (
     Corner,
@@ -23,7 +24,6 @@ from inerterlab.vehicles import (
     Seat,
     Strut,
     Tyre,
-    build,
     example_vehicle_path,
     load_vehicle,
 )

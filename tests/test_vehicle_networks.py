@@ -1,8 +1,8 @@
 """Network struts in the half and full car: any linear network at each corner.
 
-Checks are cross-method: the state-space realisation of each network (polynomial part
-in M, C, K plus internal states) against the network's admittance evaluated on its tree
-(frequency response), the decoupled half car against the model core's quarter car built
+Checks are cross-method: the core car's state space with each network against the
+hand-assembled oracle's frequency response from the network's admittance evaluated on
+its tree (tests/_vehicle_oracle.py), the realisation of each network against Z(s), the decoupled half car against the model core's quarter car built
 by the node formulation, the spectral RMS against the Lyapunov H2, and the compiled
 RK4 against the exact discretisation of the linear model.
 """
@@ -14,6 +14,7 @@ import math
 import numpy as np
 import pytest
 
+from _vehicle_oracle import build
 from inerterlab.errors import DataFileError, ParameterError
 from inerterlab.vehicles import (
     Corner,
@@ -22,8 +23,8 @@ from inerterlab.vehicles import (
     NetworkStrut,
     Strut,
     Tyre,
-    build,
     example_vehicle_path,
+    linear_vehicle,
     loads_vehicle,
 )
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
@@ -80,9 +81,10 @@ def test_realisation_equals_the_admittance_on_the_tree(text, values):
     rest = np.array([C @ np.linalg.solve(si * np.eye(A.shape[0]) - A, B) for si in s])
     np.testing.assert_allclose(b * s**2 + c * s + k + rest, law.dynamic_stiffness(s), rtol=1e-10)
     assert law.static_stiffness() == pytest.approx(law.dynamic_stiffness(1e-9j).real, rel=1e-6)
-    car = build(_full(law))
+    car = linear_vehicle(_full(law))
     f = np.array([0.3, 1.1, 3.0, 9.5, 14.0, 40.0])
-    frf = car.frequency_response(f)  # dynamic stiffness on the tree, no state space
+    # the oracle's response: each strut's dynamic stiffness on the tree, no state space
+    frf = build(_full(law)).frequency_response(f)
     for name in ("bounce_acc", "pitch_acc", "roll_acc", "front_left_deflection",
                  "front_right_tyre_load", "rear_left_deflection"):  # fmt: skip
         ref = frf[name]
@@ -95,7 +97,7 @@ def test_realisation_equals_the_admittance_on_the_tree(text, values):
 def test_parallel_network_equals_the_strut_exactly():
     net = NetworkStrut("k | c | b", {"k": 28e3, "c": 2200.0, "b": 60.0})
     strut = Strut(stiffness=28e3, damping=2200.0, inertance=60.0)
-    a, b = build(_full(net)), build(_full(strut))
+    a, b = linear_vehicle(_full(net)), linear_vehicle(_full(strut))
     assert net.internal_states() == 0 and net.mck() == pytest.approx(strut.mck(), rel=1e-15)
     ha, hb = white_velocity_h2(a), white_velocity_h2(b)
     for key, v in hb.items():
@@ -115,7 +117,7 @@ def test_decoupled_half_car_equals_two_core_quarter_cars(text, values):
     law = NetworkStrut(text, values)
     tyre = Tyre(stiffness=2.4e5, damping=200.0)
     corner = Corner(unsprung_mass=45.0, strut=law, tyre=tyre)
-    half = build(HalfCar(sprung_mass=m, pitch_inertia=m * a * b, cg_to_front=a, cg_to_rear=b,
+    half = linear_vehicle(HalfCar(sprung_mass=m, pitch_inertia=m * a * b, cg_to_front=a, cg_to_rear=b,
                          front=corner, rear=corner))  # fmt: skip
     f = np.geomspace(0.2, 40.0, 30)
     s = 2j * math.pi * f
@@ -141,8 +143,8 @@ def test_full_car_equals_half_car_with_networks():
 
     car = _full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[2]))
     road = road_spectrum("C", coherence="identical")
-    rf = spectral_response(build(car), road, 20.0)
-    rh = spectral_response(build(car.half_car()), road, 20.0)
+    rf = spectral_response(linear_vehicle(car), road, 20.0)
+    rh = spectral_response(linear_vehicle(car.half_car()), road, 20.0)
     assert rf.rms["bounce_acc"] == pytest.approx(rh.rms["bounce_acc"], rel=1e-9)
     assert rf.rms["front_left_deflection"] == pytest.approx(rh.rms["front_deflection"], rel=1e-9)
     assert rf.static_load["rear_right"] == pytest.approx(0.5 * rh.static_load["rear"], rel=1e-9)
@@ -150,7 +152,7 @@ def test_full_car_equals_half_car_with_networks():
 
 def test_core_time_simulation_agrees_with_the_exact_linear_simulation():
     params = _full(NetworkStrut(*NETWORKS[0]), NetworkStrut(*NETWORKS[1]))
-    car = build(params)
+    car = linear_vehicle(params)
     speed, dt = 20.0, 1e-3
     x, zl, zr = generate_tracks(road_spectrum("B"), length=120.0, step=speed * dt, seed=3)
     r = road_inputs(car, x, zl, zr, speed, dt)[:3001]
@@ -163,18 +165,18 @@ def test_core_time_simulation_agrees_with_the_exact_linear_simulation():
 
 def test_static_loads_use_the_static_stiffness():
     # k | (c - b) carries the car on k alone: the same static loads as the plain strut
-    a = build(_full(NetworkStrut("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0})))
-    b = build(_full(Strut(stiffness=28e3, damping=2200.0)))
+    a = linear_vehicle(_full(NetworkStrut("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0})))
+    b = linear_vehicle(_full(Strut(stiffness=28e3, damping=2200.0)))
     assert a.static_tyre_loads() == pytest.approx(b.static_tyre_loads(), rel=1e-9)
     # a spring in series with a damper carries nothing at rest: a clear error
     maxwell = NetworkStrut("k - c", {"k": 28e3, "c": 2200.0})
     with pytest.raises(ParameterError, match="carries the car at rest"):
-        build(_full(maxwell, maxwell)).static_tyre_loads()
+        linear_vehicle(_full(maxwell, maxwell)).static_tyre_loads()
 
 
 def test_state_space_only_analyses_refuse_a_network_by_name():
-    car = build(_full(NetworkStrut(*NETWORKS[0])))
-    with pytest.raises(ParameterError, match="front_left_strut"):
+    car = linear_vehicle(_full(NetworkStrut(*NETWORKS[0])))
+    with pytest.raises(ParameterError, match="internal node front_left"):
         car.natural_frequencies()
     with pytest.raises(ParameterError, match="asymmetric damper needs a Strut"):
         r = np.zeros((10, 4))
@@ -205,7 +207,7 @@ def test_vehicle_file_takes_a_network_per_axle():
     assert isinstance(law, NetworkStrut) and law.network == "k | (c - b)"
     assert law.parameters == {"k": 28e3, "c": 2200.0, "b": 150.0}
     assert isinstance(car.rear.strut, Strut)
-    assert build(car).state_space()[0].shape == (18, 18)  # 16 + one state per front wheel
+    assert linear_vehicle(car).state_space()[0].shape == (18, 18)  # 16 + one state per front wheel
 
 
 @pytest.mark.parametrize(
@@ -227,13 +229,13 @@ def test_vehicle_file_network_errors_name_key_and_line(strut, match):
 
 
 def test_damped_modes_match_the_undamped_ones_as_damping_vanishes():
-    light = Strut(stiffness=28e3, damping=1e-6)
-    car = build(
+    light = Strut(stiffness=28e3, damping=1e-3)  # the smallest damping a Damper takes
+    car = linear_vehicle(
         FullCar(
             sprung_mass=1200.0, pitch_inertia=1800.0, roll_inertia=450.0, cg_to_front=1.15,
             cg_to_rear=1.45, front_track=1.52, rear_track=1.50,
             front=Corner(unsprung_mass=40.0, strut=light, tyre=Tyre(stiffness=2e5)),
-            rear=Corner(unsprung_mass=38.0, strut=Strut(stiffness=25e3, damping=1e-6),
+            rear=Corner(unsprung_mass=38.0, strut=Strut(stiffness=25e3, damping=1e-3),
                         tyre=Tyre(stiffness=2e5)),
         )
     )  # fmt: skip
@@ -269,7 +271,7 @@ def test_cli_modes_and_spectral_take_a_network_file(tmp_path):
     data = json.loads(out.stdout)
     from inerterlab.vehicles.spectral import modes
 
-    osc, real = modes(build(loads_vehicle(path.read_text())))
+    osc, real = modes(linear_vehicle(loads_vehicle(path.read_text())))
     assert data["rigid_tyres_hz"] is None
     assert len(data["damped_modes"]) + len(data["real_modes"]) == len(osc) + len(real)
     got = [m["damped_frequency_hz"] for m in data["damped_modes"]]

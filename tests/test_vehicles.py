@@ -7,8 +7,18 @@ import math
 import numpy as np
 import pytest
 
+from _vehicle_oracle import build
 from inerterlab.errors import ParameterError
-from inerterlab.vehicles import Corner, FullCar, HalfCar, NetworkStrut, Seat, Strut, Tyre, build
+from inerterlab.vehicles import (
+    Corner,
+    FullCar,
+    HalfCar,
+    NetworkStrut,
+    Seat,
+    Strut,
+    Tyre,
+    linear_vehicle,
+)
 from inerterlab.vehicles.roads import generate_tracks, road_spectrum
 from inerterlab.vehicles.spectral import (
     input_factor,
@@ -52,9 +62,11 @@ def full_car(**kw):
 
 
 def test_frequency_response_equals_state_space():
-    v = build(full_car())
+    # the hand-assembled oracle's response (its dynamic stiffnesses, no state space)
+    # against the core car's state space
+    v = linear_vehicle(full_car())
     f = np.array([0.3, 1.1, 4.0, 11.0, 40.0])
-    H = v.frequency_response(f)
+    H = build(full_car()).frequency_response(f)
     A, Br, Bd, Cy, Dr, Dd = v.state_space()
     for k, h in H.items():
         for i, fi in enumerate(f):
@@ -65,13 +77,13 @@ def test_frequency_response_equals_state_space():
 
 def test_static_loads():
     car = full_car(seat=None, front_anti_roll=0.0, rear_anti_roll=0.0)
-    loads = build(car).static_tyre_loads()
+    loads = linear_vehicle(car).static_tyre_loads()
     g = car.gravity
     front = 0.5 * car.sprung_mass * g * 1.4 / 2.6 + FRONT.unsprung_mass * g
     rear = 0.5 * car.sprung_mass * g * 1.2 / 2.6 + REAR.unsprung_mass * g
     assert loads["front_left"] == pytest.approx(front, rel=1e-12)
     assert loads["rear_right"] == pytest.approx(rear, rel=1e-12)
-    seated = build(full_car()).static_tyre_loads()
+    seated = linear_vehicle(full_car()).static_tyre_loads()
     total = (1200 + 80 + 2 * 40 + 2 * 45) * g
     assert sum(seated.values()) == pytest.approx(total, rel=1e-12)
     assert seated["front_left"] > seated["front_right"]  # seat on the left, ahead of the CG
@@ -80,7 +92,7 @@ def test_static_loads():
 def test_full_car_on_identical_tracks_equals_half_car():
     # seat on the centre line: an off-centre seat would couple roll into the bounce
     car = full_car(seat=Seat(x=0.3, y=0.0, mass=80.0, stiffness=40e3, damping=900.0))
-    full, half = build(car), build(car.half_car())
+    full, half = linear_vehicle(car), linear_vehicle(car.half_car())
     road = road_spectrum("C", coherence="identical")
     rf = spectral_response(full, road, 20.0)
     rh = spectral_response(half, road, 20.0)
@@ -102,7 +114,7 @@ def test_full_car_on_identical_tracks_equals_half_car():
 
 
 def test_isotropic_coherence_lies_between_the_limits():
-    full = build(full_car())
+    full = linear_vehicle(full_car())
     out = {
         c: spectral_response(full, road_spectrum("C", coherence=c), 20.0).rms
         for c in ("identical", "isotropic", "independent")
@@ -130,7 +142,7 @@ def test_decoupled_half_car_equals_two_quarter_cars(inertance):
         strut=Strut(stiffness=44e3, damping=2800.0, inertance=inertance),
         tyre=Tyre(stiffness=4.2e5, damping=250.0),
     )
-    half = build(
+    half = linear_vehicle(
         HalfCar(
             sprung_mass=m,
             pitch_inertia=m * a * b,
@@ -205,7 +217,7 @@ def test_body_natural_frequencies_closed_form():
     alpha, beta, gamma = (kf + kr) / m, (kr * b - kf * a) / m, (kf * a * a + kr * b * b) / (m * k2)
     root = math.sqrt((alpha - gamma) ** 2 / 4 + beta**2 / k2)
     want = np.sqrt([(alpha + gamma) / 2 - root, (alpha + gamma) / 2 + root]) / (2 * math.pi)
-    np.testing.assert_allclose(build(car).natural_frequencies(rigid_tyres=True), want, rtol=1e-12)
+    np.testing.assert_allclose(linear_vehicle(car).natural_frequencies(rigid_tyres=True), want, rtol=1e-12)
 
 
 def _h2_by_spectrum(vehicle, outputs):
@@ -248,7 +260,7 @@ def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping, network):
         rear=corner,
         seat=Seat(x=0.3, mass=80, stiffness=40e3, damping=900),
     )
-    v = build(car)
+    v = linear_vehicle(car)
     h2 = white_velocity_h2(v)
     finite = [k for k, n in h2.items() if math.isfinite(n)]
     if tyre_damping > 0:  # the tyre load feeds through the road velocity
@@ -263,7 +275,7 @@ def test_spectral_rms_equals_lyapunov_h2(inertance, tyre_damping, network):
 
 def test_white_velocity_h2_flags_warp():
     # a full car on independent tracks: a warp step of the road leaves static deflections
-    h2 = white_velocity_h2(build(full_car(front=REAR)))  # no inerter: no feed-through
+    h2 = white_velocity_h2(linear_vehicle(full_car(front=REAR)))  # no inerter: no feed-through
     assert h2["front_left_deflection"] == math.inf
     assert "static" in h2.reasons["front_left_deflection"]
     assert "0.01-10 cycle/m" in h2.reasons["front_left_deflection"]
@@ -273,7 +285,7 @@ def test_white_velocity_h2_flags_warp():
 def test_monte_carlo_rms_agrees_with_spectral():
     """Time simulation on generated tracks vs the spectral RMS (isotropic coherence)."""
     car = full_car()
-    veh = build(car)
+    veh = linear_vehicle(car)
     # band to 3 cycle/m: the sampled road, linear between samples 2 cm apart, then
     # carries the whole band (the flat PSD of the tyre damper force reaches 10 cycle/m)
     road = road_spectrum("C", band=(0.01, 3.0))
@@ -296,7 +308,7 @@ def test_monte_carlo_rms_agrees_with_spectral():
 
 
 def test_input_factor_shapes_and_delay():
-    half = build(full_car().half_car())
+    half = linear_vehicle(full_car().half_car())
     road = road_spectrum("B")
     f = np.array([1.0, 2.0])
     fac = input_factor(half, road, 10.0, f)
@@ -319,7 +331,7 @@ def test_parameter_errors_name_the_parameter():
 
 
 def test_seat_total_value_combines_the_weighted_axes():
-    res = spectral_response(build(full_car()), road_spectrum("C"), 20.0)
+    res = spectral_response(linear_vehicle(full_car()), road_spectrum("C"), 20.0)
     r = res.rms
     want = math.sqrt(
         r["seat_acc_wk"] ** 2 + (0.4 * r["pitch_acc_we"]) ** 2 + (0.63 * r["roll_acc_we"]) ** 2

@@ -341,7 +341,8 @@ def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
 
     from .suspension.reference import ReferenceRHS
 
-    options.warn_ignored("the scipy backend", "method", "max_step", "fixed_step")
+    options.warn_ignored("the scipy backend", "method", "max_step", "fixed_step",
+                          "fixed_method")  # fmt: skip
     f = ReferenceRHS(model)
     x_prev = excitation.initial_road(horizon)
     du, ds = excitation.initial_displacements

@@ -461,13 +461,23 @@ def simulate_command(
     compression: Annotated[
         float, typer.Option(help="Damping factor while a strut shortens [-] (1: linear).")
     ] = 1.0,
+    fixed_step: Annotated[
+        float | None,
+        typer.Option(
+            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
+            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
+            "without error control; lift-off and the other switches still "
+            "located. Default: adaptive."
+        ),
+    ] = None,
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
     """Time simulation on a generated or a given road (a check on the spectral RMS values).
 
     Prints the RMS of every output, the seat's (or body's) ISO 2631-1 Wk-weighted RMS
     [m/s^2], VDV [m/s^1.75] and crest factor [-]. The first 5 s (start-up) are left out
-    of every number. The car is the model core's (adaptive Dormand-Prince, rtol 1e-6);
+    of every number. The car is the model core's (adaptive Dormand-Prince, rtol 1e-6, or
+    RK4 steps with --fixed-step);
     the road is its samples joined by straight lines (a generated road's series at the
     wheels, a road file's profile read at the wheels); the Wk-weighted RMS and the VDV
     are integrated beside the motion. Beside each value on a generated road: the
@@ -492,6 +502,10 @@ def simulate_command(
     params = _parameters(vehicle, model)
     v = check_positive("speed", speed, "m/s")
     h = check_positive("dt", dt, "s")
+    if fixed_step is not None and not h / 100.0 <= fixed_step <= 0.1:
+        raise ParameterError(
+            "fixed-step", fixed_step, f"a step in [{h / 100:g}, 0.1] s (dt/100 on)"
+        )
     full = hasattr(params, "front_track")
     width = 0.5 * (params.front_track + params.rear_track) if full else 1.5
     struts = [st[3].strut for st in _stations(params)[1]]
@@ -525,7 +539,7 @@ def simulate_command(
         _check_samples(r.shape[0], v, h, None)  # the wheels' samples over the file's length
     nt = r.shape[0]
     run = simulate_vehicle(params, r, h, lift_off=lift_off, rebound=rebound,
-                           compression=compression, warmup=5.0)  # fmt: skip
+                           compression=compression, warmup=5.0, fixed_step=fixed_step)  # fmt: skip
     y = run.outputs
     keep = slice(min(int(5.0 / h), nt // 2), None)
     rms = {k: math.sqrt(float((s[keep] ** 2).mean())) for k, s in y.items()}
@@ -604,6 +618,15 @@ def monte_carlo_command(
     length: Annotated[float, typer.Option(help="Road length per realisation [m].")] = 1200.0,
     dt: Annotated[float, typer.Option(help="Road sample interval [s].")] = 0.002,
     rtol: Annotated[float, typer.Option(help="Relative tolerance of the integration [-].")] = 1e-6,
+    fixed_step: Annotated[
+        float | None,
+        typer.Option(
+            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
+            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
+            "without error control; lift-off and the other switches still "
+            "located. Default: adaptive."
+        ),
+    ] = None,
     warmup: Annotated[float, typer.Option(help="Start-up left out of each road [s].")] = 5.0,
     roads: Annotated[int, typer.Option(help="Number of road realisations [-].")] = 100,
     first_seed: Annotated[int, seed_option("Seed of the first road [-].")] = 0,
@@ -656,6 +679,10 @@ def monte_carlo_command(
     check_positive("length", length, "m")
     if not 1e-12 <= rtol <= 1e-2:
         raise ParameterError("rtol", rtol, "a relative tolerance in [1e-12, 1e-2]")
+    if fixed_step is not None and not h / 100.0 <= fixed_step <= 0.1:
+        raise ParameterError(
+            "fixed-step", fixed_step, f"a step in [{h / 100:g}, 0.1] s (dt/100 on)"
+        )
     # the states and every node and element output at each sample, per worker (a full
     # car with its comfort observers: about 40 states and 100 outputs): at most 1e6
     if length / (v * h) > 1_000_000:
@@ -673,6 +700,7 @@ def monte_carlo_command(
         length=length,
         dt=h,
         rtol=rtol,
+        fixed_step=fixed_step or 0.0,
         warmup=warmup,
         lift_off="on" if lift_off else "off",
         rebound=rebound,

@@ -15,7 +15,7 @@ Linear stage: the objective is the RMS of the Wk-weighted seat acceleration
 and the wheelbase delay (:func:`inerterlab.vehicles.design.h2_metrics`). It is
 minimised over the per-axle values in their logarithms by L-BFGS-B (SLSQP with
 limits) on its exact gradient (adjoint Lyapunov equations, the state space's
-derivatives by complex steps: :func:`linear_objective_gradient`), started from the
+derivatives from the core car: :func:`linear_objective_gradient`), started from the
 quarter-car H2 optimum of each axle's corner
 (:func:`inerterlab.network_design.optimize_network`) or from the geometric middle of
 the bounds (at most 100 iterations each; a layout running to a bound that stands for a
@@ -297,7 +297,7 @@ def optimize_layout(car: Mapping, network: str, objective: str, *, bounds: Mappi
 
     def fg(x):
         # the objective and its exact gradient in the logarithms (adjoint Lyapunov
-        # equations, the matrices' derivatives by complex steps): one evaluation
+        # equations, the core matrices' derivatives): one evaluation
         key = np.asarray(x, dtype=float).tobytes()
         if key not in cache:
             v, g = linear_objective_gradient(car, network, values(x), objective, road_class,
@@ -369,7 +369,7 @@ def _deflection_gradient(p, names, road_class: str, speed: float) -> tuple:
     left and right corners of an axle alike, so the mean of the axles' squares), and
     its derivatives in the logarithms of ``names`` (exact, as
     :func:`inerterlab.vehicles.design.h2_metric_gradient`: adjoint Lyapunov equations,
-    the matrices' derivatives by complex steps). (inf, None) where a norm is infinite.
+    the core car's matrices' derivatives). (inf, None) where a norm is infinite.
 
     A full car is measured on its pitch-plane half car (each axle's wheels lumped): its
     own corner deflections have infinite norms under independent tracks, since a step
@@ -377,12 +377,12 @@ def _deflection_gradient(p, names, road_class: str, speed: float) -> tuple:
     anti-roll bar, into a lasting deflection."""
     from ..network_design import road_scale
     from ..vehicles.design import stepped_vehicles
-    from ..vehicles.model import build
+    from ..vehicles.linear import linear_vehicle
     from ..vehicles.spectral import white_velocity_h2_gradient
 
     if type(p).__name__ == "FullCar":
         p = p.half_car()
-    veh = build(p)
+    veh = linear_vehicle(p)
     steps = stepped_vehicles(p, veh, names)
     outs = sorted(o for o in veh.state_space()[3] if o.endswith("_deflection"))
     vals, grads = [], []

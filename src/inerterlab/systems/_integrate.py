@@ -453,11 +453,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx, cap): with observers the tables act
-    on the rows ``ia`` of y (the states and the linear observers'), the other observers
-    follow each exact step by :func:`_observe_points` (``SR[c]`` as in
-    :func:`_exact_walk`, over z), and no step of class c is longer than cap[c] (their
-    quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
+    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref): with observers the
+    tables act on the rows ``ia`` of y (the states and the linear observers'), the other
+    observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
+    as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
+    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
@@ -524,7 +524,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx, xcap = xo
+    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -534,7 +534,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     xpts[0] = 0.0
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
-    xfs = np.empty(xgx.size + 2)
+    xcoef = np.empty(xTR.shape[3])
     xsv = np.empty((xgx.size + 2, itab[I_NSG]))
     xacc = np.empty(xSR.shape[3])
     ga0 = np.empty(ng)
@@ -617,7 +617,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     y[ia[i]] = yt[i]
                 if xobs:
                     _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
-                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, xfs)
+                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xTR[cx, j], xref, xcoef)
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1109,19 +1109,6 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 
 
 @nb.njit(cache=True)
-def _lagrange(xs, fs, x):
-    """The polynomial through the points (xs, fs) at x."""
-    acc = 0.0
-    for i in range(xs.size):
-        w = fs[i]
-        for j in range(xs.size):
-            if j != i:
-                w *= (x - xs[j]) / (xs[i] - xs[j])
-        acc += w
-    return acc
-
-
-@nb.njit(cache=True)
 def _signals_at(SR, j, v, rows, sv, acc):
     """The observed signals at the points of an exact step (its start, the quadrature
     nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
@@ -1145,18 +1132,32 @@ def _signals_at(SR, j, v, rows, sv, acc):
             sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
 
 
+@nb.njit(cache=True, inline="always")
+def _series(coef, m, x):
+    acc = 0.0
+    for k in range(m - 1, -1, -1):
+        acc = acc * x + coef[k]
+    return acc
+
+
 @nb.njit(cache=True)
-def _observe_points(itab, y, h, sv, gw, xs, fs):
+def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
     """The observers over an exact step of length h from their signals' values at its
     start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
     nodes, end; exact, from :func:`_signals_at`): the integrals of squares, fourth
     powers and products by the quadrature (weights gw), the running peaks from those
-    values, a
-    maximum inside the step located on the polynomial through them (7 points for five
-    nodes: exact to (w h)^7 / 7!). The linear observers (filters) are propagated with
-    the system and left alone."""
+    values and, where a maximum inside the step may exceed the peak so far (a point
+    above it less a tenth of the points' range: between the points a smooth signal
+    rises above them by a few hundredths of that), the maximum of the exact solution:
+    its Taylor series in theta from the step's start, sum_k (TR[r, k] . v0) theta^k
+    (v0 the vector the step starts from, TR of :func:`.core._taylor_rows`; the signal
+    k is sign(sref[k]) times the distinct signal r = |sref[k]| - 1), maximised by
+    golden section about the highest point. The linear observers (filters) are
+    propagated with the system and left alone. ``coef``: scratch of TR.shape[1]."""
     ng = gw.size
+    npt = ng + 2
     ob = itab[I_OBS]
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
         kind = itab[bo]
@@ -1166,33 +1167,44 @@ def _observe_points(itab, y, h, sv, gw, xs, fs):
         ka = itab[bo + 1]
         if kind == OBS_PEAK:
             best = y[slot]
-            top = -1
-            for p in range(ng + 2):
-                if sv[p, ka] > best:
-                    best = sv[p, ka]
+            top = 0
+            low = sv[0, ka]
+            for p in range(1, npt):
+                if sv[p, ka] > sv[top, ka]:
                     top = p
-            if top >= 0:  # a new maximum: located on the polynomial about its node
-                for p in range(ng + 2):
-                    fs[p] = sv[p, ka]
+                low = min(low, sv[p, ka])
+            high = sv[top, ka]
+            if high > best:
+                best = high
+            if high > y[slot] - 0.1 * (high - low):
+                # the exact solution's maximum about the highest point
+                ref = sref[ka]
+                r = abs(ref) - 1
+                sgn = 1.0 if ref > 0 else -1.0
+                m = TR.shape[1]
+                for k in range(m):
+                    acc = 0.0
+                    for i in range(v0.size):
+                        acc += TR[r, k, i] * v0[i]
+                    coef[k] = sgn * acc
                 lo = xs[max(top - 1, 0)]
-                hi = xs[min(top + 1, ng + 1)]
-                g = 0.5 * (math.sqrt(5.0) - 1.0)
+                hi = xs[min(top + 1, npt - 1)]
                 x1 = hi - g * (hi - lo)
                 x2 = lo + g * (hi - lo)
-                f1 = _lagrange(xs, fs, x1)
-                f2 = _lagrange(xs, fs, x2)
-                for _ in range(60):
+                f1 = _series(coef, m, x1)
+                f2 = _series(coef, m, x2)
+                for _ in range(80):
                     if f1 >= f2:
                         hi = x2
                         x2, f2 = x1, f1
                         x1 = hi - g * (hi - lo)
-                        f1 = _lagrange(xs, fs, x1)
+                        f1 = _series(coef, m, x1)
                     else:
                         lo = x1
                         x1, f1 = x2, f2
                         x2 = lo + g * (hi - lo)
-                        f2 = _lagrange(xs, fs, x2)
-                    if hi - lo < 1e-10:
+                        f2 = _series(coef, m, x2)
+                    if hi - lo < 1e-11:
                         break
                 best = max(best, f1, f2)
             y[slot] = best
@@ -1213,8 +1225,8 @@ def _observe_points(itab, y, h, sv, gw, xs, fs):
 
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia, SR,
-               rows, gw, gx):  # fmt: skip
+               imp_unit, itab, ftab, hmin, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia,
+               SR, rows, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1227,12 +1239,18 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     (constant inertances: the impulse flows are constant and one Euler step of each
     is exact); a road step with no finite response returns ROAD_STEP.
 
+    Break points closer than ``hmin`` [s] to the last are passed without a step (a
+    sample and a segment edge that differ by round-off: such a step's table is the
+    identity).
+
     Observers (``itab`` holds them): the tables act on the augmented state, the rows
     ``ia`` of y (the system's states and its linear observers'); the other observers
     by :func:`_observe_points` from their signals at the step's start, the quadrature
     nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
     applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
-    read). Without observers ``ia`` is every state and the rest is empty."""
+    read), the peaks inside a step from the Taylor rows ``TR[j]`` (``sref``: see
+    :func:`_observe_points`). Without observers ``ia`` is every state and the rest is
+    empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
@@ -1241,9 +1259,9 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     xs[0] = 0.0
     xs[-1] = 1.0
     xs[1:-1] = gx
-    fs = np.empty(gx.size + 2)
     sv = np.empty((gx.size + 2, itab[I_NSG]))
     sacc = np.empty(SR.shape[2])
+    coef = np.empty(TR.shape[2])
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1302,7 +1320,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             sample = k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1))
             tn = t_out[k] if sample else t1
             h = tn - t
-            if h > 0.0:
+            if h > hmin:
                 if apply:
                     j = idx[m]
                     xr = a + b * (t - t0)
@@ -1319,7 +1337,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                         z0[na] = xr
                         z0[na + 1] = b
                         _signals_at(SR, j, z0, rows, sv, sacc)
-                        _observe_points(itab, y, h, sv, gw, xs, fs)
+                        _observe_points(itab, y, h, sv, gw, xs, z0, TR[j], sref, coef)
                 else:
                     hs[m] = h
                 m += 1
@@ -1352,7 +1370,7 @@ _NO_LEVELS = np.empty(0, np.int64)
 #: no observers in the exact steps of the linear regimes (``xo`` of :func:`_advance`)
 _NO_XOBS = (
     np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
-    np.empty(0), np.empty(0),
+    np.empty(0), np.empty(0), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64),
 )  # fmt: skip
 
 
@@ -1442,3 +1460,291 @@ def linear_outputs(Yt, Ut, C, D, undefined, O):
             if d != 0.0:
                 for j in range(O.shape[1]):
                     O[i, j] += d * Ut[q, j]
+
+
+# ---------------------------------------------------------------------------------------
+# fixed steps of classical Runge-Kutta (RK4) on a road given at samples: the steps end on
+# every segment edge (the road's kinks) and every output sample, and are at most the
+# fixed step long; no error control. Where the system has switching functions (tyre
+# lift-off, flywheel saturation, ...) the derivative at each step's end is evaluated too
+# (with the step's law, on its segment), a sign change of a switching function over the
+# step is located on the cubic Hermite interpolant through the step's ends and their
+# derivatives, and the step is taken again from its start to the crossing: the state at
+# an event is an RK4 solution (order 4), not the interpolant's (order 3).
+
+
+@nb.njit(cache=True)
+def _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats):
+    """The derivative at (t, y) with the road of segment i (the observers' included)."""
+    stats[2] += 1
+    road_at(segs, i, t, road)
+    ok = ev(t, y, road, itab, ftab, work, dy, imp)
+    if itab[I_NOB] > 0:
+        observe(itab, ftab, work, y, dy, False)
+    return ok
+
+
+@nb.njit(cache=True)
+def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road, work, stats):
+    """One classical Runge-Kutta step of length h from (t, y), k1 = f(t, y) given: the
+    result in yt (ys scratch). Returns False if a force balance failed."""
+    n = y.size
+    for q in range(n):
+        ys[q] = y[q] + 0.5 * h * k1[q]
+    ok = _rk4_f(ev, segs, i, t + 0.5 * h, ys, itab, ftab, imp, k2, road, work, stats)
+    for q in range(n):
+        ys[q] = y[q] + 0.5 * h * k2[q]
+    ok &= _rk4_f(ev, segs, i, t + 0.5 * h, ys, itab, ftab, imp, k3, road, work, stats)
+    for q in range(n):
+        ys[q] = y[q] + h * k3[q]
+    ok &= _rk4_f(ev, segs, i, t + h, ys, itab, ftab, imp, k4, road, work, stats)
+    for q in range(n):
+        yt[q] = y[q] + h / 6.0 * (k1[q] + 2.0 * (k2[q] + k3[q]) + k4[q])
+    return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _hermite(y0, f0, y1, f1, h, th, out):
+    """The cubic Hermite interpolant of a step of length h (ends y0, y1, derivatives
+    f0, f1) at theta = th."""
+    th2 = th * th
+    th3 = th2 * th
+    a0 = 2.0 * th3 - 3.0 * th2 + 1.0
+    b0 = (th3 - 2.0 * th2 + th) * h
+    a1 = 3.0 * th2 - 2.0 * th3
+    b1 = (th3 - th2) * h
+    for q in range(y0.size):
+        out[q] = a0 * y0[q] + b0 * f0[q] + a1 * y1[q] + b1 * f1[q]
+
+
+@nb.njit(cache=True)
+def _rk4_locate(ev, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road, work,
+                stats, yd, sw):  # fmt: skip
+    """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
+    end (opposite signs), crosses zero on the step's Hermite interpolant (Illinois regula
+    falsi to 1e-12 in theta, as :func:`_locate`)."""
+    a, b = 0.0, 1.0
+    ga, gb = g0, g1
+    side = 0
+    for _ in range(60):
+        x = (a * gb - b * ga) / (gb - ga)
+        if not (a < x < b):
+            x = 0.5 * (a + b)
+        _hermite(y, f0, yt, f1, h, x, yd)
+        _rk4_f(ev, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats)
+        switches(itab, ftab, work, sw)
+        gx = sw[e]
+        if gx == 0.0:
+            return x
+        if (gx > 0.0) == (ga > 0.0):
+            a, ga = x, gx
+            if side == -1:
+                gb *= 0.5
+            side = -1
+        else:
+            b, gb = x, gx
+            if side == 1:
+                ga *= 0.5
+            side = 1
+        if b - a <= 1e-12:
+            break
+    return b
+
+
+@nb.njit(cache=True)
+def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps):
+    """Integrate a core system over the road segments ``segs`` (continuous in
+    displacement: no road steps) from the start of the first to ``t_end`` by classical
+    Runge-Kutta steps of at most ``hfix``, each ending on the next segment edge or
+    output sample if that comes sooner (a step within 1 % of its length of one is
+    stretched to it). ``y`` is advanced in place; the states at ``t_out`` go to the rows
+    of ``out_y``; ``stats`` as :func:`_integrate` (steps, steps tried again at an event
+    at their start, right-hand sides, events, 0).
+
+    Events as in :func:`_advance`: each step takes the law of the side of each kink it
+    starts on; the crossings of one attempt within :data:`SIMULTANEOUS` (of the step) of
+    the earliest are one event, whose elements take their other side's law at its
+    instant; at a segment edge each element's side is read from its switching functions
+    on the new segment. Running peaks (``OBS_PEAK`` observers) are raised at the start of
+    every step and at the end (their values at the step ends only). Returns (status,
+    number of samples written)."""
+    n = y.size
+    ne = itab[I_NE]
+    nseg = segs.shape[0]
+    work = np.empty(_work_size(itab))
+    road_n, _, hs = road_layout_of(itab)
+    road = np.zeros(road_n)
+    imp = np.empty(0)
+    k1 = np.empty(n)
+    k2 = np.empty(n)
+    k3 = np.empty(n)
+    k4 = np.empty(n)
+    f1 = np.empty(n)
+    ys = np.empty(n)
+    yt = np.empty(n)
+    yd = np.empty(n)
+    dy = np.empty(n)
+    sw = np.empty(2 * ne)
+    swn = np.empty(2 * ne)
+    swx = np.empty(2 * ne)
+    xloc = np.empty(2 * ne)
+    xfl = np.empty(ne)
+    pastv = np.zeros(ne)
+    flipm = np.zeros(ne, np.bool_)
+    swf = np.zeros(2 * ne, np.bool_)
+    i = 0
+    t = segs[0, 0]
+    k = 0
+    while k < t_out.size and t_out[k] <= t:
+        for q in range(n):
+            out_y[k, q] = y[q]
+        k += 1
+    if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+        return BALANCE_FAILED, k
+    events = switches(itab, ftab, work, sw) > 0
+    if events:  # every step takes the law of the side of each kink it starts on
+        _sides(sw, road, hs)
+        if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+            return BALANCE_FAILED, k
+    need = False  # k1 is to be evaluated at (t, y)
+    while t < t_end:
+        if stats[0] + stats[1] >= max_steps:
+            return TOO_MANY_STEPS, k
+        moved = False
+        while i + 1 < nseg and segs[i + 1, 0] <= t:  # a step that ended on an edge
+            i += 1
+            moved = True
+        if need or moved:
+            if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+                return BALANCE_FAILED, k
+            if events:
+                switches(itab, ftab, work, sw)
+                if moved:  # each element's side from its switching functions here
+                    changed = False
+                    for e in range(ne):
+                        g = max(sw[2 * e], sw[2 * e + 1])
+                        sd = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
+                        if sd != road[hs + e]:
+                            road[hs + e] = sd
+                            changed = True
+                    if changed:
+                        if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+                            return BALANCE_FAILED, k
+            need = False
+        peaks(itab, ftab, work, y)  # the work array holds the evaluation at (t, y)
+        lim = t_end if i == nseg - 1 else min(segs[i, 1], t_end)
+        if k < t_out.size and t_out[k] < lim:
+            lim = t_out[k]
+        if lim - t <= 1e-14 * max(abs(t), 1.0):
+            # what is left to a break point is below round-off: the state stands
+            while k < t_out.size and t_out[k] <= lim:
+                for q in range(n):
+                    out_y[k, q] = y[q]
+                k += 1
+            t = lim
+            continue
+        h = hfix
+        if t + 1.01 * h >= lim:
+            h = lim - t
+            tn = lim
+        else:
+            tn = t + h
+        ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road,
+                       work, stats)  # fmt: skip
+        if not ok:
+            return BALANCE_FAILED, k
+        for q in range(n):
+            if not math.isfinite(yt[q]):
+                return NOT_FINITE, k
+        flip = False
+        if events:
+            if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
+                return BALANCE_FAILED, k
+            switches(itab, ftab, work, swn)
+            th = 2.0
+            forced = -1
+            for e in range(2 * ne):
+                xloc[e] = 2.0
+                if sw[e] * swn[e] < 0.0:
+                    xloc[e] = _rk4_locate(ev, segs, i, e, sw[e], swn[e], t, h, y, k1, yt, f1,
+                                          itab, ftab, imp, dy, road, work, stats, yd, swx)  # fmt: skip
+                    if xloc[e] < th:
+                        th = xloc[e]
+                        forced = e
+            if forced >= 0:
+                # the crossings within SIMULTANEOUS of the earliest switch with it
+                for q in range(ne):
+                    flipm[q] = False
+                    xfl[q] = 2.0
+                for e in range(2 * ne):
+                    swf[e] = xloc[e] <= th + SIMULTANEOUS
+                    q = e // 2
+                    if swf[e] and xloc[e] < xfl[q]:
+                        xfl[q] = xloc[e]
+                        flipm[q] = True
+                        pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
+                if th <= SIMULTANEOUS:
+                    # at the step's start: the other side's law from there, the step again
+                    for q in range(ne):
+                        if flipm[q]:
+                            road[hs + q] = pastv[q]
+                    for e in range(2 * ne):
+                        if swf[e]:
+                            sw[e] = 0.0
+                    if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+                        return BALANCE_FAILED, k
+                    stats[1] += 1
+                    continue
+                if th < 1.0 - SIMULTANEOUS:  # the step again, from its start to the crossing
+                    h = th * h
+                    tn = t + h
+                    ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt,
+                                   road, work, stats)  # fmt: skip
+                    if not ok:
+                        return BALANCE_FAILED, k
+                stats[3] += 1
+                flip = True
+            else:
+                for e in range(2 * ne):
+                    sw[e] = swn[e]
+                for q in range(n):
+                    k1[q] = f1[q]  # the derivative at the step's end, with the same law
+        else:
+            need = True
+        stats[0] += 1
+        for q in range(n):
+            y[q] = yt[q]
+        t = tn
+        while k < t_out.size and t_out[k] <= t:
+            for q in range(n):
+                out_y[k, q] = y[q]
+            k += 1
+        if flip:  # past the kink: its other side's law from here
+            for q in range(ne):
+                if flipm[q]:
+                    road[hs + q] = pastv[q]
+            if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
+                return BALANCE_FAILED, k
+            switches(itab, ftab, work, sw)
+            for e in range(2 * ne):
+                if swf[e]:
+                    sw[e] = 0.0  # on the kink: the next step starts past it
+    if itab[I_NOB] > 0:  # the peaks at the end
+        _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
+        peaks(itab, ftab, work, y)
+    return OK, k
+
+
+def integrate_fixed(itab, ftab, segs, y, t_end, h, t_out, out_y, stats, max_steps):
+    """:func:`_fixed_rk4` with the right-hand side compiled for the structure ``itab``
+    (:func:`._compiled.rhs_for`). ``segs`` must join in displacement (no road steps)."""
+    ev = rhs_for(itab)
+    warm = bool(_fixed_rk4.signatures)  # not timed while the driver compiles
+    t0 = time.process_time()
+    out = _fixed_rk4(
+        ev, _readonly(itab), _readonly(ftab), segs, y, float(t_end), float(h), t_out, out_y,
+        stats, int(max_steps),
+    )  # fmt: skip
+    if warm and not ev.specialised:
+        record(itab, time.process_time() - t0)
+    return out

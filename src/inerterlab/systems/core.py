@@ -34,6 +34,12 @@ EXACT_OBSERVER_STEP = 2.5e-3
 #: x 3.9e-13 of its own integral (the 1 ms half-cosine edges of a smoothed bump, a
 #: sine of 3142 rad/s, take 13 steps)
 EXACT_OBSERVER_PHASE = 0.5
+#: the first halved where an observer integrates a fourth power (the VDV): its
+#: integrand holds twice the frequencies of a square, and at the square's step its
+#: quadrature error was 9.6e-8 of the VDV after a road step (the Wk filter's 100 Hz
+#: ringing; docs/decisions.md); at the phase bound the base system's modes leave a
+#: fourth power (4 x 0.5)^10 x 3.9e-13 = 4e-10 of their share
+EXACT_FOURTH_POWER_SHARE = 0.5
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,6 +237,8 @@ class System:
         the ride metrics are the same observers' (a study that needs only the metrics
         skips sampling the outputs every 1/``sample_rate``)."""
         options = _options(options, option_values)
+        options.warn_ignored("System.simulate (rk4 runs in systems.vehicle.simulate)",
+                             "fixed_method")  # fmt: skip
         if metrics_only and (self.kind != "quarter_car" or times is not None or x0 is not None):
             raise ParameterError(
                 "metrics_only", metrics_only, "False here: a quarter car started at rest "
@@ -986,7 +994,7 @@ def _simulate(
     ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
     if sys.n_states and exact_ok and method in ("auto", "exact"):
         if sys.observers:
-            step = min(EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
+            step = min(_observer_share(sys) * EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
                 _regime_rate(sys.info["base"], sys.linear_state_space()[0]), 1e-300))
             ts_walk = _observer_grid(ts, T, step)
         plan = _exact_plan(sys, segs, T, ts_walk)
@@ -1168,7 +1176,7 @@ class DriveRuns:
         if sys.kind != "rig":
             raise ParameterError("sys", sys.kind, "a rig (systems.rig)")
         options = _options(options, option_values)
-        options.warn_ignored("DriveRuns.force", "method", "sample_rate")
+        options.warn_ignored("DriveRuns.force", "method", "sample_rate", "fixed_method")
         rtol = options.rtol
         max_steps = options.max_steps
         n = self.time.size if m is None else int(m)
@@ -1231,19 +1239,29 @@ def _observer_grid(ts, T, step):
     return np.union1d(ts, np.concatenate(extra))
 
 
+def _observer_share(sys) -> float:
+    """The part of the longest exact step :data:`EXACT_OBSERVER_STEP` that ``sys``'s
+    observers allow: 1, or :data:`EXACT_FOURTH_POWER_SHARE` with a fourth power among
+    them."""
+    fourth = any(_kernel_kind(o) == _kernel.OBS_FOURTH for o in sys.observers)
+    return EXACT_FOURTH_POWER_SHARE if fourth else 1.0
+
+
 def _exact_plan(sys, segs, T, ts):
     """The step lengths of exact steps on this road and these samples, as indices into
     their distinct values (rounded to :data:`EXACT_STEP_QUANTUM` x max(T, 1 s): a step
-    that long shifts a state by less than 1e-12 of its change over 1 s)."""
+    that long shifts a state by less than 1e-12 of its change over 1 s; break points
+    closer than half that, a sample and a segment edge apart by round-off, take no
+    step)."""
     hs = np.empty(len(segs) + ts.size + 1)
     z = np.empty(0)
+    q = EXACT_STEP_QUANTUM * max(T, 1.0)
     _, m = _integrate.exact_walk(
         False, segs, ts, T, z, 0.0, math.nan, math.inf, math.inf, True, z, sys.itab, sys.ftab,
-        hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)), np.empty((0, 0)),
-        np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0), np.empty(0, np.int64),
-        *_NO_OBSERVERS,
+        0.5 * q, hs, np.empty(0, np.int64), np.empty((0, 0, 0)), np.empty((0, 0)),
+        np.empty((0, 0)), np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
+        np.empty(0, np.int64), *_NO_OBSERVERS,
     )  # fmt: skip
-    q = EXACT_STEP_QUANTUM * max(T, 1.0)
     keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
     return keys * q, idx.astype(np.int64)
 
@@ -1368,7 +1386,7 @@ def _regime_tables(sys, segs, T, ts, plan):
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
     aug = reg[9]
-    longest = REGIME_LEVEL_MAX if aug is None else EXACT_OBSERVER_STEP
+    longest = REGIME_LEVEL_MAX if aug is None else EXACT_OBSERVER_STEP * _observer_share(sys)
     if aug is not None:
         sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
@@ -1394,7 +1412,7 @@ def _regime_tables(sys, segs, T, ts, plan):
     xlev = np.searchsorted(keys, lev_keys).astype(np.int64)  # longest first
     hs = (keys * q).tobytes()
     if aug is None:
-        XE, XG, _ = _regime_exponentials(
+        XE, XG, *_ = _regime_exponentials(
             A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
             hs, b"", b"",
         )  # fmt: skip
@@ -1403,20 +1421,22 @@ def _regime_tables(sys, segs, T, ts, plan):
     rows, nu = _read_rows(sys, Sx, Su)
     own = rows[:nu, 0]
     gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
-    XE, XG, SR = _regime_exponentials(
+    XE, XG, SR, TR = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
         hs, Sx[own].tobytes(), Su[own].tobytes(),
     )  # fmt: skip
-    return XE, XG, keys, thr, idx, cls, xlev, (ia, SR, rows, _GL_W, _GL_X, cap)
+    xo = (ia, SR, rows, _GL_W, _GL_X, cap, TR, _signal_refs(rows, nu, Sx.shape[0]))
+    return XE, XG, keys, thr, idx, cls, xlev, xo
 
 
 @lru_cache(maxsize=16)
 def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
-    """(XE, XG, SR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard rows
-    and their rates over z = (x, e) (see :mod:`._integrate`), for the sine frequencies
-    ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin e) at the
-    points theta = :func:`_points` ()[p] of a step, over z at its start, in the layout
-    of :func:`_point_tables` (empty without observers)."""
+    """(XE, XG, SR, TR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard
+    rows and their rates over z = (x, e) (see :mod:`._integrate`), for the sine
+    frequencies ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin
+    e) at the points theta = :func:`_points` ()[p] of a step, over z at its start, in
+    the layout of :func:`_point_tables`, and TR[c] their Taylor rows
+    (:func:`_taylor_rows` of z' = M_c z; both empty without observers)."""
     from scipy.linalg import expm
 
     A = np.frombuffer(a).reshape(n, n)
@@ -1431,6 +1451,7 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
     XE = np.empty((len(ws), hs.size, n, n + 3))
     XG = np.empty((len(ws), 2 * ng, n + 3))
     SR = np.empty((len(ws), th.size, hs.size, Sx.shape[0], n + 3))
+    TR = []
     for c, w in enumerate(ws):
         Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
         M = np.zeros((n + 3, n + 3))
@@ -1443,10 +1464,13 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
+        TR.append(_taylor_rows(M, S, hs))
         for p, x in enumerate(th):
             SR[c, p] = S @ expm((x * hs)[:, None, None] * M[None])
     # writable, as the empty tables: one compiled integrator, not two
-    return XE, XG, _point_layout(SR)
+    K = max((t.shape[2] for t in TR), default=0)
+    TR = np.array([np.pad(t, ((0, 0), (0, 0), (0, K - t.shape[2]), (0, 0))) for t in TR])
+    return XE, XG, _point_layout(SR), TR.reshape(len(ws), hs.size, Sx.shape[0], K, n + 3)
 
 
 def _exact_tables(A, B, sizes):
@@ -1576,8 +1600,8 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
             read.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
     own, alias, seen = [], [], {}
     for k in sorted(read):
-        row = np.r_[Sx[k], Su[k]]
-        key, neg = row.tobytes(), (-row).tobytes()
+        row = np.r_[Sx[k], Su[k]] + 0.0  # + 0.0: -0.0 and 0.0 alike
+        key, neg = row.tobytes(), (0.0 - row).tobytes()
         if key in seen:
             alias.append((k, seen[key], 1))
         elif neg in seen:
@@ -1588,6 +1612,45 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
     return np.array(own + alias, np.int64).reshape(-1, 3), len(own)
 
 
+#: terms of an exact step's Taylor series at most (they fall as (rate h)^k / k!: below
+#: round-off within 40 terms for rate h <= 2, the observers' steps)
+TAYLOR_TERMS = 60
+
+
+def _taylor_rows(M, S, hs):
+    """TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) of z' = M z
+    from z0 over a step of length hs[j] is sum_k (TR[j, r, k] . z0) theta^k (the peaks
+    inside an exact step, :func:`._integrate._observe_points`). The terms run until
+    they fall below 1e-18 of the largest (at most :data:`TAYLOR_TERMS`)."""
+    TR = np.zeros((hs.size, S.shape[0], TAYLOR_TERMS, M.shape[0]))
+    K = 1
+    for j, h in enumerate(hs):
+        P = S.copy()
+        big = np.abs(P).max(initial=0.0)
+        small = 0
+        for k in range(TAYLOR_TERMS):
+            TR[j, :, k] = P
+            K = max(K, k + 1)
+            P = P @ (M * (h / (k + 1)))
+            top = np.abs(P).max(initial=0.0)
+            big = max(big, top)
+            small = small + 1 if top <= 1e-18 * big else 0
+            if small == 2:
+                break
+    return np.ascontiguousarray(TR[:, :, :K])
+
+
+def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
+    """For each signal k, sign(s) (r + 1) where it equals s times the distinct signal
+    r of the rows of :func:`_read_rows` (0: not read): how
+    :func:`._integrate._observe_points` finds a peak's row."""
+    ref = np.zeros(nsg, np.int64)
+    for r in range(rows.shape[0]):
+        k, src, sign = (int(v) for v in rows[r])
+        ref[k] = r + 1 if r < nu else sign * ref[src]
+    return ref
+
+
 def _points() -> np.ndarray:
     """theta of the points of an exact step the observers read: 0, the Gauss-Legendre
     nodes, 1."""
@@ -1595,8 +1658,9 @@ def _points() -> np.ndarray:
 
 
 def _point_tables(A, B, Sx, Su, rows, sizes):
-    """:func:`_point_tables_of`, kept for the last few systems and step lengths by
-    content (a sweep over roads or seeds computes them once)."""
+    """(:func:`_point_tables_of`, :func:`_taylor_rows` of the signals over v = (z,
+    X1, X1')), kept for the last few systems and step lengths by content (a sweep over
+    roads or seeds computes them once)."""
     sx, su = Sx[rows], Su[rows]  # the distinct signals
     return _point_tables_cached(
         A.shape[0], A.tobytes(), B.tobytes(), sx.tobytes(), su.tobytes(),
@@ -1608,10 +1672,19 @@ def _point_tables(A, B, Sx, Su, rows, sizes):
 def _point_tables_cached(n, a, b, sx, su, sizes):
     A = np.frombuffer(a).reshape(n, n)
     B = np.frombuffer(b).reshape(n, 3)
-    SR = _point_tables_of(A, B, np.frombuffer(sx).reshape(-1, n), np.frombuffer(su).reshape(-1, 3),
-                          np.frombuffer(sizes))  # fmt: skip
+    sx = np.frombuffer(sx).reshape(-1, n)
+    su = np.frombuffer(su).reshape(-1, 3)
+    hs = np.frombuffer(sizes)
+    SR = _point_tables_of(A, B, sx, su, hs)
+    # v = (z, X1, X1') on a road segment: v' = Mv v (X1'' = 0)
+    Mv = np.zeros((n + 2, n + 2))
+    Mv[:n, :n] = A
+    Mv[:n, n:] = B[:, :2]
+    Mv[n, n + 1] = 1.0
+    TR = _taylor_rows(Mv, np.hstack([sx, su[:, :2]]), hs)
     SR.setflags(write=False)
-    return SR
+    TR.setflags(write=False)
+    return SR, TR
 
 
 def _point_tables_of(A, B, sx, su, sizes):
@@ -1644,7 +1717,10 @@ def _kernel_kind(o):
 
 
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
-_NO_OBSERVERS = (np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0))
+_NO_OBSERVERS = (
+    np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0),
+    np.empty((0, 0, 0, 0)), np.empty(0, np.int64),
+)  # fmt: skip
 
 
 def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
@@ -1657,8 +1733,12 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
     if sys.observers:
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
-        rows, nu = _read_rows(sys, Sx, Su)
-        extra = (_point_tables(A, B, Sx, Su, rows[:nu, 0], sizes), rows, _GL_W, _GL_X)
+        if "observer_rows" not in sys.info:  # the signals read: fixed by the system
+            rows, nu = _read_rows(sys, Sx, Su)
+            sys.info["observer_rows"] = (rows, nu, _signal_refs(rows, nu, Sx.shape[0]))
+        rows, nu, sref = sys.info["observer_rows"]
+        SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes)
+        extra = (SR, rows, _GL_W, _GL_X, TR, sref)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
@@ -1668,7 +1748,8 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
     U = np.zeros((ts.size, 3))
     status, m = _integrate.exact_walk(
         True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
-        sys.itab, sys.ftab, np.empty(0), idx, Phi, GX, GB, Y, U, jumps, vjumps, ia, *extra,
+        sys.itab, sys.ftab, 0.5 * EXACT_STEP_QUANTUM * max(T, 1.0), np.empty(0), idx, Phi, GX,
+        GB, Y, U, jumps, vjumps, ia, *extra,
     )  # fmt: skip
     if status != _integrate.OK:
         t0 = float(segs[np.flatnonzero(jumps)[-1], 0]) if np.any(jumps) else 0.0

@@ -165,77 +165,11 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
     if gravity is None:
         gravity = float(system.info.get("car", {}).get("gravity", 9.81))
     g = 0.0 if gravity == 0.0 else check_positive("gravity", gravity, "m/s^2")
-    itab, ftab = system.tables
-    nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
-    springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
-    sprung = {m for e in springs for n in ends[e] for m, _ in share[n]}
-    # a massless node that no spring touches (between a damper and an inerter) carries
-    # nothing at rest anywhere: it stays where it is
-    rows = [
-        n for n in range(nn)
-        if types[n] in (DYN, VEL, REL, RELV) and (n in sprung or masses[n] > 0)
-    ]  # fmt: skip
-    unknown = np.array([xstate[n] for n in rows], dtype=np.int64)
-    weights = masses * g
-    for name in system.info.get("weightless", ()):  # rotational coordinates
-        weights[system.node_names.index(name)] = 0.0
-    weight = float(weights.sum())
-    # the tolerance's scale: the weight (or, without gravity, the weight it would be)
-    scale = max(weight if g > 0 else float(masses.sum()) * 9.81, 1.0)
-    W = np.empty(_kernel.work_size(itab))
-    dx = np.empty(system.n_states)
-    road = np.zeros(_kernel.road_layout_of(itab)[1])  # every road at rest
-    if heights is not None:
-        h = np.atleast_1d(np.asarray(heights, dtype=float))
-        nr = max(int(itab[_kernel.I_NRD]), 1)
-        if h.shape != (nr,) or not np.all(np.isfinite(h)):
-            raise ParameterError("heights", heights, f"{nr} finite road heights [m]")
-        road[0 : 3 * nr : 3] = h
-    base = np.array(system.x0_template, dtype=float)
-    pos = {n: i for i, n in enumerate(rows)}
-
-    def balance(z):
-        """(node displacements X, element forces F, residual R [N] per unknown)."""
-        x = base.copy()
-        x[unknown] = z
-        _kernel.evaluate(0.0, x, road, itab, ftab, W, dx, _kernel._NO_IMPULSE)
-        X = W[:nn].copy()
-        F = W[3 * nn : 3 * nn + ne].copy()
-        R = np.zeros(len(rows))
-        for e in springs:
-            t, b = ends[e]
-            for m, c in share[t]:
-                if m in pos:
-                    R[pos[m]] -= c * F[e]
-            for m, c in share[b]:
-                if m in pos:
-                    R[pos[m]] += c * F[e]
-        for n in rows:
-            R[pos[n]] -= weights[n]
-        return X, F, R
-
-    def residual(z):
-        return balance(z)[2]
-
-    def singular(J):
-        # a massless node that only a spring with free play (inside its play) holds
-        # carries nothing at rest: Newton takes the least-squares step there
-        w, v = np.linalg.eigh(0.5 * (J + J.T))
-        null = np.abs(w) <= 1e-12 * max(float(np.abs(w).max(initial=0.0)), 1e-300)
-        if np.all(np.isfinite(J)) and null.any():
-            heavy = [i for i, n in enumerate(rows) if masses[n] > 0]
-            if np.abs(v[np.ix_(heavy, np.flatnonzero(null))]).max(initial=0.0) <= 1e-9:
-                return
-        raise NetworkError(
-            f"{system.description}: no static equilibrium: {_unheld(system, rows, J)} is "
-            "held by no spring at rest (the static stiffness is singular); give it a spring "
-            "path to the road or ground"
-        )
-
-    z, it = newton(residual, len(rows), 1e-12 * scale, system.description, singular,
-                   max_iterations=max_iterations)  # fmt: skip
-    X, F, R = balance(z)
-    res = float(np.max(np.abs(R))) if rows else 0.0
+    st = _solve(system, g, heights, None, max_iterations)
+    x, X, F, springs, ends, codes, scale = (
+        st["x"], st["X"], st["F"], st["springs"], st["ends"], st["codes"], st["scale"]
+    )
+    nn = len(X)
     names = system.element_names
     extensions = {names[e]: float(X[ends[e][0]] - X[ends[e][1]]) for e in springs}
     forces = {names[e]: float(F[e]) for e in springs}
@@ -264,8 +198,6 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
                 "rest by the static load, and its law is taken about the force-free "
                 "position only; carry the load with springs beside it"
             )
-    x = base.copy()
-    x[unknown] = z
     about = _rebuilt(system, new)
     return Equilibrium(
         system=about,
@@ -275,10 +207,113 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
         extensions=extensions,
         forces=forces,
         gravity=g,
-        weight=weight,
-        residual=res,
-        iterations=it,
+        weight=st["weight"],
+        residual=st["residual"],
+        iterations=st["iterations"],
     )
+
+
+def _solve(system, g: float, heights, loads, max_iterations: int) -> dict:
+    """Newton's method on the static balance of ``system`` under gravity ``g`` with the
+    roads at ``heights`` and constant element forces ``loads`` (element index -> force
+    [N], tension positive) besides the elastic elements' own: the state ``x``, node
+    displacements ``X``, element forces ``F`` and the bookkeeping :func:`equilibrium`
+    reads."""
+    itab, ftab = system.tables
+    nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
+    springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
+    sprung = {m for e in springs for n in ends[e] for m, _ in share[n]}
+    loads = {int(e): float(f) for e, f in (loads or {}).items()}
+    # a massless node that no spring touches (between a damper and an inerter) carries
+    # nothing at rest anywhere: it stays where it is
+    rows = [
+        n for n in range(nn)
+        if types[n] in (DYN, VEL, REL, RELV) and (n in sprung or masses[n] > 0)
+    ]  # fmt: skip
+    unknown = np.array([xstate[n] for n in rows], dtype=np.int64)
+    weights = masses * g
+    for name in system.info.get("weightless", ()):  # rotational coordinates
+        weights[system.node_names.index(name)] = 0.0
+    weight = float(weights.sum())
+    # the tolerance's scale: the weight (or, without gravity, the weight it would be)
+    scale = max(weight if g > 0 else float(masses.sum()) * 9.81, 1.0)
+    W = np.empty(_kernel.work_size(itab))
+    dx = np.empty(system.n_states)
+    road = np.zeros(_kernel.road_layout_of(itab)[1])  # every road at rest
+    if heights is not None:
+        h = np.atleast_1d(np.asarray(heights, dtype=float))
+        nr = max(int(itab[_kernel.I_NRD]), 1)
+        if h.shape != (nr,) or not np.all(np.isfinite(h)):
+            raise ParameterError("heights", heights, f"{nr} finite road heights [m]")
+        road[0 : 3 * nr : 3] = h
+    base = np.array(system.x0_template, dtype=float)
+    pos = {n: i for i, n in enumerate(rows)}
+    for e in loads:
+        free = [m for n in ends[e] for m, _ in share[n]
+                if types[m] in (DYN, VEL, REL, RELV) and m not in pos]  # fmt: skip
+        if free:
+            raise NetworkError(
+                f"{system.description}: {system.element_names[e]} carries a constant force "
+                f"at node {system.node_names[free[0]]}, which no spring holds at rest (no "
+                "static balance of that force)"
+            )
+
+    def balance(z):
+        """(node displacements X, element forces F, residual R [N] per unknown)."""
+        x = base.copy()
+        x[unknown] = z
+        _kernel.evaluate(0.0, x, road, itab, ftab, W, dx, _kernel._NO_IMPULSE)
+        X = W[:nn].copy()
+        F = W[3 * nn : 3 * nn + ne].copy()
+        R = np.zeros(len(rows))
+        for e, f in [(e, F[e]) for e in springs] + list(loads.items()):
+            t, b = ends[e]
+            for m, c in share[t]:
+                if m in pos:
+                    R[pos[m]] -= c * f
+            for m, c in share[b]:
+                if m in pos:
+                    R[pos[m]] += c * f
+        for n in rows:
+            R[pos[n]] -= weights[n]
+        return X, F, R
+
+    def residual(z):
+        return balance(z)[2]
+
+    def singular(J):
+        # a massless node that only a spring with free play (inside its play) holds
+        # carries nothing at rest: Newton takes the least-squares step there
+        w, v = np.linalg.eigh(0.5 * (J + J.T))
+        null = np.abs(w) <= 1e-12 * max(float(np.abs(w).max(initial=0.0)), 1e-300)
+        if np.all(np.isfinite(J)) and null.any():
+            heavy = [i for i, n in enumerate(rows) if masses[n] > 0]
+            if np.abs(v[np.ix_(heavy, np.flatnonzero(null))]).max(initial=0.0) <= 1e-9:
+                return
+        raise NetworkError(
+            f"{system.description}: no static equilibrium: {_unheld(system, rows, J)} is "
+            "held by no spring at rest (the static stiffness is singular); give it a spring "
+            "path to the road or ground"
+        )
+
+    z, it = newton(residual, len(rows), 1e-12 * scale, system.description, singular,
+                   max_iterations=max_iterations)  # fmt: skip
+    X, F, R = balance(z)
+    res = float(np.max(np.abs(R))) if rows else 0.0
+    x = base.copy()
+    x[unknown] = z
+    return {"x": x, "X": X, "F": F, "springs": springs, "ends": ends, "codes": codes,
+            "scale": scale, "weight": weight, "residual": res, "iterations": it}  # fmt: skip
+
+
+def loaded_rest(system, loads: dict) -> np.ndarray:
+    """The state of ``system`` (about its rest, no gravity) at rest under constant forces
+    in its elements, ``loads``: element index -> force [N] (tension positive, pulling its
+    ends together), balanced by the elastic elements (springs, tyres) by Newton's method
+    as :func:`equilibrium`. A rectifying law's mean force (an asymmetric damper's under
+    random motion) is such a load: its mean offset. NetworkError where a loaded element
+    ends at a node no spring holds."""
+    return _solve(system, 0.0, None, loads, 100)["x"]
 
 
 def newton(residual, n: int, tol: float, what: str, singular, *, max_iterations: int = 100,

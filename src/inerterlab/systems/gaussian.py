@@ -21,6 +21,15 @@ element of an existing kernel law needs nothing extra:
 * the adaptive-flywheel inerter (force m_e(v) a, laws ``thesis`` and ``momentum``):
   b_eq = E[m_e(v)] (v and a independent, so E[m_e(v) a^2] / E[a^2] = E[m_e(v)]).
 
+A rectifying law (an asymmetric damper: slope c1 while extending, c2 while shortening)
+also has a mean force under a zero-mean motion, E[F(v)] = (c1 - c2) sigma_v / sqrt(2 pi)
+for the two-slope damper: :func:`mean_force` gives it from the element's own law, and
+the statistical linearisation applies it to the equivalent car as a constant load, which
+sets the car down (or up) by a mean offset. A velocity's mean is zero in a stationary
+response, so this is exact for the dissipative rows; an inertance's mean force
+E[m_e(v) a] = E[m_e(v)] E[a] is zero. (An elastic law's mean force would move its
+operating point, which changes its equivalent in turn; that coupling is not solved.)
+
 Linear elements (springs, linear dampers, inerters, a tyre that always presses) keep
 their law. Elements whose force depends on states of their own or on a contact rule (a
 one-way clutch, a ball screw with backlash, sliders with dynamics) and a tyre that
@@ -53,7 +62,9 @@ from ..errors import ParameterError
 from . import _kernel
 from ._kernel import ELEM_W
 
-__all__ = ["QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "equivalent_system"]
+__all__ = [
+    "QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "mean_force", "equivalent_system",
+]
 
 #: relative tolerance of the Gaussian expectations
 QUADRATURE_RTOL = 1e-11
@@ -153,20 +164,11 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
 
         def law(y):
             return spring_force(row, 0, y)
-    elif code == DAMPER:
-        if sigma <= 0.0:
-            return float(damper_force(row, 0, 0.0)[1])
-
-        def law(v):
-            return damper_force(row, 0, v)[0]
     else:
         if sigma <= 0.0:
-            return float(friction_force(row[0], row[1], 0.0)[1])
-
-        def law(v):
-            return friction_force(row[0], row[1], v)[0]
-    if code == FRICTION:
-        kinks = (row[1], -row[1])  # the transition's width
+            return float(damper_force(row, 0, 0.0)[1] if code == DAMPER
+                         else friction_force(row[0], row[1], 0.0)[1])  # fmt: skip
+        law, kinks = _velocity_law(sys, e)
     val = _expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
     if not math.isfinite(val):
         raise ParameterError(
@@ -175,6 +177,36 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
             f"{12 * sigma:.3g} from rest)",
         )  # fmt: skip
     return val
+
+
+def _velocity_law(sys, e: int):
+    """The force law F(v) [N] of the dissipative element ``e`` (a damper or friction
+    row) and its kinks, from its compiled force function."""
+    from ..elements.damper import damper_force
+    from ..elements.friction import friction_force
+
+    code = sys.elements[e].code
+    row = _row(sys, e)
+    if code == DAMPER:
+        return (lambda v: damper_force(row, 0, v)[0]), ()
+    if code == FRICTION:
+        return (lambda v: friction_force(row[0], row[1], v)[0]), (row[1], -row[1])
+    raise ParameterError(
+        sys.element_names[e], sys.elements[e].description,
+        "a damper or friction (an element whose force depends on its velocity)",
+    )  # fmt: skip
+
+
+def mean_force(sys, e: int, sigma: float) -> float:
+    """E[F(v)] [N] (tension positive) of the dissipative element ``e`` of ``sys`` (a
+    damper or friction: :func:`nonlinear_elements`' ``velocity`` argument) under a
+    zero-mean Gaussian relative velocity of standard deviation ``sigma`` [m/s], by the
+    quadrature of its own compiled law: non-zero for a rectifying law (an asymmetric
+    damper: (c1 - c2) sigma / sqrt(2 pi)); F(0) for ``sigma`` = 0."""
+    law, kinks = _velocity_law(sys, e)
+    if sigma <= 0.0:
+        return float(law(0.0))
+    return _expect(law, sigma, kinks)
 
 
 def _equivalent_row(sys, e: int, gain: float) -> np.ndarray:

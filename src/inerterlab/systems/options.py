@@ -18,11 +18,12 @@ from dataclasses import dataclass
 from ..errors import ParameterError, check_choice, check_positive
 
 __all__ = ["SimulationOptions", "DEFAULT_OPTIONS", "BACKENDS", "METHODS", "SCIPY_METHODS",
-           "IgnoredOptionWarning"]  # fmt: skip
+           "FIXED_METHODS", "IgnoredOptionWarning"]  # fmt: skip
 
 BACKENDS = ("numba", "scipy")
 METHODS = ("auto", "adaptive", "exact")
 SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
+FIXED_METHODS = ("dopri5", "rk4")
 
 
 class IgnoredOptionWarning(UserWarning):
@@ -57,8 +58,17 @@ class SimulationOptions:
     max_step : float
         Longest step [s] of the adaptive integrator (inf: no limit).
     fixed_step : float or None
-        Take Dormand-Prince steps of this length [s] without error control (events
-        and road edges still end steps); None: adaptive.
+        Take steps of this length [s] without error control (events, road edges and
+        samples still end steps); None: adaptive.
+    fixed_method : {"dopri5", "rk4"}
+        The tableau of the fixed steps. ``dopri5``: the Dormand-Prince pair's order-5
+        solution, inside the adaptive driver (every system). ``rk4``: classical
+        Runge-Kutta of order 4 in its own driver (:func:`._integrate.integrate_fixed`:
+        four right-hand sides a step, a fifth at its end where the system has
+        switching functions, whose crossings are located on the cubic Hermite
+        interpolant and the step taken again to them), for the vehicles of
+        :func:`inerterlab.systems.vehicle.simulate` on their sampled roads; needs
+        ``fixed_step``.
     time_limit : float or None
         scipy backend: give up after this many seconds [s] (the compiled integrator is
         bounded by ``max_steps``).
@@ -73,6 +83,7 @@ class SimulationOptions:
     max_steps: int = 10_000_000
     max_step: float = math.inf
     fixed_step: float | None = None
+    fixed_method: str = "dopri5"
     time_limit: float | None = None
 
     def __post_init__(self) -> None:
@@ -95,6 +106,11 @@ class SimulationOptions:
             check_positive("fixed_step", self.fixed_step, "s")
             if self.method == "exact":
                 raise ParameterError("fixed_step", self.fixed_step, "None with method='exact'")
+        check_choice("fixed_method", self.fixed_method, FIXED_METHODS)
+        if self.fixed_method != "dopri5" and self.fixed_step is None:
+            raise ParameterError(
+                "fixed_method", self.fixed_method, "'dopri5' unless fixed_step is set [s]"
+            )
         if self.time_limit is not None:
             check_positive("time_limit", self.time_limit, "s")
 

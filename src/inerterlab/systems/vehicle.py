@@ -387,7 +387,13 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     element output of the system (:attr:`System.output_names`) in ``signals``. ``options``
     (:class:`~inerterlab.systems.options.SimulationOptions`, with keywords named as its
     fields replacing its values): tolerances, step control, ``max_steps`` (default
-    :data:`VEHICLE_MAX_STEPS`); the samples are the road's."""
+    :data:`VEHICLE_MAX_STEPS`); the samples are the road's. ``fixed_step``: steps of at
+    most that length ending on every sample, no error control, lift-off and the other
+    switches still located (``fixed_step = dt``: one step per road sample); by the
+    Dormand-Prince pair's order-5 solution, or with ``fixed_method="rk4"`` (what the
+    vehicle commands' ``--fixed-step`` take) by classical Runge-Kutta in its own driver
+    (:func:`._integrate.integrate_fixed`; their errors and costs: docs/guide/vehicles.md,
+    "Fixed steps")."""
     if sys.kind not in ("half_car", "full_car"):
         raise ParameterError("sys", sys.kind, "a vehicle (systems.vehicle.half_car/full_car)")
     dt = check_positive("dt", dt, "s")
@@ -410,11 +416,16 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     Y = np.empty((ts.size, sys.n_states))
     st = np.zeros(5, dtype=np.int64)
     nseg = len(segs)
-    status, _ = _integrate.integrate(
-        sys.itab, sys.ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
-        math.inf, ts, Y, st, np.zeros(nseg), int(max_steps), math.nan, math.inf, np.zeros(nseg),
-        *_NO_REGIME, 1.0, options.step_control,
-    )  # fmt: skip
+    if options.fixed_method == "rk4":  # classical Runge-Kutta, its own driver
+        status, _ = _integrate.integrate_fixed(
+            sys.itab, sys.ftab, segs, y, T, float(options.fixed_step), ts, Y, st, int(max_steps)
+        )
+    else:
+        status, _ = _integrate.integrate(
+            sys.itab, sys.ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
+            math.inf, ts, Y, st, np.zeros(nseg), int(max_steps), math.nan, math.inf,
+            np.zeros(nseg), *_NO_REGIME, 1.0, options.step_control,
+        )  # fmt: skip
     if status != _integrate.OK:
         raise _failure(sys, status, max_steps)
     O = np.empty((ts.size, len(sys.output_names)))

@@ -12,7 +12,6 @@ from .config import load_vehicle as load_vehicle
 from .config import loads_vehicle as loads_vehicle
 from .linear import LinearVehicle as LinearVehicle
 from .linear import linear_vehicle as linear_vehicle
-from .model import build as build
 from .parameters import Corner as Corner
 from .parameters import FullCar as FullCar
 from .parameters import HalfCar as HalfCar

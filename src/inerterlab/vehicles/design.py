@@ -195,48 +195,117 @@ def h2_metrics(params, road_class: str = "C", speed: float = 20.0, names=None) -
     return {n: h[n if H2_METRICS[n][1] else H2_METRICS[n][0]] * k for n in names}
 
 
-#: complex step of a design value (relative, in its logarithm)
+#: imaginary step carrying a design value's derivative through the H2 system
 _STEP = 1e-20
+#: a Strut's fields -> the element names of its corner network
+_STRUT_ELEMENTS = {"stiffness": "k", "damping": "c", "inertance": "b"}
 
 
-class _SteppedLaw:
-    """A strut's law with one value stepped by i h: (b, c, k) and, for a network strut,
-    the split of Z(s) carry the derivatives in their imaginary parts."""
-
-    def __init__(self, mck, split=None):
-        self._mck, self._value = tuple(mck), split
-
-    def mck(self):
-        return self._mck
-
-    def internal_states(self) -> int:
-        return 0 if self._value is None else int(self._value[4].size - 1)
-
-    def _split(self):
-        return self._value
-
-    def realisation(self):
-        from .parameters import NetworkStrut
-
-        return NetworkStrut.realisation(self)
-
-
-def _stepped(strut, field: str, h: float, log: bool) -> _SteppedLaw:
-    """``strut`` with its value ``field`` (an element of a network strut; stiffness,
-    damping or inertance of a Strut, which enter (b, c, k) additively) plus i h, times
-    the value if ``log`` (the derivative in its logarithm)."""
+def _corner_element(params, name: str) -> tuple[str, str, float]:
+    """(axle, element name at each of its corners, value) of the design parameter
+    ``name`` (``front_damping``; ``rear_c`` of a network strut)."""
+    axle, _, field = name.partition("_")
+    strut = getattr(params, axle).strut if axle in ("front", "rear") else None
+    if strut is None:
+        raise ParameterError("names", name, "one of " + ", ".join(design_parameters(params)))
     if getattr(strut, "network", None) is not None:
-        from ..networks import admittance_coefficients
-        from .parameters import split_stiffness
+        if field not in strut.parameters:
+            raise ParameterError("names", name, "one of " + ", ".join(design_parameters(params)))
+        return axle, field, float(strut.parameters[field])
+    if field not in _STRUT_ELEMENTS:
+        raise ParameterError("names", name, "one of " + ", ".join(design_parameters(params)))
+    return axle, _STRUT_ELEMENTS[field], float(getattr(strut, field))
 
-        vals = {k: complex(v) for k, v in strut.parameters.items()}
-        vals[field] += 1j * h * (vals[field].real if log else 1.0)
-        split = split_stiffness(strut.network, *admittance_coefficients(strut.network, vals))
-        return _SteppedLaw(split[:3], split)
-    mck = [complex(x) for x in strut.mck()]
-    value = float(getattr(strut, field)) if log else 1.0
-    mck[("inertance", "damping", "stiffness").index(field)] += 1j * h * value
-    return _SteppedLaw(mck)
+
+def _blocks(ss) -> list:
+    """The vehicle state space (A, Br, Bd, Cy, Dr, Dd) as a flat list of arrays."""
+    A, Br, Bd, Cy, Dr, Dd = ss
+    return [A, Br, Bd, *(d[k] for d in (Cy, Dr, Dd) for k in sorted(d))]
+
+
+def _unblocks(flat, like) -> tuple:
+    keys = sorted(like[3])
+    n = len(keys)
+    dicts = [dict(zip(keys, flat[3 + i * n : 3 + (i + 1) * n], strict=True)) for i in range(3)]
+    return (flat[0], flat[1], flat[2], *dicts)
+
+
+def _moebius_slope(base: list, t1: float, at1: list, t2: float, at2: list) -> list:
+    """dM/dt at t = 0 of matrices M(t) = M0 + t / (1 + sigma t) W (one sigma for all),
+    from M0 = ``base`` and M at t1, t2: W itself, exact to rounding.
+
+    Every matrix of a linear car's state space has that form in one element's value t:
+    the element enters the car's equations as a rank-one term t g h^T (a spring's or a
+    damper's force, an inerter's inertance), so by the Sherman-Morrison formula the
+    solved matrices move along one direction W with the common factor t / (1 + sigma t)
+    (sigma = 0 where the value enters no inverse: a stiffness, a damping at a body)."""
+    d1 = [a - b for a, b in zip(at1, base, strict=True)]
+    d2 = [a - b for a, b in zip(at2, base, strict=True)]
+    big = max(range(len(d1)), key=lambda i: float(np.max(np.abs(d1[i]), initial=0.0)))
+    j = int(np.argmax(np.abs(d1[big])))
+    x1, x2 = float(d1[big].flat[j]), float(d2[big].flat[j])
+    if x1 == 0.0:
+        return [np.zeros_like(b) for b in base]
+    r = x1 / x2  # = t1 (1 + sigma t2) / (t2 (1 + sigma t1))
+    sigma = (t1 - r * t2) / (t1 * t2 * (r - 1.0))
+    return [0.5 * (a * (1 + sigma * t1) / t1 + b * (1 + sigma * t2) / t2)
+            for a, b in zip(d1, d2, strict=True)]  # fmt: skip
+
+
+def _state_space_at(veh, station: str, element: str, value: float, params, axle: str):
+    """The vehicle state space of ``veh`` with the element ``element`` of the corner
+    ``station`` at ``value`` (added to the corner's network where the car has none)."""
+    from ..systems.equilibrium import _rebuilt
+    from ..systems.vehicle import StrutOptions, _strut_network, vehicle
+    from .linear import from_state_space
+
+    sys = veh.system
+    name = f"{station}.{element}"
+    if name in sys.element_names:
+        e = sys.element_names.index(name)
+        el = sys.elements[e]
+        new = list(sys.elements)
+        new[e] = dataclasses.replace(el, **{el.PARAMETERS[0].name: value})
+        stepped = _rebuilt(sys, new)
+    else:  # a Strut's field at 0: the corner rebuilt with that element
+        strut = getattr(params, axle).strut
+        field = next(f for f, n in _STRUT_ELEMENTS.items() if n == element)
+        text, vals, _ = _strut_network(dataclasses.replace(strut, **{field: value}),
+                                       StrutOptions())  # fmt: skip
+        stepped = vehicle(params, networks={station: (text, vals)}, lift_off=False)
+    return from_state_space(stepped, stepped.linear_state_space(), False)._ss
+
+
+def state_space_derivatives(params, veh, names, log: bool = True) -> list:
+    """d(A, Br, Bd, Cy, Dr, Dd)/d parameter of the linear vehicle ``veh`` (its
+    :class:`~inerterlab.vehicles.linear.LinearVehicle`, :func:`linear_vehicle`) of
+    ``params`` for each design parameter of ``names`` (per axle: both corners of a full
+    car's axle), in its logarithm if ``log``; in the layout of the vehicle's state space.
+
+    Exact to rounding: each corner's element value enters the state space as a rank-one
+    term, so two more state spaces of the core car with that value moved fix the
+    direction and the curvature of the whole (:func:`_moebius_slope`); the axle's
+    derivative is the sum over its corners. Checked against central differences of the
+    core's state space (tests/test_vehicle_design_gradient.py; the H2 gradients against
+    differences of the norm in tests/test_design_gradient.py)."""
+    base = _blocks(veh._ss)
+    out = []
+    for n in names:
+        axle, element, value = _corner_element(params, n)
+        total = [np.zeros_like(b) for b in base]
+        if value != 0.0 or not log:
+            stations = [st for st in veh.system.info["stations"]
+                        if st == axle or st.startswith(axle + "_")]  # fmt: skip
+            t = 0.5 * value if value > 0.0 else 1.0
+            for st in stations:
+                at1 = _blocks(_state_space_at(veh, st, element, value + t, params, axle))
+                at2 = _blocks(_state_space_at(veh, st, element, value + 2 * t, params, axle))
+                for i, d in enumerate(_moebius_slope(base, t, at1, 2 * t, at2)):
+                    total[i] = total[i] + d
+            if log:
+                total = [d * value for d in total]
+        out.append(_unblocks(total, veh._ss))
+    return out
 
 
 def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
@@ -249,12 +318,11 @@ def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
     Exact: the variance's gradient with respect to the state-space matrices comes from
     the adjoint Lyapunov equations (:func:`inerterlab.h2.variance_gradient`, the
     wheelbase delay and the Wk states included); the matrices' derivatives in each
-    parameter from a complex step of that value through the strut's law (a network's
-    admittance polynomials and their split, or the strut's b, c, k) and the assembled
-    state space, exact to rounding (no difference is taken). (inf, None) where the norm
-    is infinite; ConvergenceError where a Lyapunov equation has no finite solution."""
+    parameter from the core car's state space with that value moved
+    (:func:`state_space_derivatives`), exact to rounding. (inf, None) where the norm is infinite;
+    ConvergenceError where a Lyapunov equation has no finite solution."""
     from ..network_design import road_scale
-    from .model import build
+    from .linear import linear_vehicle
     from .spectral import white_velocity_h2_gradient
 
     if objective not in H2_METRICS:
@@ -263,7 +331,7 @@ def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
         raise ParameterError(
             "objective", "seat_wk", "a vehicle with a [seat] (this file has none; use body_acc_wk)"
         )
-    veh = build(params)
+    veh = linear_vehicle(params)
     steps = stepped_vehicles(params, veh, names, log)
     out, weighting = H2_METRICS[objective]
     v, g = white_velocity_h2_gradient(veh, out, steps, speed=speed, weighting=weighting)
@@ -274,20 +342,14 @@ def h2_metric_gradient(params, objective: str, names, road_class: str = "C",
 
 
 def stepped_vehicles(params, veh, names, log: bool = True) -> list:
-    """(vehicle, h) per design parameter of ``names``: the assembled ``veh`` of
-    ``params`` with that axle's strut law stepped by i h in the value (its logarithm if
-    ``log``), for the complex-step derivatives of
+    """(vehicle, h) per design parameter of ``names``: the linear vehicle ``veh`` of
+    ``params`` whose state space carries h x its derivative in that value (its logarithm
+    if ``log``, :func:`state_space_derivatives`) as the imaginary part, for
     :func:`~inerterlab.vehicles.spectral.white_velocity_h2_gradient`."""
     steps = []
-    for n in names:
-        axle, _, field = n.partition("_")
-        law = _stepped(getattr(params, axle).strut, field, _STEP, log)
-        cons = tuple(
-            dataclasses.replace(c, law=law)
-            if c.name.startswith(axle + "_") and c.name.endswith("_strut") else c
-            for c in veh.connections
-        )  # fmt: skip
-        steps.append((dataclasses.replace(veh, connections=cons), _STEP))
+    for d in state_space_derivatives(params, veh, names, log):
+        flat = [b + 1j * _STEP * db for b, db in zip(_blocks(veh._ss), _blocks(d), strict=True)]
+        steps.append((dataclasses.replace(veh, _ss=_unblocks(flat, veh._ss)), _STEP))
     return steps
 
 

@@ -144,9 +144,17 @@ class LinearVehicle:
 
         sys = self.system
         if not self.plain:
+            from ..systems.equilibrium import _structure
+
+            masses = _structure(sys)[4]
+            heavy = {sys.node_names[n] for n, t in enumerate(sys.node_types)
+                     if t == _DYN and masses[n] > 0}  # fmt: skip
+            inner = next(s.rpartition(".")[0] for s in sys.state_names
+                         if s.rpartition(".")[0] not in heavy)  # fmt: skip
             raise ParameterError(
-                "struts", "internal nodes", "a car without internal nodes (no undamped model)"
-            )
+                "struts", f"the internal node {inner}",
+                "a car without internal nodes (no undamped model)",
+            )  # fmt: skip
         itab, ftab = sys.tables
         no = int(itab[_kernel.I_NODE])
         dyn = [n for n, t in enumerate(sys.node_types) if t == _DYN]

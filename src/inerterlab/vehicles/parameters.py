@@ -54,9 +54,7 @@ class Strut:
         :mod:`inerterlab.elements` (``HydraulicElement()``, ``RectifierElement()``,
         ``ScrewElement()``, ...) or a core network text whose element values come with
         ``device_parameters`` (:class:`CornerDevice`). The model core's vehicle places
-        it as it is; the assembled linear model reads its springs, linear dampers and
-        inerters straight across the strut into k, c and b and refuses the rest
-        (internal nodes, friction), naming the corner.
+        it as it is.
     device_parameters : dict, optional
         Element values by name for a ``device`` given as network text.
     """
@@ -524,12 +522,10 @@ class CornerDevice:
     them between the body-side terminal (node 0) and the wheel-side one (node 1).
 
     The model core's vehicle (:func:`inerterlab.systems.vehicle.vehicle`) places its
-    ``nodes`` and ``edges`` as they are. The assembled linear model
-    (:mod:`inerterlab.vehicles.model`) reads its springs, linear dampers and ideal
-    inerters straight across the terminals (``stiffness``, ``damping``,
-    ``inertance``) and an adaptive-flywheel inerter straight across (``adaptive``);
-    anything else (internal nodes, friction, nonlinear springs) makes it ``nonlinear``,
-    which that model refuses.
+    ``nodes`` and ``edges`` as they are. Its springs, linear dampers and ideal inerters
+    straight across the terminals are summed in ``stiffness``, ``damping`` and
+    ``inertance``, an adaptive-flywheel inerter straight across is ``adaptive``, and
+    anything else (internal nodes, friction, nonlinear springs) makes it ``nonlinear``.
     """
 
     source: str

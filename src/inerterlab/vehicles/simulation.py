@@ -3,7 +3,8 @@
 The vehicle is the core system of :func:`inerterlab.systems.vehicle.vehicle` (bodies
 with bounce, pitch and roll, the seat, any element or network at a corner, tyres that
 lift off as events, asymmetric dampers and strut friction as elements), integrated by
-the core's Dormand-Prince pair with error control (:func:`inerterlab.systems.vehicle.simulate`).
+the core's Dormand-Prince pair with error control, or by fixed classical Runge-Kutta
+steps (:func:`inerterlab.systems.vehicle.simulate`).
 The road is given at samples ``dt`` apart and is linear between them (a first-order
 hold: docs/decisions.md, "The vehicle's time domain on the core").
 
@@ -73,7 +74,8 @@ class VehicleRun:
 def simulate_vehicle(parameters, r, dt: float, *, lift_off: bool = True, rebound: float = 1.0,
                      compression: float = 1.0, friction: float = 0.0,
                      friction_velocity: float = 1e-3, warmup: float = 0.0, rtol: float = 1e-6,
-                     networks: dict | None = None, system=None) -> VehicleRun:  # fmt: skip
+                     networks: dict | None = None, system=None,
+                     fixed_step: float | None = None) -> VehicleRun:  # fmt: skip
     """Simulate the car ``parameters`` (HalfCar, FullCar or a vehicle file) over wheel
     heights ``r`` (n_t, stations) [m] sampled every ``dt`` [s], from rest in static
     equilibrium on the first heights.
@@ -85,7 +87,10 @@ def simulate_vehicle(parameters, r, dt: float, *, lift_off: bool = True, rebound
     figures (at most half the run); ``rtol`` the integrator's relative tolerance;
     ``networks`` as :func:`inerterlab.systems.vehicle.vehicle`. ``system``: a core
     vehicle already built with these options (then ``parameters`` and the options are
-    not read again)."""
+    not read again). ``fixed_step`` [s]: classical Runge-Kutta steps of at most this
+    length, ending on every road sample, without error control (``rtol`` unused; lift-off
+    and the other switches still located; ``fixed_step = dt``: one step per sample,
+    docs/guide/vehicles.md "Fixed steps"); None: the adaptive pair at ``rtol``."""
     from ..metrics import wk_state_space
     from ..systems import vehicle as core
     from ..systems.observers import Observer, weighted, with_observers
@@ -103,7 +108,10 @@ def simulate_vehicle(parameters, r, dt: float, *, lift_off: bool = True, rebound
     obs += [Observer("wk.i2", "square", aw, scale=s["i_wk"]),
             Observer("wk.i4", "fourth", aw, scale=s["i_wk4"])]  # fmt: skip
     sys = with_observers(sys, obs)
-    res = core.simulate(sys, r, dt, rtol=rtol)
+    if fixed_step is None:
+        res = core.simulate(sys, r, dt, rtol=rtol)
+    else:
+        res = core.simulate(sys, r, dt, rtol=rtol, fixed_step=fixed_step, fixed_method="rk4")
     t = res.time
     names = sys.state_names
     col = {n: res.states[:, names.index(n)] for n in ("wk.i2", "wk.i4")}

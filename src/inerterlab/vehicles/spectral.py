@@ -385,10 +385,11 @@ def white_velocity_h2_gradient(vehicle, output: str, steps, *, speed=None, weigh
     named ``weighting``, e.g. "Wk") and its derivatives, by the adjoint equations
     (:func:`inerterlab.h2.variance_gradient`).
 
-    ``steps``: (vehicle, h) pairs, each the same vehicle with a parameter stepped by
-    i h (complex laws: :class:`~inerterlab.vehicles.model.LinearVehicle` keeps the
-    dtype): the imaginary parts of its state space over h are the derivatives of the
-    matrices, exact to rounding (complex step, no subtraction). Returns (norm, list of
+    ``steps``: (vehicle, h) pairs, each the same :class:`LinearVehicle` whose state
+    space carries h x its derivative in one parameter as the imaginary part
+    (:func:`inerterlab.vehicles.design.stepped_vehicles`); the augmented system is taken
+    through the same complex arithmetic, so its imaginary parts over h are the
+    derivatives of its matrices. Returns (norm, list of
     d norm / d parameter); (inf, None) where the norm is infinite."""
     from ..h2 import variance_gradient
 

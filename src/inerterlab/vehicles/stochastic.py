@@ -26,13 +26,18 @@ Statistical linearisation
     Statistical Linearization*, Wiley 1990, ch. 5), with the argument's variance from the
     spectral integral of the equivalent linear car on the road, iterated to a fixed
     point. Tyre lift-off is not linearised: its probability is the Gaussian tail of the
-    equivalent tyre load (as in :func:`spectral_response`). The linearisation ignores
-    the mean (static) offset a rectifying law builds up and the non-Gaussian shape of the
+    equivalent tyre load (as in :func:`spectral_response`). A rectifying law (an
+    asymmetric damper) has a mean force under the zero-mean Gaussian motion, from its own
+    law (:func:`~inerterlab.systems.gaussian.mean_force`); applied to the equivalent car
+    as constant loads it sets the car down or up by a mean offset
+    (:func:`~inerterlab.systems.equilibrium.loaded_rest`), and each output's RMS is
+    sqrt(mean^2 + sigma^2). The linearisation ignores the non-Gaussian shape of the
     response; :func:`monte_carlo` measures the error.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -72,21 +77,6 @@ def _metric_names(corners) -> tuple[str, ...]:
 HALF_CAR_METRICS = _metric_names(_HALF_CORNERS)
 #: metrics of the ``full-car-road`` point (the half car's, per corner).
 FULL_CAR_METRICS = _metric_names(_FULL_CORNERS)
-
-
-def _load_vehicle(path: str, kind: str):
-    from .config import example_vehicle_path, load_vehicle
-    from .model import build
-
-    params = load_vehicle(path if path else example_vehicle_path())
-    if kind == "half" and hasattr(params, "half_car"):
-        params = params.half_car()
-    vehicle = build(params)
-    if vehicle.kind != kind:
-        raise ParameterError(
-            "vehicle", path or "(example)", f"a {kind}-car file or a full-car file for 'half'"
-        )
-    return params, vehicle
 
 
 def _tracks(p, params: Mapping[str, Any], seed: int) -> np.ndarray:
@@ -138,6 +128,7 @@ def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
         friction_velocity=float(params["friction_velocity"]),
         rtol=float(params["rtol"]),
         warmup=float(params["warmup"]),
+        fixed_step=float(params["fixed_step"]) or None,
     )
     keep = slice(min(int(float(params["warmup"]) / dt), r.shape[0] // 2), None)
     y = res.outputs
@@ -178,6 +169,9 @@ _PARAMETERS = {
     "length": ParameterSpec(**_POS, high=1e6, unit="m", doc="road length per realisation"),
     "dt": ParameterSpec(**_POS, high=0.1, unit="s", doc="road sample interval"),
     "rtol": ParameterSpec(low=1e-12, high=1e-2, doc="relative tolerance of the integration"),
+    "fixed_step": ParameterSpec(
+        low=0.0, high=0.1, unit="s", doc="fixed Runge-Kutta (RK4) step; 0: adaptive at rtol"
+    ),
     "warmup": ParameterSpec(low=0.0, high=1e4, unit="s", doc="start-up left out"),
     "seed": ParameterSpec(kind="int", low=0.0, doc="road realisation"),
     "lift_off": ParameterSpec(kind="choice", choices=("on", "off"), doc="one-sided tyres"),
@@ -193,6 +187,7 @@ _DEFAULTS = {
     "length": 1200.0,
     "dt": 0.002,
     "rtol": 1e-6,
+    "fixed_step": 0.0,
     "warmup": 5.0,
     "seed": 0,
     "lift_off": "on",
@@ -321,7 +316,7 @@ def monte_carlo(
     """Drive the nonlinear vehicle over ``roads`` ISO 8608 road realisations.
 
     ``settings`` are the point function's parameters (``road_class``, ``speed``,
-    ``length``, ``dt``, ``rtol``, ``warmup``, ``lift_off`` "on"/"off", ``rebound``,
+    ``length``, ``dt``, ``rtol``, ``fixed_step`` (0: adaptive), ``warmup``, ``lift_off`` "on"/"off", ``rebound``,
     ``compression``, ``friction``, ``friction_velocity``; defaults in the point
     function). ``store`` (a Zarr folder) keeps every finished chunk, so a rerun resumes.
     """
@@ -397,13 +392,20 @@ class LinearisationResult:
         Element -> RMS of the argument its equivalent depends on at the fixed point
         [m for a displacement, m/s for a velocity and for an inertance's speed].
     spectral : SpectralResult
-        The equivalent linear vehicle's spectral response on the road (RMS values of
-        every output, lift-off probabilities from the Gaussian tail of the tyre loads).
+        The equivalent linear vehicle's spectral response on the road: the random part
+        (its ``rms`` is the standard deviation about the mean offset).
     vehicle : LinearVehicle
         The equivalent linear vehicle (``linearised`` True where a nonlinear element was
         replaced).
     iterations : int
     converged : bool
+    mean : dict
+        Output -> mean offset [its unit] from the rectifying laws' mean forces (the
+        deflections [m] and dynamic tyre loads [N]; 0 for the accelerations, whose mean
+        is zero in a stationary response; all 0 without a rectifying law).
+    mean_forces : dict
+        Dissipative nonlinear element -> its mean force E[F] [N] (tension positive) at
+        its ``argument_rms``, the constant load that sets the car's mean offset.
     """
 
     equivalents: dict
@@ -412,6 +414,8 @@ class LinearisationResult:
     vehicle: Any
     iterations: int
     converged: bool
+    mean: dict = dataclasses.field(default_factory=dict)
+    mean_forces: dict = dataclasses.field(default_factory=dict)
 
     def _gains(self, argument: str) -> dict:
         return {k: g for k, (a, g) in self.equivalents.items() if a == argument}
@@ -433,15 +437,24 @@ class LinearisationResult:
 
     @property
     def rms(self) -> dict:
-        """RMS of each output of the equivalent vehicle (:class:`SpectralResult` names
-        and units; a Gaussian response about the static equilibrium)."""
-        return dict(self.spectral.rms)
+        """RMS about the static equilibrium of each output of the equivalent vehicle
+        (:class:`SpectralResult` names and units): sqrt(mean^2 + sigma^2), the mean
+        offset (:attr:`mean`) with the Gaussian random part, comparable with the time
+        simulation's RMS."""
+        return {k: math.hypot(v, self.mean.get(k, 0.0)) for k, v in self.spectral.rms.items()}
 
     @property
     def lift_off(self) -> dict:
         """Corner -> P(contact force < 0) [-]: the Gaussian tail of the equivalent
-        vehicle's dynamic tyre load on its static load."""
-        return dict(self.spectral.lift_off)
+        vehicle's dynamic tyre load, shifted by its mean offset, on its static load."""
+        from .spectral import lift_off_probability
+
+        res = self.spectral
+        return {
+            c: lift_off_probability(res.static_load[c], res.rms[f"{c}_tyre_load"],
+                                    self.mean.get(f"{c}_tyre_load", 0.0))
+            for c in res.static_load
+        }  # fmt: skip
 
     def to_dict(self) -> dict:
         units = {"displacement": "N/m", "velocity": "N s/m", "acceleration": "kg"}
@@ -450,7 +463,10 @@ class LinearisationResult:
             "equivalents": {k: {"argument": a, "value": g, "unit": units[a]}
                             for k, (a, g) in self.equivalents.items()},  # fmt: skip
             "argument_rms": dict(self.argument_rms),
+            "mean_forces": dict(self.mean_forces),
             "rms": self.rms,
+            "mean": dict(self.mean),
+            "sigma": dict(self.spectral.rms),
             "units": dict(self.spectral.units),
             "lift_off_probability_gaussian": self.lift_off,
             "iterations": self.iterations,
@@ -538,9 +554,10 @@ def statistical_linearisation(
     wheelbase delay, ``points`` frequencies over its band, as
     :func:`~inerterlab.vehicles.spectral.spectral_response`), iterated to a fixed point
     (damped: the mean of the new and the last gains) until no gain changes by more than
-    ``tol`` relative. A linear car is its own equivalent (no iteration). The mean
-    offset a rectifying law (an asymmetric damper) builds up is left out: the response
-    is about the static equilibrium.
+    ``tol`` relative. A linear car is its own equivalent (no iteration). Each
+    dissipative element's mean force at its fixed point (non-zero for a rectifying law,
+    an asymmetric damper) loads the equivalent car: its mean offset is the result's
+    ``mean``, and ``rms`` combines it with the random part.
     """
     from ..systems.equilibrium import linearise
     from ..systems.gaussian import equivalent_system, gaussian_gains, nonlinear_elements
@@ -596,7 +613,31 @@ def statistical_linearisation(
     veh = from_state_space(eq, linearise(eq), True)
     res = spectral_response(veh, road, v, freq=freq)
     equivalents = {name: (arg, float(gains[e])) for e, name, arg in els}
+    forces, mean = _mean_offset(sys, eq, veh, els, sigma)
     return LinearisationResult(
         equivalents=equivalents, argument_rms=sigma, spectral=res, vehicle=veh,
-        iterations=it, converged=converged,
+        iterations=it, converged=converged, mean=mean, mean_forces=forces,
     )  # fmt: skip
+
+
+def _mean_offset(sys, eq, veh, els, sigma: dict) -> tuple[dict, dict]:
+    """(element -> mean force [N], output -> mean offset) of the equivalent car ``eq``
+    (its :class:`LinearVehicle` ``veh``) of ``sys`` under the mean forces of the
+    dissipative nonlinear elements ``els`` at their argument RMS ``sigma``, each from its
+    own law in ``sys``: those forces as constant loads, the car's rest under them by
+    Newton's method (exact for the equivalent car, linear), and each displacement-like
+    output (deflections, tyre loads) read at that rest from its row of the state space;
+    accelerations have mean zero in a stationary response."""
+    from ..systems.equilibrium import loaded_rest
+    from ..systems.gaussian import mean_force
+
+    forces = {e: (name, mean_force(sys, e, sigma[name]))
+              for e, name, arg in els if arg == "velocity"}  # fmt: skip
+    mean = dict.fromkeys(veh.outputs, 0.0)
+    if any(f != 0.0 for _, f in forces.values()):
+        x = loaded_rest(eq, {e: f for e, (_, f) in forces.items()})
+        Cy = veh._ss[3]
+        for k, out in veh.outputs.items():
+            if not out.unit.endswith("/s^2"):
+                mean[k] = float(Cy[k] @ x)
+    return {name: f for name, f in forces.values()}, mean

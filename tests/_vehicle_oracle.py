@@ -1,4 +1,7 @@
-"""Linear half-car and full-car models assembled from connections.
+"""An independent oracle for the tests: linear half-car and full-car models whose mass,
+damping and stiffness matrices are assembled by hand from connections (the package's
+vehicle is the model core's system, :mod:`inerterlab.systems.vehicle`, and its
+linearisation, :mod:`inerterlab.vehicles.linear`; this module is not part of it).
 
 Coordinates q are displacements from static equilibrium: the body's bounce, pitch
 (and roll), each unsprung mass, then the seat. Road inputs r are the road heights
@@ -23,14 +26,15 @@ dynamic tyre loads (increase of the contact force, positive pressing the tyre do
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ParameterError
-from .linear import OUTPUT_UNITS
-from .parameters import Corner, FullCar, HalfCar
+from inerterlab.errors import NetworkError, ParameterError
+from inerterlab.vehicles.linear import OUTPUT_UNITS
+from inerterlab.vehicles.parameters import Corner, FullCar, HalfCar
 
 __all__ = ["Connection", "Output", "LinearVehicle", "build", "OUTPUT_UNITS"]
 
@@ -387,7 +391,7 @@ def build(parameters: HalfCar | FullCar) -> LinearVehicle:
         isx = n - 1
         mass[isx, isx] = s.mass
         gravity[isx] = -s.mass * p.gravity
-        from .parameters import Strut
+        from inerterlab.vehicles.parameters import Strut
 
         cushion = Strut(stiffness=s.stiffness, damping=s.damping)
         cons.append(Connection("seat", body_point(s.x, s.y) - _unit(n, isx), zero_m, cushion))
@@ -398,8 +402,6 @@ def build(parameters: HalfCar | FullCar) -> LinearVehicle:
             continue
         acc_out[name] = Output(zero_n, zero_n, _unit(n, i), zero_m, zero_m, OUTPUT_UNITS[name])
     acc_out.update(outputs)
-    from .statics import rest_on_springs
-
     return rest_on_springs(LinearVehicle(
         parameters=p,
         dofs=tuple(dofs),
@@ -411,3 +413,84 @@ def build(parameters: HalfCar | FullCar) -> LinearVehicle:
         outputs=acc_out,
         gravity_force=gravity,
     ))
+
+
+# -- statics: nonlinear springs across a device carrying the car ------------------------
+
+
+def _carriers(law) -> list:
+    """(edge index, element, sign) of the nonlinear springs straight across a strut's
+    device (sign: +1 if the element's extension is the strut's)."""
+    dev = getattr(law, "device", None)
+    if dev is None:
+        return []
+    return [
+        (i, el, 1.0 if t == 0 else -1.0)
+        for i, (_, el, t, b) in enumerate(dev.edges)
+        if {t, b} == {0, 1} and hasattr(el, "at_operating_point")
+    ]
+
+
+def _tension(carriers, e: float, rebased: bool) -> float:
+    """Tension [N] of the springs at strut extension ``e`` [m] (from the force-free
+    lengths, or about their operating points if ``rebased``)."""
+    out = 0.0
+    for _, el, sign in carriers:
+        y = sign * e
+        if rebased:
+            out += sign * (el.force(el.operating_point + y) - el.force(el.operating_point))
+        else:
+            out += sign * el.force(y)
+    return out
+
+
+def rest_on_springs(vehicle):
+    """``vehicle`` (a :class:`LinearVehicle` of this module) at its static
+    equilibrium: unchanged if no nonlinear spring carries load; otherwise with each such
+    spring about its static extension and ``static_state`` the equilibrium q0 [m, rad]
+    from the force-free configuration."""
+    from inerterlab.systems.equilibrium import newton
+    from inerterlab.vehicles.parameters import _split
+
+    carriers = [(j, _carriers(con.law)) for j, con in enumerate(vehicle.connections)]
+    carriers = [(j, c) for j, c in carriers if c]
+    if not carriers:
+        return vehicle
+    K0 = vehicle.static_stiffness_matrix()
+    fg = vehicle.gravity_force
+    U = [vehicle.connections[j].u for j, _ in carriers]
+
+    def residual(q):
+        r = fg - K0 @ q
+        for u, (_, c) in zip(U, carriers, strict=True):
+            r -= u * _tension(c, float(u @ q), rebased=False)
+        return r
+
+    def singular(J):
+        raise NetworkError(
+            "vehicle: no static equilibrium: the static stiffness is singular (a body or "
+            "wheel coordinate is held by no spring)"
+        )
+
+    weight = float(np.abs(fg).sum())
+    q0, _ = newton(residual, len(fg), 1e-12 * max(weight, 1.0), "vehicle", singular)
+    cons = list(vehicle.connections)
+    for j, c in carriers:
+        con = cons[j]
+        e = float(con.u @ q0)
+        dev = con.law.device
+        edges = list(dev.edges)
+        for i, el, sign in c:
+            lo, hi, what = el.static_range()
+            y = sign * e
+            if not lo <= y <= hi:
+                raise NetworkError(
+                    f"vehicle: no static equilibrium within the elements' ranges: at "
+                    f"{con.name} the {el.description} ({edges[i][0]}) would take {-y:.6g} m "
+                    f"of compression carrying {-el.force(y):.6g} N, beyond {what}"
+                )
+            name, _, t, b = edges[i]
+            edges[i] = (name, el.at_operating_point(y), t, b)
+        law = dataclasses.replace(con.law, device=_split(dev.source, dev.nodes, tuple(edges)))
+        cons[j] = dataclasses.replace(con, law=law)
+    return dataclasses.replace(vehicle, connections=tuple(cons), static_state=q0)

@@ -1,0 +1,107 @@
+"""Fixed classical Runge-Kutta steps of the vehicle (``fixed_method="rk4"``,
+systems/_integrate.py ``_fixed_rk4``; the vehicle commands' ``--fixed-step``): fourth-order convergence
+through lift-off and flywheel saturation against the adaptive pair at a tight tolerance
+(which only holds where every crossing is located: a step across a kink of the force law
+is first-order accurate there), the events found, and the options' checks."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from inerterlab.errors import ParameterError
+from inerterlab.systems import vehicle as core
+from inerterlab.systems.options import SimulationOptions
+from inerterlab.vehicles import (
+    build,
+    example_vehicle_path,
+    generate_tracks,
+    loads_vehicle,
+    road_inputs,
+    road_spectrum,
+)
+from inerterlab.vehicles.simulation import simulate_vehicle
+from test_vehicle_time import HALF, _road
+
+
+def _err(a, b):
+    return float(np.max(np.abs(a - b)) / np.max(np.abs(b)))
+
+
+def _order(sys, r, dt, key, steps):
+    """Errors of ``key`` (relative to its peak) of RK4 at each fixed step against the
+    adaptive pair at rtol 1e-12, and the runs."""
+    ref = core.simulate(sys, r, dt, rtol=1e-12)
+    runs = [core.simulate(sys, r, dt, fixed_step=h, fixed_method="rk4") for h in steps]
+    return [_err(x.outputs[key], ref.outputs[key]) for x in runs], runs, ref
+
+
+def test_rk4_converges_at_fourth_order_through_lift_off():
+    """Half car on class F at 30 m/s (tyres off the road about a tenth of the time):
+    halving the step divides the error by about 16 or more; every lift-off and landing
+    is found (the adaptive reference's count), and no contact force goes negative."""
+    dt = 2e-3
+    r = _road("F", 30.0, dt, 30.0, seed=3)
+    sys = core.vehicle(HALF)
+    errs, runs, ref = _order(sys, r, dt, "front_deflection", (dt, dt / 2, dt / 4))
+    assert max(ref.lift_off_fraction.values()) > 0.05
+    assert ref.stats["events"] > 10
+    for x in runs:
+        assert x.stats["events"] == ref.stats["events"]
+        assert x.stats["rejected"] == 0
+        for corner, f in x.contact_force.items():
+            assert f.min() >= -1e-9 * f.max(), corner
+    assert errs[0] < 1e-2
+    assert errs[0] / errs[1] > 10 and errs[1] / errs[2] > 10, errs  # order 4: 16
+
+
+def test_rk4_on_the_full_car_with_adaptive_inerters():
+    """The example full car with an adaptive-flywheel inerter at every corner (the
+    speed benchmark's car) on class C: saturation and lift-off events, order 4."""
+    text = example_vehicle_path().read_text()
+    text = text.replace(
+        'inertance = "0 kg"\n',
+        'inertance = "0 kg"\nadaptive = { flywheel = "nylon", changing_ratio = 0.285, '
+        'law = "thesis", rest_inertance = "150 kg" }\n',
+    )
+    params = loads_vehicle(text)
+    car = build(params)
+    dt, speed = 2e-3, 20.0
+    x, zl, zr = generate_tracks(road_spectrum("C"), length=60.0, step=speed * dt, seed=11)
+    r = road_inputs(car, x, zl, zr, speed, dt)[:1001]
+    sys = core.vehicle(params)
+    errs, runs, ref = _order(sys, r, dt, "front_left_deflection", (dt, dt / 2, dt / 4))
+    assert ref.stats["events"] > 20
+    assert all(x.stats["events"] == ref.stats["events"] for x in runs)
+    assert errs[0] < 1e-3
+    assert errs[0] / errs[1] > 8 and errs[1] / errs[2] > 8, errs
+
+
+def test_one_step_per_sample_and_the_comfort_observers():
+    """``simulate_vehicle(fixed_step=dt)``: one step per sample plus one per event; the
+    observers' comfort figures within 1e-3 of the adaptive run's at rtol 1e-10."""
+    dt = 2e-3
+    r = _road("E", 20.0, dt, 40.0, seed=4)
+    fix = simulate_vehicle(HALF, r, dt, fixed_step=dt)
+    tight = simulate_vehicle(HALF, r, dt, rtol=1e-10)
+    assert fix.stats["steps"] == r.shape[0] - 1 + fix.stats["events"]
+    for k in ("wk_rms", "vdv"):
+        assert abs(fix.comfort[k] / tight.comfort[k] - 1.0) < 1e-3, k
+
+
+def test_fixed_method_options():
+    """rk4 needs a step; a name outside the two is refused; System.simulate, which runs
+    the fixed Dormand-Prince steps only, warns that it ignores rk4."""
+    from inerterlab.elements import Spring
+    from inerterlab.excitation import bump
+    from inerterlab.systems import base_excited
+    from inerterlab.systems.options import IgnoredOptionWarning
+
+    rig = base_excited(100.0, "k", {"k": Spring(stiffness=1e4)})
+    with pytest.warns(IgnoredOptionWarning, match="fixed_method"):
+        rig.simulate(bump(0.01), 0.1, fixed_step=1e-3, fixed_method="rk4")
+    with pytest.raises(ParameterError, match="fixed_method"):
+        SimulationOptions(fixed_method="rk4")  # no step given
+    with pytest.raises(ParameterError, match="fixed_method"):
+        SimulationOptions(fixed_step=1e-3, fixed_method="euler")
+    assert SimulationOptions(fixed_step=1e-3, fixed_method="rk4").fixed_method == "rk4"
