@@ -184,3 +184,27 @@ def test_saturation_event_against_the_closed_form():
                     t_eval=res.time[after]).y  # fmt: skip
     scale = np.abs(res.states[:, i_v]).max()
     assert np.abs(res.states[after, i_v] - ref[i_v]).max() <= 1e-8 * scale
+
+
+def test_regime_tables_kept_per_road_and_bounded():
+    """The tables of the regime steps are built once per (road, horizon, samples) of a
+    system and kept for the last few: a second run on the same road reuses them and
+    gives the same result to the last bit; other roads push the oldest out."""
+    from inerterlab.systems import core
+
+    car = quarter_car("afw")
+    ex, T = sine(0.05, 5.0), 0.5
+    a = car.simulate(ex, T)
+    ride = car.info["ride_system"]
+    kept = ride.info["regime_tables"]
+    assert len(kept) == 1
+    first = next(iter(kept.values()))
+    b = car.simulate(ex, T)
+    assert len(kept) == 1 and next(iter(kept.values())) is first
+    assert a.stats["exact_steps"] > 0
+    assert np.array_equal(a.states, b.states)
+    assert a.metrics == b.metrics
+    for k in range(core.REGIME_TABLES_KEPT + 2):
+        car.simulate(sine(0.05, 5.0 + 0.1 * (k + 1)), T)
+    assert len(kept) == core.REGIME_TABLES_KEPT
+    assert all(v is not first for v in kept.values())

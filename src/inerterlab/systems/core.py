@@ -9,6 +9,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from .._blas import one_blas_thread
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
 from ..errors import ConvergenceError, ParameterError, check_positive
 from ..networks import NetworkError
@@ -899,6 +900,7 @@ def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
     return out
 
 
+@one_blas_thread  # its set-up's small matrices: threads only wait (see _blas)
 def _simulate(
     sys, excitation, horizon, options, x0=None, times=None, ride=None, metrics_only=False
 ) -> CoreResult:
@@ -999,7 +1001,7 @@ def _simulate(
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
     elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
-        regime = _regime_tables(sys, segs, T, ts, _exact_plan(sys, segs, T, ts))
+        regime = _regime_tables_for(sys, segs, T, ts)
     jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
@@ -1344,6 +1346,26 @@ def _regime_rate(sys, A) -> float:
     if "regime_rate" not in sys.info:
         sys.info["regime_rate"] = float(np.max(np.abs(np.linalg.eigvals(A)), initial=0.0))
     return sys.info["regime_rate"]
+
+
+#: the regime tables of this many (road, horizon, samples) are kept on a system
+REGIME_TABLES_KEPT = 8
+
+
+def _regime_tables_for(sys, segs, T, ts):
+    """:func:`_regime_tables` on the plan of exact steps for these break points, kept on
+    the system for the last :data:`REGIME_TABLES_KEPT` (road, horizon, samples) by
+    content: a study that runs one system on a few inputs many times (a benchmark, a
+    fit) builds them once (about 1 ms of Python each)."""
+    kept = sys.info.setdefault("regime_tables", {})
+    key = (segs.tobytes(), float(T), ts.tobytes())
+    got = kept.get(key)
+    if got is None:
+        got = _regime_tables(sys, segs, T, ts, _exact_plan(sys, segs, T, ts))
+        if len(kept) >= REGIME_TABLES_KEPT:
+            kept.pop(next(iter(kept)))
+        kept[key] = got
+    return got
 
 
 def _regime_tables(sys, segs, T, ts, plan):

@@ -48,9 +48,10 @@ KINDS = {
     "peak": _kernel.OBS_PEAK,
 }
 #: what :mod:`.core` computes for a system and keeps in its ``info`` (its linear
-#: regimes, their fastest rate, its augmented linear system, its ride observers): the
+#: regimes, their fastest rate, its augmented linear system, its ride observers, the
+#: tables of its exact steps in the regimes): the
 #: system with observers computes its own
-_CACHED = ("regime", "regime_rate", "observer_system", "ride_system")
+_CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables")
 #: a running peak starts here (a finite number: the continuous extension subtracts
 #: states, and -inf - -inf is NaN)
 PEAK_START = -1e300
