@@ -521,6 +521,10 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             K[0, i] = dy[i]
     forced = -1
     h_keep = 0.0
+    # fixed steps: a step that crosses an event is taken again from its start to the
+    # crossing (length h_redo, the element ``redo`` switching at its end)
+    redo = -1
+    h_redo = 0.0
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
@@ -693,7 +697,10 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
         elif h > hmax:
             h = hmax
         h_free = h
-        if t + h >= lim or t + 1.01 * h >= lim:
+        if redo >= 0:
+            h = h_redo
+            tn = t + h
+        elif t + h >= lim or t + 1.01 * h >= lim:
             h = lim - t
             tn = lim
         else:
@@ -739,7 +746,20 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             forced = -1
             h_keep = 0.0
             continue
-        if err <= 1.0 and events:
+        if err <= 1.0 and events and redo >= 0:
+            # the fixed step taken again up to its crossing: the elements found there
+            # (flipm, pastv, swf) switch at its end, as at a crossing at theta = 1
+            switches(itab, ftab, work, swn)
+            stats[3] += 1
+            for e in range(2 * ne):
+                sw[e] = swn[e]
+                if swf[e]:
+                    sw[e] = 0.0
+            flip = redo
+            redo = -1
+            forced = -1
+            h_keep = 0.0
+        elif err <= 1.0 and events:
             switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
             th = 2.0
             forced = -1
@@ -786,6 +806,15 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                         return BALANCE_FAILED, k, h
                     for i in range(n):
                         K[0, i] = dy[i]
+                    stats[1] += 1
+                    continue
+                if th < 1.0 - SIMULTANEOUS and hfix > 0.0:
+                    # a fixed step: taken again from its start to the crossing, under
+                    # the laws it started with (cut on this attempt's extension, the
+                    # part past the switch would carry the other side's law only to
+                    # first order: second-order convergence through lift-off)
+                    redo = forced
+                    h_redo = th * h
                     stats[1] += 1
                     continue
                 if th < 1.0 - SIMULTANEOUS:
