@@ -2,7 +2,8 @@
 systems/_integrate.py ``_fixed_rk4``; the vehicle commands' ``--fixed-step``): fourth-order convergence
 through lift-off and flywheel saturation against the adaptive pair at a tight tolerance
 (which only holds where every crossing is located: a step across a kink of the force law
-is first-order accurate there), the events found, and the options' checks."""
+is first-order accurate there), the events found, the fixed Dormand-Prince steps' convergence
+through lift-off, and the options' checks."""
 
 from __future__ import annotations
 

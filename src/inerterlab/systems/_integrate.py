@@ -810,9 +810,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     continue
                 if th < 1.0 - SIMULTANEOUS and hfix > 0.0:
                     # a fixed step: taken again from its start to the crossing, under
-                    # the laws it started with (cut on this attempt's extension, the
-                    # part past the switch would carry the other side's law only to
-                    # first order: second-order convergence through lift-off)
+                    # the laws it started with (cut on this attempt's extension instead,
+                    # as below, fixed steps converged at second order through tyre
+                    # lift-off; decisions.md, issue #34)
                     redo = forced
                     h_redo = th * h
                     stats[1] += 1
