@@ -3,10 +3,10 @@
 Run: python examples/quarter_car_comparison.py
 """
 
+from inerterlab import quarter_car
 from inerterlab.excitation import bump, drop, iso8608, sine
 from inerterlab.metrics import h2_norms
 from inerterlab.simulate import simulate_metrics
-from inerterlab import quarter_car
 
 inputs = {
     "drop": drop(),

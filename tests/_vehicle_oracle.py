@@ -10,13 +10,15 @@ rear_left, rear_right (full car).
 
 Every force element is a *connection* with extension delta = u . q - v . r and a
 force law (:class:`~inerterlab.vehicles.parameters.Strut`,
+:class:`~inerterlab.vehicles.parameters.NetworkStrut`,
 :class:`~inerterlab.vehicles.parameters.Tyre`, or a bare rate for anti-roll bars).
 Its generalised force on q is -u Z(s) delta, Z the law's dynamic stiffness, so
 
     [sum_j u_j u_j^T Z_j(s) + s^2 M] q = [sum_j u_j v_j^T Z_j(s)] r.
 
-The frequency response uses this form with each law's ``dynamic_stiffness`` (a future
-network law fits in unchanged); the state space uses each law's (b, c, k).
+The frequency response uses this form with each law's :func:`dynamic_stiffness` (a
+network strut's evaluated on its tree); the state space uses each law's (b, c, k) and,
+for a network strut, the :func:`realisation` of the rest of its Z(s).
 
 Outputs y = P q + V q' + G q'' + R r + S r' (G for accelerations, S for the tyre
 damper's share of a tyre load). Units: m/s^2 for accelerations, rad/s^2 for pitch
@@ -34,9 +36,59 @@ import numpy as np
 
 from inerterlab.errors import NetworkError, ParameterError
 from inerterlab.vehicles.linear import OUTPUT_UNITS
-from inerterlab.vehicles.parameters import Corner, FullCar, HalfCar
+from inerterlab.vehicles.parameters import Corner, FullCar, HalfCar, NetworkStrut
 
-__all__ = ["Connection", "Output", "LinearVehicle", "build", "OUTPUT_UNITS"]
+__all__ = [
+    "Connection", "Output", "LinearVehicle", "build", "OUTPUT_UNITS",
+    "dynamic_stiffness", "internal_states", "realisation", "nonlinear_device",
+]  # fmt: skip
+
+
+# -- force laws --------------------------------------------------------------------------
+def dynamic_stiffness(law, s):
+    """Z(s) [N/m] of ``law`` at complex frequency ``s`` [rad/s]: s Y(s) on a network
+    strut's tree (no polynomials), else k + c s + b s^2 from its (b, c, k)."""
+    if isinstance(law, NetworkStrut):
+        from inerterlab.networks import admittance_at
+
+        s = np.asarray(s, dtype=complex)
+        return s * admittance_at(law.network, law.parameters, s)
+    b, c, k = law.mck()
+    return k + c * s + b * s * s
+
+
+def internal_states(law) -> int:
+    """Extra states ``law`` needs in a state space (0: Z(s) a polynomial)."""
+    return int(law._split()[4].size - 1) if isinstance(law, NetworkStrut) else 0
+
+
+def realisation(law):
+    """(A, B, C) of a network strut's rest R(s) = N(s)/D(s) = C (sI - A)^-1 B in
+    controllable canonical form: z' = A z + B x, force C z."""
+    _, _, _, r, d = law._split()
+    n = d.size - 1
+    A = np.zeros((n, n), dtype=d.dtype)  # complex for a complex step
+    if n:
+        A[:-1, 1:] = np.eye(n - 1)
+        A[-1, :] = -d[1:][::-1]
+    B = np.zeros(n)
+    if n:
+        B[-1] = 1.0
+    C = r[::-1].copy() if n else np.zeros(0)
+    return A, B, C
+
+
+def nonlinear_device(law):
+    """The strut's device if it has parts beyond the springs, linear dampers and
+    inerters straight across it and its adaptive inerter (internal nodes, friction,
+    nonlinear springs: what these matrices cannot take), else None."""
+    dev = getattr(law, "device", None)
+    if dev is None:
+        return None
+    for _, el, t, b in dev.edges:
+        if not ({t, b} == {0, 1} and (el.is_linear or el is dev.adaptive)):
+            return dev
+    return None
 
 
 
@@ -46,14 +98,8 @@ class _Rate:
 
     stiffness: float
 
-    def dynamic_stiffness(self, s):
-        return self.stiffness + 0.0 * s
-
     def mck(self):
         return (0.0, 0.0, float(self.stiffness))
-
-    def internal_states(self) -> int:
-        return 0
 
     def static_stiffness(self) -> float:
         return float(self.stiffness)
@@ -137,7 +183,7 @@ class LinearVehicle:
         # b, c, k of each connection (complex where a law carries a complex step)
         law = np.zeros((len(self.connections), 3), dtype=np.result_type(float, *(x for t in mck for x in t)))
         for j, con in enumerate(self.connections):
-            if con.law.internal_states() and not internal:
+            if internal_states(con.law) and not internal:
                 raise ParameterError(
                     con.name,
                     getattr(con.law, "network", con.law),
@@ -163,8 +209,8 @@ class LinearVehicle:
         n, m = len(self.dofs), len(self.inputs)
         blocks = []
         for con in self.connections:
-            if con.law.internal_states():
-                blocks.append((con, *con.law.realisation()))
+            if internal_states(con.law):
+                blocks.append((con, *realisation(con.law)))
         nz = sum(b[1].shape[0] for b in blocks)
         dt = np.result_type(float, *(x for b in blocks for x in b[1:]))  # complex: a step
         Az, Zq, Zr, Fz = (np.zeros(shape, dtype=dt) for shape in ((nz, nz), (nz, n), (nz, m), (n, nz)))
@@ -180,10 +226,10 @@ class LinearVehicle:
 
     def nonlinear_devices(self) -> list:
         """(connection, device) of every strut whose device only the nonlinear model
-        integrates (:attr:`Strut.nonlinear_device`), in connection order."""
+        integrates (:func:`nonlinear_device`), in connection order."""
         out = []
         for con in self.connections:
-            dev = getattr(con.law, "nonlinear_device", None)
+            dev = nonlinear_device(con.law)
             if dev is not None:
                 out.append((con, dev))
         return out
@@ -246,7 +292,7 @@ class LinearVehicle:
         F = np.zeros((f.size, n, m), complex)
         Z -= (2 * math.pi * f)[:, None, None] ** 2 * self.mass
         for con in self.connections:
-            z = np.asarray(con.law.dynamic_stiffness(s))[:, None, None]
+            z = np.asarray(dynamic_stiffness(con.law, s))[:, None, None]
             Z += z * np.outer(con.u, con.u)
             F += z * np.outer(con.u, con.v)
         Q = np.linalg.solve(Z, F)

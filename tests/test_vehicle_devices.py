@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from _vehicle_oracle import nonlinear_device
 from inerterlab.elements import (
     FluidInerter,
     HydraulicElement,
@@ -99,14 +100,20 @@ def test_decoupled_half_car_with_a_device_equals_the_core_quarter_car(device):
 
 
 def test_device_parts_straight_across_join_the_strut():
-    """The assembled linear model reads a device's direct linear parts and adaptive
-    inerter; anything else makes the device nonlinear (the core vehicle takes it all)."""
+    """A device's direct linear parts and adaptive inerter are read off into the strut's
+    (b, c, k); anything else is beyond the hand-assembled matrices of the tests' oracle
+    (the core vehicle takes it all)."""
     screw = corner_device(ScrewElement())  # k | c | fric | afw: all across the terminals
     assert screw.stiffness == ScrewElement().stiffness
     assert screw.damping == ScrewElement().damping
-    assert screw.adaptive is not None and screw.nonlinear  # the friction
+    assert screw.adaptive is not None
     hyd = corner_device(HydraulicElement())  # k - (c | fric | afw): internal node
-    assert (hyd.stiffness, hyd.damping, hyd.adaptive, hyd.nonlinear) == (0.0, 0.0, None, True)
+    assert (hyd.stiffness, hyd.damping, hyd.adaptive) == (0.0, 0.0, None)
+    for dev in (screw, hyd):  # the friction, the internal node
+        law = Strut(stiffness=1.0, damping=0.0, device=dev)
+        assert nonlinear_device(law) is law.device
+    law = Strut(stiffness=1.0, damping=0.0, device="k2 | c2", device_parameters={"k2": 5.0, "c2": 2.0})
+    assert nonlinear_device(law) is None and law.mck() == (0.0, 2.0, 6.0)
 
 
 def test_linear_device_equals_the_same_strut_in_every_linear_analysis():

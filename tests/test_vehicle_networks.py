@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pytest
 
-from _vehicle_oracle import build
+from _vehicle_oracle import build, dynamic_stiffness, internal_states, realisation
 from inerterlab.errors import DataFileError, ParameterError
 from inerterlab.vehicles import (
     Corner,
@@ -74,13 +74,13 @@ def _ss_frf(car, f, name):
 @pytest.mark.parametrize("text,values", NETWORKS)
 def test_realisation_equals_the_admittance_on_the_tree(text, values):
     law = NetworkStrut(text, values)
-    assert law.internal_states() >= 1
+    assert internal_states(law) >= 1
     s = 2j * math.pi * np.geomspace(0.05, 200.0, 25)
     b, c, k = law.mck()
-    A, B, C = law.realisation()
+    A, B, C = realisation(law)
     rest = np.array([C @ np.linalg.solve(si * np.eye(A.shape[0]) - A, B) for si in s])
-    np.testing.assert_allclose(b * s**2 + c * s + k + rest, law.dynamic_stiffness(s), rtol=1e-10)
-    assert law.static_stiffness() == pytest.approx(law.dynamic_stiffness(1e-9j).real, rel=1e-6)
+    np.testing.assert_allclose(b * s**2 + c * s + k + rest, dynamic_stiffness(law, s), rtol=1e-10)
+    assert law.static_stiffness() == pytest.approx(dynamic_stiffness(law, 1e-9j).real, rel=1e-6)
     car = linear_vehicle(_full(law))
     f = np.array([0.3, 1.1, 3.0, 9.5, 14.0, 40.0])
     # the oracle's response: each strut's dynamic stiffness on the tree, no state space
@@ -98,7 +98,7 @@ def test_parallel_network_equals_the_strut_exactly():
     net = NetworkStrut("k | c | b", {"k": 28e3, "c": 2200.0, "b": 60.0})
     strut = Strut(stiffness=28e3, damping=2200.0, inertance=60.0)
     a, b = linear_vehicle(_full(net)), linear_vehicle(_full(strut))
-    assert net.internal_states() == 0 and net.mck() == pytest.approx(strut.mck(), rel=1e-15)
+    assert internal_states(net) == 0 and net.mck() == pytest.approx(strut.mck(), rel=1e-15)
     ha, hb = white_velocity_h2(a), white_velocity_h2(b)
     for key, v in hb.items():
         assert math.isfinite(ha[key]) == math.isfinite(v)

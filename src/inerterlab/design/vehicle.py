@@ -151,31 +151,13 @@ def _linear(network: str, values: Mapping) -> bool:
     return True
 
 
-@functools.cache
-def _split_once():
-    """A NetworkStrut whose split of Z(s) into polynomial and rest is computed once: the
-    optimiser builds a vehicle per evaluation and its state space asks every strut for
-    the split several times (half the evaluation's time)."""
-    from ..vehicles import NetworkStrut
-
-    class _Once(NetworkStrut):
-        @functools.cached_property
-        def _split_value(self):
-            return NetworkStrut._split(self)
-
-        def _split(self):
-            return self._split_value
-
-    return _Once if hasattr(NetworkStrut, "_split") else NetworkStrut
-
-
 def _strut(network: str, values: Mapping):
     """The corner's law: a network strut for a linear network, else the main spring as
     the strut and the rest of the network as its device."""
-    from ..vehicles import Strut
+    from ..vehicles import NetworkStrut, Strut
 
     if _linear(network, values):
-        return _split_once()(network, {k: float(v) for k, v in values.items()})
+        return NetworkStrut(network, {k: float(v) for k, v in values.items()})
     rest, n = re.subn(r"^k \| ", "", network)
     if n != 1 or "k" not in values:
         raise ParameterError("network", network, "a layout k | (...) with the main spring k")

@@ -27,12 +27,9 @@ class Strut:
     """Suspension force law of one corner: spring, damper and inerter in parallel.
 
     The force pushing the body and the wheel apart is F = -(k x + c x' + b x''), with x
-    the extension of the strut. The vehicle model asks a force law for two things only:
-    :meth:`dynamic_stiffness` (force per displacement at complex frequency s, used by
-    the spectral method) and :meth:`mck` (the inertance, damping and stiffness of its
-    polynomial part, used by the state space). A network law can supply the same two
-    methods; a network whose dynamic stiffness is not a polynomial in s will then need
-    extra internal states in the state space, which :meth:`internal_states` reports.
+    the extension of the strut. :meth:`mck` gives its inertance, damping and stiffness
+    at rest (a device's direct parts included) and :meth:`static_stiffness` the spring
+    that carries the car.
 
     Parameters
     ----------
@@ -101,15 +98,6 @@ class Strut:
         return self.device.adaptive
 
     @property
-    def nonlinear_device(self):
-        """The device if it has parts beyond springs, linear dampers and inerters
-        straight across it and an adaptive inerter (a :class:`CornerDevice` that the
-        assembled linear model cannot take; the core vehicle takes any), or None."""
-        if self.device is not None and self.device.nonlinear:
-            return self.device
-        return None
-
-    @property
     def linear_inertance(self) -> float:
         """b plus the adaptive inerter's rest inertance [kg] (the linear model's),
         a device's direct inerters included."""
@@ -125,28 +113,11 @@ class Strut:
         return (float(self.stiffness + self.device.stiffness),
                 float(self.damping + self.device.damping))  # fmt: skip
 
-    def dynamic_stiffness(self, s):
-        """k + c s + b s^2 [N/m] at complex frequency ``s`` [rad/s] (b: the linear
-        inertance, an adaptive inerter at rest). A nonlinear device is refused."""
-        if self.nonlinear_device is not None:
-            raise ParameterError(
-                "device",
-                self.device.source,
-                "a linear strut for a linear analysis; this device is nonlinear (use the "
-                "nonlinear time simulation or the Monte Carlo)",
-            )
-        k, c = self._kc()
-        return k + c * s + self.linear_inertance * s * s
-
     def mck(self) -> tuple[float, float, float]:
         """(b [kg], c [N s/m], k [N/m]); b includes an adaptive inerter at rest and k, c,
-        b a device's direct parts (the rest is not here: see ``nonlinear_device``)."""
+        b a device's direct parts (the rest is the core vehicle's alone)."""
         k, c = self._kc()
         return (self.linear_inertance, c, k)
-
-    def internal_states(self) -> int:
-        """Extra states the law needs in a state space (0: purely polynomial)."""
-        return 0
 
     def static_stiffness(self) -> float:
         """k [N/m] (a device's direct springs included)."""
@@ -210,20 +181,18 @@ class NetworkStrut:
     -Z(s) x, x the strut's extension and Z(s) = s Y(s) its dynamic stiffness, Y the
     network's admittance.
 
-    For the state space Z is split exactly (polynomial division) into a polynomial
-    part b s^2 + c s + k, which joins the mass, damping and stiffness matrices as a
-    :class:`Strut` would, and a strictly proper rest R(s) = N(s)/D(s) whose poles are
-    the network's internal modes (the motion of its massless internal nodes). R is
-    realised as ``internal_states()`` extra states z' = A z + B x with force C z
-    (controllable canonical form, :meth:`realisation`). Z has no pole at s = 0 for
-    any passive network, so the static stiffness Z(0) is finite; it may be zero (a
-    damper in series with the only spring), which a static solve reports.
+    Z is split exactly (polynomial division, :func:`split_stiffness`) into a polynomial
+    part b s^2 + c s + k (:meth:`mck`) and a strictly proper rest N(s)/D(s) whose poles
+    are the network's internal modes. Z has no pole at s = 0 for any passive network, so
+    the static stiffness Z(0) is finite; it may be zero (a damper in series with the only
+    spring), which a static solve reports. The model core's vehicle places the network
+    itself (:mod:`inerterlab.systems.vehicle`).
 
     Examples
     --------
     >>> law = NetworkStrut("k | (c - b)", {"k": 28e3, "c": 2200.0, "b": 150.0})
-    >>> law.internal_states(), round(law.static_stiffness())
-    (1, 28000)
+    >>> round(law.static_stiffness())
+    28000
     """
 
     network: str
@@ -251,13 +220,6 @@ class NetworkStrut:
         """A network strut has no adaptive-flywheel inerter (None)."""
         return None
 
-    def dynamic_stiffness(self, s):
-        """Z(s) = s Y(s) [N/m], Y evaluated on the network tree (no polynomials)."""
-        from ..networks import admittance_at
-
-        s = np.asarray(s, dtype=complex)
-        return s * admittance_at(self.network, self.parameters, s)
-
     def _split(self):
         """(b, c, k, rest numerator, rest denominator): Z = b s^2 + c s + k + N/D,
         highest power first, D monic, deg N < deg D."""
@@ -271,24 +233,6 @@ class NetworkStrut:
         when the internal states carry part of the static stiffness)."""
         b, c, k, _, _ = self._split()
         return (b, c, k)
-
-    def internal_states(self) -> int:
-        """Number of internal states of the state-space realisation."""
-        return int(self._split()[4].size - 1)
-
-    def realisation(self):
-        """(A, B, C) of the rest R(s) = C (sI - A)^-1 B: z' = A z + B x, force C z."""
-        _, _, _, r, d = self._split()
-        n = d.size - 1
-        A = np.zeros((n, n), dtype=d.dtype)  # complex for a complex step
-        if n:
-            A[:-1, 1:] = np.eye(n - 1)
-            A[-1, :] = -d[1:][::-1]
-        B = np.zeros(n)
-        if n:
-            B[-1] = 1.0
-        C = r[::-1].copy() if n else np.zeros(0)
-        return A, B, C
 
     def static_stiffness(self) -> float:
         """Z(0) [N/m]."""
@@ -319,15 +263,8 @@ class Tyre:
         check_positive("tyre_stiffness", self.stiffness, "N/m")
         check_nonnegative("tyre_damping", self.damping, "N s/m")
 
-    def dynamic_stiffness(self, s):
-        """k_t + c_t s [N/m]."""
-        return self.stiffness + self.damping * s
-
     def mck(self) -> tuple[float, float, float]:
         return (0.0, float(self.damping), float(self.stiffness))
-
-    def internal_states(self) -> int:
-        return 0
 
     def static_stiffness(self) -> float:
         """k_t [N/m]."""
@@ -524,8 +461,8 @@ class CornerDevice:
     The model core's vehicle (:func:`inerterlab.systems.vehicle.vehicle`) places its
     ``nodes`` and ``edges`` as they are. Its springs, linear dampers and ideal inerters
     straight across the terminals are summed in ``stiffness``, ``damping`` and
-    ``inertance``, an adaptive-flywheel inerter straight across is ``adaptive``, and
-    anything else (internal nodes, friction, nonlinear springs) makes it ``nonlinear``.
+    ``inertance`` (the strut's :meth:`Strut.mck` and static stiffness), and an
+    adaptive-flywheel inerter straight across is ``adaptive``.
     """
 
     source: str
@@ -533,7 +470,6 @@ class CornerDevice:
     damping: float
     inertance: float
     adaptive: Any
-    nonlinear: bool
     edges: tuple = field(repr=False)
     nodes: tuple = field(repr=False)
 
@@ -578,7 +514,6 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
 
     k = c = b = 0.0
     adaptive = None
-    nonlinear = False
     for _name, el, t, bt in edges:
         direct = {t, bt} == {0, 1}
         if direct and el.is_linear:  # one spring, damper or inerter by its linear law
@@ -591,6 +526,4 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
                 b += value
         elif direct and el.code == FLYWHEEL and el.law in ("thesis", "momentum") and adaptive is None:
             adaptive = el
-        else:
-            nonlinear = True
-    return CornerDevice(source, k, c, b, adaptive, nonlinear, edges, nodes)
+    return CornerDevice(source, k, c, b, adaptive, edges, nodes)
