@@ -20,6 +20,12 @@ _VEHICLE = typer.Option(
     "--vehicle", help="Vehicle TOML file (units on every value); default: the packaged example."
 )
 _JSON = typer.Option("--json", help="Print the result as one JSON object.")
+_FIXED_STEP = typer.Option(
+    help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
+    "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
+    "without error control; lift-off and the other switches still "
+    "located. Default: adaptive."
+)
 
 
 def _parameters(path: Path | None, model: str):
@@ -461,15 +467,7 @@ def simulate_command(
     compression: Annotated[
         float, typer.Option(help="Damping factor while a strut shortens [-] (1: linear).")
     ] = 1.0,
-    fixed_step: Annotated[
-        float | None,
-        typer.Option(
-            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
-            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
-            "without error control; lift-off and the other switches still "
-            "located. Default: adaptive."
-        ),
-    ] = None,
+    fixed_step: Annotated[float | None, _FIXED_STEP] = None,
     json_out: Annotated[bool, _JSON] = False,
 ) -> None:
     """Time simulation on a generated or a given road (a check on the spectral RMS values).
@@ -618,15 +616,7 @@ def monte_carlo_command(
     length: Annotated[float, typer.Option(help="Road length per realisation [m].")] = 1200.0,
     dt: Annotated[float, typer.Option(help="Road sample interval [s].")] = 0.002,
     rtol: Annotated[float, typer.Option(help="Relative tolerance of the integration [-].")] = 1e-6,
-    fixed_step: Annotated[
-        float | None,
-        typer.Option(
-            help="Classical Runge-Kutta (RK4) steps of at most this length [s], in "
-            "[dt/100, 0.1], ending on every road sample (the --dt: one step per sample), "
-            "without error control; lift-off and the other switches still "
-            "located. Default: adaptive."
-        ),
-    ] = None,
+    fixed_step: Annotated[float | None, _FIXED_STEP] = None,
     warmup: Annotated[float, typer.Option(help="Start-up left out of each road [s].")] = 5.0,
     roads: Annotated[int, typer.Option(help="Number of road realisations [-].")] = 100,
     first_seed: Annotated[int, seed_option("Seed of the first road [-].")] = 0,

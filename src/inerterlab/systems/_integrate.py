@@ -309,6 +309,61 @@ def _sides(sw, road, hs):
         road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
 
 
+@nb.njit(cache=True, inline="always")
+def _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv):
+    """Mark every switching function whose crossing (theta ``xloc``) lies within
+    SIMULTANEOUS of the earliest, ``th``, to switch with it at its instant (two tyres of
+    an axle lifting off together: the second one's crossing, a rounding later, would
+    otherwise be found again at the start of the next step and its side flipped only at
+    that step's end): ``swf`` per function; per element ``flipm`` (it switches), ``xfl``
+    (its earliest marked crossing) and ``pastv``, its side past that crossing (above its
+    band if that half turns positive, inside it if it turns negative)."""
+    for q in range(ne):
+        flipm[q] = False
+        xfl[q] = 2.0
+    for e in range(2 * ne):
+        swf[e] = xloc[e] <= th + SIMULTANEOUS
+        q = e // 2
+        if swf[e] and xloc[e] < xfl[q]:
+            xfl[q] = xloc[e]
+            flipm[q] = True
+            pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
+
+
+@nb.njit(cache=True, inline="always")
+def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
+    """Crossings at a step's start: the marked elements take their other side's law
+    there (``road[hs + q]``) and their switching functions start from zero."""
+    for q in range(ne):
+        if flipm[q]:
+            road[hs + q] = pastv[q]
+    for e in range(2 * ne):
+        if swf[e]:
+            sw[e] = 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def _secant(a, b, ga, gb):
+    """The regula falsi point of the bracket [a, b] (values ga, gb of opposite signs), or
+    its midpoint where rounding puts the secant's root outside."""
+    x = (a * gb - b * ga) / (gb - ga)
+    return x if a < x < b else 0.5 * (a + b)
+
+
+@nb.njit(cache=True, inline="always")
+def _illinois(a, b, ga, gb, x, gx, side):
+    """The Illinois update of the bracket [a, b] by the trial x with value gx: the end of
+    gx's sign moves to x, and the value kept at the other end is halved when the same
+    end moved twice running (``side`` remembers which end moved last)."""
+    if (gx > 0.0) == (ga > 0.0):
+        if side == -1:
+            gb *= 0.5
+        return x, b, gx, gb, -1
+    if side == 1:
+        ga *= 0.5
+    return a, x, ga, gx, 1
+
+
 @nb.njit(cache=True)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw):  # fmt: skip
@@ -320,25 +375,14 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     side = 0
     x = 0.5
     for _ in range(60):
-        x = (a * gb - b * ga) / (gb - ga)
-        if not (a < x < b):
-            x = 0.5 * (a + b)
+        x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
         _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
             return x
-        if (gx > 0.0) == (ga > 0.0):
-            a, ga = x, gx
-            if side == -1:
-                gb *= 0.5
-            side = -1
-        else:
-            b, gb = x, gx
-            if side == 1:
-                ga *= 0.5
-            side = 1
+        a, b, ga, gb, side = _illinois(a, b, ga, gb, x, gx, side)
         if b - a <= 1e-12:
             break
     return b
@@ -775,32 +819,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                         forced = e
             h_keep = 0.0
             if forced >= 0:
-                # every switching function whose crossing lies within SIMULTANEOUS (in
-                # theta) of the earliest switches with it, at its instant (two tyres of
-                # an axle lifting off together: the second one's crossing, a rounding
-                # later, was otherwise found again at the start of the next step and its
-                # side flipped only at that step's end)
-                for q in range(ne):
-                    flipm[q] = False
-                    xfl[q] = 2.0
-                for e in range(2 * ne):
-                    swf[e] = xloc[e] <= th + SIMULTANEOUS
-                    q = e // 2
-                    if swf[e] and xloc[e] < xfl[q]:
-                        xfl[q] = xloc[e]
-                        flipm[q] = True
-                        # the element's side past this crossing: above its band if
-                        # this half turns positive, inside it if it turns negative
-                        pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
+                _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # the crossings are at the step's start: the elements take their
                     # other side's law there and the step is tried again from it
-                    for q in range(ne):
-                        if flipm[q]:
-                            road[hs + q] = pastv[q]
-                    for e in range(2 * ne):
-                        if swf[e]:
-                            sw[e] = 0.0
+                    _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
                                    road, work, stats):  # fmt: skip
                         return BALANCE_FAILED, k, h
@@ -1556,25 +1579,14 @@ def _rk4_locate(ev, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy
     ga, gb = g0, g1
     side = 0
     for _ in range(60):
-        x = (a * gb - b * ga) / (gb - ga)
-        if not (a < x < b):
-            x = 0.5 * (a + b)
+        x = _secant(a, b, ga, gb)
         _hermite(y, f0, yt, f1, h, x, yd)
         _rk4_f(ev, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
             return x
-        if (gx > 0.0) == (ga > 0.0):
-            a, ga = x, gx
-            if side == -1:
-                gb *= 0.5
-            side = -1
-        else:
-            b, gb = x, gx
-            if side == 1:
-                ga *= 0.5
-            side = 1
+        a, b, ga, gb, side = _illinois(a, b, ga, gb, x, gx, side)
         if b - a <= 1e-12:
             break
     return b
@@ -1702,24 +1714,10 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                         forced = e
             if forced >= 0:
                 # the crossings within SIMULTANEOUS of the earliest switch with it
-                for q in range(ne):
-                    flipm[q] = False
-                    xfl[q] = 2.0
-                for e in range(2 * ne):
-                    swf[e] = xloc[e] <= th + SIMULTANEOUS
-                    q = e // 2
-                    if swf[e] and xloc[e] < xfl[q]:
-                        xfl[q] = xloc[e]
-                        flipm[q] = True
-                        pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
+                _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # at the step's start: the other side's law from there, the step again
-                    for q in range(ne):
-                        if flipm[q]:
-                            road[hs + q] = pastv[q]
-                    for e in range(2 * ne):
-                        if swf[e]:
-                            sw[e] = 0.0
+                    _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                         return BALANCE_FAILED, k
                     stats[1] += 1
