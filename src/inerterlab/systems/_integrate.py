@@ -46,6 +46,7 @@ from ._kernel import (
     signal,
     switches,
 )
+from .observers import NO_SPLIT, filter_split
 
 # The Dormand-Prince 5(4) pair (Dormand & Prince 1980; the coefficients as in Hairer,
 # Norsett & Wanner, Solving ODEs I, Table II.5.2), its error weights (order 5 minus
@@ -177,7 +178,9 @@ def _joins(segs, i, jump_tol):
 
 
 @nb.njit(cache=True, inline="always")
-def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs):
+    """The derivative at (t, y) (the observers' included); ``zs``: the states advanced
+    outside the stages (a filter and its quadratures, :func:`_fz_begin`), derivative 0."""
     stats[2] += 1
     if mode == 0:
         road_at(segs, _segment_at(segs, rng, t), t, road)
@@ -192,14 +195,16 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
     if itab[I_NOB] > 0:
         observe(itab, ftab, work, y, dy, mode != 0)
+        for i in range(zs.size):
+            dy[zs[i]] = 0.0
     return ok
 
 
 @nb.njit(cache=True)
-def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs):
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
     stage after exact steps or a kink): not inlined there, to keep compilation short."""
-    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
 
 
 @nb.njit(cache=True, inline="always")
@@ -217,6 +222,174 @@ def _dense(y, yt, K, h, th, out):
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
 
 
+# ---------------------------------------------------------------------------------------
+# a linear filter among the observers (the Wk weighting), advanced outside the stages of
+# the Dormand-Prince steps: the tables ``fz`` of :func:`.observers.filter_split` =
+# (filter slots, state columns, Q, lam, weights, V, V^-1, V^-1 (A Q + P), quadrature
+# observers, the slots with no stage derivative, Gauss-Legendre nodes, weights). With
+# w = z - Q y, w' = A w + (A Q + P) y; over an accepted step the continuous extension
+# of y, a quartic in the step's fraction theta, drives w exactly: per eigenvalue
+# (V^-1 w)(tau) = e^(lam tau) w0 + sum_k beta_k theta^k tau k! phi_(k+1)(lam tau),
+# beta_k the quartic's coefficients through V^-1 (A Q + P).
+
+
+#: |lam h| below which a filter's mode over a step is summed as its Taylor series in the
+#: step's fraction; above it, as a polynomial particular solution plus e^(lam tau) times
+#: the initial difference (the particular solution's coefficients grow as k! / |lam h|^k:
+#: at 0.5, at most about 900 roundings lost)
+FZ_TAYLOR = 0.5
+#: the most terms of that Taylor series (|lam h| < 0.5: the 26th is below 1e-25 of the
+#: first)
+FZ_TERMS = 26
+
+
+@nb.njit(cache=True)
+def _fz_begin(fz, fst, y, ya, K, h, thx):
+    """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h)
+    into ``fst`` = (coefficients, terms, [step length], scratch): per mode (eigenvalue
+    lam, x = lam hs, hs the accepted length) the solution of dw/dtheta = x w + hs
+    beta(theta), beta the quartic input, as its Taylor series (terms > 0) or as the
+    polynomial q with q' = x q + hs beta plus e^(x theta) (w0 - q(0)) (terms = 0:
+    q's coefficients, w0 - q(0), x)."""
+    fslot, cols, Qm, lam = fz[0], fz[1], fz[2], fz[3]
+    Vi, H = fz[6], fz[7]
+    fa, fn, hsr, wz, cf = fst[0], fst[1], fst[2], fst[3], fst[4]
+    hs = thx * h
+    hsr[0] = hs
+    m = cols.size
+    nf = fslot.size
+    for j in range(m):
+        i = cols[j]
+        r2 = ya[i] - y[i]
+        r3 = h * K[0, i] - r2
+        r4 = r2 - h * K[6, i] - r3
+        acc = 0.0
+        for q in range(7):
+            acc += _TAB_D[q] * K[q, i]
+        r5 = h * acc
+        # the continuous extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))
+        # in powers of theta' = th / thx
+        cf[0, j] = y[i]
+        cf[1, j] = (r2 + r3) * thx
+        cf[2, j] = (r4 + r5 - r3) * thx * thx
+        cf[3, j] = -(r4 + 2.0 * r5) * thx * thx * thx
+        cf[4, j] = r5 * thx * thx * thx * thx
+    for i in range(nf):
+        acc = y[fslot[i]]
+        for j in range(m):
+            acc -= Qm[i, j] * y[cols[j]]
+        wz[i] = acc
+    for p in range(lam.size):
+        w0 = 0j
+        for i in range(nf):
+            w0 += Vi[p, i] * wz[i]
+        x = lam[p] * hs
+        # hs beta_k: the input's coefficients in theta
+        for k in range(5):
+            b = 0j
+            for j in range(m):
+                b += H[p, j] * cf[k, j]
+            fa[p, FZ_TERMS + k] = hs * b
+        if abs(x) < FZ_TAYLOR:
+            a = w0
+            fa[p, 0] = a
+            big = abs(a)
+            nt = FZ_TERMS
+            for j in range(FZ_TERMS - 1):
+                a = (x * a + (fa[p, FZ_TERMS + j] if j < 5 else 0j)) / (j + 1.0)
+                fa[p, j + 1] = a
+                big = max(big, abs(a))
+                if j >= 5 and abs(a) <= 1e-18 * big:
+                    nt = j + 2
+                    break
+            fn[p] = nt
+        else:
+            xi = 1.0 / x
+            q = -fa[p, FZ_TERMS + 4] * xi
+            fa[p, 4] = q
+            for k in range(3, -1, -1):
+                q = ((k + 1.0) * q - fa[p, FZ_TERMS + k]) * xi
+                fa[p, k] = q
+            fa[p, 5] = w0 - q
+            fa[p, 6] = x
+            fn[p] = 0
+
+
+@nb.njit(cache=True)
+def _fz_at(fz, fst, th, out):
+    """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
+    their slots of ``out``, which holds the states they read (``fz[1]``) there."""
+    fslot, cols, Qm, om, V = fz[0], fz[1], fz[2], fz[4], fz[5]
+    fa, fn = fst[0], fst[1]
+    for i in range(fslot.size):
+        acc = 0.0
+        for j in range(cols.size):
+            acc += Qm[i, j] * out[cols[j]]
+        out[fslot[i]] = acc
+    for p in range(om.size):
+        nt = fn[p]
+        if nt > 0:
+            w = fa[p, nt - 1]
+            for j in range(nt - 2, -1, -1):
+                w = w * th + fa[p, j]
+        else:
+            w = fa[p, 4]
+            for j in range(3, -1, -1):
+                w = w * th + fa[p, j]
+            w += np.exp(fa[p, 6] * th) * fa[p, 5]
+        w *= om[p]
+        for i in range(fslot.size):
+            out[fslot[i]] += V[i, p].real * w.real - V[i, p].imag * w.imag
+
+
+@nb.njit(cache=True)
+def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
+    """Advance the filter and its quadrature observers over the accepted step theta in
+    [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
+    filter exactly, the quadratures (their signals over the filter and the states
+    ``fz[1]``) by the Gauss-Legendre sums on it. ``fst`` keeps the step for values
+    inside it. ``yd``: scratch of the state's size."""
+    cols, quad, gx, gw = fz[1], fz[8], fz[10], fz[11]
+    _fz_begin(fz, fst, y, ya, K, h, thx)
+    hs = fst[2][0]
+    cf = fst[4]
+    ob = itab[I_OBS]
+    for q in range(quad.size):
+        yt[itab[ob + OBS_W * quad[q] + 3]] = 0.0
+    for p in range(gx.size):
+        th = gx[p]
+        for j in range(cols.size):  # the states the filter and its quadratures read
+            yd[cols[j]] = cf[0, j] + th * (cf[1, j] + th * (cf[2, j] + th * (cf[3, j] + th * cf[4, j])))
+        _fz_at(fz, fst, th, yd)
+        for q in range(quad.size):
+            bo = ob + OBS_W * quad[q]
+            a = signal(itab, ftab, work, yd, itab[bo + 1])
+            if itab[bo] == OBS_SQUARE:
+                v = a * a
+            elif itab[bo] == OBS_FOURTH:
+                v = a * a
+                v = v * v
+            else:
+                v = a * signal(itab, ftab, work, yd, itab[bo + 2])
+            yt[itab[bo + 3]] += gw[p] * v
+    for q in range(quad.size):
+        s = itab[ob + OBS_W * quad[q] + 3]
+        yt[s] = y[s] + hs * yt[s]
+    _fz_at(fz, fst, 1.0, yt)
+
+
+@nb.njit(cache=True)
+def _fz_sample(fz, fst, itab, th, y, yt, out):
+    """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
+    states): the filter exactly, its quadratures linear between the step's ends."""
+    _fz_at(fz, fst, th, out)
+    quad = fz[8]
+    ob = itab[I_OBS]
+    for q in range(quad.size):
+        s = itab[ob + OBS_W * quad[q] + 3]
+        out[s] = y[s] + th * (yt[s] - y[s])
+
+
 @nb.njit(cache=True)
 def _peak_values(itab, ftab, work, y, out):
     """Each observer's signal at the last evaluation into ``out`` (peaks only; the
@@ -230,31 +403,39 @@ def _peak_values(itab, ftab, work, y, out):
 
 @nb.njit(cache=True)
 def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-             work, stats, yd):  # fmt: skip
+             work, stats, yd, fz, fst, thx):  # fmt: skip
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
-    extension."""
+    extension (a filter outside the stages, ``fz``: exactly, at x / thx of the
+    accepted step ``fst`` of :func:`_fz_begin`)."""
+    zs = fz[9]
     _dense(y, yx, K, h, x, yd)
-    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    if zs.size:
+        _fz_at(fz, fst, x / thx, yd)
+    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
 @nb.njit(cache=True)
 def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
+               dy, road, work, stats, yd, p0, pm, p1, fz, fst):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
     accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
     state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
     end and middle, and where the parabola through those three puts a maximum inside the
     step above the peak so far, the maximum located by successive parabolic
     interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
-    array does not hold the evaluation at the step's end. p0 receives the end values."""
+    array does not hold the evaluation at the step's end. p0 receives the end values.
+    A filter outside the stages (``fz``, its step ``fst``): read exactly."""
+    zs = fz[9]
     if stale:
         _f_once(ev, mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
-                stats)  # fmt: skip
+                stats, zs)  # fmt: skip
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
+    if zs.size:
+        _fz_at(fz, fst, 0.5, yd)
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
-            stats)  # fmt: skip
+            stats, zs)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)
     ob = itab[I_OBS]
     for q in range(itab[I_NOB]):
@@ -281,7 +462,7 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
                     if not (xa < xn < xc) or abs(xn - xm) < 1e-12:
                         xn = 0.5 * (xa + xm) if xm - xa > xc - xm else 0.5 * (xm + xc)
                     fn = _peak_at(ev, q, xn * thx, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp,
-                                  road_fixed, dy, road, work, stats, yd)  # fmt: skip
+                                  road_fixed, dy, road, work, stats, yd, fz, fst, thx)  # fmt: skip
                     best = max(best, fn)
                     if fn >= fm:
                         if xn < xm:
@@ -366,7 +547,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 @nb.njit(cache=True)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw):  # fmt: skip
+            work, stats, yd, sw, zs):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
     extension (Illinois regula falsi to 1e-12 in theta)."""
@@ -377,7 +558,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
-        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
@@ -480,7 +661,7 @@ def _x_stays(a0, d0, a1, d1, h, lim):
 @nb.njit(cache=True)
 def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
              t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, ctl,
-             xo):  # fmt: skip
+             xo, fz):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
@@ -501,16 +682,36 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     tables act on the rows ``ia`` of y (the states and the linear observers'), the other
     observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
     as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
-    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
+    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
+    linear filter among the observers and its quadratures, advanced outside the
+    Dormand-Prince stages and error control, exactly over each accepted step
+    (:func:`_fz_step`; the tables of :func:`.observers.filter_split`, empty for none).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
     road_n, _, hs = road_layout_of(itab)
     road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
-    K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
+    K = np.zeros((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
-    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+    fzs = fz[9]  # the states advanced outside the stages (derivative 0 there)
+    nfz = fz[0].size
+    # the states the stages move (live), and those they leave (dead: the running peaks
+    # and the states advanced outside the stages, derivative 0 there; their stage rows
+    # of K stay 0 and their error is 0)
+    moves = np.ones(n, np.bool_)
+    for i in range(fzs.size):
+        moves[fzs[i]] = False
+    for q in range(itab[I_NOB]):
+        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
+            moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
+    live = np.flatnonzero(moves)
+    dead = np.flatnonzero(~moves)
+    fst = (
+        np.zeros((fz[3].size, FZ_TERMS + 5), np.complex128), np.zeros(fz[3].size, np.int64),
+        np.zeros(1), np.empty(nfz), np.empty((5, fz[1].size)),
+    )  # fmt: skip
+    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs):
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
@@ -560,7 +761,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
-        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
         for i in range(n):
             K[0, i] = dy[i]
     forced = -1
@@ -674,7 +875,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 stats[4] += 1
                 taken += 1
             if taken:  # the Dormand-Prince steps go on from here: their first stage
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if track:  # the peaks' signals at the new start
@@ -705,7 +906,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # element's side from its switching functions there, as a segment's
                     # start takes them
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats):  # fmt: skip
+                                   road, work, stats, fzs):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
                         switches(itab, ftab, work, sw)
@@ -718,7 +919,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                                 moved = True
                         if moved:
                             _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                    road, work, stats)  # fmt: skip
+                                    road, work, stats, fzs)  # fmt: skip
                     for q in range(n):
                         K[0, q] = dy[q]
                     if track:  # a signal may jump with the rate: its value past the edge
@@ -756,18 +957,20 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
         ok = True
         stale = False
         thx = 1.0
+        for i in dead:
+            yt[i] = y[i]
         for st in range(1, 7):
-            for i in range(n):
+            for i in live:
                 acc = 0.0
                 for q in range(st):
                     acc += _TAB_A[st, q] * K[q, i]
                 yt[i] = y[i] + h * acc
             ts = tn if st >= 5 else t + _TAB_C[st] * h
-            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats)
-            for i in range(n):
+            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
+            for i in live:
                 K[st, i] = dy[i]
         err = 0.0
-        for i in range(n):
+        for i in live:
             sc = atol[i] + rtol * max(abs(y[i]), abs(yt[i]))
             acc = 0.0
             for q in range(7):
@@ -790,6 +993,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             forced = -1
             h_keep = 0.0
             continue
+        kstart = k
         if err <= 1.0 and events and redo >= 0:
             # the fixed step taken again up to its crossing: the elements found there
             # (flipm, pastv, swf) switch at its end, as at a crossing at theta = 1
@@ -813,7 +1017,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx)  # fmt: skip
+                                      swx, fzs)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -825,7 +1029,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats):  # fmt: skip
+                                   road, work, stats, fzs):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     for i in range(n):
                         K[0, i] = dy[i]
@@ -866,12 +1070,21 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     if swf[e]:
                         sw[e] = 0.0  # on the kink: the next step starts past it
             forced = -1
+        if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
+            if thx < 1.0:
+                _fz_step(fz, fst, itab, ftab, work, y, yx, K, hx, thx, yt, yd)
+                for kk in range(kstart, k):  # the samples the cut step wrote
+                    _fz_sample(fz, fst, itab, (t_out[kk] - t) / h, y, yt, out_y[kk])
+            else:
+                _fz_step(fz, fst, itab, ftab, work, y, yt, K, h, 1.0, yt, yd)
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn] (a step cut at a crossing wrote its own)
             if mode == 0 and not cut:
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
+                    if nfz > 0:
+                        _fz_sample(fz, fst, itab, (t_out[k] - t) / h, y, yt, out_y[k])
                     k += 1
             if fresh >= 0 and flip < 0:
                 h_side[fresh] = h  # the first step that passed after a kink to this side
@@ -879,10 +1092,12 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             if track:
                 if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
                     _peak_step(ev, stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
-                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, fz,
+                               fst)  # fmt: skip
                 else:
                     _peak_step(ev, stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
-                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, fz,
+                               fst)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
@@ -892,7 +1107,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for q in range(ne):
                     if flipm[q]:
                         road[hs + q] = pastv[q]
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
@@ -944,7 +1159,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
 @nb.njit(cache=True)
 def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xlev, xq, ctl, xo):  # fmt: skip
+              xthr, xel, xcls, xlev, xq, ctl, xo, fz, fz_none):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -958,7 +1173,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
     steps (exact ones included), rejected steps, right-hand-side calls, events, exact
     steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
     none); ``ctl``: the step control of :func:`_advance`, ``xo`` its observers in the
-    exact steps."""
+    exact steps, ``fz`` the filter it advances outside its stages (``fz_none``: none,
+    the impulse flows carry every observer in their stages)."""
     k = 0
     h = 0.0
     prev = x1_before
@@ -1011,7 +1227,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(ev, modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo,
+                                fz_none)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -1024,7 +1241,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[1] = road[1]
             st, _, _ = _advance(ev, modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo,
+                                fz_none)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -1035,7 +1253,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(ev, modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
                             rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
-                            xthr, xel, xcls, xlev, xq, ctl, xo)  # fmt: skip
+                            xthr, xel, xcls, xlev, xq, ctl, xo, fz)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)
@@ -1441,6 +1659,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
         _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
+        filter_split(itab, ftab, y.size) if itab[I_NOB] > 0 else NO_SPLIT, NO_SPLIT,
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)
