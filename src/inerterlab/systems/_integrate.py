@@ -178,9 +178,11 @@ def _joins(segs, i, jump_tol):
 
 
 @nb.njit(cache=True, inline="always")
-def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs):
-    """The derivative at (t, y) (the observers' included); ``zs``: the states advanced
-    outside the stages (a filter and its quadratures, :func:`_fz_begin`), derivative 0."""
+def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
+    """The derivative at (t, y), the observers' included: those of ``fz[12]`` (the
+    system's table, or a copy whose observers are those the stages move); the states
+    ``fz[9]`` (a filter and its quadratures, advanced outside the stages, see
+    :func:`_fz_begin`, and the running peaks) get derivative 0."""
     stats[2] += 1
     if mode == 0:
         road_at(segs, _segment_at(segs, rng, t), t, road)
@@ -193,18 +195,20 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
-    if itab[I_NOB] > 0:
-        observe(itab, ftab, work, y, dy, mode != 0)
-        for i in range(zs.size):
-            dy[zs[i]] = 0.0
+    oit = fz[12]
+    if oit[I_NOB] > 0:
+        observe(oit, ftab, work, y, dy, mode != 0)
+    dead = fz[9]
+    for i in range(dead.size):
+        dy[dead[i]] = 0.0
     return ok
 
 
 @nb.njit(cache=True)
-def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs):
+def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
     stage after exact steps or a kink): not inlined there, to keep compilation short."""
-    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
+    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
 
 
 @nb.njit(cache=True, inline="always")
@@ -316,11 +320,13 @@ def _fz_begin(fz, fst, y, ya, K, h, thx):
 
 
 @nb.njit(cache=True)
-def _fz_at(fz, fst, th, out):
+def _fz_at(fz, fst, th, out, c=-1):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
-    their slots of ``out``, which holds the states they read (``fz[1]``) there."""
+    their slots of ``out``, which holds the states they read (``fz[1]``) there; ``c``:
+    the column of ``fst[5]`` that holds e^(x th) of the modes summed as a particular
+    solution (see :func:`_fz_step`), or -1."""
     fslot, cols, Qm, om, V = fz[0], fz[1], fz[2], fz[4], fz[5]
-    fa, fn = fst[0], fst[1]
+    fa, fn, ex = fst[0], fst[1], fst[5]
     for i in range(fslot.size):
         acc = 0.0
         for j in range(cols.size):
@@ -336,7 +342,7 @@ def _fz_at(fz, fst, th, out):
             w = fa[p, 4]
             for j in range(3, -1, -1):
                 w = w * th + fa[p, j]
-            w += np.exp(fa[p, 6] * th) * fa[p, 5]
+            w += (np.exp(fa[p, 6] * th) if c < 0 else ex[p, c]) * fa[p, 5]
         w *= om[p]
         for i in range(fslot.size):
             out[fslot[i]] += V[i, p].real * w.real - V[i, p].imag * w.imag
@@ -353,6 +359,20 @@ def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
     _fz_begin(fz, fst, y, ya, K, h, thx)
     hs = fst[2][0]
     cf = fst[4]
+    fa, fn, ex = fst[0], fst[1], fst[5]
+    for p in range(fn.size):
+        if fn[p] == 0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
+            x = fa[p, 6]
+            e0 = np.exp(x * gx[0])
+            e1 = np.exp(x * gx[1])
+            eh = np.exp(x * gx[2])
+            e5 = eh * eh
+            ex[p, 0] = e0
+            ex[p, 1] = e1
+            ex[p, 2] = eh
+            ex[p, 3] = e5 / e1 if e1 != 0.0 else 0j
+            ex[p, 4] = e5 / e0 if e0 != 0.0 else 0j
+            ex[p, 5] = e5
     ob = itab[I_OBS]
     for q in range(quad.size):
         yt[itab[ob + OBS_W * quad[q] + 3]] = 0.0
@@ -360,7 +380,7 @@ def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
         th = gx[p]
         for j in range(cols.size):  # the states the filter and its quadratures read
             yd[cols[j]] = cf[0, j] + th * (cf[1, j] + th * (cf[2, j] + th * (cf[3, j] + th * cf[4, j])))
-        _fz_at(fz, fst, th, yd)
+        _fz_at(fz, fst, th, yd, p)
         for q in range(quad.size):
             bo = ob + OBS_W * quad[q]
             a = signal(itab, ftab, work, yd, itab[bo + 1])
@@ -375,7 +395,7 @@ def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
     for q in range(quad.size):
         s = itab[ob + OBS_W * quad[q] + 3]
         yt[s] = y[s] + hs * yt[s]
-    _fz_at(fz, fst, 1.0, yt)
+    _fz_at(fz, fst, 1.0, yt, 5)
 
 
 @nb.njit(cache=True)
@@ -407,11 +427,10 @@ def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fi
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
     extension (a filter outside the stages, ``fz``: exactly, at x / thx of the
     accepted step ``fst`` of :func:`_fz_begin`)."""
-    zs = fz[9]
     _dense(y, yx, K, h, x, yd)
-    if zs.size:
+    if fz[0].size:
         _fz_at(fz, fst, x / thx, yd)
-    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
+    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
@@ -426,16 +445,15 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
     interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
     array does not hold the evaluation at the step's end. p0 receives the end values.
     A filter outside the stages (``fz``, its step ``fst``): read exactly."""
-    zs = fz[9]
     if stale:
         _f_once(ev, mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
-                stats, zs)  # fmt: skip
+                stats, fz)  # fmt: skip
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
-    if zs.size:
+    if fz[0].size:
         _fz_at(fz, fst, 0.5, yd)
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
-            stats, zs)  # fmt: skip
+            stats, fz)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)
     ob = itab[I_OBS]
     for q in range(itab[I_NOB]):
@@ -547,7 +565,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 @nb.njit(cache=True)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw, zs):  # fmt: skip
+            work, stats, yd, sw, fz):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
     extension (Illinois regula falsi to 1e-12 in theta)."""
@@ -558,7 +576,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
-        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, zs)
+        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
@@ -694,7 +712,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     K = np.zeros((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
-    fzs = fz[9]  # the states advanced outside the stages (derivative 0 there)
+    fzs = fz[9]  # the states left by the stages (derivative 0 there)
     nfz = fz[0].size
     # the states the stages move (live), and those they leave (dead: the running peaks
     # and the states advanced outside the stages, derivative 0 there; their stage rows
@@ -710,8 +728,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     fst = (
         np.zeros((fz[3].size, FZ_TERMS + 5), np.complex128), np.zeros(fz[3].size, np.int64),
         np.zeros(1), np.empty(nfz), np.empty((5, fz[1].size)),
+        np.empty((fz[3].size, 6), np.complex128),
     )  # fmt: skip
-    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs):
+    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
@@ -761,7 +780,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
-        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
+        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
         for i in range(n):
             K[0, i] = dy[i]
     forced = -1
@@ -875,7 +894,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 stats[4] += 1
                 taken += 1
             if taken:  # the Dormand-Prince steps go on from here: their first stage
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if track:  # the peaks' signals at the new start
@@ -906,7 +925,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # element's side from its switching functions there, as a segment's
                     # start takes them
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats, fzs):  # fmt: skip
+                                   road, work, stats, fz):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
                         switches(itab, ftab, work, sw)
@@ -919,7 +938,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                                 moved = True
                         if moved:
                             _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                    road, work, stats, fzs)  # fmt: skip
+                                    road, work, stats, fz)  # fmt: skip
                     for q in range(n):
                         K[0, q] = dy[q]
                     if track:  # a signal may jump with the rate: its value past the edge
@@ -966,7 +985,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     acc += _TAB_A[st, q] * K[q, i]
                 yt[i] = y[i] + h * acc
             ts = tn if st >= 5 else t + _TAB_C[st] * h
-            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
+            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
             for i in live:
                 K[st, i] = dy[i]
         err = 0.0
@@ -1017,7 +1036,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx, fzs)  # fmt: skip
+                                      swx, fz)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -1029,7 +1048,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats, fzs):  # fmt: skip
+                                   road, work, stats, fz):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     for i in range(n):
                         K[0, i] = dy[i]
@@ -1107,7 +1126,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for q in range(ne):
                     if flipm[q]:
                         road[hs + q] = pastv[q]
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fzs)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
@@ -1644,6 +1663,14 @@ _NO_XOBS = (
 )  # fmt: skip
 
 
+def _split_of(itab, ftab, n):
+    """``fz`` of :func:`_advance`: the tables of :func:`.observers.filter_split` and the
+    observers the stages move (the system's own table where nothing is split)."""
+    if itab[I_NOB] == 0:
+        return (*NO_SPLIT, _readonly(itab))
+    return filter_split(itab, ftab, n)
+
+
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
               xthr, xel, xcls, xq, ctl, xlev=None, xo=None):  # fmt: skip
@@ -1652,14 +1679,15 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     level lengths in the exact-step table (none by default), ``xo`` the observers in
     the exact steps (none by default)."""
     ev = rhs_for(itab)
+    ro_itab = _readonly(itab)
     warm = bool(_integrate.signatures)  # not timed while the integrator compiles
     t0 = time.process_time()
     out = _integrate(
-        ev, _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
+        ev, ro_itab, _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
         _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
-        filter_split(itab, ftab, y.size) if itab[I_NOB] > 0 else NO_SPLIT, NO_SPLIT,
+        _split_of(itab, ftab, y.size), (*NO_SPLIT, ro_itab),
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)
