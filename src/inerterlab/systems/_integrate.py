@@ -178,11 +178,11 @@ def _joins(segs, i, jump_tol):
 
 
 @nb.njit(cache=True, inline="always")
-def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
-    """The derivative at (t, y), the observers' included: those of ``fz[12]`` (the
-    system's table, or a copy whose observers are those the stages move); the states
-    ``fz[9]`` (a filter and its quadratures, advanced outside the stages, see
-    :func:`_fz_begin`, and the running peaks) get derivative 0."""
+def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
+    """The derivative at (t, y), the observers' included: those of ``oit`` (the
+    system's table, or a copy whose observers are those the stages move); the slots the
+    stages leave (``fzi``, see :func:`_fz_begin`: a filter and its quadratures, advanced
+    outside the stages, and the running peaks) get derivative 0."""
     stats[2] += 1
     if mode == 0:
         road_at(segs, _segment_at(segs, rng, t), t, road)
@@ -195,20 +195,21 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
-    oit = fz[12]
     if oit[I_NOB] > 0:
         observe(oit, ftab, work, y, dy, mode != 0)
-    dead = fz[9]
-    for i in range(dead.size):
-        dy[dead[i]] = 0.0
+    d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
+    for i in range(d0, d0 + fzi[3]):
+        dy[fzi[i]] = 0.0
     return ok
 
 
 @nb.njit(cache=True)
-def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
+def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
+            fzi):  # fmt: skip
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
     stage after exact steps or a kink): not inlined there, to keep compilation short."""
-    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
+              fzi)  # fmt: skip
 
 
 @nb.njit(cache=True, inline="always")
@@ -228,14 +229,21 @@ def _dense(y, yt, K, h, th, out):
 
 # ---------------------------------------------------------------------------------------
 # a linear filter among the observers (the Wk weighting), advanced outside the stages of
-# the Dormand-Prince steps: the tables ``fz`` of :func:`.observers.filter_split` =
-# (filter slots, state columns, Q, lam, weights, V, V^-1, V^-1 (A Q + P), quadrature
-# observers, the slots with no stage derivative, Gauss-Legendre nodes, weights). With
-# w = z - Q y, w' = A w + (A Q + P) y; over an accepted step the continuous extension
-# of y, a quartic in the step's fraction theta, drives w exactly: per eigenvalue
-# (V^-1 w)(tau) = e^(lam tau) w0 + sum_k beta_k theta^k tau k! phi_(k+1)(lam tau),
-# beta_k the quartic's coefficients through V^-1 (A Q + P).
-
+# the Dormand-Prince steps (tables of :func:`.observers.filter_split`, flat, so that a
+# call passes four arrays, not a dozen): with w = z - Q y, w' = A w + (A Q + P) y; over
+# an accepted step the continuous extension of y, a quartic in the step's fraction
+# theta, drives w exactly, per mode of A = V diag(lam) V^-1.
+#
+# fzi (int64): nf, m, nq, nd, ns, then the filter's slots (nf), the state columns it and
+#   its quadratures read (m), the quadrature observers (nq), the slots the stages leave
+#   (nd: the filter, its quadratures, the running peaks)
+# fzf (float64): Q (nf x m), the modes' weights (ns: 2 for one of a complex pair, 1 for a
+#   real one), Gauss-Legendre nodes (5, symmetric about 1/2) and weights (5)
+# fzc (complex128): lam (ns), V (nf x ns), V^-1 (ns x nf), V^-1 (A Q + P) (ns x m)
+# a step (:func:`_fz_begin`): stc (complex) the modes' coefficients (ns x (FZ_TERMS +
+#   5)) and e^(x theta) at the nodes and the end (ns x 6); stf (float) the accepted
+#   length, the modes' Taylor terms (ns; 0: particular solution), w0 (nf), the quartic's
+#   coefficients (5 x m)
 
 #: |lam h| below which a filter's mode over a step is summed as its Taylor series in the
 #: step's fraction; above it, as a polynomial particular solution plus e^(lam tau) times
@@ -245,25 +253,34 @@ FZ_TAYLOR = 0.5
 #: the most terms of that Taylor series (|lam h| < 0.5: the 26th is below 1e-25 of the
 #: first)
 FZ_TERMS = 26
+FZ_W = FZ_TERMS + 5  # a mode's row of coefficients in stc
+FZ_HEAD = 5  # fzi's header
+
+
+def fz_scratch(fzi):
+    """(stc, stf): the scratch of one filter step for the tables ``fzi``."""
+    nf, m, ns = int(fzi[0]), int(fzi[1]), int(fzi[4])
+    return np.zeros(ns * (FZ_W + 6), np.complex128), np.zeros(1 + ns + nf + 5 * m)
 
 
 @nb.njit(cache=True)
-def _fz_begin(fz, fst, y, ya, K, h, thx):
-    """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h)
-    into ``fst`` = (coefficients, terms, [step length], scratch): per mode (eigenvalue
-    lam, x = lam hs, hs the accepted length) the solution of dw/dtheta = x w + hs
-    beta(theta), beta the quartic input, as its Taylor series (terms > 0) or as the
-    polynomial q with q' = x q + hs beta plus e^(x theta) (w0 - q(0)) (terms = 0:
-    q's coefficients, w0 - q(0), x)."""
-    fslot, cols, Qm, lam = fz[0], fz[1], fz[2], fz[3]
-    Vi, H = fz[6], fz[7]
-    fa, fn, hsr, wz, cf = fst[0], fst[1], fst[2], fst[3], fst[4]
+def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
+    """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h):
+    per mode (eigenvalue lam, x = lam hs, hs the accepted length) the solution of
+    dw/dtheta = x w + hs beta(theta), beta the quartic input through the mode, as its
+    Taylor series in theta (terms > 0) or as the polynomial q with q' = x q + hs beta
+    plus e^(x theta) (w0 - q(0)) (terms = 0: q's coefficients, w0 - q(0), x)."""
+    nf, m, ns = fzi[0], fzi[1], fzi[4]
+    fs = FZ_HEAD
+    co = fs + nf
+    lam0, vi0 = 0, ns + nf * ns
+    h0 = vi0 + ns * nf
+    fn0, wz0 = 1, 1 + ns
+    cf0 = wz0 + nf
     hs = thx * h
-    hsr[0] = hs
-    m = cols.size
-    nf = fslot.size
+    stf[0] = hs
     for j in range(m):
-        i = cols[j]
+        i = fzi[co + j]
         r2 = ya[i] - y[i]
         r3 = h * K[0, i] - r2
         r4 = r2 - h * K[6, i] - r3
@@ -273,116 +290,131 @@ def _fz_begin(fz, fst, y, ya, K, h, thx):
         r5 = h * acc
         # the continuous extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))
         # in powers of theta' = th / thx
-        cf[0, j] = y[i]
-        cf[1, j] = (r2 + r3) * thx
-        cf[2, j] = (r4 + r5 - r3) * thx * thx
-        cf[3, j] = -(r4 + 2.0 * r5) * thx * thx * thx
-        cf[4, j] = r5 * thx * thx * thx * thx
+        stf[cf0 + j] = y[i]
+        stf[cf0 + m + j] = (r2 + r3) * thx
+        stf[cf0 + 2 * m + j] = (r4 + r5 - r3) * thx * thx
+        stf[cf0 + 3 * m + j] = -(r4 + 2.0 * r5) * thx * thx * thx
+        stf[cf0 + 4 * m + j] = r5 * thx * thx * thx * thx
     for i in range(nf):
-        acc = y[fslot[i]]
+        acc = y[fzi[fs + i]]
         for j in range(m):
-            acc -= Qm[i, j] * y[cols[j]]
-        wz[i] = acc
-    for p in range(lam.size):
+            acc -= fzf[i * m + j] * y[fzi[co + j]]
+        stf[wz0 + i] = acc
+    for p in range(ns):
         w0 = 0j
         for i in range(nf):
-            w0 += Vi[p, i] * wz[i]
-        x = lam[p] * hs
-        # hs beta_k: the input's coefficients in theta
-        for k in range(5):
+            w0 += fzc[vi0 + p * nf + i] * stf[wz0 + i]
+        x = fzc[lam0 + p] * hs
+        r = p * FZ_W
+        for k in range(5):  # hs beta_k: the input's coefficients in theta
             b = 0j
             for j in range(m):
-                b += H[p, j] * cf[k, j]
-            fa[p, FZ_TERMS + k] = hs * b
-        if abs(x) < FZ_TAYLOR:
+                b += fzc[h0 + p * m + j] * stf[cf0 + k * m + j]
+            stc[r + FZ_TERMS + k] = hs * b
+        if abs(x.real) + abs(x.imag) < FZ_TAYLOR:
             a = w0
-            fa[p, 0] = a
-            big = abs(a)
+            stc[r] = a
+            big = abs(a.real) + abs(a.imag)
             nt = FZ_TERMS
             for j in range(FZ_TERMS - 1):
-                a = (x * a + (fa[p, FZ_TERMS + j] if j < 5 else 0j)) / (j + 1.0)
-                fa[p, j + 1] = a
-                big = max(big, abs(a))
-                if j >= 5 and abs(a) <= 1e-18 * big:
+                a = x * a + (stc[r + FZ_TERMS + j] if j < 5 else 0j)
+                a = a * (1.0 / (j + 1.0))
+                stc[r + j + 1] = a
+                mag = abs(a.real) + abs(a.imag)
+                big = max(big, mag)
+                if j >= 5 and mag <= 1e-18 * big:
                     nt = j + 2
                     break
-            fn[p] = nt
+            stf[fn0 + p] = nt
         else:
             xi = 1.0 / x
-            q = -fa[p, FZ_TERMS + 4] * xi
-            fa[p, 4] = q
+            q = -stc[r + FZ_TERMS + 4] * xi
+            stc[r + 4] = q
             for k in range(3, -1, -1):
-                q = ((k + 1.0) * q - fa[p, FZ_TERMS + k]) * xi
-                fa[p, k] = q
-            fa[p, 5] = w0 - q
-            fa[p, 6] = x
-            fn[p] = 0
+                q = ((k + 1.0) * q - stc[r + FZ_TERMS + k]) * xi
+                stc[r + k] = q
+            stc[r + 5] = w0 - q
+            stc[r + 6] = x
+            stf[fn0 + p] = 0.0
 
 
 @nb.njit(cache=True)
-def _fz_at(fz, fst, th, out, c=-1):
+def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
-    their slots of ``out``, which holds the states they read (``fz[1]``) there; ``c``:
-    the column of ``fst[5]`` that holds e^(x th) of the modes summed as a particular
-    solution (see :func:`_fz_step`), or -1."""
-    fslot, cols, Qm, om, V = fz[0], fz[1], fz[2], fz[4], fz[5]
-    fa, fn, ex = fst[0], fst[1], fst[5]
-    for i in range(fslot.size):
+    their slots of ``out``, which holds the states they read there; ``c``: the column
+    of the exponentials in ``stc`` that holds e^(x th) (see :func:`_fz_step`), or -1."""
+    nf, m, ns = fzi[0], fzi[1], fzi[4]
+    fs = FZ_HEAD
+    co = fs + nf
+    om0 = nf * m
+    v0 = ns
+    ex0 = ns * FZ_W
+    for i in range(nf):
         acc = 0.0
-        for j in range(cols.size):
-            acc += Qm[i, j] * out[cols[j]]
-        out[fslot[i]] = acc
-    for p in range(om.size):
-        nt = fn[p]
+        for j in range(m):
+            acc += fzf[i * m + j] * out[fzi[co + j]]
+        out[fzi[fs + i]] = acc
+    for p in range(ns):
+        nt = int(stf[1 + p])
+        r = p * FZ_W
         if nt > 0:
-            w = fa[p, nt - 1]
+            w = stc[r + nt - 1]
             for j in range(nt - 2, -1, -1):
-                w = w * th + fa[p, j]
+                w = w * th + stc[r + j]
         else:
-            w = fa[p, 4]
+            w = stc[r + 4]
             for j in range(3, -1, -1):
-                w = w * th + fa[p, j]
-            w += (np.exp(fa[p, 6] * th) if c < 0 else ex[p, c]) * fa[p, 5]
-        w *= om[p]
-        for i in range(fslot.size):
-            out[fslot[i]] += V[i, p].real * w.real - V[i, p].imag * w.imag
+                w = w * th + stc[r + j]
+            w += (np.exp(stc[r + 6] * th) if c < 0 else stc[ex0 + 6 * p + c]) * stc[r + 5]
+        w *= fzf[om0 + p]
+        for i in range(nf):
+            v = fzc[v0 + i * ns + p]
+            out[fzi[fs + i]] += v.real * w.real - v.imag * w.imag
 
 
 @nb.njit(cache=True)
-def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
+def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd):
     """Advance the filter and its quadrature observers over the accepted step theta in
     [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
-    filter exactly, the quadratures (their signals over the filter and the states
-    ``fz[1]``) by the Gauss-Legendre sums on it. ``fst`` keeps the step for values
-    inside it. ``yd``: scratch of the state's size."""
-    cols, quad, gx, gw = fz[1], fz[8], fz[10], fz[11]
-    _fz_begin(fz, fst, y, ya, K, h, thx)
-    hs = fst[2][0]
-    cf = fst[4]
-    fa, fn, ex = fst[0], fst[1], fst[5]
-    for p in range(fn.size):
-        if fn[p] == 0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
-            x = fa[p, 6]
-            e0 = np.exp(x * gx[0])
-            e1 = np.exp(x * gx[1])
-            eh = np.exp(x * gx[2])
+    filter exactly, the quadratures (their signals over the filter and the states it
+    reads) by the Gauss-Legendre sums on it. (stc, stf) keep the step for values inside
+    it. ``yd``: scratch of the state's size."""
+    nf, m, nq, ns = fzi[0], fzi[1], fzi[2], fzi[4]
+    co = FZ_HEAD + nf
+    qu = co + m
+    gx0 = nf * m + ns
+    gw0 = gx0 + 5
+    _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx)
+    hs = stf[0]
+    cf0 = 1 + ns + nf
+    ex0 = ns * FZ_W
+    for p in range(ns):
+        if stf[1 + p] == 0.0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
+            x = stc[p * FZ_W + 6]
+            e0 = np.exp(x * fzf[gx0])
+            e1 = np.exp(x * fzf[gx0 + 1])
+            eh = np.exp(x * fzf[gx0 + 2])
             e5 = eh * eh
-            ex[p, 0] = e0
-            ex[p, 1] = e1
-            ex[p, 2] = eh
-            ex[p, 3] = e5 / e1 if e1 != 0.0 else 0j
-            ex[p, 4] = e5 / e0 if e0 != 0.0 else 0j
-            ex[p, 5] = e5
+            b = ex0 + 6 * p
+            stc[b] = e0
+            stc[b + 1] = e1
+            stc[b + 2] = eh
+            stc[b + 3] = e5 / e1 if e1 != 0.0 else 0j
+            stc[b + 4] = e5 / e0 if e0 != 0.0 else 0j
+            stc[b + 5] = e5
     ob = itab[I_OBS]
-    for q in range(quad.size):
-        yt[itab[ob + OBS_W * quad[q] + 3]] = 0.0
-    for p in range(gx.size):
-        th = gx[p]
-        for j in range(cols.size):  # the states the filter and its quadratures read
-            yd[cols[j]] = cf[0, j] + th * (cf[1, j] + th * (cf[2, j] + th * (cf[3, j] + th * cf[4, j])))
-        _fz_at(fz, fst, th, yd, p)
-        for q in range(quad.size):
-            bo = ob + OBS_W * quad[q]
+    for q in range(nq):
+        yt[itab[ob + OBS_W * fzi[qu + q] + 3]] = 0.0
+    for p in range(5):
+        th = fzf[gx0 + p]
+        for j in range(m):  # the states the filter and its quadratures read
+            acc = stf[cf0 + 4 * m + j]
+            for k in range(3, -1, -1):
+                acc = acc * th + stf[cf0 + k * m + j]
+            yd[fzi[co + j]] = acc
+        _fz_at(fzi, fzf, fzc, stc, stf, th, yd, p)
+        for q in range(nq):
+            bo = ob + OBS_W * fzi[qu + q]
             a = signal(itab, ftab, work, yd, itab[bo + 1])
             if itab[bo] == OBS_SQUARE:
                 v = a * a
@@ -391,22 +423,22 @@ def _fz_step(fz, fst, itab, ftab, work, y, ya, K, h, thx, yt, yd):
                 v = v * v
             else:
                 v = a * signal(itab, ftab, work, yd, itab[bo + 2])
-            yt[itab[bo + 3]] += gw[p] * v
-    for q in range(quad.size):
-        s = itab[ob + OBS_W * quad[q] + 3]
+            yt[itab[bo + 3]] += fzf[gw0 + p] * v
+    for q in range(nq):
+        s = itab[ob + OBS_W * fzi[qu + q] + 3]
         yt[s] = y[s] + hs * yt[s]
-    _fz_at(fz, fst, 1.0, yt, 5)
+    _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, 5)
 
 
 @nb.njit(cache=True)
-def _fz_sample(fz, fst, itab, th, y, yt, out):
+def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
     """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
     states): the filter exactly, its quadratures linear between the step's ends."""
-    _fz_at(fz, fst, th, out)
-    quad = fz[8]
+    _fz_at(fzi, fzf, fzc, stc, stf, th, out)
+    qu = FZ_HEAD + fzi[0] + fzi[1]
     ob = itab[I_OBS]
-    for q in range(quad.size):
-        s = itab[ob + OBS_W * quad[q] + 3]
+    for q in range(fzi[2]):
+        s = itab[ob + OBS_W * fzi[qu + q] + 3]
         out[s] = y[s] + th * (yt[s] - y[s])
 
 
@@ -423,20 +455,20 @@ def _peak_values(itab, ftab, work, y, out):
 
 @nb.njit(cache=True)
 def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-             work, stats, yd, fz, fst, thx):  # fmt: skip
+             work, stats, yd, oit, fzi, fzf, fzc, stc, stf, thx):  # fmt: skip
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
-    extension (a filter outside the stages, ``fz``: exactly, at x / thx of the
-    accepted step ``fst`` of :func:`_fz_begin`)."""
+    extension (a filter outside the stages: exactly, at x / thx of the accepted step
+    (stc, stf) of :func:`_fz_begin`)."""
     _dense(y, yx, K, h, x, yd)
-    if fz[0].size:
-        _fz_at(fz, fst, x / thx, yd)
-    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+    if fzi[0]:
+        _fz_at(fzi, fzf, fzc, stc, stf, x / thx, yd)
+    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
 @nb.njit(cache=True)
 def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-               dy, road, work, stats, yd, p0, pm, p1, fz, fst):  # fmt: skip
+               dy, road, work, stats, yd, p0, pm, p1, oit, fzi, fzf, fzc, stc, stf):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
     accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
     state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
@@ -444,16 +476,16 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
     step above the peak so far, the maximum located by successive parabolic
     interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
     array does not hold the evaluation at the step's end. p0 receives the end values.
-    A filter outside the stages (``fz``, its step ``fst``): read exactly."""
+    A filter outside the stages (its step (stc, stf)): read exactly."""
     if stale:
         _f_once(ev, mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
-                stats, fz)  # fmt: skip
+                stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
-    if fz[0].size:
-        _fz_at(fz, fst, 0.5, yd)
+    if fzi[0]:
+        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd)
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
-            stats, fz)  # fmt: skip
+            stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)
     ob = itab[I_OBS]
     for q in range(itab[I_NOB]):
@@ -480,7 +512,8 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
                     if not (xa < xn < xc) or abs(xn - xm) < 1e-12:
                         xn = 0.5 * (xa + xm) if xm - xa > xc - xm else 0.5 * (xm + xc)
                     fn = _peak_at(ev, q, xn * thx, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp,
-                                  road_fixed, dy, road, work, stats, yd, fz, fst, thx)  # fmt: skip
+                                  road_fixed, dy, road, work, stats, yd, oit, fzi, fzf, fzc, stc,
+                                  stf, thx)  # fmt: skip
                     best = max(best, fn)
                     if fn >= fm:
                         if xn < xm:
@@ -565,7 +598,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 @nb.njit(cache=True)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw, fz):  # fmt: skip
+            work, stats, yd, sw, oit, fzi):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
     extension (Illinois regula falsi to 1e-12 in theta)."""
@@ -576,7 +609,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
-        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
@@ -712,25 +745,23 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     K = np.zeros((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
-    fzs = fz[9]  # the states left by the stages (derivative 0 there)
-    nfz = fz[0].size
+    oit, fzi, fzf, fzc = fz
+    nfz = fzi[0]
     # the states the stages move (live), and those they leave (dead: the running peaks
     # and the states advanced outside the stages, derivative 0 there; their stage rows
     # of K stay 0 and their error is 0)
     moves = np.ones(n, np.bool_)
-    for i in range(fzs.size):
-        moves[fzs[i]] = False
+    d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
+    for i in range(d0, d0 + fzi[3]):
+        moves[fzi[i]] = False
     for q in range(itab[I_NOB]):
         if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
             moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
     live = np.flatnonzero(moves)
     dead = np.flatnonzero(~moves)
-    fst = (
-        np.zeros((fz[3].size, FZ_TERMS + 5), np.complex128), np.zeros(fz[3].size, np.int64),
-        np.zeros(1), np.empty(nfz), np.empty((5, fz[1].size)),
-        np.empty((fz[3].size, 6), np.complex128),
-    )  # fmt: skip
-    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz):
+    stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
+    stf = np.zeros(1 + fzi[4] + fzi[0] + 5 * fzi[1])
+    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
@@ -780,7 +811,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
-        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
         for i in range(n):
             K[0, i] = dy[i]
     forced = -1
@@ -894,7 +925,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 stats[4] += 1
                 taken += 1
             if taken:  # the Dormand-Prince steps go on from here: their first stage
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if track:  # the peaks' signals at the new start
@@ -925,7 +956,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # element's side from its switching functions there, as a segment's
                     # start takes them
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats, fz):  # fmt: skip
+                                   road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
                         switches(itab, ftab, work, sw)
@@ -938,7 +969,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                                 moved = True
                         if moved:
                             _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                    road, work, stats, fz)  # fmt: skip
+                                    road, work, stats, oit, fzi)  # fmt: skip
                     for q in range(n):
                         K[0, q] = dy[q]
                     if track:  # a signal may jump with the rate: its value past the edge
@@ -985,7 +1016,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     acc += _TAB_A[st, q] * K[q, i]
                 yt[i] = y[i] + h * acc
             ts = tn if st >= 5 else t + _TAB_C[st] * h
-            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
             for i in live:
                 K[st, i] = dy[i]
         err = 0.0
@@ -1036,7 +1067,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx, fz)  # fmt: skip
+                                      swx, oit, fzi)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -1048,7 +1079,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats, fz):  # fmt: skip
+                                   road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     for i in range(n):
                         K[0, i] = dy[i]
@@ -1091,11 +1122,12 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             forced = -1
         if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
             if thx < 1.0:
-                _fz_step(fz, fst, itab, ftab, work, y, yx, K, hx, thx, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yx, K, hx, thx, yt, yd)
                 for kk in range(kstart, k):  # the samples the cut step wrote
-                    _fz_sample(fz, fst, itab, (t_out[kk] - t) / h, y, yt, out_y[kk])
+                    _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[kk] - t) / h, y, yt,
+                               out_y[kk])  # fmt: skip
             else:
-                _fz_step(fz, fst, itab, ftab, work, y, yt, K, h, 1.0, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yt, K, h, 1.0, yt, yd)
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn] (a step cut at a crossing wrote its own)
@@ -1103,7 +1135,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
                     if nfz > 0:
-                        _fz_sample(fz, fst, itab, (t_out[k] - t) / h, y, yt, out_y[k])
+                        _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[k] - t) / h, y, yt,
+                                   out_y[k])  # fmt: skip
                     k += 1
             if fresh >= 0 and flip < 0:
                 h_side[fresh] = h  # the first step that passed after a kink to this side
@@ -1111,12 +1144,12 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             if track:
                 if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
                     _peak_step(ev, stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
-                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, fz,
-                               fst)  # fmt: skip
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, oit,
+                               fzi, fzf, fzc, stc, stf)  # fmt: skip
                 else:
                     _peak_step(ev, stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
-                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, fz,
-                               fst)  # fmt: skip
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, oit,
+                               fzi, fzf, fzc, stc, stf)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
@@ -1126,7 +1159,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for q in range(ne):
                     if flipm[q]:
                         road[hs + q] = pastv[q]
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, fz)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
@@ -1664,10 +1697,10 @@ _NO_XOBS = (
 
 
 def _split_of(itab, ftab, n):
-    """``fz`` of :func:`_advance`: the tables of :func:`.observers.filter_split` and the
-    observers the stages move (the system's own table where nothing is split)."""
+    """``fz`` of :func:`_advance`: the observers the stages move (the system's own
+    table where nothing is split) and the tables of :func:`.observers.filter_split`."""
     if itab[I_NOB] == 0:
-        return (*NO_SPLIT, _readonly(itab))
+        return (_readonly(itab), *NO_SPLIT)
     return filter_split(itab, ftab, n)
 
 
@@ -1687,7 +1720,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
         _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
-        _split_of(itab, ftab, y.size), (*NO_SPLIT, ro_itab),
+        _split_of(itab, ftab, y.size), (ro_itab, *NO_SPLIT),
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)

@@ -169,20 +169,18 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(5)
 _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
 _GL_X[3:] = 1.0 - _GL_X[1::-1]  # symmetric about 1/2 to the last bit (_fz_step uses it)
 _GL_W[3:] = _GL_W[1::-1]
-#: no filter outside the stages (the tables of :func:`filter_split`)
-NO_SPLIT = (
-    np.empty(0, np.int64), np.empty(0, np.int64), np.empty((0, 0)), np.empty(0, np.complex128),
-    np.empty(0), np.empty((0, 0), np.complex128), np.empty((0, 0), np.complex128),
-    np.empty((0, 0), np.complex128), np.empty(0, np.int64), np.empty(0, np.int64), _GL_X, _GL_W,
-)  # fmt: skip
+#: no filter outside the stages (the tables of :func:`filter_split`: their header of
+#: counts, all zero)
+NO_SPLIT = (np.zeros(5, np.int64), np.empty(0), np.empty(0, np.complex128))
 
 
 def filter_split(itab, ftab, n: int):
-    """The tables of the linear filter among a system's observers that the adaptive
-    Dormand-Prince steps advance outside their stages (:func:`._integrate._fz_begin`),
-    or :data:`NO_SPLIT`; then a copy of ``itab`` whose observers are those the stages
+    """(oit, fzi, fzf, fzc): a copy of ``itab`` whose observers are those the stages
     move (neither split nor running peaks: the others get derivative 0 there), or
-    ``itab`` itself where nothing is split. ``n``: the number of states.
+    ``itab`` itself where nothing is split, and the tables of the linear filter among a
+    system's observers that the adaptive Dormand-Prince steps advance outside their
+    stages (their layout: :mod:`._integrate`, before :func:`._integrate._fz_begin`), or
+    :data:`NO_SPLIT`. ``n``: the number of states.
 
     The filter: the ``integral`` observers, z' = A z + u, where one of them reads
     another (the Wk weighting, as :func:`weighted` builds it; A not zero). Its inputs u
@@ -209,7 +207,7 @@ def _split_cached(key):
     itab = np.frombuffer(key[0], np.int64)
     ftab = np.frombuffer(key[1], np.float64)
     out = _split(itab, ftab, key[2])
-    return (*NO_SPLIT, itab) if out is None else out
+    return (itab, *NO_SPLIT) if out is None else out
 
 
 def _split(itab, ftab, n):  # noqa: C901 (one pass of checks over the tables)
@@ -309,13 +307,14 @@ def _split(itab, ftab, n):  # noqa: C901 (one pass of checks over the tables)
     oitab[ob : ob + K.OBS_W * nob] = np.concatenate([itab[ob + K.OBS_W * q : ob + K.OBS_W * (q + 1)] for q in order])
     oitab[K.I_NOB] = sum(r[3] not in dead for r in rows)
     oitab.setflags(write=False)
-    return (
-        np.array([rows[q][3] for q in lin], np.int64), cols.astype(np.int64),
-        np.ascontiguousarray(Q[:, cols]), np.ascontiguousarray(lam[keep]), om,
-        np.ascontiguousarray(V[:, keep]), np.ascontiguousarray(Vi[keep]),
-        np.ascontiguousarray(Vi[keep] @ G[:, cols]), np.array(quad, np.int64),
-        np.array(sorted(dead), np.int64), _GL_X, _GL_W, oitab,
+    dead = sorted(dead)
+    fzi = np.array(
+        [nf, cols.size, len(quad), len(dead), len(keep), *(rows[q][3] for q in lin), *cols,
+         *quad, *dead], np.int64,
     )  # fmt: skip
+    fzf = np.concatenate([Q[:, cols].ravel(), om, _GL_X, _GL_W])
+    fzc = np.concatenate([lam[keep], V[:, keep].ravel(), Vi[keep].ravel(), (Vi[keep] @ G[:, cols]).ravel()])
+    return oitab, fzi, fzf, fzc.astype(np.complex128)
 
 
 def weighted(name: str, signal: dict, A, B, C, D, *, scale: float = 1.0):
