@@ -1027,7 +1027,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 acc += _TAB_E[q] * K[q, i]
             e = h * acc
             err += (e / sc) ** 2
-        err = math.sqrt(err / max(n, 1))
+        err = math.sqrt(err / max(live.size, 1))
         if hfix > 0.0:  # fixed steps: no error control, but a failure stays one
             if not ok:
                 return BALANCE_FAILED, k, h
