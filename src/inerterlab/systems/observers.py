@@ -386,10 +386,12 @@ def energy(sys, *, scale: float = 1e-2) -> list[Observer]:
 #: the ride observers of a quarter car and their typical sizes (absolute tolerance
 #: rtol x size): int a^2, int grip^2, int z^2, the Wk filter, int a_w^2, int a_w^4. The
 #: Wk filter's states (of the size of an acceleration, 0.1 m/s^2) get a 100 x looser
-#: absolute tolerance: the filter is linear and stable, its error does not grow, and
-#: at the acceleration's own tolerance its 100 Hz section sets the step size (the
-#: ch. 4-6 runs of the traditional, afw and device cars: 66 670 steps and rejections
-#: at 0.1, 47 313 at 10, 39 645 at 1000; docs/decisions.md, "Observers")
+#: absolute tolerance where they are in the stages (the fixed RK4 steps; the adaptive
+#: steps advance the filter outside them, :func:`filter_split`): the filter is linear and
+#: stable, its error does not grow, and at the acceleration's own tolerance its 100 Hz
+#: section set the step size (the ch. 4-6 runs of the traditional, afw and device cars:
+#: 66 670 steps and rejections at 0.1, 47 313 at 10, 39 645 at 1000; docs/decisions.md,
+#: "Observers")
 RIDE_SCALES = {"i_acc": 1e-2, "i_grip": 1e-4, "i_defl": 1e-7, "wk": 1e1, "i_wk": 1e-2, "i_wk4": 1e-3}
 
 
