@@ -184,6 +184,8 @@ class PreparedRoad(NamedTuple):
     #: the smallest road velocity jump [m/s] taken as a jump: 1e-9 of the road's
     #: largest speed (segment rates and sine amplitudes), inf on a road at rest
     velocity_jump_tolerance: float
+    #: where the road displacement jumps before the horizon (:func:`road_steps`)
+    steps: tuple
     #: a digest of the segments' content (the key of what is built from them)
     key: bytes
 
@@ -192,13 +194,16 @@ def _prepare(excitation: Excitation, horizon: float) -> PreparedRoad:
     segs = np.ascontiguousarray(excitation.segments(horizon), dtype=float)
     sine_rate = np.where(segs[:, 2] == 1.0, np.abs(segs[:, 5] * segs[:, 6]), 0.0)
     speed = float(np.max(np.abs(segs[:, 4]) + sine_rate))
+    x1 = float(excitation.initial_road(horizon))
     return PreparedRoad(
         segments=segs,
-        initial_road=float(excitation.initial_road(horizon)),
+        initial_road=x1,
         initial_velocity=float(excitation.initial_road_velocity(horizon)),
         piecewise_linear=bool(np.all(segs[:, 2] == 0.0)),
         jump_tolerance=ROAD_JUMP_RTOL * road_scale(segs),
         velocity_jump_tolerance=1e-9 * speed if speed > 0.0 else math.inf,
+        # (the cubic pieces of a measured drive are continuous: no steps)
+        steps=tuple(road_steps(segs, x1, horizon)) if segs.shape[1] == 8 else (),
         key=hashlib.blake2b(segs.tobytes(), digest_size=16).digest() + str(segs.shape).encode(),
     )
 

@@ -254,10 +254,14 @@ def _options(options, values: dict) -> SimulationOptions:
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     if values:
-        bad = sorted(set(values) - {f.name for f in dataclasses.fields(SimulationOptions)})
+        bad = sorted(set(values) - _OPTION_FIELDS)
         if bad:
             raise ParameterError(bad[0], values[bad[0]], "a field of SimulationOptions")
-        options = dataclasses.replace(options, **values)
+        items = tuple((k, type(v), v) for k, v in sorted(values.items()))  # 1 is not True
+        try:
+            options = _replaced(options, items)
+        except TypeError:  # a value that is not hashable: the options' own check
+            options = dataclasses.replace(options, **values)
     if options.backend != "numba":
         raise ParameterError(
             "backend", options.backend, "'numba' for a core system (the scipy oracle runs "
@@ -265,6 +269,16 @@ def _options(options, values: dict) -> SimulationOptions:
         )  # fmt: skip
     options.warn_ignored("the model core", "scipy_method", "time_limit")
     return options
+
+
+_OPTION_FIELDS = frozenset(f.name for f in dataclasses.fields(SimulationOptions))
+
+
+@lru_cache(maxsize=64)
+def _replaced(options: SimulationOptions, items: tuple) -> SimulationOptions:
+    """``options`` with the fields ``items`` ((name, type, value), ...) replaced, kept for
+    the last few: a study that passes the same keywords to every run checks them once."""
+    return dataclasses.replace(options, **{k: v for k, _, v in items})
 
 
 def _memo(sys) -> dict:
@@ -1082,8 +1096,9 @@ def _simulate(
         meth = "adaptive"
     metrics = None
     not_finite: dict = {}
+    hit = np.flatnonzero(jumps)  # the road steps taken
     nb = sys.info["base"].n_states if "base" in sys.info else sys.n_states
-    observed = {o.name: float(y[nb + q]) for q, o in enumerate(sys.observers)}
+    observed = dict(zip((o.name for o in sys.observers), y[nb:].tolist(), strict=True))
     load = None
     if sys.kind == "quarter_car":
         car = sys.info["car"]
@@ -1092,7 +1107,7 @@ def _simulate(
         from .observers import ride_metrics
 
         metrics = ride_metrics(observed, T, load)
-        if np.any(jumps):
+        if hit.size:
             jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
             jw = sys.info["velocity_jump_per_step"].get("wheel", 0.0)
             if abs(jb) > 1e-12 * abs(jw):
@@ -1102,16 +1117,14 @@ def _simulate(
                     "smooth the edges (bump(edge=...), --edge)"
                 )
                 not_finite.update(rms_body_acc=why, peak_body_acc=why)
-            if np.any(jumps < 0):
+            if np.any(jumps[hit] < 0):
                 not_finite["min_tyre_force"] = (
                     "not finite: the road steps down and the tyre damper would pull the "
                     "wheel with a Dirac impulse C_t x step; smooth the edges"
                 )
             for k in not_finite:
                 metrics[k] = None
-    steps = tuple(
-        (float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps) if segs[i, 0] < T
-    )
+    steps = tuple((float(segs[i, 0]), float(jumps[i])) for i in hit if segs[i, 0] < T)
     if np.any(vjumps):
         stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
     outs = _Outputs(functools.partial(_sampled_outputs, sys, user, ts, Y, U, segs, load))
@@ -1320,7 +1333,10 @@ class DriveRuns:
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
-        idx, direct = _drive_force_plan(sys)
+        memo = _memo(sys)
+        if "drive_force_plan" not in memo:
+            memo["drive_force_plan"] = _drive_force_plan(sys)
+        idx, direct = memo["drive_force_plan"]
         if direct:
             out = np.empty(n)
             _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, idx, out)
