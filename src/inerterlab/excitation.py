@@ -24,7 +24,9 @@ from __future__ import annotations
 
 import hashlib
 import math
+import threading
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
@@ -108,31 +110,28 @@ class Excitation:
 
     def prepared(self, horizon: float) -> PreparedRoad:
         """The segments up to ``horizon`` and what the integrators read from them
-        (:class:`PreparedRoad`), kept on an immutable input (a frozen dataclass, as
-        every input of this module) for its last :data:`PREPARED_KEPT` horizons: a
-        study that runs one road many times builds its segments once (an ISO 8608
-        road's 10 s take about 1 ms). Its arrays are shared: read them, do not write."""
+        (:class:`PreparedRoad`), kept for the last :data:`PREPARED_KEPT` (input, horizon)
+        of an immutable input (a frozen dataclass, as every input of this module), by
+        its value: a study that runs one road many times, or builds the same road
+        again for each point, builds its segments once (an ISO 8608 road's 10 s take
+        about 1 ms). Its arrays are shared: read them, do not write."""
         frozen = getattr(getattr(type(self), "__dataclass_params__", None), "frozen", False)
-        kept = self.__dict__.get("_prepared") if frozen else None
-        if kept is not None:
-            got = kept.get(horizon)
-            if got is not None:
-                return got
-        got = _prepare(self, horizon)
+        key = (self, horizon)
         if frozen:
-            if kept is None:
-                kept = {}
-                object.__setattr__(self, "_prepared", kept)
-            if len(kept) >= PREPARED_KEPT:
-                kept.pop(next(iter(kept)))
-            kept[horizon] = got
+            try:
+                got = _PREPARED.get(key)
+            except TypeError:  # a field that is not hashable (an array): not kept
+                frozen = False
+            else:
+                if got is not None:
+                    return got
+        got = _prepare(self, horizon)
+        if frozen and got.segments.nbytes <= PREPARED_MAX_BYTES:
+            with _PREPARED_LOCK:
+                _PREPARED[key] = got
+                while len(_PREPARED) > PREPARED_KEPT:
+                    _PREPARED.popitem(last=False)
         return got
-
-    def __getstate__(self) -> dict:
-        """The input without its prepared roads (a copy or a pickle builds its own)."""
-        state = dict(self.__dict__)
-        state.pop("_prepared", None)
-        return state
 
     def end_time(self) -> float:
         """Last time [s] the input is defined for (infinite for inputs without an end)."""
@@ -163,8 +162,12 @@ class Excitation:
         return out
 
 
-#: prepared roads (:meth:`Excitation.prepared`) kept per input: this many horizons
-PREPARED_KEPT = 4
+#: prepared roads (:meth:`Excitation.prepared`) kept: this many (input, horizon), each
+#: at most this many bytes of segments (an ISO 8608 road of 10 s at 20 m/s: 0.6 MB)
+PREPARED_KEPT = 32
+PREPARED_MAX_BYTES = 8_000_000
+_PREPARED: OrderedDict = OrderedDict()
+_PREPARED_LOCK = threading.Lock()
 
 
 class PreparedRoad(NamedTuple):
