@@ -3,7 +3,8 @@
 The packaged example car with, at each corner, a nylon adaptive-flywheel inerter in
 parallel with the strut (changing ratio 28.5 %, thesis law, 150 kg at rest), tyres that
 lift off, driven 60 s over an ISO 8608 class C road at 20 m/s (road sampled every
-2 ms). Prints the wall time (median of 3, compilation excluded) for the 60 s run of the
+2 ms). Prints the wall time and the CPU time (medians of 3, compilation excluded; the load
+average beside them) for the 60 s run of the
 core vehicle (:func:`inerterlab.systems.vehicle.simulate`, adaptive Dormand-Prince with
 lift-off and flywheel saturation as events) at rtol 1e-6 and 1e-8, with fixed classical
 Runge-Kutta steps (``fixed_method="rk4"``, no error control, the same events located)
@@ -113,6 +114,7 @@ def main() -> None:
     t = dt * np.arange(r.shape[0])
     out = car.outputs["front_left_deflection"].P
     core = vehicle(params)
+    load = os.getloadavg()[0]
     solvers = {
         "core DOPRI5 rtol 1e-6": lambda rr: simulate(core, rr, dt, rtol=1e-6),
         "core DOPRI5 rtol 1e-8": lambda rr: simulate(core, rr, dt, rtol=1e-8),
@@ -121,15 +123,17 @@ def main() -> None:
         "core RK4 fixed dt/2": lambda rr: simulate(core, rr, dt, fixed_step=dt / 2,
                                                    fixed_method="rk4"),
     }  # fmt: skip
-    times, stats = {}, {}
+    times, cpus, stats = {}, {}, {}
     for name, fn in solvers.items():
         fn(r[:10])  # compile / load the cache
-        runs = []
+        runs, cpu = [], []
         for _ in range(3):
-            t0 = time.perf_counter()
+            t0, c0 = time.perf_counter(), time.process_time()
             res = fn(r)
             runs.append(time.perf_counter() - t0)
-        times[name], stats[name] = statistics.median(runs), res.stats
+            cpu.append(time.process_time() - c0)
+        times[name], cpus[name] = statistics.median(runs), statistics.median(cpu)
+        stats[name] = res.stats
     # accuracy over the scipy span against a tight DOP853 run of the Python equations
     ns = int(round(args.scipy_span / dt)) + 1
     rs, ts = r[:ns], t[:ns]
@@ -140,7 +144,10 @@ def main() -> None:
     yref = ref.y[: len(car.dofs)].T @ out
     scale = float(np.abs(yref).max())
     print(f"simulated 60 s (core) and {ts[-1]:.1f} s (scipy) of class C at 20 m/s, dt {dt} s")
-    print(f"{'solver':24s} {'time 60 s [s]':>14s} {'scipy RK45/this':>16s} {'max rel err':>12s}")
+    print(f"load average (1 min) at the start of the timings: {load:.1f}; times: wall clock, "
+          "median of 3 (CPU time of the process beside it)")  # fmt: skip
+    print(f"{'solver':24s} {'time 60 s [s]':>14s} {'CPU [s]':>8s} {'scipy RK45/this':>16s} "
+          f"{'max rel err':>12s}")  # fmt: skip
     errs = {}
     for name, fn in solvers.items():
         y = fn(rs).outputs["front_left_deflection"]
@@ -154,11 +161,11 @@ def main() -> None:
         base[method] = (el, e)
     for name in solvers:
         st = stats[name]
-        print(f"{name:24s} {times[name]:14.4f} {base['RK45'][0] / times[name]:16.0f} "
+        print(f"{name:24s} {times[name]:14.4f} {cpus[name]:8.4f} {base['RK45'][0] / times[name]:16.0f} "
               f"{errs[name]:12.2e}   ({st['steps']} steps, {st['rhs_calls']} rhs, "
               f"{st['events']} events)")  # fmt: skip
     for method, (el, e) in base.items():
-        print(f"{'scipy ' + method:24s} {el:14.2f} {'':16s} {e:12.2e}")
+        print(f"{'scipy ' + method:24s} {el:14.2f} {'':8s} {'':16s} {e:12.2e}")
     first = next(iter(solvers))
     print(
         f"ratio scipy RK45 / core at rtol 1e-6: {base['RK45'][0] / times[first]:.0f} "
