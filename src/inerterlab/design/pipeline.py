@@ -46,7 +46,7 @@ import numpy as np
 
 from ..errors import DataFileError, ParameterError
 from . import scoring
-from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, candidate_text
+from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, SCORE_RTOL, candidate_text
 
 __all__ = [
     "DesignSettings",
@@ -107,6 +107,9 @@ class DesignSettings:
     max_steps: int = 400_000
     device_span: float = 3.0
     bisections: int = 8
+    #: relative tolerance of the adaptive quarter-car simulations (the device
+    #: candidates; the linear ones run exact steps), :data:`.scoring.SCORE_RTOL`
+    rtol: float = SCORE_RTOL
 
     @property
     def is_vehicle(self) -> bool:
@@ -184,6 +187,8 @@ class DesignSettings:
         if not 0 <= self.recheck <= 10:
             raise ParameterError("--recheck", self.recheck, "an integer in [0, 10]")
         check_seed("--seed", self.seed)
+        if not 1e-10 <= self.rtol <= 1e-6:
+            raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-10, 1e-6]")
         if self.seed + self.roads >= TUNE_SEED_OFFSET:
             raise ParameterError(
                 "--seed", self.seed, f"a seed below {TUNE_SEED_OFFSET - self.roads}"
@@ -398,6 +403,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "max_steps": st.max_steps,
         "device_span": st.device_span,
         "bisections": st.bisections,
+        "rtol": st.rtol,
         "tune_seeds": list(
             range(TUNE_SEED_OFFSET + st.seed, TUNE_SEED_OFFSET + st.seed + st.tune_roads)
         ),
@@ -527,13 +533,30 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
                     vals = _unpack(
                         dsl, {"layout": r["network"], "device": d}, list(r["parameters"])
                     )
-                    rows.append((float(row.objective), r["network"], vals))
+                    # an optimum on a bound that stands for a simpler layout (a spring
+                    # across the device rigid, the inertance at its lower bound: the
+                    # device shorted or absent) is no design with the device
+                    why = _simpler(r["network"], vals, bounds_of[r["network"]], st)
+                    if not why:
+                        rows.append((float(row.objective), r["network"], vals))
                     device_linear.append({
                         "device": d, "layout": r["network"], "h2": float(row.objective),
                         "h2_improvement": 100.0 * (1.0 - float(row.objective) / base["objective"]),
-                        "parameters": vals,
+                        "parameters": vals, "simpler": why,
                     })  # fmt: skip
                 by_device[d] = sorted(rows, key=lambda x: x[0])
+                best = min((q for q in device_linear if q["device"] == d),
+                           key=lambda q: q["h2"], default=None)  # fmt: skip
+                if best is not None and best["simpler"]:
+                    notes.append(
+                        f"{d}: its best linear optimum, in {best['layout']} "
+                        f"({best['h2_improvement']:+.2f} % H2), stands for a simpler layout "
+                        f"({best['simpler']}: the device does not act there); the device is "
+                        "rechecked in its best layouts where it acts"
+                        if rows else
+                        f"{d}: in every layout its linear optimum stands for a simpler "
+                        "layout (the device shorted or absent); not rechecked"
+                    )  # fmt: skip
         for d in st.devices:
             for _, lay, vals in by_device[d][: st.recheck]:
                 jobs.append({"layout": lay, "device": d, "values": vals})
@@ -563,7 +586,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "design-score",
         {"candidate": texts, "seed": seeds},
         {"car": json.dumps(car, sort_keys=True), "road_class": st.road_class,
-         "speed": st.speed, "horizon": st.horizon},
+         "speed": st.speed, "horizon": st.horizon, "rtol": st.rtol},
         store("scores.zarr"), workers, progress,
     )  # fmt: skip
     per_road = {}

@@ -361,7 +361,7 @@ def render_html(result: dict, figs: dict) -> str:
     )
     dl = "".join(
         f"<tr><td>{e(q['device'])}</td><td>{e(q['layout'])}</td><td>{_fmt(q['h2'])}</td>"
-        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td></tr>"
+        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td><td>{e(q.get('simpler') or '')}</td></tr>"
         for q in sorted(result.get("device_linear", []), key=lambda q: (q["device"], q["h2"]))
     )
     figs_html = "".join(
@@ -410,7 +410,7 @@ built with the device (its stiffness as identified, the other loss off), loses i
 expected gain over k | c on {st["tune_roads"]} tuning roads (Brent's method on the gain
 crossing zero, in the logarithm).</p><ul>{req or "<li>no device candidates</li>"}</ul>
 <h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
-<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
+<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th><th>stands for</th></tr>{dl}</table>
 <h2>Figures</h2>{figs_html}
 <h2>Layouts (H2 optimum, linear)</h2>
 <table><tr><th>layout</th><th>H2 norm [{e(result["layouts"][0].get("h2_unit", ""))}]</th>
