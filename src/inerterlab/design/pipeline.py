@@ -303,12 +303,24 @@ def check_out_folder(out: Path) -> None:
 COMPUTED: dict = {}
 #: wall seconds of each stage of the last :func:`run_design`
 SECONDS: dict = {}
+#: CPU seconds of each stage of the last :func:`run_design`, this process and its
+#: worker processes (each stage's workers have ended when it returns)
+CPU_SECONDS: dict = {}
+
+
+def process_cpu() -> float:
+    """CPU seconds of this process and of its ended child processes."""
+    import os
+
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def _sweep(point, params, settings, store, workers, progress):
     from ..studies import sweep
 
     t0 = time.perf_counter()
+    c0 = process_cpu()
     backend = "serial" if (workers or 1) <= 1 else "processes"
     ds = sweep(
         {"point": point, "parameters": params, "settings": settings},
@@ -319,6 +331,7 @@ def _sweep(point, params, settings, store, workers, progress):
     )
     COMPUTED[point] = int(ds.attrs.get("points_computed", 0))
     SECONDS[point] = time.perf_counter() - t0
+    CPU_SECONDS[point] = process_cpu() - c0
     return ds
 
 
@@ -338,6 +351,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     st.check()
     COMPUTED.clear()
     SECONDS.clear()
+    CPU_SECONDS.clear()
     say = say or (lambda text: None)
     t0 = time.perf_counter()
     stores = None
@@ -351,7 +365,10 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         return None if stores is None else str(stores / name)
 
     if (workers or 1) > 1:
+        c0 = process_cpu()
         _warm_up(st.car if st.is_vehicle else None)
+        SECONDS["warm-up"] = time.perf_counter() - t0
+        CPU_SECONDS["warm-up"] = process_cpu() - c0
 
     car = st.car
     h2obj, note = _h2_objective(st.objective)
@@ -670,6 +687,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "notes": notes,
         "points_computed": dict(COMPUTED),
         "stage_seconds": dict(SECONDS),
+        "stage_cpu_seconds": dict(CPU_SECONDS),
         "seconds": time.perf_counter() - t0,
     }
     return result
