@@ -18,13 +18,15 @@ keyed on its inputs, so a rerun resumes and a change recomputes):
    (:func:`inerterlab.synthesis.realise_all`), as one more candidate;
 3. every single-inerter layout with each real device, optimised by H2 with the
    device's series stiffness and parallel damping held in the network
-   (``design-device-linear``); for each device its best ``recheck`` layouts then have
-   the inertance searched in the time domain with friction and nonlinear losses
+   (``design-device-linear``); for each device its best ``recheck`` layouts where it
+   acts (an optimum that shorts the device, a spring across it rigid, or leaves it at
+   its smallest inertance stands for a simpler layout and is not one) then have the
+   inertance searched in the time domain with friction and nonlinear losses
    (``design-device``);
 4. every candidate, ``k | c`` included, simulated on ``roads`` ISO 8608 roads by the
    model core: expected value with its 95 % interval, gain over ``k | c`` road by road;
 5. for each device's best candidate, the friction and parasitic damping at which its
-   gain over ``k | c`` vanishes (``design-requirement`` point, Brent's method).
+   gain over ``k | c`` vanishes (``design-requirement`` point, the ITP crossing).
 
 The linear objective and the time-domain score are the same quantity where the H2
 optimiser has it: ``body_acc`` (RMS body acceleration), ``tyre_load`` (RMS dynamic
@@ -656,7 +658,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         if r["kind"] == "device" and r["device"] not in best_dev:
             best_dev[r["device"]] = r
     if best_dev:
-        say(f"design: device requirements for {len(best_dev)} devices (Brent's method)")
+        say(f"design: device requirements for {len(best_dev)} devices (the ITP crossing)")
         req_settings = {**dev_settings, "baseline": json.dumps(base_cand, sort_keys=True)}
         jobs = []
         for d, r in best_dev.items():

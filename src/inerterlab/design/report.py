@@ -49,6 +49,7 @@ def figures(result: dict) -> dict:
     from ..network_design import pareto_figure, pareto_front
     from ..systems import quarter_car
     from ..systems.core import weighted_acceleration
+    from .scoring import SCORE_RTOL
 
     st = result["settings"]
     win = _winners(result)
@@ -98,7 +99,7 @@ def figures(result: dict) -> dict:
     for r in win:
         net, par = r["core"]["network"], r["core"]["params"]
         sys = quarter_car(net, par, **dict(car or {}))
-        res = sys.simulate(road, horizon=horizon)
+        res = sys.simulate(road, horizon=horizon, rtol=st.get("rtol", SCORE_RTOL))
         acc = res.outputs["body_acc"]
         aw = weighted_acceleration(res.time, acc)
         fs = 1.0 / (res.time[1] - res.time[0])
@@ -407,7 +408,7 @@ expected value; gain over the optimised k | c on the same roads [%] &plusmn; its
 <h2>Device requirements</h2>
 <p>The friction or parasitic damping at which the ideal design of the device's layout,
 built with the device (its stiffness as identified, the other loss off), loses its
-expected gain over k | c on {st["tune_roads"]} tuning roads (Brent's method on the gain
+expected gain over k | c on {st["tune_roads"]} tuning roads (the ITP method on the gain
 crossing zero, in the logarithm).</p><ul>{req or "<li>no device candidates</li>"}</ul>
 <h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
 <table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th><th>stands for</th></tr>{dl}</table>
