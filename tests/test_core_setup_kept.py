@@ -121,3 +121,26 @@ def test_a_system_with_new_tables_does_not_read_the_old_one_s_store():
     # and each as a system built with its own values
     f3 = rig("k | (c - b)", {"k": 1e4, "c": 200.0, "b": 5.0}).simulate(ex, 0.5, method="exact")
     assert np.allclose(f2, f3.outputs["force"], rtol=1e-12, atol=1e-12 * np.abs(f2).max())
+
+
+def test_derived_systems_do_not_run_on_the_original_s_caches():
+    """A system with new element rows (the Gaussian equivalent, a rebuilt equilibrium)
+    simulated after its original gives what it gives when the original never ran: the
+    original's regime tables, state space and ride observers are not carried over."""
+    from inerterlab.systems.gaussian import equivalent_system, gaussian_gains, nonlinear_elements
+
+    net, prm = "k | c | afw", {"k": 22e3, "c": 1.5e3}
+    ex = sine(0.05, 5.0)
+
+    def derived(car):
+        return equivalent_system(car, {e: gaussian_gains(car, e, 0.0)
+                                       for e, _, _ in nonlinear_elements(car)})  # fmt: skip
+
+    car = quarter_car(net, prm)
+    car.simulate(ex, 1.0)  # fills the original's caches
+    after = derived(car).simulate(ex, 1.0)
+    alone = derived(quarter_car(net, prm)).simulate(ex, 1.0)
+    _same(after, alone)
+    # and the original is not changed by its derived system's runs
+    again = car.simulate(ex, 1.0)
+    _same(again, quarter_car(net, prm).simulate(ex, 1.0))

@@ -42,6 +42,7 @@ from ..elements._base import NPAR, SPRING, TYRE
 from ..errors import ConvergenceError, NetworkError, ParameterError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
+from .observers import uncached_info
 
 __all__ = ["Equilibrium", "equilibrium"]
 
@@ -140,7 +141,7 @@ def _rebuilt(sys, elements: list):
             L[t, b] -= dk
             L[b, t] -= dk
     ft.setflags(write=False)
-    info = dict(sys.info, spring_laplacian=L)
+    info = uncached_info(sys.info, spring_laplacian=L)
     return dataclasses.replace(sys, ftab=ft, elements=tuple(elements), info=info)
 
 

@@ -61,6 +61,7 @@ from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, 
 from ..errors import ParameterError
 from . import _kernel
 from ._kernel import ELEM_W
+from .observers import uncached_info
 
 __all__ = [
     "QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "mean_force", "equivalent_system",
@@ -240,4 +241,4 @@ def equivalent_system(sys, gains: dict):
         o = int(itab[eo + ELEM_W * e + 3])
         ft[o : o + NPAR] = _equivalent_row(sys, e, float(g))
     ft.setflags(write=False)
-    return dataclasses.replace(sys, ftab=ft)
+    return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))

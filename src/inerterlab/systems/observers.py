@@ -55,6 +55,17 @@ KINDS = {
 #: tables of its exact steps in the regimes): the
 #: system with observers computes its own
 _CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables", "memo")
+
+
+def uncached_info(info: dict, **extra) -> dict:
+    """A new ``info`` dict for a system derived from one with ``info`` (new element rows,
+    observers added): its description without what was computed and cached for the
+    original (:data:`_CACHED`), plus ``extra``. Sharing or copying those caches would
+    let the derived system run on the original's regime tables."""
+    out = {k: v for k, v in info.items() if k not in _CACHED}
+    out.update(extra)
+    return out
+
 #: a running peak starts here (a finite number: the continuous extension subtracts
 #: states, and -inf - -inf is NaN)
 PEAK_START = -1e300
@@ -150,8 +161,7 @@ def with_observers(sys, observers) -> System:  # noqa: F821
     ftab.setflags(write=False)
     x0 = [PEAK_START if o.kind == "peak" else 0.0 for o in obs]
     # the base's information, not what was computed and cached for the base alone
-    info = {k: v for k, v in base.info.items() if k not in _CACHED}
-    info.update(base=base, observers=obs)
+    info = uncached_info(base.info, base=base, observers=obs)
     return dataclasses.replace(
         base,
         state_names=names,
