@@ -497,7 +497,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref, span): with observers the
+    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref): with observers the
     tables act on the rows ``ia`` of y (the states and the linear observers'), the other
     observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
     as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
@@ -572,7 +572,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref, xspan = xo
+    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -664,7 +664,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for i in range(na):
                     y[ia[i]] = yt[i]
                 if xobs:
-                    _signals_at(xSR[cx], j, zs, xrows, xsv, xacc, xspan)
+                    _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
                     _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xTR[cx, j], xref, xcoef)
                 for g in range(ng):
                     ga0[g] = ga1[g]
@@ -1161,34 +1161,27 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 
 
 @nb.njit(cache=True)
-def _signals_at(SR, j, v, rows, sv, acc, span):
+def _signals_at(SR, j, v, rows, sv, acc):
     """The observed signals at the points of an exact step (its start, the quadrature
-    nodes, its end): with nu distinct signals and npt points, sv[p, rows[r, 0]] =
-    sum_q SR[j, q, r npt + p] v[q] for r < nu (v the step's initial vector: the
-    augmented state and the road's part, see :func:`.core._point_tables`; j the row of
-    its length; summed over q in order, every point and signal at once, each q over
-    the columns span[q, 0] <= i < span[q, 1] only, outside which its rows are zero: a
-    filter's states reach only the signals that read them), then the signals equal to
-    one of those or to its negative: sv[p, rows[r, 0]] = rows[r, 2] sv[p, rows[r, 1]].
-    ``acc``: scratch of SR.shape[2]."""
+    nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
+    + r] v[q] for r < nu (v the step's initial vector: the augmented state and the
+    road's part, see :func:`.core._point_tables`; j the row of its length; summed over q
+    in order, every point and signal at once), then the signals equal to one of those or
+    to its negative: sv[p, rows[r, 0]] = rows[r, 2] sv[p, rows[r, 1]]. ``acc``:
+    scratch of SR.shape[2]."""
     npt = sv.shape[0]
     nu = SR.shape[2] // npt
     for i in range(acc.size):
         acc[i] = 0.0
     for q in range(v.size):
         vq = v[q]
-        for i in range(span[q, 0], span[q, 1]):
+        for i in range(acc.size):
             acc[i] += SR[j, q, i] * vq
-    for r in range(nu):
-        k = rows[r, 0]
-        for p in range(npt):
-            sv[p, k] = acc[r * npt + p]
-    for r in range(nu, rows.shape[0]):
-        k = rows[r, 0]
-        src = rows[r, 1]
-        sg = rows[r, 2]
-        for p in range(npt):
-            sv[p, k] = sg * sv[p, src]
+    for p in range(npt):
+        for r in range(nu):
+            sv[p, rows[r, 0]] = acc[p * nu + r]
+        for r in range(nu, rows.shape[0]):
+            sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
 
 
 @nb.njit(cache=True, inline="always")
@@ -1288,7 +1281,7 @@ def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
                imp_unit, itab, ftab, hmin, hs, idx, PhiT, GX, GB, out_y, out_u, jumps, vjumps, ia,
-               SR, rows, gw, gx, TR, sref, span):  # fmt: skip
+               SR, rows, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1312,9 +1305,9 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     by :func:`_observe_points` from their signals at the step's start, the quadrature
     nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
     applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
-    read, ``span`` the columns each row of SR reaches), the peaks inside a step from
-    the Taylor rows ``TR[j]`` (``sref``: see :func:`_observe_points`). Without
-    observers ``ia`` is every state and the rest is empty."""
+    read), the peaks inside a step from the Taylor rows ``TR[j]`` (``sref``: see
+    :func:`_observe_points`). Without observers ``ia`` is every state and the rest is
+    empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
@@ -1400,7 +1393,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     if observed:
                         z0[na] = xr
                         z0[na + 1] = b
-                        _signals_at(SR, j, z0, rows, sv, sacc, span)
+                        _signals_at(SR, j, z0, rows, sv, sacc)
                         _observe_points(itab, y, h, sv, gw, xs, z0, TR[j], sref, coef)
                 else:
                     hs[m] = h
@@ -1435,7 +1428,6 @@ _NO_LEVELS = np.empty(0, np.int64)
 _NO_XOBS = (
     np.empty(0, np.int64), np.empty((0, 0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0),
     np.empty(0), np.empty(0), np.empty((0, 0, 0, 0, 0)), np.empty(0, np.int64),
-    np.empty((0, 2), np.int64),
 )  # fmt: skip
 
 

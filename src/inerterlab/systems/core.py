@@ -1286,7 +1286,10 @@ def _exact_plan(sys, segs, T, ts):
         np.empty((0, 0)), np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
         np.empty(0, np.int64), *_NO_OBSERVERS,
     )  # fmt: skip
-    keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
+    k = np.rint(hs[:m] / q).astype(np.int64)
+    if m and k.min() == k.max():  # one length (samples on the segment edges): no sort
+        return k[:1] * q, np.zeros(m, np.int64)
+    keys, idx = np.unique(k, return_inverse=True)
     return keys * q, idx.astype(np.int64)
 
 
@@ -1423,7 +1426,7 @@ def _regime_tables(sys, segs, T, ts, plan):
         # far apart (no longer than the longest gap between them, nor than a panel: with
         # samples every 1 ms, one panel of the first, as before)
         panel = _observer_share(sys) * EXACT_OBSERVER_PANEL
-        gap = float(np.max(plan[0], initial=T)) if plan is not None else T
+        gap = float(np.max(plan[0])) if plan is not None and plan[0].size else T
         longest = min(EXACT_OBSERVER_LONGEST, EXACT_OBSERVER_PANELS * panel, max(gap, panel))
         sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
     cls = np.full(len(segs), -1, np.int64)
@@ -1460,7 +1463,7 @@ def _regime_tables(sys, segs, T, ts, plan):
         hs, Sx[own].tobytes(), Su[own].tobytes(), m,
     )  # fmt: skip
     gw, gxs = _nodes(m)
-    xo = (ia, SR, rows, gw, gxs, cap, TR, _signal_refs(rows, nu, Sx.shape[0]), _spans(SR))
+    xo = (ia, SR, rows, gw, gxs, cap, TR, _signal_refs(rows, nu, Sx.shape[0]))
     return XE, XG, keys, thr, idx, cls, xlev, xo
 
 
@@ -1722,8 +1725,8 @@ def _points(m: int = 1) -> np.ndarray:
 
 def _point_tables(A, B, Sx, Su, rows, sizes, m=1):
     """(:func:`_point_tables_of`, :func:`_taylor_rows` of the signals over v = (z,
-    X1, X1'), :func:`_spans` of the first), kept for the last few systems, step lengths
-    and panel counts by content (a sweep over roads or seeds computes them once)."""
+    X1, X1')), kept for the last few systems, step lengths and panel counts by content
+    (a sweep over roads or seeds computes them once)."""
     sx, su = Sx[rows], Su[rows]  # the distinct signals
     return _point_tables_cached(
         A.shape[0], A.tobytes(), B.tobytes(), sx.tobytes(), su.tobytes(),
@@ -1747,7 +1750,7 @@ def _point_tables_cached(n, a, b, sx, su, sizes, m):
     TR = _taylor_rows(Mv, np.hstack([sx, su[:, :2]]), hs)
     SR.setflags(write=False)
     TR.setflags(write=False)
-    return SR, TR, _spans(SR)
+    return SR, TR
 
 
 def _point_tables_of(A, B, sx, su, sizes, m=1):
@@ -1772,22 +1775,9 @@ def _point_tables_of(A, B, sx, su, sizes, m=1):
 
 
 def _point_layout(SR):
-    """SR[..., p, j, r, q] as SR[..., j, q, r npt + p] (contiguous; npt points)."""
-    SR = np.moveaxis(SR, (-4, -3, -2, -1), (-1, -4, -2, -3))  # [..., j, q, r, p]
+    """SR[..., p, j, r, q] as SR[..., j, q, p nu + r] (contiguous)."""
+    SR = np.moveaxis(SR, (-4, -3, -2, -1), (-2, -4, -1, -3))  # [..., j, q, p, r]
     return np.ascontiguousarray(SR.reshape(*SR.shape[:-2], SR.shape[-2] * SR.shape[-1]))
-
-
-def _spans(SR) -> np.ndarray:
-    """span[q] = (first, one past the last) column where row q of the point tables SR
-    (the layout of :func:`_point_layout`, any leading axes) is not zero for some step
-    length: what :func:`._integrate._signals_at` sums over (a filter's states reach
-    only the signals that read them; exact zeros, as the exponential of a block
-    triangular matrix keeps them)."""
-    nz = np.any(SR.reshape(-1, SR.shape[-2], SR.shape[-1]) != 0.0, axis=0)
-    some = nz.any(axis=1)
-    lo = np.where(some, nz.argmax(axis=1), 0)
-    hi = np.where(some, nz.shape[1] - nz[:, ::-1].argmax(axis=1), 0)
-    return np.ascontiguousarray(np.stack([lo, hi], axis=1).astype(np.int64))
 
 
 def _kernel_kind(o):
@@ -1799,7 +1789,7 @@ def _kernel_kind(o):
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
 _NO_OBSERVERS = (
     np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0),
-    np.empty((0, 0, 0, 0)), np.empty(0, np.int64), np.empty((0, 2), np.int64),
+    np.empty((0, 0, 0, 0)), np.empty(0, np.int64),
 )  # fmt: skip
 
 
@@ -1818,8 +1808,8 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
             sys.info["observer_rows"] = (rows, nu, _signal_refs(rows, nu, Sx.shape[0]))
         rows, nu, sref = sys.info["observer_rows"]
         m = _panels(sizes, _observer_panel(sys))  # the quadrature's panels per step
-        SR, TR, span = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes, m)
-        extra = (SR, rows, *_nodes(m), TR, sref, span)
+        SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes, m)
+        extra = (SR, rows, *_nodes(m), TR, sref)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
