@@ -1252,16 +1252,13 @@ def _observer_share(sys) -> float:
     return EXACT_FOURTH_POWER_SHARE if fourth else 1.0
 
 
-def _observer_panel(sys, rate: float = 0.0) -> float:
-    """The longest quadrature panel [s] of ``sys``'s observers in an exact step of a
-    linear system (or a linear regime whose road sine has angular frequency ``rate``):
-    :data:`EXACT_OBSERVER_PANEL` x :func:`_observer_share`, and at most
-    :data:`EXACT_OBSERVER_PHASE` radians of the base system's fastest mode and of
-    ``rate``."""
+def _observer_panel(sys) -> float:
+    """The longest quadrature panel [s] of the observers of ``sys`` (a linear system) in
+    an exact step: :data:`EXACT_OBSERVER_PANEL` x :func:`_observer_share`, and at most
+    :data:`EXACT_OBSERVER_PHASE` radians of the base system's fastest mode."""
     base = sys.info["base"]
-    fast = max(_regime_rate(base, base.linear_state_space()[0]) if base.linear else
-               _regime_rate(base, _regime_system(base)[0]), rate)  # fmt: skip
-    return min(_observer_share(sys) * EXACT_OBSERVER_PANEL, EXACT_OBSERVER_PHASE / max(fast, 1e-300))
+    rate = _regime_rate(base, base.linear_state_space()[0])
+    return min(_observer_share(sys) * EXACT_OBSERVER_PANEL, EXACT_OBSERVER_PHASE / max(rate, 1e-300))
 
 
 def _panels(sizes, panel: float) -> int:
@@ -1434,7 +1431,12 @@ def _regime_tables(sys, segs, T, ts, plan):
         cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     rate = max(rate_x, float(np.max(np.abs(ws), initial=0.0)))
     top = longest if rate == 0.0 else min(longest, REGIME_LEVEL_PHASE / rate)
-    levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
+    nlev = REGIME_LEVELS
+    if aug is not None and top > panel:
+        # steps of several panels: levels down to those of a one-panel top, so a step
+        # that would leave the regime hands over to Dormand-Prince as close to the exit
+        nlev += math.ceil(math.log2(top / panel))
+    levels = top / 2.0 ** np.arange(nlev) if top >= REGIME_LEVEL_MIN else np.empty(0)
     lev_keys = np.rint(levels / q).astype(np.int64)
     keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
     keys = keys[keys > 0]
