@@ -1257,7 +1257,9 @@ def _observer_panel(sys) -> float:
     an exact step: :data:`EXACT_OBSERVER_PANEL` x :func:`_observer_share`, and at most
     :data:`EXACT_OBSERVER_PHASE` radians of the base system's fastest mode."""
     base = sys.info["base"]
-    rate = _regime_rate(base, base.linear_state_space()[0])
+    rate = base.info.get("regime_rate")  # cached: no state space built again
+    if rate is None:
+        rate = _regime_rate(base, base.linear_state_space()[0])
     return min(_observer_share(sys) * EXACT_OBSERVER_PANEL, EXACT_OBSERVER_PHASE / max(rate, 1e-300))
 
 
