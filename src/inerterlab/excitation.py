@@ -22,11 +22,15 @@ The car starts at rest in static equilibrium on the road level ``initial_road``
 
 from __future__ import annotations
 
+import hashlib
 import math
+import threading
 import warnings
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import cached_property, lru_cache
 from pathlib import Path
+from typing import NamedTuple
 
 import numpy as np
 
@@ -60,6 +64,7 @@ __all__ = [
     "iso8608_psd",
     "EXCITATIONS",
     "RoadTooShortWarning",
+    "PreparedRoad",
 ]
 
 EXCITATIONS = ("drop", "bump", "sine", "iso8608")
@@ -103,6 +108,31 @@ class Excitation:
     def segments(self, horizon: float) -> np.ndarray:  # pragma: no cover - abstract
         raise ParameterError("excitation", self, "a concrete excitation")
 
+    def prepared(self, horizon: float) -> PreparedRoad:
+        """The segments up to ``horizon`` and what the integrators read from them
+        (:class:`PreparedRoad`), kept for the last :data:`PREPARED_KEPT` (input, horizon)
+        of an immutable input (a frozen dataclass, as every input of this module), by
+        its value: a study that runs one road many times, or builds the same road
+        again for each point, builds its segments once (an ISO 8608 road's 10 s take
+        about 1 ms). Its arrays are shared: read them, do not write."""
+        frozen = getattr(getattr(type(self), "__dataclass_params__", None), "frozen", False)
+        key = (self, horizon)
+        if frozen:
+            try:
+                got = _PREPARED.get(key)
+            except TypeError:  # a field that is not hashable (an array): not kept
+                frozen = False
+            else:
+                if got is not None:
+                    return got
+        got = _prepare(self, horizon)
+        if frozen and got.segments.nbytes <= PREPARED_MAX_BYTES:
+            with _PREPARED_LOCK:
+                _PREPARED[key] = got
+                while len(_PREPARED) > PREPARED_KEPT:
+                    _PREPARED.popitem(last=False)
+        return got
+
     def end_time(self) -> float:
         """Last time [s] the input is defined for (infinite for inputs without an end)."""
         return math.inf
@@ -130,6 +160,55 @@ class Excitation:
             if v.repr:
                 out[k] = getattr(self, k)
         return out
+
+
+#: prepared roads (:meth:`Excitation.prepared`) kept: this many (input, horizon), each
+#: at most this many bytes of segments (an ISO 8608 road of 10 s at 20 m/s: 0.6 MB)
+PREPARED_KEPT = 32
+PREPARED_MAX_BYTES = 8_000_000
+_PREPARED: OrderedDict = OrderedDict()
+_PREPARED_LOCK = threading.Lock()
+
+
+class PreparedRoad(NamedTuple):
+    """An input's segments up to a horizon and what the integrators read from them."""
+
+    #: the segment table (C-contiguous float64; shared, not to be written)
+    segments: np.ndarray
+    #: X1 [m] just before t = 0
+    initial_road: float
+    #: X1' [m/s] just before t = 0
+    initial_velocity: float
+    #: every segment linear in t (no sine, no cubic)
+    piecewise_linear: bool
+    #: the smallest road jump [m] taken as a step (:data:`ROAD_JUMP_RTOL` x
+    #: :func:`road_scale`)
+    jump_tolerance: float
+    #: the smallest road velocity jump [m/s] taken as a jump: 1e-9 of the road's
+    #: largest speed (segment rates and sine amplitudes), inf on a road at rest
+    velocity_jump_tolerance: float
+    #: where the road displacement jumps before the horizon (:func:`road_steps`)
+    steps: tuple
+    #: a digest of the segments' content (the key of what is built from them)
+    key: bytes
+
+
+def _prepare(excitation: Excitation, horizon: float) -> PreparedRoad:
+    segs = np.ascontiguousarray(excitation.segments(horizon), dtype=float)
+    sine_rate = np.where(segs[:, 2] == 1.0, np.abs(segs[:, 5] * segs[:, 6]), 0.0)
+    speed = float(np.max(np.abs(segs[:, 4]) + sine_rate))
+    x1 = float(excitation.initial_road(horizon))
+    return PreparedRoad(
+        segments=segs,
+        initial_road=x1,
+        initial_velocity=float(excitation.initial_road_velocity(horizon)),
+        piecewise_linear=bool(np.all(segs[:, 2] == 0.0)),
+        jump_tolerance=ROAD_JUMP_RTOL * road_scale(segs),
+        velocity_jump_tolerance=1e-9 * speed if speed > 0.0 else math.inf,
+        # (the cubic pieces of a measured drive are continuous: no steps)
+        steps=tuple(road_steps(segs, x1, horizon)) if segs.shape[1] == 8 else (),
+        key=hashlib.blake2b(segs.tobytes(), digest_size=16).digest() + str(segs.shape).encode(),
+    )
 
 
 def _flat(t0: float, t1: float, level: float) -> list[float]:

@@ -38,7 +38,7 @@ from typing import Any
 import numpy as np
 
 from .errors import ConvergenceError, ParameterError, check_choice, check_positive
-from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale, road_steps
+from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale
 from .metrics import wk_state_space
 from .resources import check_memory
 from .suspension.model import N_METRIC_STATES, QuarterCar, model_of
@@ -297,13 +297,13 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     from .systems.quarter_car import system_of
 
     sys_ = system_of(model)
+    road = excitation.prepared(horizon)
     ts = _sample_times(horizon, options.sample_rate) if want_series else np.array([horizon])
     # where the body velocity jumps at a road step (an inertance between wheel and body):
     # the body velocity just before and at each step
     steps = []
     if sys_.info["velocity_jump_per_step"].get("body", 0.0) != 0.0:
-        x1 = excitation.initial_road(horizon)
-        steps = [t for t, _ in road_steps(excitation.segments(horizon), x1, horizon) if t < horizon]
+        steps = [t for t, _ in road.steps if t < horizon]
     before = [t - _BEFORE_STEP * max(1.0, t) for t in steps if t > 0.0]
     times = np.union1d(ts, np.array(before + steps, float)) if steps else ts
     res = _simulate(sys_, excitation, horizon, options, times=times, ride=True)
@@ -331,7 +331,7 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
             road=o["road.x"][pick], road_velocity=o["road.v"][pick],
         )  # fmt: skip
     values = {k: v for k, v in res.observed.items() if k.startswith("ride.")}
-    stats = dict(res.stats, segments=len(excitation.segments(horizon)))
+    stats = dict(res.stats, segments=len(road.segments))
     return _Run(values=values, samples=samples, stats=stats, jumps=tuple(jumps))
 
 
@@ -494,8 +494,8 @@ def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: f
         why = _DIRAC_REASON.format(jumps=_listed(run.jumps, "m/s"))
         out.update(rms_body_acc=why, peak_body_acc=why)
     if model.parameters.tyre_damping > 0 and not model.tyre_lift_off:
-        x1 = excitation.initial_road(horizon)
-        down = [(t, j) for t, j in road_steps(excitation.segments(horizon), x1, horizon) if j < 0]
+        road = excitation.prepared(horizon)
+        down = [(t, j) for t, j in road.steps if j < 0]
         if down:
             out["min_tyre_force"] = (
                 f"not finite: the road steps down ({_listed(down, 'm')}) and the tyre damper "
@@ -558,7 +558,7 @@ def _minimum_steps(excitation: Excitation, horizon: float) -> float:
         if excitation.length is not None:
             length = min(length, float(excitation.length))
         return length / float(excitation.spatial_step)
-    segs = excitation.segments(horizon)
+    segs = excitation.prepared(horizon).segments
     return float(np.count_nonzero(segs[:, 0] < horizon))
 
 

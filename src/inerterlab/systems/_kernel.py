@@ -4,7 +4,8 @@ One function serves every network and system: the structure is data, read from t
 tables (see :mod:`inerterlab.systems` for the public contract).
 
 Integer table ``itab`` (int64): a header of :data:`HEADER` entries (counts and offsets,
-the ``I_*`` indices), then one block of :data:`NODE_W` per node
+the ``I_*`` indices; ``I_DNS``: where the factored mass matrix's entry starts, 0 for
+none, :func:`dense_tables`), then one block of :data:`NODE_W` per node
 (type, displacement state, velocity state, index within its type, reference node of its
 floating inertance component or -1), one block of
 :data:`ELEM_W` per primitive element (kernel code, top node, bottom node, offset of its
@@ -68,9 +69,9 @@ NODE_W = 5
 ELEM_W = 7
 (
     I_NN, I_NE, I_ND, I_NV, I_NP, I_NS, I_NODE, I_ELEM, I_DYN, I_VEL, I_POS, I_FMASS, I_FR,
-    I_NI, I_NR, I_NL, I_NRD, I_NOB, I_OBS, I_NSG, I_SG, I_SGF,
-) = range(22)  # fmt: skip
-HEADER = 22
+    I_NI, I_NR, I_NL, I_NRD, I_NOB, I_OBS, I_NSG, I_SG, I_SGF, I_DNS,
+) = range(23)  # fmt: skip
+HEADER = 23
 #: observers (see :func:`observe`): the width of an observer row in ``itab`` and the
 #: kinds. A state observer q (its state ``y[slot]``) integrates q' = a (``OBS_LINEAR``,
 #: a filter state when a reads other observer states), a^2, a^4 or a b of its signals
@@ -153,6 +154,77 @@ def _dissipative(code, tab, o, v):
     if code == DAMPER:
         return damper_force(tab, o, v)
     return friction_force(tab[o], tab[o + 1], v)
+
+
+def dense_tables(itab, ftab):
+    """(itab, ftab) of the same system with its mass matrix factored beforehand for
+    :func:`evaluate` (see :func:`_dense_solve`), or None where that does not apply: a
+    node other than ground, road, dynamic node or a combination of those, a clutch or
+    a gated screw (their inertance lets go), or a mass matrix singular at rest. Valid
+    for these parameter rows only (the node masses and the inertances at rest are in
+    the factor): build it again after changing them."""
+    itab = np.asarray(itab, dtype=np.int64)
+    ftab = np.asarray(ftab, dtype=float)
+    nn, ne, nd = int(itab[I_NN]), int(itab[I_NE]), int(itab[I_ND])
+    no, eo, fm = int(itab[I_NODE]), int(itab[I_ELEM]), int(itab[I_FMASS])
+    if nd == 0 or itab[I_NV] or itab[I_NP] or itab[I_NR] or itab[I_DNS]:
+        return None
+    rows = np.zeros((nn, nd))
+    typ = [int(itab[no + NODE_W * n]) for n in range(nn)]
+    for n in range(nn):
+        if typ[n] == DYN:
+            rows[n, itab[no + NODE_W * n + 3]] = 1.0
+        elif typ[n] not in (GROUND, ROAD, LIN):
+            return None
+    for n in range(nn):
+        if typ[n] == LIN:
+            b = no + NODE_W * n
+            mo, cnt, co = int(itab[b + 1]), int(itab[b + 2]), int(itab[b + 3])
+            for j in range(cnt):
+                mem = int(itab[mo + j])
+                if typ[mem] == LIN:
+                    return None
+                rows[n] += ftab[co + j] * rows[mem]
+    M0 = np.zeros((nd, nd))
+    for n in range(nn):
+        if typ[n] == DYN:
+            k = itab[no + NODE_W * n + 3]
+            M0[k, k] += ftab[fm + n]
+    var, U, rest = [], [], []
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        g = rows[itab[b + 1]] - rows[itab[b + 2]]
+        o = int(itab[b + 3])
+        if itab[b] == INERTER:
+            M0 += float(ftab[o]) * np.outer(g, g)
+        elif itab[b] == FLYWHEEL:
+            if ftab[o + 14] != 0.0:  # a clutch or a gated screw lets go: massless rows
+                return None
+            # the adaptive flywheel's inertance at rest, r^2 (I_rest + coef l_min^p), its
+            # least, goes into the factor (a device's internal node has no mass of its
+            # own); the excess over it is updated at every call
+            me0 = ftab[o + 1] ** 2 * (ftab[o + 2] + ftab[o + 3] * ftab[o + 6] ** int(ftab[o + 9]))
+            M0 += me0 * np.outer(g, g)
+            var.append(e)
+            U.append(g)
+            rest.append(me0)
+    m = len(var)
+    if nd * nd < m * m + 2 * m:  # the scratch of _dense_solve
+        return None
+    w = np.linalg.eigvalsh(M0)
+    if not np.all(np.isfinite(w)) or w[0] <= 1e-12 * w[-1]:
+        return None
+    U = np.array(U, float).reshape(m, nd).T
+    Minv = np.linalg.inv(M0)
+    Z = Minv @ U
+    S = U.T @ Z
+    block = np.concatenate([Minv.ravel(), Z.ravel(), S.ravel(), U.T.ravel(), rest])
+    itab2 = np.concatenate([itab, np.array([ftab.size, m, *var], dtype=np.int64)])
+    itab2[I_DNS] = itab.size
+    ftab2 = np.concatenate([ftab, block])
+    itab2.setflags(write=False)
+    ftab2.setflags(write=False)
+    return itab2, ftab2
 
 
 def work_size(itab) -> int:
@@ -349,7 +421,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     jump); integrated over a unit interval with the road velocity moving linearly
     through the jump it applies the impulses the inertances on the road pass, whatever
     their velocity dependence. The work array is read by offset, never sliced: a slice
-    costs a view per call."""
+    costs a view per call. Tables from :func:`dense_tables` (header ``I_DNS`` > 0) carry
+    the mass matrix factored beforehand: without an impulse the accelerations then come
+    from that factor and a low-rank update for the flywheels (:func:`_dense_solve`), the
+    same balance by another order of the arithmetic (agreeing to rounding)."""
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
@@ -433,6 +508,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 W[iv + n] += W[iv + itab[b + 4]]
             elif itab[b + 4] == n:  # a reference: fixed for the relative accelerations
                 W[ia + n] = 0.0
+    if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
+        ok &= _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie)
+        return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
     # forces and the mass matrix of the dynamic nodes
     for i in range(im, ie + ne):
         W[i] = 0.0
@@ -505,6 +583,29 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, imp.size > 0)
     if nd > 0 and not _solve(W, im, W, ir, nd):
         ok = False
+    if imp.size == 0:
+        return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
+    _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir)
+    if imp.size > 0:
+        for i in range(x.size):
+            if i >= itab[I_NS] - itab[I_NI]:
+                dx[i] = 0.0
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == DYN or itab[b] == REL:
+                dx[itab[b + 1]] = 0.0
+            elif itab[b] == VEL or itab[b] == RELV:
+                dx[itab[b + 1]] = 0.0
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
+        _relative_unknown(itab, W, ia, nn, nrel)
+    return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir):
+    """Every node's acceleration and the nodes' part of the derivative, once the
+    dynamic nodes' accelerations (or impulse flows) are in W[ir:ir+nd]."""
+    no = itab[I_NODE]
     for n in range(nn):
         b = no + NODE_W * n
         typ = itab[b]
@@ -520,21 +621,17 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
             dx[itab[b + 2]] = W[ia + n]
         elif typ == RELV:
             dx[itab[b + 1]] = W[iv + n] - W[iv + itab[b + 4]]
-    if nlin > 0:
+    if itab[I_NL] > 0:
         _combine(itab, ftab, W, ia, nn)
-    if imp.size > 0:
-        for i in range(x.size):
-            if i >= itab[I_NS] - itab[I_NI]:
-                dx[i] = 0.0
-        for n in range(nn):
-            b = no + NODE_W * n
-            if itab[b] == DYN or itab[b] == REL:
-                dx[itab[b + 1]] = 0.0
-            elif itab[b] == VEL or itab[b] == RELV:
-                dx[itab[b + 1]] = 0.0
-        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
-        _relative_unknown(itab, W, ia, nn, nrel)
-        return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok):
+    """The end of :func:`evaluate` (no impulse) once the accelerations of the dynamic
+    nodes are in W[ir:ir+nd]: every node's acceleration, the derivative, the inertial
+    forces m_e (a_top - a_bottom), the own states' rates and the switching functions."""
+    eo = itab[I_ELEM]
+    _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir)
     for e in range(ne):
         if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
@@ -542,6 +639,102 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
     _relative_unknown(itab, W, ia, nn, nrel)
     return ok
+
+
+@nb.njit(cache=True, inline="always")
+def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie):
+    """Forces and accelerations of a system whose mass matrix was factored beforehand
+    (:func:`dense_tables`: every node a ground, road or dynamic node, or a combination
+    of them). The mass matrix is M0 + sum_e (m_e(v) - m_e0) g_e g_e^T, M0 the node
+    masses, the constant inerters and the adaptive flywheels at their inertance at rest
+    m_e0, the sum over the flywheels (m_e changes with their motion); a = M^-1 Q by the
+    Woodbury identity about M0^-1 (given): y = M0^-1 Q, a = y - Z (I + D S)^-1 D U^T y,
+    U = [g_e], D = diag(m_e - m_e0), Z = M0^-1 U,
+    S = U^T M0^-1 U. Each element's force f, and m_e times the known accelerations of
+    its ends (road, ground), are gathered on its ends' rows; nothing is stamped.
+    Scratch: the mass matrix's slots (nd^2 >= m^2 + 2 m, checked by dense_tables).
+    Returns False where I + D S is singular."""
+    eo = itab[I_ELEM]
+    no = itab[I_NODE]
+    im = ir - nd * nd
+    for i in range(nd):
+        W[ir + i] = 0.0
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        code = itab[b]
+        top = itab[b + 1]
+        bot = itab[b + 2]
+        o = itab[b + 3]
+        v = W[iv + top] - W[iv + bot]
+        me = 0.0
+        if code == SPRING:
+            f = spring_force(ftab, o, W[top] - W[bot])
+        elif code == DAMPER or code == FRICTION:
+            f, _ = _dissipative(code, ftab, o, v)
+        elif code == INERTER:
+            f = 0.0
+            me = inerter_inertance(ftab, o)
+        elif code == TYRE:
+            f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
+        else:
+            side = road[hs + e] if held else 0.0
+            me, f = inertial_law(ftab, o, W[top] - W[bot], v, x, itab[b + 4], dx, side)
+        W[iF + e] = f
+        W[ie + e] = me
+        g = f
+        if me != 0.0:  # m_e times the known accelerations of the ends (road, ground)
+            tt = itab[no + NODE_W * top]
+            tb = itab[no + NODE_W * bot]
+            if tt == ROAD:
+                g += me * W[ia + top]
+            if tb == ROAD:
+                g -= me * W[ia + bot]
+        _gather(itab, W, top, -g, ia, ir)
+        _gather(itab, W, bot, g, ia, ir)
+    if itab[I_NL] > 0:
+        for n in range(nn):
+            b = no + NODE_W * n
+            if itab[b] == LIN:
+                mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
+                fn = W[ia + n]
+                for j in range(cnt):
+                    W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
+    db = itab[I_DNS]
+    fo = itab[db]
+    m = itab[db + 1]
+    mi = fo  # M0^-1 (nd x nd), then Z (nd x m), then S (m x m)
+    zo = fo + nd * nd
+    so = zo + nd * m
+    y = im  # scratch: y, then w = D U^T y, then the capacitance matrix
+    w = im + nd
+    cap = w + m
+    for i in range(nd):
+        acc = 0.0
+        for j in range(nd):
+            acc += ftab[mi + i * nd + j] * W[ir + j]
+        W[y + i] = acc
+    for i in range(nd):
+        W[ir + i] = W[y + i]
+    if m == 0:
+        return True
+    uo = so + m * m  # U^T (m x nd), then the inertances in M0
+    ro = uo + m * nd
+    for k in range(m):  # w = D U^T y and the capacitance matrix I + D S
+        me = W[ie + itab[db + 2 + k]] - ftab[ro + k]
+        acc = 0.0
+        for j in range(nd):
+            acc += ftab[uo + k * nd + j] * W[y + j]
+        W[w + k] = me * acc
+        for j in range(m):
+            W[cap + k * m + j] = (1.0 if j == k else 0.0) + me * ftab[so + k * m + j]
+    if not _solve(W, cap, W, w, m):
+        return False
+    for i in range(nd):
+        acc = 0.0
+        for k in range(m):
+            acc += ftab[zo + i * m + k] * W[w + k]
+        W[ir + i] -= acc
+    return True
 
 
 @nb.njit(cache=True)

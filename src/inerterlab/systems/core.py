@@ -3,7 +3,9 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import math
+from collections.abc import MutableMapping
 from dataclasses import dataclass, field
 from functools import lru_cache
 
@@ -58,8 +60,8 @@ class CoreResult:
         Sample times [s].
     states : ndarray
         States at the samples, columns ``system.state_names``.
-    outputs : dict
-        Sampled outputs by name: ``<node>.x``, ``<node>.v``, ``<node>.a`` [m, m/s, m/s^2]
+    outputs : mapping
+        Sampled outputs by name (computed when first read): ``<node>.x``, ``<node>.v``, ``<node>.a`` [m, m/s, m/s^2]
         (acceleration NaN at massless nodes), ``<element>.force`` [N]; for a quarter car
         also ``body_acc``, ``deflection``, ``tyre_force`` (dynamic), ``tyre_grip``; for a
         rig ``force`` (the force the rig applies).
@@ -76,7 +78,7 @@ class CoreResult:
     system: System
     time: np.ndarray
     states: np.ndarray
-    outputs: dict
+    outputs: MutableMapping
     metrics: dict | None
     method: str
     stats: dict
@@ -190,7 +192,7 @@ class System:
                 f"{self.description}: not linear ({', '.join(bad)}); linear analysis needs "
                 "springs, linear dampers and ideal inerters"
             )
-        return _state_space(self, self.itab, self.ftab)
+        return tuple(a.copy() for a in _linear_ss(self))
 
     def transfer(self, omega, output: str):
         """H(j omega) from road velocity to ``output`` (linear systems): any name of
@@ -258,10 +260,14 @@ def _options(options, values: dict) -> SimulationOptions:
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     if values:
-        bad = sorted(set(values) - {f.name for f in dataclasses.fields(SimulationOptions)})
+        bad = sorted(set(values) - _OPTION_FIELDS)
         if bad:
             raise ParameterError(bad[0], values[bad[0]], "a field of SimulationOptions")
-        options = dataclasses.replace(options, **values)
+        items = tuple((k, type(v), v) for k, v in sorted(values.items()))  # 1 is not True
+        try:
+            options = _replaced(options, items)
+        except TypeError:  # a value that is not hashable: the options' own check
+            options = dataclasses.replace(options, **values)
     if options.backend != "numba":
         raise ParameterError(
             "backend", options.backend, "'numba' for a core system (the scipy oracle runs "
@@ -269,6 +275,42 @@ def _options(options, values: dict) -> SimulationOptions:
         )  # fmt: skip
     options.warn_ignored("the model core", "scipy_method", "time_limit")
     return options
+
+
+_OPTION_FIELDS = frozenset(f.name for f in dataclasses.fields(SimulationOptions))
+
+
+@lru_cache(maxsize=64)
+def _replaced(options: SimulationOptions, items: tuple) -> SimulationOptions:
+    """``options`` with the fields ``items`` ((name, type, value), ...) replaced, kept for
+    the last few: a study that passes the same keywords to every run checks them once."""
+    return dataclasses.replace(options, **{k: v for k, _, v in items})
+
+
+def _memo(sys) -> dict:
+    """What the simulations of ``sys`` build from its tables alone (its state space, its
+    rest states, the plans of exact steps by road and samples), kept on it and tied to
+    the identity of its (read-only) tables: a system derived with new tables
+    (``dataclasses.replace``) shares its ``info`` dict but not this store."""
+    got = sys.info.get("memo")
+    if got is None or got[0] is not sys.itab or got[1] is not sys.ftab:
+        got = (sys.itab, sys.ftab, {})
+        sys.info["memo"] = got
+    return got[2]
+
+
+def _linear_ss(sys):
+    """(A, B, C, D) of a linear system (:meth:`System.linear_state_space`), computed
+    once per system; shared arrays, read only."""
+    if "base" in sys.info:
+        return _linear_ss(sys.info["base"])
+    memo = _memo(sys)
+    got = memo.get("state_space")
+    if got is None:
+        if not sys.linear:
+            sys.linear_state_space()  # its error
+        got = memo["state_space"] = _state_space(sys, sys.itab, sys.ftab)
+    return got
 
 
 def _state_space(sys, itab, ftab):
@@ -822,10 +864,28 @@ def _spring_map(L, types, ref, pos, lay) -> np.ndarray:
 def _initial(sys: System, fixed: dict, road0: float) -> np.ndarray:
     """Rest state: the named nodes at the given displacements (others of the bodies and
     the road at ``road0``), internal nodes at the spring equilibrium between them."""
-    names = list(sys.node_names)
+    names = sys.node_names
     for k in fixed:
         if k not in names or sys.node_types[names.index(k)] == GROUND:
             raise ParameterError(k, fixed[k], f"a body node of the system ({', '.join(names)})")
+    kept = _memo(sys).setdefault("rest_states", {})
+    key = (tuple(sorted((k, float(v)) for k, v in fixed.items())), float(road0))
+    got = kept.get(key)
+    if got is None:
+        got = _rest_state(sys, fixed, road0)
+        if len(kept) >= REST_STATES_KEPT:
+            kept.pop(next(iter(kept)))
+        kept[key] = got
+    return got.copy()
+
+
+#: the rest states (:func:`_initial`) of this many (displacements, road level) are kept
+#: on a system
+REST_STATES_KEPT = 8
+
+
+def _rest_state(sys, fixed: dict, road0: float) -> np.ndarray:
+    names = list(sys.node_names)
     L = sys.info["spring_laplacian"]
     nn = len(names)
     masses = sys.ftab[sys.itab[_kernel.I_FMASS] : sys.itab[_kernel.I_FMASS] + nn]
@@ -864,14 +924,6 @@ def _sample_times(horizon: float, rate: float) -> np.ndarray:
 class RoadVelocityJumpWarning(UserWarning):
     """Kept for compatibility: road velocity jumps now pass their impulses
     (docs/model.md, "Networks"), and nothing issues this warning."""
-
-
-def _velocity_jump_tolerance(segs: np.ndarray) -> float:
-    """Smallest road velocity jump [m/s] taken as a jump: 1e-9 of the road's largest
-    speed (segment rates and sine amplitudes), or inf on a road at rest."""
-    sine_rate = np.where(segs[:, 2] == 1.0, np.abs(segs[:, 5] * segs[:, 6]), 0.0)
-    scale = float(np.max(np.abs(segs[:, 4]) + sine_rate))
-    return 1e-9 * scale if scale > 0.0 else math.inf
 
 
 @lru_cache(maxsize=16)
@@ -913,7 +965,7 @@ def _simulate(
     """The run of :meth:`System.simulate`; ``ride``: carry a quarter car's ride observers
     (None: when it starts at rest with uniform samples); ``metrics_only``: one sample,
     at the horizon (with the ride observers)."""
-    from ..excitation import ROAD_JUMP_RTOL, Excitation, road_scale
+    from ..excitation import Excitation
 
     if not isinstance(excitation, Excitation):
         raise ParameterError(
@@ -938,8 +990,9 @@ def _simulate(
             return st.get("steps", 0) + st.get("rejected", 0) if res.method == "adaptive" else 0
 
         check_sine_steps(steps_to, excitation, T, r, int(max_steps))
-    segs = np.ascontiguousarray(excitation.segments(T), dtype=float)
-    x1 = float(excitation.initial_road(T))
+    road = excitation.prepared(T)  # the segments, built once per input and horizon
+    segs = road.segments
+    x1 = road.initial_road
     if x0 is None:
         fixed = {}
         du, ds = excitation.initial_displacements
@@ -954,8 +1007,10 @@ def _simulate(
             raise ParameterError("x0", x0, f"{sys.n_states} states")
     if metrics_only:
         ts = np.array([T])
+        ts_key = ("end",)  # what fixes the samples, with the horizon
     elif times is None:
         ts = _sample_times(T, options.sample_rate)
+        ts_key = ("rate", float(options.sample_rate))
     else:
         ts = np.array(times, dtype=float)
         if (
@@ -969,6 +1024,7 @@ def _simulate(
             raise ParameterError(
                 "times", "array", f"increasing finite sample times in [0, horizon={T:g}] s"
             )
+        ts_key = ("times", ts.tobytes())
     user = sys
     if ride is None:
         ride = sys.kind == "quarter_car" and times is None and x0 is None
@@ -976,7 +1032,7 @@ def _simulate(
         # the ride metrics, integrated as observer states
         sys = sys.info.get("ride_system") or _ride_system(sys)
         y = np.concatenate([y, sys.x0_template[y.size :]])
-    piecewise_linear = bool(np.all(segs[:, 2] == 0.0))
+    piecewise_linear = road.piecewise_linear
     if method == "exact" and not (sys.linear and piecewise_linear):
         raise ParameterError(
             "method",
@@ -990,44 +1046,41 @@ def _simulate(
     exact_ok = sys.linear and piecewise_linear
     if sys.observers and exact_ok:
         if "observer_system" not in sys.info:
-            sys.info["observer_system"] = _observer_system(sys, sys.linear_state_space())
+            sys.info["observer_system"] = _observer_system(sys, _linear_ss(sys))
         exact_ok = sys.info["observer_system"] is not None
         if method == "exact" and not exact_ok:
             raise ParameterError(
                 "method", "exact", "'auto' or 'adaptive' here: an observer reads what the "
                 "exact steps do not give (an undefined output or a nonlinear observer)",
             )  # fmt: skip
-    ts_walk = ts  # the break points of exact steps: the samples, and for observers a grid
-    if sys.n_states and exact_ok and method in ("auto", "exact"):
-        if sys.observers:  # panels of the observers' quadrature, several to a step
-            step = min(EXACT_OBSERVER_LONGEST, EXACT_OBSERVER_PANELS * _observer_panel(sys))
-            ts_walk = _observer_grid(ts, T, step)
-        plan = _exact_plan(sys, segs, T, ts_walk)
+    ts_walk, pick = ts, None  # the break points of exact steps: the samples, and for
+    if sys.n_states and exact_ok and method in ("auto", "exact"):  # observers a grid
+        walk, pick, plan = _walk_plan(sys, road, T, ts, ts_key)
+        if walk is not None:
+            ts_walk = walk
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
     elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
         regime = _regime_tables_for(sys, segs, T, ts)
-    jump_tol = ROAD_JUMP_RTOL * road_scale(segs)
+    jump_tol = road.jump_tolerance
     jumps = np.zeros(len(segs))
     # road velocity jumps (at t = 0 from rest, where segments meet) pass impulses
     # through the inertances attached to the road
     vjumps = np.zeros(len(segs))
-    vjump_tol = _velocity_jump_tolerance(segs) if sys.info.get("road_inertances") else math.inf
-    v_before = float(excitation.initial_road_velocity(T)) if x0 is None else math.nan
-    O = None
+    vjump_tol = road.velocity_jump_tolerance if sys.info.get("road_inertances") else math.inf
+    v_before = road.initial_velocity if x0 is None else math.nan
+    U = None
     if sys.n_states == 0:  # everything prescribed (a rig with a parallel network)
         Y = np.empty((ts.size, 0))
         stats = {"steps": 0}
         meth = "exact" if method == "exact" else "adaptive"
     elif plan is not None:
-        ss = sys.linear_state_space()
         Y, U, stats = _exact(
-            sys, ss, plan, segs, y, x1, T, ts_walk, jumps, jump_tol, v_before, vjump_tol, vjumps
-        )
-        if ts_walk is not ts:
-            pick = np.searchsorted(ts_walk, ts)
+            sys, _linear_ss(sys), plan, segs, y, x1, T, ts_walk, jumps, jump_tol, v_before,
+            vjump_tol, vjumps,
+        )  # fmt: skip
+        if pick is not None:
             Y, U = Y[pick], U[pick]
-        O = _linear_outputs(sys, ss, Y[:, : ss[0].shape[0]], U)
         meth = "exact"
     else:
         atol = options.atol_factor * np.maximum(sys.state_scales, 1e-12)
@@ -1047,7 +1100,96 @@ def _simulate(
             "events": int(st[3]), "exact_steps": int(st[4]),
         }  # fmt: skip
         meth = "adaptive"
+    metrics = None
     not_finite: dict = {}
+    hit = np.flatnonzero(jumps)  # the road steps taken
+    nb = sys.info["base"].n_states if "base" in sys.info else sys.n_states
+    observed = dict(zip((o.name for o in sys.observers), y[nb:].tolist(), strict=True))
+    load = None
+    if sys.kind == "quarter_car":
+        car = sys.info["car"]
+        load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
+    if sys is not user:  # the ride observers: the metrics
+        from .observers import ride_metrics
+
+        metrics = ride_metrics(observed, T, load)
+        if hit.size:
+            jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
+            jw = sys.info["velocity_jump_per_step"].get("wheel", 0.0)
+            if abs(jb) > 1e-12 * abs(jw):
+                why = (
+                    "not finite: the body velocity jumps at the road steps (an inertance "
+                    "between wheel and body), so the body acceleration has a Dirac part; "
+                    "smooth the edges (bump(edge=...), --edge)"
+                )
+                not_finite.update(rms_body_acc=why, peak_body_acc=why)
+            if np.any(jumps[hit] < 0):
+                not_finite["min_tyre_force"] = (
+                    "not finite: the road steps down and the tyre damper would pull the "
+                    "wheel with a Dirac impulse C_t x step; smooth the edges"
+                )
+            for k in not_finite:
+                metrics[k] = None
+    steps = tuple((float(segs[i, 0]), float(jumps[i])) for i in hit if segs[i, 0] < T)
+    if np.any(vjumps):
+        stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
+    outs = _Outputs(functools.partial(_sampled_outputs, sys, user, ts, Y, U, segs, load))
+    return CoreResult(
+        system=user, time=ts, states=Y[:, : user.n_states].copy(), outputs=outs,
+        metrics=metrics, method=meth, stats=stats, road_steps=steps, not_finite=not_finite,
+        observed=observed,
+    )  # fmt: skip
+
+
+class _Outputs(MutableMapping):
+    """The sampled outputs of a :class:`CoreResult` by name, computed on first access
+    (a study that reads the states or the metrics only does not pay for them); a plain
+    dict once copied or pickled."""
+
+    __slots__ = ("_make", "_data")
+
+    def __init__(self, make) -> None:
+        self._make = make
+        self._data = None
+
+    def _dict(self) -> dict:
+        if self._data is None:
+            self._data = self._make()
+            self._make = None
+        return self._data
+
+    def __getitem__(self, name):
+        return self._dict()[name]
+
+    def __setitem__(self, name, value) -> None:
+        self._dict()[name] = value
+
+    def __delitem__(self, name) -> None:
+        del self._dict()[name]
+
+    def __iter__(self):
+        return iter(self._dict())
+
+    def __len__(self) -> int:
+        return len(self._dict())
+
+    def __repr__(self) -> str:
+        return repr(self._dict())
+
+    def __reduce__(self):
+        return (dict, (self._dict(),))
+
+
+def _sampled_outputs(sys, user, ts, Y, U, segs, load) -> dict:
+    """The outputs of a run of ``sys`` (``user`` with the ride observers, or itself) at
+    the samples ``ts``: states ``Y`` (every state of ``sys``), the road ``U`` (X1, X1',
+    X1'') where exact steps gave it (then C x + D u), else from the right-hand side (in
+    a linear regime: C x + D u of the regime); for a quarter car the derived outputs,
+    for a rig the force at the drive."""
+    O = None
+    if U is not None:
+        ss = _linear_ss(sys)
+        O = _linear_outputs(sys, ss, Y[:, : ss[0].shape[0]], U)
     reg = _regime_system(sys) if O is None and sys.n_states else None
     if reg is not None:  # C x + D u where every element sits in its linear regime
         _, _, gx, gu, thr, _, C, D, undefined, aug = reg
@@ -1062,9 +1204,6 @@ def _simulate(
         _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
         O = np.ascontiguousarray(O.T)
     outs = {n: O[j] for j, n in enumerate(sys.output_names)}
-    metrics = None
-    nb = sys.info["base"].n_states if "base" in sys.info else sys.n_states
-    observed = {o.name: float(y[nb + q]) for q, o in enumerate(sys.observers)}
     if sys.kind == "quarter_car":
         car = sys.info["car"]
         outs["body_acc"] = outs["body.a"]
@@ -1073,50 +1212,44 @@ def _simulate(
             outs["tyre.force"] if "tyre.force" in outs
             else outs["tyre_k.force"] + outs.get("tyre_c.force", 0.0)
         )  # fmt: skip
-        load = (car["sprung_mass"] + car["unsprung_mass"]) * car["gravity"]
         outs["tyre_grip"] = car["tyre_stiffness"] * (outs["wheel.x"] - outs["road.x"]) / load
-
-    if sys is not user:  # the ride observers: the metrics, and the user's states back
-        from .observers import ride_metrics
-
-        metrics = ride_metrics(observed, T, load)
-        # the Wk-weighted body acceleration at the samples, from the filter's states
+    if sys is not user:  # the Wk-weighted body acceleration, from the filter's states
         from ..metrics import wk_state_space
 
         _, _, cw, dw = wk_state_space()
         names = sys.state_names
         z = Y[:, [names.index(f"ride.wk.z{i}") for i in range(cw.size)]]
         outs["body_acc_wk"] = z @ cw + float(dw) * outs["body_acc"]
-        Y = Y[:, : user.n_states]
-        steps_ = [(float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps)]
-        if steps_:
-            jb = sys.info["velocity_jump_per_step"].get("body", 0.0)
-            jw = sys.info["velocity_jump_per_step"].get("wheel", 0.0)
-            if abs(jb) > 1e-12 * abs(jw):
-                why = (
-                    "not finite: the body velocity jumps at the road steps (an inertance "
-                    "between wheel and body), so the body acceleration has a Dirac part; "
-                    "smooth the edges (bump(edge=...), --edge)"
-                )
-                not_finite.update(rms_body_acc=why, peak_body_acc=why)
-            if any(j < 0 for _, j in steps_):
-                not_finite["min_tyre_force"] = (
-                    "not finite: the road steps down and the tyre damper would pull the "
-                    "wheel with a Dirac impulse C_t x step; smooth the edges"
-                )
-            for k in not_finite:
-                metrics[k] = None
     if sys.kind == "rig":
         outs["force"] = sum(outs[f"{n}.force"] for n in _drive_elements(sys))
-    steps = tuple(
-        (float(segs[i, 0]), float(jumps[i])) for i in np.flatnonzero(jumps) if segs[i, 0] < T
-    )
-    if np.any(vjumps):
-        stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))
-    return CoreResult(
-        system=user, time=ts, states=Y, outputs=outs, metrics=metrics, method=meth,
-        stats=stats, road_steps=steps, not_finite=not_finite, observed=observed,
-    )  # fmt: skip
+    return outs
+
+
+def _walk_plan(sys, road, T, ts, ts_key):
+    """(break points of exact steps, or None where they are the samples ``ts``; the
+    rows of the samples among them, or None; the plan of :func:`_exact_plan`), kept on
+    the system for the last :data:`WALK_PLANS_KEPT` (road, horizon, samples) by
+    content: a run of one road again (a benchmark, a study over seeds of one car) plans
+    its steps once."""
+    kept = _memo(sys).setdefault("walk_plans", {})
+    key = (road.key, float(T), ts_key)
+    got = kept.get(key)
+    if got is None:
+        walk = ts
+        if sys.observers:  # panels of the observers' quadrature, several to a step
+            step = min(EXACT_OBSERVER_LONGEST, EXACT_OBSERVER_PANELS * _observer_panel(sys))
+            walk = _observer_grid(ts, T, step)
+        plan = _exact_plan(sys, road.segments, T, walk)
+        got = (None, None, plan) if walk is ts else (walk, np.searchsorted(walk, ts), plan)
+        if len(kept) >= WALK_PLANS_KEPT:
+            kept.pop(next(iter(kept)))
+        kept[key] = got
+    return got
+
+
+#: the plans of exact steps (:func:`_walk_plan`) of this many (road, horizon, samples)
+#: are kept on a system
+WALK_PLANS_KEPT = 8
 
 
 def _ride_system(sys):
@@ -1205,7 +1338,10 @@ class DriveRuns:
             )  # fmt: skip
             if status != _integrate.OK:
                 raise _failure(sys, status, max_steps)
-        idx, direct = _drive_force_plan(sys)
+        memo = _memo(sys)
+        if "drive_force_plan" not in memo:
+            memo["drive_force_plan"] = _drive_force_plan(sys)
+        idx, direct = memo["drive_force_plan"]
         if direct:
             out = np.empty(n)
             _integrate.drive_forces(ts, Y, segs, sys.itab, sys.ftab, idx, out)
@@ -1256,10 +1392,7 @@ def _observer_panel(sys) -> float:
     """The longest quadrature panel [s] of the observers of ``sys`` (a linear system) in
     an exact step: :data:`EXACT_OBSERVER_PANEL` x :func:`_observer_share`, and at most
     :data:`EXACT_OBSERVER_PHASE` radians of the base system's fastest mode."""
-    base = sys.info["base"]
-    rate = base.info.get("regime_rate")  # cached: no state space built again
-    if rate is None:
-        rate = _regime_rate(base, base.linear_state_space()[0])
+    rate = _regime_rate(sys.info["base"], _linear_ss(sys)[0])
     return min(_observer_share(sys) * EXACT_OBSERVER_PANEL, EXACT_OBSERVER_PHASE / max(rate, 1e-300))
 
 

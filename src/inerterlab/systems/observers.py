@@ -51,7 +51,7 @@ KINDS = {
 #: regimes, their fastest rate, its augmented linear system, its ride observers, the
 #: tables of its exact steps in the regimes): the
 #: system with observers computes its own
-_CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables")
+_CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables", "memo")
 #: a running peak starts here (a finite number: the continuous extension subtracts
 #: states, and -inf - -inf is NaN)
 PEAK_START = -1e300

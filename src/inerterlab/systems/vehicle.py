@@ -416,20 +416,21 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     Y = np.empty((ts.size, sys.n_states))
     st = np.zeros(5, dtype=np.int64)
     nseg = len(segs)
+    itab, ftab = _factored(sys)
     if options.fixed_method == "rk4":  # classical Runge-Kutta, its own driver
         status, _ = _integrate.integrate_fixed(
-            sys.itab, sys.ftab, segs, y, T, float(options.fixed_step), ts, Y, st, int(max_steps)
+            itab, ftab, segs, y, T, float(options.fixed_step), ts, Y, st, int(max_steps)
         )
     else:
         status, _ = _integrate.integrate(
-            sys.itab, sys.ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
+            itab, ftab, segs, y, float(r[0, 0]), T, rtol, atol, sys.imp_unit, False,
             math.inf, ts, Y, st, np.zeros(nseg), int(max_steps), math.nan, math.inf,
             np.zeros(nseg), *_NO_REGIME, 1.0, options.step_control,
         )  # fmt: skip
     if status != _integrate.OK:
         raise _failure(sys, status, max_steps)
     O = np.empty((ts.size, len(sys.output_names)))
-    _integrate.outputs_many(ts, Y, segs, sys.itab, sys.ftab, O)
+    _integrate.outputs_many(ts, Y, segs, itab, ftab, O)
     outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
     res = {}
     res["bounce_acc"] = outs["bounce.a"]
@@ -450,6 +451,23 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
              "events": int(st[3])}  # fmt: skip
     return VehicleResult(sys, ts, Y, res, contact, lift, stats, outs)
+
+
+def _factored(sys: System) -> tuple[np.ndarray, np.ndarray]:
+    """The tables of ``sys`` with its mass matrix factored beforehand
+    (:func:`._kernel.dense_tables`: the body, wheels and seat have their own masses, so
+    the mass matrix is constant but for the flywheels' inertances, which the right-hand
+    side adds by the Woodbury identity instead of solving the whole matrix at every
+    call), or its own tables where that does not apply (a device with massless internal
+    nodes). Kept on the system for its parameter rows."""
+    from ._kernel import dense_tables
+
+    got = sys.info.get("factored")
+    if got is None or got[0] is not sys.ftab:
+        tabs = dense_tables(sys.itab, sys.ftab) or (sys.itab, sys.ftab)
+        got = (sys.ftab, tabs)
+        sys.info["factored"] = got
+    return got[1]
 
 
 def road_segments(r: np.ndarray, dt: float) -> np.ndarray:

@@ -1,0 +1,115 @@
+"""The vehicle's right-hand side with its mass matrix factored beforehand
+(systems/_kernel.py: dense_tables, _dense_solve; used by systems.vehicle.simulate).
+
+Oracles: the kernel's own evaluation, which assembles and solves the whole mass matrix
+at every call (the same forces, another route to the accelerations), at random states
+and held sides; and a tight integration of the car on those tables.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from inerterlab.elements import HydraulicElement, Inerter
+from inerterlab.systems import _kernel
+from inerterlab.systems.vehicle import simulate, vehicle
+from inerterlab.vehicles import (
+    Strut,
+    example_vehicle_path,
+    generate_tracks,
+    loads_vehicle,
+    road_inputs,
+    road_spectrum,
+)
+from inerterlab.vehicles.linear import linear_vehicle
+
+ADAPTIVE = (
+    'adaptive = { flywheel = "nylon", changing_ratio = 0.285, law = "thesis", '
+    'rest_inertance = "150 kg" }\n'
+)
+
+
+def _afw_params(inertance="0 kg"):
+    text = example_vehicle_path().read_text()
+    text = text.replace('inertance = "0 kg"\n', f'inertance = "{inertance}"\n' + ADAPTIVE)
+    return loads_vehicle(text)
+
+
+def _evaluate(itab, ftab, x, road):
+    W = np.empty(_kernel.work_size(itab))
+    dx = np.empty(x.size)
+    assert _kernel.evaluate(0.0, x, road, itab, ftab, W, dx, np.empty(0))
+    nn, ne = int(itab[_kernel.I_NN]), int(itab[_kernel.I_NE])
+    return dx, W[: 3 * nn + ne]
+
+
+def _hydraulic_front(p):
+    from dataclasses import replace
+
+    front = Strut(stiffness=p.front.strut.stiffness, damping=p.front.strut.damping,
+                  device=HydraulicElement())  # fmt: skip
+    return replace(p, front=replace(p.front, strut=front))
+
+
+CARS = {
+    # adaptive inerters at four corners
+    "afw": lambda: vehicle(_afw_params()),
+    # a constant inerter beside each adaptive one: into the factor
+    "afw + b": lambda: vehicle(_afw_params("80 kg")),
+    # the hydraulic device: its internal node's only inertance is its flywheel's
+    "hydraulic": lambda: vehicle(_hydraulic_front(_afw_params())),
+    # an inerter in series with a damper: an internal node of inertance only
+    "c - b": lambda: vehicle(_afw_params(), networks={"rear": (
+        "k | (c - b)", {"k": 30e3, "c": 2500.0, "b": Inerter(inertance=150.0)})}),
+}  # fmt: skip
+
+
+@pytest.mark.parametrize("name", CARS)
+def test_factored_evaluation_equals_the_whole_solve(name):
+    # random states and roads; held sides take each law on one side of its kink
+    sys = CARS[name]()
+    got = _kernel.dense_tables(sys.itab, sys.ftab)
+    assert got is not None
+    itab, ftab = got
+    rng = np.random.default_rng(3)
+    nlen = int(_kernel.road_layout_of(sys.itab)[0])
+    hs = nlen - int(sys.itab[_kernel.I_NE])
+    for trial in range(60):
+        x = rng.normal(size=sys.n_states) * 0.05
+        road = np.zeros(nlen)
+        road[: hs - 1] = rng.normal(size=hs - 1) * 0.05
+        if trial % 2:
+            road[hs:] = rng.choice([-1.0, 1.0], size=nlen - hs)
+        d0, w0 = _evaluate(sys.itab, sys.ftab, x, road)
+        d1, w1 = _evaluate(itab, ftab, x, road)
+        assert np.abs(d1 - d0).max() <= 1e-11 * np.abs(d0).max()
+        ok = np.isfinite(w0)
+        assert np.array_equal(ok, np.isfinite(w1))
+        # the inertial forces m_e (a_top - a_bottom) carry the solve's rounding
+        assert np.abs(w1[ok] - w0[ok]).max() <= 1e-10 * np.abs(w0[ok]).max()
+
+
+def test_a_massless_node_keeps_the_whole_solve():
+    # a spring in series with a damper: a node whose velocity the force balance sets
+    sys = vehicle(_afw_params(), networks={"front": (
+        "(k1 - c) | k2", {"k1": 20e3, "c": 3e3, "k2": 25e3})})  # fmt: skip
+    assert _kernel.dense_tables(sys.itab, sys.ftab) is None
+
+
+def test_factored_run_agrees_with_the_whole_solve_at_tight_tolerance():
+    # the adaptive-flywheel full car over 2 s of class C at 20 m/s (tyres lift off,
+    # flywheels saturate): the metrics of both routes at rtol 1e-11 agree to 1e-7
+    p = _afw_params()
+    car = linear_vehicle(loads_vehicle(example_vehicle_path().read_text()))
+    dt, speed = 2e-3, 20.0
+    x, zl, zr = generate_tracks(road_spectrum("C"), length=60.0, step=speed * dt, seed=11)
+    r = road_inputs(car, x, zl, zr, speed, dt)[:1001]
+    sys = vehicle(p)
+    fast = simulate(sys, r, dt, rtol=1e-11)
+    sys.info["factored"] = (sys.ftab, (sys.itab, sys.ftab))  # the whole solve per call
+    whole = simulate(sys, r, dt, rtol=1e-11)
+    assert fast.stats["events"] > 0
+    for name, ref in whole.outputs.items():
+        err = np.abs(fast.outputs[name] - ref).max() / np.abs(ref).max()
+        assert err <= 1e-7, (name, err)
