@@ -18,13 +18,15 @@ keyed on its inputs, so a rerun resumes and a change recomputes):
    (:func:`inerterlab.synthesis.realise_all`), as one more candidate;
 3. every single-inerter layout with each real device, optimised by H2 with the
    device's series stiffness and parallel damping held in the network
-   (``design-device-linear``); for each device its best ``recheck`` layouts then have
-   the inertance searched in the time domain with friction and nonlinear losses
+   (``design-device-linear``); for each device its best ``recheck`` layouts where it
+   acts (an optimum that shorts the device, a spring across it rigid, or leaves it at
+   its smallest inertance stands for a simpler layout and is not one) then have the
+   inertance searched in the time domain with friction and nonlinear losses
    (``design-device``);
 4. every candidate, ``k | c`` included, simulated on ``roads`` ISO 8608 roads by the
    model core: expected value with its 95 % interval, gain over ``k | c`` road by road;
 5. for each device's best candidate, the friction and parasitic damping at which its
-   gain over ``k | c`` vanishes (``design-requirement`` point, Brent's method).
+   gain over ``k | c`` vanishes (``design-requirement`` point, the ITP crossing).
 
 The linear objective and the time-domain score are the same quantity where the H2
 optimiser has it: ``body_acc`` (RMS body acceleration), ``tyre_load`` (RMS dynamic
@@ -46,7 +48,7 @@ import numpy as np
 
 from ..errors import DataFileError, ParameterError
 from . import scoring
-from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, candidate_text
+from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, SCORE_RTOL, candidate_text
 
 __all__ = [
     "DesignSettings",
@@ -107,6 +109,9 @@ class DesignSettings:
     max_steps: int = 400_000
     device_span: float = 3.0
     bisections: int = 8
+    #: relative tolerance of the adaptive quarter-car simulations (the device
+    #: candidates; the linear ones run exact steps), :data:`.scoring.SCORE_RTOL`
+    rtol: float = SCORE_RTOL
 
     @property
     def is_vehicle(self) -> bool:
@@ -184,6 +189,8 @@ class DesignSettings:
         if not 0 <= self.recheck <= 10:
             raise ParameterError("--recheck", self.recheck, "an integer in [0, 10]")
         check_seed("--seed", self.seed)
+        if not 1e-10 <= self.rtol <= 1e-6:
+            raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-10, 1e-6]")
         if self.seed + self.roads >= TUNE_SEED_OFFSET:
             raise ParameterError(
                 "--seed", self.seed, f"a seed below {TUNE_SEED_OFFSET - self.roads}"
@@ -298,12 +305,24 @@ def check_out_folder(out: Path) -> None:
 COMPUTED: dict = {}
 #: wall seconds of each stage of the last :func:`run_design`
 SECONDS: dict = {}
+#: CPU seconds of each stage of the last :func:`run_design`, this process and its
+#: worker processes (each stage's workers have ended when it returns)
+CPU_SECONDS: dict = {}
+
+
+def process_cpu() -> float:
+    """CPU seconds of this process and of its ended child processes."""
+    import os
+
+    t = os.times()
+    return t.user + t.system + t.children_user + t.children_system
 
 
 def _sweep(point, params, settings, store, workers, progress):
     from ..studies import sweep
 
     t0 = time.perf_counter()
+    c0 = process_cpu()
     backend = "serial" if (workers or 1) <= 1 else "processes"
     ds = sweep(
         {"point": point, "parameters": params, "settings": settings},
@@ -314,6 +333,7 @@ def _sweep(point, params, settings, store, workers, progress):
     )
     COMPUTED[point] = int(ds.attrs.get("points_computed", 0))
     SECONDS[point] = time.perf_counter() - t0
+    CPU_SECONDS[point] = process_cpu() - c0
     return ds
 
 
@@ -333,6 +353,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
     st.check()
     COMPUTED.clear()
     SECONDS.clear()
+    CPU_SECONDS.clear()
     say = say or (lambda text: None)
     t0 = time.perf_counter()
     stores = None
@@ -346,7 +367,10 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         return None if stores is None else str(stores / name)
 
     if (workers or 1) > 1:
+        c0 = process_cpu()
         _warm_up(st.car if st.is_vehicle else None)
+        SECONDS["warm-up"] = time.perf_counter() - t0
+        CPU_SECONDS["warm-up"] = process_cpu() - c0
 
     car = st.car
     h2obj, note = _h2_objective(st.objective)
@@ -398,6 +422,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "max_steps": st.max_steps,
         "device_span": st.device_span,
         "bisections": st.bisections,
+        "rtol": st.rtol,
         "tune_seeds": list(
             range(TUNE_SEED_OFFSET + st.seed, TUNE_SEED_OFFSET + st.seed + st.tune_roads)
         ),
@@ -527,13 +552,30 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
                     vals = _unpack(
                         dsl, {"layout": r["network"], "device": d}, list(r["parameters"])
                     )
-                    rows.append((float(row.objective), r["network"], vals))
+                    # an optimum on a bound that stands for a simpler layout (a spring
+                    # across the device rigid, the inertance at its lower bound: the
+                    # device shorted or absent) is no design with the device
+                    why = _simpler(r["network"], vals, bounds_of[r["network"]], st)
+                    if not why:
+                        rows.append((float(row.objective), r["network"], vals))
                     device_linear.append({
                         "device": d, "layout": r["network"], "h2": float(row.objective),
                         "h2_improvement": 100.0 * (1.0 - float(row.objective) / base["objective"]),
-                        "parameters": vals,
+                        "parameters": vals, "simpler": why,
                     })  # fmt: skip
                 by_device[d] = sorted(rows, key=lambda x: x[0])
+                best = min((q for q in device_linear if q["device"] == d),
+                           key=lambda q: q["h2"], default=None)  # fmt: skip
+                if best is not None and best["simpler"]:
+                    notes.append(
+                        f"{d}: its best linear optimum, in {best['layout']} "
+                        f"({best['h2_improvement']:+.2f} % H2), stands for a simpler layout "
+                        f"({best['simpler']}: the device does not act there); the device is "
+                        "rechecked in its best layouts where it acts"
+                        if rows else
+                        f"{d}: in every layout its linear optimum stands for a simpler "
+                        "layout (the device shorted or absent); not rechecked"
+                    )  # fmt: skip
         for d in st.devices:
             for _, lay, vals in by_device[d][: st.recheck]:
                 jobs.append({"layout": lay, "device": d, "values": vals})
@@ -563,7 +605,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "design-score",
         {"candidate": texts, "seed": seeds},
         {"car": json.dumps(car, sort_keys=True), "road_class": st.road_class,
-         "speed": st.speed, "horizon": st.horizon},
+         "speed": st.speed, "horizon": st.horizon, "rtol": st.rtol},
         store("scores.zarr"), workers, progress,
     )  # fmt: skip
     per_road = {}
@@ -616,7 +658,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         if r["kind"] == "device" and r["device"] not in best_dev:
             best_dev[r["device"]] = r
     if best_dev:
-        say(f"design: device requirements for {len(best_dev)} devices (Brent's method)")
+        say(f"design: device requirements for {len(best_dev)} devices (the ITP crossing)")
         req_settings = {**dev_settings, "baseline": json.dumps(base_cand, sort_keys=True)}
         jobs = []
         for d, r in best_dev.items():
@@ -647,6 +689,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "notes": notes,
         "points_computed": dict(COMPUTED),
         "stage_seconds": dict(SECONDS),
+        "stage_cpu_seconds": dict(CPU_SECONDS),
         "seconds": time.perf_counter() - t0,
     }
     return result

@@ -49,6 +49,7 @@ def figures(result: dict) -> dict:
     from ..network_design import pareto_figure, pareto_front
     from ..systems import quarter_car
     from ..systems.core import weighted_acceleration
+    from .scoring import SCORE_RTOL
 
     st = result["settings"]
     win = _winners(result)
@@ -98,7 +99,7 @@ def figures(result: dict) -> dict:
     for r in win:
         net, par = r["core"]["network"], r["core"]["params"]
         sys = quarter_car(net, par, **dict(car or {}))
-        res = sys.simulate(road, horizon=horizon)
+        res = sys.simulate(road, horizon=horizon, rtol=st.get("rtol", SCORE_RTOL))
         acc = res.outputs["body_acc"]
         aw = weighted_acceleration(res.time, acc)
         fs = 1.0 / (res.time[1] - res.time[0])
@@ -361,7 +362,7 @@ def render_html(result: dict, figs: dict) -> str:
     )
     dl = "".join(
         f"<tr><td>{e(q['device'])}</td><td>{e(q['layout'])}</td><td>{_fmt(q['h2'])}</td>"
-        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td></tr>"
+        f"<td>{_fmt(q['h2_improvement'], '+.2f')}</td><td>{e(q.get('simpler') or '')}</td></tr>"
         for q in sorted(result.get("device_linear", []), key=lambda q: (q["device"], q["h2"]))
     )
     figs_html = "".join(
@@ -407,10 +408,10 @@ expected value; gain over the optimised k | c on the same roads [%] &plusmn; its
 <h2>Device requirements</h2>
 <p>The friction or parasitic damping at which the ideal design of the device's layout,
 built with the device (its stiffness as identified, the other loss off), loses its
-expected gain over k | c on {st["tune_roads"]} tuning roads (Brent's method on the gain
+expected gain over k | c on {st["tune_roads"]} tuning roads (the ITP method on the gain
 crossing zero, in the logarithm).</p><ul>{req or "<li>no device candidates</li>"}</ul>
 <h2>Devices in every layout (H2, linear, the device's stiffness and damping held)</h2>
-<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th></tr>{dl}</table>
+<table><tr><th>device</th><th>layout</th><th>H2 norm</th><th>vs k | c [%]</th><th>stands for</th></tr>{dl}</table>
 <h2>Figures</h2>{figs_html}
 <h2>Layouts (H2 optimum, linear)</h2>
 <table><tr><th>layout</th><th>H2 norm [{e(result["layouts"][0].get("h2_unit", ""))}]</th>

@@ -46,6 +46,7 @@ from ._kernel import (
     signal,
     switches,
 )
+from .observers import NO_SPLIT, filter_split
 
 # The Dormand-Prince 5(4) pair (Dormand & Prince 1980; the coefficients as in Hairer,
 # Norsett & Wanner, Solving ODEs I, Table II.5.2), its error weights (order 5 minus
@@ -177,7 +178,11 @@ def _joins(segs, i, jump_tol):
 
 
 @nb.njit(cache=True, inline="always")
-def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
+    """The derivative at (t, y), the observers' included: those of ``oit`` (the
+    system's table, or a copy whose observers are those the stages move); the slots the
+    stages leave (``fzi``, see :func:`_fz_begin`: a filter and its quadratures, advanced
+    outside the stages, and the running peaks) get derivative 0."""
     stats[2] += 1
     if mode == 0:
         road_at(segs, _segment_at(segs, rng, t), t, road)
@@ -190,16 +195,21 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
         road[1] = road_fixed[1] + t * road_fixed[2]
         road[2] = road_fixed[2]
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
-    if itab[I_NOB] > 0:
-        observe(itab, ftab, work, y, dy, mode != 0)
+    if oit[I_NOB] > 0:
+        observe(oit, ftab, work, y, dy, mode != 0)
+    d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
+    for i in range(d0, d0 + fzi[3]):
+        dy[fzi[i]] = 0.0
     return ok
 
 
 @nb.njit(cache=True)
-def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
+            fzi):  # fmt: skip
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
     stage after exact steps or a kink): not inlined there, to keep compilation short."""
-    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    return _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
+              fzi)  # fmt: skip
 
 
 @nb.njit(cache=True, inline="always")
@@ -217,6 +227,221 @@ def _dense(y, yt, K, h, th, out):
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
 
 
+# ---------------------------------------------------------------------------------------
+# a linear filter among the observers (the Wk weighting), advanced outside the stages of
+# the Dormand-Prince steps (tables of :func:`.observers.filter_split`, flat, so that a
+# call passes four arrays, not a dozen): with w = z - Q y, w' = A w + (A Q + P) y; over
+# an accepted step the continuous extension of y, a quartic in the step's fraction
+# theta, drives w exactly, per mode of A = V diag(lam) V^-1.
+#
+# fzi (int64): nf, m, nq, nd, ns, then the filter's slots (nf), the state columns it and
+#   its quadratures read (m), the quadrature observers (nq), the slots the stages leave
+#   (nd: the filter, its quadratures, the running peaks)
+# fzf (float64): Q (nf x m), the modes' weights (ns: 2 for one of a complex pair, 1 for a
+#   real one), Gauss-Legendre nodes (5, symmetric about 1/2) and weights (5)
+# fzc (complex128): lam (ns), V (nf x ns), V^-1 (ns x nf), V^-1 (A Q + P) (ns x m)
+# a step (:func:`_fz_begin`): stc (complex) the modes' coefficients (ns x (FZ_TERMS +
+#   5)) and e^(x theta) at the nodes and the end (ns x 6); stf (float) the accepted
+#   length, the modes' Taylor terms (ns; 0: particular solution), w0 (nf), the quartic's
+#   coefficients (5 x m)
+
+#: |lam h| below which a filter's mode over a step is summed as its Taylor series in the
+#: step's fraction; above it, as a polynomial particular solution plus e^(lam tau) times
+#: the initial difference (the particular solution's coefficients grow as k! / |lam h|^k:
+#: at 0.5, at most about 900 roundings lost)
+FZ_TAYLOR = 0.5
+#: the most terms of that Taylor series (|lam h| < 0.5: the 26th is below 1e-25 of the
+#: first)
+FZ_TERMS = 26
+FZ_W = FZ_TERMS + 5  # a mode's row of coefficients in stc
+FZ_HEAD = 5  # fzi's header
+
+
+def fz_scratch(fzi):
+    """(stc, stf): the scratch of one filter step for the tables ``fzi``."""
+    nf, m, ns = int(fzi[0]), int(fzi[1]), int(fzi[4])
+    return np.zeros(ns * (FZ_W + 6), np.complex128), np.zeros(1 + ns + nf + 5 * m)
+
+
+@nb.njit(cache=True)
+def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
+    """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h):
+    per mode (eigenvalue lam, x = lam hs, hs the accepted length) the solution of
+    dw/dtheta = x w + hs beta(theta), beta the quartic input through the mode, as its
+    Taylor series in theta (terms > 0) or as the polynomial q with q' = x q + hs beta
+    plus e^(x theta) (w0 - q(0)) (terms = 0: q's coefficients, w0 - q(0), x)."""
+    nf, m, ns = fzi[0], fzi[1], fzi[4]
+    fs = FZ_HEAD
+    co = fs + nf
+    lam0, vi0 = 0, ns + nf * ns
+    h0 = vi0 + ns * nf
+    fn0, wz0 = 1, 1 + ns
+    cf0 = wz0 + nf
+    hs = thx * h
+    stf[0] = hs
+    for j in range(m):
+        i = fzi[co + j]
+        r2 = ya[i] - y[i]
+        r3 = h * K[0, i] - r2
+        r4 = r2 - h * K[6, i] - r3
+        acc = 0.0
+        for q in range(7):
+            acc += _TAB_D[q] * K[q, i]
+        r5 = h * acc
+        # the continuous extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))
+        # in powers of theta' = th / thx
+        stf[cf0 + j] = y[i]
+        stf[cf0 + m + j] = (r2 + r3) * thx
+        stf[cf0 + 2 * m + j] = (r4 + r5 - r3) * thx * thx
+        stf[cf0 + 3 * m + j] = -(r4 + 2.0 * r5) * thx * thx * thx
+        stf[cf0 + 4 * m + j] = r5 * thx * thx * thx * thx
+    for i in range(nf):
+        acc = y[fzi[fs + i]]
+        for j in range(m):
+            acc -= fzf[i * m + j] * y[fzi[co + j]]
+        stf[wz0 + i] = acc
+    for p in range(ns):
+        w0 = 0j
+        for i in range(nf):
+            w0 += fzc[vi0 + p * nf + i] * stf[wz0 + i]
+        x = fzc[lam0 + p] * hs
+        r = p * FZ_W
+        for k in range(5):  # hs beta_k: the input's coefficients in theta
+            b = 0j
+            for j in range(m):
+                b += fzc[h0 + p * m + j] * stf[cf0 + k * m + j]
+            stc[r + FZ_TERMS + k] = hs * b
+        if abs(x.real) + abs(x.imag) < FZ_TAYLOR:
+            a = w0
+            stc[r] = a
+            big = abs(a.real) + abs(a.imag)
+            nt = FZ_TERMS
+            for j in range(FZ_TERMS - 1):
+                a = x * a + (stc[r + FZ_TERMS + j] if j < 5 else 0j)
+                a = a * (1.0 / (j + 1.0))
+                stc[r + j + 1] = a
+                mag = abs(a.real) + abs(a.imag)
+                big = max(big, mag)
+                if j >= 5 and mag <= 1e-18 * big:
+                    nt = j + 2
+                    break
+            stf[fn0 + p] = nt
+        else:
+            xi = 1.0 / x
+            q = -stc[r + FZ_TERMS + 4] * xi
+            stc[r + 4] = q
+            for k in range(3, -1, -1):
+                q = ((k + 1.0) * q - stc[r + FZ_TERMS + k]) * xi
+                stc[r + k] = q
+            stc[r + 5] = w0 - q
+            stc[r + 6] = x
+            stf[fn0 + p] = 0.0
+
+
+@nb.njit(cache=True)
+def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
+    """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
+    their slots of ``out``, which holds the states they read there; ``c``: the column
+    of the exponentials in ``stc`` that holds e^(x th) (see :func:`_fz_step`), or -1."""
+    nf, m, ns = fzi[0], fzi[1], fzi[4]
+    fs = FZ_HEAD
+    co = fs + nf
+    om0 = nf * m
+    v0 = ns
+    ex0 = ns * FZ_W
+    for i in range(nf):
+        acc = 0.0
+        for j in range(m):
+            acc += fzf[i * m + j] * out[fzi[co + j]]
+        out[fzi[fs + i]] = acc
+    for p in range(ns):
+        nt = int(stf[1 + p])
+        r = p * FZ_W
+        if nt > 0:
+            w = stc[r + nt - 1]
+            for j in range(nt - 2, -1, -1):
+                w = w * th + stc[r + j]
+        else:
+            w = stc[r + 4]
+            for j in range(3, -1, -1):
+                w = w * th + stc[r + j]
+            w += (np.exp(stc[r + 6] * th) if c < 0 else stc[ex0 + 6 * p + c]) * stc[r + 5]
+        w *= fzf[om0 + p]
+        for i in range(nf):
+            v = fzc[v0 + i * ns + p]
+            out[fzi[fs + i]] += v.real * w.real - v.imag * w.imag
+
+
+@nb.njit(cache=True)
+def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd):
+    """Advance the filter and its quadrature observers over the accepted step theta in
+    [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
+    filter exactly, the quadratures (their signals over the filter and the states it
+    reads) by the Gauss-Legendre sums on it. (stc, stf) keep the step for values inside
+    it. ``yd``: scratch of the state's size."""
+    nf, m, nq, ns = fzi[0], fzi[1], fzi[2], fzi[4]
+    co = FZ_HEAD + nf
+    qu = co + m
+    gx0 = nf * m + ns
+    gw0 = gx0 + 5
+    _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx)
+    hs = stf[0]
+    cf0 = 1 + ns + nf
+    ex0 = ns * FZ_W
+    for p in range(ns):
+        if stf[1 + p] == 0.0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
+            x = stc[p * FZ_W + 6]
+            e0 = np.exp(x * fzf[gx0])
+            e1 = np.exp(x * fzf[gx0 + 1])
+            eh = np.exp(x * fzf[gx0 + 2])
+            e5 = eh * eh
+            b = ex0 + 6 * p
+            stc[b] = e0
+            stc[b + 1] = e1
+            stc[b + 2] = eh
+            stc[b + 3] = e5 / e1 if e1 != 0.0 else 0j
+            stc[b + 4] = e5 / e0 if e0 != 0.0 else 0j
+            stc[b + 5] = e5
+    ob = itab[I_OBS]
+    for q in range(nq):
+        yt[itab[ob + OBS_W * fzi[qu + q] + 3]] = 0.0
+    for p in range(5):
+        th = fzf[gx0 + p]
+        for j in range(m):  # the states the filter and its quadratures read
+            acc = stf[cf0 + 4 * m + j]
+            for k in range(3, -1, -1):
+                acc = acc * th + stf[cf0 + k * m + j]
+            yd[fzi[co + j]] = acc
+        _fz_at(fzi, fzf, fzc, stc, stf, th, yd, p)
+        for q in range(nq):
+            bo = ob + OBS_W * fzi[qu + q]
+            a = signal(itab, ftab, work, yd, itab[bo + 1])
+            if itab[bo] == OBS_SQUARE:
+                v = a * a
+            elif itab[bo] == OBS_FOURTH:
+                v = a * a
+                v = v * v
+            else:
+                v = a * signal(itab, ftab, work, yd, itab[bo + 2])
+            yt[itab[bo + 3]] += fzf[gw0 + p] * v
+    for q in range(nq):
+        s = itab[ob + OBS_W * fzi[qu + q] + 3]
+        yt[s] = y[s] + hs * yt[s]
+    _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, 5)
+
+
+@nb.njit(cache=True)
+def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
+    """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
+    states): the filter exactly, its quadratures linear between the step's ends."""
+    _fz_at(fzi, fzf, fzc, stc, stf, th, out)
+    qu = FZ_HEAD + fzi[0] + fzi[1]
+    ob = itab[I_OBS]
+    for q in range(fzi[2]):
+        s = itab[ob + OBS_W * fzi[qu + q] + 3]
+        out[s] = y[s] + th * (yt[s] - y[s])
+
+
 @nb.njit(cache=True)
 def _peak_values(itab, ftab, work, y, out):
     """Each observer's signal at the last evaluation into ``out`` (peaks only; the
@@ -230,31 +455,37 @@ def _peak_values(itab, ftab, work, y, out):
 
 @nb.njit(cache=True)
 def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-             work, stats, yd):  # fmt: skip
+             work, stats, yd, oit, fzi, fzf, fzc, stc, stf, thx):  # fmt: skip
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
-    extension."""
+    extension (a filter outside the stages: exactly, at x / thx of the accepted step
+    (stc, stf) of :func:`_fz_begin`)."""
     _dense(y, yx, K, h, x, yd)
-    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+    if fzi[0]:
+        _fz_at(fzi, fzf, fzc, stc, stf, x / thx, yd)
+    _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
 @nb.njit(cache=True)
 def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
-               dy, road, work, stats, yd, p0, pm, p1):  # fmt: skip
+               dy, road, work, stats, yd, p0, pm, p1, oit, fzi, fzf, fzc, stc, stf):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
     accepted step: theta in [0, thx] of the attempt (y, yx, K, h) from t, ending at the
     state yt (thx < 1: the step was cut at an event). The values at its start (``p0``),
     end and middle, and where the parabola through those three puts a maximum inside the
     step above the peak so far, the maximum located by successive parabolic
     interpolation on the continuous extension (to 1e-9 of the step). ``stale``: the work
-    array does not hold the evaluation at the step's end. p0 receives the end values."""
+    array does not hold the evaluation at the step's end. p0 receives the end values.
+    A filter outside the stages (its step (stc, stf)): read exactly."""
     if stale:
         _f_once(ev, mode, segs, rng, t + thx * h, yt, itab, ftab, imp, road_fixed, dy, road, work,
-                stats)  # fmt: skip
+                stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
+    if fzi[0]:
+        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd)
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
-            stats)  # fmt: skip
+            stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)
     ob = itab[I_OBS]
     for q in range(itab[I_NOB]):
@@ -263,12 +494,15 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
             continue
         slot = itab[b + 3]
         best = max(yt[slot], p0[q], pm[q], p1[q])
-        # the parabola through u = 0, 1/2, 1 (u = theta / thx): its vertex
+        # the parabola through u = 0, 1/2, 1 (u = theta / thx): its vertex, searched
+        # also when it falls a little outside the step (a maximum just inside an end,
+        # where the parabola's own error can put its vertex past the end: a peak within
+        # 1e-3 of a step's length of its end was missed by 2e-7 of its height)
         c2 = 2.0 * (p0[q] - 2.0 * pm[q] + p1[q])
         c1 = -3.0 * p0[q] + 4.0 * pm[q] - p1[q]
         if c2 < 0.0:
             xv = -c1 / (2.0 * c2)
-            if 0.0 < xv < 1.0 and p0[q] + xv * (c1 + xv * c2) > best:
+            if -0.25 < xv < 1.25 and p0[q] + xv * (c1 + xv * c2) > best:
                 # successive parabolic interpolation on a bracket (a, m, c) of u
                 xa, fa = 0.0, p0[q]
                 xm, fm = 0.5, pm[q]
@@ -281,7 +515,8 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
                     if not (xa < xn < xc) or abs(xn - xm) < 1e-12:
                         xn = 0.5 * (xa + xm) if xm - xa > xc - xm else 0.5 * (xm + xc)
                     fn = _peak_at(ev, q, xn * thx, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp,
-                                  road_fixed, dy, road, work, stats, yd)  # fmt: skip
+                                  road_fixed, dy, road, work, stats, yd, oit, fzi, fzf, fzc, stc,
+                                  stf, thx)  # fmt: skip
                     best = max(best, fn)
                     if fn >= fm:
                         if xn < xm:
@@ -366,7 +601,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 @nb.njit(cache=True)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw):  # fmt: skip
+            work, stats, yd, sw, oit, fzi):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
     extension (Illinois regula falsi to 1e-12 in theta)."""
@@ -377,7 +612,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
-        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
@@ -480,7 +715,7 @@ def _x_stays(a0, d0, a1, d1, h, lim):
 @nb.njit(cache=True)
 def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol, atol,
              t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, ctl,
-             xo):  # fmt: skip
+             xo, fz):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
     measured-drive pieces, whose edges the steps end on without a restart: the first
     stage reuses the last, and the step size carries over; the impulse flow of a road
@@ -501,16 +736,35 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     tables act on the rows ``ia`` of y (the states and the linear observers'), the other
     observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
     as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
-    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e).
+    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
+    linear filter among the observers and its quadratures, advanced outside the
+    Dormand-Prince stages and error control, exactly over each accepted step
+    (:func:`_fz_step`; the tables of :func:`.observers.filter_split`, empty for none).
     Returns (status, k, h)."""
     n = y.size
     work = np.empty(_work_size(itab))
     road_n, _, hs = road_layout_of(itab)
     road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
-    K = np.empty((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
+    K = np.zeros((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
-    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats):
+    oit, fzi, fzf, fzc = fz
+    nfz = fzi[0]
+    # the states the stages move (live), and those they leave (dead: the running peaks
+    # and the states advanced outside the stages, derivative 0 there; their stage rows
+    # of K stay 0 and their error is 0)
+    moves = np.ones(n, np.bool_)
+    d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
+    for i in range(d0, d0 + fzi[3]):
+        moves[fzi[i]] = False
+    for q in range(itab[I_NOB]):
+        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
+            moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
+    live = np.flatnonzero(moves)
+    dead = np.flatnonzero(~moves)
+    stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
+    stf = np.zeros(1 + fzi[4] + fzi[0] + 5 * fzi[1])
+    if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
@@ -560,7 +814,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
-        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+        _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
         for i in range(n):
             K[0, i] = dy[i]
     forced = -1
@@ -674,7 +928,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 stats[4] += 1
                 taken += 1
             if taken:  # the Dormand-Prince steps go on from here: their first stage
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if track:  # the peaks' signals at the new start
@@ -705,7 +959,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # element's side from its switching functions there, as a segment's
                     # start takes them
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats):  # fmt: skip
+                                   road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
                         switches(itab, ftab, work, sw)
@@ -718,7 +972,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                                 moved = True
                         if moved:
                             _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                    road, work, stats)  # fmt: skip
+                                    road, work, stats, oit, fzi)  # fmt: skip
                     for q in range(n):
                         K[0, q] = dy[q]
                     if track:  # a signal may jump with the rate: its value past the edge
@@ -756,25 +1010,27 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
         ok = True
         stale = False
         thx = 1.0
+        for i in dead:
+            yt[i] = y[i]
         for st in range(1, 7):
-            for i in range(n):
+            for i in live:
                 acc = 0.0
                 for q in range(st):
                     acc += _TAB_A[st, q] * K[q, i]
                 yt[i] = y[i] + h * acc
             ts = tn if st >= 5 else t + _TAB_C[st] * h
-            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats)
-            for i in range(n):
+            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
+            for i in live:
                 K[st, i] = dy[i]
         err = 0.0
-        for i in range(n):
+        for i in live:
             sc = atol[i] + rtol * max(abs(y[i]), abs(yt[i]))
             acc = 0.0
             for q in range(7):
                 acc += _TAB_E[q] * K[q, i]
             e = h * acc
             err += (e / sc) ** 2
-        err = math.sqrt(err / max(n, 1))
+        err = math.sqrt(err / max(live.size, 1))
         if hfix > 0.0:  # fixed steps: no error control, but a failure stays one
             if not ok:
                 return BALANCE_FAILED, k, h
@@ -790,6 +1046,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             forced = -1
             h_keep = 0.0
             continue
+        kstart = k
         if err <= 1.0 and events and redo >= 0:
             # the fixed step taken again up to its crossing: the elements found there
             # (flipm, pastv, swf) switch at its end, as at a crossing at theta = 1
@@ -813,7 +1070,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx)  # fmt: skip
+                                      swx, oit, fzi)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -825,7 +1082,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
-                                   road, work, stats):  # fmt: skip
+                                   road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     for i in range(n):
                         K[0, i] = dy[i]
@@ -866,12 +1123,23 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     if swf[e]:
                         sw[e] = 0.0  # on the kink: the next step starts past it
             forced = -1
+        if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
+            if thx < 1.0:
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yx, K, hx, thx, yt, yd)
+                for kk in range(kstart, k):  # the samples the cut step wrote
+                    _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[kk] - t) / h, y, yt,
+                               out_y[kk])  # fmt: skip
+            else:
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yt, K, h, 1.0, yt, yd)
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn] (a step cut at a crossing wrote its own)
             if mode == 0 and not cut:
                 while k < t_out.size and (t_out[k] < tn or (last and t_out[k] <= tn)):
                     _dense(y, yt, K, h, (t_out[k] - t) / h, out_y[k])
+                    if nfz > 0:
+                        _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[k] - t) / h, y, yt,
+                                   out_y[k])  # fmt: skip
                     k += 1
             if fresh >= 0 and flip < 0:
                 h_side[fresh] = h  # the first step that passed after a kink to this side
@@ -879,10 +1147,12 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             if track:
                 if thx < 1.0:  # cut at an event: the attempt's extension up to the cut
                     _peak_step(ev, stale, t, hx, thx, y, yx, yt, K, mode, segs, rng, itab, ftab,
-                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               imp, road_fixed, dy, road, work, stats, yd, p0, pm, p1, oit,
+                               fzi, fzf, fzc, stc, stf)  # fmt: skip
                 else:
                     _peak_step(ev, stale, t, h, 1.0, y, yt, yt, K, mode, segs, rng, itab, ftab, imp,
-                               road_fixed, dy, road, work, stats, yd, p0, pm, p1)  # fmt: skip
+                               road_fixed, dy, road, work, stats, yd, p0, pm, p1, oit,
+                               fzi, fzf, fzc, stc, stf)  # fmt: skip
             for i in range(n):
                 y[i] = yt[i]
                 K[0, i] = K[6, i]
@@ -892,7 +1162,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for q in range(ne):
                     if flipm[q]:
                         road[hs + q] = pastv[q]
-                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats)
+                _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
@@ -944,7 +1214,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
 @nb.njit(cache=True)
 def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
-              xthr, xel, xcls, xlev, xq, ctl, xo):  # fmt: skip
+              xthr, xel, xcls, xlev, xq, ctl, xo, fz, fz_none):  # fmt: skip
     """Integrate a core system over the road segments up to t_end.
 
     ``y`` is advanced in place; samples at ``t_out`` go to ``out_y`` (rows); ``jumps[i]``
@@ -958,7 +1228,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
     steps (exact ones included), rejected steps, right-hand-side calls, events, exact
     steps. The exact steps in linear regimes: see :func:`_advance` (``XE`` empty for
     none); ``ctl``: the step control of :func:`_advance`, ``xo`` its observers in the
-    exact steps."""
+    exact steps, ``fz`` the filter it advances outside its stages (``fz_none``: none,
+    the impulse flows carry every observer in their stages)."""
     k = 0
     h = 0.0
     prev = x1_before
@@ -1011,7 +1282,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[2] = road[1] - prev_v
             st, _, _ = _advance(ev, modes[2], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, jerk,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo,
+                                fz_none)  # fmt: skip
             if st != OK:
                 return st, k
         jump = road[0] - prev
@@ -1024,7 +1296,8 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
             rf[1] = road[1]
             st, _, _ = _advance(ev, modes[1], segs, rng, 0.0, 1.0, y, 0.0, flow, itab, ftab, imp,
                                 rf, IMPULSE_RTOL, atol_imp, t_out, out_y, modes[0], stats,
-                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo)  # fmt: skip
+                                max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, free, xo,
+                                fz_none)  # fmt: skip
             if st != OK:
                 return st, k
         while k < t_out.size and t_out[k] <= t0:
@@ -1035,7 +1308,7 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         last = e == nseg or segs[e - 1, 1] >= t_end
         st, k, h = _advance(ev, modes[0], segs, rng, t0, t1, y, h, last, itab, ftab, np.empty(0), rf,
                             rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys,
-                            xthr, xel, xcls, xlev, xq, ctl, xo)  # fmt: skip
+                            xthr, xel, xcls, xlev, xq, ctl, xo, fz)  # fmt: skip
         if st != OK:
             return st, k
         road_at(segs, e - 1, t1, road)
@@ -1431,6 +1704,14 @@ _NO_XOBS = (
 )  # fmt: skip
 
 
+def _split_of(itab, ftab, n):
+    """``fz`` of :func:`_advance`: the observers the stages move (the system's own
+    table where nothing is split) and the tables of :func:`.observers.filter_split`."""
+    if itab[I_NOB] == 0:
+        return (_readonly(itab), *NO_SPLIT)
+    return filter_split(itab, ftab, n)
+
+
 def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_ok, jump_tol,
               t_out, out_y, stats, jumps, max_steps, v_before, vjump_tol, vjumps, XE, XG, xkeys,
               xthr, xel, xcls, xq, ctl, xlev=None, xo=None):  # fmt: skip
@@ -1439,13 +1720,15 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     level lengths in the exact-step table (none by default), ``xo`` the observers in
     the exact steps (none by default)."""
     ev = rhs_for(itab)
+    ro_itab = _readonly(itab)
     warm = bool(_integrate.signatures)  # not timed while the integrator compiles
     t0 = time.process_time()
     out = _integrate(
-        ev, _readonly(itab), _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
+        ev, ro_itab, _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
         _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
+        _split_of(itab, ftab, y.size), (ro_itab, *NO_SPLIT),
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)

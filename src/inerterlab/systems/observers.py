@@ -13,7 +13,9 @@ included). Kinds:
 
 The integrator carries them in its stages and its error norm (absolute tolerance
 ``rtol`` x ``scale``), so an RMS, a weighted RMS or an energy is as accurate as the
-motion, not a sum over samples; the exact (matrix-exponential) steps carry them too, the
+motion, not a sum over samples; a linear filter among them (the Wk weighting) and the
+squares and powers that read it are advanced outside the adaptive steps' stages, exactly
+over each accepted step (:func:`filter_split`); the exact (matrix-exponential) steps carry them too, the
 linear filters in the augmented matrix, the others by Gauss-Legendre sums of their exact
 values (docs/model.md §11). :func:`with_observers` returns the system with them;
 :meth:`CoreResult.observed` reads their final values. Ready-made sets:
@@ -31,6 +33,7 @@ values (docs/model.md §11). :func:`with_observers` returns the system with them
 from __future__ import annotations
 
 import dataclasses
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -160,6 +163,160 @@ def with_observers(sys, observers) -> System:  # noqa: F821
     )
 
 
+#: five-point Gauss-Legendre nodes and weights on [0, 1]: the quadratures of the
+#: observers that read a filter advanced outside the stages (exact for degree 9)
+_GL_X, _GL_W = np.polynomial.legendre.leggauss(5)
+_GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
+_GL_X[3:] = 1.0 - _GL_X[1::-1]  # symmetric about 1/2 to the last bit (_fz_step uses it)
+_GL_W[3:] = _GL_W[1::-1]
+#: no filter outside the stages (the tables of :func:`filter_split`: their header of
+#: counts, all zero)
+NO_SPLIT = (np.zeros(5, np.int64), np.empty(0), np.empty(0, np.complex128))
+
+
+def filter_split(itab, ftab, n: int):
+    """(oit, fzi, fzf, fzc): a copy of ``itab`` whose observers are those the stages
+    move (neither split nor running peaks: the others get derivative 0 there), or
+    ``itab`` itself where nothing is split, and the tables of the linear filter among a
+    system's observers that the adaptive Dormand-Prince steps advance outside their
+    stages (their layout: :mod:`._integrate`, before :func:`._integrate._fz_begin`), or
+    :data:`NO_SPLIT`. ``n``: the number of states.
+
+    The filter: the ``integral`` observers, z' = A z + u, where one of them reads
+    another (the Wk weighting, as :func:`weighted` builds it; A not zero). Its inputs u
+    must be P y + Q y' over the system's own states y: node displacements and
+    velocities of mass nodes, states, and mass nodes' accelerations (the derivative of
+    their velocity states). Then w = z - Q y obeys w' = A w + (A Q + P) y, a linear
+    filter of the states alone, which the step's continuous extension (a quartic in the
+    step's fraction, the order of the motion's own accuracy) drives exactly: per
+    eigenvalue of A = V diag(lam) V^-1 the phi-functions of lam h (one of each complex
+    pair). The observers that read the filter (``square``, ``fourth``, ``product``:
+    their signals over states only) are five-node Gauss-Legendre sums over the step on
+    the exact filter. Neither is in the stages nor in the error control, so the step
+    follows the motion, not the filter's fastest section (Wk: 100 Hz, which bounded the
+    explicit step by stability once the motion settled). No split (the stages carry
+    everything, as before) where the system has no states of its own, an input or a
+    quadrature reads anything else, another observer reads a split state, or A's
+    eigenvectors are ill-conditioned (condition number above 1e6)."""
+    key = (itab.tobytes(), ftab.tobytes(), n)
+    return _split_cached(key)
+
+
+@functools.lru_cache(maxsize=64)
+def _split_cached(key):
+    itab = np.frombuffer(key[0], np.int64)
+    ftab = np.frombuffer(key[1], np.float64)
+    out = _split(itab, ftab, key[2])
+    return (itab, *NO_SPLIT) if out is None else out
+
+
+def _split(itab, ftab, n):  # noqa: C901 (one pass of checks over the tables)
+    K = _kernel
+    nob = int(itab[K.I_NOB])
+    if nob == 0:
+        return None
+    ob = int(itab[K.I_OBS])
+    rows = [tuple(int(v) for v in itab[ob + K.OBS_W * q : ob + K.OBS_W * (q + 1)]) for q in range(nob)]
+    slot_of = {r[3]: q for q, r in enumerate(rows)}
+    nn, ne = int(itab[K.I_NN]), int(itab[K.I_NE])
+    no = 3 * nn + ne
+    sg, nsg, cf = int(itab[K.I_SG]), int(itab[K.I_NSG]), int(itab[K.I_SGF])
+
+    def sig(k):
+        ci = sg + nsg + 1
+        return [(int(itab[ci + j]), float(ftab[cf + j])) for j in range(itab[sg + k], itab[sg + k + 1])]
+
+    mech = [s for s in range(n) if s not in slot_of]
+    if not mech:  # nothing else to set the step: the stages carry the filter
+        return None
+    lin = [q for q, r in enumerate(rows) if r[0] == K.OBS_LINEAR]
+    fcol = {rows[q][3]: i for i, q in enumerate(lin)}  # filter state -> its index
+    nf = len(lin)
+
+    def node_state(c):
+        """(state, derivative?) of an output channel of a mass node, or None."""
+        node, kind = c % nn, c // nn
+        b = int(itab[K.I_NODE]) + K.NODE_W * node
+        if kind > 2 or itab[b] != K.DYN:
+            return None
+        return (int(itab[b + 1]), False) if kind == 0 else (int(itab[b + 2]), kind == 2)
+
+    A = np.zeros((nf, nf))
+    P = np.zeros((nf, n))
+    Q = np.zeros((nf, n))
+    for i, q in enumerate(lin):
+        for c, v in sig(rows[q][1]):
+            if c >= no and c - no in fcol:
+                A[i, fcol[c - no]] += v
+            elif c >= no and c - no in slot_of:
+                return None  # reads another observer's state
+            elif c >= no:
+                P[i, c - no] += v
+            else:
+                ns = node_state(c) if c < 3 * nn else None
+                if ns is None:
+                    return None
+                (Q if ns[1] else P)[i, ns[0]] += v
+    if not nf or not A.any():
+        return None
+    split = set(fcol)
+    quad = []
+    for q, r in enumerate(rows):
+        if r[0] in (K.OBS_SQUARE, K.OBS_FOURTH, K.OBS_PRODUCT):
+            chans = sig(r[1]) + (sig(r[2]) if r[2] >= 0 else [])
+            if any(c >= no and c - no in split for c, _ in chans):
+                if any(c < no or (c - no in slot_of and c - no not in split) for c, _ in chans):
+                    return None  # a quadrature over anything but states and the filter
+                quad.append(q)
+    qslots = {rows[q][3] for q in quad}
+    qread = {  # the system's own states the quadratures read
+        c - no
+        for q in quad
+        for c, _ in sig(rows[q][1]) + (sig(rows[q][2]) if rows[q][2] >= 0 else [])
+        if c - no not in split
+    }
+    for q, r in enumerate(rows):  # nothing else reads a quadrature; only peaks, the filter
+        if q in quad or q in lin:
+            continue
+        chans = sig(r[1]) + (sig(r[2]) if r[2] >= 0 else [])
+        reads = {c - no for c, _ in chans if c >= no}
+        if reads & qslots or (r[0] != K.OBS_PEAK and reads & split):
+            return None
+    lam, V = np.linalg.eig(A)
+    if np.linalg.cond(V) > 1e6:
+        return None
+    Vi = np.linalg.inv(V)
+    # one eigenvalue of each complex pair (weight 2: the pair's sum is twice its real
+    # part), the real ones (weight 1)
+    tol = 1e-12 * max(1.0, float(np.max(np.abs(lam))))
+    keep = [m for m in range(nf) if lam[m].imag > tol or abs(lam[m].imag) <= tol]
+    om = np.array([2.0 if lam[m].imag > tol else 1.0 for m in keep])
+    probe = np.random.default_rng(0).standard_normal(nf)
+    back = (V[:, keep] * om) @ (Vi[keep] @ probe)
+    if np.max(np.abs(back.real - probe)) > 1e-9 * np.max(np.abs(probe)):
+        return None  # the pairs are not conjugate to rounding
+    G = A @ Q + P
+    used = np.any(G != 0.0, axis=0) | np.any(Q != 0.0, axis=0)
+    used[sorted(qread)] = True
+    cols = np.flatnonzero(used)
+    # the stages' observers: the rows of those they move first, and only those counted
+    dead = split | qslots | {r[3] for r in rows if r[0] == K.OBS_PEAK}
+    order = [q for q, r in enumerate(rows) if r[3] not in dead]
+    order += [q for q, r in enumerate(rows) if r[3] in dead]
+    oitab = np.array(itab, copy=True)
+    oitab[ob : ob + K.OBS_W * nob] = np.concatenate([itab[ob + K.OBS_W * q : ob + K.OBS_W * (q + 1)] for q in order])
+    oitab[K.I_NOB] = sum(r[3] not in dead for r in rows)
+    oitab.setflags(write=False)
+    dead = sorted(dead)
+    fzi = np.array(
+        [nf, cols.size, len(quad), len(dead), len(keep), *(rows[q][3] for q in lin), *cols,
+         *quad, *dead], np.int64,
+    )  # fmt: skip
+    fzf = np.concatenate([Q[:, cols].ravel(), om, _GL_X, _GL_W])
+    fzc = np.concatenate([lam[keep], V[:, keep].ravel(), Vi[keep].ravel(), (Vi[keep] @ G[:, cols]).ravel()])
+    return oitab, fzi, fzf, fzc.astype(np.complex128)
+
+
 def weighted(name: str, signal: dict, A, B, C, D, *, scale: float = 1.0):
     """(observers, weighted signal) of the linear filter z' = A z + B a, w = C z + D a
     of the signal a: its states ``<name>.z0``, ... (``integral`` observers), and w as a
@@ -229,10 +386,12 @@ def energy(sys, *, scale: float = 1e-2) -> list[Observer]:
 #: the ride observers of a quarter car and their typical sizes (absolute tolerance
 #: rtol x size): int a^2, int grip^2, int z^2, the Wk filter, int a_w^2, int a_w^4. The
 #: Wk filter's states (of the size of an acceleration, 0.1 m/s^2) get a 100 x looser
-#: absolute tolerance: the filter is linear and stable, its error does not grow, and
-#: at the acceleration's own tolerance its 100 Hz section sets the step size (the
-#: ch. 4-6 runs of the traditional, afw and device cars: 66 670 steps and rejections
-#: at 0.1, 47 313 at 10, 39 645 at 1000; docs/decisions.md, "Observers")
+#: absolute tolerance where they are in the stages (the fixed RK4 steps; the adaptive
+#: steps advance the filter outside them, :func:`filter_split`): the filter is linear and
+#: stable, its error does not grow, and at the acceleration's own tolerance its 100 Hz
+#: section set the step size (the ch. 4-6 runs of the traditional, afw and device cars:
+#: 66 670 steps and rejections at 0.1, 47 313 at 10, 39 645 at 1000; docs/decisions.md,
+#: "Observers")
 RIDE_SCALES = {"i_acc": 1e-2, "i_grip": 1e-4, "i_defl": 1e-7, "wk": 1e1, "i_wk": 1e-2, "i_wk4": 1e-3}
 
 
