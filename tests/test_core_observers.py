@@ -123,9 +123,29 @@ def _oscillator(observers):
     return sys, x0, w
 
 
-def test_exact_steps_fourth_power_square_and_peaks_of_a_sine():
+#: samples every 1 ms (exact steps of one quadrature panel) or only at the horizon
+#: (steps of several panels, core.EXACT_OBSERVER_LONGEST apart)
+SAMPLED = pytest.mark.parametrize("sparse", [False, True], ids=["1 kHz", "horizon only"])
+
+
+def _times(T, sparse):
+    return np.array([T]) if sparse else None
+
+
+def _panels_used(res, sparse, T):
+    """With samples at the horizon only, the steps hold several panels: fewer steps
+    than panels of core.EXACT_OBSERVER_PANEL x its share."""
+    from inerterlab.systems.core import EXACT_OBSERVER_PANEL
+
+    if sparse:
+        assert res.stats["exact_steps"] < 0.5 * T / EXACT_OBSERVER_PANEL
+
+
+@SAMPLED
+def test_exact_steps_fourth_power_square_and_peaks_of_a_sine(sparse):
     """On the exact path: int x^4 = 3/8 X0^4 T and int v^2 = (X0 w)^2 T / 2 over whole
-    periods, the peak of x (between samples) = X0, to 1e-10."""
+    periods, the peak of x (between samples) = X0, to 1e-10; with samples every 1 ms
+    and with one sample at the horizon (exact steps of several quadrature panels)."""
     sys, x0, w = _oscillator([
         Observer("x4", "fourth", {"body.x": 1.0}, scale=1e-8),
         Observer("v2", "square", {"body.v": 1.0}, scale=1e-2),
@@ -133,8 +153,9 @@ def test_exact_steps_fourth_power_square_and_peaks_of_a_sine():
         Observer("pv", "peak", {"body.v": -1.0}),
     ])  # fmt: skip
     T = 5.0  # ten periods
-    res = sys.simulate(_flat(T), T, x0=x0)
+    res = sys.simulate(_flat(T), T, x0=x0, times=_times(T, sparse))
     assert res.method == "exact"
+    _panels_used(res, sparse, T)
     o = res.observed
     assert o["x4"] == pytest.approx(3.0 / 8.0 * X0**4 * T, rel=1e-10)
     assert o["v2"] == pytest.approx(0.5 * (X0 * w) ** 2 * T, rel=1e-10)
@@ -142,10 +163,11 @@ def test_exact_steps_fourth_power_square_and_peaks_of_a_sine():
     assert o["pv"] == pytest.approx(X0 * w, rel=1e-10)
 
 
-def test_exact_steps_wk_integral_against_the_frequency_domain():
+@SAMPLED
+def test_exact_steps_wk_integral_against_the_frequency_domain(sparse):
     """On the exact path: the Wk filter of a pure sine acceleration (the oscillator's),
     started on its steady state, int a_w^2 over whole periods = T/2 |Wk(f)|^2 (X0 w^2)^2
-    to 1e-10."""
+    to 1e-10 (samples every 1 ms, or at the horizon only)."""
     Af, Bf, Cf, Df = wk_state_space()
     obs, aw = weighted("wk", {"body.a": 1.0}, Af, Bf, Cf, Df, scale=1e-1)
     sys, x0, w = _oscillator([*obs, Observer("i_wk", "square", aw, scale=1e-2)])
@@ -153,16 +175,19 @@ def test_exact_steps_wk_integral_against_the_frequency_domain():
     zc = np.linalg.solve(1j * w * np.eye(Af.shape[0]) - Af, Bf) * (-X0 * w * w * np.exp(1j * PHI))
     x0[2 : 2 + Af.shape[0]] = zc.real
     T = 5.0
-    res = sys.simulate(_flat(T), T, x0=x0)
+    res = sys.simulate(_flat(T), T, x0=x0, times=_times(T, sparse))
     assert res.method == "exact"
+    _panels_used(res, sparse, T)
     exact = 0.5 * T * abs(wk_weighting(F_OSC)) ** 2 * (X0 * w * w) ** 2
     assert res.observed["i_wk"] == pytest.approx(exact, rel=1e-10)
 
 
-def test_exact_steps_square_against_the_lyapunov_value():
+@SAMPLED
+def test_exact_steps_square_against_the_lyapunov_value(sparse):
     """On the exact path: a linear car's free decay from a displaced body, int (C x)^2
     over [0, T] = x0' (P - e^{A'T} P e^{AT}) x0 with A'P + PA + C'C = 0, for the body
-    acceleration and the suspension deflection, to 1e-10."""
+    acceleration and the suspension deflection, to 1e-10 (samples every 1 ms, or at the
+    horizon only)."""
     from scipy.linalg import expm, solve_continuous_lyapunov
 
     car = quarter_car("k | c", {"k": 3e4, "c": 1.5e3})
@@ -173,8 +198,9 @@ def test_exact_steps_square_against_the_lyapunov_value():
     A, _, Cm, _ = car.linear_state_space()
     x = car.initial_state(body=0.03)
     T = 1.5
-    res = sys.simulate(_flat(T), T, x0=np.r_[x, 0.0, 0.0])
+    res = sys.simulate(_flat(T), T, x0=np.r_[x, 0.0, 0.0], times=_times(T, sparse))
     assert res.method == "exact"
+    _panels_used(res, sparse, T)
     E = expm(A * T)
     out = car.output_names
     rows = {"i_acc": Cm[out.index("body.a")], "i_defl": Cm[out.index("body.x")] - Cm[out.index("wheel.x")]}
@@ -184,19 +210,50 @@ def test_exact_steps_square_against_the_lyapunov_value():
         assert res.observed[name] == pytest.approx(exact, rel=1e-10)
 
 
-def test_observers_ride_the_exact_steps_of_the_linear_regimes():
+@pytest.mark.parametrize("metrics_only", [False, True], ids=["1 kHz", "metrics only"])
+def test_observers_ride_the_exact_steps_of_the_linear_regimes(metrics_only):
     """The afw car (flywheel saturated through most of a 5 Hz sine) with its ride
     observers takes exact steps in its linear regimes, and its metrics agree with
-    Dormand-Prince steps throughout at rtol 1e-11 to 1e-7."""
+    Dormand-Prince steps throughout at rtol 1e-11 to 1e-7; metrics only, its exact
+    steps hold several quadrature panels each."""
+    from inerterlab.systems.core import EXACT_FOURTH_POWER_SHARE, EXACT_OBSERVER_PANEL
+
     car = quarter_car("afw")
     ex = sine(0.05, 5.0)
-    res = car.simulate(ex, 2.0)
-    assert res.stats["exact_steps"] > 0.8 * res.stats["steps"]
-    ref = car.simulate(ex, 2.0, method="adaptive", rtol=1e-11)
+    T = 2.0
+    res = car.simulate(ex, T, metrics_only=metrics_only)
+    if metrics_only:  # several panels to a step: fewer, longer exact steps
+        assert 100 < res.stats["exact_steps"] < 0.5 * T / (
+            EXACT_FOURTH_POWER_SHARE * EXACT_OBSERVER_PANEL
+        )
+    else:
+        assert res.stats["exact_steps"] > 0.8 * res.stats["steps"]
+    ref = car.simulate(ex, T, method="adaptive", rtol=1e-11)
     assert ref.stats["exact_steps"] == 0
     for k, v in ref.metrics.items():
         if isinstance(v, float):
             assert res.metrics[k] == pytest.approx(v, rel=1e-7), k
+
+
+@pytest.mark.parametrize("network", ["afw", "k | c"])
+def test_several_panels_keep_the_vdv_after_a_road_step(network):
+    """A car over a 1 cm bump of 10 ms (the Wk filter rings at 100 Hz after each edge,
+    the case that set the fourth power's panel): metrics only (exact steps of several
+    panels: the linear car's throughout, the afw car's where its flywheel saturates)
+    against 1 kHz samples (steps of one panel) to 1e-9, every metric."""
+    from inerterlab.systems.core import EXACT_OBSERVER_PANEL
+
+    car = quarter_car(network) if network == "afw" else quarter_car(network, {"k": 3e4, "c": 1.5e3})
+    ex = bump(0.01, duration=0.01)
+    T = 1.0
+    few = car.simulate(ex, T, rtol=1e-10, metrics_only=True)
+    full = car.simulate(ex, T, rtol=1e-10)
+    if network != "afw":
+        assert few.method == full.method == "exact"
+        assert few.stats["exact_steps"] < 0.5 * T / EXACT_OBSERVER_PANEL < full.stats["exact_steps"]
+    for k, v in full.metrics.items():
+        if isinstance(v, float) and v:
+            assert few.metrics[k] == pytest.approx(v, rel=1e-9), k
 
 
 def test_observed_system_keeps_its_own_observers_after_its_base_ran():

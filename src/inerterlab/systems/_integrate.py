@@ -1535,22 +1535,25 @@ def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
             y[slot] = best
             continue
         acc = 0.0
-        for p in range(ng):
-            a = sv[p + 1, ka]
-            if kind == OBS_SQUARE:
+        if kind == OBS_SQUARE:
+            for p in range(ng):
+                a = sv[p + 1, ka]
+                acc += gw[p] * (a * a)
+        elif kind == OBS_FOURTH:
+            for p in range(ng):
+                a = sv[p + 1, ka]
                 v = a * a
-            elif kind == OBS_FOURTH:
-                v = a * a
-                v = v * v
-            else:
-                v = a * sv[p + 1, itab[bo + 2]]
-            acc += gw[p] * v
+                acc += gw[p] * (v * v)
+        else:
+            kb = itab[bo + 2]
+            for p in range(ng):
+                acc += gw[p] * (sv[p + 1, ka] * sv[p + 1, kb])
         y[slot] += h * acc
 
 
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
-               imp_unit, itab, ftab, hmin, hs, idx, Phi, GX, GB, out_y, out_u, jumps, vjumps, ia,
+               imp_unit, itab, ftab, hmin, hs, idx, PhiT, GX, GB, out_y, out_u, jumps, vjumps, ia,
                SR, rows, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
@@ -1558,7 +1561,9 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     Without ``apply``: the step lengths go to ``hs``; returns (OK, number of steps).
     With ``apply``: step i advances the state ``y`` in place by the table row
     ``idx[i]``: y <- Phi y + GX X1(t) + GB X1' (the road displacement at the step's
-    start and its constant rate on the segment; see :func:`.core._exact_tables`),
+    start and its constant rate on the segment; see :func:`.core._exact_tables`; Phi
+    given transposed, ``PhiT[j, q, i]`` = Phi[j, i, q], so the product runs down
+    contiguous columns: each y[i] summed in the order of q, as a row product would),
     samples go to ``out_y`` and the road (X1, X1', X1'' = 0) at them to ``out_u``.
     Road steps and road velocity jumps pass their impulses as in :func:`integrate`
     (constant inertances: the impulse flows are constant and one Euler step of each
@@ -1651,11 +1656,11 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     xr = a + b * (t - t0)
                     for i in range(na):
                         z0[i] = y[ia[i]]
-                    for i in range(na):
-                        acc = GX[j, i] * xr + GB[j, i] * b
-                        for q in range(na):
-                            acc += Phi[j, i, q] * z0[q]
-                        yn[i] = acc
+                        yn[i] = GX[j, i] * xr + GB[j, i] * b
+                    for q in range(na):
+                        zq = z0[q]
+                        for i in range(na):
+                            yn[i] += PhiT[j, q, i] * zq
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:

@@ -26,18 +26,24 @@ _TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 EXACT_MAX_STEP_SIZES = 256
 #: exact step lengths are rounded to this many seconds per second of horizon
 EXACT_STEP_QUANTUM = 1e-13
-#: the longest exact step [s] of a system with observers: their integrals are
-#: Gauss-Legendre sums over each step (five points: the error of a component of
-#: angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz section)
-EXACT_OBSERVER_STEP = 2.5e-3
+#: the longest quadrature panel [s] of a system's observers in an exact step: their
+#: integrals are five-point Gauss-Legendre sums over each panel (the error of a
+#: component of angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz
+#: section); an exact step holds as many equal panels as it needs
+EXACT_OBSERVER_PANEL = 2.5e-3
 #: and at most this many radians of the road's sine or of the system's fastest mode
-#: (the base system's largest |eigenvalue|) per exact step with observers: the
-#: quadrature's error in the square of a component that fast is below (2 x 0.5)^10
-#: x 3.9e-13 of its own integral (the 1 ms half-cosine edges of a smoothed bump, a
-#: sine of 3142 rad/s, take 13 steps)
+#: (the base system's largest |eigenvalue|) per panel: the quadrature's error in the
+#: square of a component that fast is below (2 x 0.5)^10 x 3.9e-13 of its own integral
+#: (the 1 ms half-cosine edges of a smoothed bump, a sine of 3142 rad/s, take 13 panels)
 EXACT_OBSERVER_PHASE = 0.5
-#: the first halved where an observer integrates a fourth power (the VDV): its
-#: integrand holds twice the frequencies of a square, and at the square's step its
+#: the longest exact step [s] with observers where the break points are further apart
+#: (one sample at the horizon: a metrics-only run), and at most this many panels in one
+#: step: the peaks' Taylor rows then span at most (fastest rate x step) <= 8 (Wk's
+#: 628 rad/s: 6.3), well inside the :data:`TAYLOR_TERMS` terms
+EXACT_OBSERVER_LONGEST = 1e-2
+EXACT_OBSERVER_PANELS = 16
+#: the panel halved where an observer integrates a fourth power (the VDV): its
+#: integrand holds twice the frequencies of a square, and at the square's panel its
 #: quadrature error was 9.6e-8 of the VDV after a road step (the Wk filter's 100 Hz
 #: ringing; docs/decisions.md); at the phase bound the base system's modes leave a
 #: fourth power (4 x 0.5)^10 x 3.9e-13 = 4e-10 of their share
@@ -1230,9 +1236,8 @@ def _walk_plan(sys, road, T, ts, ts_key):
     got = kept.get(key)
     if got is None:
         walk = ts
-        if sys.observers:
-            step = min(_observer_share(sys) * EXACT_OBSERVER_STEP, EXACT_OBSERVER_PHASE / max(
-                _regime_rate(sys.info["base"], _linear_ss(sys)[0]), 1e-300))  # fmt: skip
+        if sys.observers:  # panels of the observers' quadrature, several to a step
+            step = min(EXACT_OBSERVER_LONGEST, EXACT_OBSERVER_PANELS * _observer_panel(sys))
             walk = _observer_grid(ts, T, step)
         plan = _exact_plan(sys, road.segments, T, walk)
         got = (None, None, plan) if walk is ts else (walk, np.searchsorted(walk, ts), plan)
@@ -1376,11 +1381,26 @@ def _observer_grid(ts, T, step):
 
 
 def _observer_share(sys) -> float:
-    """The part of the longest exact step :data:`EXACT_OBSERVER_STEP` that ``sys``'s
+    """The part of the longest panel :data:`EXACT_OBSERVER_PANEL` that ``sys``'s
     observers allow: 1, or :data:`EXACT_FOURTH_POWER_SHARE` with a fourth power among
     them."""
     fourth = any(_kernel_kind(o) == _kernel.OBS_FOURTH for o in sys.observers)
     return EXACT_FOURTH_POWER_SHARE if fourth else 1.0
+
+
+def _observer_panel(sys) -> float:
+    """The longest quadrature panel [s] of the observers of ``sys`` (a linear system) in
+    an exact step: :data:`EXACT_OBSERVER_PANEL` x :func:`_observer_share`, and at most
+    :data:`EXACT_OBSERVER_PHASE` radians of the base system's fastest mode."""
+    rate = _regime_rate(sys.info["base"], _linear_ss(sys)[0])
+    return min(_observer_share(sys) * EXACT_OBSERVER_PANEL, EXACT_OBSERVER_PHASE / max(rate, 1e-300))
+
+
+def _panels(sizes, panel: float) -> int:
+    """Panels per exact step: enough for the longest of ``sizes`` [s] at ``panel`` [s]
+    each (at least one)."""
+    longest = float(np.max(sizes, initial=0.0))
+    return max(1, math.ceil(longest / panel * (1.0 - 1e-9)))
 
 
 def _exact_plan(sys, segs, T, ts):
@@ -1398,7 +1418,10 @@ def _exact_plan(sys, segs, T, ts):
         np.empty((0, 0)), np.empty((0, 0)), np.empty((0, 3)), np.empty(0), np.empty(0),
         np.empty(0, np.int64), *_NO_OBSERVERS,
     )  # fmt: skip
-    keys, idx = np.unique(np.rint(hs[:m] / q).astype(np.int64), return_inverse=True)
+    k = np.rint(hs[:m] / q).astype(np.int64)
+    if m and k.min() == k.max():  # one length (samples on the segment edges): no sort
+        return k[:1] * q, np.zeros(m, np.int64)
+    keys, idx = np.unique(k, return_inverse=True)
     return keys * q, idx.astype(np.int64)
 
 
@@ -1513,7 +1536,8 @@ def _regime_tables(sys, segs, T, ts, plan):
     :data:`EXACT_MAX_STEP_SIZES`) and the levels (see :data:`REGIME_LEVELS`);
     :data:`_NO_REGIME` where the system has no such regime. With observers, the last
     entry is ``xo`` of :func:`._integrate._advance` (their tables over the augmented
-    state, and per class the longest step: :data:`EXACT_OBSERVER_STEP`, and
+    state for steps of m quadrature panels, and per class the longest step: m panels of
+    at most :data:`EXACT_OBSERVER_PANEL` (x :func:`_observer_share`) and
     :data:`EXACT_OBSERVER_PHASE` over the class's sine frequency and the base system's
     fastest rate)."""
     reg = _regime_system(sys)
@@ -1522,24 +1546,32 @@ def _regime_tables(sys, segs, T, ts, plan):
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
     sizes = plan[0] if plan is not None and plan[0].size <= EXACT_MAX_STEP_SIZES else np.empty(0)
     aug = reg[9]
-    longest = REGIME_LEVEL_MAX if aug is None else EXACT_OBSERVER_STEP * _observer_share(sys)
-    if aug is not None:
-        sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
     w = np.where(segs[:, 2] == 1.0, segs[:, 6], 0.0)
     ws = np.unique(w[segs[:, 2] != 2.0])[:REGIME_MAX_CLASSES]
-    cls = np.full(len(segs), -1, np.int64)
-    for c, wc in enumerate(ws):
-        cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     A, B, gx, gu, thr, idx = reg[:6]
     # the levels follow the motion (the base system's rates), not the observers' filters
     base = sys.info.get("base", sys)
     rate_x = _regime_rate(base, A)
+    longest = REGIME_LEVEL_MAX
+    if aug is not None:
+        # with observers: steps of several quadrature panels where the break points are
+        # far apart (no longer than the longest gap between them, nor than a panel: with
+        # samples every 1 ms, one panel of the first, as before)
+        panel = _observer_share(sys) * EXACT_OBSERVER_PANEL
+        gap = float(np.max(plan[0])) if plan is not None and plan[0].size else T
+        longest = min(EXACT_OBSERVER_LONGEST, EXACT_OBSERVER_PANELS * panel, max(gap, panel))
+        sizes = sizes[sizes <= longest * (1.0 + 1e-9)]
+    cls = np.full(len(segs), -1, np.int64)
+    for c, wc in enumerate(ws):
+        cls[(w == wc) & (segs[:, 2] != 2.0)] = c
     rate = max(rate_x, float(np.max(np.abs(ws), initial=0.0)))
     top = longest if rate == 0.0 else min(longest, REGIME_LEVEL_PHASE / rate)
-    # with observers, each class's longest step (its sine and the system's modes)
-    fast = np.maximum(np.abs(ws), rate_x)
-    cap = np.minimum(longest, EXACT_OBSERVER_PHASE / np.maximum(fast, 1e-300))
-    levels = top / 2.0 ** np.arange(REGIME_LEVELS) if top >= REGIME_LEVEL_MIN else np.empty(0)
+    nlev = REGIME_LEVELS
+    if aug is not None and top > panel:
+        # steps of several panels: levels down to those of a one-panel top, so a step
+        # that would leave the regime hands over to Dormand-Prince as close to the exit
+        nlev += math.ceil(math.log2(top / panel))
+    levels = top / 2.0 ** np.arange(nlev) if top >= REGIME_LEVEL_MIN else np.empty(0)
     lev_keys = np.rint(levels / q).astype(np.int64)
     keys = np.unique(np.r_[np.rint(sizes / q).astype(np.int64), lev_keys])
     keys = keys[keys > 0]
@@ -1550,28 +1582,35 @@ def _regime_tables(sys, segs, T, ts, plan):
     if aug is None:
         XE, XG, *_ = _regime_exponentials(
             A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-            hs, b"", b"",
+            hs, b"", b"", 1,
         )  # fmt: skip
         return XE, XG, keys, thr, idx, cls, xlev
+    # each step's panels: as many as the longest step needs at the first panel length;
+    # each class's panel at most EXACT_OBSERVER_PHASE of its sine and of the system's
+    # modes, which bounds the steps of a fast class (m of its panels)
+    m = _panels(keys * q, panel)
+    fast = np.maximum(np.abs(ws), rate_x)
+    cap = np.minimum(longest, m * np.minimum(panel, EXACT_OBSERVER_PHASE / np.maximum(fast, 1e-300)))
     A, B, ia, Sx, Su = aug
     rows, nu = _read_rows(sys, Sx, Su)
     own = rows[:nu, 0]
     gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
     XE, XG, SR, TR = _regime_exponentials(
         A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        hs, Sx[own].tobytes(), Su[own].tobytes(),
+        hs, Sx[own].tobytes(), Su[own].tobytes(), m,
     )  # fmt: skip
-    xo = (ia, SR, rows, _GL_W, _GL_X, cap, TR, _signal_refs(rows, nu, Sx.shape[0]))
+    gw, gxs = _nodes(m)
+    xo = (ia, SR, rows, gw, gxs, cap, TR, _signal_refs(rows, nu, Sx.shape[0]))
     return XE, XG, keys, thr, idx, cls, xlev, xo
 
 
 @lru_cache(maxsize=16)
-def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
+def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
     """(XE, XG, SR, TR): XE[c, j] = the first n rows of exp(M_c h_j), XG[c] the guard
     rows and their rates over z = (x, e) (see :mod:`._integrate`), for the sine
     frequencies ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin
-    e) at the points theta = :func:`_points` ()[p] of a step, over z at its start, in
-    the layout of :func:`_point_tables`, and TR[c] their Taylor rows
+    e) at the points theta = :func:`_points` (m)[p] of a step of m panels, over z at its
+    start, in the layout of :func:`_point_tables`, and TR[c] their Taylor rows
     (:func:`_taylor_rows` of z' = M_c z; both empty without observers)."""
     from scipy.linalg import expm
 
@@ -1583,7 +1622,7 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
     Su = np.frombuffer(su).reshape(-1, 3)
     hs = np.frombuffer(sizes)
     ng = Gx.shape[0]
-    th = _points() if Sx.shape[0] else np.empty(0)
+    th = _points(m) if Sx.shape[0] else np.empty(0)
     XE = np.empty((len(ws), hs.size, n, n + 3))
     XG = np.empty((len(ws), 2 * ng, n + 3))
     SR = np.empty((len(ws), th.size, hs.size, Sx.shape[0], n + 3))
@@ -1601,12 +1640,31 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su):
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
         TR.append(_taylor_rows(M, S, hs))
-        for p, x in enumerate(th):
-            SR[c, p] = S @ expm((x * hs)[:, None, None] * M[None])
+        if th.size:
+            SR[c] = _composite_rows(S, lambda h, M=M: expm(h[:, None, None] * M[None]), hs, m)
     # writable, as the empty tables: one compiled integrator, not two
     K = max((t.shape[2] for t in TR), default=0)
     TR = np.array([np.pad(t, ((0, 0), (0, 0), (0, K - t.shape[2]), (0, 0))) for t in TR])
     return XE, XG, _point_layout(SR), TR.reshape(len(ws), hs.size, Sx.shape[0], K, n + 3)
+
+
+def _composite_rows(S, expo, hs, m):
+    """R[p, j] = S exp(M theta_p hs[j]) at the points theta_p = :func:`_points` (m) of a
+    step of m equal panels, ``expo(h)`` giving exp(M h) for each length of h: the ends
+    directly, a node x of panel k as S exp(M x hs / m) exp(M hs / m)^k."""
+    th = _points(m)
+    R = np.empty((th.size, hs.size, S.shape[0], S.shape[1]))
+    R[0] = S @ expo(0.0 * hs)
+    R[-1] = S @ expo(hs)
+    sub = hs / m
+    nodes = [S @ expo(x * sub) for x in _GL_X]
+    step = expo(sub) if m > 1 else None
+    P = None  # exp(M hs / m)^k
+    for k in range(m):
+        for p, rows in enumerate(nodes):
+            R[1 + _GL_X.size * k + p] = rows if P is None else rows @ P
+        P = step if P is None else P @ step
+    return R
 
 
 def _exact_tables(A, B, sizes):
@@ -1646,10 +1704,19 @@ def _exact_tables_of(A, B, sizes):
     return Phi, GX, np.ascontiguousarray(E[:, :, n + 1] + E[:, :, n + 3])
 
 
-#: Gauss-Legendre nodes (in [0, 1]) and weights of the observers' quadrature in an
-#: exact step: five points, exact for polynomials of degree 9
+#: Gauss-Legendre nodes (in [0, 1]) and weights of the observers' quadrature in a panel
+#: of an exact step: five points, exact for polynomials of degree 9
 _GL_X = 0.5 * (np.polynomial.legendre.leggauss(5)[0] + 1.0)
 _GL_W = 0.5 * np.polynomial.legendre.leggauss(5)[1]
+
+
+@lru_cache(maxsize=32)
+def _nodes(m: int) -> tuple[np.ndarray, np.ndarray]:
+    """(weights, nodes) of the composite rule on a step of m equal panels, theta in
+    [0, 1] increasing: :data:`_GL_X` in each panel, the weights :data:`_GL_W` / m."""
+    x = ((np.arange(m)[:, None] + _GL_X[None]) / m).ravel()
+    w = np.tile(_GL_W, m) / m
+    return w, x  # writable, as the kernels' other tables: one compiled signature
 
 
 def _observer_system(sys, ss):
@@ -1787,31 +1854,31 @@ def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
     return ref
 
 
-def _points() -> np.ndarray:
-    """theta of the points of an exact step the observers read: 0, the Gauss-Legendre
-    nodes, 1."""
-    return np.r_[0.0, _GL_X, 1.0]
+def _points(m: int = 1) -> np.ndarray:
+    """theta of the points of an exact step of m panels the observers read: 0, the
+    Gauss-Legendre nodes of each panel (:func:`_nodes`), 1."""
+    return np.r_[0.0, _nodes(m)[1], 1.0]
 
 
-def _point_tables(A, B, Sx, Su, rows, sizes):
+def _point_tables(A, B, Sx, Su, rows, sizes, m=1):
     """(:func:`_point_tables_of`, :func:`_taylor_rows` of the signals over v = (z,
-    X1, X1')), kept for the last few systems and step lengths by content (a sweep over
-    roads or seeds computes them once)."""
+    X1, X1')), kept for the last few systems, step lengths and panel counts by content
+    (a sweep over roads or seeds computes them once)."""
     sx, su = Sx[rows], Su[rows]  # the distinct signals
     return _point_tables_cached(
         A.shape[0], A.tobytes(), B.tobytes(), sx.tobytes(), su.tobytes(),
-        np.ascontiguousarray(sizes, float).tobytes(),
+        np.ascontiguousarray(sizes, float).tobytes(), m,
     )  # fmt: skip
 
 
 @lru_cache(maxsize=16)
-def _point_tables_cached(n, a, b, sx, su, sizes):
+def _point_tables_cached(n, a, b, sx, su, sizes, m):
     A = np.frombuffer(a).reshape(n, n)
     B = np.frombuffer(b).reshape(n, 3)
     sx = np.frombuffer(sx).reshape(-1, n)
     su = np.frombuffer(su).reshape(-1, 3)
     hs = np.frombuffer(sizes)
-    SR = _point_tables_of(A, B, sx, su, hs)
+    SR = _point_tables_of(A, B, sx, su, hs, m)
     # v = (z, X1, X1') on a road segment: v' = Mv v (X1'' = 0)
     Mv = np.zeros((n + 2, n + 2))
     Mv[:n, :n] = A
@@ -1823,21 +1890,25 @@ def _point_tables_cached(n, a, b, sx, su, sizes):
     return SR, TR
 
 
-def _point_tables_of(A, B, sx, su, sizes):
+def _point_tables_of(A, B, sx, su, sizes, m=1):
     """SR[j, q, p nu + r]: over v = (z, X1, X1') at the start of an exact step of length
-    sizes[j] on a linear road segment (:func:`_exact_tables_of`), the signal r (rows sx,
-    su over z and u; nu of them) at theta = :func:`_points` ()[p] of the step, (Sx z + Su u) there =
-    sum_q SR[j, q, p nu + r] v[q] (the layout :func:`._integrate._signals_at` sums
-    over)."""
+    sizes[j] (m panels) on a linear road segment (:func:`_exact_tables_of`), the signal
+    r (rows sx, su over z and u; nu of them) at theta = :func:`_points` (m)[p] of the
+    step, (Sx z + Su u) there = sum_q SR[j, q, p nu + r] v[q] (the layout
+    :func:`._integrate._signals_at` sums over)."""
     na = A.shape[0]
-    th = _points()
-    SR = np.empty((th.size, sizes.size, sx.shape[0], na + 2))
-    for p, c in enumerate(th):
-        Phi, GX, GB = _exact_tables(A, B, sizes * c)
-        SR[p, :, :, :na] = np.einsum("rq,jqs->jrs", sx, Phi)
-        SR[p, :, :, na] = GX @ sx.T + su[:, 0]
-        SR[p, :, :, na + 1] = GB @ sx.T + su[None, :, 0] * (c * sizes[:, None]) + su[:, 1]
-    return _point_layout(SR)
+
+    def expo(hs):  # exp(Mv h) of v = (z, X1, X1'), from the exact tables
+        Phi, GX, GB = _exact_tables(A, B, hs)
+        E = np.zeros((hs.size, na + 2, na + 2))
+        E[:, :na, :na] = Phi
+        E[:, :na, na] = GX
+        E[:, :na, na + 1] = GB
+        E[:, na, na] = E[:, na + 1, na + 1] = 1.0
+        E[:, na, na + 1] = hs
+        return E
+
+    return _point_layout(_composite_rows(np.hstack([sx, su[:, :2]]), expo, sizes, m))
 
 
 def _point_layout(SR):
@@ -1873,8 +1944,9 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
             rows, nu = _read_rows(sys, Sx, Su)
             sys.info["observer_rows"] = (rows, nu, _signal_refs(rows, nu, Sx.shape[0]))
         rows, nu, sref = sys.info["observer_rows"]
-        SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes)
-        extra = (SR, rows, _GL_W, _GL_X, TR, sref)
+        m = _panels(sizes, _observer_panel(sys))  # the quadrature's panels per step
+        SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes, m)
+        extra = (SR, rows, *_nodes(m), TR, sref)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
@@ -1882,9 +1954,10 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
         extra = _NO_OBSERVERS
     Y = np.empty((ts.size, sys.n_states))
     U = np.zeros((ts.size, 3))
+    PhiT = np.ascontiguousarray(Phi.transpose(0, 2, 1))  # the walk's column products
     status, m = _integrate.exact_walk(
         True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
-        sys.itab, sys.ftab, 0.5 * EXACT_STEP_QUANTUM * max(T, 1.0), np.empty(0), idx, Phi, GX,
+        sys.itab, sys.ftab, 0.5 * EXACT_STEP_QUANTUM * max(T, 1.0), np.empty(0), idx, PhiT, GX,
         GB, Y, U, jumps, vjumps, ia, *extra,
     )  # fmt: skip
     if status != _integrate.OK:
