@@ -217,14 +217,21 @@ def _dense(y, yt, K, h, th, out):
     """The order-4 continuous extension of the step y -> yt at theta = th."""
     th1 = 1.0 - th
     for i in range(y.size):
-        r2 = yt[i] - y[i]
-        r3 = h * K[0, i] - r2
-        r4 = r2 - h * K[6, i] - r3
-        acc = 0.0
-        for q in range(7):
-            acc += _TAB_D[q] * K[q, i]
-        r5 = h * acc
+        r2, r3, r4, r5 = _dense_terms(y, yt, K, h, i)
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
+
+
+@nb.njit(cache=True, inline="always")
+def _dense_terms(y, yt, K, h, i):
+    """The coefficients (r2, r3, r4, r5) of component ``i``'s order-4 continuous
+    extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))."""
+    r2 = yt[i] - y[i]
+    r3 = h * K[0, i] - r2
+    r4 = r2 - h * K[6, i] - r3
+    acc = 0.0
+    for q in range(7):
+        acc += _TAB_D[q] * K[q, i]
+    return r2, r3, r4, h * acc
 
 
 # ---------------------------------------------------------------------------------------
@@ -281,13 +288,7 @@ def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
     stf[0] = hs
     for j in range(m):
         i = fzi[co + j]
-        r2 = ya[i] - y[i]
-        r3 = h * K[0, i] - r2
-        r4 = r2 - h * K[6, i] - r3
-        acc = 0.0
-        for q in range(7):
-            acc += _TAB_D[q] * K[q, i]
-        r5 = h * acc
+        r2, r3, r4, r5 = _dense_terms(y, ya, K, h, i)
         # the continuous extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))
         # in powers of theta' = th / thx
         stf[cf0 + j] = y[i]

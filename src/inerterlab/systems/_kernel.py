@@ -156,6 +156,44 @@ def _dissipative(code, tab, o, v):
     return friction_force(tab[o], tab[o + 1], v)
 
 
+@nb.njit(cache=True, inline="always")
+def _pass_on(itab, ftab, W, nn, ia, ir):
+    """The forces gathered at each combination node (``W[ia + n]``) passed on to its
+    members' rows, by the combination's coefficients."""
+    no = itab[I_NODE]
+    for n in range(nn):
+        b = no + NODE_W * n
+        if itab[b] == LIN:
+            mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
+            fn = W[ia + n]
+            for j in range(cnt):
+                W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
+
+
+@nb.njit(cache=True, inline="always")
+def _element_law(itab, ftab, b, W, top, bot, iv, x, dx, side):
+    """(m_e, f) of the element whose row starts at ``itab[b]``, between nodes ``top``
+    and ``bot`` (displacements ``W[node]``, velocities ``W[iv + node]``): its force and
+    the inertance it adds to the mass matrix (``side``: the road's side of a kink where
+    the element is held, else 0)."""
+    code = itab[b]
+    o = itab[b + 3]
+    slot = itab[b + 4]
+    d = W[top] - W[bot]
+    v = W[iv + top] - W[iv + bot]
+    if code == SPRING:
+        return 0.0, spring_force(ftab, o, d)
+    if code == DAMPER or code == FRICTION:
+        f, _ = _dissipative(code, ftab, o, v)
+        return 0.0, f
+    if code == INERTER:
+        return inerter_inertance(ftab, o), 0.0
+    if code == TYRE:
+        return 0.0, tyre_force(ftab, o, d, v, side)
+    # the flywheel-row elements (held on one side of a kink: side)
+    return inertial_law(ftab, o, d, v, x, slot, dx, side)
+
+
 def dense_tables(itab, ftab):
     """(itab, ftab) of the same system with its mass matrix factored beforehand for
     :func:`evaluate` (see :func:`_dense_solve`), or None where that does not apply: a
@@ -520,24 +558,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         W[im + k * nd + k] += ftab[fm + n]
     for e in range(ne):
         b = eo + ELEM_W * e
-        code = itab[b]
         top = itab[b + 1]
         bot = itab[b + 2]
-        o = itab[b + 3]
-        v = W[iv + top] - W[iv + bot]
-        me = 0.0
-        if code == SPRING:
-            f = spring_force(ftab, o, W[top] - W[bot])
-        elif code == DAMPER or code == FRICTION:
-            f, _ = _dissipative(code, ftab, o, v)
-        elif code == INERTER:
-            f = 0.0
-            me = inerter_inertance(ftab, o)
-        elif code == TYRE:
-            f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
-        else:  # the flywheel-row elements (held on one side of a kink: road[hs + e])
-            side = road[hs + e] if held else 0.0
-            me, f = inertial_law(ftab, o, W[top] - W[bot], v, x, itab[b + 4], dx, side)
+        me, f = _element_law(itab, ftab, b, W, top, bot, iv, x, dx, road[hs + e] if held else 0.0)
         if jerk:
             f = 0.0
         W[iF + e] = f
@@ -569,13 +592,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 else:
                     W[ir + bi] += me * W[ia + top]
     if nlin > 0:  # the forces gathered at combination nodes to their members' rows
-        for n in range(nn):
-            b = no + NODE_W * n
-            if itab[b] == LIN:
-                mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
-                fn = W[ia + n]
-                for j in range(cnt):
-                    W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
+        _pass_on(itab, ftab, W, nn, ia, ir)
     if imp.size > 0 and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
@@ -661,24 +678,9 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
         W[ir + i] = 0.0
     for e in range(ne):
         b = eo + ELEM_W * e
-        code = itab[b]
         top = itab[b + 1]
         bot = itab[b + 2]
-        o = itab[b + 3]
-        v = W[iv + top] - W[iv + bot]
-        me = 0.0
-        if code == SPRING:
-            f = spring_force(ftab, o, W[top] - W[bot])
-        elif code == DAMPER or code == FRICTION:
-            f, _ = _dissipative(code, ftab, o, v)
-        elif code == INERTER:
-            f = 0.0
-            me = inerter_inertance(ftab, o)
-        elif code == TYRE:
-            f = tyre_force(ftab, o, W[top] - W[bot], v, road[hs + e] if held else 0.0)
-        else:
-            side = road[hs + e] if held else 0.0
-            me, f = inertial_law(ftab, o, W[top] - W[bot], v, x, itab[b + 4], dx, side)
+        me, f = _element_law(itab, ftab, b, W, top, bot, iv, x, dx, road[hs + e] if held else 0.0)
         W[iF + e] = f
         W[ie + e] = me
         g = f
@@ -692,13 +694,7 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
         _gather(itab, W, top, -g, ia, ir)
         _gather(itab, W, bot, g, ia, ir)
     if itab[I_NL] > 0:
-        for n in range(nn):
-            b = no + NODE_W * n
-            if itab[b] == LIN:
-                mo, cnt, co = itab[b + 1], itab[b + 2], itab[b + 3]
-                fn = W[ia + n]
-                for j in range(cnt):
-                    W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
+        _pass_on(itab, ftab, W, nn, ia, ir)
     db = itab[I_DNS]
     fo = itab[db]
     m = itab[db + 1]
