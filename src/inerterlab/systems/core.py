@@ -1659,25 +1659,66 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
         M[:n, n:] = B @ Gin
         M[n, n + 1] = 1.0
         M[n + 1, n] = -w * w
-        # every length read: the steps, and with observers their panels and the panels'
-        # Gauss-Legendre nodes (the values _composite_rows asks for), each once
-        need = [hs]
-        if th.size:
-            sub = hs / m
-            need += [sub] + [x * sub for x in _GL_X]
-        expo = _expm_lengths(M, np.concatenate(need))
-        XE[c] = expo(hs)[:, :n]
         rows = np.hstack([Gx, Gu @ Gin])
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
-        TR.append(_taylor_rows(M, S, hs))
+        XE[c], sr, tr = _length_tables(M, S, hs, m if th.size else 0, n)
+        TR.append(tr)
         if th.size:
-            SR[c] = _composite_rows(S, expo, hs, m)
+            SR[c] = sr
     # writable, as the empty tables: one compiled integrator, not two
     K = max((t.shape[2] for t in TR), default=0)
     TR = np.array([np.pad(t, ((0, 0), (0, 0), (0, K - t.shape[2]), (0, 0))) for t in TR])
     return XE, XG, _point_layout(SR), TR.reshape(len(ws), hs.size, Sx.shape[0], K, n + 3)
+
+
+#: the tables of this many (matrix, signals, panels, step length) are kept in a process
+LENGTH_TABLES_KEPT = 256
+_LENGTH_TABLES: dict = {}
+
+
+def _length_tables(M, S, hs, m, n):
+    """For the steps of lengths ``hs`` of z' = M z: the first n rows of exp(M h) [j],
+    and with observers (m panels, m > 0) the signal rows S at the points of a step
+    (:func:`_composite_rows`, [p, j]) and the Taylor rows (:func:`_taylor_rows`). Each
+    length's tables are kept by content (M, S, m, h) for the last
+    :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths (a
+    bump after a drop: the bump's length; the regime levels are shared). Each length is
+    computed on its own in every step (a batched expm computes each matrix alone, a
+    chain of Taylor products is the length's own to the last bit), so the tables do not
+    depend on which lengths were computed together."""
+    mk, sk = M.tobytes(), S.tobytes()
+    keys = [(mk, sk, m, n, h) for h in hs.tolist()]
+    got = {k: _LENGTH_TABLES[k] for k in keys if k in _LENGTH_TABLES}
+    miss = [j for j, k in enumerate(keys) if k not in got]
+    if miss:
+        hm = hs[miss]
+        need = [hm]
+        if m:  # the panels and their Gauss-Legendre nodes (what _composite_rows reads)
+            sub = hm / m
+            need += [0.0 * hm, sub] + [x * sub for x in _GL_X]
+        expo = _expm_lengths(M, np.concatenate(need))
+        xe = expo(hm)[:, :n]
+        tr = _taylor_each(M, S, hm)
+        sr = _composite_rows(S, expo, hm, m) if m else None
+        for i, j in enumerate(miss):
+            item = (xe[i].copy(), None if sr is None else sr[:, i].copy(), tr[i])
+            for x in item:
+                if x is not None:
+                    x.setflags(write=False)
+            got[keys[j]] = item
+            if len(_LENGTH_TABLES) >= LENGTH_TABLES_KEPT:
+                _LENGTH_TABLES.pop(next(iter(_LENGTH_TABLES)))
+            _LENGTH_TABLES[keys[j]] = item
+    items = [got[k] for k in keys]
+    XE = np.array([it[0] for it in items]).reshape(hs.size, n, M.shape[0])
+    SR = np.stack([it[1] for it in items], axis=1) if m and items else None
+    K = max((it[2].shape[1] for it in items), default=1)
+    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    for j, it in enumerate(items):
+        TR[j, :, : it[2].shape[1]] = it[2]
+    return XE, SR, TR
 
 
 def _composite_rows(S, expo, hs, m):
@@ -1715,7 +1756,10 @@ def _expm_lengths(M, h):
         E[nz] = expm(uniq[nz][:, None, None] * M[None])
 
     def expo(x):
-        return E[np.searchsorted(uniq, x)]
+        i = np.minimum(np.searchsorted(uniq, x), uniq.size - 1)
+        if not np.array_equal(uniq[i], x):
+            raise ValueError("a length whose exponential was not computed")
+        return E[i]
 
     return expo
 
@@ -1884,8 +1928,18 @@ def _taylor_rows(M, S, hs):
     its terms to the last bit (scaling by a power of two commutes with rounding in every
     product and sum, and so with each term's stopping test), unless a product could
     leave the normal range, where each length runs its own chain."""
-    TR = np.zeros((hs.size, S.shape[0], TAYLOR_TERMS, M.shape[0]))
-    K = 1
+    each = _taylor_each(M, S, hs)
+    K = max((T.shape[1] for T in each), default=1)
+    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    for j, T in enumerate(each):
+        TR[j, :, : T.shape[1]] = T
+    return TR
+
+
+def _taylor_each(M, S, hs) -> list:
+    """The rows of :func:`_taylor_rows` of each length, [r, k, :] up to its own last
+    term."""
+    each: list = [None] * hs.size
     mant, ex = np.frexp(hs)
     for mv in np.unique(mant):
         js = np.flatnonzero(mant == mv)
@@ -1894,9 +1948,8 @@ def _taylor_rows(M, S, hs):
         if got is None:
             got = [_taylor_family(M, S, float(hs[j]), [0])[0] for j in js]
         for j, T in zip(js, got, strict=True):
-            TR[j, :, : T.shape[1]] = T
-            K = max(K, T.shape[1])
-    return np.ascontiguousarray(TR[:, :, :K])
+            each[j] = T
+    return each
 
 
 def _taylor_family(M, S, h, shifts):
