@@ -1410,7 +1410,9 @@ def _exact_plan(sys, segs, T, ts):
     closer than half that, a sample and a segment edge apart by round-off, take no
     step). Kept for the last few (segments, horizon, break points) by content: the walk
     that plans reads nothing else (the system's tables only to pick its compiled code),
-    so the cars of a sweep share the plan of each input; read only."""
+    so the cars of a sweep share the plan of each input (shared arrays, not written:
+    writable, as the kernels' other tables, so that the exact walk keeps one compiled
+    signature)."""
     segs = np.ascontiguousarray(segs, float)
     ts = np.ascontiguousarray(ts, float)
     if segs.nbytes + ts.nbytes > EXACT_PLAN_KEY_BYTES:  # a long road: planned each time
@@ -1419,8 +1421,6 @@ def _exact_plan(sys, segs, T, ts):
     got = _EXACT_PLANS.get(key)
     if got is None:
         got = _exact_plan_of(sys, segs, T, ts)
-        for x in got:
-            x.setflags(write=False)
         if len(_EXACT_PLANS) >= EXACT_PLANS_KEPT:
             _EXACT_PLANS.pop(next(iter(_EXACT_PLANS)))
         _EXACT_PLANS[key] = got
