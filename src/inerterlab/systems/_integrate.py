@@ -1455,14 +1455,17 @@ BLAS_ROWS = 8
 
 @nb.njit(cache=True)
 def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
-    """The maximum of sgn x the distinct signal r over step i about its point ``top``
-    (between its neighbours): the step's Taylor series in theta, sum_k (TR[j, r, k] .
-    V[i]) theta^k (exact to round-off), maximised by Newton's method on its derivative,
-    kept inside the bracket of a sign change (bisection where Newton leaves it); where
-    the derivative does not change sign between the neighbours the maximum is at one of
-    them."""
+    """The maximum of sgn x the distinct signal r inside step i between the neighbours
+    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . V[i])
+    theta^k, exact to round-off), where its derivative changes sign from + to - there:
+    found by Newton's method on the derivative, kept inside the bracket of the sign
+    change (bisection where Newton leaves it); -inf where it does not (the maximum is
+    then at one of the points, which the caller has). ``coef``: scratch of
+    TR.shape[2]."""
     npt = xs.size
     m = TR.shape[2]
+    if m < 2:
+        return -math.inf
     for k in range(m):
         acc = 0.0
         for q in range(V.shape[1]):
@@ -1470,24 +1473,23 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
         coef[k] = sgn * acc
     lo = xs[max(top - 1, 0)]
     hi = xs[min(top + 1, npt - 1)]
-    best = max(_series(coef, m, lo), _series(coef, m, hi), _series(coef, m, xs[top]))
     d_lo = 0.0
     d_hi = 0.0
     for k in range(m - 1, 0, -1):
         d_lo = d_lo * lo + k * coef[k]
         d_hi = d_hi * hi + k * coef[k]
     if not (d_lo > 0.0 and d_hi < 0.0):
-        return best
+        return -math.inf
     x = xs[top]
     if x <= lo or x >= hi:
         x = 0.5 * (lo + hi)
     for _ in range(60):
         d1 = 0.0
         d2 = 0.0
-        for k in range(m - 1, 0, -1):
-            d1 = d1 * x + k * coef[k]
         for k in range(m - 1, 1, -1):
+            d1 = d1 * x + k * coef[k]
             d2 = d2 * x + k * (k - 1) * coef[k]
+        d1 = d1 * x + coef[1]
         if d1 > 0.0:
             lo = x
         else:
@@ -1499,7 +1501,7 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
             x = xn
             break
         x = xn
-    return max(best, _series(coef, m, x))
+    return _series(coef, m, x)
 
 
 @nb.njit(cache=True)
@@ -1531,15 +1533,16 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
     nw = SR.shape[2]
     nu = nw // npt
     # the signals at the points
-    if nst < BLAS_ROWS:
-        for i in range(nst):
-            j = J[i]
-            for c in range(nw):
-                SV[c, i] = 0.0
-            for q in range(V.shape[1]):
-                vq = V[i, q]
-                for c in range(nw):
-                    SV[c, i] += SR[j, q, c] * vq
+    one = True  # every step of one length
+    for i in range(1, nst):
+        if J[i] != J[0]:
+            one = False
+            break
+    if one and nst >= BLAS_ROWS:
+        if nst == SV.shape[1]:
+            np.dot(SR[J[0]].T, V.T, SV)
+        else:
+            SV = np.dot(SR[J[0]].T, V[:nst].T)
     else:
         order = np.argsort(J[:nst], kind="mergesort")
         s0 = 0
@@ -1549,22 +1552,29 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
             while s1 < nst and J[order[s1]] == j:
                 s1 += 1
             cnt = s1 - s0
-            if cnt == nst:
-                if nst == SV.shape[1]:
-                    np.dot(SR[j].T, V.T, SV)
-                else:
-                    SV = np.dot(SR[j].T, V[:nst].T)
-            else:
+            if cnt >= BLAS_ROWS:
                 Vj = np.empty((cnt, V.shape[1]))
                 for c in range(cnt):
                     Vj[c] = V[order[s0 + c]]
                 Sj = np.dot(SR[j].T, Vj.T)
                 for c in range(cnt):
                     SV[:, order[s0 + c]] = Sj[:, c]
+            else:
+                for c in range(cnt):
+                    i = order[s0 + c]
+                    for w in range(nw):
+                        SV[w, i] = 0.0
+                    for q in range(V.shape[1]):
+                        vq = V[i, q]
+                        for w in range(nw):
+                            SV[w, i] += SR[j, q, w] * vq
             s0 = s1
+    # each distinct signal's highest and lowest point in each step, where a peak reads it
+    # (a peak of its negative reads the same: max(-s) = -min(s))
+    hi = np.empty((nu, nst))
+    lo = np.empty((nu, nst))
+    done = np.zeros(nu, np.bool_)
     acc = np.empty(nst)
-    low = np.empty(nst)
-    top = np.empty(nst, np.int64)
     ob = itab[I_OBS]
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
@@ -1575,18 +1585,17 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
         ref = sref[itab[bo + 1]]
         r = abs(ref) - 1
         sgn = 1.0 if ref > 0 else -1.0
-        if kind == OBS_PEAK:  # acc: the highest point, low: the lowest
-            for i in range(nst):
-                acc[i] = sgn * SV[r, i]
-                low[i] = acc[i]
-                top[i] = 0
-            for p in range(1, npt):
+        if kind == OBS_PEAK:
+            if not done[r]:
                 for i in range(nst):
-                    s = sgn * SV[p * nu + r, i]
-                    if s > acc[i]:
-                        acc[i] = s
-                        top[i] = p
-                    low[i] = min(low[i], s)
+                    hi[r, i] = SV[r, i]
+                    lo[r, i] = SV[r, i]
+                for p in range(1, npt):
+                    for i in range(nst):
+                        s = SV[p * nu + r, i]
+                        hi[r, i] = max(hi[r, i], s)
+                        lo[r, i] = min(lo[r, i], s)
+                done[r] = True
         else:
             for i in range(nst):
                 acc[i] = 0.0
@@ -1620,10 +1629,15 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
                 out_y[pk[pi], slot] = val
                 pi += 1
             if kind == OBS_PEAK:
-                high = acc[i]
+                high = hi[r, i] if sgn > 0.0 else -lo[r, i]
+                low = lo[r, i] if sgn > 0.0 else -hi[r, i]
                 best = max(val, high)
-                if high > val - 0.1 * (high - low[i]):
-                    best = max(best, _taylor_peak(TR, J[i], r, sgn, V, i, xs, top[i], coef))
+                if high > val - 0.1 * (high - low):
+                    top = 0  # the first of the highest points
+                    for p in range(1, npt):
+                        if sgn * SV[p * nu + r, i] > sgn * SV[top * nu + r, i]:
+                            top = p
+                    best = max(best, _taylor_peak(TR, J[i], r, sgn, V, i, xs, top, coef))
                 val = best
             else:
                 val += H[i] * acc[i]
@@ -1746,10 +1760,17 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                         yn[i] = GX[j, i] * xr + GB[j, i] * b
                     V[nst, na] = xr
                     V[nst, na + 1] = b
-                    for q in range(na):
-                        zq = V[nst, q]
+                    q = 0
+                    while q + 2 <= na:  # two columns at a time, each sum in the order of q
+                        z0 = V[nst, q]
+                        z1 = V[nst, q + 1]
                         for i in range(na):
-                            yn[i] += PhiT[j, q, i] * zq
+                            yn[i] = (yn[i] + PhiT[j, q, i] * z0) + PhiT[j, q + 1, i] * z1
+                        q += 2
+                    if q < na:
+                        z0 = V[nst, q]
+                        for i in range(na):
+                            yn[i] += PhiT[j, q, i] * z0
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:
