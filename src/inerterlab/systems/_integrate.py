@@ -29,7 +29,6 @@ from ._kernel import (
     I_NN,
     I_NOB,
     I_NODE,
-    I_NSG,
     I_OBS,
     NODE_W,
     OBS_FOURTH,
@@ -738,10 +737,10 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     longest of the level lengths (rows ``xlev``, longest first) that is shorter and
     stays in it. A step that would leave the regime is not taken: the Dormand-Prince
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
-    error control). ``xo`` = (ia, SR, rows, gw, gx, cap, TR, sref): with observers the
-    tables act on the rows ``ia`` of y (the states and the linear observers'), the other
-    observers follow each exact step by :func:`_observe_points` (``SR[c]`` and ``TR[c]``
-    as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
+    error control). ``xo`` = (ia, SR, rows (not read here), gw, gx, cap, TR, sref): with
+    observers the tables act on the rows ``ia`` of y (the states and the linear
+    observers'), the other observers follow each exact step by :func:`_observe_steps`
+    (one step; ``SR[c]`` and ``TR[c]`` as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
     (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
     linear filter among the observers and its quadratures, advanced outside the
     Dormand-Prince stages and error control, exactly over each accepted step
@@ -832,7 +831,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # exact steps in the linear regimes
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
-    xia, xSR, xrows, xgw, xgx, xcap, xTR, xref = xo
+    xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
@@ -843,8 +842,10 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
     xcoef = np.empty(xTR.shape[3])
-    xsv = np.empty((xgx.size + 2, itab[I_NSG]))
-    xacc = np.empty(xSR.shape[3])
+    xsv = np.empty((xSR.shape[3], 1))  # the signals at the points of one exact step
+    xh = np.empty(1)
+    xj = np.empty(1, np.int64)
+    xnone = np.empty(0, np.int64)
     ga0 = np.empty(ng)
     gd0 = np.empty(ng)
     ga1 = np.empty(ng)
@@ -924,8 +925,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 for i in range(na):
                     y[ia[i]] = yt[i]
                 if xobs:
-                    _signals_at(xSR[cx], j, zs, xrows, xsv, xacc)
-                    _observe_points(itab, y, tn - t, xsv, xgw, xpts, zs, xTR[cx, j], xref, xcoef)
+                    xh[0] = tn - t
+                    xj[0] = j
+                    _observe_steps(itab, y, 1, xh, xj, zs.reshape((1, zs.size)), xSR[cx],
+                                   xTR[cx], xgw, xpts, xref, xsv, xcoef, xnone, xnone, 0,
+                                   np.empty((0, 0)))  # fmt: skip
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1439,30 +1443,6 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 # exact steps of a linear system on a piecewise-linear road
 
 
-@nb.njit(cache=True, _nrt=False)
-def _signals_at(SR, j, v, rows, sv, acc):
-    """The observed signals at the points of an exact step (its start, the quadrature
-    nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
-    + r] v[q] for r < nu (v the step's initial vector: the augmented state and the
-    road's part, see :func:`.core._point_tables`; j the row of its length; summed over q
-    in order, every point and signal at once), then the signals equal to one of those or
-    to its negative: sv[p, rows[r, 0]] = rows[r, 2] sv[p, rows[r, 1]]. ``acc``:
-    scratch of SR.shape[2]."""
-    npt = sv.shape[0]
-    nu = SR.shape[2] // npt
-    for i in range(acc.size):
-        acc[i] = 0.0
-    for q in range(v.size):
-        vq = v[q]
-        for i in range(acc.size):
-            acc[i] += SR[j, q, i] * vq
-    for p in range(npt):
-        for r in range(nu):
-            sv[p, rows[r, 0]] = acc[p * nu + r]
-        for r in range(nu, rows.shape[0]):
-            sv[p, rows[r, 0]] = rows[r, 2] * sv[p, rows[r, 1]]
-
-
 @nb.njit(cache=True, inline="always")
 def _series(coef, m, x):
     acc = 0.0
@@ -1471,96 +1451,211 @@ def _series(coef, m, x):
     return acc
 
 
-@nb.njit(cache=True, _nrt=False)
-def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
-    """The observers over an exact step of length h from their signals' values at its
-    start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
-    nodes, end; exact, from :func:`_signals_at`): the integrals of squares, fourth
-    powers and products by the quadrature (weights gw), the running peaks from those
-    values and, where a maximum inside the step may exceed the peak so far (a point
-    above it less a tenth of the points' range: between the points a smooth signal
-    rises above them by a few hundredths of that), the maximum of the exact solution:
-    its Taylor series in theta from the step's start, sum_k (TR[r, k] . v0) theta^k
-    (v0 the vector the step starts from, TR of :func:`.core._taylor_rows`; the signal
-    k is sign(sref[k]) times the distinct signal r = |sref[k]| - 1), maximised by
-    golden section about the highest point. The linear observers (filters) are
-    propagated with the system and left alone. ``coef``: scratch of TR.shape[1]."""
+#: the linear walk's steps whose observers are summed at once (their signals one matrix
+#: product per step length)
+WALK_BLOCK = 512
+#: fewer steps of one length than this take their signals by loops, not a matrix product
+BLAS_ROWS = 8
+
+
+@nb.njit(cache=True)
+def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
+    """The maximum of sgn x the distinct signal r inside step i between the neighbours
+    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . V[i])
+    theta^k, exact to round-off), where its derivative changes sign from + to - there:
+    found by Newton's method on the derivative, kept inside the bracket of the sign
+    change (bisection where Newton leaves it); -inf where it does not (the maximum is
+    then at one of the points, which the caller has). ``coef``: scratch of
+    TR.shape[2]."""
+    npt = xs.size
+    m = TR.shape[2]
+    if m < 2:
+        return -math.inf
+    for k in range(m):
+        acc = 0.0
+        for q in range(V.shape[1]):
+            acc += TR[j, r, k, q] * V[i, q]
+        coef[k] = sgn * acc
+    lo = xs[max(top - 1, 0)]
+    hi = xs[min(top + 1, npt - 1)]
+    d_lo = 0.0
+    d_hi = 0.0
+    for k in range(m - 1, 0, -1):
+        d_lo = d_lo * lo + k * coef[k]
+        d_hi = d_hi * hi + k * coef[k]
+    if not (d_lo > 0.0 and d_hi < 0.0):
+        return -math.inf
+    x = xs[top]
+    if x <= lo or x >= hi:
+        x = 0.5 * (lo + hi)
+    for _ in range(60):
+        d1 = 0.0
+        d2 = 0.0
+        for k in range(m - 1, 1, -1):
+            d1 = d1 * x + k * coef[k]
+            d2 = d2 * x + k * (k - 1) * coef[k]
+        d1 = d1 * x + coef[1]
+        if d1 > 0.0:
+            lo = x
+        else:
+            hi = x
+        xn = x - d1 / d2 if d2 < 0.0 else 0.5 * (lo + hi)
+        if not (lo < xn < hi):
+            xn = 0.5 * (lo + hi)
+        if abs(xn - x) <= 1e-14 or hi - lo <= 1e-14:
+            x = xn
+            break
+        x = xn
+    return _series(coef, m, x)
+
+
+@nb.njit(cache=True)
+def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y):
+    """The observers over nst exact steps (step i: length H[i], table row J[i], initial
+    vector V[i] = (augmented state, the road's part), see :func:`.core._point_tables`),
+    advanced in ``y`` from their values before the first.
+
+    Every observed signal is linear in the step's initial vector: the distinct ones (nu)
+    at the points theta = ``xs`` (the start, the quadrature nodes, the end) are
+    SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] V[i, q], for a block of steps of one
+    length one matrix product (BLAS), for a few steps loops; a signal k read by an
+    observer is sign(sref[k]) times the distinct signal |sref[k]| - 1 (a ride's +-a,
+    +-a_w, +-z computed once). Then, one observer at a time over the steps: the
+    integrals of squares, fourth powers and products by the quadrature (weights ``gw``,
+    the sum over the nodes in their order, then y += H[i] x sum, as step by step); the
+    running peaks from the points' values and, where a maximum inside the step may
+    exceed the peak so far (its highest point above it less a tenth of the points'
+    range: between the points a smooth signal rises above them by a few hundredths of
+    that), the exact maximum (:func:`_taylor_peak`). The linear observers (filters) are
+    propagated with the system and left alone.
+
+    Samples taken during the steps: sample pk[s] was taken after pp[s] of them (s <
+    npend); its observers' values go to out_y[pk[s]]. ``SV``: scratch of (SR.shape[2],
+    at least nst) (its full width, the block, or fewer steps); ``coef``: scratch of
+    TR.shape[2]."""
+    npt = xs.size
     ng = gw.size
-    npt = ng + 2
+    nw = SR.shape[2]
+    nu = nw // npt
+    # the signals at the points
+    one = True  # every step of one length
+    for i in range(1, nst):
+        if J[i] != J[0]:
+            one = False
+            break
+    if one and nst >= BLAS_ROWS:
+        if nst == SV.shape[1]:
+            np.dot(SR[J[0]].T, V.T, SV)
+        else:
+            SV = np.dot(SR[J[0]].T, V[:nst].T)
+    else:
+        order = np.argsort(J[:nst], kind="mergesort")
+        s0 = 0
+        while s0 < nst:
+            j = J[order[s0]]
+            s1 = s0 + 1
+            while s1 < nst and J[order[s1]] == j:
+                s1 += 1
+            cnt = s1 - s0
+            if cnt >= BLAS_ROWS:
+                Vj = np.empty((cnt, V.shape[1]))
+                for c in range(cnt):
+                    Vj[c] = V[order[s0 + c]]
+                Sj = np.dot(SR[j].T, Vj.T)
+                for c in range(cnt):
+                    SV[:, order[s0 + c]] = Sj[:, c]
+            else:
+                for c in range(cnt):
+                    i = order[s0 + c]
+                    for w in range(nw):
+                        SV[w, i] = 0.0
+                    for q in range(V.shape[1]):
+                        vq = V[i, q]
+                        for w in range(nw):
+                            SV[w, i] += SR[j, q, w] * vq
+            s0 = s1
+    # each distinct signal's highest and lowest point in each step, where a peak reads it
+    # (a peak of its negative reads the same: max(-s) = -min(s))
+    hi = np.empty((nu, nst))
+    lo = np.empty((nu, nst))
+    done = np.zeros(nu, np.bool_)
+    acc = np.empty(nst)
     ob = itab[I_OBS]
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
         kind = itab[bo]
-        if kind == OBS_LINEAR:  # propagated exactly with the system
+        if kind == OBS_LINEAR:
             continue
         slot = itab[bo + 3]
-        ka = itab[bo + 1]
+        ref = sref[itab[bo + 1]]
+        r = abs(ref) - 1
+        sgn = 1.0 if ref > 0 else -1.0
         if kind == OBS_PEAK:
-            best = y[slot]
-            top = 0
-            low = sv[0, ka]
-            for p in range(1, npt):
-                if sv[p, ka] > sv[top, ka]:
-                    top = p
-                low = min(low, sv[p, ka])
-            high = sv[top, ka]
-            if high > best:
-                best = high
-            if high > y[slot] - 0.1 * (high - low):
-                # the exact solution's maximum about the highest point
-                ref = sref[ka]
-                r = abs(ref) - 1
-                sgn = 1.0 if ref > 0 else -1.0
-                m = TR.shape[1]
-                for k in range(m):
-                    acc = 0.0
-                    for i in range(v0.size):
-                        acc += TR[r, k, i] * v0[i]
-                    coef[k] = sgn * acc
-                lo = xs[max(top - 1, 0)]
-                hi = xs[min(top + 1, npt - 1)]
-                x1 = hi - g * (hi - lo)
-                x2 = lo + g * (hi - lo)
-                f1 = _series(coef, m, x1)
-                f2 = _series(coef, m, x2)
-                for _ in range(80):
-                    if f1 >= f2:
-                        hi = x2
-                        x2, f2 = x1, f1
-                        x1 = hi - g * (hi - lo)
-                        f1 = _series(coef, m, x1)
-                    else:
-                        lo = x1
-                        x1, f1 = x2, f2
-                        x2 = lo + g * (hi - lo)
-                        f2 = _series(coef, m, x2)
-                    if hi - lo < 1e-11:
-                        break
-                best = max(best, f1, f2)
-            y[slot] = best
-            continue
-        acc = 0.0
-        if kind == OBS_SQUARE:
-            for p in range(ng):
-                a = sv[p + 1, ka]
-                acc += gw[p] * (a * a)
-        elif kind == OBS_FOURTH:
-            for p in range(ng):
-                a = sv[p + 1, ka]
-                v = a * a
-                acc += gw[p] * (v * v)
+            if not done[r]:
+                for i in range(nst):
+                    hi[r, i] = SV[r, i]
+                    lo[r, i] = SV[r, i]
+                for p in range(1, npt):
+                    for i in range(nst):
+                        s = SV[p * nu + r, i]
+                        hi[r, i] = max(hi[r, i], s)
+                        lo[r, i] = min(lo[r, i], s)
+                done[r] = True
         else:
-            kb = itab[bo + 2]
-            for p in range(ng):
-                acc += gw[p] * (sv[p + 1, ka] * sv[p + 1, kb])
-        y[slot] += h * acc
+            for i in range(nst):
+                acc[i] = 0.0
+            if kind == OBS_SQUARE:
+                for p in range(ng):
+                    w = gw[p]
+                    for i in range(nst):
+                        a = SV[(p + 1) * nu + r, i]
+                        acc[i] += w * (a * a)
+            elif kind == OBS_FOURTH:
+                for p in range(ng):
+                    w = gw[p]
+                    for i in range(nst):
+                        a = SV[(p + 1) * nu + r, i]
+                        v = a * a
+                        acc[i] += w * (v * v)
+            else:
+                ref2 = sref[itab[bo + 2]]
+                r2 = abs(ref2) - 1
+                sgn2 = 1.0 if ref2 > 0 else -1.0
+                for p in range(ng):
+                    w = gw[p]
+                    c1 = (p + 1) * nu + r
+                    c2 = (p + 1) * nu + r2
+                    for i in range(nst):
+                        acc[i] += w * ((sgn * SV[c1, i]) * (sgn2 * SV[c2, i]))
+        val = y[slot]
+        pi = 0
+        for i in range(nst):
+            while pi < npend and pp[pi] == i:
+                out_y[pk[pi], slot] = val
+                pi += 1
+            if kind == OBS_PEAK:
+                high = hi[r, i] if sgn > 0.0 else -lo[r, i]
+                low = lo[r, i] if sgn > 0.0 else -hi[r, i]
+                best = max(val, high)
+                if high > val - 0.1 * (high - low):
+                    top = 0  # the first of the highest points
+                    for p in range(1, npt):
+                        if sgn * SV[p * nu + r, i] > sgn * SV[top * nu + r, i]:
+                            top = p
+                    best = max(best, _taylor_peak(TR, J[i], r, sgn, V, i, xs, top, coef))
+                val = best
+            else:
+                val += H[i] * acc[i]
+        while pi < npend:
+            out_y[pk[pi], slot] = val
+            pi += 1
+        y[slot] = val
 
 
 @nb.njit(cache=True)
 def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
                imp_unit, itab, ftab, hmin, hs, idx, PhiT, GX, GB, out_y, out_u, jumps, vjumps, ia,
-               SR, rows, gw, gx, TR, sref):  # fmt: skip
+               SR, gw, gx, TR, sref):  # fmt: skip
     """The steps of a linear system from one break point to the next, the break points
     being the road segment edges and the sample times ``t_out``.
 
@@ -1580,24 +1675,31 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     identity).
 
     Observers (``itab`` holds them): the tables act on the augmented state, the rows
-    ``ia`` of y (the system's states and its linear observers'); the other observers
-    by :func:`_observe_points` from their signals at the step's start, the quadrature
-    nodes ``gx`` (weights ``gw``) and its end, ``SR`` (:func:`.core._point_tables`)
-    applied to v = (augmented state, X1, X1') at the start (``rows``: the signals
-    read), the peaks inside a step from the Taylor rows ``TR[j]`` (``sref``: see
-    :func:`_observe_points`). Without observers ``ia`` is every state and the rest is
-    empty."""
+    ``ia`` of y (the system's states and its linear observers'); the walk keeps each
+    step's initial vector v = (augmented state, X1, X1'), its length and table row, and
+    every :data:`WALK_BLOCK` steps (and at the end) :func:`_observe_steps` advances the
+    other observers over them from their signals at the step's start, the quadrature
+    nodes ``gx`` (weights ``gw``) and its end (``SR``, :func:`.core._point_tables`; the
+    peaks inside a step from the Taylor rows ``TR``; ``sref``: the signals read) and
+    writes their values at the samples taken meanwhile. Without observers ``ia`` is
+    every state and the rest is empty."""
     n = y.size
     na = ia.size
     observed = itab[I_NOB] > 0
-    z0 = np.empty(na + 2)
-    xs = np.empty(gx.size + 2)  # theta of the points: 0, the nodes, 1
+    xs = np.empty(gx.size + 2)
     xs[0] = 0.0
     xs[-1] = 1.0
     xs[1:-1] = gx
-    sv = np.empty((gx.size + 2, itab[I_NSG]))
-    sacc = np.empty(SR.shape[2])
     coef = np.empty(TR.shape[2])
+    nbk = WALK_BLOCK if observed and apply else 1
+    V = np.empty((nbk, na + 2))
+    H = np.empty(nbk)
+    J = np.empty(nbk, np.int64)
+    SV = np.empty((SR.shape[2], nbk))
+    pk = np.empty(nbk, np.int64)
+    pp = np.empty(nbk, np.int64)
+    nst = 0
+    npend = 0
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1644,36 +1746,42 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 for i in range(n):
                     y[i] += dx[i]
         t = t0
-        while k < t_out.size and t_out[k] <= t0:
-            if apply:
-                for i in range(n):
-                    out_y[k, i] = y[i]
-                out_u[k, 0] = a
-                out_u[k, 1] = b
-                out_u[k, 2] = 0.0
-            k += 1
         while True:
-            sample = k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1))
-            tn = t_out[k] if sample else t1
+            early = k < t_out.size and t_out[k] <= t0  # a sample at the segment's start
+            sample = early or (k < t_out.size and (t_out[k] < t1 or (last and t_out[k] <= t1)))
+            tn = t_out[k] if sample and not early else (t0 if early else t1)
             h = tn - t
             if h > hmin:
                 if apply:
+                    if nst == nbk:
+                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
+                                       pp, npend, out_y)  # fmt: skip
+                        nst = 0
+                        npend = 0
                     j = idx[m]
                     xr = a + b * (t - t0)
                     for i in range(na):
-                        z0[i] = y[ia[i]]
+                        V[nst, i] = y[ia[i]]
                         yn[i] = GX[j, i] * xr + GB[j, i] * b
-                    for q in range(na):
-                        zq = z0[q]
+                    V[nst, na] = xr
+                    V[nst, na + 1] = b
+                    q = 0
+                    while q + 2 <= na:  # two columns at a time, each sum in the order of q
+                        z0 = V[nst, q]
+                        z1 = V[nst, q + 1]
                         for i in range(na):
-                            yn[i] += PhiT[j, q, i] * zq
+                            yn[i] = (yn[i] + PhiT[j, q, i] * z0) + PhiT[j, q + 1, i] * z1
+                        q += 2
+                    if q < na:
+                        z0 = V[nst, q]
+                        for i in range(na):
+                            yn[i] += PhiT[j, q, i] * z0
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:
-                        z0[na] = xr
-                        z0[na + 1] = b
-                        _signals_at(SR, j, z0, rows, sv, sacc)
-                        _observe_points(itab, y, h, sv, gw, xs, z0, TR[j], sref, coef)
+                        H[nst] = h
+                        J[nst] = j
+                        nst += 1
                 else:
                     hs[m] = h
                 m += 1
@@ -1683,14 +1791,28 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             if apply:
                 for i in range(n):
                     out_y[k, i] = y[i]
-                out_u[k, 0] = a + b * (tn - t0)
+                out_u[k, 0] = a if early else a + b * (tn - t0)
                 out_u[k, 1] = b
                 out_u[k, 2] = 0.0
+                if nst > 0:  # its observers once the block's are summed
+                    if npend == nbk:
+                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
+                                       pp, npend, out_y)  # fmt: skip
+                        nst = 0
+                        npend = 0
+                        for i in range(n):
+                            out_y[k, i] = y[i]
+                    else:
+                        pk[npend] = k
+                        pp[npend] = nst
+                        npend += 1
             k += 1
         prev = a + b * (t1 - t0)
         prev_v = b
         if last:
             break
+    if nst > 0:
+        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y)
     return OK, m
 
 

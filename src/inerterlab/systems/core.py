@@ -1886,10 +1886,10 @@ def _augment(sys, A0, B0, C0, D0, undefined):
 
 def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
     """The signals the quadratures and peaks of ``sys``'s observers read (a filter's
-    own are in the augmented system), as rows (signal, source, sign) of
-    :func:`._integrate._signals_at`: first the distinct ones (source: their row in the
-    tables), then those equal to one of them (source: its signal) or to its negative
-    (sign -1), which cost nothing (a ride's peaks of +-a, +-a_w, +-z)."""
+    own are in the augmented system), as rows (signal, source, sign): first the
+    distinct ones (source: their row in the tables), then those equal to one of them
+    (source: its signal) or to its negative (sign -1), which cost nothing (a ride's
+    peaks of +-a, +-a_w, +-z; :func:`_signal_refs`)."""
     from ._kernel import OBS_LINEAR
 
     it = sys.itab
@@ -1920,7 +1920,7 @@ TAYLOR_TERMS = 60
 def _taylor_rows(M, S, hs):
     """TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) of z' = M z
     from z0 over a step of length hs[j] is sum_k (TR[j, r, k] . z0) theta^k (the peaks
-    inside an exact step, :func:`._integrate._observe_points`). The terms run until
+    inside an exact step, :func:`._integrate._taylor_peak`). The terms run until
     they fall below 1e-18 of the largest (at most :data:`TAYLOR_TERMS`).
 
     Lengths a power of two apart (equal mantissas: the regime levels H, H/2, ...) share
@@ -1993,7 +1993,7 @@ def _taylor_family(M, S, h, shifts):
 def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
     """For each signal k, sign(s) (r + 1) where it equals s times the distinct signal
     r of the rows of :func:`_read_rows` (0: not read): how
-    :func:`._integrate._observe_points` finds a peak's row."""
+    :func:`._integrate._observe_steps` finds a signal's row."""
     ref = np.zeros(nsg, np.int64)
     for r in range(rows.shape[0]):
         k, src, sign = (int(v) for v in rows[r])
@@ -2042,7 +2042,7 @@ def _point_tables_of(A, B, sx, su, sizes, m=1):
     sizes[j] (m panels) on a linear road segment (:func:`_exact_tables_of`), the signal
     r (rows sx, su over z and u; nu of them) at theta = :func:`_points` (m)[p] of the
     step, (Sx z + Su u) there = sum_q SR[j, q, p nu + r] v[q] (the layout
-    :func:`._integrate._signals_at` sums over)."""
+    :func:`._integrate._observe_steps` sums over)."""
     na = A.shape[0]
 
     def expo(hs):  # exp(Mv h) of v = (z, X1, X1'), from the exact tables
@@ -2072,8 +2072,7 @@ def _kernel_kind(o):
 
 #: no observers in exact steps (the trailing arguments of :func:`._integrate.exact_walk`)
 _NO_OBSERVERS = (
-    np.empty((0, 0, 0)), np.empty((0, 3), np.int64), np.empty(0), np.empty(0),
-    np.empty((0, 0, 0, 0)), np.empty(0, np.int64),
+    np.empty((0, 0, 0)), np.empty(0), np.empty(0), np.empty((0, 0, 0, 0)), np.empty(0, np.int64),
 )  # fmt: skip
 
 
@@ -2093,7 +2092,7 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
         rows, nu, sref = sys.info["observer_rows"]
         m = _panels(sizes, _observer_panel(sys))  # the quadrature's panels per step
         SR, TR = _point_tables(A, B, Sx, Su, rows[:nu, 0], sizes, m)
-        extra = (SR, rows, *_nodes(m), TR, sref)
+        extra = (SR, *_nodes(m), TR, sref)
     else:
         A, B, _, _ = ss
         Phi, GX, GB = _exact_tables(A, B, sizes)
