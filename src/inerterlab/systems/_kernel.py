@@ -89,14 +89,11 @@ ROAD_JERK = np.array([np.nan])
 # Reference counting. A function compiled by numba with its runtime (NRT, the default)
 # counts every array argument up on entry and down at exit, each an atomic operation.
 # The right-hand side and the helpers the integrator calls once per stage take seven to
-# fifteen arrays each: the counting was most of their time (the afw quarter car's
-# right-hand side, compiled for its structure, 408 ns a call with it, 157 ns without, 42
-# ns with its two element-loop helpers below inlined as well, so that the structure's
-# constant table reaches them; decisions.md, "The right-hand side without reference
-# counting"). So every function on that path that allocates nothing is compiled with
-# ``_nrt=False`` (numba refuses an allocation there, so a function that later needs one
-# fails to compile instead of leaking); their arrays belong to the caller, which keeps
-# them alive across the call.
+# fifteen arrays each: the counting was most of their time (decisions.md, "The
+# right-hand side without reference counting (issue #34)"). So every function on that
+# path that allocates nothing is compiled with ``_nrt=False`` (numba refuses an
+# allocation there, so a function that later needs one fails to compile instead of
+# leaking); their arrays belong to the caller, which keeps them alive across the call.
 
 @nb.njit(cache=True, inline="always")
 def road_layout(nroads, ne):
@@ -745,7 +742,7 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
     return True
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
     """Once the accelerations and forces are known: the rates of the flywheel-row
     elements' own states that need them (the clutch's flywheel speed) and their
@@ -780,7 +777,7 @@ def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
         W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
     """A dynamic node whose every inertance is disengaged (a one-way clutch running
     free, a screw out of contact) has a zero row in the mass matrix: it is massless for
