@@ -1408,7 +1408,34 @@ def _exact_plan(sys, segs, T, ts):
     their distinct values (rounded to :data:`EXACT_STEP_QUANTUM` x max(T, 1 s): a step
     that long shifts a state by less than 1e-12 of its change over 1 s; break points
     closer than half that, a sample and a segment edge apart by round-off, take no
-    step)."""
+    step). Kept for the last few (segments, horizon, break points) by content: the walk
+    that plans reads nothing else (the system's tables only to pick its compiled code),
+    so the cars of a sweep share the plan of each input (shared arrays, not written:
+    writable, as the kernels' other tables, so that the exact walk keeps one compiled
+    signature)."""
+    segs = np.ascontiguousarray(segs, float)
+    ts = np.ascontiguousarray(ts, float)
+    if segs.nbytes + ts.nbytes > EXACT_PLAN_KEY_BYTES:  # a long road: planned each time
+        return _exact_plan_of(sys, segs, T, ts)
+    key = (segs.shape, segs.tobytes(), float(T), ts.tobytes())
+    got = _EXACT_PLANS.get(key)
+    if got is None:
+        got = _exact_plan_of(sys, segs, T, ts)
+        if len(_EXACT_PLANS) >= EXACT_PLANS_KEPT:
+            _EXACT_PLANS.pop(next(iter(_EXACT_PLANS)))
+        _EXACT_PLANS[key] = got
+    return got
+
+
+#: the plans of :func:`_exact_plan` kept in a process (by segments, horizon, samples)
+EXACT_PLANS_KEPT = 32
+#: ... only for segment tables and break points up to this size [bytes] together
+EXACT_PLAN_KEY_BYTES = 1 << 20
+_EXACT_PLANS: dict = {}
+
+
+def _exact_plan_of(sys, segs, T, ts):
+    """:func:`_exact_plan`, computed (a dry walk of the compiled exact steps)."""
     hs = np.empty(len(segs) + ts.size + 1)
     z = np.empty(0)
     q = EXACT_STEP_QUANTUM * max(T, 1.0)
@@ -1612,8 +1639,6 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
     e) at the points theta = :func:`_points` (m)[p] of a step of m panels, over z at its
     start, in the layout of :func:`_point_tables`, and TR[c] their Taylor rows
     (:func:`_taylor_rows` of z' = M_c z; both empty without observers)."""
-    from scipy.linalg import expm
-
     A = np.frombuffer(a).reshape(n, n)
     B = np.frombuffer(b).reshape(n, 3)
     Gx = np.frombuffer(gx).reshape(-1, n)
@@ -1634,18 +1659,66 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
         M[:n, n:] = B @ Gin
         M[n, n + 1] = 1.0
         M[n + 1, n] = -w * w
-        XE[c] = expm(hs[:, None, None] * M[None])[:, :n]
         rows = np.hstack([Gx, Gu @ Gin])
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
-        TR.append(_taylor_rows(M, S, hs))
+        XE[c], sr, tr = _length_tables(M, S, hs, m if th.size else 0, n)
+        TR.append(tr)
         if th.size:
-            SR[c] = _composite_rows(S, lambda h, M=M: expm(h[:, None, None] * M[None]), hs, m)
+            SR[c] = sr
     # writable, as the empty tables: one compiled integrator, not two
     K = max((t.shape[2] for t in TR), default=0)
     TR = np.array([np.pad(t, ((0, 0), (0, 0), (0, K - t.shape[2]), (0, 0))) for t in TR])
     return XE, XG, _point_layout(SR), TR.reshape(len(ws), hs.size, Sx.shape[0], K, n + 3)
+
+
+#: the tables of this many (matrix, signals, panels, step length) are kept in a process
+LENGTH_TABLES_KEPT = 256
+_LENGTH_TABLES: dict = {}
+
+
+def _length_tables(M, S, hs, m, n):
+    """For the steps of lengths ``hs`` of z' = M z: the first n rows of exp(M h) [j],
+    and with observers (m panels, m > 0) the signal rows S at the points of a step
+    (:func:`_composite_rows`, [p, j]) and the Taylor rows (:func:`_taylor_rows`). Each
+    length's tables are kept by content (M, S, m, h) for the last
+    :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths (a
+    bump after a drop: the bump's length; the regime levels are shared). Each length is
+    computed on its own in every step (a batched expm computes each matrix alone, a
+    chain of Taylor products is the length's own to the last bit), so the tables do not
+    depend on which lengths were computed together."""
+    mk, sk = M.tobytes(), S.tobytes()
+    keys = [(mk, sk, m, n, h) for h in hs.tolist()]
+    got = {k: _LENGTH_TABLES[k] for k in keys if k in _LENGTH_TABLES}
+    miss = [j for j, k in enumerate(keys) if k not in got]
+    if miss:
+        hm = hs[miss]
+        need = [hm]
+        if m:  # the panels and their Gauss-Legendre nodes (what _composite_rows reads)
+            sub = hm / m
+            need += [0.0 * hm, sub] + [x * sub for x in _GL_X]
+        expo = _expm_lengths(M, np.concatenate(need))
+        xe = expo(hm)[:, :n]
+        tr = _taylor_each(M, S, hm)
+        sr = _composite_rows(S, expo, hm, m) if m else None
+        for i, j in enumerate(miss):
+            item = (xe[i].copy(), None if sr is None else sr[:, i].copy(), tr[i])
+            for x in item:
+                if x is not None:
+                    x.setflags(write=False)
+            got[keys[j]] = item
+            if len(_LENGTH_TABLES) >= LENGTH_TABLES_KEPT:
+                _LENGTH_TABLES.pop(next(iter(_LENGTH_TABLES)))
+            _LENGTH_TABLES[keys[j]] = item
+    items = [got[k] for k in keys]
+    XE = np.array([it[0] for it in items]).reshape(hs.size, n, M.shape[0])
+    SR = np.stack([it[1] for it in items], axis=1) if m and items else None
+    K = max((it[2].shape[1] for it in items), default=1)
+    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    for j, it in enumerate(items):
+        TR[j, :, : it[2].shape[1]] = it[2]
+    return XE, SR, TR
 
 
 def _composite_rows(S, expo, hs, m):
@@ -1657,14 +1730,38 @@ def _composite_rows(S, expo, hs, m):
     R[0] = S @ expo(0.0 * hs)
     R[-1] = S @ expo(hs)
     sub = hs / m
-    nodes = [S @ expo(x * sub) for x in _GL_X]
+    g = _GL_X.size
+    nodes = np.array([S @ expo(x * sub) for x in _GL_X])  # [p, j]: the nodes of panel 0
     step = expo(sub) if m > 1 else None
     P = None  # exp(M hs / m)^k
-    for k in range(m):
-        for p, rows in enumerate(nodes):
-            R[1 + _GL_X.size * k + p] = rows if P is None else rows @ P
+    for k in range(m):  # the nodes of panel k: one product over all nodes and lengths
+        R[1 + g * k : 1 + g * (k + 1)] = nodes if P is None else nodes @ P
         P = step if P is None else P @ step
     return R
+
+
+def _expm_lengths(M, h):
+    """``expo`` with expo(x) = exp(M x_i) stacked for each length x_i of an array of
+    lengths among ``h``: one batched :func:`scipy.linalg.expm` over the distinct nonzero
+    lengths of ``h`` (each matrix of a batch is computed on its own, so a length asked
+    for twice, or by two tables, gets the same matrix as a call of its own would),
+    the identity for 0."""
+    from scipy.linalg import expm
+
+    uniq = np.unique(h)
+    E = np.empty((uniq.size, M.shape[0], M.shape[0]))
+    nz = uniq != 0.0
+    E[~nz] = np.eye(M.shape[0])
+    if nz.any():
+        E[nz] = expm(uniq[nz][:, None, None] * M[None])
+
+    def expo(x):
+        i = np.minimum(np.searchsorted(uniq, x), uniq.size - 1)
+        if not np.array_equal(uniq[i], x):
+            raise ValueError("a length whose exponential was not computed")
+        return E[i]
+
+    return expo
 
 
 def _exact_tables(A, B, sizes):
@@ -1824,23 +1921,73 @@ def _taylor_rows(M, S, hs):
     """TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) of z' = M z
     from z0 over a step of length hs[j] is sum_k (TR[j, r, k] . z0) theta^k (the peaks
     inside an exact step, :func:`._integrate._observe_points`). The terms run until
-    they fall below 1e-18 of the largest (at most :data:`TAYLOR_TERMS`)."""
-    TR = np.zeros((hs.size, S.shape[0], TAYLOR_TERMS, M.shape[0]))
-    K = 1
-    for j, h in enumerate(hs):
-        P = S.copy()
-        big = np.abs(P).max(initial=0.0)
-        small = 0
-        for k in range(TAYLOR_TERMS):
-            TR[j, :, k] = P
-            K = max(K, k + 1)
-            P = P @ (M * (h / (k + 1)))
-            top = np.abs(P).max(initial=0.0)
-            big = max(big, top)
-            small = small + 1 if top <= 1e-18 * big else 0
-            if small == 2:
-                break
-    return np.ascontiguousarray(TR[:, :, :K])
+    they fall below 1e-18 of the largest (at most :data:`TAYLOR_TERMS`).
+
+    Lengths a power of two apart (equal mantissas: the regime levels H, H/2, ...) share
+    one chain of products, that of the shortest h: the terms of 2^e h are 2^(e k) times
+    its terms to the last bit (scaling by a power of two commutes with rounding in every
+    product and sum, and so with each term's stopping test), unless a product could
+    leave the normal range, where each length runs its own chain."""
+    each = _taylor_each(M, S, hs)
+    K = max((T.shape[1] for T in each), default=1)
+    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    for j, T in enumerate(each):
+        TR[j, :, : T.shape[1]] = T
+    return TR
+
+
+def _taylor_each(M, S, hs) -> list:
+    """The rows of :func:`_taylor_rows` of each length, [r, k, :] up to its own last
+    term."""
+    each: list = [None] * hs.size
+    mant, ex = np.frexp(hs)
+    for mv in np.unique(mant):
+        js = np.flatnonzero(mant == mv)
+        j0 = js[np.argmin(ex[js])]
+        got = _taylor_family(M, S, float(hs[j0]), (ex[js] - ex[j0]).tolist())
+        if got is None:
+            got = [_taylor_family(M, S, float(hs[j]), [0])[0] for j in js]
+        for j, T in zip(js, got, strict=True):
+            each[j] = T
+    return each
+
+
+def _taylor_family(M, S, h, shifts):
+    """The rows of :func:`_taylor_rows` ([r, k, :]) for the lengths h 2^e, e in ``shifts``
+    (h first if 0 is among them), from the one chain of h; None where a scaled product
+    could leave the normal range of floats (then call it per length, shifts [0])."""
+    P = S.copy()
+    chain = [P]
+    big0 = np.abs(P).max(initial=0.0)
+    ne = len(shifts)
+    small, big, Kj, live = [0] * ne, [big0] * ne, [0] * ne, list(range(ne))
+    for k in range(TAYLOR_TERMS):
+        for i in live:
+            Kj[i] = k + 1
+        P = P @ (M * (h / (k + 1)))
+        top0 = np.abs(P).max(initial=0.0)
+        for i in list(live):
+            top = math.ldexp(top0, shifts[i] * (k + 1))
+            big[i] = max(big[i], top)
+            small[i] = small[i] + 1 if top <= 1e-18 * big[i] else 0
+            if small[i] == 2:
+                live.remove(i)
+        if not live:
+            break
+        chain.append(P)
+    C = np.array(chain[: max(Kj)])  # [k, r, :]
+    if max(shifts) > 0:  # every product of the scaled chains in the normal range
+        a = np.abs(C[C != 0.0])
+        mm = np.abs(M[M != 0.0])
+        if a.size and mm.size:
+            low = math.log2(a.min()) + math.log2(mm.min() * h / TAYLOR_TERMS)
+            high = math.log2(a.max()) + math.log2(mm.max() * h) + max(shifts) * (C.shape[0] + 1)
+            if low < -1000.0 or high > 1000.0:
+                return None
+    return [
+        np.ldexp(C[: Kj[i]], (shifts[i] * np.arange(Kj[i]))[:, None, None]).transpose(1, 0, 2)
+        for i in range(ne)
+    ]
 
 
 def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:

@@ -33,7 +33,6 @@ values (docs/model.md §11). :func:`with_observers` returns the system with them
 from __future__ import annotations
 
 import dataclasses
-import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -220,17 +219,40 @@ def filter_split(itab, ftab, n: int):
     explicit step by stability once the motion settled). No split (the stages carry
     everything, as before) where the system has no states of its own, an input or a
     quadrature reads anything else, another observer reads a split state, or A's
-    eigenvectors are ill-conditioned (condition number above 1e6)."""
-    key = (itab.tobytes(), ftab.tobytes(), n)
-    return _split_cached(key)
+    eigenvectors are ill-conditioned (condition number above 1e6).
+
+    Kept for the last :data:`SPLITS_KEPT` by what it reads: the integer table and the
+    coefficients of the ``integral`` observers' signals (the other signals are read for
+    their channels only), so the cars of a sweep, which differ in their element values
+    and in the tyre-grip coefficient, share the split of their one Wk filter."""
+    key = (itab.tobytes(), _filter_coefficients(itab, ftab), n)
+    got = _SPLITS.get(key)
+    if got is None:
+        ro = np.frombuffer(key[0], np.int64)  # read only, as the tables
+        out = _split(ro, ftab, n)
+        got = (ro, *NO_SPLIT) if out is None else out
+        if len(_SPLITS) >= SPLITS_KEPT:
+            _SPLITS.pop(next(iter(_SPLITS)))
+        _SPLITS[key] = got
+    return got
 
 
-@functools.lru_cache(maxsize=64)
-def _split_cached(key):
-    itab = np.frombuffer(key[0], np.int64)
-    ftab = np.frombuffer(key[1], np.float64)
-    out = _split(itab, ftab, key[2])
-    return (itab, *NO_SPLIT) if out is None else out
+#: the splits of :func:`filter_split` kept in a process
+SPLITS_KEPT = 64
+_SPLITS: dict = {}
+
+
+def _filter_coefficients(itab, ftab) -> bytes:
+    """The coefficients of the ``integral`` observers' signals (all that :func:`_split`
+    reads of ``ftab``), as bytes."""
+    K = _kernel
+    ob, sg, cf = int(itab[K.I_OBS]), int(itab[K.I_SG]), int(itab[K.I_SGF])
+    parts = []
+    for q in range(int(itab[K.I_NOB])):
+        if itab[ob + K.OBS_W * q] == K.OBS_LINEAR:
+            a = int(itab[ob + K.OBS_W * q + 1])
+            parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
+    return np.concatenate(parts).tobytes() if parts else b""
 
 
 def _split(itab, ftab, n):  # noqa: C901 (one pass of checks over the tables)

@@ -1,0 +1,109 @@
+"""Model core: the tables of exact steps a new car computes (regime exponentials, the
+observers' Taylor rows, the plan of exact steps) equal, to the last bit, what each
+length computed on its own gives, and the plan kept across cars is the plan."""
+
+import numpy as np
+import pytest
+from scipy.linalg import expm
+
+from inerterlab.excitation import bump, drop
+from inerterlab.systems import quarter_car
+from inerterlab.systems.core import (
+    _GL_X,
+    TAYLOR_TERMS,
+    _composite_rows,
+    _exact_plan,
+    _exact_plan_of,
+    _expm_lengths,
+    _taylor_rows,
+)
+
+
+def _taylor_one(M, S, h):
+    """The Taylor rows of one length, term by term (the definition: S (M h)^k / k!,
+    each term the last times M h / (k + 1), until two fall below 1e-18 of the largest)."""
+    rows = []
+    P = S.copy()
+    big = np.abs(P).max()
+    small = 0
+    for k in range(TAYLOR_TERMS):
+        rows.append(P)
+        P = P @ (M * (h / (k + 1)))
+        top = np.abs(P).max()
+        big = max(big, top)
+        small = small + 1 if top <= 1e-18 * big else 0
+        if small == 2:
+            break
+    return np.array(rows).transpose(1, 0, 2)
+
+
+def _system(seed=5, n=8):
+    rng = np.random.default_rng(seed)
+    M = rng.normal(size=(n, n)) * 300.0 - 400.0 * np.eye(n)
+    S = rng.normal(size=(3, n))
+    return M, S
+
+
+def test_taylor_rows_of_power_of_two_lengths_equal_their_own_chains():
+    """Lengths H, H/2, ..., H/64 (one chain of products, scaled) and two lengths of
+    their own: every length's rows equal its own chain's to the last bit, zero past
+    its own last term."""
+    M, S = _system()
+    q = 1e-11
+    hs = np.r_[np.rint(0.01 / 2.0 ** np.arange(7)[::-1] / q) * q, 0.0031, 0.0047]
+    hs = np.sort(hs)
+    TR = _taylor_rows(M, S, hs)
+    assert TR.shape[2] == max(_taylor_one(M, S, h).shape[1] for h in hs)
+    for j, h in enumerate(hs):
+        own = _taylor_one(M, S, h)
+        k = own.shape[1]
+        assert np.array_equal(TR[j, :, :k], own)
+        assert not TR[j, :, k:].any()
+
+
+def test_taylor_rows_fall_back_where_scaling_would_leave_the_normal_range():
+    """A family whose scaled products would underflow (a tiny entry of M): each length
+    then runs its own chain, and the rows are still its own."""
+    M, S = _system(seed=7)
+    M[0, 1] = 1e-300
+    hs = np.array([0.001, 0.002, 0.004])
+    TR = _taylor_rows(M, S, hs)
+    for j, h in enumerate(hs):
+        own = _taylor_one(M, S, h)
+        assert np.array_equal(TR[j, :, : own.shape[1]], own)
+
+
+def test_exponentials_of_distinct_lengths_equal_scipy_per_length():
+    """One batched expm over the distinct lengths: each equal to scipy's expm of that
+    length alone (and 0 gives the identity), so the step table and the observers' rows
+    are what they were when each asked for its own."""
+    M, S = _system(seed=11)
+    hs = np.array([0.00125, 0.0025, 0.005, 0.0031])
+    m = 8
+    sub = hs / m
+    expo = _expm_lengths(M, np.concatenate([0.0 * hs, hs, sub] + [x * sub for x in _GL_X]))
+    for h in np.r_[hs, sub, _GL_X[2] * sub]:
+        assert np.array_equal(expo(np.array([h]))[0], expm(M * h))
+    assert np.array_equal(expo(0.0 * hs), np.broadcast_to(np.eye(8), (4, 8, 8)))
+    direct = _composite_rows(S, lambda h: expm(h[:, None, None] * M[None]), hs, m)
+    assert np.array_equal(_composite_rows(S, expo, hs, m), direct)
+    with pytest.raises(ValueError, match="not computed"):
+        expo(np.array([0.0042]))
+
+
+def test_plan_of_exact_steps_is_kept_by_content_across_cars():
+    """Two cars of one structure (different masses) get the same plan of a road; a
+    different road its own; the kept plan equals a fresh dry walk."""
+    a = quarter_car("afw", sprung_mass=340.0, changing_ratio=0.2)
+    b = quarter_car("afw", sprung_mass=390.0, changing_ratio=0.4)
+    ts = np.array([10.0])
+    sa = drop(0.05).prepared(10.0).segments
+    sb = bump(0.05, duration=0.01).prepared(10.0).segments
+    pa = _exact_plan(a, sa, 10.0, ts)
+    assert _exact_plan(b, sa, 10.0, ts) is pa
+    for x, y in zip(pa, _exact_plan_of(b, sa, 10.0, ts), strict=True):
+        assert np.array_equal(x, y) and x.dtype == y.dtype
+    pb = _exact_plan(a, sb, 10.0, ts)
+    fresh = _exact_plan_of(a, sb, 10.0, ts)
+    assert all(np.array_equal(x, y) for x, y in zip(pb, fresh, strict=True))
+    assert pa[0].size and np.all(pa[0] > 0.0)
