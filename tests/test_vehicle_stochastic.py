@@ -76,3 +76,53 @@ def test_cli_monte_carlo_json_and_bad_input(capsys):
     assert "roads" in capsys.readouterr().err
     assert main([*args, "--roads", "3", "--model", "quarter"]) == 2
     assert "model" in capsys.readouterr().err
+
+
+_HYD = '\n[front.device]\nkind = "hyd"\n'
+_ROAD = dict(road_class="C", speed=20.0, length=60.0, dt=0.002, warmup=1.0, fixed_step=0.002)
+
+
+def _hyd_car(path, damping="2200 N s/m"):
+    text = example_vehicle_path().read_text().replace('damping = "2200 N s/m"', f'damping = "{damping}"')
+    path.write_text(text + _HYD)
+    return path
+
+
+def test_a_road_point_reuses_the_car_and_gives_what_a_fresh_car_gives(tmp_path):
+    """The road points of one process keep the built car (keyed on the file's content):
+    the same numbers as the car built afresh for the road, and a changed file is a new
+    car."""
+    from inerterlab.vehicles.simulation import simulate_vehicle
+    from inerterlab.vehicles.stochastic import _DEFAULTS, _SYSTEMS, _car, _one_road, _tracks
+
+    path = _hyd_car(tmp_path / "hyd.toml")
+    point = dict(_DEFAULTS, **_ROAD, vehicle=str(path), seed=4)
+    _SYSTEMS.clear()
+    first = _one_road(point, "full")
+    second = _one_road(point, "full")
+    assert len(_SYSTEMS) == 1
+    assert first == second
+    p = _car(str(path), "full")
+    fresh = simulate_vehicle(p, _tracks(p, point, 4), 0.002, warmup=1.0, fixed_step=0.002)
+    assert fresh.comfort["wk_rms"] ** 2 == pytest.approx(first["ms_comfort_wk"], rel=1e-12)
+    keep = slice(500, None)
+    assert float(np.mean(fresh.outputs["front_left_deflection"][keep] ** 2)) == pytest.approx(
+        first["ms_front_left_deflection"], rel=1e-12
+    )
+    _hyd_car(path, damping="3000 N s/m")  # the file changes: another car
+    other = _one_road(point, "full")
+    assert len(_SYSTEMS) == 2
+    assert other["ms_front_left_deflection"] != first["ms_front_left_deflection"]
+
+
+def test_monte_carlo_in_worker_processes_equals_the_serial_run(tmp_path):
+    """The workers, forked after the calling process built the car and loaded (or
+    compiled) its code, give the serial run's numbers."""
+    path = _hyd_car(tmp_path / "hyd.toml")
+    kw = dict(vehicle=str(path), model="full", roads=4, **_ROAD)
+    serial = monte_carlo(backend="serial", **kw)
+    par = monte_carlo(backend="processes", workers=2, **kw)
+    assert par.realisations == serial.realisations == 4
+    for k, (v, (lo, hi)) in serial.rms.items():
+        assert par.rms[k][0] == pytest.approx(v, rel=1e-12), k
+        assert par.rms[k][1] == pytest.approx((lo, hi), rel=1e-12), k

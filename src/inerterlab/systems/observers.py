@@ -51,9 +51,11 @@ KINDS = {
 }
 #: what :mod:`.core` computes for a system and keeps in its ``info`` (its linear
 #: regimes, their fastest rate, its augmented linear system, its ride observers, the
-#: tables of its exact steps in the regimes): the
+#: tables of its exact steps in the regimes; a vehicle's comfort observers'
+#: system, :func:`inerterlab.vehicles.simulation.simulate_vehicle`): the
 #: system with observers computes its own
-_CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables", "memo")
+_CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables", "memo",
+           "comfort_observed")
 
 
 def uncached_info(info: dict, **extra) -> dict:

@@ -102,12 +102,19 @@ def simulate_vehicle(parameters, r, dt: float, *, lift_off: bool = True, rebound
                            rebound=rebound, compression=compression, friction=friction,
                            friction_velocity=friction_velocity)  # fmt: skip
     signal = "seat_acc" if "seat" in sys.node_names else "bounce_acc"
-    channel = {"seat_acc": "seat.a", "bounce_acc": "bounce.a"}[signal]
-    s = WK_SCALES
-    obs, aw = weighted("wk", {channel: 1.0}, *wk_state_space(), scale=s["wk"])
-    obs += [Observer("wk.i2", "square", aw, scale=s["i_wk"]),
-            Observer("wk.i4", "fourth", aw, scale=s["i_wk4"])]  # fmt: skip
-    sys = with_observers(sys, obs)
+    # the comfort observers' system, kept on the vehicle for its parameter rows: a
+    # process that drives one car over many roads builds it (and its factored tables
+    # and compiled code, kept on it) once
+    got = sys.info.get("comfort_observed")
+    if got is None or got[0] is not sys.ftab:
+        channel = {"seat_acc": "seat.a", "bounce_acc": "bounce.a"}[signal]
+        s = WK_SCALES
+        obs, aw = weighted("wk", {channel: 1.0}, *wk_state_space(), scale=s["wk"])
+        obs += [Observer("wk.i2", "square", aw, scale=s["i_wk"]),
+                Observer("wk.i4", "fourth", aw, scale=s["i_wk4"])]  # fmt: skip
+        got = (sys.ftab, with_observers(sys, obs), aw)
+        sys.info["comfort_observed"] = got
+    _, sys, aw = got
     if fixed_step is None:
         res = core.simulate(sys, r, dt, rtol=rtol)
     else:

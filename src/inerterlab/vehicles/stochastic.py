@@ -98,34 +98,66 @@ def _tracks(p, params: Mapping[str, Any], seed: int) -> np.ndarray:
 
 def _car(path: str, kind: str):
     """The car's parameters from ``path`` ('' the packaged example) as a ``kind`` car."""
-    from .config import example_vehicle_path, load_vehicle
+    return _car_text(path, kind)[0]
+
+
+def _car_text(path: str, kind: str):
+    """(parameters, the file's text) of :func:`_car`."""
+    from ..io import CONFIG_SIZE_LIMIT, read_text_limited
+    from .config import example_vehicle_path, loads_vehicle
     from .parameters import FullCar
 
-    params = load_vehicle(path if path else example_vehicle_path())
+    where = path if path else example_vehicle_path()
+    text = read_text_limited(where, "vehicle file", limit=CONFIG_SIZE_LIMIT)
+    params = loads_vehicle(text, str(where))
     if kind == "half" and hasattr(params, "half_car"):
         params = params.half_car()
     if isinstance(params, FullCar) != (kind == "full"):
         raise ParameterError(
             "vehicle", path or "(example)", f"a {kind}-car file or a full-car file for 'half'"
         )
-    return params
+    return params, text
+
+
+#: the core vehicles built in this process, keyed on the vehicle file's text, the model
+#: and the options that shape the system: each road of a Monte Carlo study (one process
+#: runs many) swaps the road and keeps the system, its factored tables and compiled code
+_SYSTEMS: dict = {}
+_SYSTEMS_KEPT = 8
+
+
+def _system(params: Mapping[str, Any], kind: str):
+    """(parameters, core vehicle) of the road point ``params`` (built once per process
+    for a vehicle file's content and the options)."""
+    import hashlib
+
+    from ..systems.vehicle import vehicle as core_vehicle
+
+    p, text = _car_text(params["vehicle"], kind)
+    opts = dict(lift_off=params["lift_off"] == "on", rebound=float(params["rebound"]),
+                compression=float(params["compression"]), friction=float(params["friction"]),
+                friction_velocity=float(params["friction_velocity"]))  # fmt: skip
+    key = (hashlib.sha256(text.encode()).hexdigest(), kind, tuple(sorted(opts.items())))
+    got = _SYSTEMS.get(key)
+    if got is None:
+        if len(_SYSTEMS) >= _SYSTEMS_KEPT:
+            _SYSTEMS.pop(next(iter(_SYSTEMS)))
+        got = (p, core_vehicle(p, **opts))
+        _SYSTEMS[key] = got
+    return got
 
 
 def _one_road(params: Mapping[str, Any], kind: str) -> dict[str, float]:
     from .simulation import simulate_vehicle
 
-    p = _car(params["vehicle"], kind)
+    p, system = _system(params, kind)
     dt = float(params["dt"])
     r = _tracks(p, params, int(params["seed"]))
     res = simulate_vehicle(
         p,
         r,
         dt,
-        lift_off=params["lift_off"] == "on",
-        rebound=float(params["rebound"]),
-        compression=float(params["compression"]),
-        friction=float(params["friction"]),
-        friction_velocity=float(params["friction_velocity"]),
+        system=system,
         rtol=float(params["rtol"]),
         warmup=float(params["warmup"]),
         fixed_step=float(params["fixed_step"]) or None,
@@ -301,6 +333,36 @@ def _rms_interval(ms: np.ndarray) -> tuple[float, tuple[float, float]]:
     return math.sqrt(mean), (math.sqrt(max(mean - half, 0.0)), math.sqrt(mean + half))
 
 
+#: simulated time [s] of the short road :func:`_prepare` drives in the calling process
+PREPARE_SPAN = 1.0
+
+
+def _prepare(vehicle: str, model: str, roads: int, first_seed: int, settings: dict) -> None:
+    """Before the worker processes start (forked from this one, they inherit what it
+    holds): drive the car over a short road (:data:`PREPARE_SPAN`) twice, which builds
+    the core vehicle with its comfort observers and factored tables once and loads the
+    compiled integrator; where the whole study's integrations would take more CPU time
+    than the compilation of the structure's own right-hand side pays for
+    (:func:`inerterlab.systems._compiled.rhs_for`), compile that here, once, instead of
+    in every worker."""
+    import time
+
+    from ..systems import _compiled
+    from ..systems.vehicle import _factored
+
+    point = {**_DEFAULTS, **settings, "vehicle": vehicle, "seed": first_seed}
+    span = min(PREPARE_SPAN, float(point["length"]) / float(point["speed"]))
+    short = dict(point, length=span * float(point["speed"]))
+    _one_road(short, model)  # builds and loads
+    t0 = time.process_time()
+    _one_road(short, model)
+    per_second = (time.process_time() - t0) / span
+    _, system = _system(point, model)
+    itab = _factored(system.info["comfort_observed"][1])[0]
+    _compiled.record(itab, per_second * roads * float(point["length"]) / float(point["speed"]))
+    _compiled.rhs_for(itab)
+
+
 def monte_carlo(
     *,
     vehicle: str = "",
@@ -333,6 +395,8 @@ def monte_carlo(
 
     # a bad file, or a car that does not rest on its struts, fails here, not in every worker
     core_vehicle(_car(vehicle, model), lift_off=False)
+    if backend == "processes":
+        _prepare(vehicle, model, roads, first_seed, settings)
     ds = sweep(
         {
             "point": f"{model}-car-road",
