@@ -56,3 +56,24 @@ def test_edit_in_a_helper_module_recompiles_the_kernel(tmp_path):
     after = _run(tmp_path)
     assert after == first  # same physics, compiled afresh for the new slots
     assert _index_files(pkg) != cached
+
+
+EDIT_WHILE_RUNNING = """
+import inerterlab._numba_cache as c
+before = c.package_source_stamp()
+f = c.PACKAGE_ROOT / "elements" / "_base.py"
+f.write_text(f.read_text() + "\\n# edited while a process runs\\n")
+print(before == c.package_source_stamp(), before != c.package_source_stamp.__wrapped__())
+"""
+
+
+def test_stamp_names_the_source_the_process_imported(tmp_path):
+    # a process compiles the code it imported: its machine code must be filed under that
+    # source's stamp, not under the stamp of files edited while it runs (later processes
+    # with the edited source would load the stale code)
+    src = Path(inerterlab.__file__).resolve().parent
+    shutil.copytree(src, tmp_path / "inerterlab", ignore=shutil.ignore_patterns("__pycache__"))
+    env = {**os.environ, "PYTHONPATH": str(tmp_path)}
+    out = subprocess.run([sys.executable, "-c", EDIT_WHILE_RUNNING], env=env,
+                         capture_output=True, text=True, check=True)  # fmt: skip
+    assert out.stdout.split() == ["True", "True"]

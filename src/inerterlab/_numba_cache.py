@@ -29,29 +29,20 @@ __all__ = ["package_source_stamp", "PACKAGE_ROOT"]
 PACKAGE_ROOT = Path(__file__).resolve().parent
 
 
-def _listing() -> tuple:
-    files = sorted(PACKAGE_ROOT.rglob("*.py"))
-    out = []
-    for f in files:
-        st = f.stat()
-        out.append((str(f.relative_to(PACKAGE_ROOT)), st.st_mtime_ns, st.st_size))
-    return tuple(out)
-
-
-@functools.lru_cache(maxsize=8)
-def _stamp(listing: tuple) -> str:
+@functools.cache
+def package_source_stamp() -> str:
+    """sha256 over the names and contents of every ``.py`` file of the package, as they
+    were when this process first asked: at the package's import (below), so the stamp
+    names the source the process runs. Read again later, an edit made while a process
+    runs would file the old machine code it compiles under the new source's stamp, and
+    every later process would load that stale code."""
     h = hashlib.sha256()
-    for rel, _, _ in listing:
-        h.update(rel.encode())
+    for f in sorted(PACKAGE_ROOT.rglob("*.py")):
+        h.update(str(f.relative_to(PACKAGE_ROOT)).encode())
         h.update(b"\0")
-        h.update((PACKAGE_ROOT / rel).read_bytes())
+        h.update(f.read_bytes())
         h.update(b"\0")
     return h.hexdigest()
-
-
-def package_source_stamp() -> str:
-    """sha256 over the names and contents of every ``.py`` file of the package."""
-    return _stamp(_listing())
 
 
 def _in_package(py_file: str) -> bool:
@@ -115,3 +106,6 @@ def _install() -> None:
 
 
 _install()
+
+
+package_source_stamp()  # the source this process imports
