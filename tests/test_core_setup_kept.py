@@ -144,3 +144,20 @@ def test_derived_systems_do_not_run_on_the_original_s_caches():
     # and the original is not changed by its derived system's runs
     again = car.simulate(ex, 1.0)
     _same(again, quarter_car(net, prm).simulate(ex, 1.0))
+
+
+def test_derived_from_an_observed_system_is_observed_on_its_own_linear_part():
+    """The Gaussian equivalent of a system with observers: its linear part
+    (``info["base"]``, read by the exact steps and the state space) is the equivalent's,
+    and it runs as the equivalent of the plain system with the same observers added."""
+    from inerterlab.systems.gaussian import equivalent_system, gaussian_gains, nonlinear_elements
+    from inerterlab.systems.observers import energy, with_observers
+
+    car = quarter_car("k | c | fric", {"k": 22e3, "c": 1.5e3, "fric": {"force": 80.0}})
+    gains = {e: 0.5 * gaussian_gains(car, e, 0.05) for e, _, _ in nonlinear_elements(car)}
+    plain = equivalent_system(car, gains)
+    observed = equivalent_system(with_observers(car, energy(car)), gains)
+    assert np.array_equal(observed.info["base"].ftab, plain.ftab)
+    assert not np.array_equal(observed.info["base"].ftab, car.ftab)
+    ex = sine(0.05, 5.0)
+    _same(observed.simulate(ex, 1.0), with_observers(plain, energy(plain)).simulate(ex, 1.0))

@@ -63,14 +63,18 @@ _MODE_ENV = "INERTERLAB_SPECIALISE"
 #: :func:`._kernel.evaluate` inlined where it is called (so that a constant ``itab``
 #: reaches its table reads); division by zero gives inf or NaN, which the integrator
 #: reports as a non-finite solution (an exception cannot cross a function pointer)
-evaluate_inline = nb.njit(inline="always", error_model="numpy")(evaluate.py_func)
+evaluate_inline = nb.njit(inline="always", error_model="numpy", _nrt=False)(evaluate.py_func)
 
 
 def _generic_rhs(t, x, road, itab, ftab, W, dx, imp):
     return evaluate_inline(t, x, road, itab, ftab, W, dx, imp)
 
 
-_generic_dispatcher = nb.njit(cache=True, error_model="numpy")(_generic_rhs)
+# compiled without numba's reference counting (``_nrt=False``; it allocates nothing, and
+# its caller keeps every array alive): with it, each array argument was counted up on
+# entry and down at exit by atomic operations, most of a call's time (see
+# :mod:`._kernel`)
+_generic_dispatcher = nb.njit(cache=True, error_model="numpy", _nrt=False)(_generic_rhs)
 
 
 class CompiledRhs(types.WrapperAddressProtocol):
@@ -142,7 +146,7 @@ ITAB = np.array({itab}, dtype=np.int64)
 ITAB.setflags(write=False)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(t, x, road, itab, ftab, W, dx, imp):
     return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)
 '''
@@ -161,7 +165,7 @@ ITAB = np.array({itab}, dtype=np.int64)
 ITAB.setflags(write=False)
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def rhs(t, x, road, itab, ftab, W, dx, imp):
 {body}'''
 

@@ -99,7 +99,12 @@ X_MARGIN = 1.1
 SIMULTANEOUS = 1e-9
 
 
-@nb.njit(cache=True)
+# The helpers the stepping calls per stage, step or event allocate nothing and are
+# compiled without numba's reference counting (``_nrt=False``): see the note in
+# :mod:`._kernel` (the counting of their array arguments cost more than their work).
+
+
+@nb.njit(cache=True, _nrt=False)
 def road_at(segs, i, t, out):
     """Road displacement, velocity, acceleration on segment ``segs[i]`` at time t (the
     table and a row number, not a row: a slice per call costs a view)."""
@@ -152,7 +157,7 @@ def _linear_columns(segs, i):
     return 5 if segs[i, 2] == 0.0 else segs.shape[1]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _kinked(segs, i, j):
     """Whether the road's rate changes from segment i to segment j (linear segments,
     kinds 0 and 3: any of its roads'; a measured drive's pieces, kind 2, join with
@@ -165,7 +170,7 @@ def _kinked(segs, i, j):
     return False
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _joins(segs, i, jump_tol):
     """Whether the linear segment i + 1 (kind 0 or 3, as segment i) starts where segment
     i ends on every road, to ``jump_tol``: one run of :func:`_advance` then crosses the
@@ -205,7 +210,7 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
     return ok
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
             fzi):  # fmt: skip
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
@@ -272,7 +277,7 @@ def fz_scratch(fzi):
     return np.zeros(ns * (FZ_W + 6), np.complex128), np.zeros(1 + ns + nf + 5 * m)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
     """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h):
     per mode (eigenvalue lam, x = lam hs, hs the accepted length) the solution of
@@ -341,7 +346,7 @@ def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
             stf[fn0 + p] = 0.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
     their slots of ``out``, which holds the states they read there; ``c``: the column
@@ -375,7 +380,7 @@ def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
             out[fzi[fs + i]] += v.real * w.real - v.imag * w.imag
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd):
     """Advance the filter and its quadrature observers over the accepted step theta in
     [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
@@ -433,7 +438,7 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd
     _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, 5)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
     """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
     states): the filter exactly, its quadratures linear between the step's ends."""
@@ -445,7 +450,7 @@ def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
         out[s] = y[s] + th * (yt[s] - y[s])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _peak_values(itab, ftab, work, y, out):
     """Each observer's signal at the last evaluation into ``out`` (peaks only; the
     others are left as they are)."""
@@ -456,7 +461,7 @@ def _peak_values(itab, ftab, work, y, out):
             out[q] = signal(itab, ftab, work, y, itab[b + 1])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
              work, stats, yd, oit, fzi, fzf, fzc, stc, stf, thx):  # fmt: skip
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
@@ -469,7 +474,7 @@ def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fi
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
                dy, road, work, stats, yd, p0, pm, p1, oit, fzi, fzf, fzc, stc, stf):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
@@ -537,7 +542,7 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
         p0[q] = p1[q]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _sides(sw, road, hs):
     """The side of each element's kink (road[hs + e], hs the first held side of
     :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
@@ -602,7 +607,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
     return a, x, ga, gx, 1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw, oit, fzi):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
@@ -636,7 +641,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
 # linear segment), so z' = M z is linear and z(t + h) = exp(M h) z exactly.
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _x_lookup(keys, h, q):
     """Row of the step length h in the sorted integer keys (lengths in units of q), or
     -1."""
@@ -654,7 +659,7 @@ def _x_lookup(keys, h, q):
     return -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _x_input(segs, i, t, road, z, n):
     """The input part of z at time t on segment i (see above)."""
     road_at(segs, i, t, road)
@@ -663,7 +668,7 @@ def _x_input(segs, i, t, road, z, n):
     z[n + 2] = segs[i, 3]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _x_guards(XG, c, z, thr, margin, ga, gd):
     """Each regime's argument (ga) and its rate (gd) at z; True if every argument is at
     least ``margin`` x its threshold in magnitude."""
@@ -682,7 +687,7 @@ def _x_guards(XG, c, z, thr, margin, ga, gd):
     return ok
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _x_stays(a0, d0, a1, d1, h, lim):
     """Whether the cubic Hermite interpolant of an argument (values a0, a1 and rates d0,
     d1 at the ends of a step of length h) keeps one sign and magnitude >= lim over the
@@ -1436,7 +1441,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
 # exact steps of a linear system on a piecewise-linear road
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _signals_at(SR, j, v, rows, sv, acc):
     """The observed signals at the points of an exact step (its start, the quadrature
     nodes, its end): with nu distinct signals, sv[p, rows[r, 0]] = sum_q SR[j, q, p nu
@@ -1468,7 +1473,7 @@ def _series(coef, m, x):
     return acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _observe_points(itab, y, h, sv, gw, xs, v0, TR, sref, coef):
     """The observers over an exact step of length h from their signals' values at its
     start, the Gauss-Legendre nodes and its end (sv[p, signal] at theta = xs[p], p = 0,
@@ -1784,7 +1789,7 @@ def foh_response(Ad, Bd0, Bd1, C, D, u, out):
         out[i] = acc + D * u[i]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def linear_outputs(Yt, Ut, C, D, undefined, O):
     """O = C Yt + D Ut at every sample, state- and output-major (one row per state,
     input or output; rows run over the samples), NaN in the rows ``undefined``."""
@@ -1816,7 +1821,7 @@ def linear_outputs(Yt, Ut, C, D, undefined, O):
 # an event is an RK4 solution (order 4), not the interpolant's (order 3).
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats):
     """The derivative at (t, y) with the road of segment i (the observers' included)."""
     stats[2] += 1
@@ -1827,7 +1832,7 @@ def _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats):
     return ok
 
 
-@nb.njit(cache=True, inline="always")
+@nb.njit(cache=True, _nrt=False)
 def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road, work, stats):
     """One classical Runge-Kutta step of length h from (t, y), k1 = f(t, y) given: the
     result in yt (ys scratch). Returns False if a force balance failed."""
@@ -1873,7 +1878,7 @@ def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, sta
         switches(itab, ftab, work, sw)
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road,
                 work, stats, yd, sw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its

@@ -91,6 +91,18 @@ _NO_IMPULSE = np.empty(0)
 ROAD_JERK = np.array([np.nan])
 
 
+# Reference counting. A function compiled by numba with its runtime (NRT, the default)
+# counts every array argument up on entry and down at exit, each an atomic operation.
+# The right-hand side and the helpers the integrator calls once per stage take seven to
+# fifteen arrays each: the counting was most of their time (the afw quarter car's
+# right-hand side, compiled for its structure, 408 ns a call with it, 157 ns without, 42
+# ns with its two element-loop helpers below inlined as well, so that the structure's
+# constant table reaches them; decisions.md, "The right-hand side without reference
+# counting"). So every function on that path that allocates nothing is compiled with
+# ``_nrt=False`` (numba refuses an allocation there, so a function that later needs one
+# fails to compile instead of leaking); their arrays belong to the caller, which keeps
+# them alive across the call.
+
 @nb.njit(cache=True, inline="always")
 def road_layout(nroads, ne):
     """The layout of the road vector that :func:`evaluate` reads, the one place it is
@@ -316,7 +328,7 @@ def _vnode(itab, no, W, nn, n):
     return W[nn + n]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
     """Force balance G = W[gi:gi+nv] of the velocity nodes (and its Jacobian J =
     W[ji:ji+nv*nv] if want_j); X = W[0:nn], V = W[nn:2nn]."""
@@ -362,7 +374,7 @@ def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
                     W[ji + bi * nv + ti] += d
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _velocities(itab, ftab, W, s0):
     """Velocities of the massless velocity nodes (in W[nn:2nn]) from their force balance
     (Newton; the balance is strictly decreasing in each node's velocity). Returns False
@@ -526,7 +538,7 @@ def _node_motion(x, road, itab, ftab, W, nn, ne, nd):
     return ok
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
@@ -754,7 +766,7 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
     return True
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, inline="always")
 def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
     """Once the accelerations and forces are known: the rates of the flywheel-row
     elements' own states that need them (the clutch's flywheel speed) and their
@@ -797,7 +809,7 @@ def _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, force, sg, ne):
     W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, inline="always")
 def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
     """A dynamic node whose every inertance is disengaged (a one-way clutch running
     free, a screw out of contact) has a zero row in the mass matrix: it is massless for
@@ -852,7 +864,7 @@ def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
             W[ir + k] -= ksum / dsum * g
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _combine(itab, ftab, W, off, nn):
     """W[off + n] = sum c_j W[off + m_j] at every combination node n (displacements,
     velocities or accelerations of its members)."""
@@ -896,7 +908,7 @@ def _end(itab, n, j):
     return -1, -1
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd):
     """Stamp an element with an end at a combination node: force -f on the top end's
     rows and +f on the bottom's (times the coefficients); an inertance me adds me g g^T
@@ -979,7 +991,7 @@ def signal(itab, ftab, W, x, k, impulsive=False):
     return acc
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def observe(itab, ftab, W, x, dx, impulse):
     """The derivatives of the observer states into ``dx`` from the last
     :func:`evaluate` (its work array ``W``) at the state ``x``. During an impulse flow
@@ -1010,7 +1022,7 @@ def observe(itab, ftab, W, x, dx, impulse):
             dx[slot] = a * signal(itab, ftab, W, x, itab[b + 2])
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def peaks(itab, ftab, W, x):
     """Raise each running peak (``OBS_PEAK``) in ``x`` to its signal's value at the
     last :func:`evaluate`."""
@@ -1048,7 +1060,7 @@ def outputs(t, x, road, itab, ftab, out):
     return ok
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def switches(itab, ftab, W, out):
     """The elements' switching functions (a sign change marks a kink of a force law:
     flywheel saturation, free-play contact) from the node displacements and velocities
@@ -1099,7 +1111,7 @@ def switches(itab, ftab, W, out):
     return count
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def switches_read_forces(itab, ftab):
     """Whether a switching function of the system reads an element force (a one-way
     clutch's torque): then only the whole :func:`evaluate` gives them, else
@@ -1112,7 +1124,7 @@ def switches_read_forces(itab, ftab):
     return False
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def switches_at(x, road, itab, ftab, W, out):
     """:func:`switches` at the state ``x`` and road ``road`` (laid out as for
     :func:`evaluate`, held sides included) from the nodes' motion alone, without the

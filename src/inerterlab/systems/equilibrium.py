@@ -42,7 +42,7 @@ from ..elements._base import NPAR, SPRING, TYRE
 from ..errors import ConvergenceError, NetworkError, ParameterError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
-from .observers import uncached_info
+from .observers import derive, uncached_info
 
 __all__ = ["Equilibrium", "equilibrium"]
 
@@ -124,6 +124,10 @@ def _structure(sys):
 
 def _rebuilt(sys, elements: list):
     """``sys`` with its elements replaced (same kernel codes, new rows)."""
+    return derive(sys, lambda sys: _replaced(sys, elements))
+
+
+def _replaced(sys, elements: list):
     itab, ftab = sys.tables
     eo = int(itab[_kernel.I_ELEM])
     ft = ftab.copy()

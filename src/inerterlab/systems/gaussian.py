@@ -61,7 +61,7 @@ from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, 
 from ..errors import ParameterError
 from . import _kernel
 from ._kernel import ELEM_W
-from .observers import uncached_info
+from .observers import derive, uncached_info
 
 __all__ = [
     "QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "mean_force", "equivalent_system",
@@ -234,11 +234,14 @@ def equivalent_system(sys, gains: dict):
     elements' objects stay (they name and describe the elements)."""
     import dataclasses
 
-    itab, ftab = sys.tables
-    eo = int(itab[_kernel.I_ELEM])
-    ft = np.array(ftab, dtype=float, copy=True)
-    for e, g in gains.items():
-        o = int(itab[eo + ELEM_W * e + 3])
-        ft[o : o + NPAR] = _equivalent_row(sys, e, float(g))
-    ft.setflags(write=False)
-    return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))
+    def make(sys):
+        itab, ftab = sys.tables
+        eo = int(itab[_kernel.I_ELEM])
+        ft = np.array(ftab, dtype=float, copy=True)
+        for e, g in gains.items():
+            o = int(itab[eo + ELEM_W * e + 3])
+            ft[o : o + NPAR] = _equivalent_row(sys, e, float(g))
+        ft.setflags(write=False)
+        return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))
+
+    return derive(sys, make)

@@ -66,6 +66,17 @@ def uncached_info(info: dict, **extra) -> dict:
     out.update(extra)
     return out
 
+def derive(sys, make):
+    """``make(sys)``, a system derived from ``sys`` with new element rows (a Gaussian
+    equivalent, a rebuilt equilibrium). A system with observers is derived through its
+    base, and the observers are added again: its linear part (``info["base"]``, which
+    the exact steps and the state space read) is then the derived one, not the
+    original's."""
+    if "base" in sys.info:
+        return with_observers(make(sys.info["base"]), sys.info["observers"])
+    return make(sys)
+
+
 #: a running peak starts here (a finite number: the continuous extension subtracts
 #: states, and -inf - -inf is NaN)
 PEAK_START = -1e300
