@@ -113,3 +113,73 @@ def test_factored_run_agrees_with_the_whole_solve_at_tight_tolerance():
     for name, ref in whole.outputs.items():
         err = np.abs(fast.outputs[name] - ref).max() / np.abs(ref).max()
         assert err <= 1e-7, (name, err)
+
+
+def _rhs_of(itab):
+    """The per-structure right-hand side of ``itab`` (code written out statement by
+    statement for factored tables, :func:`_kernel.dense_source`) as a callable."""
+    import numba as nb
+
+    from inerterlab.systems import _compiled
+
+    spec = _compiled.specialised(itab)
+    assert spec.specialised
+
+    @nb.njit
+    def call(ev, x, road, itab, ftab, W, dx):
+        return ev(0.0, x, road, itab, ftab, W, dx, np.empty(0))
+
+    return lambda *a: call(spec, *a), lambda *a: call(_compiled.generic(), *a)
+
+
+@pytest.mark.parametrize("name", CARS)
+def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
+    # the per-structure code of factored tables is evaluate's statements written out:
+    # the same derivative, outputs and switching functions to the last bit; and the
+    # switching functions from the nodes' motion alone (switches_at) equal those after
+    # a whole evaluation, bit for bit, at random states, roads and held sides
+    sys = CARS[name]()
+    itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
+    assert _kernel.dense_source(itab) is not None
+    spec, generic = _rhs_of(itab)
+    rng = np.random.default_rng(5)
+    nlen = int(_kernel.road_layout_of(itab)[0])
+    ne = int(itab[_kernel.I_NE])
+    hs = nlen - ne
+    nout = 3 * int(itab[_kernel.I_NN]) + ne
+    assert not _kernel.switches_read_forces(itab, ftab)
+    for trial in range(40):
+        x = rng.normal(size=sys.n_states) * 0.05
+        road = np.zeros(nlen)
+        road[: hs - 1] = rng.normal(size=hs - 1) * 0.05
+        if trial % 2:
+            road[hs:] = rng.choice([-1.0, 0.0, 1.0], size=ne)
+        if trial % 3 == 0:
+            road = road[:hs]  # no held sides
+        got = []
+        for f in (generic, spec):
+            W = np.full(_kernel.work_size(itab), 7.0)
+            dx = np.full(x.size, 3.0)
+            assert f(x, road, itab, ftab, W, dx)
+            sw = np.empty(2 * ne)
+            n = _kernel.switches(itab, ftab, W, sw)
+            got.append((dx, W[:nout], sw, n))
+        (d0, w0, s0, n0), (d1, w1, s1, n1) = got
+        assert np.array_equal(d0, d1)
+        assert np.array_equal(w0, w1, equal_nan=True)
+        assert np.array_equal(s0, s1) and n0 == n1
+        sw = np.empty(2 * ne)
+        n2 = _kernel.switches_at(x, road, itab, ftab, np.empty(_kernel.work_size(itab)), sw)
+        assert np.array_equal(s0, sw) and n0 == n2 > 0
+
+
+def test_a_clutch_switch_reads_the_force():
+    # the one-way clutch's switching function is its torque: only the whole
+    # right-hand side gives it
+    from inerterlab.elements import OneWayClutch
+
+    sys = vehicle(_afw_params(), networks={"rear": (
+        "k | c | owc", {"k": 30e3, "c": 2500.0, "owc": OneWayClutch()})})  # fmt: skip
+    assert _kernel.switches_read_forces(sys.itab, sys.ftab)
+    afw = CARS["afw"]()
+    assert not _kernel.switches_read_forces(afw.itab, afw.ftab)

@@ -22,7 +22,7 @@ from .adaptive_flywheel import (
 from .one_way_clutch import CLUTCH, clutch_engaged, clutch_force, clutch_rate, clutch_switch
 from .screw_backlash import GATED, contact_argument, in_contact
 
-__all__ = ["inertial_law", "inertial_rate", "inertial_switch"]
+__all__ = ["inertial_law", "inertial_rate", "inertial_switch", "inertial_switch_reads_force"]
 
 
 @nb.njit(cache=True, inline="always")
@@ -55,6 +55,13 @@ def inertial_rate(tab, o, v, a, x, so, side):
     if tab[o + 14] != CLUTCH:
         return math.nan
     return clutch_rate(tab, o, v, a, x[so], clutch_engaged(tab, o, v, x[so], side))
+
+
+@nb.njit(cache=True, inline="always")
+def inertial_switch_reads_force(tab, o):
+    """Whether :func:`inertial_switch` reads the element's force (the clutch's torque),
+    which needs the whole right-hand side; the others read the relative motion only."""
+    return tab[o + 14] == CLUTCH
 
 
 @nb.njit(cache=True, inline="always")

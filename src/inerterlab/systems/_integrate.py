@@ -44,6 +44,8 @@ from ._kernel import (
     road_layout_of,
     signal,
     switches,
+    switches_at,
+    switches_read_forces,
 )
 from .observers import NO_SPLIT, filter_split
 
@@ -1985,9 +1987,22 @@ def _hermite(y0, f0, y1, f1, h, th, out):
         out[q] = a0 * y0[q] + b0 * f0[q] + a1 * y1[q] + b1 * f1[q]
 
 
+@nb.njit(cache=True, inline="always")
+def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw):
+    """The switching functions at (t, y) on segment i into ``sw``: from the nodes'
+    motion alone where they read no element force (``cheap``,
+    :func:`._kernel.switches_at`), else from a whole right-hand side (into ``dy``)."""
+    if cheap:
+        road_at(segs, i, t, road)
+        switches_at(y, road, itab, ftab, work, sw)
+    else:
+        _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
+        switches(itab, ftab, work, sw)
+
+
 @nb.njit(cache=True, _nrt=False)
-def _rk4_locate(ev, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road, work,
-                stats, yd, sw):  # fmt: skip
+def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road,
+                work, stats, yd, sw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
     end (opposite signs), crosses zero on the step's Hermite interpolant (Illinois regula
     falsi to 1e-12 in theta, as :func:`_locate`)."""
@@ -1997,8 +2012,8 @@ def _rk4_locate(ev, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _hermite(y, f0, yt, f1, h, x, yd)
-        _rk4_f(ev, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats)
-        switches(itab, ftab, work, sw)
+        _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
+                      sw)  # fmt: skip
         gx = sw[e]
         if gx == 0.0:
             return x
@@ -2059,6 +2074,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
         return BALANCE_FAILED, k
     events = switches(itab, ftab, work, sw) > 0
+    cheap = not switches_read_forces(itab, ftab)
     if events:  # every step takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
         if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
@@ -2115,16 +2131,31 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                 return NOT_FINITE, k
         flip = False
         if events:
-            if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
-                return BALANCE_FAILED, k
-            switches(itab, ftab, work, swn)
+            # the derivative at the step's end (its law, its segment) serves the next step
+            # unless the step ends on a segment edge (the next step's road rate differs:
+            # its first stage is evaluated there) and the Hermite interpolant of a
+            # crossing; otherwise the switching functions alone are read there
+            fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
+            if fresh:
+                road_at(segs, i, tn, road)
+                switches_at(yt, road, itab, ftab, work, swn)
+            else:
+                if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
+                    return BALANCE_FAILED, k
+                switches(itab, ftab, work, swn)
             th = 2.0
             forced = -1
             for e in range(2 * ne):
                 xloc[e] = 2.0
                 if sw[e] * swn[e] < 0.0:
-                    xloc[e] = _rk4_locate(ev, segs, i, e, sw[e], swn[e], t, h, y, k1, yt, f1,
-                                          itab, ftab, imp, dy, road, work, stats, yd, swx)  # fmt: skip
+                    if fresh:  # the end's derivative for the interpolant
+                        if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work,
+                                      stats):  # fmt: skip
+                            return BALANCE_FAILED, k
+                        fresh = False
+                    xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, yt,
+                                          f1, itab, ftab, imp, dy, road, work, stats, yd,
+                                          swx)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -2150,8 +2181,11 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
             else:
                 for e in range(2 * ne):
                     sw[e] = swn[e]
-                for q in range(n):
-                    k1[q] = f1[q]  # the derivative at the step's end, with the same law
+                if fresh:
+                    need = True
+                else:
+                    for q in range(n):
+                        k1[q] = f1[q]  # the derivative at the step's end, with the same law
         else:
             need = True
         stats[0] += 1

@@ -57,7 +57,12 @@ import numba as nb
 import numpy as np
 
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING, TYRE
-from ..elements._inertial import inertial_law, inertial_rate, inertial_switch
+from ..elements._inertial import (
+    inertial_law,
+    inertial_rate,
+    inertial_switch,
+    inertial_switch_reads_force,
+)
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
@@ -449,45 +454,17 @@ def _velocities(itab, ftab, W, s0):
     return True
 
 
-@nb.njit(cache=True, _nrt=False)
-def evaluate(t, x, road, itab, ftab, W, dx, imp):
-    """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
-    X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
-    defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
-    the derivative. Returns False if a balance could not be solved. ``road`` is laid out
-    by :func:`road_layout`: each road's displacement, velocity and acceleration, a free
-    slot (the harmonic balance's frequency), and it may go on with one held side per
-    element: where it is not 0, an element with a kink takes the law of that side of it
-    (+1 above its switching function's zero, -1 below), continued past it. With a
-    non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
-    M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
-    interval it applies the impulse exactly, whatever the velocity dependence of the
-    inertances. With ``imp`` = [NaN] (:data:`ROAD_JERK`) it is the flow of a road
-    velocity jump: road[2] holds the jump, the forces are left out (finite, they pass no
-    impulse in no time) and dx = M(x)^-1 (the inertances' coupling to the road times the
-    jump); integrated over a unit interval with the road velocity moving linearly
-    through the jump it applies the impulses the inertances on the road pass, whatever
-    their velocity dependence. The work array is read by offset, never sliced: a slice
-    costs a view per call. Tables from :func:`dense_tables` (header ``I_DNS`` > 0) carry
-    the mass matrix factored beforehand: without an impulse the accelerations then come
-    from that factor and a low-rank update for the flywheels (:func:`_dense_solve`), the
-    same balance by another order of the arithmetic (agreeing to rounding)."""
-    nn = itab[I_NN]
-    ne = itab[I_NE]
-    nd = itab[I_ND]
-    jerk = imp.size == 1 and math.isnan(imp[0])
-    nlen, _, hs = road_layout_of(itab)
-    held = road.size >= nlen  # the held sides are given
-    npn = itab[I_NP]
+@nb.njit(cache=True, inline="always")
+def _node_motion(x, road, itab, ftab, W, nn, ne, nd):
+    """The first part of :func:`evaluate`: every node's displacement and velocity
+    (W[0:nn], W[nn:2nn]) at the state ``x`` and road ``road``, the known accelerations
+    (ground, road; NaN elsewhere, the combination nodes' slots zeroed for gathering).
+    Returns False where the velocity nodes' balance could not be solved."""
     no = itab[I_NODE]
-    eo = itab[I_ELEM]
-    fm = itab[I_FMASS]
-    iv = nn  # velocities
-    ia = 2 * nn  # accelerations
-    iF = 3 * nn  # element forces
-    im = iF + ne  # mass matrix of the dynamic nodes
-    ir = im + nd * nd  # right-hand side, then the accelerations
-    ie = ir + nd  # inertance of each element
+    npn = itab[I_NP]
+    iv = nn
+    ia = 2 * nn
+    ie = 3 * nn + ne + nd * nd + nd
     for n in range(nn):
         b = no + NODE_W * n
         typ = itab[b]
@@ -555,6 +532,50 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 W[iv + n] += W[iv + itab[b + 4]]
             elif itab[b + 4] == n:  # a reference: fixed for the relative accelerations
                 W[ia + n] = 0.0
+    return ok
+
+
+@nb.njit(cache=True, _nrt=False)
+def evaluate(t, x, road, itab, ftab, W, dx, imp):
+    """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
+    X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
+    defined: the massless nodes) and element forces F = W[3nn:3nn+ne], and ``dx`` with
+    the derivative. Returns False if a balance could not be solved. ``road`` is laid out
+    by :func:`road_layout`: each road's displacement, velocity and acceleration, a free
+    slot (the harmonic balance's frequency), and it may go on with one held side per
+    element: where it is not 0, an element with a kink takes the law of that side of it
+    (+1 above its switching function's zero, -1 below), continued past it. With a
+    non-empty ``imp`` (one impulse per dynamic node) dx is instead the impulse flow
+    M(x)^-1 imp on the dynamic nodes' velocities (zero elsewhere): integrated over a unit
+    interval it applies the impulse exactly, whatever the velocity dependence of the
+    inertances. With ``imp`` = [NaN] (:data:`ROAD_JERK`) it is the flow of a road
+    velocity jump: road[2] holds the jump, the forces are left out (finite, they pass no
+    impulse in no time) and dx = M(x)^-1 (the inertances' coupling to the road times the
+    jump); integrated over a unit interval with the road velocity moving linearly
+    through the jump it applies the impulses the inertances on the road pass, whatever
+    their velocity dependence. The work array is read by offset, never sliced: a slice
+    costs a view per call. Tables from :func:`dense_tables` (header ``I_DNS`` > 0) carry
+    the mass matrix factored beforehand: without an impulse the accelerations then come
+    from that factor and a low-rank update for the flywheels (:func:`_dense_solve`), the
+    same balance by another order of the arithmetic (agreeing to rounding)."""
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    nd = itab[I_ND]
+    jerk = imp.size == 1 and math.isnan(imp[0])
+    nlen, _, hs = road_layout_of(itab)
+    held = road.size >= nlen  # the held sides are given
+    no = itab[I_NODE]
+    eo = itab[I_ELEM]
+    fm = itab[I_FMASS]
+    nlin = itab[I_NL]
+    nrel = itab[I_NR]
+    iv = nn  # velocities
+    ia = 2 * nn  # accelerations
+    iF = 3 * nn  # element forces
+    im = iF + ne  # mass matrix of the dynamic nodes
+    ir = im + nd * nd  # right-hand side, then the accelerations
+    ie = ir + nd  # inertance of each element
+    ok = _node_motion(x, road, itab, ftab, W, nn, ne, nd)
     if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
         ok &= _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie)
         return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
@@ -765,16 +786,24 @@ def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
         rate = inertial_rate(ftab, o, v, W[ia + top] - W[ia + bot], x, so, side)
         if not math.isnan(rate):
             dx[so] = rate
-        xr = W[top] - W[bot]
-        g, g0, a, kind = inertial_switch(ftab, o, xr, v, W[iF + e], x, so, side)
-        if kind == 2:
-            W[sg + 2 * e] = g
-            W[sg + 2 * e + 1] = g
-        else:
-            d = g - g0 if a >= 0.0 else g0 - g
-            W[sg + 2 * e] = g0 + d
-            W[sg + 2 * e + 1] = g0 - d
-        W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
+        _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, W[iF + e], sg, ne)
+
+
+@nb.njit(cache=True, inline="always")
+def _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, force, sg, ne):
+    """Flywheel-row element e's switching function (its two signed halves, see
+    :func:`switches`, and whether it has one) into the slots of :func:`_switch_slots`
+    (from ``sg``), at relative velocity ``v`` and element force ``force``."""
+    xr = W[top] - W[bot]
+    g, g0, a, kind = inertial_switch(ftab, o, xr, v, force, x, so, side)
+    if kind == 2:
+        W[sg + 2 * e] = g
+        W[sg + 2 * e + 1] = g
+    else:
+        d = g - g0 if a >= 0.0 else g0 - g
+        W[sg + 2 * e] = g0 + d
+        W[sg + 2 * e + 1] = g0 - d
+    W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -1077,3 +1106,230 @@ def switches(itab, ftab, W, out):
         out[2 * e] = g0 + d
         out[2 * e + 1] = g0 - d
     return count
+
+
+@nb.njit(cache=True, _nrt=False)
+def switches_read_forces(itab, ftab):
+    """Whether a switching function of the system reads an element force (a one-way
+    clutch's torque): then only the whole :func:`evaluate` gives them, else
+    :func:`switches_at` does."""
+    eo = itab[I_ELEM]
+    for e in range(itab[I_NE]):
+        b = eo + ELEM_W * e
+        if itab[b] == FLYWHEEL and inertial_switch_reads_force(ftab, itab[b + 3]):
+            return True
+    return False
+
+
+@nb.njit(cache=True, _nrt=False)
+def switches_at(x, road, itab, ftab, W, out):
+    """:func:`switches` at the state ``x`` and road ``road`` (laid out as for
+    :func:`evaluate`, held sides included) from the nodes' motion alone, without the
+    forces, the solve and the derivative: the tyre's contact force and the flywheel's
+    saturation read relative displacements and velocities only. For a system whose
+    switching functions read no element force (:func:`switches_read_forces` False)
+    the values are those of :func:`evaluate` followed by :func:`switches`, to the last
+    bit. ``W`` then holds the node displacements and velocities of (x, road) only."""
+    nn = itab[I_NN]
+    ne = itab[I_NE]
+    _node_motion(x, road, itab, ftab, W, nn, ne, itab[I_ND])
+    eo = itab[I_ELEM]
+    sg = _switch_slots(itab)
+    nlen, _, hs = road_layout_of(itab)
+    held = road.size >= nlen
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        W[sg + 2 * ne + e] = 0.0
+        if itab[b] != FLYWHEEL:
+            continue
+        top = itab[b + 1]
+        bot = itab[b + 2]
+        v = W[nn + top] - W[nn + bot]
+        side = road[hs + e] if held else 0.0
+        _switch_halves(ftab, W, x, e, top, bot, itab[b + 3], itab[b + 4], side, v, 0.0, sg, ne)
+    return switches(itab, ftab, W, out)
+
+
+def dense_source(itab) -> str | None:
+    """The body of :func:`evaluate` for the structure ``itab`` written out as straight-line
+    Python (every table look-up, loop and branch on the structure resolved: constant
+    offsets, one statement per node, element and matrix entry), for a system with
+    :func:`dense_tables` whose nodes are ground, road, dynamic and combination nodes;
+    None for any other. ``ftab`` stays data (masses, laws, the factor). The statements
+    are those :func:`evaluate`, :func:`_node_motion`, :func:`_dense_solve` and
+    :func:`_after_solve` execute for this structure, in their order, each sum from 0.0
+    term by term as there: the result agrees with :func:`evaluate`'s to the last bit.
+    An impulse flow (``imp`` not empty) goes to :func:`evaluate` itself
+    (``evaluate_inline`` in the module that compiles it). The names it calls are those
+    of :data:`DENSE_IMPORTS`."""
+    it = [int(v) for v in np.asarray(itab, dtype=np.int64)]
+    db = it[I_DNS]
+    if db == 0 or it[I_NV] or it[I_NP] or it[I_NR]:
+        return None
+    nn, ne, nd = it[I_NN], it[I_NE], it[I_ND]
+    no, eo = it[I_NODE], it[I_ELEM]
+    iv, ia, iF = nn, 2 * nn, 3 * nn
+    im = iF + ne
+    ir = im + nd * nd
+    ie = ir + nd
+    nlen = 3 * max(it[I_NRD], 1) + 1 + ne
+    hs = nlen - ne
+    sg = 3 * nn + ne + nd * nd + nd + ne  # _switch_slots (no velocity nodes)
+    typ = [it[no + NODE_W * n] for n in range(nn)]
+    if any(t not in (GROUND, ROAD, DYN, LIN) for t in typ):
+        return None
+    row = [it[no + NODE_W * n + 3] for n in range(nn)]
+
+    def members(n):  # (member node, ftab offset of its coefficient)
+        b = no + NODE_W * n
+        return [(it[it[b + 1] + j], it[b + 3] + j) for j in range(it[b + 2])]
+
+    def combo(n, off):
+        s = "0.0"
+        for mem, c in members(n):
+            s = f"({s} + ftab[{c}] * W[{off + mem}])"
+        return s
+
+    L = ["if imp.size != 0:", "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]
+    L.append(f"held = road.size >= {nlen}")
+    for n in range(nn):
+        if typ[n] == GROUND:
+            L += [f"W[{n}] = 0.0", f"W[{iv + n}] = 0.0", f"W[{ia + n}] = 0.0"]
+        elif typ[n] == ROAD:
+            k = 3 * row[n] if row[n] > 0 else 0
+            L += [f"W[{n}] = road[{k}]", f"W[{iv + n}] = road[{k + 1}]",
+                  f"W[{ia + n}] = road[{k + 2}]"]  # fmt: skip
+        elif typ[n] == DYN:
+            b = no + NODE_W * n
+            L += [f"W[{ia + n}] = math.nan", f"W[{n}] = x[{it[b + 1]}]",
+                  f"W[{iv + n}] = x[{it[b + 2]}]"]  # fmt: skip
+    lins = [n for n in range(nn) if typ[n] == LIN]
+    for n in lins:
+        if any(typ[mem] == LIN for mem, _ in members(n)):
+            return None
+        L.append(f"W[{n}] = {combo(n, 0)}")
+    for n in lins:
+        L.append(f"W[{iv + n}] = {combo(n, iv)}")
+    for n in lins:
+        L.append(f"W[{ia + n}] = 0.0")
+    L.append("ok = True")
+    # _dense_solve: each element's force on its ends' rows
+    for i in range(nd):
+        L.append(f"W[{ir + i}] = 0.0")
+
+    def gather(n, g):
+        if typ[n] == LIN:
+            return [f"W[{ia + n}] += {g}"]
+        if typ[n] == DYN:
+            return [f"W[{ir + row[n]}] += {g}"]
+        return []
+
+    inertial = []
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        code, top, bot, o, slot = it[b], it[b + 1], it[b + 2], it[b + 3], it[b + 4]
+        side = f"(road[{hs + e}] if held else 0.0)"
+        L += [f"d = W[{top}] - W[{bot}]", f"v = W[{iv + top}] - W[{iv + bot}]"]
+        if code == SPRING:
+            L += ["me = 0.0", f"f = spring_force(ftab, {o}, d)"]
+        elif code == DAMPER:
+            L += ["me = 0.0", f"f, _ = damper_force(ftab, {o}, v)"]
+        elif code == FRICTION:
+            L += ["me = 0.0", f"f, _ = friction_force(ftab[{o}], ftab[{o + 1}], v)"]
+        elif code == INERTER:
+            L += [f"me = inerter_inertance(ftab, {o})", "f = 0.0"]
+        elif code == TYRE:
+            L += ["me = 0.0", f"f = tyre_force(ftab, {o}, d, v, {side})"]
+        elif code == FLYWHEEL:
+            L.append(f"me, f = inertial_law(ftab, {o}, d, v, x, {slot}, dx, {side})")
+        else:
+            return None
+        L += [f"W[{iF + e}] = f", f"W[{ie + e}] = me", "g = f"]
+        if code in (INERTER, FLYWHEEL):
+            inertial.append(e)
+            known = []
+            if typ[top] == ROAD:
+                known.append(f"    g += me * W[{ia + top}]")
+            if typ[bot] == ROAD:
+                known.append(f"    g -= me * W[{ia + bot}]")
+            if known:
+                L += ["if me != 0.0:", *known]
+        L += gather(top, "-g") + gather(bot, "g")
+    for n in lins:  # _pass_on
+        L.append(f"fn = W[{ia + n}]")
+        for mem, c in members(n):
+            L.append(f"W[{ir + row[mem]}] += ftab[{c}] * fn")
+    fo, m = it[db], it[db + 1]
+    var = it[db + 2 : db + 2 + m]
+    zo = fo + nd * nd
+    so = zo + nd * m
+    uo = so + m * m
+    ro = uo + m * nd
+    w = im + nd
+    cap = w + m
+    for i in range(nd):
+        s = "0.0"
+        for j in range(nd):
+            s = f"({s} + ftab[{fo + i * nd + j}] * W[{ir + j}])"
+        L.append(f"y{i} = {s}")
+    for i in range(nd):
+        L.append(f"W[{ir + i}] = y{i}")
+    if m > 0:
+        for k in range(m):
+            L.append(f"mk = W[{ie + var[k]}] - ftab[{ro + k}]")
+            s = "0.0"
+            for j in range(nd):
+                s = f"({s} + ftab[{uo + k * nd + j}] * y{j})"
+            L.append(f"W[{w + k}] = mk * {s}")
+            for j in range(m):
+                one = 1.0 if j == k else 0.0
+                L.append(f"W[{cap + k * m + j}] = {one} + mk * ftab[{so + k * m + j}]")
+        L.append(f"if not _solve(W, {cap}, W, {w}, {m}):")
+        L.append("    ok = False")
+        L.append("else:")
+        for i in range(nd):
+            s = "0.0"
+            for k in range(m):
+                s = f"({s} + ftab[{zo + i * m + k}] * W[{w + k}])"
+            L.append(f"    W[{ir + i}] -= {s}")
+    # _after_solve
+    for n in range(nn):
+        if typ[n] == DYN:
+            b = no + NODE_W * n
+            L += [f"W[{ia + n}] = W[{ir + row[n]}]", f"dx[{it[b + 1]}] = W[{iv + n}]",
+                  f"dx[{it[b + 2]}] = W[{ia + n}]"]  # fmt: skip
+    for n in lins:
+        L.append(f"W[{ia + n}] = {combo(n, ia)}")
+    for e in inertial:
+        b = eo + ELEM_W * e
+        top, bot = it[b + 1], it[b + 2]
+        L += [f"if W[{ie + e}] != 0.0:",
+              f"    W[{iF + e}] += W[{ie + e}] * (W[{ia + top}] - W[{ia + bot}])"]  # fmt: skip
+    for e in range(ne):  # _inertial_after
+        b = eo + ELEM_W * e
+        L.append(f"W[{sg + 2 * ne + e}] = 0.0")
+        if it[b] != FLYWHEEL:
+            continue
+        top, bot, o, slot = it[b + 1], it[b + 2], it[b + 3], it[b + 4]
+        L += [f"side = road[{hs + e}] if held else 0.0",
+              f"v = W[{iv + top}] - W[{iv + bot}]",
+              f"rate = inertial_rate(ftab, {o}, v, W[{ia + top}] - W[{ia + bot}], x, {slot}, side)",
+              "if not math.isnan(rate):",
+              f"    dx[{slot}] = rate",
+              f"_switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, v, W[{iF + e}], "
+              f"{sg}, {ne})"]  # fmt: skip
+    L.append("return ok")
+    return "\n".join("    " + line for line in L) + "\n"
+
+
+#: the module-level names :func:`dense_source`'s statements call
+DENSE_IMPORTS = (
+    "import math\n"
+    "from inerterlab.elements._inertial import inertial_law, inertial_rate\n"
+    "from inerterlab.elements.damper import damper_force\n"
+    "from inerterlab.elements.friction import friction_force\n"
+    "from inerterlab.elements.inerter import inerter_inertance\n"
+    "from inerterlab.elements.spring import spring_force\n"
+    "from inerterlab.elements.tyre import tyre_force\n"
+    "from inerterlab.systems._kernel import _solve, _switch_halves\n"
+)
