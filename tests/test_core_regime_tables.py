@@ -107,3 +107,26 @@ def test_plan_of_exact_steps_is_kept_by_content_across_cars():
     fresh = _exact_plan_of(a, sb, 10.0, ts)
     assert all(np.array_equal(x, y) for x, y in zip(pb, fresh, strict=True))
     assert pa[0].size and np.all(pa[0] > 0.0)
+
+
+def test_regime_tables_read_the_system_once_and_equal_a_fresh_build():
+    """The rows the observers read and the system's part of the exponentials' key are
+    kept on the ride system: a second input on the car reads them again, and the tables
+    equal, entry for entry, those of the same car built anew."""
+    from inerterlab.systems.core import _exact_plan, _regime_tables, _ride_system
+
+    ts = np.array([10.0])
+    segs = drop(0.05).prepared(10.0).segments
+    tables = []
+    for _ in range(2):
+        car = _ride_system(quarter_car("afw", sprung_mass=355.0, changing_ratio=0.25))
+        got = _regime_tables(car, segs, 10.0, ts, _exact_plan(car, segs, 10.0, ts))
+        kept = car.info["regime_read"]
+        sb = bump(0.05, duration=0.01).prepared(10.0).segments
+        _regime_tables(car, sb, 10.0, ts, _exact_plan(car, sb, 10.0, ts))
+        assert car.info["regime_read"] is kept
+        tables.append(got)
+    a, b = tables
+    assert len(a) == len(b) == 8
+    for x, y in zip(a[:7] + a[7], b[:7] + b[7], strict=True):
+        assert np.array_equal(x, y) and x.dtype == y.dtype

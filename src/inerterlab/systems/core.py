@@ -1618,17 +1618,32 @@ def _regime_tables(sys, segs, T, ts, plan):
     m = _panels(keys * q, panel)
     fast = np.maximum(np.abs(ws), rate_x)
     cap = np.minimum(longest, m * np.minimum(panel, EXACT_OBSERVER_PHASE / np.maximum(fast, 1e-300)))
-    A, B, ia, Sx, Su = aug
-    rows, nu = _read_rows(sys, Sx, Su)
-    own = rows[:nu, 0]
-    gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
-    XE, XG, SR, TR = _regime_exponentials(
-        A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(), tuple(ws.tolist()),
-        hs, Sx[own].tobytes(), Su[own].tobytes(), m,
-    )  # fmt: skip
+    ia, rows, sref, key = _regime_read(sys, reg)
+    XE, XG, SR, TR = _regime_exponentials(*key[:5], tuple(ws.tolist()), hs, *key[5:], m)
     gw, gxs = _nodes(m)
-    xo = (ia, SR, rows, gw, gxs, cap, TR, _signal_refs(rows, nu, Sx.shape[0]))
+    xo = (ia, SR, rows, gw, gxs, cap, TR, sref)
     return XE, XG, keys, thr, idx, cls, xlev, xo
+
+
+def _regime_read(sys, reg):
+    """What the regime tables of a system with observers read of it, fixed by the system
+    and kept on it: (ia, the rows of :func:`_read_rows`, :func:`_signal_refs`, the
+    system's part of the key of :func:`_regime_exponentials`: n, A, B, the guard rows
+    over the augmented state, gu, and the distinct signals' rows)."""
+    got = sys.info.get("regime_read")
+    if got is None:
+        A, B, ia, Sx, Su = reg[9]
+        gx, gu = reg[2], reg[3]
+        rows, nu = _read_rows(sys, Sx, Su)
+        own = rows[:nu, 0]
+        gx = np.hstack([gx, np.zeros((gx.shape[0], A.shape[0] - gx.shape[1]))])
+        key = (
+            A.shape[0], A.tobytes(), B.tobytes(), gx.tobytes(), gu.tobytes(),
+            Sx[own].tobytes(), Su[own].tobytes(),
+        )  # fmt: skip
+        got = (ia, rows, _signal_refs(rows, nu, Sx.shape[0]), key)
+        sys.info["regime_read"] = got
+    return got
 
 
 @lru_cache(maxsize=16)
@@ -1669,8 +1684,10 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
             SR[c] = sr
     # writable, as the empty tables: one compiled integrator, not two
     K = max((t.shape[2] for t in TR), default=0)
-    TR = np.array([np.pad(t, ((0, 0), (0, 0), (0, K - t.shape[2]), (0, 0))) for t in TR])
-    return XE, XG, _point_layout(SR), TR.reshape(len(ws), hs.size, Sx.shape[0], K, n + 3)
+    TRs = np.zeros((len(ws), hs.size, Sx.shape[0], K, n + 3))
+    for c, t in enumerate(TR):
+        TRs[c, :, :, : t.shape[2]] = t
+    return XE, XG, _point_layout(SR), TRs
 
 
 #: the tables of this many (matrix, signals, panels, step length) are kept in a process
@@ -1900,7 +1917,7 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
             read.update(int(k) for k in it[ob + 4 * q + 1 : ob + 4 * q + 3] if k >= 0)
     own, alias, seen = [], [], {}
     for k in sorted(read):
-        row = np.r_[Sx[k], Su[k]] + 0.0  # + 0.0: -0.0 and 0.0 alike
+        row = np.concatenate((Sx[k], Su[k])) + 0.0  # + 0.0: -0.0 and 0.0 alike
         key, neg = row.tobytes(), (0.0 - row).tobytes()
         if key in seen:
             alias.append((k, seen[key], 1))
