@@ -929,7 +929,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 if xobs:
                     xh[0] = tn - t
                     xj[0] = j
-                    _observe_steps(itab, y, 1, xh, xj, zs.reshape((1, zs.size)), xSR[cx],
+                    _observe_steps(itab, y, 1, xh, xj, zs.reshape((zs.size, 1)), xSR[cx],
                                    xTR[cx], xgw, xpts, xref, xsv, xcoef, xnone, xnone, 0,
                                    np.empty((0, 0)))  # fmt: skip
                 for g in range(ng):
@@ -1453,17 +1453,14 @@ def _series(coef, m, x):
     return acc
 
 
-#: the linear walk's steps whose observers are summed at once (their signals one matrix
-#: product per step length)
+#: the linear walk's steps whose observers are summed at once
 WALK_BLOCK = 512
-#: fewer steps of one length than this take their signals by loops, not a matrix product
-BLAS_ROWS = 8
 
 
 @nb.njit(cache=True)
-def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
+def _taylor_peak(TR, j, r, sgn, VT, i, xs, top, coef):
     """The maximum of sgn x the distinct signal r inside step i between the neighbours
-    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . V[i])
+    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . VT[:, i])
     theta^k, exact to round-off), where its derivative changes sign from + to - there:
     found by Newton's method on the derivative, kept inside the bracket of the sign
     change (bisection where Newton leaves it); -inf where it does not (the maximum is
@@ -1475,8 +1472,8 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
         return -math.inf
     for k in range(m):
         acc = 0.0
-        for q in range(V.shape[1]):
-            acc += TR[j, r, k, q] * V[i, q]
+        for q in range(VT.shape[0]):
+            acc += TR[j, r, k, q] * VT[q, i]
         coef[k] = sgn * acc
     lo = xs[max(top - 1, 0)]
     hi = xs[min(top + 1, npt - 1)]
@@ -1512,15 +1509,17 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
 
 
 @nb.njit(cache=True)
-def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y):
+def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y):
     """The observers over nst exact steps (step i: length H[i], table row J[i], initial
-    vector V[i] = (augmented state, the road's part), see :func:`.core._point_tables`),
-    advanced in ``y`` from their values before the first.
+    vector VT[:, i] = (augmented state, the road's part), see
+    :func:`.core._point_tables`), advanced in ``y`` from their values before the first.
 
     Every observed signal is linear in the step's initial vector: the distinct ones (nu)
     at the points theta = ``xs`` (the start, the quadrature nodes, the end) are
-    SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] V[i, q], for a block of steps of one
-    length one matrix product (BLAS), for a few steps loops; a signal k read by an
+    SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] VT[q, i], summed over q in its order
+    for each run of steps of one length, the table's zero entries skipped (a filter's
+    states reach only the signals that read the filter: about half the table of a ride
+    system; a product by BLAS took three times as long); a signal k read by an
     observer is sign(sref[k]) times the distinct signal |sref[k]| - 1 (a ride's +-a,
     +-a_w, +-z computed once). Then, one observer at a time over the steps: the
     integrals of squares, fourth powers and products by the quadrature (weights ``gw``,
@@ -1539,43 +1538,28 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
     ng = gw.size
     nw = SR.shape[2]
     nu = nw // npt
-    # the signals at the points
-    one = True  # every step of one length
-    for i in range(1, nst):
-        if J[i] != J[0]:
-            one = False
-            break
-    if one and nst >= BLAS_ROWS:
-        if nst == SV.shape[1]:
-            np.dot(SR[J[0]].T, V.T, SV)
-        else:
-            SV = np.dot(SR[J[0]].T, V[:nst].T)
-    else:
-        order = np.argsort(J[:nst], kind="mergesort")
-        s0 = 0
-        while s0 < nst:
-            j = J[order[s0]]
-            s1 = s0 + 1
-            while s1 < nst and J[order[s1]] == j:
-                s1 += 1
-            cnt = s1 - s0
-            if cnt >= BLAS_ROWS:
-                Vj = np.empty((cnt, V.shape[1]))
-                for c in range(cnt):
-                    Vj[c] = V[order[s0 + c]]
-                Sj = np.dot(SR[j].T, Vj.T)
-                for c in range(cnt):
-                    SV[:, order[s0 + c]] = Sj[:, c]
-            else:
-                for c in range(cnt):
-                    i = order[s0 + c]
-                    for w in range(nw):
-                        SV[w, i] = 0.0
-                    for q in range(V.shape[1]):
-                        vq = V[i, q]
-                        for w in range(nw):
-                            SV[w, i] += SR[j, q, w] * vq
-            s0 = s1
+    # the signals at the points, a run of steps of one length at a time: each signal
+    # summed over the vector's components in their order, the table's zeros skipped (a
+    # filter's states reach only the signals that read it)
+    nq = VT.shape[0]
+    i0 = 0
+    while i0 < nst:
+        j = J[i0]
+        i1 = i0 + 1
+        while i1 < nst and J[i1] == j:
+            i1 += 1
+        cnt = i1 - i0
+        for w in range(nw):
+            row = SV[w, i0:i1]  # views indexed from 0: the loops vectorise (from i0 they
+            for c in range(cnt):  # did not, the index's sign unknown: 3.5x slower)
+                row[c] = 0.0
+            for q in range(nq):
+                s = SR[j, q, w]
+                if s != 0.0:
+                    vq = VT[q, i0:i1]
+                    for c in range(cnt):
+                        row[c] += s * vq[c]
+        i0 = i1
     # each distinct signal's highest and lowest point in each step, where a peak reads it
     # (a peak of its negative reads the same: max(-s) = -min(s))
     hi = np.empty((nu, nst))
@@ -1644,7 +1628,7 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
                     for p in range(1, npt):
                         if sgn * SV[p * nu + r, i] > sgn * SV[top * nu + r, i]:
                             top = p
-                    best = max(best, _taylor_peak(TR, J[i], r, sgn, V, i, xs, top, coef))
+                    best = max(best, _taylor_peak(TR, J[i], r, sgn, VT, i, xs, top, coef))
                 val = best
             else:
                 val += H[i] * acc[i]
@@ -1694,7 +1678,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     xs[1:-1] = gx
     coef = np.empty(TR.shape[2])
     nbk = WALK_BLOCK if observed and apply else 1
-    V = np.empty((nbk, na + 2))
+    VT = np.empty((na + 2, nbk))  # the steps' initial vectors, a column each
+    v = np.empty(na)
     H = np.empty(nbk)
     J = np.empty(nbk, np.int64)
     SV = np.empty((SR.shape[2], nbk))
@@ -1756,31 +1741,33 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             if h > hmin:
                 if apply:
                     if nst == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, pk,
                                        pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
                     j = idx[m]
                     xr = a + b * (t - t0)
                     for i in range(na):
-                        V[nst, i] = y[ia[i]]
+                        v[i] = y[ia[i]]
                         yn[i] = GX[j, i] * xr + GB[j, i] * b
-                    V[nst, na] = xr
-                    V[nst, na + 1] = b
                     q = 0
                     while q + 2 <= na:  # two columns at a time, each sum in the order of q
-                        z0 = V[nst, q]
-                        z1 = V[nst, q + 1]
+                        z0 = v[q]
+                        z1 = v[q + 1]
                         for i in range(na):
                             yn[i] = (yn[i] + PhiT[j, q, i] * z0) + PhiT[j, q + 1, i] * z1
                         q += 2
                     if q < na:
-                        z0 = V[nst, q]
+                        z0 = v[q]
                         for i in range(na):
                             yn[i] += PhiT[j, q, i] * z0
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:
+                        for i in range(na):
+                            VT[i, nst] = v[i]
+                        VT[na, nst] = xr
+                        VT[na + 1, nst] = b
                         H[nst] = h
                         J[nst] = j
                         nst += 1
@@ -1798,7 +1785,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 out_u[k, 2] = 0.0
                 if nst > 0:  # its observers once the block's are summed
                     if npend == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, pk,
                                        pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
@@ -1814,7 +1801,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
         if last:
             break
     if nst > 0:
-        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y)
+        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y)
     return OK, m
 
 
