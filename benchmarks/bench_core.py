@@ -34,7 +34,7 @@ load and each finds the caches as the other left them; a core call after the fir
 reads what its system keeps by content (state space, plan, tables), as a user's second
 call on the same system does.
 
-Usage: python benchmarks/bench_core.py [--runs 7] [--compile-cost]
+Usage: python benchmarks/bench_core.py [--runs 7] [--compile-cost] [--only-linear]
 """
 
 from __future__ import annotations
@@ -120,10 +120,17 @@ def main() -> None:
     ap = argparse.ArgumentParser()
     ap.add_argument("--runs", type=int, default=7)
     ap.add_argument("--compile-cost", action="store_true")
+    ap.add_argument("--only-linear", action="store_true", help="the linear network only")
     args = ap.parse_args()
     runs = args.runs
     if args.compile_cost:
         compile_cost()
+    if not args.only_linear:
+        afw_cases(runs)
+    linear_case(runs)
+
+
+def afw_cases(runs: int) -> None:
     ex, T = sine(), 5.0
     old = quarter_car("afw")  # simulate() runs the kernel on its description
     core = quarter_car("afw")
@@ -169,7 +176,10 @@ def main() -> None:
     print(f"  generic right-hand side      : {t_gen * 1e3:8.2f} ms")
     print(f"  compiled for the structure   : {t_spec * 1e3:8.2f} ms   (states bit-identical: {same})")
     print(f"  generic / per-structure time : {t_gen / t_spec:.2f}")
-    # a linear network on a random road
+
+
+def linear_case(runs: int) -> None:
+    """A linear network on a random road against scipy.signal.lsim."""
     lin = quarter_car("k | (c - b)", {"k": 90e3, "c": 5e3, "b": 200.0})
     road, T2 = iso8608("C", 20.0, seed=1), 10.0
     res = lin.simulate(road, T2)
