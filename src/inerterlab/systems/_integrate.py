@@ -838,8 +838,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     na = ia.size
     xobs = xia.size > 0 and nob > 0
     z = np.empty(na + 3)
-    xv = np.empty((1, na + 3))
-    zs = xv[0]  # z at the start of an exact step (the observers' initial vector)
+    zs = np.empty(na + 3)  # z at the start of an exact step (the observers' initial vector)
+    xv = zs.reshape((na + 3, 1))  # as the column of one step
     xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
     xpts[0] = 0.0
     xpts[-1] = 1.0
@@ -1461,17 +1461,14 @@ def _series(coef, m, x):
     return acc
 
 
-#: the linear walk's steps whose observers are summed at once (their signals one matrix
-#: product per step length)
+#: the linear walk's steps whose observers are summed at once
 WALK_BLOCK = 512
-#: fewer steps of one length than this take their signals by loops, not a matrix product
-BLAS_ROWS = 8
 
 
 @nb.njit(cache=True, _nrt=False)
-def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
+def _taylor_peak(TR, j, r, sgn, VT, i, xs, top, coef):
     """The maximum of sgn x the distinct signal r inside step i between the neighbours
-    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . V[i])
+    of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . VT[:, i])
     theta^k, exact to round-off), where its derivative changes sign from + to - there:
     found by Newton's method on the derivative, kept inside the bracket of the sign
     change (bisection where Newton leaves it); -inf where it does not (the maximum is
@@ -1483,8 +1480,8 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
         return -math.inf
     for k in range(m):
         acc = 0.0
-        for q in range(V.shape[1]):
-            acc += TR[j, r, k, q] * V[i, q]
+        for q in range(VT.shape[0]):
+            acc += TR[j, r, k, q] * VT[q, i]
         coef[k] = sgn * acc
     lo = xs[max(top - 1, 0)]
     hi = xs[min(top + 1, npt - 1)]
@@ -1520,62 +1517,42 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
 
 
 @nb.njit(cache=True)
-def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc, pk,
+def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc, pk,
                    pp, npend, out_y):  # fmt: skip
     """The observers over nst exact steps of the linear walk (step i: length H[i], table
-    row J[i], initial vector V[i] = (augmented state, the road's part), see
+    row J[i], initial vector VT[:, i] = (augmented state, the road's part), see
     :func:`.core._point_tables`), advanced in ``y`` from their values before the first.
 
     Every observed signal is linear in the step's initial vector: the distinct ones (nu)
     at the points theta = ``xs`` (the start, the quadrature nodes, the end) are
-    SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] V[i, q], for a block of steps of one
-    length one matrix product (BLAS), for a few steps loops (:func:`_step_signals`);
-    then :func:`_observe_sums`. ``SV``: scratch of (SR.shape[2], at least nst) (its full
-    width, the block, or fewer steps); ``hi``, ``lo`` (nu x at least nst), ``done`` (nu),
-    ``acc`` (at least nst), ``coef`` (TR.shape[2]): scratch of :func:`_observe_sums`."""
+    SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] VT[q, i], summed over q in its order
+    (as :func:`_step_signals`) for each run of steps of one length, the table's zero
+    entries skipped (a filter's states reach only the signals that read the filter:
+    about half the table of a ride system; a product by BLAS took three times as long);
+    then :func:`_observe_sums`. ``SV``: scratch of (SR.shape[2], at least nst); ``hi``,
+    ``lo`` (nu x at least nst), ``done`` (nu), ``acc`` (at least nst), ``coef``
+    (TR.shape[2]): scratch of :func:`_observe_sums`."""
     nw = SR.shape[2]
-    one = True  # every step of one length
-    for i in range(1, nst):
-        if J[i] != J[0]:
-            one = False
-            break
-    if one and nst >= BLAS_ROWS:
-        if nst == SV.shape[1]:
-            np.dot(SR[J[0]].T, V.T, SV)
-        else:
-            SV = np.dot(SR[J[0]].T, V[:nst].T)
-    elif one:
-        sv = np.empty(nw)
-        for i in range(nst):
-            _step_signals(SR, J[0], V[i], sv)
-            for w in range(nw):
-                SV[w, i] = sv[w]
-    else:
-        order = np.argsort(J[:nst], kind="mergesort")
-        s0 = 0
-        while s0 < nst:
-            j = J[order[s0]]
-            s1 = s0 + 1
-            while s1 < nst and J[order[s1]] == j:
-                s1 += 1
-            cnt = s1 - s0
-            if cnt >= BLAS_ROWS:
-                Vj = np.empty((cnt, V.shape[1]))
-                for c in range(cnt):
-                    Vj[c] = V[order[s0 + c]]
-                Sj = np.dot(SR[j].T, Vj.T)
-                for c in range(cnt):
-                    for w in range(nw):
-                        SV[w, order[s0 + c]] = Sj[w, c]
-            else:
-                sv = np.empty(nw)
-                for c in range(cnt):
-                    i = order[s0 + c]
-                    _step_signals(SR, j, V[i], sv)
-                    for w in range(nw):
-                        SV[w, i] = sv[w]
-            s0 = s1
-    _observe_sums(itab, y, nst, H, J, V, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
+    nq = VT.shape[0]
+    i0 = 0
+    while i0 < nst:
+        j = J[i0]
+        i1 = i0 + 1
+        while i1 < nst and J[i1] == j:
+            i1 += 1
+        cnt = i1 - i0
+        for w in range(nw):
+            row = SV[w, i0:i1]  # views indexed from 0: the loops vectorise (from i0 they
+            for c in range(cnt):  # did not, the index's sign unknown: 3.5x slower)
+                row[c] = 0.0
+            for q in range(nq):
+                s = SR[j, q, w]
+                if s != 0.0:
+                    vq = VT[q, i0:i1]
+                    for c in range(cnt):
+                        row[c] += s * vq[c]
+        i0 = i1
+    _observe_sums(itab, y, nst, H, J, VT, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
                   npend, out_y)  # fmt: skip
 
 
@@ -1593,10 +1570,10 @@ def _step_signals(SR, j, v, out):
 
 
 @nb.njit(cache=True, _nrt=False)
-def _observe_sums(itab, y, nst, H, J, V, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
+def _observe_sums(itab, y, nst, H, J, VT, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
                   npend, out_y):  # fmt: skip
     """The observers over nst exact steps from their signals at the points (``SV``, see
-    :func:`_observe_steps`; V, J, H as there), one observer at a time over the steps:
+    :func:`_observe_steps`; VT, J, H as there), one observer at a time over the steps:
     the integrals of squares, fourth powers and products by the quadrature (weights
     ``gw``, the sum over the nodes in their order, then y += H[i] x sum, as step by
     step); the running peaks from the points' values and, where a maximum inside the
@@ -1680,7 +1657,7 @@ def _observe_sums(itab, y, nst, H, J, V, SV, TR, gw, xs, sref, coef, hi, lo, don
                     for p in range(1, npt):
                         if sgn * SV[p * nu + r, i] > sgn * SV[top * nu + r, i]:
                             top = p
-                    best = max(best, _taylor_peak(TR, J[i], r, sgn, V, i, xs, top, coef))
+                    best = max(best, _taylor_peak(TR, J[i], r, sgn, VT, i, xs, top, coef))
                 val = best
             else:
                 val += H[i] * acc[i]
@@ -1730,7 +1707,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     xs[1:-1] = gx
     coef = np.empty(TR.shape[2])
     nbk = WALK_BLOCK if observed and apply else 1
-    V = np.empty((nbk, na + 2))
+    VT = np.empty((na + 2, nbk))  # the steps' initial vectors, a column each
+    v = np.empty(na)
     H = np.empty(nbk)
     J = np.empty(nbk, np.int64)
     SV = np.empty((SR.shape[2], nbk))
@@ -1797,31 +1775,33 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             if h > hmin:
                 if apply:
                     if nst == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
                     j = idx[m]
                     xr = a + b * (t - t0)
                     for i in range(na):
-                        V[nst, i] = y[ia[i]]
+                        v[i] = y[ia[i]]
                         yn[i] = GX[j, i] * xr + GB[j, i] * b
-                    V[nst, na] = xr
-                    V[nst, na + 1] = b
                     q = 0
                     while q + 2 <= na:  # two columns at a time, each sum in the order of q
-                        z0 = V[nst, q]
-                        z1 = V[nst, q + 1]
+                        z0 = v[q]
+                        z1 = v[q + 1]
                         for i in range(na):
                             yn[i] = (yn[i] + PhiT[j, q, i] * z0) + PhiT[j, q + 1, i] * z1
                         q += 2
                     if q < na:
-                        z0 = V[nst, q]
+                        z0 = v[q]
                         for i in range(na):
                             yn[i] += PhiT[j, q, i] * z0
                     for i in range(na):
                         y[ia[i]] = yn[i]
                     if observed:
+                        for i in range(na):
+                            VT[i, nst] = v[i]
+                        VT[na, nst] = xr
+                        VT[na + 1, nst] = b
                         H[nst] = h
                         J[nst] = j
                         nst += 1
@@ -1839,7 +1819,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 out_u[k, 2] = 0.0
                 if nst > 0:  # its observers once the block's are summed
                     if npend == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
@@ -1855,7 +1835,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
         if last:
             break
     if nst > 0:
-        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc,
+        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc,
                        pk, pp, npend, out_y)  # fmt: skip
     return OK, m
 

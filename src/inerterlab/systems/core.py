@@ -2093,13 +2093,20 @@ _NO_OBSERVERS = (
 )  # fmt: skip
 
 
-def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
-    """Matrix-exponential steps of a linear system on a piecewise-linear road
-    (:func:`._integrate.exact_walk` with the tables of :func:`_exact_tables`): the
-    states and the road (X1, X1', X1'') at the samples, and the statistics. Observers:
-    the tables of the augmented system (:func:`_observer_system`) and of their signals
-    at the quadrature nodes (:func:`_point_tables`)."""
-    sizes, idx = plan
+def _walk_tables(sys, ss, sizes):
+    """The tables of the exact walk over steps of ``sizes`` [s]: (Phi transposed for the
+    walk's column products, GX, GB of :func:`_exact_tables`, the rows of the augmented
+    state, the observers' tables: their signals at the points of a step and its Taylor
+    rows, :func:`_point_tables`, the nodes and weights, the signals read). Kept on the
+    system (:func:`_memo`, tied to its tables, which fix its state space and observers)
+    for the last :data:`WALK_TABLES_KEPT` sets of step lengths by content: a run of the
+    same plan again (another seed of a road of one grid, a benchmark) reads them without
+    hashing the matrices again."""
+    kept = _memo(sys).setdefault("walk_tables", {})
+    key = np.ascontiguousarray(sizes, float).tobytes()
+    got = kept.get(key)
+    if got is not None:
+        return got
     if sys.observers:
         A, B, ia, Sx, Su = sys.info["observer_system"]
         Phi, GX, GB = _exact_tables(A, B, sizes)
@@ -2115,9 +2122,29 @@ def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_t
         Phi, GX, GB = _exact_tables(A, B, sizes)
         ia = np.arange(sys.n_states, dtype=np.int64)
         extra = _NO_OBSERVERS
+    PhiT = np.ascontiguousarray(Phi.transpose(0, 2, 1))  # the walk's column products
+    got = (PhiT, GX, GB, ia, extra)
+    if len(kept) >= WALK_TABLES_KEPT:
+        kept.pop(next(iter(kept)))
+    kept[key] = got
+    return got
+
+
+#: the exact walk's tables (:func:`_walk_tables`) of this many sets of step lengths are
+#: kept on a system
+WALK_TABLES_KEPT = 8
+
+
+def _exact(sys, ss, plan, segs, y, x1, T, ts, jumps, jump_tol, v_before, vjump_tol, vjumps):
+    """Matrix-exponential steps of a linear system on a piecewise-linear road
+    (:func:`._integrate.exact_walk` with the tables of :func:`_exact_tables`): the
+    states and the road (X1, X1', X1'') at the samples, and the statistics. Observers:
+    the tables of the augmented system (:func:`_observer_system`) and of their signals
+    at the quadrature nodes (:func:`_point_tables`)."""
+    sizes, idx = plan
+    PhiT, GX, GB, ia, extra = _walk_tables(sys, ss, sizes)
     Y = np.empty((ts.size, sys.n_states))
     U = np.zeros((ts.size, 3))
-    PhiT = np.ascontiguousarray(Phi.transpose(0, 2, 1))  # the walk's column products
     status, m = _integrate.exact_walk(
         True, segs, ts, T, y, x1, v_before, jump_tol, vjump_tol, sys.jump_ok, sys.imp_unit,
         sys.itab, sys.ftab, 0.5 * EXACT_STEP_QUANTUM * max(T, 1.0), np.empty(0), idx, PhiT, GX,
