@@ -741,7 +741,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
     error control). ``xo`` = (ia, SR, rows (not read here), gw, gx, cap, TR, sref): with
     observers the tables act on the rows ``ia`` of y (the states and the linear
-    observers'), the other observers follow each exact step by :func:`_observe_steps`
+    observers'), the other observers follow each exact step by :func:`_observe_sums`
     (one step; ``SR[c]`` and ``TR[c]`` as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
     (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
     linear filter among the observers and its quadratures, advanced outside the
@@ -838,16 +838,24 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     na = ia.size
     xobs = xia.size > 0 and nob > 0
     z = np.empty(na + 3)
-    zs = np.empty(na + 3)  # z at the start of an exact step
+    xv = np.empty((1, na + 3))
+    zs = xv[0]  # z at the start of an exact step (the observers' initial vector)
     xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
     xpts[0] = 0.0
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
     xcoef = np.empty(xTR.shape[3])
-    xsv = np.empty((xSR.shape[3], 1))  # the signals at the points of one exact step
+    xsv1 = np.empty(xSR.shape[3])  # the signals at the points of one exact step
+    xsv = xsv1.reshape((xsv1.size, 1))
     xh = np.empty(1)
     xj = np.empty(1, np.int64)
     xnone = np.empty(0, np.int64)
+    xnout = np.empty((0, 0))
+    xnu = xSR.shape[3] // xpts.size
+    xhi = np.empty((xnu, 1))  # scratch of _observe_sums
+    xlo = np.empty((xnu, 1))
+    xdone = np.empty(xnu, np.bool_)
+    xacc = np.empty(1)
     ga0 = np.empty(ng)
     gd0 = np.empty(ng)
     ga1 = np.empty(ng)
@@ -929,9 +937,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                 if xobs:
                     xh[0] = tn - t
                     xj[0] = j
-                    _observe_steps(itab, y, 1, xh, xj, zs.reshape((1, zs.size)), xSR[cx],
-                                   xTR[cx], xgw, xpts, xref, xsv, xcoef, xnone, xnone, 0,
-                                   np.empty((0, 0)))  # fmt: skip
+                    _step_signals(xSR[cx], j, zs, xsv1)
+                    _observe_sums(itab, y, 1, xh, xj, xv, xsv, xTR[cx], xgw, xpts, xref, xcoef,
+                                  xhi, xlo, xdone, xacc, xnone, xnone, 0, xnout)  # fmt: skip
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1460,7 +1468,7 @@ WALK_BLOCK = 512
 BLAS_ROWS = 8
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, _nrt=False)
 def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
     """The maximum of sgn x the distinct signal r inside step i between the neighbours
     of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . V[i])
@@ -1512,34 +1520,20 @@ def _taylor_peak(TR, j, r, sgn, V, i, xs, top, coef):
 
 
 @nb.njit(cache=True)
-def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y):
-    """The observers over nst exact steps (step i: length H[i], table row J[i], initial
-    vector V[i] = (augmented state, the road's part), see :func:`.core._point_tables`),
-    advanced in ``y`` from their values before the first.
+def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc, pk,
+                   pp, npend, out_y):  # fmt: skip
+    """The observers over nst exact steps of the linear walk (step i: length H[i], table
+    row J[i], initial vector V[i] = (augmented state, the road's part), see
+    :func:`.core._point_tables`), advanced in ``y`` from their values before the first.
 
     Every observed signal is linear in the step's initial vector: the distinct ones (nu)
     at the points theta = ``xs`` (the start, the quadrature nodes, the end) are
     SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] V[i, q], for a block of steps of one
-    length one matrix product (BLAS), for a few steps loops; a signal k read by an
-    observer is sign(sref[k]) times the distinct signal |sref[k]| - 1 (a ride's +-a,
-    +-a_w, +-z computed once). Then, one observer at a time over the steps: the
-    integrals of squares, fourth powers and products by the quadrature (weights ``gw``,
-    the sum over the nodes in their order, then y += H[i] x sum, as step by step); the
-    running peaks from the points' values and, where a maximum inside the step may
-    exceed the peak so far (its highest point above it less a tenth of the points'
-    range: between the points a smooth signal rises above them by a few hundredths of
-    that), the exact maximum (:func:`_taylor_peak`). The linear observers (filters) are
-    propagated with the system and left alone.
-
-    Samples taken during the steps: sample pk[s] was taken after pp[s] of them (s <
-    npend); its observers' values go to out_y[pk[s]]. ``SV``: scratch of (SR.shape[2],
-    at least nst) (its full width, the block, or fewer steps); ``coef``: scratch of
-    TR.shape[2]."""
-    npt = xs.size
-    ng = gw.size
+    length one matrix product (BLAS), for a few steps loops (:func:`_step_signals`);
+    then :func:`_observe_sums`. ``SV``: scratch of (SR.shape[2], at least nst) (its full
+    width, the block, or fewer steps); ``hi``, ``lo`` (nu x at least nst), ``done`` (nu),
+    ``acc`` (at least nst), ``coef`` (TR.shape[2]): scratch of :func:`_observe_sums`."""
     nw = SR.shape[2]
-    nu = nw // npt
-    # the signals at the points
     one = True  # every step of one length
     for i in range(1, nst):
         if J[i] != J[0]:
@@ -1550,6 +1544,12 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
             np.dot(SR[J[0]].T, V.T, SV)
         else:
             SV = np.dot(SR[J[0]].T, V[:nst].T)
+    elif one:
+        sv = np.empty(nw)
+        for i in range(nst):
+            _step_signals(SR, J[0], V[i], sv)
+            for w in range(nw):
+                SV[w, i] = sv[w]
     else:
         order = np.argsort(J[:nst], kind="mergesort")
         s0 = 0
@@ -1565,23 +1565,59 @@ def _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp
                     Vj[c] = V[order[s0 + c]]
                 Sj = np.dot(SR[j].T, Vj.T)
                 for c in range(cnt):
-                    SV[:, order[s0 + c]] = Sj[:, c]
+                    for w in range(nw):
+                        SV[w, order[s0 + c]] = Sj[w, c]
             else:
+                sv = np.empty(nw)
                 for c in range(cnt):
                     i = order[s0 + c]
+                    _step_signals(SR, j, V[i], sv)
                     for w in range(nw):
-                        SV[w, i] = 0.0
-                    for q in range(V.shape[1]):
-                        vq = V[i, q]
-                        for w in range(nw):
-                            SV[w, i] += SR[j, q, w] * vq
+                        SV[w, i] = sv[w]
             s0 = s1
-    # each distinct signal's highest and lowest point in each step, where a peak reads it
-    # (a peak of its negative reads the same: max(-s) = -min(s))
-    hi = np.empty((nu, nst))
-    lo = np.empty((nu, nst))
-    done = np.zeros(nu, np.bool_)
-    acc = np.empty(nst)
+    _observe_sums(itab, y, nst, H, J, V, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
+                  npend, out_y)  # fmt: skip
+
+
+@nb.njit(cache=True, _nrt=False)
+def _step_signals(SR, j, v, out):
+    """The distinct signals at the points of one step (table row j, initial vector v)
+    into ``out`` (SR.shape[2]), by loops (the sums in the order of v's entries)."""
+    nw = SR.shape[2]
+    for w in range(nw):
+        out[w] = 0.0
+    for q in range(v.size):
+        vq = v[q]
+        for w in range(nw):
+            out[w] += SR[j, q, w] * vq
+
+
+@nb.njit(cache=True, _nrt=False)
+def _observe_sums(itab, y, nst, H, J, V, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
+                  npend, out_y):  # fmt: skip
+    """The observers over nst exact steps from their signals at the points (``SV``, see
+    :func:`_observe_steps`; V, J, H as there), one observer at a time over the steps:
+    the integrals of squares, fourth powers and products by the quadrature (weights
+    ``gw``, the sum over the nodes in their order, then y += H[i] x sum, as step by
+    step); the running peaks from the points' values and, where a maximum inside the
+    step may exceed the peak so far (its highest point above it less a tenth of the
+    points' range: between the points a smooth signal rises above them by a few
+    hundredths of that), the exact maximum (:func:`_taylor_peak`). A signal k read by an
+    observer is sign(sref[k]) times the distinct signal |sref[k]| - 1 (a ride's +-a,
+    +-a_w, +-z computed once); each distinct signal's highest and lowest point per step
+    is found once, where a peak reads it (a peak of its negative reads the same: max(-s)
+    = -min(s)). The linear observers (filters) are propagated with the system and left
+    alone.
+
+    Samples taken during the steps: sample pk[s] was taken after pp[s] of them (s <
+    npend); its observers' values go to out_y[pk[s]]. Scratch (nothing is allocated
+    here): ``hi``, ``lo`` (nu x at least nst), ``done`` (nu), ``acc`` (at least nst),
+    ``coef`` (TR.shape[2])."""
+    npt = xs.size
+    ng = gw.size
+    nu = SV.shape[0] // npt
+    for r in range(nu):
+        done[r] = False
     ob = itab[I_OBS]
     for o in range(itab[I_NOB]):
         bo = ob + OBS_W * o
@@ -1698,6 +1734,11 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     H = np.empty(nbk)
     J = np.empty(nbk, np.int64)
     SV = np.empty((SR.shape[2], nbk))
+    nu = SR.shape[2] // xs.size
+    hi = np.empty((nu, nbk))
+    lo = np.empty((nu, nbk))
+    done = np.empty(nu, np.bool_)
+    acc = np.empty(nbk)
     pk = np.empty(nbk, np.int64)
     pp = np.empty(nbk, np.int64)
     nst = 0
@@ -1756,8 +1797,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             if h > hmin:
                 if apply:
                     if nst == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
-                                       pp, npend, out_y)  # fmt: skip
+                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi,
+                                       lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
                     j = idx[m]
@@ -1798,8 +1839,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 out_u[k, 2] = 0.0
                 if nst > 0:  # its observers once the block's are summed
                     if npend == nbk:
-                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk,
-                                       pp, npend, out_y)  # fmt: skip
+                        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi,
+                                       lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
                         for i in range(n):
@@ -1814,7 +1855,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
         if last:
             break
     if nst > 0:
-        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, pk, pp, npend, out_y)
+        _observe_steps(itab, y, nst, H, J, V, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc,
+                       pk, pp, npend, out_y)  # fmt: skip
     return OK, m
 
 
