@@ -126,18 +126,25 @@ def _rhs_of(itab):
     assert spec.specialised
 
     @nb.njit
-    def call(ev, x, road, itab, ftab, W, dx):
-        return ev(0.0, x, road, itab, ftab, W, dx, np.empty(0))
+    def call(ev, x, road, itab, ftab, W, dx, imp):
+        return ev(0.0, x, road, itab, ftab, W, dx, imp)
 
-    return lambda *a: call(spec, *a), lambda *a: call(_compiled.generic(), *a)
+    def of(ev):  # a whole evaluation, or the switching functions alone with only=True
+        def f(*a, only=False):
+            return call(ev, *a, np.full(1, np.inf) if only else np.empty(0))
+
+        return f
+
+    return of(spec), of(_compiled.generic())
 
 
 @pytest.mark.parametrize("name", CARS)
 def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # the per-structure code of factored tables is evaluate's statements written out:
     # the same derivative, outputs and switching functions to the last bit; and the
-    # switching functions from the nodes' motion alone (switches_at) equal those after
-    # a whole evaluation, bit for bit, at random states, roads and held sides
+    # switching functions from the nodes' motion alone (switches_at, and either code
+    # called with SWITCHES_ONLY) equal those after a whole evaluation, bit for bit, at
+    # random states, roads and held sides
     sys = CARS[name]()
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
     assert _kernel.dense_source(itab) is not None
@@ -171,6 +178,12 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
         sw = np.empty(2 * ne)
         n2 = _kernel.switches_at(x, road, itab, ftab, np.empty(_kernel.work_size(itab)), sw)
         assert np.array_equal(s0, sw) and n0 == n2 > 0
+        for f in (generic, spec):
+            W = np.full(_kernel.work_size(itab), 7.0)
+            dx = np.full(x.size, 3.0)
+            assert f(x, road, itab, ftab, W, dx, only=True)
+            assert np.all(dx == 3.0)  # dx left alone
+            assert _kernel.switches(itab, ftab, W, sw) == n0 and np.array_equal(s0, sw)
 
 
 def test_a_clutch_switch_reads_the_force():

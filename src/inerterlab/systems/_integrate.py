@@ -24,6 +24,7 @@ from ._compiled import record, rhs_for
 from ._kernel import (
     ELEM_W,
     GROUND,
+    I_DNS,
     I_ELEM,
     I_NE,
     I_NN,
@@ -44,7 +45,6 @@ from ._kernel import (
     road_layout_of,
     signal,
     switches,
-    switches_at,
     switches_read_forces,
 )
 from .observers import NO_SPLIT, filter_split
@@ -2010,13 +2010,15 @@ def _hermite(y0, f0, y1, f1, h, th, out):
 
 
 @nb.njit(cache=True, inline="always")
-def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw):
+def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw, only):
     """The switching functions at (t, y) on segment i into ``sw``: from the nodes'
-    motion alone where they read no element force (``cheap``,
+    motion alone where they read no element force (``cheap``: the right-hand side
+    called with ``only`` = :data:`._kernel.SWITCHES_ONLY`, as
     :func:`._kernel.switches_at`), else from a whole right-hand side (into ``dy``)."""
     if cheap:
         road_at(segs, i, t, road)
-        switches_at(y, road, itab, ftab, work, sw)
+        ev(t, y, road, itab, ftab, work, dy, only)
+        switches(itab, ftab, work, sw)
     else:
         _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
         switches(itab, ftab, work, sw)
@@ -2024,7 +2026,7 @@ def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, sta
 
 @nb.njit(cache=True, _nrt=False)
 def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road,
-                work, stats, yd, sw):  # fmt: skip
+                work, stats, yd, sw, only):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
     end (opposite signs), crosses zero on the step's Hermite interpolant (Illinois regula
     falsi to 1e-12 in theta, as :func:`_locate`)."""
@@ -2035,7 +2037,7 @@ def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, 
         x = _secant(a, b, ga, gb)
         _hermite(y, f0, yt, f1, h, x, yd)
         _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
-                      sw)  # fmt: skip
+                      sw, only)  # fmt: skip
         gx = sw[e]
         if gx == 0.0:
             return x
@@ -2045,8 +2047,46 @@ def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, 
     return b
 
 
+@nb.njit(cache=True, _nrt=False)
+def _rk4_output(ev, segs, i, tk, y, itab, ftab, imp, dy, W, road, out_o, j):
+    """Row j of ``out_o``: the outputs at the sample tk (state ``y``) as
+    :func:`_outputs_many` gives them (the road on the segment that holds tk,
+    right-continuous, walking on from segment i; no held side; ``road``'s held sides
+    are 0), evaluated into ``W``."""
+    s = i
+    while s + 1 < segs.shape[0] and segs[s + 1, 0] <= tk:
+        s += 1
+    road_at(segs, s, tk, road)
+    ev(tk, y, road, itab, ftab, W, dy, imp)
+    for c in range(out_o.shape[1]):
+        out_o[j, c] = W[c]
+
+
+@nb.njit(cache=True, inline="always")
+def _rk4_store(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, t_out, out_y, out_o, k, pend):
+    """The state at t into the rows of ``out_y`` of the samples up to t; with outputs
+    (``out_o`` has rows) a row at t itself is left pending (returned: its outputs come
+    from the evaluation at the next step's start, see :func:`_fixed_rk4`), any other
+    (one left pending before, a sample within round-off of t) evaluated at once.
+    Returns (k, pend)."""
+    while k < t_out.size and t_out[k] <= t:
+        for q in range(y.size):
+            out_y[k, q] = y[q]
+        if out_o.shape[0] > 0:
+            if pend >= 0:
+                _rk4_output(ev, segs, i, t_out[pend], y, itab, ftab, imp, dy, wo, oroad, out_o,
+                            pend)  # fmt: skip
+                pend = -1
+            if t_out[k] == t:
+                pend = k
+            else:
+                _rk4_output(ev, segs, i, t_out[k], y, itab, ftab, imp, dy, wo, oroad, out_o, k)
+        k += 1
+    return k, pend
+
+
 @nb.njit(cache=True)
-def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps):
+def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps, out_o):
     """Integrate a core system over the road segments ``segs`` (continuous in
     displacement: no road steps) from the start of the first to ``t_end`` by classical
     Runge-Kutta steps of at most ``hfix``, each ending on the next segment edge or
@@ -2061,7 +2101,17 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     instant; at a segment edge each element's side is read from its switching functions
     on the new segment. Running peaks (``OBS_PEAK`` observers) are raised at the start of
     every step and at the end (their values at the step ends only). Returns (status,
-    number of samples written)."""
+    number of samples written).
+
+    ``out_o``: (t_out.size, 3 nn + ne) for the outputs at ``t_out`` too (what
+    :func:`_outputs_many` gives from the states), or no rows. At a sample on a segment
+    edge the step that starts there evaluates the right-hand side at the sample on the
+    segment that follows (right-continuous, as the outputs read the road) with each
+    kink's side the one its switching functions give, which is the law the outputs
+    evaluate without a held side: where the tables have the mass matrix factored
+    (:func:`._kernel.dense_tables`: no clutch, no gated screw, whose laws read the side
+    otherwise) and no switching function is exactly 0 there, the outputs are that
+    evaluation's, copied; elsewhere they are evaluated."""
     n = y.size
     ne = itab[I_NE]
     nseg = segs.shape[0]
@@ -2069,6 +2119,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     road_n, _, hs = road_layout_of(itab)
     road = np.zeros(road_n)
     imp = np.empty(0)
+    only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)
@@ -2086,13 +2137,14 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     pastv = np.zeros(ne)
     flipm = np.zeros(ne, np.bool_)
     swf = np.zeros(2 * ne, np.bool_)
+    wo = np.empty(work.size)  # the outputs evaluated apart from the stepping
+    oroad = np.zeros(road_n)
+    reuse = out_o.shape[0] > 0 and itab[I_DNS] > 0
+    pend = -1  # a sample at t whose outputs are pending
     i = 0
     t = segs[0, 0]
-    k = 0
-    while k < t_out.size and t_out[k] <= t:
-        for q in range(n):
-            out_y[k, q] = y[q]
-        k += 1
+    k, pend = _rk4_store(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, t_out, out_y, out_o,
+                         0, pend)  # fmt: skip
     if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
         return BALANCE_FAILED, k
     events = switches(itab, ftab, work, sw) > 0
@@ -2109,6 +2161,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
         while i + 1 < nseg and segs[i + 1, 0] <= t:  # a step that ended on an edge
             i += 1
             moved = True
+        natural = moved and reuse
         if need or moved:
             if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                 return BALANCE_FAILED, k
@@ -2118,6 +2171,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                     changed = False
                     for e in range(ne):
                         g = max(sw[2 * e], sw[2 * e + 1])
+                        if g == 0.0:
+                            natural = False
                         sd = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
                         if sd != road[hs + e]:
                             road[hs + e] = sd
@@ -2126,17 +2181,22 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                         if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                             return BALANCE_FAILED, k
             need = False
+        if pend >= 0:  # the outputs of the sample at t
+            if natural:  # the evaluation at (t, y) just made, with the outputs' law
+                for c in range(out_o.shape[1]):
+                    out_o[pend, c] = work[c]
+            else:
+                _rk4_output(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, out_o, pend)
+            pend = -1
         peaks(itab, ftab, work, y)  # the work array holds the evaluation at (t, y)
         lim = t_end if i == nseg - 1 else min(segs[i, 1], t_end)
         if k < t_out.size and t_out[k] < lim:
             lim = t_out[k]
         if lim - t <= 1e-14 * max(abs(t), 1.0):
             # what is left to a break point is below round-off: the state stands
-            while k < t_out.size and t_out[k] <= lim:
-                for q in range(n):
-                    out_y[k, q] = y[q]
-                k += 1
             t = lim
+            k, pend = _rk4_store(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, t_out, out_y,
+                                 out_o, k, pend)  # fmt: skip
             continue
         h = hfix
         if t + 1.01 * h >= lim:
@@ -2160,7 +2220,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
             fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
             if fresh:
                 road_at(segs, i, tn, road)
-                switches_at(yt, road, itab, ftab, work, swn)
+                ev(tn, yt, road, itab, ftab, work, dy, only)
+                switches(itab, ftab, work, swn)
             else:
                 if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
                     return BALANCE_FAILED, k
@@ -2177,7 +2238,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                         fresh = False
                     xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, yt,
                                           f1, itab, ftab, imp, dy, road, work, stats, yd,
-                                          swx)  # fmt: skip
+                                          swx, only)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -2214,10 +2275,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
         for q in range(n):
             y[q] = yt[q]
         t = tn
-        while k < t_out.size and t_out[k] <= t:
-            for q in range(n):
-                out_y[k, q] = y[q]
-            k += 1
+        k, pend = _rk4_store(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, t_out, out_y,
+                             out_o, k, pend)  # fmt: skip
         if flip:  # past the kink: its other side's law from here
             for q in range(ne):
                 if flipm[q]:
@@ -2228,21 +2287,28 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
             for e in range(2 * ne):
                 if swf[e]:
                     sw[e] = 0.0  # on the kink: the next step starts past it
+    if pend >= 0:
+        _rk4_output(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, out_o, pend)
     if itab[I_NOB] > 0:  # the peaks at the end
         _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
         peaks(itab, ftab, work, y)
     return OK, k
 
 
-def integrate_fixed(itab, ftab, segs, y, t_end, h, t_out, out_y, stats, max_steps):
+_NO_OUTPUTS = np.empty((0, 0))
+
+
+def integrate_fixed(itab, ftab, segs, y, t_end, h, t_out, out_y, stats, max_steps, out_o=None):
     """:func:`_fixed_rk4` with the right-hand side compiled for the structure ``itab``
-    (:func:`._compiled.rhs_for`). ``segs`` must join in displacement (no road steps)."""
+    (:func:`._compiled.rhs_for`). ``segs`` must join in displacement (no road steps).
+    ``out_o``: (t_out.size, 3 nn + ne) for the outputs at ``t_out`` (those of
+    :func:`outputs_many`), or None."""
     ev = rhs_for(itab)
     warm = bool(_fixed_rk4.signatures)  # not timed while the driver compiles
     t0 = time.process_time()
     out = _fixed_rk4(
         ev, _readonly(itab), _readonly(ftab), segs, y, float(t_end), float(h), t_out, out_y,
-        stats, int(max_steps),
+        stats, int(max_steps), _NO_OUTPUTS if out_o is None else out_o,
     )  # fmt: skip
     if warm and not ev.specialised:
         record(itab, time.process_time() - t0)

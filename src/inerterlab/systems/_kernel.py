@@ -89,6 +89,8 @@ SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
 #: ``imp`` of :func:`evaluate` for the flow of a road velocity jump
 ROAD_JERK = np.array([np.nan])
+#: ``imp`` of :func:`evaluate` for the switching functions alone (:func:`switches_at`)
+SWITCHES_ONLY = np.array([np.inf])
 
 
 # Reference counting. A function compiled by numba with its runtime (NRT, the default)
@@ -557,7 +559,10 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     costs a view per call. Tables from :func:`dense_tables` (header ``I_DNS`` > 0) carry
     the mass matrix factored beforehand: without an impulse the accelerations then come
     from that factor and a low-rank update for the flywheels (:func:`_dense_solve`), the
-    same balance by another order of the arithmetic (agreeing to rounding)."""
+    same balance by another order of the arithmetic (agreeing to rounding). With ``imp``
+    = [inf] (:data:`SWITCHES_ONLY`) it fills only the nodes' displacements and
+    velocities and the flywheel-row elements' switching functions (what
+    :func:`switches` then reads, see :func:`switches_at`), and leaves ``dx``."""
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
@@ -576,6 +581,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ir = im + nd * nd  # right-hand side, then the accelerations
     ie = ir + nd  # inertance of each element
     ok = _node_motion(x, road, itab, ftab, W, nn, ne, nd)
+    if imp.size == 1 and math.isinf(imp[0]):  # the switching functions alone
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, False)
+        return ok
     if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
         ok &= _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie)
         return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
@@ -643,7 +651,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 dx[itab[b + 1]] = 0.0
             elif itab[b] == VEL or itab[b] == RELV:
                 dx[itab[b + 1]] = 0.0
-        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, True)
         _relative_unknown(itab, W, ia, nn, nrel)
     return ok
 
@@ -683,7 +691,7 @@ def _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, o
         if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
             W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
-    _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF)
+    _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, True)
     _relative_unknown(itab, W, ia, nn, nrel)
     return ok
 
@@ -764,13 +772,17 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
 
 
 @nb.njit(cache=True, _nrt=False)
-def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
-    """Once the accelerations and forces are known: the rates of the flywheel-row
-    elements' own states that need them (the clutch's flywheel speed) and their
-    switching functions (into the slots of :func:`_switch_slots`)."""
+def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, rates):
+    """The flywheel-row elements' switching functions (into the slots of
+    :func:`_switch_slots`) and, with ``rates``, once the accelerations and forces are
+    known, the rates of their own states that need them (the clutch's flywheel speed);
+    without (:func:`switches_at`: the nodes' motion alone) ``dx``, ``ia`` and ``iF`` are
+    not read and the switching functions take the force 0."""
     ne = itab[I_NE]
     eo = itab[I_ELEM]
     sg = _switch_slots(itab)
+    nlen, _, hs = road_layout_of(itab)
+    held = road.size >= nlen
     for e in range(ne):
         b = eo + ELEM_W * e
         W[sg + 2 * ne + e] = 0.0
@@ -780,13 +792,15 @@ def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF):
         bot = itab[b + 2]
         o = itab[b + 3]
         so = itab[b + 4]
-        nlen, _, hs = road_layout_of(itab)
-        side = road[hs + e] if road.size >= nlen else 0.0
+        side = road[hs + e] if held else 0.0
         v = W[iv + top] - W[iv + bot]
-        rate = inertial_rate(ftab, o, v, W[ia + top] - W[ia + bot], x, so, side)
-        if not math.isnan(rate):
-            dx[so] = rate
-        _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, W[iF + e], sg, ne)
+        force = 0.0
+        if rates:
+            rate = inertial_rate(ftab, o, v, W[ia + top] - W[ia + bot], x, so, side)
+            if not math.isnan(rate):
+                dx[so] = rate
+            force = W[iF + e]
+        _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, force, sg, ne)
 
 
 @nb.njit(cache=True, inline="always")
@@ -1129,24 +1143,11 @@ def switches_at(x, road, itab, ftab, W, out):
     saturation read relative displacements and velocities only. For a system whose
     switching functions read no element force (:func:`switches_read_forces` False)
     the values are those of :func:`evaluate` followed by :func:`switches`, to the last
-    bit. ``W`` then holds the node displacements and velocities of (x, road) only."""
-    nn = itab[I_NN]
-    ne = itab[I_NE]
-    _node_motion(x, road, itab, ftab, W, nn, ne, itab[I_ND])
-    eo = itab[I_ELEM]
-    sg = _switch_slots(itab)
-    nlen, _, hs = road_layout_of(itab)
-    held = road.size >= nlen
-    for e in range(ne):
-        b = eo + ELEM_W * e
-        W[sg + 2 * ne + e] = 0.0
-        if itab[b] != FLYWHEEL:
-            continue
-        top = itab[b + 1]
-        bot = itab[b + 2]
-        v = W[nn + top] - W[nn + bot]
-        side = road[hs + e] if held else 0.0
-        _switch_halves(ftab, W, x, e, top, bot, itab[b + 3], itab[b + 4], side, v, 0.0, sg, ne)
+    bit. ``W`` then holds the node displacements and velocities of (x, road) only. A
+    driver that holds a structure's compiled right-hand side gets the same from it with
+    ``imp`` = :data:`SWITCHES_ONLY` followed by :func:`switches` (the structure's own
+    code writes those statements out too, :func:`dense_source`)."""
+    evaluate(0.0, x, road, itab, ftab, W, out, SWITCHES_ONLY)  # out: dx, not written
     return switches(itab, ftab, W, out)
 
 
@@ -1154,14 +1155,22 @@ def dense_source(itab) -> str | None:
     """The body of :func:`evaluate` for the structure ``itab`` written out as straight-line
     Python (every table look-up, loop and branch on the structure resolved: constant
     offsets, one statement per node, element and matrix entry), for a system with
-    :func:`dense_tables` whose nodes are ground, road, dynamic and combination nodes;
-    None for any other. ``ftab`` stays data (masses, laws, the factor). The statements
-    are those :func:`evaluate`, :func:`_node_motion`, :func:`_dense_solve` and
-    :func:`_after_solve` execute for this structure, in their order, each sum from 0.0
-    term by term as there: the result agrees with :func:`evaluate`'s to the last bit.
-    An impulse flow (``imp`` not empty) goes to :func:`evaluate` itself
-    (``evaluate_inline`` in the module that compiles it). The names it calls are those
-    of :data:`DENSE_IMPORTS`."""
+    :func:`dense_tables` whose nodes are ground, road, dynamic and combination nodes of
+    dynamic nodes; None for any other. ``ftab`` stays data (masses, laws, the factor).
+    The statements are those :func:`evaluate`, :func:`_node_motion`,
+    :func:`_dense_solve` and :func:`_after_solve` execute for this structure, in their
+    order, each sum from 0.0 term by term as there, so the result agrees with
+    :func:`evaluate`'s to the last bit; but the intermediate values are local
+    variables (``X3``, ``V3``, ``A3`` node 3's displacement, velocity, acceleration,
+    ``F5``, ``M5`` element 5's force and inertance, ``R2`` row 2's force, then its
+    acceleration), each written to the work array once, where it is an output, and
+    never read back from it (the compiler keeps them in registers: it cannot where
+    they go through an array that may share memory with the state), and the terms
+    U^T y of the flywheels' update over coordinates that neither end of the flywheel
+    touches are left out (their factor is 0.0 by construction: a term 0.0 * y adds
+    nothing to a sum started from 0.0, for finite y). An impulse flow (``imp`` not
+    empty) goes to :func:`evaluate` itself (``evaluate_inline`` in the module that
+    compiles it). The names it calls are those of :data:`DENSE_IMPORTS`."""
     it = [int(v) for v in np.asarray(itab, dtype=np.int64)]
     db = it[I_DNS]
     if db == 0 or it[I_NV] or it[I_NP] or it[I_NR]:
@@ -1170,8 +1179,6 @@ def dense_source(itab) -> str | None:
     no, eo = it[I_NODE], it[I_ELEM]
     iv, ia, iF = nn, 2 * nn, 3 * nn
     im = iF + ne
-    ir = im + nd * nd
-    ie = ir + nd
     nlen = 3 * max(it[I_NRD], 1) + 1 + ne
     hs = nlen - ne
     sg = 3 * nn + ne + nd * nd + nd + ne  # _switch_slots (no velocity nodes)
@@ -1184,44 +1191,64 @@ def dense_source(itab) -> str | None:
         b = no + NODE_W * n
         return [(it[it[b + 1] + j], it[b + 3] + j) for j in range(it[b + 2])]
 
-    def combo(n, off):
+    lins = [n for n in range(nn) if typ[n] == LIN]
+    if any(typ[mem] != DYN for n in lins for mem, _ in members(n)):
+        return None
+
+    def combo(n, q):
         s = "0.0"
         for mem, c in members(n):
-            s = f"({s} + ftab[{c}] * W[{off + mem}])"
+            s = f"({s} + ftab[{c}] * {q}{mem})"
         return s
 
-    L = ["if imp.size != 0:", "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]
+    def coords(n):  # the coordinates (mass-matrix rows) node n moves
+        if typ[n] == DYN:
+            return {row[n]}
+        return {row[mem] for mem, _ in members(n)} if typ[n] == LIN else set()
+
+    L = ["only = imp.size == 1 and math.isinf(imp[0])  # SWITCHES_ONLY",
+         "if imp.size != 0 and not only:",
+         "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
     L.append(f"held = road.size >= {nlen}")
     for n in range(nn):
         if typ[n] == GROUND:
-            L += [f"W[{n}] = 0.0", f"W[{iv + n}] = 0.0", f"W[{ia + n}] = 0.0"]
+            L += [f"X{n} = 0.0", f"V{n} = 0.0", f"A{n} = 0.0"]
         elif typ[n] == ROAD:
             k = 3 * row[n] if row[n] > 0 else 0
-            L += [f"W[{n}] = road[{k}]", f"W[{iv + n}] = road[{k + 1}]",
-                  f"W[{ia + n}] = road[{k + 2}]"]  # fmt: skip
+            L += [f"X{n} = road[{k}]", f"V{n} = road[{k + 1}]", f"A{n} = road[{k + 2}]"]
         elif typ[n] == DYN:
             b = no + NODE_W * n
-            L += [f"W[{ia + n}] = math.nan", f"W[{n}] = x[{it[b + 1]}]",
-                  f"W[{iv + n}] = x[{it[b + 2]}]"]  # fmt: skip
-    lins = [n for n in range(nn) if typ[n] == LIN]
+            L += [f"X{n} = x[{it[b + 1]}]", f"V{n} = x[{it[b + 2]}]"]
     for n in lins:
-        if any(typ[mem] == LIN for mem, _ in members(n)):
-            return None
-        L.append(f"W[{n}] = {combo(n, 0)}")
+        L.append(f"X{n} = {combo(n, 'X')}")
     for n in lins:
-        L.append(f"W[{iv + n}] = {combo(n, iv)}")
-    for n in lins:
-        L.append(f"W[{ia + n}] = 0.0")
+        L.append(f"V{n} = {combo(n, 'V')}")
+    for n in range(nn):  # the node outputs known before the forces
+        L += [f"W[{n}] = X{n}", f"W[{iv + n}] = V{n}"]
+        if typ[n] in (GROUND, ROAD):
+            L.append(f"W[{ia + n}] = A{n}")
+    L.append("if only:  # the switching functions alone (_inertial_after without rates)")
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        L.append(f"    W[{sg + 2 * ne + e}] = 0.0")
+        if it[b] == FLYWHEEL:
+            top, bot, o, slot = it[b + 1], it[b + 2], it[b + 3], it[b + 4]
+            L += [f"    side = road[{hs + e}] if held else 0.0",
+                  f"    _switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, "
+                  f"V{top} - V{bot}, 0.0, {sg}, {ne})"]  # fmt: skip
+    L.append("    return True")
+    for n in lins:  # the forces gathered at a combination node
+        L.append(f"G{n} = 0.0")
     L.append("ok = True")
     # _dense_solve: each element's force on its ends' rows
     for i in range(nd):
-        L.append(f"W[{ir + i}] = 0.0")
+        L.append(f"R{i} = 0.0")
 
     def gather(n, g):
         if typ[n] == LIN:
-            return [f"W[{ia + n}] += {g}"]
+            return [f"G{n} += {g}"]
         if typ[n] == DYN:
-            return [f"W[{ir + row[n]}] += {g}"]
+            return [f"R{row[n]} += {g}"]
         return []
 
     inertial = []
@@ -1229,82 +1256,88 @@ def dense_source(itab) -> str | None:
         b = eo + ELEM_W * e
         code, top, bot, o, slot = it[b], it[b + 1], it[b + 2], it[b + 3], it[b + 4]
         side = f"(road[{hs + e}] if held else 0.0)"
-        L += [f"d = W[{top}] - W[{bot}]", f"v = W[{iv + top}] - W[{iv + bot}]"]
+        L += [f"d = X{top} - X{bot}", f"v = V{top} - V{bot}"]
         if code == SPRING:
-            L += ["me = 0.0", f"f = spring_force(ftab, {o}, d)"]
+            L += [f"F{e} = spring_force(ftab, {o}, d)"]
         elif code == DAMPER:
-            L += ["me = 0.0", f"f, _ = damper_force(ftab, {o}, v)"]
+            L += [f"F{e}, _ = damper_force(ftab, {o}, v)"]
         elif code == FRICTION:
-            L += ["me = 0.0", f"f, _ = friction_force(ftab[{o}], ftab[{o + 1}], v)"]
+            L += [f"F{e}, _ = friction_force(ftab[{o}], ftab[{o + 1}], v)"]
         elif code == INERTER:
-            L += [f"me = inerter_inertance(ftab, {o})", "f = 0.0"]
+            L += [f"M{e} = inerter_inertance(ftab, {o})", f"F{e} = 0.0"]
         elif code == TYRE:
-            L += ["me = 0.0", f"f = tyre_force(ftab, {o}, d, v, {side})"]
+            L += [f"F{e} = tyre_force(ftab, {o}, d, v, {side})"]
         elif code == FLYWHEEL:
-            L.append(f"me, f = inertial_law(ftab, {o}, d, v, x, {slot}, dx, {side})")
+            L.append(f"M{e}, F{e} = inertial_law(ftab, {o}, d, v, x, {slot}, dx, {side})")
         else:
             return None
-        L += [f"W[{iF + e}] = f", f"W[{ie + e}] = me", "g = f"]
+        L.append(f"g = F{e}")
         if code in (INERTER, FLYWHEEL):
             inertial.append(e)
             known = []
             if typ[top] == ROAD:
-                known.append(f"    g += me * W[{ia + top}]")
+                known.append(f"    g += M{e} * A{top}")
             if typ[bot] == ROAD:
-                known.append(f"    g -= me * W[{ia + bot}]")
+                known.append(f"    g -= M{e} * A{bot}")
             if known:
-                L += ["if me != 0.0:", *known]
+                L += [f"if M{e} != 0.0:", *known]
         L += gather(top, "-g") + gather(bot, "g")
     for n in lins:  # _pass_on
-        L.append(f"fn = W[{ia + n}]")
         for mem, c in members(n):
-            L.append(f"W[{ir + row[mem]}] += ftab[{c}] * fn")
+            L.append(f"R{row[mem]} += ftab[{c}] * G{n}")
     fo, m = it[db], it[db + 1]
     var = it[db + 2 : db + 2 + m]
     zo = fo + nd * nd
     so = zo + nd * m
     uo = so + m * m
     ro = uo + m * nd
-    w = im + nd
+    w = im + nd  # scratch of the m x m solve: its right-hand side, then its matrix
     cap = w + m
     for i in range(nd):
         s = "0.0"
         for j in range(nd):
-            s = f"({s} + ftab[{fo + i * nd + j}] * W[{ir + j}])"
+            s = f"({s} + ftab[{fo + i * nd + j}] * R{j})"
         L.append(f"y{i} = {s}")
-    for i in range(nd):
-        L.append(f"W[{ir + i}] = y{i}")
     if m > 0:
         for k in range(m):
-            L.append(f"mk = W[{ie + var[k]}] - ftab[{ro + k}]")
+            b = eo + ELEM_W * var[k]
+            touched = coords(it[b + 1]) | coords(it[b + 2])
+            L.append(f"mk = M{var[k]} - ftab[{ro + k}]")
             s = "0.0"
             for j in range(nd):
-                s = f"({s} + ftab[{uo + k * nd + j}] * y{j})"
+                if j in touched:
+                    s = f"({s} + ftab[{uo + k * nd + j}] * y{j})"
             L.append(f"W[{w + k}] = mk * {s}")
             for j in range(m):
                 one = 1.0 if j == k else 0.0
                 L.append(f"W[{cap + k * m + j}] = {one} + mk * ftab[{so + k * m + j}]")
         L.append(f"if not _solve(W, {cap}, W, {w}, {m}):")
         L.append("    ok = False")
+        L += [f"    R{i} = y{i}" for i in range(nd)]
         L.append("else:")
+        for k in range(m):
+            L.append(f"    w{k} = W[{w + k}]")
         for i in range(nd):
             s = "0.0"
             for k in range(m):
-                s = f"({s} + ftab[{zo + i * m + k}] * W[{w + k}])"
-            L.append(f"    W[{ir + i}] -= {s}")
+                s = f"({s} + ftab[{zo + i * m + k}] * w{k})"
+            L.append(f"    R{i} = y{i} - {s}")
+    else:
+        L += [f"R{i} = y{i}" for i in range(nd)]
     # _after_solve
     for n in range(nn):
         if typ[n] == DYN:
             b = no + NODE_W * n
-            L += [f"W[{ia + n}] = W[{ir + row[n]}]", f"dx[{it[b + 1]}] = W[{iv + n}]",
-                  f"dx[{it[b + 2]}] = W[{ia + n}]"]  # fmt: skip
+            L += [f"A{n} = R{row[n]}", f"W[{ia + n}] = A{n}", f"dx[{it[b + 1]}] = V{n}",
+                  f"dx[{it[b + 2]}] = A{n}"]  # fmt: skip
     for n in lins:
-        L.append(f"W[{ia + n}] = {combo(n, ia)}")
+        L += [f"A{n} = {combo(n, 'A')}", f"W[{ia + n}] = A{n}"]
     for e in inertial:
         b = eo + ELEM_W * e
         top, bot = it[b + 1], it[b + 2]
-        L += [f"if W[{ie + e}] != 0.0:",
-              f"    W[{iF + e}] += W[{ie + e}] * (W[{ia + top}] - W[{ia + bot}])"]  # fmt: skip
+        L += [f"if M{e} != 0.0:", f"    F{e} += M{e} * (A{top} - A{bot})"]
+    for e in range(ne):
+        L.append(f"W[{iF + e}] = F{e}")
     for e in range(ne):  # _inertial_after
         b = eo + ELEM_W * e
         L.append(f"W[{sg + 2 * ne + e}] = 0.0")
@@ -1312,11 +1345,11 @@ def dense_source(itab) -> str | None:
             continue
         top, bot, o, slot = it[b + 1], it[b + 2], it[b + 3], it[b + 4]
         L += [f"side = road[{hs + e}] if held else 0.0",
-              f"v = W[{iv + top}] - W[{iv + bot}]",
-              f"rate = inertial_rate(ftab, {o}, v, W[{ia + top}] - W[{ia + bot}], x, {slot}, side)",
+              f"v = V{top} - V{bot}",
+              f"rate = inertial_rate(ftab, {o}, v, A{top} - A{bot}, x, {slot}, side)",
               "if not math.isnan(rate):",
               f"    dx[{slot}] = rate",
-              f"_switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, v, W[{iF + e}], "
+              f"_switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, v, F{e}, "
               f"{sg}, {ne})"]  # fmt: skip
     L.append("return ok")
     return "\n".join("    " + line for line in L) + "\n"

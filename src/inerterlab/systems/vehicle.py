@@ -417,9 +417,11 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     st = np.zeros(5, dtype=np.int64)
     nseg = len(segs)
     itab, ftab = _factored(sys)
-    if options.fixed_method == "rk4":  # classical Runge-Kutta, its own driver
+    O = np.empty((ts.size, len(sys.output_names)))
+    rk4 = options.fixed_method == "rk4"
+    if rk4:  # classical Runge-Kutta, its own driver; the outputs at the samples too
         status, _ = _integrate.integrate_fixed(
-            itab, ftab, segs, y, T, float(options.fixed_step), ts, Y, st, int(max_steps)
+            itab, ftab, segs, y, T, float(options.fixed_step), ts, Y, st, int(max_steps), O
         )
     else:
         status, _ = _integrate.integrate(
@@ -429,8 +431,8 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
         )  # fmt: skip
     if status != _integrate.OK:
         raise _failure(sys, status, max_steps)
-    O = np.empty((ts.size, len(sys.output_names)))
-    _integrate.outputs_many(ts, Y, segs, itab, ftab, O)
+    if not rk4:
+        _integrate.outputs_many(ts, Y, segs, itab, ftab, O)
     outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
     res = {}
     res["bounce_acc"] = outs["bounce.a"]
