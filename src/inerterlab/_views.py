@@ -2,10 +2,11 @@
 
 from __future__ import annotations
 
-from numba.core import cgutils
+from numba.core import cgutils, types
+from numba.core.imputils import impl_ret_borrowed
 from numba.extending import intrinsic
 
-__all__ = ["borrow"]
+__all__ = ["borrow", "readonly"]
 
 
 @intrinsic
@@ -31,3 +32,22 @@ def borrow(typingctx, arr):
         return dst._getvalue()
 
     return arr(arr), codegen
+
+
+@intrinsic
+def readonly(typingctx, arr):
+    """``arr`` typed as read-only (the same array; only its type changes).
+
+    A compiled function is compiled once per signature, and an array's writability is
+    part of it: a caller holding writable tables would compile the core's right-hand
+    side (:func:`inerterlab.systems._kernel.evaluate`) a second time, about 50 s of CPU
+    on a slow machine, for arithmetic it already has. Passing the tables through this
+    keeps one signature."""
+    if not isinstance(arr, types.Array):
+        return None
+    rt = arr.copy(readonly=True)
+
+    def codegen(context, builder, sig, args):
+        return impl_ret_borrowed(context, builder, sig.return_type, args[0])
+
+    return rt(arr), codegen

@@ -1877,7 +1877,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     t0 = time.process_time()
     out = _integrate(
         ev, ro_itab, _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
-        imp_unit, jump_ok, jump_tol, t_out, out_y, stats, jumps, max_steps, v_before,
+        imp_unit, jump_ok, jump_tol, _readonly(t_out), out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
         _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
         _split_of(itab, ftab, y.size), (ro_itab, *NO_SPLIT),
@@ -1903,10 +1903,14 @@ def regime_outputs(t_out, Y, segs, itab, ftab, *args):
 
 def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
                imp_unit, itab, ftab, *args):  # fmt: skip
-    """:func:`_exact_walk` with the structure's right-hand side."""
+    """:func:`_exact_walk` with the structure's right-hand side (its tables, read, passed
+    read-only whether kept on the system or made for this call: one compiled signature)."""
+    hmin, hs, idx, PhiT, GX, GB, out_y, out_u, jumps, vjumps, ia, SR, gw, gx, TR, sref = args
     return _exact_walk(
         rhs_for(itab, False), apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
-        vjump_tol, jump_ok, imp_unit, _readonly(itab), _readonly(ftab), *args,
+        vjump_tol, jump_ok, imp_unit, _readonly(itab), _readonly(ftab), hmin, hs, idx,
+        _readonly(PhiT), _readonly(GX), _readonly(GB), out_y, out_u, jumps, vjumps, ia,
+        _readonly(SR), gw, gx, _readonly(TR), sref,
     )  # fmt: skip
 
 

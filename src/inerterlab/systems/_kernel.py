@@ -56,6 +56,7 @@ import math
 import numba as nb
 import numpy as np
 
+from .._views import readonly
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, SPRING, TYRE
 from ..elements._inertial import (
     inertial_law,
@@ -537,7 +538,14 @@ def _node_motion(x, road, itab, ftab, W, nn, ne, nd):
     return ok
 
 
-@nb.njit(cache=True, _nrt=False)
+# compiled once, with the signature of ``._compiled.RHS_SIGNATURE`` (every caller passes
+# contiguous writable arrays and read-only tables): it is the generic right-hand side the
+# integrator calls, and the one :func:`rhs`, :func:`outputs` and :func:`switches_at`
+# call. Each further signature would compile the whole of it again (about 50 s of CPU on
+# a slow machine); division by zero gives inf or NaN (numpy's error model), which the
+# integrator reports as a non-finite solution (an exception cannot cross a function
+# pointer)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
@@ -1050,9 +1058,12 @@ def peaks(itab, ftab, W, x):
 def rhs(t, x, road, itab, ftab, out):
     """out = dx/dt at time t, state x, road (displacement, velocity, acceleration).
 
-    Returns True, or False where a force balance could not be solved."""
+    Returns True, or False where a force balance could not be solved. Called with
+    contiguous arrays (the tables read-only or not), it calls :func:`evaluate` with the
+    one signature that is compiled for every caller; an array of another layout compiles
+    the whole of it once more."""
     W = np.empty(_work_size(itab))
-    ok = evaluate(t, x, road, itab, ftab, W, out, np.empty(0))
+    ok = evaluate(float(t), x, road, readonly(itab), readonly(ftab), W, out, np.empty(0))
     if itab[I_NOB] > 0:
         observe(itab, ftab, W, x, out, False)
     return ok
@@ -1065,7 +1076,7 @@ def outputs(t, x, road, itab, ftab, out):
     ne = itab[I_NE]
     W = np.empty(_work_size(itab))
     dx = np.empty(x.size)
-    ok = evaluate(t, x, road, itab, ftab, W, dx, np.empty(0))
+    ok = evaluate(float(t), x, road, readonly(itab), readonly(ftab), W, dx, np.empty(0))
     for i in range(3 * nn + ne):
         out[i] = W[i]
     return ok
@@ -1135,7 +1146,7 @@ def switches_read_forces(itab, ftab):
     return False
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True)
 def switches_at(x, road, itab, ftab, W, out):
     """:func:`switches` at the state ``x`` and road ``road`` (laid out as for
     :func:`evaluate`, held sides included) from the nodes' motion alone, without the
@@ -1147,7 +1158,8 @@ def switches_at(x, road, itab, ftab, W, out):
     driver that holds a structure's compiled right-hand side gets the same from it with
     ``imp`` = :data:`SWITCHES_ONLY` followed by :func:`switches` (the structure's own
     code writes those statements out too, :func:`dense_source`)."""
-    evaluate(0.0, x, road, itab, ftab, W, out, SWITCHES_ONLY)  # out: dx, not written
+    dx = np.empty(x.size)  # not written
+    evaluate(0.0, x, road, readonly(itab), readonly(ftab), W, dx, SWITCHES_ONLY.copy())
     return switches(itab, ftab, W, out)
 
 

@@ -327,17 +327,20 @@ def _state_space(sys, itab, ftab):
     D = np.zeros((no, nu))
     z = np.zeros(n)
     r0 = np.zeros(nu)
+    col = np.empty(n)  # contiguous: the compiled code's one signature (not a column view)
     for k in range(n):
         e = np.zeros(n)
         e[k] = 1.0
-        _kernel.rhs(0.0, e, r0, itab, ftab, A[:, k])
+        _kernel.rhs(0.0, e, r0, itab, ftab, col)
+        A[:, k] = col
         out = np.empty(no)
         _kernel.outputs(0.0, e, r0, itab, ftab, out)
         C[:, k] = out
     for k in range(nu):
         u = np.zeros(nu)
         u[k] = 1.0
-        _kernel.rhs(0.0, z, u, itab, ftab, B[:, k])
+        _kernel.rhs(0.0, z, u, itab, ftab, col)
+        B[:, k] = col
         out = np.empty(no)
         _kernel.outputs(0.0, z, u, itab, ftab, out)
         D[:, k] = out
