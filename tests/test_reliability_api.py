@@ -23,7 +23,10 @@ from inerterlab.errors import (
     shorten,
 )
 
-pytestmark = pytest.mark.timeout(120)
+# a hang guard, not a speed limit: under pytest-xdist a worker may compile the core's
+# kernels inside one of these tests (the first of its worker to simulate), 150-250 s of
+# CPU on a slow machine
+pytestmark = pytest.mark.timeout(900)
 
 _BAD_SCALARS = [None, "1", b"1", True, [1.0], {"a": 1}, math.nan, math.inf, -math.inf, object()]
 

@@ -24,7 +24,10 @@ from inerterlab.cli import main
 from inerterlab.elements import ELEMENTS, UNIT_QUANTITY
 from inerterlab.errors import MESSAGE_LIMIT, PHYSICAL_RANGES, ParameterError
 
-pytestmark = pytest.mark.timeout(180)
+# a hang guard, not a speed limit: under pytest-xdist a worker may compile the core's
+# kernels inside one of these tests (the first of its worker to simulate), 150-250 s of
+# CPU on a slow machine
+pytestmark = pytest.mark.timeout(900)
 
 
 # -------------------------------------------------------------------------------------

@@ -20,7 +20,10 @@ import typer
 from inerterlab.cli import app, main
 from inerterlab.errors import MESSAGE_LIMIT
 
-pytestmark = pytest.mark.timeout(120)
+# a hang guard, not a speed limit: under pytest-xdist a worker may compile the core's
+# kernels inside one of these tests (the first of its worker to simulate), 150-250 s of
+# CPU on a slow machine
+pytestmark = pytest.mark.timeout(900)
 
 
 def _run(capsys, args):

@@ -66,11 +66,14 @@ _MODE_ENV = "INERTERLAB_SPECIALISE"
 evaluate_inline = nb.njit(inline="always", error_model="numpy", _nrt=False)(evaluate.py_func)
 
 
-#: the generic tier: :func:`._kernel.evaluate` itself, compiled once (numpy's error model,
-#: without numba's reference counting: it allocates nothing, and its caller keeps every
-#: array alive; with the counting, each array argument was counted up on entry and down
-#: at exit by atomic operations, most of a call's time, see :mod:`._kernel`)
-_generic_dispatcher = evaluate
+def _generic_rhs(t, x, road, itab, ftab, W, dx, imp):
+    return evaluate_inline(t, x, road, itab, ftab, W, dx, imp)
+
+
+# compiled without numba's reference counting (``_nrt=False``; it allocates nothing, and its
+# caller keeps every array alive): with it, each array argument was counted up on entry
+# and down at exit by atomic operations, most of a call's time (see :mod:`._kernel`)
+_generic_dispatcher = nb.njit(cache=True, error_model="numpy", _nrt=False)(_generic_rhs)
 
 
 class CompiledRhs(types.WrapperAddressProtocol):

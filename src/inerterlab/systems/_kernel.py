@@ -538,14 +538,14 @@ def _node_motion(x, road, itab, ftab, W, nn, ne, nd):
     return ok
 
 
-# compiled once, with the signature of ``._compiled.RHS_SIGNATURE`` (every caller passes
-# contiguous writable arrays and read-only tables): it is the generic right-hand side the
-# integrator calls, and the one :func:`rhs`, :func:`outputs` and :func:`switches_at`
-# call. Each further signature would compile the whole of it again (about 50 s of CPU on
-# a slow machine); division by zero gives inf or NaN (numpy's error model), which the
-# integrator reports as a non-finite solution (an exception cannot cross a function
-# pointer)
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+# compiled once for :func:`rhs`, :func:`outputs` and :func:`switches_at`: they pass
+# contiguous arrays and the tables read-only (``readonly``), the signature the integrator's
+# tiers use too; each further signature would compile the whole of it again (about 50 s
+# of CPU on a slow machine). The integrator's generic tier is this source compiled under
+# numpy's error model (``._compiled``), a second compilation: a kernel that sets the
+# error model may call only functions that set it themselves (tests/test_numba_flags.py),
+# which evaluate's element laws do not
+@nb.njit(cache=True, _nrt=False)
 def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
