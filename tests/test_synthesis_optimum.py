@@ -1,5 +1,6 @@
 """The H2-optimal PR admittance against the enumerated layouts; the command line."""
 
+import functools
 import json
 import math
 
@@ -148,10 +149,18 @@ def pr_optima():
     return out
 
 
+@functools.cache
+def _enumerated(budget):
+    """The enumeration of a budget, once per process (that of (2, 1, 2) takes about 40 s
+    of CPU; the eight chunks below and the count test read it)."""
+    return tuple(enumerate_networks(*budget))
+
+
+@functools.cache
 def _budget_layouts():
     seen = {}
     for budget in _BUDGETS:
-        for net in enumerate_networks(*budget):
+        for net in _enumerated(budget):
             d = layout_degree(net)
             if d <= 3:
                 seen.setdefault(net.text, d)
@@ -207,7 +216,7 @@ def test_catalogue_counts(budget, count):
 
 @pytest.mark.slow
 def test_catalogue_count_two_dampers_two_springs():
-    assert len(enumerate_networks(2, 1, 2)) == 59
+    assert len(_enumerated((2, 1, 2))) == 59
 
 
 def test_cli_synthesize_json_and_errors(capsys):

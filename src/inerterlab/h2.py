@@ -28,6 +28,10 @@ and the H2 norm of an output y = C x (no feed-through) is ||H||_2^2 = C P C^T
   by a Lyapunov equation), so the filter's states stay in their own well-scaled form
   and a feed-through of the car (an inerter with a damped tyre) is allowed: the
   filter's roll-off makes the weighted norm finite.
+
+The frequency responses these norms integrate come from one place too:
+:func:`resolvent_solve`, (s I - A)^-1 R at many complex frequencies s, a block of
+frequencies per batched LAPACK solve.
 """
 
 from __future__ import annotations
@@ -49,7 +53,37 @@ __all__ = [
     "wk_realisation",
     "wk_polynomials",
     "variance_gradient",
+    "resolvent_solve",
 ]
+
+#: the largest complex workspace of one block of frequencies in :func:`resolvent_solve`
+#: [bytes]
+SOLVE_BLOCK_BYTES = 32 * 2**20
+
+
+def resolvent_solve(A, s, R) -> np.ndarray:
+    """X[i] = (s[i] I - A)^-1 R[i] for every complex frequency ``s[i]``.
+
+    ``A`` (n, n) real; ``s`` (nf,) complex; ``R`` (nf, n) or (nf, n, m), the right-hand
+    side at each frequency. Each frequency's matrix is factorised on its own (LAPACK's
+    ``gesv``, as a loop of :func:`numpy.linalg.solve` would), a block of frequencies per
+    call, so the workspace stays under :data:`SOLVE_BLOCK_BYTES`."""
+    A = np.asarray(A, dtype=float)
+    s = np.atleast_1d(np.asarray(s, dtype=complex))
+    R = np.asarray(R)
+    vec = R.ndim == 2
+    if vec:
+        R = R[:, :, None]
+    n, m = A.shape[0], R.shape[2]
+    X = np.empty((s.size, n, m), complex)
+    block = max(1, min(s.size, SOLVE_BLOCK_BYTES // max(1, 16 * n * (n + m))))
+    idx = np.arange(n)
+    for lo in range(0, s.size, block):
+        sb = s[lo : lo + block]
+        S = np.broadcast_to(-A, (sb.size, n, n)).astype(complex)
+        S[:, idx, idx] += sb[:, None]
+        X[lo : lo + block] = np.linalg.solve(S, R[lo : lo + block])
+    return X[:, :, 0] if vec else X
 
 
 def gramian(A, B, *, what: str = "H2 norms") -> np.ndarray:

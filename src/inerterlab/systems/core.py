@@ -14,6 +14,7 @@ import numpy as np
 from .._blas import one_blas_thread
 from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
 from ..errors import ConvergenceError, ParameterError, check_positive
+from ..h2 import resolvent_solve
 from ..networks import NetworkError
 from . import _integrate, _kernel
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
@@ -202,13 +203,10 @@ class System:
         A, B, C, D = self.linear_state_space()
         i = self.output_names.index(output) if output in self.output_names else None
         c, d = _derived_row(self, output, C, D) if i is None else (C[i], D[i])
-        out = []
-        for w in np.atleast_1d(np.asarray(omega, float)):
-            s = 1j * w
-            bu = B @ np.array([1.0 / s, 1.0, s])
-            x = np.linalg.solve(s * np.eye(self.n_states) - A, bu)
-            out.append(c @ x + d @ np.array([1.0 / s, 1.0, s]))
-        return np.array(out)
+        s = 1j * np.atleast_1d(np.asarray(omega, float))
+        u = np.stack([1.0 / s, np.ones_like(s), s], axis=1)  # road height, velocity, acceleration
+        x = resolvent_solve(A, s, u @ B.T)
+        return x @ c + u @ d
 
     # -- time simulation --------------------------------------------------------------
     def simulate(

@@ -45,6 +45,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
+from ..h2 import resolvent_solve
 from .linear import LinearVehicle, linear_vehicle
 
 __all__ = ["VehicleFrequencyResponse", "frequency_response", "pattern_rows", "PATTERNS", "METHODS"]
@@ -291,14 +292,12 @@ def _linear(vehicle: LinearVehicle, f, a, tracks, axles, speed) -> VehicleFreque
     A, Br, Bd, Cy, Dr, Dd = vehicle.state_space(displacements=True)
     P = road_pattern(vehicle, f, tracks, axles, speed)
     names = _names(vehicle.kind, "seat_acc" in vehicle.outputs)
-    out = {k: np.empty(f.size, complex) for k in names}
-    eye = np.eye(A.shape[0])
-    for i, fi in enumerate(f):
-        s = 2j * math.pi * fi
-        r = P[i]
-        x = np.linalg.solve(s * eye - A, (Br + s * Bd) @ r)
-        for k in names:
-            out[k][i] = Cy[k] @ x + (Dr[k] + s * Dd[k]) @ r
+    s = 2j * math.pi * f
+    x = resolvent_solve(A, s, np.einsum("fnw,fw->fn", Br[None] + s[:, None, None] * Bd[None], P))
+    out = {
+        k: x @ Cy[k] + np.einsum("fw,fw->f", Dr[k][None] + s[:, None] * Dd[k][None], P)
+        for k in names
+    }
     return VehicleFrequencyResponse(
         freq=f, transfer=out, amplitude=a, tracks=tracks, axles=axles, speed=speed,
         kind=vehicle.kind, linearised=vehicle.linearised,

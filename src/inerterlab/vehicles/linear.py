@@ -30,6 +30,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..h2 import resolvent_solve
 from ..systems._kernel import DYN as _DYN  # a node with mass
 
 __all__ = ["LinearVehicle", "linear_vehicle", "from_state_space", "OUTPUT_UNITS"]
@@ -115,13 +116,11 @@ class LinearVehicle:
         A, Br, Bd, Cy, Dr, Dd = self._ss
         f = np.atleast_1d(np.asarray(freq_hz, dtype=float))
         names = list(outputs or self.outputs)
-        out = {k: np.empty((f.size, Br.shape[1]), complex) for k in names}
-        eye = np.eye(A.shape[0])
-        for i, fi in enumerate(f):
-            s = 2j * math.pi * fi
-            X = np.linalg.solve(s * eye - A, Br + s * Bd)
-            for k in names:
-                out[k][i] = Cy[k] @ X + Dr[k] + s * Dd[k]
+        s = 2j * math.pi * f
+        X = resolvent_solve(A, s, Br[None] + s[:, None, None] * Bd[None])
+        out = {}
+        for k in names:
+            out[k] = np.einsum("j,fjm->fm", Cy[k], X) + Dr[k][None] + s[:, None] * Dd[k][None]
         return out
 
     @property

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from ..errors import ParameterError, check_nonnegative, check_positive
+from ..h2 import resolvent_solve
 from ..studies.points import ParameterSpec, PointFunction, register_point_function
 
 __all__ = [
@@ -579,13 +580,11 @@ def _argument_rms(sys, veh, els, ss, fac, freq) -> dict:
     Cr = np.array([r[0] for r in rows])
     Rr = np.array([r[1] for r in rows])
     Sr = np.array([r[2] for r in rows])
-    eye = np.eye(A.shape[0])
-    psd = np.empty((len(rows), freq.size))
-    for i, f in enumerate(freq):
-        s = 2j * math.pi * f
-        X = np.linalg.solve(s * eye - A, Br + s * Bd)
-        H = Cr @ X + Rr + s * Sr  # (elements, wheels)
-        psd[:, i] = np.sum(np.abs(H @ fac[i]) ** 2, axis=1)
+    s = 2j * math.pi * np.asarray(freq, dtype=float)
+    X = resolvent_solve(A, s, Br[None] + s[:, None, None] * Bd[None])
+    # (frequencies, elements, wheels)
+    H = np.einsum("ej,fjw->few", Cr, X) + Rr[None] + s[:, None, None] * Sr[None]
+    psd = np.sum(np.abs(H @ fac) ** 2, axis=2).T
     return {name: math.sqrt(_mean_square(freq, psd[j])) for j, (_, name, _) in enumerate(els)}
 
 
