@@ -608,10 +608,14 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 @nb.njit(cache=True, _nrt=False)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw, oit, fzi):  # fmt: skip
+            work, stats, yd, sw, oit, fzi, cheap, only):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
-    extension (Illinois regula falsi to 1e-12 in theta)."""
+    extension (Illinois regula falsi to 1e-12 in theta). ``cheap`` (mode 0, switching
+    functions that read no element force): each iterate's switching functions from the
+    nodes' motion alone (the right-hand side called with ``only`` =
+    :data:`._kernel.SWITCHES_ONLY`, equal to the last bit to those of the whole
+    evaluation, as :func:`_rk4_locate` reads them), else from the whole derivative."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
@@ -619,7 +623,13 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(60):
         x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
-        _f(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
+        tx = t + x * h
+        if cheap:
+            road_at(segs, _segment_at(segs, rng, tx), tx, road)
+            ev(tx, yd, road, itab, ftab, work, dy, only)
+        else:
+            _f(ev, mode, segs, rng, tx, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
+               fzi)  # fmt: skip
         switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
@@ -819,6 +829,10 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     fresh = -1
     cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
+    # the events' location reads the switching functions from the nodes' motion alone
+    # where they read no element force (as the classical Runge-Kutta driver does)
+    cheap = events and not switches_read_forces(itab, ftab)
+    only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
         _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
@@ -1090,7 +1104,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx, oit, fzi)  # fmt: skip
+                                      swx, oit, fzi, cheap, only)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
