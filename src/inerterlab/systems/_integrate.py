@@ -785,9 +785,14 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
-    # running peaks (observers): the values at the start, and scratch
+    # running peaks (observers): the values at the start, and scratch; tracked only where
+    # an observer is a peak (the search evaluates the midpoint of every accepted step)
     nob = itab[I_NOB]
-    track = mode == 0 and nob > 0
+    npk = 0
+    for q in range(nob):
+        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
+            npk += 1
+    track = mode == 0 and npk > 0
     p0 = np.empty(nob)
     pm = np.empty(nob)
     p1 = np.empty(nob)
