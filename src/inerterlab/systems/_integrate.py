@@ -606,6 +606,17 @@ def _illinois(a, b, ga, gb, x, gx, side):
     return a, x, ga, gx, 1
 
 
+@nb.njit(cache=True, inline="always")
+def _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only):
+    """The switching functions at (t, y) on segment i into ``sw`` from the nodes' motion
+    alone: the right-hand side called with ``only`` = :data:`._kernel.SWITCHES_ONLY`
+    (as :func:`._kernel.switches_at`; the same values as a whole evaluation's where
+    they read no element force), then :func:`._kernel.switches`."""
+    road_at(segs, i, t, road)
+    ev(t, y, road, itab, ftab, work, dy, only)
+    switches(itab, ftab, work, sw)
+
+
 @nb.njit(cache=True, _nrt=False)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw, oit, fzi, cheap, only):  # fmt: skip
@@ -625,12 +636,12 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
         _dense(y, yt, K, h, x, yd)
         tx = t + x * h
         if cheap:
-            road_at(segs, _segment_at(segs, rng, tx), tx, road)
-            ev(tx, yd, road, itab, ftab, work, dy, only)
+            _motion_switches(ev, segs, _segment_at(segs, rng, tx), tx, yd, itab, ftab, dy, road,
+                             work, sw, only)  # fmt: skip
         else:
             _f(ev, mode, segs, rng, tx, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
                fzi)  # fmt: skip
-        switches(itab, ftab, work, sw)
+            switches(itab, ftab, work, sw)
         gx = sw[e]
         if gx == 0.0:
             return x
@@ -774,9 +785,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
     for i in range(d0, d0 + fzi[3]):
         moves[fzi[i]] = False
+    npk = 0  # running peaks (observers)
     for q in range(itab[I_NOB]):
         if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
             moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
+            npk += 1
     live = np.flatnonzero(moves)
     dead = np.flatnonzero(~moves)
     stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
@@ -788,10 +801,6 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # running peaks (observers): the values at the start, and scratch; tracked only where
     # an observer is a peak (the search evaluates the midpoint of every accepted step)
     nob = itab[I_NOB]
-    npk = 0
-    for q in range(nob):
-        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
-            npk += 1
     track = mode == 0 and npk > 0
     p0 = np.empty(nob)
     pm = np.empty(nob)
@@ -2039,9 +2048,7 @@ def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, sta
     called with ``only`` = :data:`._kernel.SWITCHES_ONLY`, as
     :func:`._kernel.switches_at`), else from a whole right-hand side (into ``dy``)."""
     if cheap:
-        road_at(segs, i, t, road)
-        ev(t, y, road, itab, ftab, work, dy, only)
-        switches(itab, ftab, work, sw)
+        _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only)
     else:
         _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
         switches(itab, ftab, work, sw)
@@ -2242,9 +2249,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
             # crossing; otherwise the switching functions alone are read there
             fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
             if fresh:
-                road_at(segs, i, tn, road)
-                ev(tn, yt, road, itab, ftab, work, dy, only)
-                switches(itab, ftab, work, swn)
+                _motion_switches(ev, segs, i, tn, yt, itab, ftab, dy, road, work, swn, only)
             else:
                 if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
                     return BALANCE_FAILED, k
