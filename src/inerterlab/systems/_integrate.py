@@ -770,14 +770,17 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     (:func:`_fz_step`; the tables of :func:`.observers.filter_split`, empty for none).
     Returns (status, k, h)."""
     n = y.size
+    # every array the run needs, allocated here: the run itself (:func:`_advance_run`) is
+    # compiled without reference counting, which in its loop had cost more than some of
+    # the arithmetic (an atomic increment and decrement of each array an inlined helper
+    # took or a loop iterated over, at every stage: 30 % of the time of a quarter car's
+    # integration without observers)
     work = np.empty(_work_size(itab))
-    road_n, _, hs = road_layout_of(itab)
-    road = np.zeros(road_n)  # the roads, a free slot, each element's side of its kink
+    road = np.zeros(road_layout_of(itab)[0])  # the roads, a free slot, each element's side
     K = np.zeros((7, n))  # the stages k1..k7 (k7: the derivative at the new point)
     dy = np.empty(n)
     yt = np.empty(n)
-    oit, fzi, fzf, fzc = fz
-    nfz = fzi[0]
+    fzi = fz[1]
     # the states the stages move (live), and those they leave (dead: the running peaks
     # and the states advanced outside the stages, derivative 0 there; their stage rows
     # of K stay 0 and their error is 0)
@@ -785,28 +788,91 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
     for i in range(d0, d0 + fzi[3]):
         moves[fzi[i]] = False
-    npk = 0  # running peaks (observers)
     for q in range(itab[I_NOB]):
         if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
             moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
-            npk += 1
     live = np.flatnonzero(moves)
     dead = np.flatnonzero(~moves)
     stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
     stf = np.zeros(1 + fzi[4] + fzi[0] + 5 * fzi[1])
+    nob = itab[I_NOB]
+    p0 = np.empty(nob)  # running peaks: the values at a step's start, and scratch
+    pm = np.empty(nob)
+    p1 = np.empty(nob)
+    yx = np.empty(n)  # an attempt's end when it was cut at an event
+    ne = itab[I_NE]
+    sw = np.empty(2 * ne)  # the switching functions, two per element (see _kernel.switches)
+    swn = np.empty(2 * ne)
+    swx = np.empty(2 * ne)
+    yd = np.empty(n)
+    xloc = np.empty(2 * ne)  # each switching function's crossing in the attempt (theta)
+    xfl = np.empty(ne)  # the earliest crossing of each element's two
+    pastv = np.zeros(ne)  # each switching element's side past its crossing
+    flipm = np.zeros(ne, np.bool_)  # the elements that switch at the crossing
+    swf = np.zeros(2 * ne, np.bool_)  # their switching functions that cross there
+    h_side = np.zeros(2)  # a first step size past a kink, into each side
+    only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
+    xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
+    ia = xia if xia.size > 0 else np.arange(n)
+    na = ia.size
+    z = np.empty(na + 3)
+    zs = np.empty(na + 3)  # z at the start of an exact step (the observers' initial vector)
+    xv = zs.reshape((na + 3, 1))  # as the column of one step
+    xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
+    xpts[0] = 0.0
+    xpts[-1] = 1.0
+    xpts[1:-1] = xgx
+    xcoef = np.empty(xTR.shape[3])
+    xsv1 = np.empty(xSR.shape[3])  # the signals at the points of one exact step
+    xsv = xsv1.reshape((xsv1.size, 1))
+    xh = np.empty(1)
+    xj = np.empty(1, np.int64)
+    xnone = np.empty(0, np.int64)
+    xnout = np.empty((0, 0))
+    xnu = xSR.shape[3] // xpts.size
+    xhi = np.empty((xnu, 1))  # scratch of _observe_sums
+    xlo = np.empty((xnu, 1))
+    xdone = np.empty(xnu, np.bool_)
+    xacc = np.empty(1)
+    ng = xthr.size
+    ga0 = np.empty(ng)
+    gd0 = np.empty(ng)
+    ga1 = np.empty(ng)
+    gd1 = np.empty(ng)
+    scratch = (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd,
+               xloc, xfl, pastv, flipm, swf, h_side, only, ia, z, zs, xv, xpts, xcoef, xsv1, xsv,
+               xh, xj, xnone, xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
+    return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
+                        rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
+                        xcls, xlev, xq, ctl, xo, fz, scratch)  # fmt: skip
+
+
+@nb.njit(cache=True, _nrt=False)
+def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
+                 atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq,
+                 ctl, xo, fz, scratch):  # fmt: skip
+    """The run of :func:`_advance` on the arrays it allocated (``scratch``), compiled
+    without numba's reference counting (it allocates nothing)."""
+    (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
+     pastv, flipm, swf, h_side, only, ia, z, zs, xv, xpts, xcoef, xsv1, xsv, xh, xj, xnone,
+     xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
+    n = y.size
+    _, _, hs = road_layout_of(itab)
+    oit, fzi, fzf, fzc = fz
+    nfz = fzi[0]
+    npk = 0  # running peaks (observers)
+    for q in range(itab[I_NOB]):
+        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
+            npk += 1
     if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
         return BALANCE_FAILED, k, h
     for i in range(n):
         K[0, i] = dy[i]
-    # running peaks (observers): the values at the start, and scratch; tracked only where
-    # an observer is a peak (the search evaluates the midpoint of every accepted step)
+    # running peaks (observers): the values at the start; tracked only where an observer
+    # is a peak (the search evaluates the midpoint of every accepted step)
     nob = itab[I_NOB]
     track = mode == 0 and npk > 0
-    p0 = np.empty(nob)
-    pm = np.empty(nob)
-    p1 = np.empty(nob)
     stale = False
-    yx = np.empty(n)  # an attempt's end when it was cut at an event
     hx = 0.0
     thx = 1.0
     if track:
@@ -829,24 +895,13 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     # step across a sign change is cut at the crossing (forced: the element whose
     # crossing it lands on), so no step integrates across a kink of a force law
     ne = itab[I_NE]
-    sw = np.empty(2 * ne)  # two per element (see _kernel.switches)
-    swn = np.empty(2 * ne)
-    swx = np.empty(2 * ne)
-    yd = np.empty(n)
     flip = -1
-    xloc = np.empty(2 * ne)  # each switching function's crossing in the attempt (theta)
-    xfl = np.empty(ne)  # the earliest crossing of each element's two
-    pastv = np.zeros(ne)  # each switching element's side past its crossing
-    flipm = np.zeros(ne, np.bool_)  # the elements that switch at the crossing
-    swf = np.zeros(2 * ne, np.bool_)  # their switching functions that cross there
-    h_side = np.zeros(2)  # a first step size past a kink, into each side
     fresh = -1
     cut = False
     events = mode == 0 and switches(itab, ftab, work, sw) > 0
     # the events' location reads the switching functions from the nodes' motion alone
     # where they read no element force (as the classical Runge-Kutta driver does)
     cheap = events and not switches_read_forces(itab, ftab)
-    only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     if events:  # every attempt takes the law of the side of each kink it starts on
         _sides(sw, road, hs)
         _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
@@ -862,32 +917,8 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
     ng = xthr.size
     xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
-    ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
     xobs = xia.size > 0 and nob > 0
-    z = np.empty(na + 3)
-    zs = np.empty(na + 3)  # z at the start of an exact step (the observers' initial vector)
-    xv = zs.reshape((na + 3, 1))  # as the column of one step
-    xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
-    xpts[0] = 0.0
-    xpts[-1] = 1.0
-    xpts[1:-1] = xgx
-    xcoef = np.empty(xTR.shape[3])
-    xsv1 = np.empty(xSR.shape[3])  # the signals at the points of one exact step
-    xsv = xsv1.reshape((xsv1.size, 1))
-    xh = np.empty(1)
-    xj = np.empty(1, np.int64)
-    xnone = np.empty(0, np.int64)
-    xnout = np.empty((0, 0))
-    xnu = xSR.shape[3] // xpts.size
-    xhi = np.empty((xnu, 1))  # scratch of _observe_sums
-    xlo = np.empty((xnu, 1))
-    xdone = np.empty(xnu, np.bool_)
-    xacc = np.empty(1)
-    ga0 = np.empty(ng)
-    gd0 = np.empty(ng)
-    ga1 = np.empty(ng)
-    gd1 = np.empty(ng)
     check = cx >= 0
     cap = math.inf
     while t < t_end:
@@ -2144,9 +2175,10 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     evaluation's, copied; elsewhere they are evaluated."""
     n = y.size
     ne = itab[I_NE]
-    nseg = segs.shape[0]
+    # every array the run needs, allocated here: the run (:func:`_fixed_rk4_run`) is
+    # compiled without reference counting (see :func:`_advance`)
     work = np.empty(_work_size(itab))
-    road_n, _, hs = road_layout_of(itab)
+    road_n = road_layout_of(itab)[0]
     road = np.zeros(road_n)
     imp = np.empty(0)
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
@@ -2169,6 +2201,23 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     swf = np.zeros(2 * ne, np.bool_)
     wo = np.empty(work.size)  # the outputs evaluated apart from the stepping
     oroad = np.zeros(road_n)
+    scratch = (work, road, imp, only, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
+               pastv, flipm, swf, wo, oroad)  # fmt: skip
+    return _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps,
+                          out_o, scratch)  # fmt: skip
+
+
+@nb.njit(cache=True, _nrt=False)
+def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps, out_o,
+                   scratch):  # fmt: skip
+    """The run of :func:`_fixed_rk4` on the arrays it allocated (``scratch``), compiled
+    without numba's reference counting (it allocates nothing)."""
+    (work, road, imp, only, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl, pastv,
+     flipm, swf, wo, oroad) = scratch  # fmt: skip
+    n = y.size
+    ne = itab[I_NE]
+    nseg = segs.shape[0]
+    _, _, hs = road_layout_of(itab)
     reuse = out_o.shape[0] > 0 and itab[I_DNS] > 0
     pend = -1  # a sample at t whose outputs are pending
     i = 0
