@@ -489,8 +489,8 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
                 stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
-    if fzi[0]:
-        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd)
+    if fzi[0]:  # e^(x / 2) kept by _fz_step: the middle Gauss node is 1/2 to the last bit
+        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd, 2)
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
             stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)

@@ -191,6 +191,7 @@ _GL_X, _GL_W = np.polynomial.legendre.leggauss(5)
 _GL_X, _GL_W = 0.5 * (_GL_X + 1.0), 0.5 * _GL_W
 _GL_X[3:] = 1.0 - _GL_X[1::-1]  # symmetric about 1/2 to the last bit (_fz_step uses it)
 _GL_W[3:] = _GL_W[1::-1]
+assert _GL_X[2] == 0.5  # the middle node (its exponential serves a step's midpoint)
 #: no filter outside the stages (the tables of :func:`filter_split`: their header of
 #: counts, all zero)
 NO_SPLIT = (np.zeros(5, np.int64), np.empty(0), np.empty(0, np.complex128))
