@@ -788,9 +788,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
     for i in range(d0, d0 + fzi[3]):
         moves[fzi[i]] = False
+    npk = 0  # running peaks (observers)
     for q in range(itab[I_NOB]):
         if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
             moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
+            npk += 1
     live = np.flatnonzero(moves)
     dead = np.flatnonzero(~moves)
     stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
@@ -844,15 +846,16 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                xh, xj, xnone, xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
     return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
-                        xcls, xlev, xq, ctl, xo, fz, scratch)  # fmt: skip
+                        xcls, xlev, xq, ctl, xo, fz, npk, scratch)  # fmt: skip
 
 
 @nb.njit(cache=True, _nrt=False)
 def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
                  atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq,
-                 ctl, xo, fz, scratch):  # fmt: skip
+                 ctl, xo, fz, npk, scratch):  # fmt: skip
     """The run of :func:`_advance` on the arrays it allocated (``scratch``), compiled
-    without numba's reference counting (it allocates nothing)."""
+    without numba's reference counting (it allocates nothing); ``npk``: the number of
+    running peaks among the observers."""
     (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
      pastv, flipm, swf, h_side, only, ia, z, zs, xv, xpts, xcoef, xsv1, xsv, xh, xj, xnone,
      xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
@@ -860,10 +863,6 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     _, _, hs = road_layout_of(itab)
     oit, fzi, fzf, fzc = fz
     nfz = fzi[0]
-    npk = 0  # running peaks (observers)
-    for q in range(itab[I_NOB]):
-        if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
-            npk += 1
     if not _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
         return BALANCE_FAILED, k, h
     for i in range(n):
