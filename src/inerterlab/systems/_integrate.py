@@ -254,7 +254,8 @@ def _dense_terms(y, yt, K, h, i):
 #   real one), Gauss-Legendre nodes (5, symmetric about 1/2) and weights (5)
 # fzc (complex128): lam (ns), V (nf x ns), V^-1 (ns x nf), V^-1 (A Q + P) (ns x m)
 # a step (:func:`_fz_begin`): stc (complex) the modes' coefficients (ns x (FZ_TERMS +
-#   5)) and e^(x theta) at the nodes and the end (ns x 6); stf (float) the accepted
+#   5)), e^(x theta) at the nodes and the end (ns x 6) and the modes' values there,
+#   weights included (ns x 6, by :func:`_fz_step`); stf (float) the accepted
 #   length, the modes' Taylor terms (ns; 0: particular solution), w0 (nf), the quartic's
 #   coefficients (5 x m)
 
@@ -267,13 +268,15 @@ FZ_TAYLOR = 0.5
 #: first)
 FZ_TERMS = 26
 FZ_W = FZ_TERMS + 5  # a mode's row of coefficients in stc
+FZ_ST = FZ_W + 12  # all stc holds per mode
 FZ_HEAD = 5  # fzi's header
 
 
+@nb.njit(cache=True)
 def fz_scratch(fzi):
     """(stc, stf): the scratch of one filter step for the tables ``fzi``."""
-    nf, m, ns = int(fzi[0]), int(fzi[1]), int(fzi[4])
-    return np.zeros(ns * (FZ_W + 6), np.complex128), np.zeros(1 + ns + nf + 5 * m)
+    nf, m, ns = fzi[0], fzi[1], fzi[4]
+    return np.zeros(ns * FZ_ST, np.complex128), np.zeros(1 + ns + nf + 5 * m)
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -348,32 +351,36 @@ def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
 @nb.njit(cache=True, _nrt=False)
 def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
-    their slots of ``out``, which holds the states they read there; ``c``: the column
-    of the exponentials in ``stc`` that holds e^(x th) (see :func:`_fz_step`), or -1."""
+    their slots of ``out``, which holds the states they read there; ``c``: the point
+    of :func:`_fz_step` (0-4 the nodes, 5 the end) that th is, whose modes' values it
+    kept, or -1."""
     nf, m, ns = fzi[0], fzi[1], fzi[4]
     fs = FZ_HEAD
     co = fs + nf
     om0 = nf * m
     v0 = ns
-    ex0 = ns * FZ_W
+    wv0 = ns * (FZ_W + 6)
     for i in range(nf):
         acc = 0.0
         for j in range(m):
             acc += fzf[i * m + j] * out[fzi[co + j]]
         out[fzi[fs + i]] = acc
     for p in range(ns):
-        nt = int(stf[1 + p])
-        r = p * FZ_W
-        if nt > 0:
-            w = stc[r + nt - 1]
-            for j in range(nt - 2, -1, -1):
-                w = w * th + stc[r + j]
+        if c >= 0:
+            w = stc[wv0 + 6 * p + c]
         else:
-            w = stc[r + 4]
-            for j in range(3, -1, -1):
-                w = w * th + stc[r + j]
-            w += (np.exp(stc[r + 6] * th) if c < 0 else stc[ex0 + 6 * p + c]) * stc[r + 5]
-        w *= fzf[om0 + p]
+            nt = int(stf[1 + p])
+            r = p * FZ_W
+            if nt > 0:
+                w = stc[r + nt - 1]
+                for j in range(nt - 2, -1, -1):
+                    w = w * th + stc[r + j]
+            else:
+                w = stc[r + 4]
+                for j in range(3, -1, -1):
+                    w = w * th + stc[r + j]
+                w += np.exp(stc[r + 6] * th) * stc[r + 5]
+            w *= fzf[om0 + p]
         for i in range(nf):
             v = fzc[v0 + i * ns + p]
             out[fzi[fs + i]] += v.real * w.real - v.imag * w.imag
@@ -409,6 +416,46 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd
             stc[b + 3] = e5 / e1 if e1 != 0.0 else 0j
             stc[b + 4] = e5 / e0 if e0 != 0.0 else 0j
             stc[b + 5] = e5
+    # the modes at the five nodes and the end, their six sums side by side (one after
+    # another, each waited on its last operation at every term)
+    om0 = nf * m
+    wv0 = ns * (FZ_W + 6)
+    t0, t1, t2, t3, t4 = fzf[gx0], fzf[gx0 + 1], fzf[gx0 + 2], fzf[gx0 + 3], fzf[gx0 + 4]
+    t5 = 1.0
+    for p in range(ns):
+        nt = int(stf[1 + p])
+        r = p * FZ_W
+        if nt > 0:
+            top, j0 = nt - 1, nt - 2
+        else:
+            top, j0 = 4, 3
+        cf = stc[r + top]
+        w0, w1, w2, w3, w4, w5 = cf, cf, cf, cf, cf, cf
+        for j in range(j0, -1, -1):
+            cf = stc[r + j]
+            w0 = w0 * t0 + cf
+            w1 = w1 * t1 + cf
+            w2 = w2 * t2 + cf
+            w3 = w3 * t3 + cf
+            w4 = w4 * t4 + cf
+            w5 = w5 * t5 + cf
+        if nt == 0:
+            b = ex0 + 6 * p
+            d = stc[r + 5]
+            w0 += stc[b] * d
+            w1 += stc[b + 1] * d
+            w2 += stc[b + 2] * d
+            w3 += stc[b + 3] * d
+            w4 += stc[b + 4] * d
+            w5 += stc[b + 5] * d
+        om = fzf[om0 + p]
+        b = wv0 + 6 * p
+        stc[b] = w0 * om
+        stc[b + 1] = w1 * om
+        stc[b + 2] = w2 * om
+        stc[b + 3] = w3 * om
+        stc[b + 4] = w4 * om
+        stc[b + 5] = w5 * om
     ob = itab[I_OBS]
     for q in range(nq):
         yt[itab[ob + OBS_W * fzi[qu + q] + 3]] = 0.0
@@ -762,9 +809,11 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     steps go on from there and locate the switch. ``ctl`` = (longest step, fixed step or 0: steps of that length without
     error control). ``xo`` = (ia, SR, rows (not read here), gw, gx, cap, TR, sref): with
     observers the tables act on the rows ``ia`` of y (the states and the linear
-    observers'), the other observers follow each exact step by :func:`_observe_sums`
-    (one step; ``SR[c]`` and ``TR[c]`` as in :func:`_exact_walk`, over z), and no step of class c is longer than cap[c]
-    (their quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
+    observers'), the other observers follow the exact steps by :func:`_observe_steps`
+    (up to :data:`X_BLOCK` steps at once, the samples taken meanwhile written after
+    them, and all before the next adaptive step; ``SR[c]`` and ``TR[c]`` as in
+    :func:`_exact_walk`, over z), and no step of class c is longer than cap[c] (their
+    quadrature's accuracy); empty ``ia``: no observers, z = (y, e). ``fz``: a
     linear filter among the observers and its quadratures, advanced outside the
     Dormand-Prince stages and error control, exactly over each accepted step
     (:func:`_fz_step`; the tables of :func:`.observers.filter_split`, empty for none).
@@ -795,8 +844,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
             npk += 1
     live = np.flatnonzero(moves)
     dead = np.flatnonzero(~moves)
-    stc = np.zeros(fzi[4] * (FZ_W + 6), np.complex128)  # a filter step (see _fz_begin)
-    stf = np.zeros(1 + fzi[4] + fzi[0] + 5 * fzi[1])
+    stc, stf = fz_scratch(fzi)  # a filter step (see _fz_begin)
     nob = itab[I_NOB]
     p0 = np.empty(nob)  # running peaks: the values at a step's start, and scratch
     pm = np.empty(nob)
@@ -819,31 +867,34 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     na = ia.size
     z = np.empty(na + 3)
     zs = np.empty(na + 3)  # z at the start of an exact step (the observers' initial vector)
-    xv = zs.reshape((na + 3, 1))  # as the column of one step
     xpts = np.empty(xgx.size + 2)  # theta of the points: 0, the nodes, 1
     xpts[0] = 0.0
     xpts[-1] = 1.0
     xpts[1:-1] = xgx
     xcoef = np.empty(xTR.shape[3])
-    xsv1 = np.empty(xSR.shape[3])  # the signals at the points of one exact step
-    xsv = xsv1.reshape((xsv1.size, 1))
-    xh = np.empty(1)
-    xj = np.empty(1, np.int64)
-    xnone = np.empty(0, np.int64)
-    xnout = np.empty((0, 0))
+    # the exact steps whose observers are summed at once (:func:`_observe_steps`): their
+    # initial vectors, lengths and table rows, and the samples taken meanwhile
+    xnb = X_BLOCK if xia.size > 0 and itab[I_NOB] > 0 else 1
+    xvt = np.empty((na + 3, xnb))
+    xh = np.empty(xnb)
+    xj = np.empty(xnb, np.int64)
+    xpk = np.empty(xnb, np.int64)
+    xpp = np.empty(xnb, np.int64)
+    xsv = np.empty((xSR.shape[3], xnb))  # scratch of _observe_steps
+    xrow = np.empty(xSR.shape[3])
     xnu = xSR.shape[3] // xpts.size
-    xhi = np.empty((xnu, 1))  # scratch of _observe_sums
-    xlo = np.empty((xnu, 1))
+    xhi = np.empty((xnu, xnb))
+    xlo = np.empty((xnu, xnb))
     xdone = np.empty(xnu, np.bool_)
-    xacc = np.empty(1)
+    xacc = np.empty(xnb)
     ng = xthr.size
     ga0 = np.empty(ng)
     gd0 = np.empty(ng)
     ga1 = np.empty(ng)
     gd1 = np.empty(ng)
     scratch = (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd,
-               xloc, xfl, pastv, flipm, swf, h_side, only, ia, z, zs, xv, xpts, xcoef, xsv1, xsv,
-               xh, xj, xnone, xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
+               xloc, xfl, pastv, flipm, swf, h_side, only, ia, z, zs, xvt, xpts, xcoef, xsv, xrow,
+               xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
     return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
                         xcls, xlev, xq, ctl, xo, fz, npk, scratch)  # fmt: skip
@@ -857,8 +908,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     without numba's reference counting (it allocates nothing); ``npk``: the number of
     running peaks among the observers."""
     (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
-     pastv, flipm, swf, h_side, only, ia, z, zs, xv, xpts, xcoef, xsv1, xsv, xh, xj, xnone,
-     xnout, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
+     pastv, flipm, swf, h_side, only, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
+     xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
     n = y.size
     _, _, hs = road_layout_of(itab)
     oit, fzi, fzf, fzc = fz
@@ -936,10 +987,26 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 _x_input(segs, rng[0], t, road, z, na)
                 inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
             taken = 0
+            xn = 0  # steps whose observers are pending
+            xnp = 0  # samples taken meanwhile
+            nbk = xh.size
             while inside:
                 while k < t_out.size and t_out[k] <= t and (last or t_out[k] < t_end):
                     for i in range(n):
                         out_y[k, i] = y[i]
+                    if xn > 0:  # its observers once the steps' are summed
+                        if xnp == nbk:
+                            _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts,
+                                           xref, xsv, xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp,
+                                           out_y)  # fmt: skip
+                            xn = 0
+                            xnp = 0
+                            for i in range(n):
+                                out_y[k, i] = y[i]
+                        else:
+                            xpk[xnp] = k
+                            xpp[xnp] = xn
+                            xnp += 1
                     k += 1
                 if t >= t_end:
                     break
@@ -958,8 +1025,15 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     if gap > 1e-9 * max(abs(t), 1.0):
                         cap = tb  # the next Dormand-Prince step ends on the break point
                     break
-                if stats[0] + stats[1] >= max_steps:
-                    return TOO_MANY_STEPS, k, h
+                if stats[0] + stats[1] >= max_steps or xn == nbk:
+                    if xn > 0:
+                        _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts,
+                                       xref, xsv, xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp,
+                                       out_y)  # fmt: skip
+                        xn = 0
+                        xnp = 0
+                    if stats[0] + stats[1] >= max_steps:
+                        return TOO_MANY_STEPS, k, h
                 for i in range(na + 3):
                     zs[i] = z[i]
                 tn = tb
@@ -993,11 +1067,11 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 for i in range(na):
                     y[ia[i]] = yt[i]
                 if xobs:
-                    xh[0] = tn - t
-                    xj[0] = j
-                    _step_signals(xSR[cx], j, zs, xsv1)
-                    _observe_sums(itab, y, 1, xh, xj, xv, xsv, xTR[cx], xgw, xpts, xref, xcoef,
-                                  xhi, xlo, xdone, xacc, xnone, xnone, 0, xnout)  # fmt: skip
+                    for i in range(na + 3):
+                        xvt[i, xn] = zs[i]
+                    xh[xn] = tn - t
+                    xj[xn] = j
+                    xn += 1
                 for g in range(ng):
                     ga0[g] = ga1[g]
                     gd0[g] = gd1[g]
@@ -1005,6 +1079,9 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 stats[0] += 1
                 stats[4] += 1
                 taken += 1
+            if xn > 0:  # the observers over the steps taken
+                _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts, xref, xsv,
+                               xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp, out_y)  # fmt: skip
             if taken:  # the Dormand-Prince steps go on from here: their first stage
                 _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
@@ -1521,6 +1598,12 @@ def _series(coef, m, x):
 
 #: the linear walk's steps whose observers are summed at once
 WALK_BLOCK = 512
+#: the same for the exact steps of a system in a linear regime, between adaptive steps
+X_BLOCK = 64
+#: runs of steps of one length shorter than this have their signals summed step by step
+#: (the regime's runs, between adaptive steps, are short: with runs of 8 and more by
+#: columns its signals took 1.8x the time they took step by step)
+ROW_RUN = 64
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -1574,20 +1657,24 @@ def _taylor_peak(TR, j, r, sgn, VT, i, xs, top, coef):
     return _series(coef, m, x)
 
 
-@nb.njit(cache=True)
-def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc, pk,
-                   pp, npend, out_y):  # fmt: skip
-    """The observers over nst exact steps of the linear walk (step i: length H[i], table
-    row J[i], initial vector VT[:, i] = (augmented state, the road's part), see
-    :func:`.core._point_tables`), advanced in ``y`` from their values before the first.
+@nb.njit(cache=True, _nrt=False)
+def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi, lo, done, acc,
+                   pk, pp, npend, out_y):  # fmt: skip
+    """The observers over nst exact steps (of the linear walk, or of a regime between
+    adaptive steps; step i: length H[i], table row J[i], initial vector VT[:, i] = (the
+    augmented state, the road's part), see :func:`.core._point_tables`), advanced in
+    ``y`` from their values before the first.
 
     Every observed signal is linear in the step's initial vector: the distinct ones (nu)
     at the points theta = ``xs`` (the start, the quadrature nodes, the end) are
     SV[p nu + r, i] = sum_q SR[J[i], q, p nu + r] VT[q, i], summed over q in its order
-    (as :func:`_step_signals`) for each run of steps of one length, the table's zero
+    for each run of steps of one length, the table's zero
     entries skipped (a filter's states reach only the signals that read the filter:
     about half the table of a ride system; a product by BLAS took three times as long);
-    then :func:`_observe_sums`. ``SV``: scratch of (SR.shape[2], at least nst); ``hi``,
+    a run of fewer than :data:`ROW_RUN` steps step by step, every entry (a row of the
+    table at a time: the loop runs along the signals; by the zeros it ran over a handful
+    of steps at each of the table's entries); then :func:`_observe_sums`. ``SV``:
+    scratch of (SR.shape[2], at least nst), ``row`` of SR.shape[2]; ``hi``,
     ``lo`` (nu x at least nst), ``done`` (nu), ``acc`` (at least nst), ``coef``
     (TR.shape[2]): scratch of :func:`_observe_sums`."""
     nw = SR.shape[2]
@@ -1599,32 +1686,31 @@ def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi, l
         while i1 < nst and J[i1] == j:
             i1 += 1
         cnt = i1 - i0
+        if cnt < ROW_RUN:
+            for c in range(i0, i1):
+                for w in range(nw):
+                    row[w] = 0.0
+                for q in range(nq):
+                    vq = VT[q, c]
+                    for w in range(nw):
+                        row[w] += SR[j, q, w] * vq
+                for w in range(nw):
+                    SV[w, c] = row[w]
+            i0 = i1
+            continue
         for w in range(nw):
-            row = SV[w, i0:i1]  # views indexed from 0: the loops vectorise (from i0 they
+            srow = SV[w, i0:i1]  # views indexed from 0: the loops vectorise (from i0 they
             for c in range(cnt):  # did not, the index's sign unknown: 3.5x slower)
-                row[c] = 0.0
+                srow[c] = 0.0
             for q in range(nq):
                 s = SR[j, q, w]
                 if s != 0.0:
                     vq = VT[q, i0:i1]
                     for c in range(cnt):
-                        row[c] += s * vq[c]
+                        srow[c] += s * vq[c]
         i0 = i1
     _observe_sums(itab, y, nst, H, J, VT, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
                   npend, out_y)  # fmt: skip
-
-
-@nb.njit(cache=True, _nrt=False)
-def _step_signals(SR, j, v, out):
-    """The distinct signals at the points of one step (table row j, initial vector v)
-    into ``out`` (SR.shape[2]), by loops (the sums in the order of v's entries)."""
-    nw = SR.shape[2]
-    for w in range(nw):
-        out[w] = 0.0
-    for q in range(v.size):
-        vq = v[q]
-        for w in range(nw):
-            out[w] += SR[j, q, w] * vq
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -1770,6 +1856,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     H = np.empty(nbk)
     J = np.empty(nbk, np.int64)
     SV = np.empty((SR.shape[2], nbk))
+    row = np.empty(SR.shape[2])
     nu = SR.shape[2] // xs.size
     hi = np.empty((nu, nbk))
     lo = np.empty((nu, nbk))
@@ -1833,7 +1920,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
             if h > hmin:
                 if apply:
                     if nst == nbk:
-                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
@@ -1877,7 +1964,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 out_u[k, 2] = 0.0
                 if nst > 0:  # its observers once the block's are summed
                     if npend == nbk:
-                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi,
+                        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
                         nst = 0
                         npend = 0
@@ -1893,7 +1980,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
         if last:
             break
     if nst > 0:
-        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, coef, hi, lo, done, acc,
+        _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi, lo, done, acc,
                        pk, pp, npend, out_y)  # fmt: skip
     return OK, m
 
