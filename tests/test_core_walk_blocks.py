@@ -8,24 +8,15 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from _probes import OBS, probes
 from inerterlab.excitation import iso8608, road_displacement, road_series
 from inerterlab.systems import quarter_car
 from inerterlab.systems._integrate import WALK_BLOCK
-from inerterlab.systems.observers import Observer, with_observers
-
-OBS = ("i_acc", "x4", "av", "p_acc", "n_acc", "p_defl")
+from inerterlab.systems.observers import with_observers
 
 
 def _car():
-    car = quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0})
-    return with_observers(car, [
-        Observer("i_acc", "square", {"body.a": 1.0}, scale=1.0),
-        Observer("x4", "fourth", {"body.x": 1.0, "wheel.x": -1.0}, scale=1e-8),
-        Observer("av", "product", {"body.a": 1.0}, other={"body.v": 1.0}, scale=1e-2),
-        Observer("p_acc", "peak", {"body.a": 1.0}),
-        Observer("n_acc", "peak", {"body.a": -1.0}),
-        Observer("p_defl", "peak", {"body.x": 1.0, "wheel.x": -1.0}),
-    ])  # fmt: skip
+    return with_observers(quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0}), probes())
 
 
 def _road(T):
