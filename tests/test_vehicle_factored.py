@@ -11,7 +11,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from inerterlab.elements import HydraulicElement, Inerter
+from inerterlab.elements import BumpStop, HydraulicElement, Inerter
 from inerterlab.systems import _kernel
 from inerterlab.systems.vehicle import simulate, vehicle
 from inerterlab.vehicles import (
@@ -62,6 +62,10 @@ CARS = {
     # an inerter in series with a damper: an internal node of inertance only
     "c - b": lambda: vehicle(_afw_params(), networks={"rear": (
         "k | (c - b)", {"k": 30e3, "c": 2500.0, "b": Inerter(inertance=150.0)})}),
+    # a bump stop at the rear: a spring law with a switching function of its own
+    "bump stop": lambda: vehicle(_afw_params(), networks={"rear": (
+        "k | c | bump", {"k": 30e3, "c": 2500.0,
+                         "bump": BumpStop(stiffness=2e4, clearance=0.02)})}),
 }  # fmt: skip
 
 
@@ -129,9 +133,11 @@ def _rhs_of(itab):
     def call(ev, x, road, itab, ftab, W, dx, imp):
         return ev(0.0, x, road, itab, ftab, W, dx, imp)
 
-    def of(ev):  # a whole evaluation, or the switching functions alone with only=True
-        def f(*a, only=False):
-            return call(ev, *a, np.full(1, np.inf) if only else np.empty(0))
+    def of(ev):  # a whole evaluation; the switching functions alone with only=True; with
+        # of_work=True those of the evaluation the work array holds (into dx)
+        def f(*a, only=False, of_work=False):
+            imp = np.full(1, np.inf) if only else np.empty(0)
+            return call(ev, *a, np.full(1, -np.inf) if of_work else imp)
 
         return f
 
@@ -144,7 +150,8 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # the same derivative, outputs and switching functions to the last bit; and the
     # switching functions from the nodes' motion alone (switches_at, and either code
     # called with SWITCHES_ONLY) equal those after a whole evaluation, bit for bit, at
-    # random states, roads and held sides
+    # random states, roads and held sides; and either code called with SWITCHES_OF_WORK
+    # gives switches() of the work array it is handed, writing nothing else
     sys = CARS[name]()
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
     assert _kernel.dense_source(itab) is not None
@@ -175,6 +182,13 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
         assert np.array_equal(d0, d1)
         assert np.array_equal(w0, w1, equal_nan=True)
         assert np.array_equal(s0, s1) and n0 == n1
+        for f in (generic, spec):
+            W = np.full(_kernel.work_size(itab), 7.0)
+            assert f(x, road, itab, ftab, W, np.full(x.size, 3.0))
+            W0 = W.copy()
+            sw = np.full(2 * ne, 5.0)
+            assert f(x, road, itab, ftab, W, sw, of_work=True)
+            assert np.array_equal(sw, s0) and np.array_equal(W, W0, equal_nan=True)
         sw = np.empty(2 * ne)
         n2 = _kernel.switches_at(x, road, itab, ftab, np.empty(_kernel.work_size(itab)), sw)
         assert np.array_equal(s0, sw) and n0 == n2 > 0

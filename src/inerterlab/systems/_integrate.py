@@ -654,19 +654,27 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 
 @nb.njit(cache=True, inline="always")
-def _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only):
+def _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only, ofw):
     """The switching functions at (t, y) on segment i into ``sw`` from the nodes' motion
     alone: the right-hand side called with ``only`` = :data:`._kernel.SWITCHES_ONLY`
     (as :func:`._kernel.switches_at`; the same values as a whole evaluation's where
-    they read no element force), then :func:`._kernel.switches`."""
+    they read no element force), then :func:`_work_switches`."""
     road_at(segs, i, t, road)
     ev(t, y, road, itab, ftab, work, dy, only)
-    switches(itab, ftab, work, sw)
+    ev(t, y, road, itab, ftab, work, sw, ofw)
+
+
+@nb.njit(cache=True, inline="always")
+def _work_switches(ev, y, road, itab, ftab, work, sw, ofw):
+    """:func:`._kernel.switches` of the evaluation the work array holds, into ``sw``, by
+    the right-hand side called with ``ofw`` = :data:`._kernel.SWITCHES_OF_WORK` (the same
+    values: a structure's own code writes the statements out)."""
+    ev(0.0, y, road, itab, ftab, work, sw, ofw)
 
 
 @nb.njit(cache=True, _nrt=False)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
-            work, stats, yd, sw, oit, fzi, cheap, only):  # fmt: skip
+            work, stats, yd, sw, oit, fzi, cheap, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
     the step's start and g1 at its end (opposite signs), crosses zero on the continuous
     extension (Illinois regula falsi to 1e-12 in theta). ``cheap`` (mode 0, switching
@@ -684,11 +692,11 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
         tx = t + x * h
         if cheap:
             _motion_switches(ev, segs, _segment_at(segs, rng, tx), tx, yd, itab, ftab, dy, road,
-                             work, sw, only)  # fmt: skip
+                             work, sw, only, ofw)  # fmt: skip
         else:
             _f(ev, mode, segs, rng, tx, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
                fzi)  # fmt: skip
-            switches(itab, ftab, work, sw)
+            _work_switches(ev, yd, road, itab, ftab, work, sw, ofw)
         gx = sw[e]
         if gx == 0.0:
             return x
@@ -862,6 +870,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     swf = np.zeros(2 * ne, np.bool_)  # their switching functions that cross there
     h_side = np.zeros(2)  # a first step size past a kink, into each side
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
+    ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
     xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
@@ -893,7 +902,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     ga1 = np.empty(ng)
     gd1 = np.empty(ng)
     scratch = (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd,
-               xloc, xfl, pastv, flipm, swf, h_side, only, ia, z, zs, xvt, xpts, xcoef, xsv, xrow,
+               xloc, xfl, pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow,
                xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
     return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
@@ -908,7 +917,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     without numba's reference counting (it allocates nothing); ``npk``: the number of
     running peaks among the observers."""
     (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
-     pastv, flipm, swf, h_side, only, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
+     pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
      xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
     n = y.size
     _, _, hs = road_layout_of(itab)
@@ -1088,7 +1097,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     K[0, i] = dy[i]
                 if track:  # the peaks' signals at the new start
                     _peak_values(itab, ftab, work, y, p0)
-                switches(itab, ftab, work, sw)
+                _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
                 _sides(sw, road, hs)
                 if t >= t_end:
                     break
@@ -1117,7 +1126,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                                    road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
                     if events:
-                        switches(itab, ftab, work, sw)
+                        _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
                         moved = False
                         for e in range(ne):
                             g = max(sw[2 * e], sw[2 * e + 1])
@@ -1205,7 +1214,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
         if err <= 1.0 and events and redo >= 0:
             # the fixed step taken again up to its crossing: the elements found there
             # (flipm, pastv, swf) switch at its end, as at a crossing at theta = 1
-            switches(itab, ftab, work, swn)
+            _work_switches(ev, yt, road, itab, ftab, work, swn, ofw)
             stats[3] += 1
             for e in range(2 * ne):
                 sw[e] = swn[e]
@@ -1216,7 +1225,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             forced = -1
             h_keep = 0.0
         elif err <= 1.0 and events:
-            switches(itab, ftab, work, swn)  # at (tn, yt): the last stage's evaluation
+            # at (tn, yt): the last stage's evaluation
+            _work_switches(ev, yt, road, itab, ftab, work, swn, ofw)
             th = 2.0
             forced = -1
             for e in range(2 * ne):
@@ -1225,7 +1235,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     stale = True
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
-                                      swx, oit, fzi, cheap, only)  # fmt: skip
+                                      swx, oit, fzi, cheap, only, ofw)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -1321,7 +1331,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 for i in range(n):
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
-                    switches(itab, ftab, work, sw)
+                    _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
                     for e in range(2 * ne):
                         if swf[e]:
                             sw[e] = 0.0
@@ -2159,21 +2169,22 @@ def _hermite(y0, f0, y1, f1, h, th, out):
 
 
 @nb.njit(cache=True, inline="always")
-def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw, only):
+def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw, only,
+                  ofw):  # fmt: skip
     """The switching functions at (t, y) on segment i into ``sw``: from the nodes'
     motion alone where they read no element force (``cheap``: the right-hand side
     called with ``only`` = :data:`._kernel.SWITCHES_ONLY`, as
     :func:`._kernel.switches_at`), else from a whole right-hand side (into ``dy``)."""
     if cheap:
-        _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only)
+        _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only, ofw)
     else:
         _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
-        switches(itab, ftab, work, sw)
+        _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
 
 
 @nb.njit(cache=True, _nrt=False)
 def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road,
-                work, stats, yd, sw, only):  # fmt: skip
+                work, stats, yd, sw, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
     end (opposite signs), crosses zero on the step's Hermite interpolant (Illinois regula
     falsi to 1e-12 in theta, as :func:`_locate`)."""
@@ -2184,7 +2195,7 @@ def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, 
         x = _secant(a, b, ga, gb)
         _hermite(y, f0, yt, f1, h, x, yd)
         _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
-                      sw, only)  # fmt: skip
+                      sw, only, ofw)  # fmt: skip
         gx = sw[e]
         if gx == 0.0:
             return x
@@ -2268,6 +2279,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     road = np.zeros(road_n)
     imp = np.empty(0)
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
+    ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)
@@ -2287,7 +2299,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     swf = np.zeros(2 * ne, np.bool_)
     wo = np.empty(work.size)  # the outputs evaluated apart from the stepping
     oroad = np.zeros(road_n)
-    scratch = (work, road, imp, only, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
+    scratch = (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
                pastv, flipm, swf, wo, oroad)  # fmt: skip
     return _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps,
                           out_o, scratch)  # fmt: skip
@@ -2298,7 +2310,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                    scratch):  # fmt: skip
     """The run of :func:`_fixed_rk4` on the arrays it allocated (``scratch``), compiled
     without numba's reference counting (it allocates nothing)."""
-    (work, road, imp, only, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl, pastv,
+    (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl, pastv,
      flipm, swf, wo, oroad) = scratch  # fmt: skip
     n = y.size
     ne = itab[I_NE]
@@ -2331,7 +2343,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                 return BALANCE_FAILED, k
             if events:
-                switches(itab, ftab, work, sw)
+                _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
                 if moved:  # each element's side from its switching functions here
                     changed = False
                     for e in range(ne):
@@ -2384,11 +2396,11 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             # crossing; otherwise the switching functions alone are read there
             fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
             if fresh:
-                _motion_switches(ev, segs, i, tn, yt, itab, ftab, dy, road, work, swn, only)
+                _motion_switches(ev, segs, i, tn, yt, itab, ftab, dy, road, work, swn, only, ofw)
             else:
                 if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
                     return BALANCE_FAILED, k
-                switches(itab, ftab, work, swn)
+                _work_switches(ev, yt, road, itab, ftab, work, swn, ofw)
             th = 2.0
             forced = -1
             for e in range(2 * ne):
@@ -2401,7 +2413,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                         fresh = False
                     xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, yt,
                                           f1, itab, ftab, imp, dy, road, work, stats, yd,
-                                          swx, only)  # fmt: skip
+                                          swx, only, ofw)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
@@ -2446,7 +2458,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                     road[hs + q] = pastv[q]
             if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                 return BALANCE_FAILED, k
-            switches(itab, ftab, work, sw)
+            _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
             for e in range(2 * ne):
                 if swf[e]:
                     sw[e] = 0.0  # on the kink: the next step starts past it

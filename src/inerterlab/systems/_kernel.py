@@ -92,6 +92,9 @@ _NO_IMPULSE = np.empty(0)
 ROAD_JERK = np.array([np.nan])
 #: ``imp`` of :func:`evaluate` for the switching functions alone (:func:`switches_at`)
 SWITCHES_ONLY = np.array([np.inf])
+#: ``imp`` of :func:`evaluate` for :func:`switches` of the work array as the last
+#: evaluation left it, into ``dx`` (a structure's own code writes them out)
+SWITCHES_OF_WORK = np.array([-np.inf])
 
 
 # Reference counting. A function compiled by numba with its runtime (NRT, the default)
@@ -570,7 +573,14 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     same balance by another order of the arithmetic (agreeing to rounding). With ``imp``
     = [inf] (:data:`SWITCHES_ONLY`) it fills only the nodes' displacements and
     velocities and the flywheel-row elements' switching functions (what
-    :func:`switches` then reads, see :func:`switches_at`), and leaves ``dx``."""
+    :func:`switches` then reads, see :func:`switches_at`), and leaves ``dx``. With
+    ``imp`` = [-inf] (:data:`SWITCHES_OF_WORK`) it is :func:`switches` of ``W`` as the
+    last evaluation left it, into ``dx`` (two per element; the count is not returned),
+    and reads nothing else: the integrators call it so through the right-hand side, whose
+    compiled code for a structure writes those statements out (:func:`dense_source`)."""
+    if imp.size == 1 and imp[0] == -math.inf:
+        switches(itab, ftab, W, dx)
+        return True
     nn = itab[I_NN]
     ne = itab[I_NE]
     nd = itab[I_ND]
@@ -589,7 +599,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ir = im + nd * nd  # right-hand side, then the accelerations
     ie = ir + nd  # inertance of each element
     ok = _node_motion(x, road, itab, ftab, W, nn, ne, nd)
-    if imp.size == 1 and math.isinf(imp[0]):  # the switching functions alone
+    if imp.size == 1 and imp[0] == math.inf:  # the switching functions alone
         _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, False)
         return ok
     if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
@@ -1218,9 +1228,26 @@ def dense_source(itab) -> str | None:
             return {row[n]}
         return {row[mem] for mem, _ in members(n)} if typ[n] == LIN else set()
 
-    L = ["only = imp.size == 1 and math.isinf(imp[0])  # SWITCHES_ONLY",
-         "if imp.size != 0 and not only:",
-         "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
+    L = ["if imp.size == 1 and imp[0] == -math.inf:  # SWITCHES_OF_WORK: switches()"]
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        code, top, bot, o = it[b], it[b + 1], it[b + 2], it[b + 3]
+        if code == SPRING:
+            L += [f"    a = W[{top}] - W[{bot}]", f"    g = spring_switch(ftab, {o}, a)",
+                  f"    g0 = spring_switch(ftab, {o}, 0.0)",
+                  "    d = g - g0 if a >= 0.0 else g0 - g",
+                  f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
+        elif code == FLYWHEEL:
+            L += [f"    dx[{2 * e}] = W[{sg + 2 * e}]", f"    dx[{2 * e + 1}] = W[{sg + 2 * e + 1}]"]
+        elif code == TYRE:
+            L += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, W[{top}] - W[{bot}], "
+                  f"W[{nn + top}] - W[{nn + bot}])", f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
+        else:  # no switching function: its halves 1.0 + 0.0 and 1.0 - 0.0
+            L += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
+    L += ["    return True",
+          "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
+          "if imp.size != 0 and not only:",
+          "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
     L.append(f"held = road.size >= {nlen}")
     for n in range(nn):
         if typ[n] == GROUND:
@@ -1374,7 +1401,7 @@ DENSE_IMPORTS = (
     "from inerterlab.elements.damper import damper_force\n"
     "from inerterlab.elements.friction import friction_force\n"
     "from inerterlab.elements.inerter import inerter_inertance\n"
-    "from inerterlab.elements.spring import spring_force\n"
-    "from inerterlab.elements.tyre import tyre_force\n"
+    "from inerterlab.elements.spring import spring_force, spring_switch\n"
+    "from inerterlab.elements.tyre import tyre_force, tyre_switch\n"
     "from inerterlab.systems._kernel import _solve, _switch_halves\n"
 )
