@@ -43,7 +43,7 @@ __all__ = [
 LAW_CODES = {"thesis": 0.0, "momentum": 1.0, "slider-dynamics": 2.0}
 
 
-@nb.njit(cache=True, error_model="numpy")
+@nb.njit(cache=True, error_model="numpy", inline="always")
 def inertia_law(w, i_rest, coef, k_s, m_s, l_min, l_max, w_sat, power):
     """I, dI/dw, d2I/dw2 at speed w >= 0 [rad/s] for I = I_rest + coef l(w)^power."""
     if w < w_sat:
