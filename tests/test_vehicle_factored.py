@@ -149,8 +149,9 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # the per-structure code of factored tables is evaluate's statements written out:
     # the same derivative, outputs and switching functions to the last bit; and the
     # switching functions from the nodes' motion alone (switches_at, and either code
-    # called with SWITCHES_ONLY) equal those after a whole evaluation, bit for bit, at
-    # random states, roads and held sides; and either code called with SWITCHES_OF_WORK
+    # called with SWITCHES_ONLY, which writes them into dx) equal those after a whole
+    # evaluation, bit for bit, at random states, roads and held sides; and either code
+    # called with SWITCHES_OF_WORK
     # gives switches() of the work array it is handed, writing nothing else
     sys = CARS[name]()
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
@@ -194,9 +195,9 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
         assert np.array_equal(s0, sw) and n0 == n2 > 0
         for f in (generic, spec):
             W = np.full(_kernel.work_size(itab), 7.0)
-            dx = np.full(x.size, 3.0)
-            assert f(x, road, itab, ftab, W, dx, only=True)
-            assert np.all(dx == 3.0)  # dx left alone
+            got = np.full(2 * ne, 3.0)
+            assert f(x, road, itab, ftab, W, got, only=True)
+            assert np.array_equal(got, s0)  # one call: the switching functions, into dx
             assert _kernel.switches(itab, ftab, W, sw) == n0 and np.array_equal(s0, sw)
 
 

@@ -654,14 +654,13 @@ def _illinois(a, b, ga, gb, x, gx, side):
 
 
 @nb.njit(cache=True, inline="always")
-def _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only, ofw):
+def _motion_switches(ev, segs, i, t, y, itab, ftab, road, work, sw, only):
     """The switching functions at (t, y) on segment i into ``sw`` from the nodes' motion
-    alone: the right-hand side called with ``only`` = :data:`._kernel.SWITCHES_ONLY`
+    alone: one call of the right-hand side with ``only`` = :data:`._kernel.SWITCHES_ONLY`
     (as :func:`._kernel.switches_at`; the same values as a whole evaluation's where
-    they read no element force), then :func:`_work_switches`."""
+    they read no element force)."""
     road_at(segs, i, t, road)
-    ev(t, y, road, itab, ftab, work, dy, only)
-    ev(t, y, road, itab, ftab, work, sw, ofw)
+    ev(t, y, road, itab, ftab, work, sw, only)
 
 
 @nb.njit(cache=True, inline="always")
@@ -691,8 +690,8 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
         _dense(y, yt, K, h, x, yd)
         tx = t + x * h
         if cheap:
-            _motion_switches(ev, segs, _segment_at(segs, rng, tx), tx, yd, itab, ftab, dy, road,
-                             work, sw, only, ofw)  # fmt: skip
+            _motion_switches(ev, segs, _segment_at(segs, rng, tx), tx, yd, itab, ftab, road, work,
+                             sw, only)  # fmt: skip
         else:
             _f(ev, mode, segs, rng, tx, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
                fzi)  # fmt: skip
@@ -2172,11 +2171,12 @@ def _hermite(y0, f0, y1, f1, h, th, out):
 def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw, only,
                   ofw):  # fmt: skip
     """The switching functions at (t, y) on segment i into ``sw``: from the nodes'
-    motion alone where they read no element force (``cheap``: the right-hand side
-    called with ``only`` = :data:`._kernel.SWITCHES_ONLY`, as
-    :func:`._kernel.switches_at`), else from a whole right-hand side (into ``dy``)."""
+    motion alone where they read no element force (``cheap``: one call of the
+    right-hand side with ``only`` = :data:`._kernel.SWITCHES_ONLY`, which writes them into
+    ``sw``, as :func:`._kernel.switches_at`), else from a whole right-hand side (into
+    ``dy``) and :func:`_work_switches`."""
     if cheap:
-        _motion_switches(ev, segs, i, t, y, itab, ftab, dy, road, work, sw, only, ofw)
+        _motion_switches(ev, segs, i, t, y, itab, ftab, road, work, sw, only)
     else:
         _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
         _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
@@ -2396,7 +2396,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             # crossing; otherwise the switching functions alone are read there
             fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
             if fresh:
-                _motion_switches(ev, segs, i, tn, yt, itab, ftab, dy, road, work, swn, only, ofw)
+                _motion_switches(ev, segs, i, tn, yt, itab, ftab, road, work, swn, only)
             else:
                 if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work, stats):
                     return BALANCE_FAILED, k

@@ -90,7 +90,8 @@ SOLVE_OK, SOLVE_FAILED = 0, 1
 _NO_IMPULSE = np.empty(0)
 #: ``imp`` of :func:`evaluate` for the flow of a road velocity jump
 ROAD_JERK = np.array([np.nan])
-#: ``imp`` of :func:`evaluate` for the switching functions alone (:func:`switches_at`)
+#: ``imp`` of :func:`evaluate` for the switching functions alone, from the nodes' motion
+#: (:func:`switches_at`), into ``dx``
 SWITCHES_ONLY = np.array([np.inf])
 #: ``imp`` of :func:`evaluate` for :func:`switches` of the work array as the last
 #: evaluation left it, into ``dx`` (a structure's own code writes them out)
@@ -572,8 +573,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     from that factor and a low-rank update for the flywheels (:func:`_dense_solve`), the
     same balance by another order of the arithmetic (agreeing to rounding). With ``imp``
     = [inf] (:data:`SWITCHES_ONLY`) it fills only the nodes' displacements and
-    velocities and the flywheel-row elements' switching functions (what
-    :func:`switches` then reads, see :func:`switches_at`), and leaves ``dx``. With
+    velocities and the flywheel-row elements' switching functions, and writes
+    :func:`switches` of them into ``dx`` (two per element, so ``dx`` holds 2 ne; see
+    :func:`switches_at`). With
     ``imp`` = [-inf] (:data:`SWITCHES_OF_WORK`) it is :func:`switches` of ``W`` as the
     last evaluation left it, into ``dx`` (two per element; the count is not returned),
     and reads nothing else: the integrators call it so through the right-hand side, whose
@@ -599,8 +601,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ir = im + nd * nd  # right-hand side, then the accelerations
     ie = ir + nd  # inertance of each element
     ok = _node_motion(x, road, itab, ftab, W, nn, ne, nd)
-    if imp.size == 1 and imp[0] == math.inf:  # the switching functions alone
+    if imp.size == 1 and imp[0] == math.inf:  # the switching functions alone, into dx
         _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, False)
+        switches(itab, ftab, W, dx)
         return ok
     if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
         ok &= _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie)
@@ -1165,11 +1168,11 @@ def switches_at(x, road, itab, ftab, W, out):
     switching functions read no element force (:func:`switches_read_forces` False)
     the values are those of :func:`evaluate` followed by :func:`switches`, to the last
     bit. ``W`` then holds the node displacements and velocities of (x, road) only. A
-    driver that holds a structure's compiled right-hand side gets the same from it with
-    ``imp`` = :data:`SWITCHES_ONLY` followed by :func:`switches` (the structure's own
-    code writes those statements out too, :func:`dense_source`)."""
-    dx = np.empty(x.size)  # not written
-    evaluate(0.0, x, road, readonly(itab), readonly(ftab), W, dx, SWITCHES_ONLY.copy())
+    driver that holds a structure's compiled right-hand side gets them from one call of
+    it with ``imp`` = :data:`SWITCHES_ONLY` and ``out`` for ``dx`` (the structure's own
+    code writes those statements out too, :func:`dense_source`). Returns the count of
+    :func:`switches` (which writes ``out`` again, with the same values)."""
+    evaluate(0.0, x, road, readonly(itab), readonly(ftab), W, out, SWITCHES_ONLY.copy())
     return switches(itab, ftab, W, out)
 
 
@@ -1228,22 +1231,23 @@ def dense_source(itab) -> str | None:
             return {row[n]}
         return {row[mem] for mem, _ in members(n)} if typ[n] == LIN else set()
 
-    L = ["if imp.size == 1 and imp[0] == -math.inf:  # SWITCHES_OF_WORK: switches()"]
+    S = []  # switches() of the work array, into dx
     for e in range(ne):
         b = eo + ELEM_W * e
         code, top, bot, o = it[b], it[b + 1], it[b + 2], it[b + 3]
         if code == SPRING:
-            L += [f"    a = W[{top}] - W[{bot}]", f"    g = spring_switch(ftab, {o}, a)",
+            S += [f"    a = W[{top}] - W[{bot}]", f"    g = spring_switch(ftab, {o}, a)",
                   f"    g0 = spring_switch(ftab, {o}, 0.0)",
                   "    d = g - g0 if a >= 0.0 else g0 - g",
                   f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
         elif code == FLYWHEEL:
-            L += [f"    dx[{2 * e}] = W[{sg + 2 * e}]", f"    dx[{2 * e + 1}] = W[{sg + 2 * e + 1}]"]
+            S += [f"    dx[{2 * e}] = W[{sg + 2 * e}]", f"    dx[{2 * e + 1}] = W[{sg + 2 * e + 1}]"]
         elif code == TYRE:
-            L += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, W[{top}] - W[{bot}], "
+            S += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, W[{top}] - W[{bot}], "
                   f"W[{nn + top}] - W[{nn + bot}])", f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
         else:  # no switching function: its halves 1.0 + 0.0 and 1.0 - 0.0
-            L += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
+            S += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
+    L = ["if imp.size == 1 and imp[0] == -math.inf:  # SWITCHES_OF_WORK: switches()"] + S
     L += ["    return True",
           "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
           "if imp.size != 0 and not only:",
@@ -1275,6 +1279,7 @@ def dense_source(itab) -> str | None:
             L += [f"    side = road[{hs + e}] if held else 0.0",
                   f"    _switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, "
                   f"V{top} - V{bot}, 0.0, {sg}, {ne})"]  # fmt: skip
+    L += S  # and switches() of them into dx
     L.append("    return True")
     for n in lins:  # the forces gathered at a combination node
         L.append(f"G{n} = 0.0")
