@@ -18,7 +18,9 @@ Workloads:
   10 s, the ride observers, one sample at the horizon);
 * ``quarter-car-states``: the same car without observers;
 * ``vehicle-rk4``, ``vehicle-dopri``: the full car of ``bench_vehicle_afw.py`` (60 s),
-  classical Runge-Kutta one step per sample, Dormand-Prince at rtol 1e-6.
+  classical Runge-Kutta one step per sample, Dormand-Prince at rtol 1e-6;
+* ``vehicle-comfort``: the same car through ``simulate_vehicle`` (``vehicle simulate``'s
+  route: Dormand-Prince at rtol 1e-6 with the ISO 2631 comfort observers as states).
 
 Usage: python benchmarks/profile_jit.py quarter-car [--seconds 10] [--top 25]
 (needs ``perf`` and ``nm``).
@@ -36,7 +38,7 @@ import tempfile
 import time
 from pathlib import Path
 
-WORKLOADS = ("quarter-car", "quarter-car-states", "vehicle-rk4", "vehicle-dopri")
+WORKLOADS = ("quarter-car", "quarter-car-states", "vehicle-rk4", "vehicle-dopri", "vehicle-comfort")
 
 
 def _workload(name: str):
@@ -63,6 +65,10 @@ def _workload(name: str):
     core = vehicle(params)
     if name == "vehicle-rk4":
         return lambda: simulate(core, r, dt, fixed_step=dt, fixed_method="rk4")
+    if name == "vehicle-comfort":
+        from inerterlab.vehicles.simulation import simulate_vehicle
+
+        return lambda: simulate_vehicle(params, r, dt, system=core)
     return lambda: simulate(core, r, dt, rtol=1e-6)
 
 
