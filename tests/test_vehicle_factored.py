@@ -151,8 +151,8 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # switching functions from the nodes' motion alone (switches_at, and either code
     # called with SWITCHES_ONLY, which writes them into dx) equal those after a whole
     # evaluation, bit for bit, at random states, roads and held sides; and either code
-    # called with SWITCHES_OF_WORK
-    # gives switches() of the work array it is handed, writing nothing else
+    # called with SWITCHES_OF_WORK gives switches() of the work array it is handed,
+    # writing nothing else
     sys = CARS[name]()
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
     assert _kernel.dense_source(itab) is not None
