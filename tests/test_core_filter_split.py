@@ -80,8 +80,7 @@ def test_filter_step_is_exact_for_the_quartic_input(h, thx):
     _integrate._dense(y, ya, K, h, thx, out)
     itab = _integrate._readonly(sys.itab)
     ftab = _integrate._readonly(sys.ftab)
-    _integrate._fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, np.zeros(64), y, ya, K, h, thx, out,
-                        np.empty(n))  # fmt: skip
+    _integrate._fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, out, np.empty(n))
     # reference: z' = A z + B a(tau), a the derivative of the body velocity's quartic
     A, B, _, _ = wk_state_space()
     B = np.ravel(B)
@@ -93,8 +92,31 @@ def test_filter_step_is_exact_for_the_quartic_input(h, thx):
         M[:8, 8 + k] = B * (k + 1) * cf[k + 1] / hs ** (k + 1)
         if k:
             M[8 + k, 7 + k] = k
-    ref = expm(M * hs) @ np.concatenate([y[slots], [1.0, 0.0, 0.0, 0.0]])
+    z0 = np.concatenate([y[slots], [1.0, 0.0, 0.0, 0.0]])
+    ref = expm(M * hs) @ z0
     assert np.abs(out[slots] - ref[:8]).max() < 1e-11 * np.abs(ref[:8]).max()
+    # the quadratures (int a_w^2, int a_w^4): five-node Gauss-Legendre sums of their
+    # signals read by the generic observer code on the states at each node (the
+    # continuous extension, the filter from the matrix exponential)
+    from inerterlab.systems import _kernel as K_
+    from inerterlab.systems.observers import _GL_W, _GL_X
+
+    ob = itab[K_.I_OBS]
+    for q in fzi[5 + nf + m : 5 + nf + m + nq]:
+        kind, a, b, slot = (int(itab[ob + K_.OBS_W * q + c]) for c in range(4))
+        total = 0.0
+        for x, w in zip(_GL_X, _GL_W, strict=True):
+            xn = np.empty(n)
+            _integrate._dense(y, ya, K, h, x * thx, xn)
+            xn[slots] = (expm(M * x * hs) @ z0)[:8]
+            v = K_.signal(itab, ftab, np.zeros(64), xn, a)
+            v = {K_.OBS_SQUARE: v * v, K_.OBS_FOURTH: v**4}.get(kind, None)
+            if v is None:
+                v = K_.signal(itab, ftab, np.zeros(64), xn, a) * K_.signal(itab, ftab, np.zeros(64), xn, b)
+            total += w * v
+        expect = y[slot] + hs * total
+        assert abs(out[slot] - expect) <= 1e-11 * max(abs(expect), hs * abs(total)), (kind, slot)
+    assert nq == 2
 
 
 @pytest.mark.slow

@@ -251,8 +251,10 @@ def _dense_terms(y, yt, K, h, i):
 #   its quadratures read (m), the quadrature observers (nq), the slots the stages leave
 #   (nd: the filter, its quadratures, the running peaks)
 # fzf (float64): Q (nf x m), the modes' weights (ns: 2 for one of a complex pair, 1 for a
-#   real one), Gauss-Legendre nodes (5, symmetric about 1/2) and weights (5)
-# fzc (complex128): lam (ns), V (nf x ns), V^-1 (ns x nf), V^-1 (A Q + P) (ns x m)
+#   real one), Gauss-Legendre nodes (5, symmetric about 1/2) and weights (5), R (2 nq x m)
+# fzc (complex128): lam (ns), V (nf x ns), V^-1 (ns x nf), V^-1 (A Q + P) (ns x m),
+#   S (2 nq x ns): the quadratures' signals (two rows each: a product's two factors)
+#   are Re(S W) + R y over the modes' weighted values W and the states they read
 # a step (:func:`_fz_begin`): stc (complex) the modes' coefficients (ns x (FZ_TERMS +
 #   5)), e^(x theta) at the nodes and the end (ns x 6) and the modes' values there,
 #   weights included (ns x 6, by :func:`_fz_step`); stf (float) the accepted
@@ -386,8 +388,23 @@ def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
             out[fzi[fs + i]] += v.real * w.real - v.imag * w.imag
 
 
+@nb.njit(cache=True, inline="always")
+def _fz_signal(fzf, fzc, stc, yc, m, ns, r, s, w):
+    """A quadrature's signal at a node of the filter's step: Re(S W) + R y, its row of
+    R at fzf[r:], of S at fzc[s:], the states it reads in yc[:m] and the modes'
+    weighted values at stc[w], stc[w + 6], ..."""
+    acc = 0.0
+    for j in range(m):
+        acc += fzf[r + j] * yc[j]
+    for p in range(ns):
+        a = fzc[s + p]
+        b = stc[w + 6 * p]
+        acc += a.real * b.real - a.imag * b.imag
+    return acc
+
+
 @nb.njit(cache=True, _nrt=False)
-def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd):
+def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
     """Advance the filter and its quadrature observers over the accepted step theta in
     [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
     filter exactly, the quadratures (their signals over the filter and the states it
@@ -457,26 +474,28 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, ya, K, h, thx, yt, yd
         stc[b + 4] = w4 * om
         stc[b + 5] = w5 * om
     ob = itab[I_OBS]
+    r0 = gw0 + 5  # R in fzf, S in fzc
+    s0 = ns + 2 * nf * ns + ns * m
     for q in range(nq):
         yt[itab[ob + OBS_W * fzi[qu + q] + 3]] = 0.0
     for p in range(5):
         th = fzf[gx0 + p]
-        for j in range(m):  # the states the filter and its quadratures read
+        for j in range(m):  # the states the filter and its quadratures read, into yd
             acc = stf[cf0 + 4 * m + j]
             for k in range(3, -1, -1):
                 acc = acc * th + stf[cf0 + k * m + j]
-            yd[fzi[co + j]] = acc
-        _fz_at(fzi, fzf, fzc, stc, stf, th, yd, p)
+            yd[j] = acc
         for q in range(nq):
             bo = ob + OBS_W * fzi[qu + q]
-            a = signal(itab, ftab, work, yd, itab[bo + 1])
+            a = _fz_signal(fzf, fzc, stc, yd, m, ns, r0 + 2 * q * m, s0 + 2 * q * ns, wv0 + p)
             if itab[bo] == OBS_SQUARE:
                 v = a * a
             elif itab[bo] == OBS_FOURTH:
                 v = a * a
                 v = v * v
             else:
-                v = a * signal(itab, ftab, work, yd, itab[bo + 2])
+                v = a * _fz_signal(fzf, fzc, stc, yd, m, ns, r0 + (2 * q + 1) * m,
+                                   s0 + (2 * q + 1) * ns, wv0 + p)  # fmt: skip
             yt[itab[bo + 3]] += fzf[gw0 + p] * v
     for q in range(nq):
         s = itab[ob + OBS_W * fzi[qu + q] + 3]
@@ -1289,12 +1308,12 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             forced = -1
         if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
             if thx < 1.0:
-                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yx, K, hx, thx, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yx, K, hx, thx, yt, yd)
                 for kk in range(kstart, k):  # the samples the cut step wrote
                     _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[kk] - t) / h, y, yt,
                                out_y[kk])  # fmt: skip
             else:
-                _fz_step(fzi, fzf, fzc, stc, stf, itab, ftab, work, y, yt, K, h, 1.0, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yt, K, h, 1.0, yt, yd)
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn] (a step cut at a crossing wrote its own)

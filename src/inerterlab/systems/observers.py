@@ -223,8 +223,8 @@ def filter_split(itab, ftab, n: int):
     eigenvectors are ill-conditioned (condition number above 1e6).
 
     Kept for the last :data:`SPLITS_KEPT` by what it reads: the integer table and the
-    coefficients of the ``integral`` observers' signals (the other signals are read for
-    their channels only), so the cars of a sweep, which differ in their element values
+    coefficients of the signals of the ``integral`` observers and of the quadratures
+    (the peaks' signals are read for their channels only), so the cars of a sweep, which differ in their element values
     and in the tyre-grip coefficient, share the split of their one Wk filter."""
     key = (itab.tobytes(), _filter_coefficients(itab, ftab), n)
     got = _SPLITS.get(key)
@@ -244,15 +244,18 @@ _SPLITS: dict = {}
 
 
 def _filter_coefficients(itab, ftab) -> bytes:
-    """The coefficients of the ``integral`` observers' signals (all that :func:`_split`
-    reads of ``ftab``), as bytes."""
+    """The coefficients of the signals of the ``integral`` observers and of the
+    quadratures (all that :func:`_split` reads of ``ftab``), as bytes."""
     K = _kernel
     ob, sg, cf = int(itab[K.I_OBS]), int(itab[K.I_SG]), int(itab[K.I_SGF])
     parts = []
     for q in range(int(itab[K.I_NOB])):
-        if itab[ob + K.OBS_W * q] == K.OBS_LINEAR:
-            a = int(itab[ob + K.OBS_W * q + 1])
-            parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
+        kind = itab[ob + K.OBS_W * q]
+        if kind == K.OBS_PEAK:
+            continue
+        for a in (int(itab[ob + K.OBS_W * q + 1]), int(itab[ob + K.OBS_W * q + 2]) if kind == K.OBS_PRODUCT else -1):
+            if a >= 0:
+                parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
     return np.concatenate(parts).tobytes() if parts else b""
 
 
@@ -358,8 +361,27 @@ def _split(itab, ftab, n):  # noqa: C901 (one pass of checks over the tables)
         [nf, cols.size, len(quad), len(dead), len(keep), *(rows[q][3] for q in lin), *cols,
          *quad, *dead], np.int64,
     )  # fmt: skip
-    fzf = np.concatenate([Q[:, cols].ravel(), om, _GL_X, _GL_W])
-    fzc = np.concatenate([lam[keep], V[:, keep].ravel(), Vi[keep].ravel(), (Vi[keep] @ G[:, cols]).ravel()])
+    # each quadrature's signals (two rows a quadrature, the second zero but for a
+    # product) over the filter's modes (S, on the modes' values with their weights, as
+    # the step keeps them) and over the states it reads (R): a signal is then a few
+    # products at each node, not the filter's states and a walk of the tables
+    col_of = {int(c): j for j, c in enumerate(cols)}
+    S = np.zeros((2 * len(quad), len(keep)), complex)
+    R = np.zeros((2 * len(quad), cols.size))
+    for k, q in enumerate(quad):
+        for half, a in enumerate((rows[q][1], rows[q][2])):
+            if a < 0 or (half and rows[q][0] != K.OBS_PRODUCT):
+                continue
+            for c, v in sig(a):
+                s = c - no
+                if s in fcol:
+                    S[2 * k + half] += v * V[fcol[s], keep]
+                    R[2 * k + half] += v * Q[fcol[s], cols]
+                else:
+                    R[2 * k + half, col_of[s]] += v
+    fzf = np.concatenate([Q[:, cols].ravel(), om, _GL_X, _GL_W, R.ravel()])
+    fzc = np.concatenate([lam[keep], V[:, keep].ravel(), Vi[keep].ravel(), (Vi[keep] @ G[:, cols]).ravel(),
+                          S.ravel()])  # fmt: skip
     return oitab, fzi, fzf, fzc.astype(np.complex128)
 
 
