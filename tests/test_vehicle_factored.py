@@ -135,8 +135,8 @@ def _rhs_of(itab):
 
     def of(ev):  # a whole evaluation; the switching functions alone with only=True; with
         # of_work=True those of the evaluation the work array holds (into dx)
-        def f(*a, only=False, of_work=False):
-            imp = np.full(1, np.inf) if only else np.empty(0)
+        def f(*a, only=False, of_work=False, stage=False):
+            imp = np.full(1, np.inf) if only else (_kernel.STAGE.copy() if stage else np.empty(0))
             return call(ev, *a, np.full(1, -np.inf) if of_work else imp)
 
         return f
@@ -152,7 +152,8 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # called with SWITCHES_ONLY, which writes them into dx) equal those after a whole
     # evaluation, bit for bit, at random states, roads and held sides; and either code
     # called with SWITCHES_OF_WORK gives switches() of the work array it is handed,
-    # writing nothing else
+    # writing nothing else; called with STAGE, the same derivative to the last bit (the
+    # written-out code without the work array's outputs, the generic one with them)
     sys = CARS[name]()
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
     assert _kernel.dense_source(itab) is not None
@@ -183,6 +184,13 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
         assert np.array_equal(d0, d1)
         assert np.array_equal(w0, w1, equal_nan=True)
         assert np.array_equal(s0, s1) and n0 == n1
+        for f, whole in ((generic, True), (spec, False)):
+            W = np.full(_kernel.work_size(itab), 7.0)
+            dx = np.full(x.size, 3.0)
+            assert f(x, road, itab, ftab, W, dx, stage=True)
+            assert np.array_equal(dx, d0)
+            # the outputs: the generic code's all there; the written-out code's none
+            assert np.array_equal(W[:nout], w0, equal_nan=True) if whole else (W[:nout] == 7.0).all()
         for f in (generic, spec):
             W = np.full(_kernel.work_size(itab), 7.0)
             assert f(x, road, itab, ftab, W, np.full(x.size, 3.0))

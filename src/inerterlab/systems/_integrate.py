@@ -889,6 +889,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     h_side = np.zeros(2)  # a first step size past a kink, into each side
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
+    # the inner stages (all but the last, at the step's end): STAGE (no outputs into the
+    # work array) where no observer the stages move reads it; a flow's own imp otherwise
+    stg = np.full(2, np.inf) if mode == 0 and imp.size == 0 and fz[0][I_NOB] == 0 else imp
     xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
     na = ia.size
@@ -921,7 +924,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     gd1 = np.empty(ng)
     scratch = (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd,
                xloc, xfl, pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow,
-               xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1)  # fmt: skip
+               xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg)  # fmt: skip
     return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
                         xcls, xlev, xq, ctl, xo, fz, npk, scratch)  # fmt: skip
@@ -936,7 +939,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     running peaks among the observers."""
     (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
      pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
-     xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1) = scratch  # fmt: skip
+     xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg) = scratch  # fmt: skip
     n = y.size
     _, _, hs = road_layout_of(itab)
     oit, fzi, fzf, fzc = fz
@@ -1201,7 +1204,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     acc += _TAB_A[st, q] * K[q, i]
                 yt[i] = y[i] + h * acc
             ts = tn if st >= 5 else t + _TAB_C[st] * h
-            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
+            ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, stg if st < 6 else imp, road_fixed, dy, road,
+                     work, stats, oit, fzi)  # fmt: skip
             for i in live:
                 K[st, i] = dy[i]
         err = 0.0
@@ -2156,7 +2160,8 @@ def _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats):
 @nb.njit(cache=True, _nrt=False)
 def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road, work, stats):
     """One classical Runge-Kutta step of length h from (t, y), k1 = f(t, y) given: the
-    result in yt (ys scratch). Returns False if a force balance failed."""
+    result in yt (ys scratch). Returns False if a force balance failed. ``imp``: that of
+    its three stages (:data:`._kernel.STAGE` where no observer reads the work array)."""
     n = y.size
     for q in range(n):
         ys[q] = y[q] + 0.5 * h * k1[q]
@@ -2299,6 +2304,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     imp = np.empty(0)
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
+    # the inner stages: STAGE (no outputs into the work array) where no observer reads it
+    stg = np.full(2, np.inf) if itab[I_NOB] == 0 else np.empty(0)
     k1 = np.empty(n)
     k2 = np.empty(n)
     k3 = np.empty(n)
@@ -2319,7 +2326,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     wo = np.empty(work.size)  # the outputs evaluated apart from the stepping
     oroad = np.zeros(road_n)
     scratch = (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
-               pastv, flipm, swf, wo, oroad)  # fmt: skip
+               pastv, flipm, swf, wo, oroad, stg)  # fmt: skip
     return _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps,
                           out_o, scratch)  # fmt: skip
 
@@ -2330,7 +2337,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
     """The run of :func:`_fixed_rk4` on the arrays it allocated (``scratch``), compiled
     without numba's reference counting (it allocates nothing)."""
     (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl, pastv,
-     flipm, swf, wo, oroad) = scratch  # fmt: skip
+     flipm, swf, wo, oroad, stg) = scratch  # fmt: skip
     n = y.size
     ne = itab[I_NE]
     nseg = segs.shape[0]
@@ -2400,7 +2407,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             tn = lim
         else:
             tn = t + h
-        ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road,
+        ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, stg, k2, k3, k4, ys, yt, road,
                        work, stats)  # fmt: skip
         if not ok:
             return BALANCE_FAILED, k
@@ -2449,7 +2456,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                 if th < 1.0 - SIMULTANEOUS:  # the step again, from its start to the crossing
                     h = th * h
                     tn = t + h
-                    ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt,
+                    ok = _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, stg, k2, k3, k4, ys, yt,
                                    road, work, stats)  # fmt: skip
                     if not ok:
                         return BALANCE_FAILED, k

@@ -96,6 +96,11 @@ SWITCHES_ONLY = np.array([np.inf])
 #: ``imp`` of :func:`evaluate` for :func:`switches` of the work array as the last
 #: evaluation left it, into ``dx`` (a structure's own code writes them out)
 SWITCHES_OF_WORK = np.array([-np.inf])
+#: ``imp`` of :func:`evaluate` for an integrator's inner stage: ``dx`` as without an
+#: impulse, but the work array need not receive the outputs (node motion, element
+#: forces, switching functions): nothing reads it before the next whole evaluation. A
+#: structure's own code leaves those stores out; :func:`evaluate` makes them all
+STAGE = np.array([np.inf, np.inf])
 
 
 # Reference counting. A function compiled by numba with its runtime (NRT, the default)
@@ -579,7 +584,9 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ``imp`` = [-inf] (:data:`SWITCHES_OF_WORK`) it is :func:`switches` of ``W`` as the
     last evaluation left it, into ``dx`` (two per element; the count is not returned),
     and reads nothing else: the integrators call it so through the right-hand side, whose
-    compiled code for a structure writes those statements out (:func:`dense_source`)."""
+    compiled code for a structure writes those statements out (:func:`dense_source`).
+    With ``imp`` = [inf, inf] (:data:`STAGE`) it is the evaluation without an impulse
+    (a structure's own code then leaves out the work array's outputs)."""
     if imp.size == 1 and imp[0] == -math.inf:
         switches(itab, ftab, W, dx)
         return True
@@ -587,6 +594,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ne = itab[I_NE]
     nd = itab[I_ND]
     jerk = imp.size == 1 and math.isnan(imp[0])
+    flow = imp.size > 0 and not (imp.size == 2 and imp[0] == math.inf)  # STAGE: no flow
     nlen, _, hs = road_layout_of(itab)
     held = road.size >= nlen  # the held sides are given
     no = itab[I_NODE]
@@ -605,7 +613,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
         _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, False)
         switches(itab, ftab, W, dx)
         return ok
-    if itab[I_DNS] > 0 and imp.size == 0:  # the mass matrix factored beforehand
+    if itab[I_DNS] > 0 and not flow:  # the mass matrix factored beforehand
         ok &= _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, ir, ie)
         return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
     # forces and the mass matrix of the dynamic nodes
@@ -652,17 +660,17 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                     W[ir + bi] += me * W[ia + top]
     if nlin > 0:  # the forces gathered at combination nodes to their members' rows
         _pass_on(itab, ftab, W, nn, ia, ir)
-    if imp.size > 0 and not jerk:
+    if flow and not jerk:
         for i in range(nd):
             W[ir + i] = imp[i]
     if nd > 0:
-        _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, imp.size > 0)
+        _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow)
     if nd > 0 and not _solve(W, im, W, ir, nd):
         ok = False
-    if imp.size == 0:
+    if not flow:
         return _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok)
     _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir)
-    if imp.size > 0:
+    if flow:
         for i in range(x.size):
             if i >= itab[I_NS] - itab[I_NI]:
                 dx[i] = 0.0
@@ -1250,7 +1258,8 @@ def dense_source(itab) -> str | None:
     L = ["if imp.size == 1 and imp[0] == -math.inf:  # SWITCHES_OF_WORK: switches()"] + S
     L += ["    return True",
           "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
-          "if imp.size != 0 and not only:",
+          "stage = imp.size == 2 and imp[0] == math.inf  # STAGE: no outputs in W",
+          "if imp.size != 0 and not only and not stage:",
           "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
     L.append(f"held = road.size >= {nlen}")
     for n in range(nn):
@@ -1266,10 +1275,11 @@ def dense_source(itab) -> str | None:
         L.append(f"X{n} = {combo(n, 'X')}")
     for n in lins:
         L.append(f"V{n} = {combo(n, 'V')}")
+    L.append("if not stage:")
     for n in range(nn):  # the node outputs known before the forces
-        L += [f"W[{n}] = X{n}", f"W[{iv + n}] = V{n}"]
+        L += [f"    W[{n}] = X{n}", f"    W[{iv + n}] = V{n}"]
         if typ[n] in (GROUND, ROAD):
-            L.append(f"W[{ia + n}] = A{n}")
+            L.append(f"    W[{ia + n}] = A{n}")
     L.append("if only:  # the switching functions alone (_inertial_after without rates)")
     for e in range(ne):
         b = eo + ELEM_W * e
@@ -1368,34 +1378,36 @@ def dense_source(itab) -> str | None:
             L.append(f"    R{i} = y{i} - {s}")
     else:
         L += [f"R{i} = y{i}" for i in range(nd)]
-    # _after_solve
+    # _after_solve (the work array's outputs, in a stage left out, after the derivative)
+    out = []
     for n in range(nn):
         if typ[n] == DYN:
             b = no + NODE_W * n
-            L += [f"A{n} = R{row[n]}", f"W[{ia + n}] = A{n}", f"dx[{it[b + 1]}] = V{n}",
-                  f"dx[{it[b + 2]}] = A{n}"]  # fmt: skip
+            L += [f"A{n} = R{row[n]}", f"dx[{it[b + 1]}] = V{n}", f"dx[{it[b + 2]}] = A{n}"]
+            out.append(f"    W[{ia + n}] = A{n}")
     for n in lins:
-        L += [f"A{n} = {combo(n, 'A')}", f"W[{ia + n}] = A{n}"]
+        L.append(f"A{n} = {combo(n, 'A')}")
+        out.append(f"    W[{ia + n}] = A{n}")
     for e in inertial:
         b = eo + ELEM_W * e
         top, bot = it[b + 1], it[b + 2]
         L += [f"if M{e} != 0.0:", f"    F{e} += M{e} * (A{top} - A{bot})"]
     for e in range(ne):
-        L.append(f"W[{iF + e}] = F{e}")
+        out.append(f"    W[{iF + e}] = F{e}")
     for e in range(ne):  # _inertial_after
         b = eo + ELEM_W * e
-        L.append(f"W[{sg + 2 * ne + e}] = 0.0")
+        out.append(f"    W[{sg + 2 * ne + e}] = 0.0")
         if it[b] != FLYWHEEL:
             continue
         top, bot, o, slot = it[b + 1], it[b + 2], it[b + 3], it[b + 4]
         L += [f"side = road[{hs + e}] if held else 0.0",
-              f"v = V{top} - V{bot}",
-              f"rate = inertial_rate(ftab, {o}, v, A{top} - A{bot}, x, {slot}, side)",
+              f"rate = inertial_rate(ftab, {o}, V{top} - V{bot}, A{top} - A{bot}, x, {slot}, side)",
               "if not math.isnan(rate):",
-              f"    dx[{slot}] = rate",
-              f"_switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, v, F{e}, "
-              f"{sg}, {ne})"]  # fmt: skip
-    L.append("return ok")
+              f"    dx[{slot}] = rate"]  # fmt: skip
+        out += [f"    side = road[{hs + e}] if held else 0.0",
+                f"    _switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, V{top} - V{bot}, "
+                f"F{e}, {sg}, {ne})"]  # fmt: skip
+    L += ["if not stage:", *out, "return ok"]
     return "\n".join("    " + line for line in L) + "\n"
 
 
