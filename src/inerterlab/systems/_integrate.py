@@ -924,7 +924,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     gd1 = np.empty(ng)
     scratch = (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd,
                xloc, xfl, pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow,
-               xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg)  # fmt: skip
+               xh, xj, xpk, xpp, xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg, np.empty(n))  # fmt: skip
     return _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed,
                         rtol, atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel,
                         xcls, xlev, xq, ctl, xo, fz, npk, scratch)  # fmt: skip
@@ -939,7 +939,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     running peaks among the observers."""
     (work, road, K, dy, yt, live, dead, stc, stf, p0, pm, p1, yx, sw, swn, swx, yd, xloc, xfl,
      pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
-     xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg) = scratch  # fmt: skip
+     xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg, es) = scratch  # fmt: skip
     n = y.size
     _, _, hs = road_layout_of(itab)
     oit, fzi, fzf, fzc = fz
@@ -1195,26 +1195,34 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
         ok = True
         stale = False
         thx = 1.0
-        for i in dead:
-            yt[i] = y[i]
         for st in range(1, 7):
-            for i in live:
-                acc = 0.0
-                for q in range(st):
-                    acc += _TAB_A[st, q] * K[q, i]
-                yt[i] = y[i] + h * acc
+            # each state's stage sum term by term in the order of q, the states side by
+            # side (contiguous rows of K: the compiler vectorises the loops over i)
+            for i in range(n):
+                dy[i] = 0.0
+            for q in range(st):
+                a = _TAB_A[st, q]
+                for i in range(n):
+                    dy[i] += a * K[q, i]
+            for i in range(n):
+                yt[i] = y[i] + h * dy[i]
+            for i in dead:  # the states the stages leave
+                yt[i] = y[i]
             ts = tn if st >= 5 else t + _TAB_C[st] * h
             ok &= _f(ev, mode, segs, rng, ts, yt, itab, ftab, stg if st < 6 else imp, road_fixed, dy, road,
                      work, stats, oit, fzi)  # fmt: skip
             for i in live:
                 K[st, i] = dy[i]
+        for i in range(n):  # the error estimate's sums, as the stages' above
+            es[i] = 0.0
+        for q in range(7):
+            a = _TAB_E[q]
+            for i in range(n):
+                es[i] += a * K[q, i]
         err = 0.0
         for i in live:
             sc = atol[i] + rtol * max(abs(y[i]), abs(yt[i]))
-            acc = 0.0
-            for q in range(7):
-                acc += _TAB_E[q] * K[q, i]
-            e = h * acc
+            e = h * es[i]
             err += (e / sc) ** 2
         err = math.sqrt(err / max(live.size, 1))
         if hfix > 0.0:  # fixed steps: no error control, but a failure stays one
