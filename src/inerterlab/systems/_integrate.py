@@ -889,8 +889,9 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     h_side = np.zeros(2)  # a first step size past a kink, into each side
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
-    # the inner stages (all but the last, at the step's end): STAGE (no outputs into the
-    # work array) where no observer the stages move reads it; a flow's own imp otherwise
+    # the inner stages (all but the last, at the step's end): _kernel.STAGE as a local
+    # array (no outputs into the work array) where no observer the stages move reads it;
+    # a flow's own imp otherwise
     stg = np.full(2, np.inf) if mode == 0 and imp.size == 0 and fz[0][I_NOB] == 0 else imp
     xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
     ia = xia if xia.size > 0 else np.arange(n)
@@ -2312,7 +2313,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     imp = np.empty(0)
     only = np.full(1, np.inf)  # SWITCHES_ONLY, as a local array (a global one is read-only)
     ofw = np.full(1, -np.inf)  # SWITCHES_OF_WORK
-    # the inner stages: STAGE (no outputs into the work array) where no observer reads it
+    # the inner stages: _kernel.STAGE as a local array (no outputs into the work array)
+    # where no observer reads it
     stg = np.full(2, np.inf) if itab[I_NOB] == 0 else np.empty(0)
     k1 = np.empty(n)
     k2 = np.empty(n)

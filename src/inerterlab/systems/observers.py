@@ -224,8 +224,9 @@ def filter_split(itab, ftab, n: int):
 
     Kept for the last :data:`SPLITS_KEPT` by what it reads: the integer table and the
     coefficients of the signals of the ``integral`` observers and of the quadratures
-    (the peaks' signals are read for their channels only), so the cars of a sweep, which differ in their element values
-    and in the tyre-grip coefficient, share the split of their one Wk filter."""
+    (the peaks' signals are read for their channels only), so the cars of a sweep,
+    which differ in their element values and in the tyre-grip coefficient, share the
+    split of their one Wk filter."""
     key = (itab.tobytes(), _filter_coefficients(itab, ftab), n)
     got = _SPLITS.get(key)
     if got is None:
@@ -253,9 +254,11 @@ def _filter_coefficients(itab, ftab) -> bytes:
         kind = itab[ob + K.OBS_W * q]
         if kind == K.OBS_PEAK:
             continue
-        for a in (int(itab[ob + K.OBS_W * q + 1]), int(itab[ob + K.OBS_W * q + 2]) if kind == K.OBS_PRODUCT else -1):
-            if a >= 0:
-                parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
+        reads = [int(itab[ob + K.OBS_W * q + 1])]
+        if kind == K.OBS_PRODUCT:  # a product's second factor
+            reads.append(int(itab[ob + K.OBS_W * q + 2]))
+        for a in reads:
+            parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
     return np.concatenate(parts).tobytes() if parts else b""
 
 
