@@ -219,3 +219,65 @@ def test_a_clutch_switch_reads_the_force():
     assert _kernel.switches_read_forces(sys.itab, sys.ftab)
     afw = CARS["afw"]()
     assert not _kernel.switches_read_forces(afw.itab, afw.ftab)
+
+
+def _written_solve(m):
+    """:func:`_kernel.solve_source` (m) compiled as a function of (C, r, out): the
+    matrix and the right-hand side in, the solution into ``out``; returns ``sol``."""
+    import math
+
+    import numba as nb
+
+    head = [f"c{i}_{j} = C[{i}, {j}]" for i in range(m) for j in range(m)]
+    head += [f"w{i} = r[{i}]" for i in range(m)]
+    tail = [f"out[{i}] = w{i}" for i in range(m)] + ["return sol"]
+    body = "\n".join("    " + line for line in head + _kernel.solve_source(m) + tail)
+    scope = {"math": math}
+    exec(f"def solve(C, r, out):\n{body}\n", scope)
+    return nb.njit(scope["solve"])
+
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 4, 6])
+def test_written_out_solve_equals_the_kernels_solve_bit_for_bit(m):
+    # the capacitance solve of the written-out right-hand side (solve_source) against
+    # _kernel._solve on the same matrices: diagonally dominant ones (no row swap), ones
+    # whose pivots need swaps, ties of magnitude (the first largest is the pivot),
+    # zeros in the column (a factor skipped), singular and non-finite ones (False); and
+    # the solution numpy's where the matrix is well conditioned
+    import numba as nb
+
+    written = _written_solve(m)
+
+    @nb.njit
+    def kernel(C, r):
+        M = C.ravel().copy()
+        x = r.copy()
+        return _kernel._solve(M, 0, x, 0, C.shape[0]), x
+
+    rng = np.random.default_rng(11)
+    cases = []
+    for trial in range(200):
+        C = rng.normal(size=(m, m))
+        if trial % 4 == 0:
+            C += 5.0 * np.eye(m)  # dominant diagonal: no swap
+        if trial % 5 == 1:
+            C[:, 0] = np.round(C[:, 0])  # ties of magnitude in the first column
+            C[rng.integers(m), 0] = 0.0
+        if trial % 7 == 2 and m > 1:
+            C[-1] = C[0]  # singular
+        cases.append(C)
+    cases += [np.zeros((m, m)), np.full((m, m), np.nan), np.eye(m)]
+    swapped = 0
+    for C in cases:
+        r = rng.normal(size=m)
+        ok0, x0 = kernel(C, r)
+        out = np.full(m, 7.0)
+        ok1 = written(C, r, out)
+        assert ok0 == ok1
+        if ok0:
+            assert np.array_equal(x0, out)
+            swapped += int(np.argmax(np.abs(C[:, 0])) != 0)
+            if np.linalg.cond(C) < 1e6:  # and it solves the system (numpy's as oracle)
+                assert np.allclose(out, np.linalg.solve(C, r), rtol=1e-9, atol=1e-12)
+    assert m == 1 or swapped > 20  # the pivoting was exercised

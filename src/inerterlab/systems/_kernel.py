@@ -134,12 +134,14 @@ def road_layout_of(itab):
 def _solve(M, m0, r, r0, n):
     """Solve M x = r (n x n, row-major in M from M[m0]; r from r[r0]) in place by Gaussian
     elimination with partial pivoting; x in r. Returns False if M is singular. Offsets,
-    not slices: a slice per call costs a view."""
+    not slices: a slice per call costs a view. Each pivot's reciprocal is taken once and
+    multiplies (its column's factors, its row's back substitution): one division per
+    pivot, not one per entry, on the chain from one pivot to the next."""
     if n == 1:  # the elimination below for one unknown, without its loops
         piv = M[m0]
         if piv == 0.0 or not math.isfinite(piv):
             return False
-        r[r0] = r[r0] / piv
+        r[r0] = r[r0] * (1.0 / piv)
         return True
     for k in range(n):
         p = k
@@ -158,9 +160,9 @@ def _solve(M, m0, r, r0, n):
             tmp = r[r0 + k]
             r[r0 + k] = r[r0 + p]
             r[r0 + p] = tmp
-        piv = M[m0 + k * n + k]
+        inv = 1.0 / M[m0 + k * n + k]
         for i in range(k + 1, n):
-            f = M[m0 + i * n + k] / piv
+            f = M[m0 + i * n + k] * inv
             if f != 0.0:
                 for j in range(k + 1, n):
                     M[m0 + i * n + j] -= f * M[m0 + k * n + j]
@@ -169,7 +171,7 @@ def _solve(M, m0, r, r0, n):
         s = r[r0 + k]
         for j in range(k + 1, n):
             s -= M[m0 + k * n + j] * r[r0 + j]
-        r[r0 + k] = s / M[m0 + k * n + k]
+        r[r0 + k] = s * (1.0 / M[m0 + k * n + k])
     return True
 
 
@@ -1184,6 +1186,45 @@ def switches_at(x, road, itab, ftab, W, out):
     return switches(itab, ftab, W, out)
 
 
+def solve_source(m: int) -> list[str]:
+    """The statements of :func:`_solve` for an m x m system written out on local
+    variables: the matrix ``c{i}_{j}``, the right-hand side ``w{i}`` (its solution on
+    return), ``sol`` False where the matrix is singular (as :func:`_solve` returns).
+    The same operations in the same order (the pivot the first largest magnitude of its
+    column, rows swapped where it is not on the diagonal, the pivot's reciprocal
+    ``iv{k}``, each row's factor skipped where it is 0.0, the back substitution from the
+    last row), so the solution agrees with :func:`_solve`'s to the last bit; but in
+    registers: through the work array the compiler stored and loaded every entry at
+    every operation, as the matrix and the right-hand side may share its memory. Only
+    entries at or right of the pivot's column are swapped: those left of it are never
+    read again."""
+    L = ["sol = True"]
+    for k in range(m):
+        body = ["p = " + str(k), f"big = abs(c{k}_{k})"]
+        for i in range(k + 1, m):
+            body += [f"if abs(c{i}_{k}) > big:", f"    big = abs(c{i}_{k})", f"    p = {i}"]
+        body += ["if big == 0.0 or not math.isfinite(big):", "    sol = False"]
+        L += ["if sol:"] + ["    " + b for b in body]
+        step = []
+        for i in range(k + 1, m):
+            swap = [f"c{k}_{j}, c{i}_{j} = c{i}_{j}, c{k}_{j}" for j in range(k, m)]
+            swap.append(f"w{k}, w{i} = w{i}, w{k}")
+            step += [f"{'if' if i == k + 1 else 'elif'} p == {i}:"] + ["    " + x for x in swap]
+        step.append(f"iv{k} = 1.0 / c{k}_{k}")
+        for i in range(k + 1, m):
+            step += [f"f = c{i}_{k} * iv{k}", "if f != 0.0:"]
+            step += [f"    c{i}_{j} -= f * c{k}_{j}" for j in range(k + 1, m)]
+            step.append(f"    w{i} -= f * w{k}")
+        L += ["if sol:"] + ["    " + x for x in step]
+    back = []
+    for k in range(m - 1, -1, -1):
+        back.append(f"s = w{k}")
+        back += [f"s -= c{k}_{j} * w{j}" for j in range(k + 1, m)]
+        back.append(f"w{k} = s * iv{k}")
+    L += ["if sol:"] + ["    " + x for x in back]
+    return L
+
+
 def dense_source(itab) -> str | None:
     """The body of :func:`evaluate` for the structure ``itab`` written out as straight-line
     Python (every table look-up, loop and branch on the structure resolved: constant
@@ -1211,7 +1252,6 @@ def dense_source(itab) -> str | None:
     nn, ne, nd = it[I_NN], it[I_NE], it[I_ND]
     no, eo = it[I_NODE], it[I_ELEM]
     iv, ia, iF = nn, 2 * nn, 3 * nn
-    im = iF + ne
     nlen = 3 * max(it[I_NRD], 1) + 1 + ne
     hs = nlen - ne
     sg = 3 * nn + ne + nd * nd + nd + ne  # _switch_slots (no velocity nodes)
@@ -1345,8 +1385,6 @@ def dense_source(itab) -> str | None:
     so = zo + nd * m
     uo = so + m * m
     ro = uo + m * nd
-    w = im + nd  # scratch of the m x m solve: its right-hand side, then its matrix
-    cap = w + m
     for i in range(nd):
         s = "0.0"
         for j in range(nd):
@@ -1361,16 +1399,15 @@ def dense_source(itab) -> str | None:
             for j in range(nd):
                 if j in touched:
                     s = f"({s} + ftab[{uo + k * nd + j}] * y{j})"
-            L.append(f"W[{w + k}] = mk * {s}")
+            L.append(f"w{k} = mk * {s}")
             for j in range(m):
                 one = 1.0 if j == k else 0.0
-                L.append(f"W[{cap + k * m + j}] = {one} + mk * ftab[{so + k * m + j}]")
-        L.append(f"if not _solve(W, {cap}, W, {w}, {m}):")
+                L.append(f"c{k}_{j} = {one} + mk * ftab[{so + k * m + j}]")
+        L += solve_source(m)
+        L.append("if not sol:")
         L.append("    ok = False")
         L += [f"    R{i} = y{i}" for i in range(nd)]
         L.append("else:")
-        for k in range(m):
-            L.append(f"    w{k} = W[{w + k}]")
         for i in range(nd):
             s = "0.0"
             for k in range(m):
@@ -1420,5 +1457,5 @@ DENSE_IMPORTS = (
     "from inerterlab.elements.inerter import inerter_inertance\n"
     "from inerterlab.elements.spring import spring_force, spring_switch\n"
     "from inerterlab.elements.tyre import tyre_force, tyre_switch\n"
-    "from inerterlab.systems._kernel import _solve, _switch_halves\n"
+    "from inerterlab.systems._kernel import _switch_halves\n"
 )
