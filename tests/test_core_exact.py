@@ -80,24 +80,32 @@ def test_compiled_wk_filter_equals_the_metrics_filter(rate):
     assert np.abs(weighted_acceleration(t, a) - ref).max() <= 1e-12 * np.abs(ref).max()
 
 
-def test_composite_point_rows_equal_the_exponential_at_every_point():
-    """The observers' point rows of a step of m panels (the ends directly, a panel's
-    nodes through powers of the panel's exponential) against S exp(M theta h) at each
-    point, to 1e-12 of the rows' size; the points increase from 0 to 1."""
+def test_point_rows_equal_the_exponential_at_every_point():
+    """The observers' point rows of a step as long as m panels (its start, the nodes of
+    its one Gauss-Legendre rule from the step's Taylor rows, its end from the
+    exponential) against S exp(M theta h) at each point, to 1e-12 of the rows' size; the
+    points increase from 0 to 1, the nodes and weights are a Gauss-Legendre rule on
+    [0, 1] of _gauss_count(m) nodes (5, 9, 15 for m = 1, 3, 8): exact for the
+    polynomials of degree 2n - 1."""
     from scipy.linalg import expm
 
-    from inerterlab.systems.core import _composite_rows, _points
+    from inerterlab.systems.core import _gauss_count, _nodes, _point_rows, _points, _taylor_each
 
     rng = np.random.default_rng(3)
     n = 6
     M = rng.normal(size=(n, n)) * 40.0 - 60.0 * np.eye(n)
     S = rng.normal(size=(3, n))
     hs = np.array([1e-3, 4e-3, 1e-2])
+    assert [_gauss_count(m) for m in (1, 3, 4, 8, 16)] == [5, 9, 10, 15, 24]
     for m in (1, 3, 8):
         th = _points(m)
         assert th[0] == 0.0 and th[-1] == 1.0 and np.all(np.diff(th) > 0)
-        R = _composite_rows(S, lambda h: expm(h[:, None, None] * M[None]), hs, m)
-        for p, x in enumerate(th):
+        w, x = _nodes(m)
+        nq = _gauss_count(m)
+        assert w.size == x.size == nq == th.size - 2 and abs(w.sum() - 1.0) < 1e-14
+        assert abs(w @ x ** (2 * nq - 1) - 1.0 / (2 * nq)) < 1e-14
+        R = _point_rows(S, _taylor_each(M, S, hs), expm(hs[:, None, None] * M[None]), m)
+        for p, t in enumerate(th):
             for j, h in enumerate(hs):
-                ref = S @ expm(M * x * h)
+                ref = S @ expm(M * t * h)
                 assert np.abs(R[p, j] - ref).max() <= 1e-12 * np.abs(ref).max()

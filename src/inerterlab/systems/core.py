@@ -27,10 +27,11 @@ _TYPE = {"ground": GROUND, "road": ROAD, "combination": LIN}
 EXACT_MAX_STEP_SIZES = 256
 #: exact step lengths are rounded to this many seconds per second of horizon
 EXACT_STEP_QUANTUM = 1e-13
-#: the longest quadrature panel [s] of a system's observers in an exact step: their
-#: integrals are five-point Gauss-Legendre sums over each panel (the error of a
-#: component of angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz
-#: section); an exact step holds as many equal panels as it needs
+#: the longest quadrature panel [s] of a system's observers in an exact step: the
+#: accuracy of five-point Gauss-Legendre sums over each panel (the error of a component
+#: of angular frequency w goes as (w h)^10; 2e-8 of it for Wk's 100 Hz section) is
+#: what a step's quadrature keeps; a step as long as m panels takes one Gauss-Legendre
+#: rule of as many nodes as that needs (:func:`_gauss_count`: 15 for eight panels)
 EXACT_OBSERVER_PANEL = 2.5e-3
 #: and at most this many radians of the road's sine or of the system's fastest mode
 #: (the base system's largest |eigenvalue|) per panel: the quadrature's error in the
@@ -1699,7 +1700,7 @@ _LENGTH_TABLES: dict = {}
 def _length_tables(M, S, hs, m, n):
     """For the steps of lengths ``hs`` of z' = M z: the first n rows of exp(M h) [j],
     and with observers (m panels, m > 0) the signal rows S at the points of a step
-    (:func:`_composite_rows`, [p, j]) and the Taylor rows (:func:`_taylor_rows`). Each
+    (:func:`_point_rows`, [p, j]) and the Taylor rows (:func:`_taylor_rows`). Each
     length's tables are kept by content (M, S, m, h) for the last
     :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths (a
     bump after a drop: the bump's length; the regime levels are shared). Each length is
@@ -1712,14 +1713,10 @@ def _length_tables(M, S, hs, m, n):
     miss = [j for j, k in enumerate(keys) if k not in got]
     if miss:
         hm = hs[miss]
-        need = [hm]
-        if m:  # the panels and their Gauss-Legendre nodes (what _composite_rows reads)
-            sub = hm / m
-            need += [0.0 * hm, sub] + [x * sub for x in _GL_X]
-        expo = _expm_lengths(M, np.concatenate(need))
-        xe = expo(hm)[:, :n]
+        full = _expm_lengths(M, hm)(hm)
+        xe = full[:, :n]
         tr = _taylor_each(M, S, hm)
-        sr = _composite_rows(S, expo, hm, m) if m else None
+        sr = _point_rows(S, tr, full, m) if m else None
         for i, j in enumerate(miss):
             item = (xe[i].copy(), None if sr is None else sr[:, i].copy(), tr[i])
             for x in item:
@@ -1739,22 +1736,19 @@ def _length_tables(M, S, hs, m, n):
     return XE, SR, TR
 
 
-def _composite_rows(S, expo, hs, m):
+def _point_rows(S, taylor, ends, m):
     """R[p, j] = S exp(M theta_p hs[j]) at the points theta_p = :func:`_points` (m) of a
-    step of m equal panels, ``expo(h)`` giving exp(M h) for each length of h: the ends
-    directly, a node x of panel k as S exp(M x hs / m) exp(M hs / m)^k."""
+    step of length hs[j]: its start S, its nodes the step's Taylor rows summed there
+    (``taylor[j]`` of :func:`_taylor_each`, [r, k, :]: sum_k T[:, k] theta^k, whose terms
+    run to 1e-18 of the largest), its end from the exponential ``ends[j]`` = exp(M
+    hs[j])."""
     th = _points(m)
-    R = np.empty((th.size, hs.size, S.shape[0], S.shape[1]))
-    R[0] = S @ expo(0.0 * hs)
-    R[-1] = S @ expo(hs)
-    sub = hs / m
-    g = _GL_X.size
-    nodes = np.array([S @ expo(x * sub) for x in _GL_X])  # [p, j]: the nodes of panel 0
-    step = expo(sub) if m > 1 else None
-    P = None  # exp(M hs / m)^k
-    for k in range(m):  # the nodes of panel k: one product over all nodes and lengths
-        R[1 + g * k : 1 + g * (k + 1)] = nodes if P is None else nodes @ P
-        P = step if P is None else P @ step
+    R = np.empty((th.size, len(taylor), S.shape[0], S.shape[1]))
+    R[0] = S
+    R[-1] = S @ ends
+    for j, T in enumerate(taylor):
+        pw = th[1:-1, None] ** np.arange(T.shape[1])[None]  # [p, k]
+        R[1:-1, j] = np.einsum("pk,rkq->prq", pw, T)
     return R
 
 
@@ -1819,19 +1813,32 @@ def _exact_tables_of(A, B, sizes):
     return Phi, GX, np.ascontiguousarray(E[:, :, n + 1] + E[:, :, n + 3])
 
 
-#: Gauss-Legendre nodes (in [0, 1]) and weights of the observers' quadrature in a panel
-#: of an exact step: five points, exact for polynomials of degree 9
-_GL_X = 0.5 * (np.polynomial.legendre.leggauss(5)[0] + 1.0)
-_GL_W = 0.5 * np.polynomial.legendre.leggauss(5)[1]
+def _gauss_count(m: int) -> int:
+    """Nodes of the one Gauss-Legendre rule of an exact step as long as m panels: the
+    fewest n whose error on a component of pi rad per panel (the design phase of a panel:
+    a square of Wk's 100 Hz section over 2.5 ms, its fourth power over 1.25 ms) is at
+    most that of five nodes on each panel, the error of n nodes on exp(i phi theta) over
+    [0, 1] being about phi^(2n) (n!)^4 / ((2n)!^3 (2n + 1)) of the integral. Below that
+    phase (every slower component) the one rule's error falls faster than the
+    composite's (its power 2n > 10): 5 nodes for m = 1, 10 for 4, 15 for 8, 24 for 16."""
+
+    def err(n: int, phi: float) -> float:
+        return phi ** (2 * n) * math.factorial(n) ** 4 / (math.factorial(2 * n) ** 3 * (2 * n + 1))
+
+    n = 5
+    while err(n, math.pi * m) > err(5, math.pi):
+        n += 1
+    return n
 
 
 @lru_cache(maxsize=32)
 def _nodes(m: int) -> tuple[np.ndarray, np.ndarray]:
-    """(weights, nodes) of the composite rule on a step of m equal panels, theta in
-    [0, 1] increasing: :data:`_GL_X` in each panel, the weights :data:`_GL_W` / m."""
-    x = ((np.arange(m)[:, None] + _GL_X[None]) / m).ravel()
-    w = np.tile(_GL_W, m) / m
-    return w, x  # writable, as the kernels' other tables: one compiled signature
+    """(weights, nodes) of the observers' quadrature on an exact step as long as m
+    panels, theta in [0, 1] increasing: one Gauss-Legendre rule of :func:`_gauss_count`
+    (m) nodes over the whole step (for m panels of five nodes each it reads the signals
+    at 15 points where they took 40, at least as accurately: docs/model.md)."""
+    x, w = np.polynomial.legendre.leggauss(_gauss_count(m))
+    return 0.5 * w, 0.5 * (x + 1.0)  # writable, as the kernels' other tables
 
 
 def _observer_system(sys, ss):
@@ -2020,8 +2027,8 @@ def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
 
 
 def _points(m: int = 1) -> np.ndarray:
-    """theta of the points of an exact step of m panels the observers read: 0, the
-    Gauss-Legendre nodes of each panel (:func:`_nodes`), 1."""
+    """theta of the points of an exact step as long as m panels the observers read: 0,
+    the Gauss-Legendre nodes (:func:`_nodes`), 1."""
     return np.r_[0.0, _nodes(m)[1], 1.0]
 
 
@@ -2043,37 +2050,38 @@ def _point_tables_cached(n, a, b, sx, su, sizes, m):
     sx = np.frombuffer(sx).reshape(-1, n)
     su = np.frombuffer(su).reshape(-1, 3)
     hs = np.frombuffer(sizes)
-    SR = _point_tables_of(A, B, sx, su, hs, m)
-    # v = (z, X1, X1') on a road segment: v' = Mv v (X1'' = 0)
-    Mv = np.zeros((n + 2, n + 2))
-    Mv[:n, :n] = A
-    Mv[:n, n:] = B[:, :2]
-    Mv[n, n + 1] = 1.0
-    TR = _taylor_rows(Mv, np.hstack([sx, su[:, :2]]), hs)
+    SR, TR = _point_tables_of(A, B, sx, su, hs, m)
     SR.setflags(write=False)
     TR.setflags(write=False)
     return SR, TR
 
 
 def _point_tables_of(A, B, sx, su, sizes, m=1):
-    """SR[j, q, p nu + r]: over v = (z, X1, X1') at the start of an exact step of length
-    sizes[j] (m panels) on a linear road segment (:func:`_exact_tables_of`), the signal
-    r (rows sx, su over z and u; nu of them) at theta = :func:`_points` (m)[p] of the
-    step, (Sx z + Su u) there = sum_q SR[j, q, p nu + r] v[q] (the layout
-    :func:`._integrate._observe_steps` sums over)."""
+    """(SR, TR) over v = (z, X1, X1') at the start of an exact step of length sizes[j]
+    (m panels long) on a linear road segment (:func:`_exact_tables_of`): SR[j, q, p nu
+    + r] the signal r (rows sx, su over z and u; nu of them) at theta =
+    :func:`_points` (m)[p] of the step, (Sx z + Su u) there = sum_q SR[j, q, p nu + r]
+    v[q] (the layout :func:`._integrate._observe_steps` sums over); TR its Taylor rows
+    (:func:`_taylor_rows` of v' = Mv v, X1'' = 0), which give the nodes' rows."""
     na = A.shape[0]
-
-    def expo(hs):  # exp(Mv h) of v = (z, X1, X1'), from the exact tables
-        Phi, GX, GB = _exact_tables(A, B, hs)
-        E = np.zeros((hs.size, na + 2, na + 2))
-        E[:, :na, :na] = Phi
-        E[:, :na, na] = GX
-        E[:, :na, na + 1] = GB
-        E[:, na, na] = E[:, na + 1, na + 1] = 1.0
-        E[:, na, na + 1] = hs
-        return E
-
-    return _point_layout(_composite_rows(np.hstack([sx, su[:, :2]]), expo, sizes, m))
+    Mv = np.zeros((na + 2, na + 2))
+    Mv[:na, :na] = A
+    Mv[:na, na:] = B[:, :2]
+    Mv[na, na + 1] = 1.0
+    S = np.hstack([sx, su[:, :2]])
+    each = _taylor_each(Mv, S, sizes)
+    Phi, GX, GB = _exact_tables(A, B, sizes)  # exp(Mv h), from the exact tables
+    E = np.zeros((sizes.size, na + 2, na + 2))
+    E[:, :na, :na] = Phi
+    E[:, :na, na] = GX
+    E[:, :na, na + 1] = GB
+    E[:, na, na] = E[:, na + 1, na + 1] = 1.0
+    E[:, na, na + 1] = sizes
+    K = max((T.shape[1] for T in each), default=1)
+    TR = np.zeros((sizes.size, S.shape[0], K, na + 2))
+    for j, T in enumerate(each):
+        TR[j, :, : T.shape[1]] = T
+    return _point_layout(_point_rows(S, each, E, m)), TR
 
 
 def _point_layout(SR):
