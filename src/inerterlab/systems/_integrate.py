@@ -942,6 +942,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
      pastv, flipm, swf, h_side, only, ofw, ia, z, zs, xvt, xpts, xcoef, xsv, xrow, xh, xj, xpk, xpp,
      xhi, xlo, xdone, xacc, ga0, gd0, ga1, gd1, stg, es) = scratch  # fmt: skip
     n = y.size
+    nl = live[live.size - 1] + 1 if live.size > 0 else 0  # past the last live state
     _, _, hs = road_layout_of(itab)
     oit, fzi, fzf, fzc = fz
     nfz = fzi[0]
@@ -1198,14 +1199,17 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
         thx = 1.0
         for st in range(1, 7):
             # each state's stage sum term by term in the order of q, the states side by
-            # side (contiguous rows of K: the compiler vectorises the loops over i)
-            for i in range(n):
+            # side (contiguous rows of K: the compiler vectorises the loops over i), up
+            # to the last state the stages move (every state past it is one they leave,
+            # copied below: a ride's filter, quadratures and peaks, which the observers'
+            # order puts after those the stages move)
+            for i in range(nl):
                 dy[i] = 0.0
             for q in range(st):
                 a = _TAB_A[st, q]
-                for i in range(n):
+                for i in range(nl):
                     dy[i] += a * K[q, i]
-            for i in range(n):
+            for i in range(nl):
                 yt[i] = y[i] + h * dy[i]
             for i in dead:  # the states the stages leave
                 yt[i] = y[i]
@@ -1214,11 +1218,11 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                      work, stats, oit, fzi)  # fmt: skip
             for i in live:
                 K[st, i] = dy[i]
-        for i in range(n):  # the error estimate's sums, as the stages' above
+        for i in range(nl):  # the error estimate's sums, as the stages' above
             es[i] = 0.0
         for q in range(7):
             a = _TAB_E[q]
-            for i in range(n):
+            for i in range(nl):
                 es[i] += a * K[q, i]
         err = 0.0
         for i in live:
