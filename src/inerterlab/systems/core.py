@@ -1729,11 +1729,7 @@ def _length_tables(M, S, hs, m, n):
     items = [got[k] for k in keys]
     XE = np.array([it[0] for it in items]).reshape(hs.size, n, M.shape[0])
     SR = np.stack([it[1] for it in items], axis=1) if m and items else None
-    K = max((it[2].shape[1] for it in items), default=1)
-    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
-    for j, it in enumerate(items):
-        TR[j, :, : it[2].shape[1]] = it[2]
-    return XE, SR, TR
+    return XE, SR, _taylor_padded([it[2] for it in items], S.shape[0], M.shape[0])
 
 
 def _point_rows(S, taylor, ends, m):
@@ -1835,8 +1831,8 @@ def _gauss_count(m: int) -> int:
 def _nodes(m: int) -> tuple[np.ndarray, np.ndarray]:
     """(weights, nodes) of the observers' quadrature on an exact step as long as m
     panels, theta in [0, 1] increasing: one Gauss-Legendre rule of :func:`_gauss_count`
-    (m) nodes over the whole step (for m panels of five nodes each it reads the signals
-    at 15 points where they took 40, at least as accurately: docs/model.md)."""
+    (m) nodes over the whole step (for eight panels, 15 nodes where five on each panel
+    took 40, at least as accurately: docs/model.md)."""
     x, w = np.polynomial.legendre.leggauss(_gauss_count(m))
     return 0.5 * w, 0.5 * (x + 1.0)  # writable, as the kernels' other tables
 
@@ -1953,9 +1949,14 @@ def _taylor_rows(M, S, hs):
     its terms to the last bit (scaling by a power of two commutes with rounding in every
     product and sum, and so with each term's stopping test), unless a product could
     leave the normal range, where each length runs its own chain."""
-    each = _taylor_each(M, S, hs)
+    return _taylor_padded(_taylor_each(M, S, hs), S.shape[0], M.shape[0])
+
+
+def _taylor_padded(each, nr: int, nq: int) -> np.ndarray:
+    """The rows of :func:`_taylor_each` of each length ([r, k, :]) as one table [j, r, k,
+    :], zeros past a length's last term."""
     K = max((T.shape[1] for T in each), default=1)
-    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    TR = np.zeros((len(each), nr, K, nq))
     for j, T in enumerate(each):
         TR[j, :, : T.shape[1]] = T
     return TR
@@ -2077,11 +2078,7 @@ def _point_tables_of(A, B, sx, su, sizes, m=1):
     E[:, :na, na + 1] = GB
     E[:, na, na] = E[:, na + 1, na + 1] = 1.0
     E[:, na, na + 1] = sizes
-    K = max((T.shape[1] for T in each), default=1)
-    TR = np.zeros((sizes.size, S.shape[0], K, na + 2))
-    for j, T in enumerate(each):
-        TR[j, :, : T.shape[1]] = T
-    return _point_layout(_point_rows(S, each, E, m)), TR
+    return _point_layout(_point_rows(S, each, E, m)), _taylor_padded(each, S.shape[0], na + 2)
 
 
 def _point_layout(SR):
