@@ -2152,11 +2152,12 @@ def linear_outputs(Yt, Ut, C, D, undefined, O):
 # fixed steps of classical Runge-Kutta (RK4) on a road given at samples: the steps end on
 # every segment edge (the road's kinks) and every output sample, and are at most the
 # fixed step long; no error control. Where the system has switching functions (tyre
-# lift-off, flywheel saturation, ...) the derivative at each step's end is evaluated too
-# (with the step's law, on its segment), a sign change of a switching function over the
-# step is located on the cubic Hermite interpolant through the step's ends and their
-# derivatives, and the step is taken again from its start to the crossing: the state at
-# an event is an RK4 solution (order 4), not the interpolant's (order 3).
+# lift-off, flywheel saturation, ...) the switching functions at each step's end are
+# evaluated too (with the step's law, on its segment), a sign change of one over the step
+# is located on the method's own continuous extension (cubic in the step's fraction,
+# from its four stages: no further evaluation of the right-hand side), and the step is
+# taken again from its start to the crossing: the state at an event is an RK4 solution
+# (order 4), not the extension's (order 3).
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -2191,17 +2192,19 @@ def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, roa
 
 
 @nb.njit(cache=True, inline="always")
-def _hermite(y0, f0, y1, f1, h, th, out):
-    """The cubic Hermite interpolant of a step of length h (ends y0, y1, derivatives
-    f0, f1) at theta = th."""
+def _rk4_dense(y, k1, k2, k3, k4, h, th, out):
+    """The continuous extension of the classical Runge-Kutta step of length h from y
+    (stages k1 .. k4) at theta = th: y + h (b1 k1 + b2 (k2 + k3) + b4 k4) with
+    b1 = th - 3 th^2 / 2 + 2 th^3 / 3, b2 = th^2 - 2 th^3 / 3, b4 = 2 th^3 / 3 - th^2 / 2,
+    the step's weights at th = 1 (order 3; Hairer, Norsett and Wanner, Solving Ordinary
+    Differential Equations I, section II.6)."""
     th2 = th * th
     th3 = th2 * th
-    a0 = 2.0 * th3 - 3.0 * th2 + 1.0
-    b0 = (th3 - 2.0 * th2 + th) * h
-    a1 = 3.0 * th2 - 2.0 * th3
-    b1 = (th3 - th2) * h
-    for q in range(y0.size):
-        out[q] = a0 * y0[q] + b0 * f0[q] + a1 * y1[q] + b1 * f1[q]
+    b1 = th - 1.5 * th2 + th3 * (2.0 / 3.0)
+    b2 = th2 - th3 * (2.0 / 3.0)
+    b4 = th3 * (2.0 / 3.0) - 0.5 * th2
+    for q in range(y.size):
+        out[q] = y[q] + h * (b1 * k1[q] + b2 * (k2[q] + k3[q]) + b4 * k4[q])
 
 
 @nb.njit(cache=True, inline="always")
@@ -2220,17 +2223,17 @@ def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, sta
 
 
 @nb.njit(cache=True, _nrt=False)
-def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, f0, yt, f1, itab, ftab, imp, dy, road,
-                work, stats, yd, sw, only, ofw):  # fmt: skip
+def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, k1, k2, k3, k4, itab, ftab, imp, dy,
+                road, work, stats, yd, sw, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
-    end (opposite signs), crosses zero on the step's Hermite interpolant (Illinois regula
-    falsi to 1e-12 in theta, as :func:`_locate`)."""
+    end (opposite signs), crosses zero on the step's continuous extension
+    (:func:`_rk4_dense`; Illinois regula falsi to 1e-12 in theta, as :func:`_locate`)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
     for _ in range(60):
         x = _secant(a, b, ga, gb)
-        _hermite(y, f0, yt, f1, h, x, yd)
+        _rk4_dense(y, k1, k2, k3, k4, h, x, yd)
         _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
                       sw, only, ofw)  # fmt: skip
         gx = sw[e]
@@ -2432,8 +2435,8 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
         if events:
             # the derivative at the step's end (its law, its segment) serves the next step
             # unless the step ends on a segment edge (the next step's road rate differs:
-            # its first stage is evaluated there) and the Hermite interpolant of a
-            # crossing; otherwise the switching functions alone are read there
+            # its first stage is evaluated there); there the switching functions alone
+            # are read
             fresh = cheap and i + 1 < nseg and segs[i + 1, 0] <= tn
             if fresh:
                 _motion_switches(ev, segs, i, tn, yt, itab, ftab, road, work, swn, only)
@@ -2446,13 +2449,8 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             for e in range(2 * ne):
                 xloc[e] = 2.0
                 if sw[e] * swn[e] < 0.0:
-                    if fresh:  # the end's derivative for the interpolant
-                        if not _rk4_f(ev, segs, i, tn, yt, itab, ftab, imp, f1, road, work,
-                                      stats):  # fmt: skip
-                            return BALANCE_FAILED, k
-                        fresh = False
-                    xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, yt,
-                                          f1, itab, ftab, imp, dy, road, work, stats, yd,
+                    xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, k2,
+                                          k3, k4, itab, ftab, imp, dy, road, work, stats, yd,
                                           swx, only, ofw)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]

@@ -64,9 +64,9 @@ class SimulationOptions:
         The tableau of the fixed steps. ``dopri5``: the Dormand-Prince pair's order-5
         solution, inside the adaptive driver (every system). ``rk4``: classical
         Runge-Kutta of order 4 in its own driver (:func:`._integrate.integrate_fixed`:
-        four right-hand sides a step, a fifth at its end where the system has
-        switching functions, whose crossings are located on the cubic Hermite
-        interpolant and the step taken again to them), for the vehicles of
+        four right-hand sides a step; where the system has switching functions, they
+        are read at each step's end too, their crossings located on the step's own
+        continuous extension and the step taken again to them), for the vehicles of
         :func:`inerterlab.systems.vehicle.simulate` on their sampled roads; needs
         ``fixed_step``.
     time_limit : float or None
