@@ -149,7 +149,8 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
     # the per-structure code of factored tables is evaluate's statements written out:
     # the same derivative, outputs and switching functions to the last bit; and the
     # switching functions from the nodes' motion alone (switches_at, and either code
-    # called with SWITCHES_ONLY, which writes them into dx) equal those after a whole
+    # called with SWITCHES_ONLY, which writes them into dx, the written-out code without
+    # touching the work array) equal those after a whole
     # evaluation, bit for bit, at random states, roads and held sides; and either code
     # called with SWITCHES_OF_WORK gives switches() of the work array it is handed,
     # writing nothing else; called with STAGE, the same derivative to the last bit (the
@@ -201,12 +202,15 @@ def test_written_out_code_and_switches_equal_the_generic_evaluation(name):
         sw = np.empty(2 * ne)
         n2 = _kernel.switches_at(x, road, itab, ftab, np.empty(_kernel.work_size(itab)), sw)
         assert np.array_equal(s0, sw) and n0 == n2 > 0
-        for f in (generic, spec):
+        for f, whole in ((generic, True), (spec, False)):
             W = np.full(_kernel.work_size(itab), 7.0)
             got = np.full(2 * ne, 3.0)
             assert f(x, road, itab, ftab, W, got, only=True)
             assert np.array_equal(got, s0)  # one call: the switching functions, into dx
-            assert _kernel.switches(itab, ftab, W, sw) == n0 and np.array_equal(s0, sw)
+            if whole:  # the generic code leaves the nodes' motion in the work array
+                assert _kernel.switches(itab, ftab, W, sw) == n0 and np.array_equal(s0, sw)
+            else:  # the written-out code computes them from its local variables alone
+                assert (W == 7.0).all()
 
 
 def test_a_clutch_switch_reads_the_force():

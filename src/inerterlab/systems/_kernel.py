@@ -839,16 +839,22 @@ def _switch_halves(ftab, W, x, e, top, bot, o, so, side, v, force, sg, ne):
     """Flywheel-row element e's switching function (its two signed halves, see
     :func:`switches`, and whether it has one) into the slots of :func:`_switch_slots`
     (from ``sg``), at relative velocity ``v`` and element force ``force``."""
-    xr = W[top] - W[bot]
+    g1, g2, kind = _switch_pair(ftab, x, o, so, side, W[top] - W[bot], v, force)
+    W[sg + 2 * e] = g1
+    W[sg + 2 * e + 1] = g2
+    W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
+
+
+@nb.njit(cache=True, inline="always")
+def _switch_pair(ftab, x, o, so, side, xr, v, force):
+    """A flywheel-row element's two signed halves of its switching function (see
+    :func:`switches`) and its kind (:func:`inerterlab.elements._inertial.inertial_switch`),
+    at relative displacement ``xr``, velocity ``v`` and element force ``force``."""
     g, g0, a, kind = inertial_switch(ftab, o, xr, v, force, x, so, side)
     if kind == 2:
-        W[sg + 2 * e] = g
-        W[sg + 2 * e + 1] = g
-    else:
-        d = g - g0 if a >= 0.0 else g0 - g
-        W[sg + 2 * e] = g0 + d
-        W[sg + 2 * e + 1] = g0 - d
-    W[sg + 2 * ne + e] = 1.0 if kind > 0 else 0.0
+        return g, g, kind
+    d = g - g0 if a >= 0.0 else g0 - g
+    return g0 + d, g0 - d, kind
 
 
 @nb.njit(cache=True, _nrt=False)
@@ -1180,7 +1186,8 @@ def switches_at(x, road, itab, ftab, W, out):
     bit. ``W`` then holds the node displacements and velocities of (x, road) only. A
     driver that holds a structure's compiled right-hand side gets them from one call of
     it with ``imp`` = :data:`SWITCHES_ONLY` and ``out`` for ``dx`` (the structure's own
-    code writes those statements out too, :func:`dense_source`). Returns the count of
+    code writes those statements out too, :func:`dense_source`, on its local variables:
+    it leaves the work array alone). Returns the count of
     :func:`switches` (which writes ``out`` again, with the same values)."""
     evaluate(0.0, x, road, readonly(itab), readonly(ftab), W, out, SWITCHES_ONLY.copy())
     return switches(itab, ftab, W, out)
@@ -1242,9 +1249,13 @@ def dense_source(itab) -> str | None:
     they go through an array that may share memory with the state), and the terms
     U^T y of the flywheels' update over coordinates that neither end of the flywheel
     touches are left out (their factor is 0.0 by construction: a term 0.0 * y adds
-    nothing to a sum started from 0.0, for finite y). An impulse flow (``imp`` not
-    empty) goes to :func:`evaluate` itself (``evaluate_inline`` in the module that
-    compiles it). The names it calls are those of :data:`DENSE_IMPORTS`."""
+    nothing to a sum started from 0.0, for finite y). Called with
+    :data:`SWITCHES_ONLY` (the switching functions from the nodes' motion), it computes
+    them from those local variables and writes nothing to the work array (no reader
+    needs it: :func:`switches_at` runs the generic :func:`evaluate`); with ``STAGE``,
+    it leaves the outputs out. An impulse flow (``imp`` not empty otherwise) goes to
+    :func:`evaluate` itself (``evaluate_inline`` in the module that compiles it). The
+    names it calls are those of :data:`DENSE_IMPORTS`."""
     it = [int(v) for v in np.asarray(itab, dtype=np.int64)]
     db = it[I_DNS]
     if db == 0 or it[I_NV] or it[I_NP] or it[I_NR]:
@@ -1280,6 +1291,24 @@ def dense_source(itab) -> str | None:
         return {row[mem] for mem, _ in members(n)} if typ[n] == LIN else set()
 
     S = []  # switches() of the work array, into dx
+    SL = []  # the same from the nodes' motion held in the local variables
+    for e in range(ne):
+        b = eo + ELEM_W * e
+        code, top, bot, o, slot = it[b], it[b + 1], it[b + 2], it[b + 3], it[b + 4]
+        if code == SPRING:
+            SL += [f"    a = X{top} - X{bot}", f"    g = spring_switch(ftab, {o}, a)",
+                   f"    g0 = spring_switch(ftab, {o}, 0.0)",
+                   "    d = g - g0 if a >= 0.0 else g0 - g",
+                   f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
+        elif code == FLYWHEEL:
+            SL += [f"    side = road[{hs + e}] if held else 0.0",
+                   f"    g, g0, kd = _switch_pair(ftab, x, {o}, {slot}, side, X{top} - X{bot}, "
+                   f"V{top} - V{bot}, 0.0)", f"    dx[{2 * e}] = g", f"    dx[{2 * e + 1}] = g0"]  # fmt: skip
+        elif code == TYRE:
+            SL += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, X{top} - X{bot}, V{top} - V{bot})",
+                   f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
+        else:
+            SL += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
     for e in range(ne):
         b = eo + ELEM_W * e
         code, top, bot, o = it[b], it[b + 1], it[b + 2], it[b + 3]
@@ -1315,22 +1344,16 @@ def dense_source(itab) -> str | None:
         L.append(f"X{n} = {combo(n, 'X')}")
     for n in lins:
         L.append(f"V{n} = {combo(n, 'V')}")
+    # the switching functions alone, from the nodes' motion (_inertial_after's without
+    # rates, then switches()), into dx: from the local variables, the work array left alone
+    L.append("if only:")
+    L += SL
+    L.append("    return True")
     L.append("if not stage:")
     for n in range(nn):  # the node outputs known before the forces
         L += [f"    W[{n}] = X{n}", f"    W[{iv + n}] = V{n}"]
         if typ[n] in (GROUND, ROAD):
             L.append(f"    W[{ia + n}] = A{n}")
-    L.append("if only:  # the switching functions alone (_inertial_after without rates)")
-    for e in range(ne):
-        b = eo + ELEM_W * e
-        L.append(f"    W[{sg + 2 * ne + e}] = 0.0")
-        if it[b] == FLYWHEEL:
-            top, bot, o, slot = it[b + 1], it[b + 2], it[b + 3], it[b + 4]
-            L += [f"    side = road[{hs + e}] if held else 0.0",
-                  f"    _switch_halves(ftab, W, x, {e}, {top}, {bot}, {o}, {slot}, side, "
-                  f"V{top} - V{bot}, 0.0, {sg}, {ne})"]  # fmt: skip
-    L += S  # and switches() of them into dx
-    L.append("    return True")
     for n in lins:  # the forces gathered at a combination node
         L.append(f"G{n} = 0.0")
     L.append("ok = True")
@@ -1457,5 +1480,5 @@ DENSE_IMPORTS = (
     "from inerterlab.elements.inerter import inerter_inertance\n"
     "from inerterlab.elements.spring import spring_force, spring_switch\n"
     "from inerterlab.elements.tyre import tyre_force, tyre_switch\n"
-    "from inerterlab.systems._kernel import _switch_halves\n"
+    "from inerterlab.systems._kernel import _switch_halves, _switch_pair\n"
 )
