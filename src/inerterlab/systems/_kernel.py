@@ -1290,40 +1290,36 @@ def dense_source(itab) -> str | None:
             return {row[n]}
         return {row[mem] for mem, _ in members(n)} if typ[n] == LIN else set()
 
-    S = []  # switches() of the work array, into dx
-    SL = []  # the same from the nodes' motion held in the local variables
-    for e in range(ne):
-        b = eo + ELEM_W * e
-        code, top, bot, o, slot = it[b], it[b + 1], it[b + 2], it[b + 3], it[b + 4]
-        if code == SPRING:
-            SL += [f"    a = X{top} - X{bot}", f"    g = spring_switch(ftab, {o}, a)",
-                   f"    g0 = spring_switch(ftab, {o}, 0.0)",
-                   "    d = g - g0 if a >= 0.0 else g0 - g",
-                   f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
-        elif code == FLYWHEEL:
-            SL += [f"    side = road[{hs + e}] if held else 0.0",
-                   f"    g, g0, kd = _switch_pair(ftab, x, {o}, {slot}, side, X{top} - X{bot}, "
-                   f"V{top} - V{bot}, 0.0)", f"    dx[{2 * e}] = g", f"    dx[{2 * e + 1}] = g0"]  # fmt: skip
-        elif code == TYRE:
-            SL += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, X{top} - X{bot}, V{top} - V{bot})",
-                   f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
-        else:
-            SL += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
-    for e in range(ne):
-        b = eo + ELEM_W * e
-        code, top, bot, o = it[b], it[b + 1], it[b + 2], it[b + 3]
-        if code == SPRING:
-            S += [f"    a = W[{top}] - W[{bot}]", f"    g = spring_switch(ftab, {o}, a)",
-                  f"    g0 = spring_switch(ftab, {o}, 0.0)",
-                  "    d = g - g0 if a >= 0.0 else g0 - g",
-                  f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
-        elif code == FLYWHEEL:
-            S += [f"    dx[{2 * e}] = W[{sg + 2 * e}]", f"    dx[{2 * e + 1}] = W[{sg + 2 * e + 1}]"]
-        elif code == TYRE:
-            S += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, W[{top}] - W[{bot}], "
-                  f"W[{nn + top}] - W[{nn + bot}])", f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
-        else:  # no switching function: its halves 1.0 + 0.0 and 1.0 - 0.0
-            S += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
+    def switch_lines(pos, vel, halves):
+        """switches() into dx, the nodes' displacements and velocities read as the
+        expressions pos(n), vel(n), a flywheel's two halves by the statements
+        halves(e, o, slot, top, bot)."""
+        out = []
+        for e in range(ne):
+            b = eo + ELEM_W * e
+            code, top, bot, o, slot = it[b], it[b + 1], it[b + 2], it[b + 3], it[b + 4]
+            if code == SPRING:
+                out += [f"    a = {pos(top)} - {pos(bot)}", f"    g = spring_switch(ftab, {o}, a)",
+                        f"    g0 = spring_switch(ftab, {o}, 0.0)",
+                        "    d = g - g0 if a >= 0.0 else g0 - g",
+                        f"    dx[{2 * e}] = g0 + d", f"    dx[{2 * e + 1}] = g0 - d"]  # fmt: skip
+            elif code == FLYWHEEL:
+                out += halves(e, o, slot, top, bot)
+            elif code == TYRE:
+                out += [f"    dx[{2 * e}] = tyre_switch(ftab, {o}, {pos(top)} - {pos(bot)}, "
+                        f"{vel(top)} - {vel(bot)})", f"    dx[{2 * e + 1}] = -1.0"]  # fmt: skip
+            else:  # no switching function: its halves 1.0 + 0.0 and 1.0 - 0.0
+                out += [f"    dx[{2 * e}] = 1.0", f"    dx[{2 * e + 1}] = 1.0"]
+        return out
+
+    # switches() of the work array (the halves its evaluation stored)
+    S = switch_lines(lambda n: f"W[{n}]", lambda n: f"W[{nn + n}]", lambda e, o, slot, top, bot: [
+        f"    dx[{2 * e}] = W[{sg + 2 * e}]", f"    dx[{2 * e + 1}] = W[{sg + 2 * e + 1}]"])
+    # the same from the nodes' motion in the local variables (the halves computed there)
+    SL = switch_lines(lambda n: f"X{n}", lambda n: f"V{n}", lambda e, o, slot, top, bot: [
+        f"    side = road[{hs + e}] if held else 0.0",
+        f"    g, g0, kd = _switch_pair(ftab, x, {o}, {slot}, side, X{top} - X{bot}, "
+        f"V{top} - V{bot}, 0.0)", f"    dx[{2 * e}] = g", f"    dx[{2 * e + 1}] = g0"])
     L = ["if imp.size == 1 and imp[0] == -math.inf:  # SWITCHES_OF_WORK: switches()"] + S
     L += ["    return True",
           "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
