@@ -263,6 +263,27 @@ def _solve(system, g: float, heights, loads, max_iterations: int) -> dict:
                 "static balance of that force)"
             )
 
+    # the residual's terms, in the order they are added: each spring's force (then each
+    # constant load) times its signed share at the unknowns its two ends move (top
+    # end -c, bottom end +c)
+    t_row, t_coef, t_el, t_load, t_spring = [], [], [], [], []
+    terms = [(e, 0.0, True) for e in springs] + [(e, f, False) for e, f in loads.items()]
+    for e, load, spring in terms:
+        for end, sign in zip(ends[e], (-1.0, 1.0), strict=True):
+            for m, c in share[end]:
+                if m in pos:
+                    t_row.append(pos[m])
+                    t_coef.append(sign * c)
+                    t_el.append(e)
+                    t_load.append(load)
+                    t_spring.append(spring)
+    t_row = np.array(t_row, dtype=np.int64)
+    t_coef = np.array(t_coef, dtype=float)
+    t_el = np.array(t_el, dtype=np.int64)
+    t_load = np.array(t_load, dtype=float)
+    t_spring = np.array(t_spring, dtype=bool)
+    row_weights = np.array([weights[n] for n in rows], dtype=float)
+
     def balance(z):
         """(node displacements X, element forces F, residual R [N] per unknown)."""
         x = base.copy()
@@ -271,16 +292,9 @@ def _solve(system, g: float, heights, loads, max_iterations: int) -> dict:
         X = W[:nn].copy()
         F = W[3 * nn : 3 * nn + ne].copy()
         R = np.zeros(len(rows))
-        for e, f in [(e, F[e]) for e in springs] + list(loads.items()):
-            t, b = ends[e]
-            for m, c in share[t]:
-                if m in pos:
-                    R[pos[m]] -= c * f
-            for m, c in share[b]:
-                if m in pos:
-                    R[pos[m]] += c * f
-        for n in rows:
-            R[pos[n]] -= weights[n]
+        # added one by one in that order (np.add.at), so R is what a loop gives
+        np.add.at(R, t_row, t_coef * np.where(t_spring, F[t_el], t_load))
+        R -= row_weights
         return X, F, R
 
     def residual(z):
