@@ -285,3 +285,50 @@ def test_written_out_solve_equals_the_kernels_solve_bit_for_bit(m):
             if np.linalg.cond(C) < 1e6:  # and it solves the system (numpy's as oracle)
                 assert np.allclose(out, np.linalg.solve(C, r), rtol=1e-9, atol=1e-12)
     assert m == 1 or swapped > 20  # the pivoting was exercised
+
+
+@pytest.mark.parametrize("stops", [(1, 1, 1, 1), (1, 1, -1, 1), (-1, 1, 1, 1), (1, -1, 1, -1)])
+def test_flywheels_on_their_stops_skip_the_solve(stops):
+    # the factor takes each adaptive flywheel on its stops (factor_inertance): where a
+    # flywheel is held there its excess inertance is exactly 0; with all four there the
+    # accelerations are M0^-1 Q (no solve), with one away its unknown alone, with two
+    # the whole pivoted elimination. Every pattern: the factored evaluation equals the
+    # whole mass matrix's solve, and the written-out code equals the generic one bit
+    # for bit
+    from inerterlab.elements.adaptive_flywheel import factor_inertance, flywheel_inertance
+
+    sys = CARS["afw"]()
+    itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
+    db = int(itab[_kernel.I_DNS])
+    m = int(itab[db + 1])
+    var = itab[db + 2 : db + 2 + m]
+    assert m == 4
+    eo = int(itab[_kernel.I_ELEM])
+    for k, e in enumerate(var):  # on the stops: the law's own value at speed, to the bit
+        o = int(itab[eo + _kernel.ELEM_W * e + 3])
+        me = ftab[-m + k]
+        assert me == factor_inertance(ftab, o) == flywheel_inertance(ftab, o, 5.0, 0.0, 0.0)[0]
+        assert me > flywheel_inertance(ftab, o, 0.0, 0.0, 0.0)[0] > 0.0  # above rest
+    spec, generic = _rhs_of(itab)
+    rng = np.random.default_rng(8)
+    nlen = int(_kernel.road_layout_of(itab)[0])
+    ne = int(itab[_kernel.I_NE])
+    hs = nlen - ne
+    for _ in range(20):
+        x = rng.normal(size=sys.n_states) * 0.05
+        road = np.zeros(nlen)
+        road[: hs - 1] = rng.normal(size=hs - 1) * 0.05
+        road[hs:] = rng.choice([-1.0, 1.0], size=ne)
+        road[hs + var] = stops
+        d0, w0 = _evaluate(sys.itab, sys.ftab, x, road)
+        d1, w1 = _evaluate(itab, ftab, x, road)
+        assert np.abs(d1 - d0).max() <= 1e-11 * np.abs(d0).max()
+        ok = np.isfinite(w0)
+        assert np.abs(w1[ok] - w0[ok]).max() <= 1e-10 * np.abs(w0[ok]).max()
+        got = []
+        for f in (generic, spec):
+            W = np.full(_kernel.work_size(itab), 7.0)
+            dx = np.full(x.size, 3.0)
+            assert f(x, road, itab, ftab, W, dx)
+            got.append(dx)
+        assert np.array_equal(got[0], got[1])

@@ -37,6 +37,7 @@ __all__ = [
     "flywheel_inertance",
     "flywheel_switch",
     "flywheel_inertance_side",
+    "factor_inertance",
     "slider_derivative",
 ]
 
@@ -96,6 +97,19 @@ def flywheel_inertance_side(tab, o, v, side):
     if tab[o] == 0.0:
         return r * r * i0
     return r * r * (i0 + w * i1)
+
+
+def factor_inertance(tab, o) -> float:
+    """The inertance [kg] a mass matrix factored beforehand takes for the row starting
+    at ``tab[o]`` (:func:`inerterlab.systems._kernel.dense_tables`): with the thesis and
+    momentum laws the sliders on their stops, r^2 I_max, where the flywheel sits once it
+    turns fast enough (the excess over the factor is then exactly 0, and the solve for
+    it is skipped); with ``slider-dynamics``, whose sliders never rest on a stop, its
+    least, at rest. The same operations as the laws above, so the two agree to the
+    last bit on the stops."""
+    if tab[o] == 2.0:
+        return float(tab[o + 1] ** 2 * (tab[o + 2] + tab[o + 3] * tab[o + 6] ** int(tab[o + 9])))
+    return float(flywheel_inertance_side(tab, o, 0.0, 1.0))
 
 
 @nb.njit(cache=True, inline="always")

@@ -64,6 +64,7 @@ from ..elements._inertial import (
     inertial_switch,
     inertial_switch_reads_force,
 )
+from ..elements.adaptive_flywheel import factor_inertance
 from ..elements.damper import damper_force
 from ..elements.friction import friction_force
 from ..elements.inerter import inerter_inertance
@@ -227,8 +228,9 @@ def dense_tables(itab, ftab):
     :func:`evaluate` (see :func:`_dense_solve`), or None where that does not apply: a
     node other than ground, road, dynamic node or a combination of those, a clutch or
     a gated screw (their inertance lets go), or a mass matrix singular at rest. Valid
-    for these parameter rows only (the node masses and the inertances at rest are in
-    the factor): build it again after changing them."""
+    for these parameter rows only (the node masses, the inerters and the flywheels'
+    :func:`~inerterlab.elements.adaptive_flywheel.factor_inertance` are in the factor):
+    build it again after changing them."""
     itab = np.asarray(itab, dtype=np.int64)
     ftab = np.asarray(ftab, dtype=float)
     nn, ne, nd = int(itab[I_NN]), int(itab[I_NE]), int(itab[I_ND])
@@ -266,10 +268,10 @@ def dense_tables(itab, ftab):
         elif itab[b] == FLYWHEEL:
             if ftab[o + 14] != 0.0:  # a clutch or a gated screw lets go: massless rows
                 return None
-            # the adaptive flywheel's inertance at rest, r^2 (I_rest + coef l_min^p), its
-            # least, goes into the factor (a device's internal node has no mass of its
-            # own); the excess over it is updated at every call
-            me0 = ftab[o + 1] ** 2 * (ftab[o + 2] + ftab[o + 3] * ftab[o + 6] ** int(ftab[o + 9]))
+            # the adaptive flywheel at its factor inertance (on its stops where the law
+            # saturates) goes into the factor; the excess over it is updated at every
+            # call, and skipped where it is 0
+            me0 = factor_inertance(ftab, o)
             M0 += me0 * np.outer(g, g)
             var.append(e)
             U.append(g)
@@ -732,11 +734,14 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
     """Forces and accelerations of a system whose mass matrix was factored beforehand
     (:func:`dense_tables`: every node a ground, road or dynamic node, or a combination
     of them). The mass matrix is M0 + sum_e (m_e(v) - m_e0) g_e g_e^T, M0 the node
-    masses, the constant inerters and the adaptive flywheels at their inertance at rest
-    m_e0, the sum over the flywheels (m_e changes with their motion); a = M^-1 Q by the
-    Woodbury identity about M0^-1 (given): y = M0^-1 Q, a = y - Z (I + D S)^-1 D U^T y,
-    U = [g_e], D = diag(m_e - m_e0), Z = M0^-1 U,
-    S = U^T M0^-1 U. Each element's force f, and m_e times the known accelerations of
+    masses, the constant inerters and the adaptive flywheels at their factor inertance
+    m_e0 (:func:`~inerterlab.elements.adaptive_flywheel.factor_inertance`: on their
+    stops where the law saturates), the sum over the flywheels (m_e changes with their
+    motion); a = M^-1 Q by the Woodbury identity about M0^-1 (given): y = M0^-1 Q,
+    a = y - Z (I + D S)^-1 D U^T y, U = [g_e], D = diag(m_e - m_e0), Z = M0^-1 U,
+    S = U^T M0^-1 U. Where every m_e is m_e0, a = y; where one is not, I + D S is the
+    identity but for that row and its unknown is solved alone (the elimination's own
+    operations for it); else the whole system. Each element's force f, and m_e times the known accelerations of
     its ends (road, ground), are gathered on its ends' rows; nothing is stamped.
     Scratch: the mass matrix's slots (nd^2 >= m^2 + 2 m, checked by dense_tables).
     Returns False where I + D S is singular."""
@@ -784,6 +789,8 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
         return True
     uo = so + m * m  # U^T (m x nd), then the inertances in M0
     ro = uo + m * nd
+    nz = 0  # the flywheels away from the factor's inertance
+    last = 0
     for k in range(m):  # w = D U^T y and the capacitance matrix I + D S
         me = W[ie + itab[db + 2 + k]] - ftab[ro + k]
         acc = 0.0
@@ -792,7 +799,17 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
         W[w + k] = me * acc
         for j in range(m):
             W[cap + k * m + j] = (1.0 if j == k else 0.0) + me * ftab[so + k * m + j]
-    if not _solve(W, cap, W, w, m):
+        if me != 0.0:
+            nz += 1
+            last = k
+    if nz == 0:  # I + D S is the identity and w is 0: a = y
+        return True
+    if nz == 1:  # the identity's rows but one: that unknown alone
+        piv = W[cap + last * m + last]
+        if piv == 0.0 or not math.isfinite(piv):
+            return False
+        W[w + last] = W[w + last] * (1.0 / piv)
+    elif not _solve(W, cap, W, w, m):
         return False
     for i in range(nd):
         acc = 0.0
@@ -1413,25 +1430,49 @@ def dense_source(itab) -> str | None:
         for k in range(m):
             b = eo + ELEM_W * var[k]
             touched = coords(it[b + 1]) | coords(it[b + 2])
-            L.append(f"mk = M{var[k]} - ftab[{ro + k}]")
+            L.append(f"mk{k} = M{var[k]} - ftab[{ro + k}]")
             s = "0.0"
             for j in range(nd):
                 if j in touched:
                     s = f"({s} + ftab[{uo + k * nd + j}] * y{j})"
-            L.append(f"w{k} = mk * {s}")
-            for j in range(m):
-                one = 1.0 if j == k else 0.0
-                L.append(f"c{k}_{j} = {one} + mk * ftab[{so + k * m + j}]")
-        L += solve_source(m)
-        L.append("if not sol:")
-        L.append("    ok = False")
+            L.append(f"w{k} = mk{k} * {s}")
+        # every inertance at the factor's (its rows of I + D S are the identity's, w is
+        # 0): a = y; one away from it: one unknown (the elimination's own operations)
+        L.append("nz = " + " + ".join(f"(mk{k} != 0.0)" for k in range(m)))
+        L.append("if nz == 0:")
         L += [f"    R{i} = y{i}" for i in range(nd)]
         L.append("else:")
+        full = []
+        for k in range(m):
+            for j in range(m):
+                one = 1.0 if j == k else 0.0
+                full.append(f"c{k}_{j} = {one} + mk{k} * ftab[{so + k * m + j}]")
+        full += solve_source(m)
+        if m > 1:
+            L.append("    if nz == 1:")
+            for k in range(m):
+                L += [
+                    "        " + ("if" if k == 0 else "elif") + f" mk{k} != 0.0:"
+                    if k < m - 1
+                    else "        else:",
+                    f"            c{k}_{k} = 1.0 + mk{k} * ftab[{so + k * m + k}]",
+                    f"            sol = c{k}_{k} != 0.0 and math.isfinite(c{k}_{k})",
+                    "            if sol:",
+                    f"                w{k} = w{k} * (1.0 / c{k}_{k})",
+                ]
+            L.append("    else:")
+            L += ["        " + x for x in full]
+        else:
+            L += ["    " + x for x in full]
+        L.append("    if not sol:")
+        L.append("        ok = False")
+        L += [f"        R{i} = y{i}" for i in range(nd)]
+        L.append("    else:")
         for i in range(nd):
             s = "0.0"
             for k in range(m):
                 s = f"({s} + ftab[{zo + i * m + k}] * w{k})"
-            L.append(f"    R{i} = y{i} - {s}")
+            L.append(f"        R{i} = y{i} - {s}")
     else:
         L += [f"R{i} = y{i}" for i in range(nd)]
     # _after_solve (the work array's outputs, in a stage left out, after the derivative)
