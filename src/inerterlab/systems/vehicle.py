@@ -443,13 +443,20 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
         res["seat_acc"] = outs["seat.a"]
     contact, lift = {}, {}
     loads = sys.info["static_tyre_loads"]
-    for name in sys.info["stations"]:  # the deflections, then the tyre loads
-        res[f"{name}_deflection"] = outs[f"body_{name}.x"] - outs[f"wheel_{name}.x"]
-    for name in sys.info["stations"]:
-        f = outs[f"{name}_tyre.force"]
+    stations = sys.info["stations"]
+    # the columns these read, gathered in one pass over the rows of O (a column of O
+    # read alone strides through all of it, once per use)
+    index = {n: j for j, n in enumerate(sys.output_names)}
+    cols = [index[f"{p}{name}{q}"] for name in stations
+            for p, q in (("body_", ".x"), ("wheel_", ".x"), ("", "_tyre.force"))]  # fmt: skip
+    G = np.ascontiguousarray(O[:, cols].T)
+    for i, name in enumerate(stations):  # the deflections, then the tyre loads
+        res[f"{name}_deflection"] = G[3 * i] - G[3 * i + 1]
+    for i, name in enumerate(stations):
+        f = G[3 * i + 2]
         res[f"{name}_tyre_load"] = -f
         contact[name] = loads[name] - f
-        lift[name] = float(np.mean(contact[name] <= 1e-9 * loads[name]))
+        lift[name] = np.count_nonzero(contact[name] <= 1e-9 * loads[name]) / f.size
     stats = {"steps": int(st[0]), "rejected": int(st[1]), "rhs_calls": int(st[2]),
              "events": int(st[3])}  # fmt: skip
     return VehicleResult(sys, ts, Y, res, contact, lift, stats, outs)
