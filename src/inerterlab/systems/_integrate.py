@@ -103,7 +103,7 @@ SIMULTANEOUS = 1e-9
 # :mod:`._kernel` (the counting of their array arguments cost more than their work).
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, inline="always")
 def road_at(segs, i, t, out):
     """Road displacement, velocity, acceleration on segment ``segs[i]`` at time t (the
     table and a row number, not a row: a slice per call costs a view)."""
@@ -2160,18 +2160,24 @@ def linear_outputs(Yt, Ut, C, D, undefined, O):
 # (order 4), not the extension's (order 3).
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats):
     """The derivative at (t, y) with the road of segment i (the observers' included)."""
-    stats[2] += 1
     road_at(segs, i, t, road)
+    return _rk4_eval(ev, t, y, itab, ftab, imp, dy, road, work, stats)
+
+
+@nb.njit(cache=True, inline="always")
+def _rk4_eval(ev, t, y, itab, ftab, imp, dy, road, work, stats):
+    """:func:`_rk4_f` with the road at t already in ``road``."""
+    stats[2] += 1
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
     if itab[I_NOB] > 0:
         observe(itab, ftab, work, y, dy, False)
     return ok
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, road, work, stats):
     """One classical Runge-Kutta step of length h from (t, y), k1 = f(t, y) given: the
     result in yt (ys scratch). Returns False if a force balance failed. ``imp``: that of
@@ -2182,7 +2188,7 @@ def _rk4_step(ev, segs, i, t, h, y, k1, itab, ftab, imp, k2, k3, k4, ys, yt, roa
     ok = _rk4_f(ev, segs, i, t + 0.5 * h, ys, itab, ftab, imp, k2, road, work, stats)
     for q in range(n):
         ys[q] = y[q] + 0.5 * h * k2[q]
-    ok &= _rk4_f(ev, segs, i, t + 0.5 * h, ys, itab, ftab, imp, k3, road, work, stats)
+    ok &= _rk4_eval(ev, t + 0.5 * h, ys, itab, ftab, imp, k3, road, work, stats)  # k2's road
     for q in range(n):
         ys[q] = y[q] + h * k3[q]
     ok &= _rk4_f(ev, segs, i, t + h, ys, itab, ftab, imp, k4, road, work, stats)
@@ -2475,8 +2481,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                 stats[3] += 1
                 flip = True
             else:
-                for e in range(2 * ne):
-                    sw[e] = swn[e]
+                sw, swn = swn, sw  # the step's end's switching functions: the next start's
                 if fresh:
                     need = True
                 else:
