@@ -3,7 +3,7 @@
 The packaged example car with, at each corner, a nylon adaptive-flywheel inerter in
 parallel with the strut (changing ratio 28.5 %, thesis law, 150 kg at rest), tyres that
 lift off, driven 60 s over an ISO 8608 class C road at 20 m/s (road sampled every
-2 ms). Prints the wall time and the CPU time (medians of 3, compilation excluded: the
+2 ms). Prints the wall time and the CPU time (medians of 7, compilation excluded: the
 car's own compiled right-hand side, :func:`inerterlab.systems._compiled.specialised`, is
 built or loaded before the timings, as a long study gets it after its first 2 s of CPU;
 the load average beside them; and once, before it is built, RK4 at one step per sample
@@ -54,6 +54,9 @@ from inerterlab.vehicles.simulation import simulate_vehicle  # noqa: E402
 # the scipy baseline's equations: the hand-assembled M, C, K oracle of the tests
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from _vehicle_oracle import build  # noqa: E402
+
+#: timed runs of each solver (the median is printed: the machine may be shared)
+RUNS = 7
 
 ADAPTIVE = (
     'adaptive = { flywheel = "nylon", changing_ratio = 0.285, law = "thesis", '
@@ -154,7 +157,7 @@ def main() -> None:
         fn(r)  # and one whole run untimed: the first solver's first runs paid for the
         # process's first large arrays (30 ms more for Dormand-Prince at 1e-6 than at 1e-8)
         runs, cpu = [], []
-        for _ in range(3):
+        for _ in range(RUNS):
             t0, c0 = time.perf_counter(), time.process_time()
             res = fn(r)
             runs.append(time.perf_counter() - t0)
@@ -172,7 +175,7 @@ def main() -> None:
     scale = float(np.abs(yref).max())
     print(f"simulated 60 s (core) and {ts[-1]:.1f} s (scipy) of class C at 20 m/s, dt {dt} s")
     print(f"load average (1 min) at the start of the timings: {load:.1f}; times: wall clock, "
-          "median of 3 (CPU time of the process beside it)")  # fmt: skip
+          f"median of {RUNS} (CPU time of the process beside it)")  # fmt: skip
     print(f"core right-hand side: {tier!r}")
     print(f"{'solver':24s} {'time 60 s [s]':>14s} {'CPU [s]':>8s} {'scipy RK45/this':>16s} "
           f"{'max rel err':>12s}")  # fmt: skip
