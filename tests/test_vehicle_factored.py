@@ -287,22 +287,38 @@ def test_written_out_solve_equals_the_kernels_solve_bit_for_bit(m):
     assert m == 1 or swapped > 20  # the pivoting was exercised
 
 
-@pytest.mark.parametrize("stops", [(1, 1, 1, 1), (1, 1, -1, 1), (-1, 1, 1, 1), (1, -1, 1, -1)])
-def test_flywheels_on_their_stops_skip_the_solve(stops):
+def _stops_patterns(m):
+    """Held sides of m flywheels: all on their stops, each alone away, the first two
+    away, all away (1: on the stops, -1: below saturation)."""
+    pats = [np.ones(m)]
+    for k in range(m):
+        p = np.ones(m)
+        p[k] = -1.0
+        pats.append(p)
+    if m > 1:
+        pats.append(np.r_[-1.0, -1.0, np.ones(m - 2)])
+    pats.append(-np.ones(m))
+    return pats
+
+
+@pytest.mark.parametrize("m", [1, 2, 3, 4])
+def test_flywheels_on_their_stops_skip_the_solve(m):
     # the factor takes each adaptive flywheel on its stops (factor_inertance): where a
-    # flywheel is held there its excess inertance is exactly 0; with all four there the
-    # accelerations are M0^-1 Q (no solve), with one away its unknown alone, with two
-    # the whole pivoted elimination. Every pattern: the factored evaluation equals the
-    # whole mass matrix's solve, and the written-out code equals the generic one bit
-    # for bit
+    # flywheel is held there its departure from the factor is exactly 0; with all of
+    # them there the accelerations are M0^-1 Q (no solve), with one away its unknown
+    # alone, with two or more the whole pivoted elimination. Cars with m adaptive
+    # corners (the others a spring and a damper); every pattern: the factored
+    # evaluation equals the whole mass matrix's solve, and the written-out code equals
+    # the generic one bit for bit
     from inerterlab.elements.adaptive_flywheel import factor_inertance, flywheel_inertance
 
-    sys = CARS["afw"]()
+    plain = ("k | c", {"k": 28e3, "c": 2200.0})
+    corners = ["front_left", "front_right", "rear_left", "rear_right"]
+    sys = vehicle(_afw_params(), networks={c: plain for c in corners[m:]})
     itab, ftab = _kernel.dense_tables(sys.itab, sys.ftab)
     db = int(itab[_kernel.I_DNS])
-    m = int(itab[db + 1])
+    assert int(itab[db + 1]) == m
     var = itab[db + 2 : db + 2 + m]
-    assert m == 4
     eo = int(itab[_kernel.I_ELEM])
     for k, e in enumerate(var):  # on the stops: the law's own value at speed, to the bit
         o = int(itab[eo + _kernel.ELEM_W * e + 3])
@@ -314,7 +330,7 @@ def test_flywheels_on_their_stops_skip_the_solve(stops):
     nlen = int(_kernel.road_layout_of(itab)[0])
     ne = int(itab[_kernel.I_NE])
     hs = nlen - ne
-    for _ in range(20):
+    for stops in [p for p in _stops_patterns(m) for _ in range(6)]:
         x = rng.normal(size=sys.n_states) * 0.05
         road = np.zeros(nlen)
         road[: hs - 1] = rng.normal(size=hs - 1) * 0.05
