@@ -741,8 +741,9 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
     a = y - Z (I + D S)^-1 D U^T y, U = [g_e], D = diag(m_e - m_e0), Z = M0^-1 U,
     S = U^T M0^-1 U. Where every m_e is m_e0, a = y; where one is not, I + D S is the
     identity but for that row and its unknown is solved alone (the elimination's own
-    operations for it); else the whole system. Each element's force f, and m_e times the known accelerations of
-    its ends (road, ground), are gathered on its ends' rows; nothing is stamped.
+    operations for it); else the whole system. Each element's force f, and m_e times the
+    known accelerations of its ends (road, ground), are gathered on its ends' rows;
+    nothing is stamped.
     Scratch: the mass matrix's slots (nd^2 >= m^2 + 2 m, checked by dense_tables).
     Returns False where I + D S is singular."""
     eo = itab[I_ELEM]
