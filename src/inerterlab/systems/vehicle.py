@@ -433,7 +433,8 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
         raise _failure(sys, status, max_steps)
     if not rk4:
         _integrate.outputs_many(ts, Y, segs, itab, ftab, O)
-    outs = {n: O[:, j] for j, n in enumerate(sys.output_names)}
+    index = {n: j for j, n in enumerate(sys.output_names)}
+    outs = {n: O[:, j] for n, j in index.items()}
     res = {}
     res["bounce_acc"] = outs["bounce.a"]
     res["pitch_acc"] = outs["pitch.a"]
@@ -446,7 +447,6 @@ def simulate(sys: System, r, dt: float, *, options: SimulationOptions | None = N
     stations = sys.info["stations"]
     # the columns these read, gathered in one pass over the rows of O (a column of O
     # read alone strides through all of it, once per use)
-    index = {n: j for j, n in enumerate(sys.output_names)}
     cols = [index[f"{p}{name}{q}"] for name in stations
             for p, q in (("body_", ".x"), ("wheel_", ".x"), ("", "_tyre.force"))]  # fmt: skip
     G = np.ascontiguousarray(O[:, cols].T)
