@@ -16,7 +16,9 @@ Printed: the baseline (CPU and wall time of one road in this process, median of
 start, so on the same compiled code); the Monte Carlo's roads,
 workers, wall time, CPU time (this process plus its workers), CPU and wall time per
 road, and the ratio of the serial road's wall time to the Monte Carlo's wall time per
-road (what the workers gain, at most their number); then the expected values: RMS over
+road (what the workers gain), and the ratio of their CPU times per road (a worker's
+road can cost less than the serial one: then the wall ratio exceeds the workers'
+number); then the expected values: RMS over
 the roads with its 95 % interval (a t interval on the mean square), the fraction of
 time each front tyre is off the road and the probability that a road lifts it (Wilson
 95 %).
@@ -110,7 +112,9 @@ def main() -> None:
     print(f"Monte Carlo: {n} roads ({res.realisations} succeeded), {args.workers} workers: "
           f"{wall:.1f} s wall, {used:.1f} s CPU (this process and its workers); per road "
           f"{wall / n:.3f} s wall, {used / n:.3f} s CPU; serial road / Monte Carlo wall per "
-          f"road: {w1 / (wall / n):.2f} (at most {args.workers}); load average "
+          f"road: {w1 / (wall / n):.2f} on {args.workers} workers, CPU per road serial / "
+          f"Monte Carlo: {c1 / (used / n):.2f} (above 1: a worker's road costs less than the "
+          f"serial one, so the wall ratio can exceed the workers' number); load average "
           f"{os.getloadavg()[0]:.1f} at the end")  # fmt: skip
     print("expected values over the roads (RMS about static equilibrium, 95 % interval):")
     units = {"bounce_acc": "m/s^2", "pitch_acc": "rad/s^2", "seat_acc_wk": "m/s^2"}
