@@ -952,7 +952,7 @@ def _outputs_at(outfn, itab, ftab, work, n, n_out, xs, omega, amp, tau):
     K = tau.shape[0]
     res = np.empty((n_out, K))
     x0 = np.zeros(work)
-    out0 = np.zeros(n_out)
+    out0 = np.zeros(max(n_out, work))  # the outputs first, then room for their work
     road0 = np.empty(ROAD_LEN)
     x, out, road = _borrow(x0), _borrow(out0), _borrow(road0)
     itab, ftab = _borrow(itab), _borrow(ftab)
@@ -1249,7 +1249,9 @@ class FirstOrderSystem:
     int_table, float_table : ndarray
         Its parameters (int64, float64).
     work_size : int
-        Length of the arrays ``rhs`` is called with (>= n_states).
+        Length of the arrays ``rhs`` is called with (>= n_states; a model-core system
+        keeps its evaluation's work array in ``out`` past the derivatives, see
+        :func:`inerterlab.frequency.quarter_car.buffered_rhs`).
     state_scales : ndarray
         Typical size of each state (finite-difference steps, settling test).
     rest_state : ndarray, optional
@@ -1267,8 +1269,9 @@ class FirstOrderSystem:
         (P, n, K) (states and their derivatives at K phases) and road of shape (P, 3, K).
     compiled_outputs : numba dispatcher, optional
         Instead of ``output_samples``: ``compiled_outputs(t, x, road, int_table,
-        float_table, out) -> bool`` (the signature of ``rhs``) filling ``n_outputs``
-        values, and ``combine_outputs(O) -> {name: samples}`` with O of shape
+        float_table, out) -> bool`` (the signature of ``rhs``) filling the first
+        ``n_outputs`` values of ``out`` (which has max(n_outputs, work_size) entries, as
+        room for its own work), and ``combine_outputs(O) -> {name: samples}`` with O of shape
         (P, n_outputs, K).
     output_units : dict
         Unit of each output.

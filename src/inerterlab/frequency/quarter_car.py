@@ -30,7 +30,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import ParameterError
-from ..systems import _kernel
+from ..systems import _compiled, _kernel
 from .first_order import FREQ_SLOT, FirstOrderSystem
 
 __all__ = [
@@ -152,17 +152,69 @@ def _spread(road, itab, ftab):
     return r
 
 
+def buffer_size(itab) -> int:
+    """The ``work_size`` of a core system as a first-order system: its states, then the
+    work array of its evaluation (:func:`buffered_rhs`)."""
+    n = int(itab[_kernel.I_NS] + itab[_kernel.I_NOB])
+    return n + _kernel.work_size(itab)
+
+
+@njit(cache=True)
+def buffered_rhs(t, x, road, itab, ftab, out):
+    """The core right-hand side (:func:`inerterlab.systems._kernel.rhs`, the same
+    evaluation to the last bit) with its work array in ``out`` past the derivatives:
+    out[:n] = x', out[n:] the work array, where ``out`` has :func:`buffer_size` entries
+    (the engine's arrays do: the system's ``work_size``), so that a call allocates
+    nothing and counts no references (docs/decisions.md, stop 58). A shorter ``out`` is
+    served as :func:`inerterlab.systems._kernel.rhs` serves it."""
+    n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
+    w = _kernel._work_size(itab)
+    if out.size < n + w:
+        return _kernel.rhs(t, x, road, itab, ftab, out)
+    return _rhs_in(float(t), x, road, itab, ftab, out, n, w)
+
+
+@njit(cache=True, _nrt=False)
+def _rhs_in(t, x, road, itab, ftab, out, n, w):
+    W = out[n : n + w]
+    dx = out[:n]
+    ok = _compiled.generic_evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab),
+                                    W, dx, out[:0])  # fmt: skip
+    if itab[_kernel.I_NOB] > 0:
+        _kernel.observe(itab, ftab, W, x, dx, False)
+    return ok
+
+
+@njit(cache=True)
+def buffered_outputs(t, x, road, itab, ftab, out):
+    """The core outputs (:func:`inerterlab.systems._kernel.outputs`: node displacements,
+    velocities, accelerations, element forces, into out[:3 nn + ne]) with the work array
+    in ``out`` itself, where it has :func:`buffer_size` entries: no allocation per call.
+    A shorter ``out`` is served as :func:`inerterlab.systems._kernel.outputs` serves it."""
+    n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
+    w = _kernel._work_size(itab)
+    if out.size < n + w:
+        return _kernel.outputs(t, x, road, itab, ftab, out)
+    return _outputs_in(float(t), x, road, itab, ftab, out, n, w)
+
+
+@njit(cache=True, _nrt=False)
+def _outputs_in(t, x, road, itab, ftab, out, n, w):
+    return _compiled.generic_evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab),
+                                      out[:w], out[w : w + n], out[:0])  # fmt: skip
+
+
 @njit(cache=True)
 def patterned_rhs(t, x, road, itab, ftab, out):
-    """The core right-hand side (:func:`inerterlab.systems._kernel.rhs`) with every road
-    driven by the pattern at the end of the tables (:func:`_spread`)."""
-    return _kernel.rhs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+    """The core right-hand side (:func:`buffered_rhs`) with every road driven by the
+    pattern at the end of the tables (:func:`_spread`)."""
+    return buffered_rhs(t, x, _spread(road, itab, ftab), itab, ftab, out)
 
 
 @njit(cache=True)
 def patterned_outputs(t, x, road, itab, ftab, out):
-    """The core outputs (:func:`inerterlab.systems._kernel.outputs`) under the pattern."""
-    return _kernel.outputs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+    """The core outputs (:func:`buffered_outputs`) under the pattern."""
+    return buffered_outputs(t, x, _spread(road, itab, ftab), itab, ftab, out)
 
 
 def _pattern_tables(system, pattern):
@@ -202,7 +254,7 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         )
     if pattern is None:
         itab, ftab = system.tables
-        rhs, outfn = system.rhs, system.outputs
+        rhs, outfn = buffered_rhs, buffered_outputs
     else:
         itab, ftab = _pattern_tables(system, pattern)
         rhs, outfn = patterned_rhs, patterned_outputs
@@ -237,6 +289,7 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         velocity_of=velocity_pairs(system, rhs, (itab, ftab)),
         int_table=np.array(itab, dtype=np.int64),
         float_table=np.array(ftab, dtype=float),
+        work_size=buffer_size(itab),
         state_scales=np.asarray(system.state_scales, dtype=float),
         rest_state=np.asarray(system.initial_state(), dtype=float),
         compiled_outputs=outfn,

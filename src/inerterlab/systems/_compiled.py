@@ -74,6 +74,9 @@ def _generic_rhs(t, x, road, itab, ftab, W, dx, imp):
 # caller keeps every array alive): with it, each array argument was counted up on entry
 # and down at exit by atomic operations, most of a call's time (see :mod:`._kernel`)
 _generic_dispatcher = nb.njit(cache=True, error_model="numpy", _nrt=False)(_generic_rhs)
+#: the generic tier as a plain compiled function, for compiled callers that hold their own
+#: work array (the harmonic balance's :func:`inerterlab.frequency.quarter_car.buffered_rhs`)
+generic_evaluate = _generic_dispatcher
 
 
 class CompiledRhs(types.WrapperAddressProtocol):

@@ -1,0 +1,63 @@
+"""The harmonic balance's route to a model-core system's right-hand side and outputs
+(:func:`inerterlab.frequency.quarter_car.buffered_rhs`, ``buffered_outputs``): the work
+array in the caller's buffer instead of an allocation per call. Oracle: the core's own
+:func:`inerterlab.systems._kernel.rhs` and ``outputs`` on the same arguments, which
+allocate their work array; the values must agree to the last bit, with the buffer long
+enough and with one too short (then the buffered functions fall back to the core's)."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from inerterlab.frequency.quarter_car import (
+    buffer_size,
+    buffered_outputs,
+    buffered_rhs,
+    from_core_system,
+)
+from inerterlab.systems import _kernel
+from inerterlab.systems import quarter_car as core_quarter_car
+from inerterlab.systems.observers import ride, with_observers
+
+
+def _systems():
+    out = [core_quarter_car(kind, sprung_mass=370.0) for kind in ("afw", "traditional", "device")]
+    base = core_quarter_car("afw", sprung_mass=370.0)
+    out.append(with_observers(base, ride(base)))  # observers: derivatives past the motion's
+    return out
+
+
+@pytest.mark.parametrize("sys", _systems(), ids=lambda s: s.description)
+def test_buffered_evaluation_equals_the_cores_bit_for_bit(sys):
+    itab, ftab = (np.array(a) for a in sys.tables)
+    n = sys.n_states
+    size = buffer_size(itab)
+    assert size == n + _kernel.work_size(itab)
+    rng = np.random.default_rng(7)
+    scales = np.asarray(sys.state_scales, dtype=float)
+    for trial in range(40):
+        x = np.zeros(size)
+        x[:n] = np.asarray(sys.initial_state(), dtype=float) + scales * rng.normal(0, 2, n)
+        road = np.array([0.05 * rng.normal(), rng.normal(), 30.0 * rng.normal(), 6.0 + trial])
+        t = 0.01 * trial
+        want = np.zeros(size)
+        ok0 = _kernel.rhs(t, x, road, itab, ftab, want)
+        for length in (size, size + 5, n):  # the buffer, a longer one, one too short
+            got = np.full(length, np.nan)
+            ok = buffered_rhs(t, x, road, itab, ftab, got)
+            assert ok == ok0
+            np.testing.assert_array_equal(got[:n], want[:n])
+        no = 3 * int(itab[_kernel.I_NN]) + int(itab[_kernel.I_NE])
+        want_o = np.zeros(no)
+        ok0 = _kernel.outputs(t, x, road, itab, ftab, want_o)
+        for length in (size, no):
+            got = np.full(length, np.nan)
+            assert buffered_outputs(t, x, road, itab, ftab, got) == ok0
+            np.testing.assert_array_equal(got[:no], want_o)
+
+
+def test_a_core_systems_first_order_form_takes_the_buffered_route():
+    fo = from_core_system(core_quarter_car("afw", sprung_mass=370.0))
+    assert fo.rhs is buffered_rhs and fo.compiled_outputs is buffered_outputs
+    assert fo.work_size == buffer_size(fo.int_table)
