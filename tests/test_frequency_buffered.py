@@ -1,6 +1,8 @@
 """The harmonic balance's route to a model-core system's right-hand side and outputs
-(:func:`inerterlab.frequency.quarter_car.buffered_rhs`, ``buffered_outputs``): the work
-array in the caller's buffer instead of an allocation per call. Oracle: the core's own
+(:func:`inerterlab.frequency.quarter_car.buffered_rhs`, ``buffered_outputs``, and the
+same two compiled for the structure, ``first_order_rhs`` and ``first_order_outputs`` of
+its module in :mod:`inerterlab.systems._compiled`): the work array in the caller's
+buffer instead of an allocation per call. Oracle: the core's own
 :func:`inerterlab.systems._kernel.rhs` and ``outputs`` on the same arguments, which
 allocate their work array; the values must agree to the last bit, with the buffer long
 enough and with one too short (then the buffered functions fall back to the core's)."""
@@ -16,7 +18,7 @@ from inerterlab.frequency.quarter_car import (
     buffered_rhs,
     from_core_system,
 )
-from inerterlab.systems import _kernel
+from inerterlab.systems import _compiled, _kernel
 from inerterlab.systems import quarter_car as core_quarter_car
 from inerterlab.systems.observers import ride, with_observers
 
@@ -30,6 +32,18 @@ def _systems():
 
 @pytest.mark.parametrize("sys", _systems(), ids=lambda s: s.description)
 def test_buffered_evaluation_equals_the_cores_bit_for_bit(sys):
+    _compare(sys, buffered_rhs, buffered_outputs)
+
+
+def test_the_structures_own_first_order_form_equals_the_cores_bit_for_bit():
+    # one structure (compiling one costs seconds): the afw car the benchmarks run
+    sys = core_quarter_car("afw", sprung_mass=370.0)
+    _compiled.specialised(sys.itab)
+    mod = _compiled._structure_module(sys.itab, _compiled.structure_key(sys.itab))
+    _compare(sys, mod.first_order_rhs, mod.first_order_outputs)
+
+
+def _compare(sys, buffered_rhs, buffered_outputs):
     itab, ftab = (np.array(a) for a in sys.tables)
     n = sys.n_states
     size = buffer_size(itab)
@@ -57,7 +71,14 @@ def test_buffered_evaluation_equals_the_cores_bit_for_bit(sys):
             np.testing.assert_array_equal(got[:no], want_o)
 
 
-def test_a_core_systems_first_order_form_takes_the_buffered_route():
-    fo = from_core_system(core_quarter_car("afw", sprung_mass=370.0))
+def test_a_core_systems_first_order_form_takes_the_tier_of_the_time_integration(monkeypatch):
+    sys = core_quarter_car("afw", sprung_mass=370.0)
+    monkeypatch.setenv("INERTERLAB_SPECIALISE", "never")
+    monkeypatch.setattr(_compiled, "_specialised", {})
+    fo = from_core_system(sys)
     assert fo.rhs is buffered_rhs and fo.compiled_outputs is buffered_outputs
     assert fo.work_size == buffer_size(fo.int_table)
+    monkeypatch.setenv("INERTERLAB_SPECIALISE", "always")
+    fo = from_core_system(sys)
+    mod = _compiled._structure_module(sys.itab, _compiled.structure_key(sys.itab))
+    assert fo.rhs is mod.first_order_rhs and fo.compiled_outputs is mod.first_order_outputs

@@ -254,7 +254,9 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         )
     if pattern is None:
         itab, ftab = system.tables
-        rhs, outfn = buffered_rhs, buffered_outputs
+        # the structure's own code where the time integration would take it, else the
+        # generic code: the same arithmetic (bit for bit)
+        rhs, outfn = _compiled.first_order_for(itab) or (buffered_rhs, buffered_outputs)
     else:
         itab, ftab = _pattern_tables(system, pattern)
         rhs, outfn = patterned_rhs, patterned_outputs

@@ -44,7 +44,7 @@ from numba.core.typing.typeof import typeof_impl
 from numba.experimental.function_type import _get_wrapper_address
 
 from .._numba_cache import package_source_stamp
-from ._kernel import DENSE_IMPORTS, dense_source, evaluate
+from ._kernel import DENSE_IMPORTS, I_NOB, I_NS, dense_source, evaluate, work_size
 
 _ro_i = types.Array(types.int64, 1, "C", readonly=True)
 _ro_f = types.Array(types.float64, 1, "C", readonly=True)
@@ -172,6 +172,49 @@ def rhs(t, x, road, itab, ftab, W, dx, imp):
 {body}'''
 
 
+#: appended to a structure's module: its right-hand side and outputs in the form the
+#: harmonic balance calls, ``f(t, x, road, itab, ftab, out) -> bool`` with the work array
+#: in ``out`` past the derivatives (:func:`inerterlab.frequency.quarter_car.buffered_rhs`,
+#: the same arithmetic as the generic tier's there); compiled only when first used
+_FIRST_ORDER = '''
+
+from inerterlab.systems import _kernel
+
+FO_N = {n}  # states
+FO_W = {w}  # the evaluation's work array
+
+
+@nb.njit(cache=True)
+def first_order_rhs(t, x, road, itab, ftab, out):
+    if out.size < FO_N + FO_W:
+        return _kernel.rhs(t, x, road, itab, ftab, out)
+    return _first_order_rhs(float(t), x, road, itab, ftab, out)
+
+
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
+def _first_order_rhs(t, x, road, itab, ftab, out):
+    W = out[FO_N : FO_N + FO_W]
+    dx = out[:FO_N]
+    ok = rhs(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab), W, dx, out[:0])
+    if itab[_kernel.I_NOB] > 0:
+        _kernel.observe(itab, ftab, W, x, dx, False)
+    return ok
+
+
+@nb.njit(cache=True)
+def first_order_outputs(t, x, road, itab, ftab, out):
+    if out.size < FO_N + FO_W:
+        return _kernel.outputs(t, x, road, itab, ftab, out)
+    return _first_order_outputs(float(t), x, road, itab, ftab, out)
+
+
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
+def _first_order_outputs(t, x, road, itab, ftab, out):
+    return rhs(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab), out[:FO_W],
+               out[FO_W : FO_W + FO_N], out[:0])
+'''
+
+
 def _structure_text(itab: np.ndarray) -> str:
     """The source of the module of this structure: :func:`._kernel.evaluate` with the
     structure table a constant, or, for tables with the mass matrix factored beforehand
@@ -180,9 +223,10 @@ def _structure_text(itab: np.ndarray) -> str:
     with the table a constant it still walks loops over nodes and elements)."""
     stamp, values = package_source_stamp(), list(map(int, itab))
     body = dense_source(itab)
+    fo = _FIRST_ORDER.format(n=int(itab[I_NS] + itab[I_NOB]), w=work_size(itab))
     if body is None:
-        return _TEMPLATE.format(stamp=stamp, itab=values)
-    return _TEMPLATE_DENSE.format(stamp=stamp, itab=values, imports=DENSE_IMPORTS, body=body)
+        return _TEMPLATE.format(stamp=stamp, itab=values) + fo
+    return _TEMPLATE_DENSE.format(stamp=stamp, itab=values, imports=DENSE_IMPORTS, body=body) + fo
 
 
 def _structure_module(itab: np.ndarray, key: str):
@@ -218,6 +262,17 @@ def specialised(itab: np.ndarray) -> CompiledRhs:
                 (_cache_dir() / f"s_{key}.done").touch()
                 _specialised[k] = got
     return got
+
+
+def first_order_for(itab: np.ndarray):
+    """(rhs, outputs) of the structure ``itab`` in the harmonic balance's form (see
+    :data:`_FIRST_ORDER`) from its own compiled code, where :func:`rhs_for` gives that
+    tier; else None (the generic tier,
+    :func:`inerterlab.frequency.quarter_car.buffered_rhs`, serves)."""
+    if not rhs_for(itab).specialised:
+        return None
+    mod = _structure_module(itab, structure_key(itab))
+    return mod.first_order_rhs, mod.first_order_outputs
 
 
 def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
