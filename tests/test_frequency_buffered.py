@@ -82,3 +82,29 @@ def test_a_core_systems_first_order_form_takes_the_tier_of_the_time_integration(
     fo = from_core_system(sys)
     mod = _compiled._structure_module(sys.itab, _compiled.structure_key(sys.itab))
     assert fo.rhs is mod.first_order_rhs and fo.compiled_outputs is mod.first_order_outputs
+
+
+def test_the_work_estimate_of_a_first_order_system_follows_its_engine():
+    """The bound checked before a frequency response starts: for a first-order system,
+    the Newton system of its unknowns (the states less the velocities of positions) and
+    the Hill matrix of its states on the stability harmonics, not the states on every
+    harmonic. The afw quarter car's 3901 points scanned both ways (about 3 s) were
+    refused as 0.29 h of work; a request beyond the limit is still refused, naming the
+    setting."""
+    from inerterlab.errors import ParameterError
+    from inerterlab.frequency import frequency_response
+    from inerterlab.frequency.response import estimate_operations
+    from inerterlab.resources import WORK_LIMIT
+
+    base = estimate_operations(3901, "sihb", 13, direction="both", n_dof=4)
+    tight = estimate_operations(3901, "sihb", 13, direction="both", n_dof=2, hill=(4, 1, 256))
+    assert base > WORK_LIMIT > 10 * tight
+    # the Hill part: the states on harmonics 0..1 (12 x 12) and 5 x 256 evaluations
+    per = estimate_operations(1, "sihb", 13, direction="up", n_dof=2, hill=(4, 1, 256))
+    newton = estimate_operations(1, "sihb", 13, direction="up", n_dof=2, stability=False)
+    assert per - newton == 10 * 12**3 + 5 * 256 * 400
+    car = core_quarter_car("afw", sprung_mass=370.0)
+    with pytest.raises(ParameterError, match="df"):
+        frequency_response(car, "sihb", fmin=0.5, fmax=20.0, df=1e-5, amplitude=0.01)
+    with pytest.raises(ParameterError, match="harmonics"):
+        frequency_response(car, "sihb", freq_hz=[1.0, 2.0], harmonics=2000, amplitude=0.01)

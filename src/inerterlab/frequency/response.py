@@ -325,20 +325,32 @@ def estimate_operations(
     steps_per_period: int = 2000,
     max_periods: int = 5000,
     n_dof: int = 1,
+    hill: tuple[int, int, int] | None = None,
 ) -> float:
-    """Rough floating point operations of :func:`frequency_response` (order of magnitude).
+    """Rough floating point operations of :func:`frequency_response` (order of magnitude,
+    an upper bound: every Newton iteration of ``max_iter`` counted).
 
-    Per point and pass: Newton iterations on a (2H+1)-square system plus the Hill
-    stability matrix (twice that size); brute force integrates up to 50 periods.
+    Per point and pass: Newton iterations on a system of (2H+1) n_dof unknowns plus the
+    Hill stability matrix; brute force integrates up to 50 periods. The Hill matrix is
+    twice the Newton system (a second-order system's, on every harmonic), or, with
+    ``hill`` = (n, hs, K) (a first-order system: its n states on the harmonics 0..hs,
+    the partials at K phases by forward differences), of size n (2 hs + 1), with the
+    (n + 1) K evaluations of the right-hand side (about 100 n operations each) that
+    assemble it.
     """
     n_pass = 2 if direction == "both" else 1
     size = (2.0 * float(harmonics) + 1.0) * n_dof
     if method == "brute":
         per_point = 50.0 * steps_per_period * min(max_periods, 50)
     else:
-        per_point = max_iter * (size**3 / 3 + 64 * size**2) + (
-            10 * (2 * size) ** 3 if stability else 0.0
-        )
+        if not stability:
+            stab = 0.0
+        elif hill is None:
+            stab = 10 * (2 * size) ** 3
+        else:
+            n, hs, K = (float(v) for v in hill)
+            stab = 10 * (n * (2 * hs + 1)) ** 3 + (n + 1) * K * 100 * n
+        per_point = max_iter * (size**3 / 3 + 64 * size**2) + stab
     return float(n_freqs) * n_pass * per_point
 
 
@@ -449,7 +461,19 @@ def frequency_response(
             raise ParameterError("freq_hz", freq_hz, "finite frequencies > 0 Hz")
         freqs = np.unique(freqs)
     scale = amplitude if first_order else float(getattr(system, "displacement_scale", 1.0))
-    n_dof = int(system.n_states) if first_order else 1
+    hill = None
+    n_dof = 1
+    if first_order:
+        # the unknowns: the states less the velocities of positions (their coefficients
+        # follow from the positions'); the Hill matrix: every state on the stability
+        # harmonics, its partials at the engine's phases (make_first_order_engine)
+        n = int(system.n_states)
+        n_dof = n - sum(1 for j in (getattr(system, "velocity_of", None) or ()) if j >= 0)
+        sh = min(int(harmonics), 1) if stability_harmonics is None else stability_harmonics
+        if not isinstance(sh, bool) and isinstance(sh, int | np.integer) and 0 <= sh <= harmonics:
+            hill = (n, int(sh), max(256, int(n_samples or 0)))
+        else:
+            hill = (n, int(harmonics), 256)  # refused below, with its own message
     size = (2.0 * float(harmonics) + 1.0) * n_dof
     by_harmonics = size**3 > 1e4 * freqs.size
     check_work(
@@ -463,6 +487,7 @@ def frequency_response(
             steps_per_period=steps_per_period,
             max_periods=max_periods,
             n_dof=n_dof,
+            hill=hill,
         ),  # fmt: skip
         what="frequency response",
         parameter="harmonics" if by_harmonics else "df",
