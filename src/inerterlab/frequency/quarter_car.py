@@ -165,8 +165,10 @@ def buffered_rhs(t, x, road, itab, ftab, out):
     evaluation to the last bit) with its work array in ``out`` past the derivatives:
     out[:n] = x', out[n:] the work array, where ``out`` has :func:`buffer_size` entries
     (the engine's arrays do: the system's ``work_size``), so that a call allocates
-    nothing and counts no references (docs/decisions.md, stop 58). A shorter ``out`` is
-    served as :func:`inerterlab.systems._kernel.rhs` serves it."""
+    nothing and counts no references (docs/decisions.md, stop 58). It is the time
+    integration's generic code: a division by zero gives inf or NaN (the point then
+    fails as non-finite), not an exception. A shorter ``out`` is served as
+    :func:`inerterlab.systems._kernel.rhs` serves it."""
     n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
     w = _kernel._work_size(itab)
     if out.size < n + w:
