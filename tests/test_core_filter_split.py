@@ -162,3 +162,34 @@ def test_split_against_the_filter_in_the_stages(name, monkeypatch):
     assert _close(split, staged, 1e-8, (370.0 + 25.0) * 9.81) < 1e-8
     if name == "drop":
         assert few < 0.5 * many, (few, many)
+
+
+def test_split_kept_across_cars_of_a_sweep():
+    """Two cars that differ in their masses (so in the tyre-grip quadrature's coefficient,
+    their static tyre load) read the same tables: the key of the kept splits ignores
+    what the split does not read, and the split computed for each is the same to the
+    last bit. A coefficient it does read (the Wk quadrature's) changes the key."""
+    from inerterlab.systems import observers as O
+
+    systems = []
+    for m, r in ((370.0, 0.3), (391.0, 0.45)):
+        car = quarter_car("afw", sprung_mass=m, changing_ratio=r)
+        systems.append(with_observers(car, ride(car)))
+    a, b = systems
+    assert not np.array_equal(a.ftab, b.ftab)
+    assert O._filter_coefficients(a.itab, a.ftab) == O._filter_coefficients(b.itab, b.ftab)
+    for x, y in zip(O._split(a.itab, a.ftab, a.n_states), O._split(b.itab, b.ftab, b.n_states),
+                    strict=True):  # fmt: skip
+        assert np.array_equal(x, y)
+    O._SPLITS.clear()
+    got = filter_split(a.itab, a.ftab, a.n_states)
+    assert filter_split(b.itab, b.ftab, b.n_states) is got and len(O._SPLITS) == 1
+    # the Wk quadrature's coefficient: read by the split, so in the key
+    K = O._kernel
+    it, ft = a.itab, a.ftab.copy()
+    ob, sg, cf = int(it[K.I_OBS]), int(it[K.I_SG]), int(it[K.I_SGF])
+    fz = filter_split(a.itab, a.ftab, a.n_states)[1]
+    q = int(fz[5 + fz[0] + fz[1]])  # the first quadrature over the filter
+    ft[cf + int(it[sg + it[ob + K.OBS_W * q + 1]])] *= 2.0
+    assert O._filter_coefficients(it, ft) != O._filter_coefficients(a.itab, a.ftab)
+    assert not np.array_equal(O._split(it, ft, a.n_states)[3], got[3])

@@ -224,7 +224,7 @@ def filter_split(itab, ftab, n: int):
 
     Kept for the last :data:`SPLITS_KEPT` by what it reads: the integer table and the
     coefficients of the signals of the ``integral`` observers and of the quadratures
-    (the peaks' signals are read for their channels only), so the cars of a sweep,
+    that read their states (:func:`_filter_coefficients`), so the cars of a sweep,
     which differ in their element values and in the tyre-grip coefficient, share the
     split of their one Wk filter."""
     key = (itab.tobytes(), _filter_coefficients(itab, ftab), n)
@@ -245,20 +245,33 @@ _SPLITS: dict = {}
 
 
 def _filter_coefficients(itab, ftab) -> bytes:
-    """The coefficients of the signals of the ``integral`` observers and of the
-    quadratures (all that :func:`_split` reads of ``ftab``), as bytes."""
+    """The coefficients :func:`_split` reads of ``ftab``, as bytes: those of the signals
+    of the ``integral`` observers and of the quadratures that read one of their states
+    (the others' and the peaks' signals are read for their channels only, which
+    ``itab`` holds: a car's tyre-grip quadrature, whose coefficient is the car's
+    static tyre load, does not reach the split)."""
     K = _kernel
     ob, sg, cf = int(itab[K.I_OBS]), int(itab[K.I_SG]), int(itab[K.I_SGF])
+    ci = sg + int(itab[K.I_NSG]) + 1
+    no = 3 * int(itab[K.I_NN]) + int(itab[K.I_NE])
+    nob = int(itab[K.I_NOB])
+    rows = [itab[ob + K.OBS_W * q : ob + K.OBS_W * (q + 1)] for q in range(nob)]
+    filt = {int(r[3]) + no for r in rows if r[0] == K.OBS_LINEAR}  # their states' channels
     parts = []
-    for q in range(int(itab[K.I_NOB])):
-        kind = itab[ob + K.OBS_W * q]
+    for r in rows:
+        kind = r[0]
         if kind == K.OBS_PEAK:
             continue
-        reads = [int(itab[ob + K.OBS_W * q + 1])]
+        reads = [int(r[1])]
         if kind == K.OBS_PRODUCT:  # a product's second factor
-            reads.append(int(itab[ob + K.OBS_W * q + 2]))
-        for a in reads:
-            parts.append(ftab[cf + int(itab[sg + a]) : cf + int(itab[sg + a + 1])])
+            reads.append(int(r[2]))
+        spans = [(int(itab[sg + a]), int(itab[sg + a + 1])) for a in reads]
+        if kind != K.OBS_LINEAR and not any(
+            int(itab[ci + j]) in filt for a, b in spans for j in range(a, b)
+        ):
+            continue  # a quadrature of no filter state
+        for a, b in spans:
+            parts.append(ftab[cf + a : cf + b])
     return np.concatenate(parts).tobytes() if parts else b""
 
 
