@@ -16,7 +16,7 @@ from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, 
 from ..errors import ConvergenceError, ParameterError, check_positive
 from ..h2 import resolvent_solve
 from ..networks import NetworkError
-from . import _integrate, _kernel
+from . import _integrate, _kernel, _tables
 from ._kernel import DYN, ELEM_W, GROUND, HEADER, LIN, NODE_W, POS, REL, RELV, ROAD, VEL
 from ._network import Layout, elements_of
 from .options import DEFAULT_OPTIONS, SimulationOptions
@@ -1742,9 +1742,10 @@ def _point_rows(S, taylor, ends, m):
     R = np.empty((th.size, len(taylor), S.shape[0], S.shape[1]))
     R[0] = S
     R[-1] = S @ ends
-    for j, T in enumerate(taylor):
-        pw = th[1:-1, None] ** np.arange(T.shape[1])[None]  # [p, k]
-        R[1:-1, j] = np.einsum("pk,rkq->prq", pw, T)
+    if taylor:
+        kj = np.array([T.shape[1] for T in taylor], np.int64)
+        pw = th[1:-1, None] ** np.arange(kj.max())[None]  # [p, k]
+        _tables.point_rows(pw, _taylor_padded(taylor, S.shape[0], S.shape[1]), kj, R[1:-1])
     return R
 
 
@@ -1982,26 +1983,12 @@ def _taylor_family(M, S, h, shifts):
     """The rows of :func:`_taylor_rows` ([r, k, :]) for the lengths h 2^e, e in ``shifts``
     (h first if 0 is among them), from the one chain of h; None where a scaled product
     could leave the normal range of floats (then call it per length, shifts [0])."""
-    P = S.copy()
-    chain = [P]
-    big0 = np.abs(P).max(initial=0.0)
-    ne = len(shifts)
-    small, big, Kj, live = [0] * ne, [big0] * ne, [0] * ne, list(range(ne))
-    for k in range(TAYLOR_TERMS):
-        for i in live:
-            Kj[i] = k + 1
-        P = P @ (M * (h / (k + 1)))
-        top0 = np.abs(P).max(initial=0.0)
-        for i in list(live):
-            top = math.ldexp(top0, shifts[i] * (k + 1))
-            big[i] = max(big[i], top)
-            small[i] = small[i] + 1 if top <= 1e-18 * big[i] else 0
-            if small[i] == 2:
-                live.remove(i)
-        if not live:
-            break
-        chain.append(P)
-    C = np.array(chain[: max(Kj)])  # [k, r, :]
+    if S.shape[0] == 0:  # no signals: two (empty) terms each, as the chain's test gives
+        return [np.zeros((0, 2, M.shape[0])) for _ in shifts]
+    C, Kj = _tables.taylor_chain(
+        np.ascontiguousarray(M, float), np.ascontiguousarray(S, float), float(h),
+        np.asarray(shifts, np.int64), TAYLOR_TERMS,
+    )  # fmt: skip
     if max(shifts) > 0:  # every product of the scaled chains in the normal range
         a = np.abs(C[C != 0.0])
         mm = np.abs(M[M != 0.0])
@@ -2012,7 +1999,7 @@ def _taylor_family(M, S, h, shifts):
                 return None
     return [
         np.ldexp(C[: Kj[i]], (shifts[i] * np.arange(Kj[i]))[:, None, None]).transpose(1, 0, 2)
-        for i in range(ne)
+        for i in range(len(shifts))
     ]
 
 
