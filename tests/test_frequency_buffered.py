@@ -108,3 +108,60 @@ def test_the_work_estimate_of_a_first_order_system_follows_its_engine():
         frequency_response(car, "sihb", fmin=0.5, fmax=20.0, df=1e-5, amplitude=0.01)
     with pytest.raises(ParameterError, match="harmonics"):
         frequency_response(car, "sihb", freq_hz=[1.0, 2.0], harmonics=2000, amplitude=0.01)
+
+
+def test_patterned_evaluation_keeps_its_road_vector_in_the_buffer():
+    """A car of several roads driven by a pattern (gain, phase, delay per road): the
+    road vector of every wheel is kept in the engine's buffer past the work array. The
+    evaluation with the buffer, with a longer one and with one too short (then it
+    allocates the road vector) equals the core's own evaluation on the road vector
+    spread by hand, to the last bit."""
+    import math
+
+    from inerterlab.frequency.quarter_car import (
+        _pattern_tables,
+        pattern_size,
+        patterned_outputs,
+        patterned_rhs,
+    )
+    from inerterlab.systems.vehicle import vehicle
+    from inerterlab.vehicles import example_vehicle_path, load_vehicle
+
+    sys = vehicle(load_vehicle(example_vehicle_path()), lift_off=False)
+    m = int(sys.info["roads"])
+    P = np.column_stack([np.linspace(1.0, 0.5, m), np.linspace(0.0, 2.0, m), np.r_[0.0, 0.1, 0.0, 0.1][:m]])
+    itab, ftab = _pattern_tables(sys, P)
+    fo = from_core_system(sys, pattern=P)
+    n = sys.n_states
+    free = pattern_size(itab) - 1
+    size = buffer_size(itab) + pattern_size(itab)
+    assert fo.work_size == size and free == _kernel.road_layout_of(itab)[1]
+    rng = np.random.default_rng(11)
+    scales = np.asarray(sys.state_scales, dtype=float)
+    no = 3 * int(itab[_kernel.I_NN]) + int(itab[_kernel.I_NE])
+    for trial in range(20):
+        x = np.zeros(size)
+        x[:n] = np.asarray(sys.initial_state(), dtype=float) + scales * rng.normal(0, 1, n)
+        a, w, tau = 0.02, 2 * math.pi * (1.0 + trial), rng.uniform(0, 2 * math.pi)
+        road = np.array([a * math.sin(tau), a * w * math.cos(tau), -a * w * w * math.sin(tau), w])
+        r = np.zeros(free + 1)  # the pattern by hand: A g sin(tau + phase - w delay)
+        for k in range(m):
+            g, ph = P[k, 0], tau + P[k, 1] - w * P[k, 2]
+            r[3 * k : 3 * k + 3] = g * a * np.array([math.sin(ph), w * math.cos(ph), -w * w * math.sin(ph)])
+        r[free] = w
+        want = np.zeros(size)
+        ok0 = _kernel.rhs(0.0, x, r, itab, ftab, want)
+        want_o = np.zeros(no)
+        oko = _kernel.outputs(0.0, x, r, itab, ftab, want_o)
+        for length in (size, size + 3, n):
+            got = np.full(length, np.nan)
+            assert patterned_rhs(0.0, x, road, itab, ftab, got) == ok0
+            np.testing.assert_allclose(got[:n], want[:n], rtol=1e-12, atol=1e-12 * np.abs(want[:n]).max())
+            if length == size:
+                keep = got[:n].copy()
+            else:
+                np.testing.assert_array_equal(got[:n], keep)
+        for length in (max(size, no), no):
+            got = np.full(length, np.nan)
+            assert patterned_outputs(0.0, x, road, itab, ftab, got) == oko
+            np.testing.assert_allclose(got[:no], want_o, rtol=1e-12, atol=1e-12 * np.abs(want_o).max())

@@ -128,15 +128,16 @@ def velocity_pairs(system, rhs=None, tables=None) -> tuple[int, ...]:
 
 
 @njit(cache=True, inline="always")
-def _spread(road, itab, ftab):
-    """The core road vector of every road of a pattern from the engine's one sine
+def _spread(road, itab, ftab, r):
+    """The core road vector of every road of a pattern into ``r`` (``free`` + 1 entries,
+    :func:`inerterlab.systems._kernel.road_layout_of`) from the engine's one sine
     ``road`` = [A sin tau, A Omega cos tau, -A Omega^2 sin tau, Omega] (the pattern at
     the end of the tables: itab[-2] roads, from ftab[itab[-1]] (gain, phase, delay) each)."""
     n = itab.size
     m = itab[n - 2]
     po = itab[n - 1]
     _, free, _ = _kernel.road_layout_of(itab)
-    r = np.zeros(free + 1)  # no held sides: the elements' own laws
+    r[: free + 1] = 0.0  # no held sides: the elements' own laws
     w = road[FREQ_SLOT]
     u0, u1, u2 = road[0], road[1], road[2]
     for k in range(m):
@@ -149,7 +150,13 @@ def _spread(road, itab, ftab):
         r[3 * k + 1] = g * (c * u1 + s * u2 / w)
         r[3 * k + 2] = g * (c * u2 - s * w * u1)
     r[free] = w
-    return r
+    return r[: free + 1]
+
+
+def pattern_size(itab) -> int:
+    """The entries of the road vector of a pattern (:func:`_spread`), which the
+    patterned evaluations keep past the buffer of :func:`buffer_size`."""
+    return int(_kernel.road_layout_of(itab)[1]) + 1
 
 
 def buffer_size(itab) -> int:
@@ -209,14 +216,28 @@ def _outputs_in(t, x, road, itab, ftab, out, n, w):
 @njit(cache=True)
 def patterned_rhs(t, x, road, itab, ftab, out):
     """The core right-hand side (:func:`buffered_rhs`) with every road driven by the
-    pattern at the end of the tables (:func:`_spread`)."""
-    return buffered_rhs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+    pattern at the end of the tables (:func:`_spread`), the road vector kept in ``out``
+    past the work array where it has room (:func:`buffer_size` + :func:`pattern_size`
+    entries: the engine's arrays do), else allocated."""
+    n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
+    w = _kernel._work_size(itab)
+    free = _kernel.road_layout_of(itab)[1]
+    if out.size < n + w + free + 1:
+        return buffered_rhs(t, x, _spread(road, itab, ftab, np.empty(free + 1)), itab, ftab, out)
+    return _rhs_in(float(t), x, _spread(road, itab, ftab, out[n + w :]), itab, ftab, out, n, w)
 
 
 @njit(cache=True)
 def patterned_outputs(t, x, road, itab, ftab, out):
-    """The core outputs (:func:`buffered_outputs`) under the pattern."""
-    return buffered_outputs(t, x, _spread(road, itab, ftab), itab, ftab, out)
+    """The core outputs (:func:`buffered_outputs`) under the pattern, its road vector
+    kept as in :func:`patterned_rhs`."""
+    n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
+    w = _kernel._work_size(itab)
+    free = _kernel.road_layout_of(itab)[1]
+    if out.size < n + w + free + 1:
+        return buffered_outputs(t, x, _spread(road, itab, ftab, np.empty(free + 1)), itab, ftab,
+                                out)  # fmt: skip
+    return _outputs_in(float(t), x, _spread(road, itab, ftab, out[n + w :]), itab, ftab, out, n, w)
 
 
 def _pattern_tables(system, pattern):
@@ -293,7 +314,7 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         velocity_of=velocity_pairs(system, rhs, (itab, ftab)),
         int_table=np.array(itab, dtype=np.int64),
         float_table=np.array(ftab, dtype=float),
-        work_size=buffer_size(itab),
+        work_size=buffer_size(itab) + (0 if pattern is None else pattern_size(itab)),
         state_scales=np.asarray(system.state_scales, dtype=float),
         rest_state=np.asarray(system.initial_state(), dtype=float),
         compiled_outputs=outfn,
