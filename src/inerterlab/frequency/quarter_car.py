@@ -190,7 +190,7 @@ def _rhs_in(t, x, road, itab, ftab, out, n, w):
     ok = _compiled.generic_evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab),
                                     W, dx, out[:0])  # fmt: skip
     if itab[_kernel.I_NOB] > 0:
-        _kernel.observe(itab, ftab, W, x, dx, False)
+        _kernel.observe(_kernel.readonly(itab), _kernel.readonly(ftab), W, x, dx, np.bool_(False))
     return ok
 
 

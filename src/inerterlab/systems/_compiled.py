@@ -197,7 +197,7 @@ def _first_order_rhs(t, x, road, itab, ftab, out):
     dx = out[:FO_N]
     ok = rhs(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab), W, dx, out[:0])
     if itab[_kernel.I_NOB] > 0:
-        _kernel.observe(itab, ftab, W, x, dx, False)
+        _kernel.observe(_kernel.readonly(itab), _kernel.readonly(ftab), W, x, dx, np.bool_(False))
     return ok
 
 

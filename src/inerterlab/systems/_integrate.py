@@ -351,7 +351,7 @@ def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
 
 
 @nb.njit(cache=True, _nrt=False)
-def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c=-1):
+def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
     their slots of ``out``, which holds the states they read there; ``c``: the point
     of :func:`_fz_step` (0-4 the nodes, 5 the end) that th is, whose modes' values it
@@ -500,14 +500,14 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
     for q in range(nq):
         s = itab[ob + OBS_W * fzi[qu + q] + 3]
         yt[s] = y[s] + hs * yt[s]
-    _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, 5)
+    _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, np.int64(5))
 
 
 @nb.njit(cache=True, _nrt=False)
 def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
     """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
     states): the filter exactly, its quadratures linear between the step's ends."""
-    _fz_at(fzi, fzf, fzc, stc, stf, th, out)
+    _fz_at(fzi, fzf, fzc, stc, stf, th, out, np.int64(-1))
     qu = FZ_HEAD + fzi[0] + fzi[1]
     ob = itab[I_OBS]
     for q in range(fzi[2]):
@@ -534,7 +534,7 @@ def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fi
     (stc, stf) of :func:`_fz_begin`)."""
     _dense(y, yx, K, h, x, yd)
     if fzi[0]:
-        _fz_at(fzi, fzf, fzc, stc, stf, x / thx, yd)
+        _fz_at(fzi, fzf, fzc, stc, stf, x / thx, yd, np.int64(-1))
     _f_once(ev, mode, segs, rng, t + x * h, yd, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
@@ -556,7 +556,7 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
     _peak_values(itab, ftab, work, yt, p1)
     _dense(y, yx, K, h, 0.5 * thx, yd)
     if fzi[0]:  # e^(x / 2) kept by _fz_step: the middle Gauss node is 1/2 to the last bit
-        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd, 2)
+        _fz_at(fzi, fzf, fzc, stc, stf, 0.5, yd, np.int64(2))
     _f_once(ev, mode, segs, rng, t + 0.5 * thx * h, yd, itab, ftab, imp, road_fixed, dy, road, work,
             stats, oit, fzi)  # fmt: skip
     _peak_values(itab, ftab, work, yd, pm)
@@ -863,7 +863,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
     d0 = FZ_HEAD + fzi[0] + fzi[1] + fzi[2]
     for i in range(d0, d0 + fzi[3]):
         moves[fzi[i]] = False
-    npk = 0  # running peaks (observers)
+    npk = np.int64(0)  # running peaks (observers)
     for q in range(itab[I_NOB]):
         if itab[itab[I_OBS] + OBS_W * q] == OBS_PEAK:
             moves[itab[itab[I_OBS] + OBS_W * q + 3]] = False
@@ -954,7 +954,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     # is a peak (the search evaluates the midpoint of every accepted step)
     nob = itab[I_NOB]
     track = mode == 0 and npk > 0
-    stale = False
+    stale = np.bool_(False)
     hx = 0.0
     thx = 1.0
     if track:
@@ -1019,8 +1019,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 _x_input(segs, rng[0], t, road, z, na)
                 inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
             taken = 0
-            xn = 0  # steps whose observers are pending
-            xnp = 0  # samples taken meanwhile
+            xn = np.int64(0)  # steps whose observers are pending
+            xnp = np.int64(0)  # samples taken meanwhile
             nbk = xh.size
             while inside:
                 while k < t_out.size and t_out[k] <= t and (last or t_out[k] < t_end):
@@ -1031,8 +1031,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                             _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts,
                                            xref, xsv, xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp,
                                            out_y)  # fmt: skip
-                            xn = 0
-                            xnp = 0
+                            xn = np.int64(0)
+                            xnp = np.int64(0)
                             for i in range(n):
                                 out_y[k, i] = y[i]
                         else:
@@ -1062,8 +1062,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                         _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts,
                                        xref, xsv, xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp,
                                        out_y)  # fmt: skip
-                        xn = 0
-                        xnp = 0
+                        xn = np.int64(0)
+                        xnp = np.int64(0)
                     if stats[0] + stats[1] >= max_steps:
                         return TOO_MANY_STEPS, k, h
                 for i in range(na + 3):
@@ -1195,7 +1195,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
         # the stages, one call site (the right-hand side is compiled into this loop
         # once); the last stage's point is the order-5 solution (first same as last)
         ok = True
-        stale = False
+        stale = np.bool_(False)
         thx = 1.0
         for st in range(1, 7):
             # each state's stage sum term by term in the order of q, the states side by
@@ -1267,7 +1267,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             for e in range(2 * ne):
                 xloc[e] = 2.0
                 if sw[e] * swn[e] < 0.0:
-                    stale = True
+                    stale = np.bool_(True)
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
                                       swx, oit, fzi, cheap, only, ofw)  # fmt: skip
@@ -1842,7 +1842,7 @@ def _observe_sums(itab, y, nst, H, J, VT, SV, TR, gw, xs, sref, coef, hi, lo, do
                 low = lo[r, i] if sgn > 0.0 else -hi[r, i]
                 best = max(val, high)
                 if high > val - 0.1 * (high - low):
-                    top = 0  # the first of the highest points
+                    top = np.int64(0)  # the first of the highest points
                     for p in range(1, npt):
                         if sgn * SV[p * nu + r, i] > sgn * SV[top * nu + r, i]:
                             top = p
@@ -1909,8 +1909,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
     acc = np.empty(nbk)
     pk = np.empty(nbk, np.int64)
     pp = np.empty(nbk, np.int64)
-    nst = 0
-    npend = 0
+    nst = np.int64(0)
+    npend = np.int64(0)
     nseg = segs.shape[0]
     k = 0
     m = 0
@@ -1938,7 +1938,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 road[2] = b - prev_v
                 ev(0.0, y, road, itab, ftab, W, dx, jerk)
                 if observed:
-                    observe(itab, ftab, W, y, dx, True)
+                    observe(itab, ftab, W, y, dx, np.bool_(True))
                 for i in range(n):
                     y[i] += dx[i]
             jump = a - prev
@@ -1953,7 +1953,7 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                 road[2] = 0.0
                 ev(0.0, y, road, itab, ftab, W, dx, imp)
                 if observed:
-                    observe(itab, ftab, W, y, dx, True)
+                    observe(itab, ftab, W, y, dx, np.bool_(True))
                 for i in range(n):
                     y[i] += dx[i]
         t = t0
@@ -1967,8 +1967,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     if nst == nbk:
                         _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
-                        nst = 0
-                        npend = 0
+                        nst = np.int64(0)
+                        npend = np.int64(0)
                     j = idx[m]
                     xr = a + b * (t - t0)
                     for i in range(na):
@@ -2011,8 +2011,8 @@ def _exact_walk(ev, apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol,
                     if npend == nbk:
                         _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi,
                                        lo, done, acc, pk, pp, npend, out_y)  # fmt: skip
-                        nst = 0
-                        npend = 0
+                        nst = np.int64(0)
+                        npend = np.int64(0)
                         for i in range(n):
                             out_y[k, i] = y[i]
                     else:
@@ -2069,7 +2069,8 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         ev, ro_itab, _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
         imp_unit, jump_ok, jump_tol, _readonly(t_out), out_y, stats, jumps, max_steps, v_before,
         vjump_tol, vjumps, XE, XG, xkeys, xthr, xel, xcls,
-        _NO_LEVELS if xlev is None else xlev, xq, ctl, _NO_XOBS if xo is None else xo,
+        _NO_LEVELS if xlev is None else xlev, xq, ctl,
+        _signal_tables(_NO_XOBS if xo is None else xo),
         _split_of(itab, ftab, y.size), (ro_itab, *NO_SPLIT),
     )  # fmt: skip
     if warm and not ev.specialised:
@@ -2089,6 +2090,13 @@ def regime_outputs(t_out, Y, segs, itab, ftab, *args):
     return _regime_outputs(
         rhs_for(itab, False), t_out, Y, segs, _readonly(itab), _readonly(ftab), *args
     )
+
+
+def _signal_tables(xo):
+    """``xo`` with its signal tables (SR, TR) read-only, as :func:`exact_walk` passes
+    them: the observers' sums over exact steps are compiled once for both callers."""
+    ia, SR, rows, gw, gx, cap, TR, sref = xo
+    return ia, _readonly(SR), rows, gw, gx, cap, _readonly(TR), sref
 
 
 def exact_walk(apply, segs, t_out, t_end, y, x1_before, v_before, jump_tol, vjump_tol, jump_ok,
@@ -2173,7 +2181,7 @@ def _rk4_eval(ev, t, y, itab, ftab, imp, dy, road, work, stats):
     stats[2] += 1
     ok = ev(t, y, road, itab, ftab, work, dy, imp)
     if itab[I_NOB] > 0:
-        observe(itab, ftab, work, y, dy, False)
+        observe(itab, ftab, work, y, dy, np.bool_(False))
     return ok
 
 

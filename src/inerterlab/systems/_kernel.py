@@ -614,7 +614,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     ie = ir + nd  # inertance of each element
     ok = _node_motion(x, road, itab, ftab, W, nn, ne, nd)
     if imp.size == 1 and imp[0] == math.inf:  # the switching functions alone, into dx
-        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, False)
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, np.bool_(False))
         switches(itab, ftab, W, dx)
         return ok
     if itab[I_DNS] > 0 and not flow:  # the mass matrix factored beforehand
@@ -684,7 +684,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
                 dx[itab[b + 1]] = 0.0
             elif itab[b] == VEL or itab[b] == RELV:
                 dx[itab[b + 1]] = 0.0
-        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, True)
+        _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, np.bool_(True))
         _relative_unknown(itab, W, ia, nn, nrel)
     return ok
 
@@ -724,7 +724,7 @@ def _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, o
         if W[ie + e] != 0.0:
             b = eo + ELEM_W * e
             W[iF + e] += W[ie + e] * (W[ia + itab[b + 1]] - W[ia + itab[b + 2]])
-    _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, True)
+    _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, np.bool_(True))
     _relative_unknown(itab, W, ia, nn, nrel)
     return ok
 
@@ -1112,7 +1112,7 @@ def rhs(t, x, road, itab, ftab, out):
     W = np.empty(_work_size(itab))
     ok = evaluate(float(t), x, road, readonly(itab), readonly(ftab), W, out, np.empty(0))
     if itab[I_NOB] > 0:
-        observe(itab, ftab, W, x, out, False)
+        observe(readonly(itab), readonly(ftab), W, x, out, np.bool_(False))
     return ok
 
 

@@ -1684,7 +1684,7 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
         TR.append(tr)
         if th.size:
             SR[c] = sr
-    # writable, as the empty tables: one compiled integrator, not two
+    # padded to one table (the integrator passes it read-only, as the exact walk's)
     K = max((t.shape[2] for t in TR), default=0)
     TRs = np.zeros((len(ws), hs.size, Sx.shape[0], K, n + 3))
     for c, t in enumerate(TR):
