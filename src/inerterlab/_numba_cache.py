@@ -26,6 +26,11 @@ from numba.core import caching
 
 __all__ = ["package_source_stamp", "PACKAGE_ROOT"]
 
+#: numba's warning that first-class function types are experimental (the integrator's
+#: right-hand side is one), as a pattern for ``warnings.filterwarnings`` (numba wraps the
+#: text in terminal highlighting: the pattern allows a prefix)
+FIRST_CLASS_WARNING = r".*First-class function type feature is experimental"
+
 PACKAGE_ROOT = Path(__file__).resolve().parent
 
 

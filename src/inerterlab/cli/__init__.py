@@ -21,6 +21,7 @@ try:  # typer >= 0.20 vendors its own copy of click
 except ImportError:  # pragma: no cover - older typer on plain click
     from click import exceptions as _cx
 
+from .._numba_cache import FIRST_CLASS_WARNING
 from ..errors import InerterlabError, Interrupted, one_line
 
 app = typer.Typer(
@@ -127,6 +128,9 @@ def main(argv: list[str] | None = None) -> int:
     if debug:
         args.remove("--debug")
     with warnings.catch_warnings(record=True) as caught:
+        # numba's note that first-class function types are experimental, at the
+        # integrator's first compilation: nothing a user can act on (systems._compiled)
+        warnings.filterwarnings("ignore", message=FIRST_CLASS_WARNING)
         try:
             return _main(args, debug)
         finally:
