@@ -11,6 +11,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
+import numba as nb
 from numba.core.registry import CPUDispatcher
 
 import inerterlab
@@ -30,21 +31,66 @@ def _dispatchers():
     return seen
 
 
+def _callees(disp):
+    """The compiled functions a kernel calls: its direct callees, and through each one
+    it inlines (``inline="always"``: its code is typed and compiled inside the caller,
+    under the caller's flags, so no copy of it is cached) that one's callees in turn."""
+    found, todo, inlined = {}, [disp], set()
+    while todo:
+        d = todo.pop()
+        glb = d.py_func.__globals__
+        for g in d.py_func.__code__.co_names:
+            callee = glb.get(g)
+            if not isinstance(callee, CPUDispatcher):
+                continue
+            if callee.targetoptions.get("inline", "never") == "always":
+                if id(callee) not in inlined:
+                    inlined.add(id(callee))
+                    todo.append(callee)
+            else:
+                found[g] = callee
+    return found
+
+
 def test_inherited_flags_reach_no_callee():
     kernels = _dispatchers()
     checked = set()
     for name, disp in kernels.items():
-        glb = disp.py_func.__globals__
-        callees = {g: glb[g] for g in disp.py_func.__code__.co_names if isinstance(glb.get(g), CPUDispatcher)}
+        if disp.targetoptions.get("inline", "never") == "always":
+            continue  # compiled inside its callers, under theirs
+        callees = None
         for option, default in DEFAULTS.items():
             value = disp.targetoptions.get(option, default)
             if not value or value == default:
                 continue
             checked.add((name, option))
+            callees = _callees(disp) if callees is None else callees
             for cname, callee in callees.items():
                 assert option in callee.targetoptions, (
                     f"{name} sets {option}={value!r} and calls {cname}, which does not set "
                     f"{option}: numba would compile and cache {cname} with it"
                 )
-    # the kernels with a non-default error model are checked (no kernel sets fastmath)
-    assert ("inerterlab.elements.adaptive_flywheel.flywheel_inertance", "error_model") in checked, checked
+    # the kernels with a non-default error model are checked (no kernel sets fastmath):
+    # the core's one evaluation (the integrator's generic tier, the Python callers)
+    assert ("inerterlab.systems._kernel.evaluate", "error_model") in checked, checked
+
+
+@nb.njit
+def _leaf(x):
+    return x / 2.0
+
+
+@nb.njit(inline="always")
+def _middle(x):
+    return _leaf(x)
+
+
+@nb.njit(error_model="numpy")
+def _top(x):
+    return _middle(x)
+
+
+def test_a_callee_reached_through_an_inlined_function_is_checked():
+    # _top compiles _middle's code inside itself, and so calls _leaf: the rule reaches it
+    assert set(_callees(_top)) == {"_leaf"}
+    assert set(_callees(_middle)) == {"_leaf"}

@@ -93,7 +93,7 @@ class SliderDynamics:
         )
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def _stop_force(l, ldot, l_min, l_max, k_c, c_c):
     """Force of the stops on one slider [N] (positive outwards) and its dissipation [W]."""
     if l > l_max:
@@ -113,7 +113,7 @@ def _stop_force(l, ldot, l_min, l_max, k_c, c_c):
     return 0.0, 0.0
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def slider_state_derivative(l, ldot, omega, n, m_s, k_s, l_min, l_max, c_s, k_c, c_c):
     """Slider acceleration l'' [m/s^2] and the dissipated power D of all sliders [W]."""
     f_stop, p_stop = _stop_force(l, ldot, l_min, l_max, k_c, c_c)

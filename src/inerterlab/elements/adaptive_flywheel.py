@@ -123,7 +123,7 @@ def flywheel_switch(tab, o, v):
     return abs(tab[o + 1] * v) - tab[o + 8]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def slider_derivative(tab, o, l, ld, v):
     """l'' [m/s^2] of the sliders at relative velocity v (``slider-dynamics``)."""
     ldd, _ = slider_state_derivative(

@@ -12,7 +12,7 @@ from ._base import INERTER, ElementBase, Param
 __all__ = ["Inerter", "inerter_inertance"]
 
 
-@nb.njit(cache=True)
+@nb.njit(cache=True, error_model="numpy")
 def inerter_inertance(tab, o):
     """b [kg]: F = b (a_top - a_bottom)."""
     return tab[o]

@@ -174,7 +174,7 @@ def buffered_rhs(t, x, road, itab, ftab, out):
     (the engine's arrays do: the system's ``work_size``), so that a call allocates
     nothing and counts no references (docs/decisions.md, stop 58). It is the time
     integration's generic code: a division by zero gives inf or NaN (the point then
-    fails as non-finite), not an exception. A shorter ``out`` is served as
+    fails as non-finite), not an exception, as everywhere. A shorter ``out`` is served as
     :func:`inerterlab.systems._kernel.rhs` serves it."""
     n = itab[_kernel.I_NS] + itab[_kernel.I_NOB]
     w = _kernel._work_size(itab)
@@ -187,8 +187,8 @@ def buffered_rhs(t, x, road, itab, ftab, out):
 def _rhs_in(t, x, road, itab, ftab, out, n, w):
     W = out[n : n + w]
     dx = out[:n]
-    ok = _compiled.generic_evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab),
-                                    W, dx, out[:0])  # fmt: skip
+    ok = _kernel.evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab), W, dx,
+                          out[:0])  # fmt: skip
     if itab[_kernel.I_NOB] > 0:
         _kernel.observe(_kernel.readonly(itab), _kernel.readonly(ftab), W, x, dx, np.bool_(False))
     return ok
@@ -209,8 +209,8 @@ def buffered_outputs(t, x, road, itab, ftab, out):
 
 @njit(cache=True, _nrt=False)
 def _outputs_in(t, x, road, itab, ftab, out, n, w):
-    return _compiled.generic_evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab),
-                                      out[:w], out[w : w + n], out[:0])  # fmt: skip
+    return _kernel.evaluate(t, x, road, _kernel.readonly(itab), _kernel.readonly(ftab), out[:w],
+                            out[w : w + n], out[:0])  # fmt: skip
 
 
 @njit(cache=True)

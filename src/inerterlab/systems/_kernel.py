@@ -341,7 +341,7 @@ def _vnode(itab, no, W, nn, n):
     return W[nn + n]
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
     """Force balance G = W[gi:gi+nv] of the velocity nodes (and its Jacobian J =
     W[ji:ji+nv*nv] if want_j); X = W[0:nn], V = W[nn:2nn]."""
@@ -387,7 +387,7 @@ def _vel_residual(itab, ftab, W, gi, ji, nv, want_j):
                     W[ji + bi * nv + ti] += d
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _velocities(itab, ftab, W, s0):
     """Velocities of the massless velocity nodes (in W[nn:2nn]) from their force balance
     (Newton; the balance is strictly decreasing in each node's velocity). Returns False
@@ -551,14 +551,16 @@ def _node_motion(x, road, itab, ftab, W, nn, ne, nd):
     return ok
 
 
-# compiled once for :func:`rhs`, :func:`outputs` and :func:`switches_at`: they pass
-# contiguous arrays and the tables read-only (``readonly``), the signature the integrator's
-# tiers use too; each further signature would compile the whole of it again (about 50 s
-# of CPU on a slow machine). The integrator's generic tier is this source compiled under
-# numpy's error model (``._compiled``), a second compilation: a kernel that sets the
-# error model may call only functions that set it themselves (tests/test_numba_flags.py),
-# which evaluate's element laws do not
-@nb.njit(cache=True, _nrt=False)
+# the core's one compiled evaluation: the integrator's generic tier (:mod:`._compiled`,
+# which also writes its statements into each structure's own code), :func:`rhs`,
+# :func:`outputs`, :func:`switches_at`, the harmonic balance and the Python callers (the
+# impulses, the static balance) all call this one copy. They pass contiguous arrays and
+# the tables read-only (``readonly``): each further signature would compile the whole of
+# it again (about 17 s of CPU). numpy's error model: a division by zero gives inf or NaN,
+# which the integrator reports as a non-finite solution (an exception cannot cross the
+# function pointer through which it calls the evaluation); every function it calls
+# that is compiled on its own sets the same model (tests/test_numba_flags.py)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def evaluate(t, x, road, itab, ftab, W, dx, imp):
     """Fill the work array ``W`` (:func:`work_size` floats) with the node displacements
     X = W[0:nn], velocities V = W[nn:2nn], accelerations A = W[2nn:3nn] (NaN where not
@@ -820,7 +822,7 @@ def _dense_solve(itab, ftab, W, x, dx, road, held, hs, nn, ne, nd, iv, ia, iF, i
     return True
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _inertial_after(itab, ftab, W, x, dx, road, iv, ia, iF, rates):
     """The flywheel-row elements' switching functions (into the slots of
     :func:`_switch_slots`) and, with ``rates``, once the accelerations and forces are
@@ -875,7 +877,7 @@ def _switch_pair(ftab, x, o, so, side, xr, v, force):
     return g0 + d, g0 - d, kind
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
     """A dynamic node whose every inertance is disengaged (a one-way clutch running
     free, a screw out of contact) has a zero row in the mass matrix: it is massless for
@@ -930,7 +932,7 @@ def _massless_rows(itab, ftab, W, im, ir, iv, ia, nd, flow):
             W[ir + k] -= ksum / dsum * g
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _combine(itab, ftab, W, off, nn):
     """W[off + n] = sum c_j W[off + m_j] at every combination node n (displacements,
     velocities or accelerations of its members)."""
@@ -974,7 +976,7 @@ def _end(itab, n, j):
     return -1, -1
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd):
     """Stamp an element with an end at a combination node: force -f on the top end's
     rows and +f on the bottom's (times the coefficients); an inertance me adds me g g^T
@@ -1129,7 +1131,7 @@ def outputs(t, x, road, itab, ftab, out):
     return ok
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def switches(itab, ftab, W, out):
     """The elements' switching functions (a sign change marks a kink of a force law:
     flywheel saturation, free-play contact) from the node displacements and velocities
@@ -1272,7 +1274,8 @@ def dense_source(itab) -> str | None:
     them from those local variables and writes nothing to the work array (no reader
     needs it: :func:`switches_at` runs the generic :func:`evaluate`); with ``STAGE``,
     it leaves the outputs out. An impulse flow (``imp`` not empty otherwise) goes to
-    :func:`evaluate` itself (``evaluate_inline`` in the module that compiles it). The
+    :func:`evaluate`'s statements for the structure (``_evaluate`` in the module that
+    compiles it, see :func:`._compiled._evaluate_source`). The
     names it calls are those of :data:`DENSE_IMPORTS`."""
     it = [int(v) for v in np.asarray(itab, dtype=np.int64)]
     db = it[I_DNS]
@@ -1343,7 +1346,7 @@ def dense_source(itab) -> str | None:
           "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
           "stage = imp.size == 2 and imp[0] == math.inf  # STAGE: no outputs in W",
           "if imp.size != 0 and not only and not stage:",
-          "    return evaluate_inline(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
+          "    return _evaluate(t, x, road, itab, ftab, W, dx, imp)"]  # fmt: skip
     L.append(f"held = road.size >= {nlen}")
     for n in range(nn):
         if typ[n] == GROUND:
