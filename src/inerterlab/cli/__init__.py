@@ -15,6 +15,7 @@ import sys
 import warnings
 
 import typer
+from numba.core import event as _nb_event
 
 try:  # typer >= 0.20 vendors its own copy of click
     from typer._click import exceptions as _cx
@@ -117,6 +118,45 @@ def _os_error_message(e: OSError) -> str:
     return f"{what + ': ' if what else ''}{reason}{' (' + hint + ')' if hint else ''}"
 
 
+#: the line a terminal sees while the package's numerical code compiles
+COMPILE_NOTICE = (
+    "inerterlab: compiling the numerical code (once per install and model structure, "
+    "up to about a minute; later runs load it) ..."
+)
+
+
+class CompileNotice(_nb_event.Listener):
+    """One line on standard error when numba starts compiling the package's code in this
+    run (its first run after an install, about a minute, during which the command would
+    otherwise say nothing). numba reports a compilation only where its cache has no
+    machine code for the function (``numba:compile`` events): a run that loads the code
+    prints nothing. Only on a terminal: output piped to a file or a program is left as
+    the command writes it. ``stream``: where to write (standard error as it is at the
+    time, by default)."""
+
+    def __init__(self, stream=None):
+        self.stream = stream
+        self.said = False
+
+    def on_start(self, event) -> None:
+        if self.said:
+            return
+        fn = getattr(event.data.get("dispatcher"), "py_func", None)
+        if not str(getattr(fn, "__module__", "")).startswith("inerterlab"):
+            return  # numba's own helpers compile inside ours
+        self.said = True
+        stream = self.stream if self.stream is not None else sys.stderr
+        try:
+            terminal = stream.isatty()
+        except (AttributeError, ValueError, OSError):
+            terminal = False
+        if terminal:
+            print(COMPILE_NOTICE, file=stream, flush=True)
+
+    def on_end(self, event) -> None:
+        pass
+
+
 def main(argv: list[str] | None = None) -> int:
     """Entry point of the ``inerterlab`` script; returns the exit status.
 
@@ -131,9 +171,12 @@ def main(argv: list[str] | None = None) -> int:
         # numba's note that first-class function types are experimental, at the
         # integrator's first compilation: nothing a user can act on (systems._compiled)
         warnings.filterwarnings("ignore", message=FIRST_CLASS_WARNING)
+        notice = CompileNotice()
+        _nb_event.register("numba:compile", notice)
         try:
             return _main(args, debug)
         finally:
+            _nb_event.unregister("numba:compile", notice)
             seen = set()
             for w in caught:
                 line = one_line(f"{w.category.__name__}: {w.message}")
