@@ -40,8 +40,8 @@ def readonly(typingctx, arr):
 
     A compiled function is compiled once per signature, and an array's writability is
     part of it: a caller holding writable tables would compile the core's right-hand
-    side (:func:`inerterlab.systems._kernel.evaluate`) a second time, about 50 s of CPU
-    on a slow machine, for arithmetic it already has. Passing the tables through this
+    side (:func:`inerterlab.systems._kernel.evaluate`) a second time, about 20 s of CPU,
+    for arithmetic it already has. Passing the tables through this
     keeps one signature."""
     if not isinstance(arr, types.Array):
         return None

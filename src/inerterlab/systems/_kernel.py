@@ -1274,8 +1274,9 @@ def dense_source(itab) -> str | None:
     them from those local variables and writes nothing to the work array (no reader
     needs it: :func:`switches_at` runs the generic :func:`evaluate`); with ``STAGE``,
     it leaves the outputs out. An impulse flow (``imp`` not empty otherwise) goes to
-    :func:`evaluate`'s statements for the structure (``_evaluate`` in the module that
-    compiles it, see :func:`._compiled._evaluate_source`). The
+    :func:`evaluate` itself (the generic evaluation, compiled once for every system: an
+    impulse is rare, and a second copy of its statements for the structure took a third
+    of the structure's compilation). The
     names it calls are those of :data:`DENSE_IMPORTS`."""
     it = [int(v) for v in np.asarray(itab, dtype=np.int64)]
     db = it[I_DNS]
@@ -1346,7 +1347,7 @@ def dense_source(itab) -> str | None:
           "only = imp.size == 1 and imp[0] == math.inf  # SWITCHES_ONLY",
           "stage = imp.size == 2 and imp[0] == math.inf  # STAGE: no outputs in W",
           "if imp.size != 0 and not only and not stage:",
-          "    return _evaluate(t, x, road, itab, ftab, W, dx, imp)"]  # fmt: skip
+          "    return evaluate(t, x, road, ITAB, ftab, W, dx, imp)"]  # fmt: skip
     L.append(f"held = road.size >= {nlen}")
     for n in range(nn):
         if typ[n] == GROUND:
