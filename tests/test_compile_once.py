@@ -64,6 +64,34 @@ print(json.dumps(counts))
 """
 
 
+# the same walk in a second process on the cache the first one filled: numba compiles
+# nothing of the package (a compiled function reached both from a compiled caller and
+# by an explicit signature was filed under two cache entries, and the second process
+# compiled the core's evaluation again: 6 s, and the first-run notice, on every
+# user's second run)
+WARM = """
+import json
+from numba.core import event
+
+compiled = []
+
+
+class Seen(event.Listener):
+    def on_start(self, ev):
+        fn = ev.data["dispatcher"].py_func
+        if fn.__module__.startswith("inerterlab"):
+            compiled.append(fn.__module__ + "." + fn.__name__)
+
+    def on_end(self, ev):
+        pass
+
+
+event.register("numba:compile", Seen())
+exec(compile(COLD_SOURCE, "cold", "exec"), {})
+print(json.dumps({"compiled": compiled}))
+"""
+
+
 def _counts(script, **env):
     out = subprocess.run(
         [sys.executable, "-c", script],
@@ -89,3 +117,6 @@ def test_right_hand_side_is_compiled_once_for_every_caller(tmp_path):
     # call site and a variable at another compiled the whole helper twice (the adaptive
     # driver, 11-14 s of CPU a copy: a cold first run took 116 s, then 91 s)
     assert counts == dict.fromkeys(counts, 1), sorted(counts.items())
+    # a second process loads all of it from the cache
+    warm = WARM.replace("COLD_SOURCE", repr(COLD))
+    assert _counts(warm, NUMBA_CACHE_DIR=str(tmp_path / "numba")) == {"compiled": []}

@@ -88,7 +88,11 @@ class CompiledRhs(types.WrapperAddressProtocol):
     __slots__ = ("_address", "specialised", "_keep")
 
     def __init__(self, dispatcher, specialised: bool):
-        dispatcher.compile(RHS_SIGNATURE)
+        # by the argument types, as a compiled caller's call compiles it: numba files a
+        # cached compilation under the signature it was asked for, and a signature with
+        # its return type is another entry than the same arguments without it (the one
+        # evaluation, reached both ways, was compiled again by a second process)
+        dispatcher.compile(RHS_SIGNATURE.args)
         self._keep = dispatcher
         self._address = _get_wrapper_address(dispatcher, RHS_SIGNATURE)
         self.specialised = specialised
