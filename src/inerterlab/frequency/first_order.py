@@ -220,7 +220,9 @@ def _evaluate(
 ):  # fmt: skip
     """r (n, K) at the samples (explicit systems: r = -f, the x' term is added by the
     projection), and with ``want`` P = dr/dx and Q = dr/dx' (n, n, K; explicit: P = -df/dx
-    by ``jac`` or central/forward differences, Q unused)."""
+    by ``jac`` or central/forward differences, Q unused). The callers pass ``want`` and
+    ``central`` as ``np.bool_``: a literal ``True`` or ``False`` would compile this
+    function once for each combination (three copies in a first frequency response)."""
     n = lay[0]
     K = tau.shape[0]
     r = np.empty((n, K))
@@ -485,8 +487,9 @@ def fo_residual(
     """R(Y) at Omega."""
     xs, xds = _synth(Y, lay, omega, E, E1, E2, mode == 2)
     r, _, _ = _evaluate(
-        rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, omega, amp, tau, tau, False, True
-    )
+        rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, omega, amp, tau, tau,
+        np.bool_(False), np.bool_(True),
+    )  # fmt: skip
     return _project(Y, omega, r, mode, lay, F, D1, D2)
 
 
@@ -511,8 +514,9 @@ def _residual_partials(
     """R(Y) at Omega and the partials P, Q at the samples (see :func:`_evaluate`)."""
     xs, xds = _synth(Y, lay, omega, E, E1, E2, mode == 2)
     r, P, Q = _evaluate(
-        rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, omega, amp, tau, scales, True, True
-    )
+        rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, omega, amp, tau, scales,
+        np.bool_(True), np.bool_(True),
+    )  # fmt: skip
     return _project(Y, omega, r, mode, lay, F, D1, D2), P, Q
 
 
@@ -848,8 +852,8 @@ def fo_hill_matrices(
         Y = np.ascontiguousarray(C[p])
         xs, xds = _synth(Y, lay, w, E, E1, E2, mode == 2)
         _, P, Q = _evaluate(
-            rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, w, amp, tau, scales, True,
-            False,
+            rhs, jac, terms, mode, itab, ftab, work, lay, xs, xds, w, amp, tau, scales,
+            np.bool_(True), np.bool_(False),
         )  # fmt: skip
         Jf = np.zeros((nm, nm))
         Qf = np.zeros((nm, nm))
