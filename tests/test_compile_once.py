@@ -120,3 +120,20 @@ def test_right_hand_side_is_compiled_once_for_every_caller(tmp_path):
     # a second process loads all of it from the cache
     warm = WARM.replace("COLD_SOURCE", repr(COLD))
     assert _counts(warm, NUMBA_CACHE_DIR=str(tmp_path / "numba")) == {"compiled": []}
+
+
+# the harmonic balance's evaluation, reached from the residual, its Jacobian and the Hill
+# matrices with its flags: literal True/False arguments compiled it once per combination
+HB = """
+import json
+from inerterlab.frequency import chapter7_system, frequency_response
+from inerterlab.frequency import first_order as F
+
+frequency_response(chapter7_system(0.03), "sihb", fmin=0.5, fmax=1.5, df=0.5, harmonics=3)
+print(json.dumps({"_evaluate": len(F._evaluate.signatures)}))
+"""
+
+
+@pytest.mark.slow
+def test_harmonic_balance_evaluation_is_compiled_once(tmp_path):
+    assert _counts(HB, NUMBA_CACHE_DIR=str(tmp_path / "numba")) == {"_evaluate": 1}
