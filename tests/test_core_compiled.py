@@ -63,7 +63,7 @@ def test_tier_follows_the_setting(monkeypatch):
     monkeypatch.setattr(_compiled, "_specialised", {})
     monkeypatch.setattr(_compiled, "_spent", {})
     monkeypatch.setattr(_compiled, "_seen", set())
-    monkeypatch.setattr(_compiled, "specialised", lambda itab: _Built())
+    monkeypatch.setattr(_compiled, "specialised", lambda itab, wait=True: _Built())
     monkeypatch.setenv("INERTERLAB_SPECIALISE", "never")
     assert not _compiled.rhs_for(sys_.itab).specialised
     monkeypatch.setenv("INERTERLAB_SPECIALISE", "auto")
@@ -86,3 +86,94 @@ def test_level_steps_between_far_samples(road):
         assert res.stats["exact_steps"] > 100
     peak = np.abs(fine.states).max(axis=0)
     assert (np.abs(res.states - ref.states).max(axis=0) / peak).max() < 1e-7
+
+
+class _Loaded:
+    """A structure's module as :func:`_compiled._structure_module` returns it, its
+    right-hand side the generic one (the claims are under test, not the compiler)."""
+
+    def __init__(self):
+        from inerterlab.systems._kernel import evaluate
+
+        self.rhs = evaluate
+
+
+@pytest.fixture
+def cache(monkeypatch, tmp_path):
+    """A scratch cache directory, the compiled structures of this process forgotten and
+    their modules stood in for (see :class:`_Loaded`)."""
+    monkeypatch.setenv("NUMBA_CACHE_DIR", str(tmp_path))
+    monkeypatch.setattr(_compiled, "_specialised", {})
+    monkeypatch.setattr(_compiled, "_spent", {})
+    monkeypatch.setattr(_compiled, "_seen", set())
+    made = []
+    monkeypatch.setattr(_compiled, "_structure_module", lambda itab, key: made.append(key) or _Loaded())
+    return tmp_path / "structures", made
+
+
+def test_a_structure_another_process_compiles_is_waited_for(cache, monkeypatch):
+    """A live process's claim: ``auto`` goes on with the generic code, ``specialised``
+    without waiting returns None, and once the other process's code is on disk it is
+    loaded (not compiled again); the marker is the other process's and stays."""
+    import os
+    import socket
+
+    root, made = cache
+    sys_ = quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0})
+    key = _compiled.structure_key(sys_.itab)
+    root.mkdir(parents=True)
+    marker = root / f"s_{key}.compiling"
+    marker.write_text(f"{socket.gethostname()} {os.getppid()}")  # the parent: alive
+    monkeypatch.setenv("INERTERLAB_SPECIALISE", "auto")
+    _compiled.record(sys_.itab, 2 * _compiled.SPECIALISE_AFTER_SECONDS)
+    assert _compiled.specialised(sys_.itab, wait=False) is None
+    assert not _compiled.rhs_for(sys_.itab).specialised
+    assert made == []
+    (root / f"s_{key}.done").touch()  # the other process is done
+    assert _compiled.rhs_for(sys_.itab).specialised
+    assert made == [key] and marker.exists()
+
+
+def test_an_abandoned_claim_is_taken_over(cache, monkeypatch):
+    """A claim of a process that has ended, and one older than the limit: taken over,
+    compiled here, and the marker removed after."""
+    import os
+    import socket
+    import subprocess
+    import sys
+    import time
+
+    root, made = cache
+    root.mkdir(parents=True)
+    gone = subprocess.run([sys.executable, "-c", "import os; print(os.getpid())"],
+                          capture_output=True, text=True, check=True)  # fmt: skip
+    for i, (pid, age) in enumerate([(int(gone.stdout), 0.0), (os.getppid(), 1e4)]):
+        net = ["k | c | b", "k | (c - b)"][i]
+        sys_ = quarter_car(net, {"k": 9e4, "c": 5e3, "b": 20.0})
+        key = _compiled.structure_key(sys_.itab)
+        marker = root / f"s_{key}.compiling"
+        marker.write_text(f"{socket.gethostname()} {pid}")
+        then = time.time() - age
+        os.utime(marker, (then, then))
+        assert _compiled.specialised(sys_.itab, wait=False).specialised
+        assert made[-1] == key and not marker.exists() and (root / f"s_{key}.done").exists()
+
+
+def test_always_waits_for_another_process(cache, monkeypatch):
+    """``always``: the code another process is compiling is waited for, then loaded."""
+    import os
+    import socket
+    import threading
+    import time
+
+    root, made = cache
+    sys_ = quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0})
+    key = _compiled.structure_key(sys_.itab)
+    root.mkdir(parents=True)
+    (root / f"s_{key}.compiling").write_text(f"{socket.gethostname()} {os.getppid()}")
+    monkeypatch.setenv("INERTERLAB_SPECIALISE", "always")
+    done = threading.Timer(0.5, (root / f"s_{key}.done").touch)
+    t0 = time.monotonic()
+    done.start()
+    assert _compiled.rhs_for(sys_.itab).specialised
+    assert time.monotonic() - t0 >= 0.45 and made == [key]

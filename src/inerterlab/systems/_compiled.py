@@ -28,6 +28,13 @@ it is on disk, or once the integrations of a structure in a process have taken
 compilation then pays for itself; a test or a report that runs many structures a few
 times each does not pay for theirs), the generic code before. Both evaluate the same
 arithmetic in the same order: results agree to the last bit.
+
+Processes that share the cache (a sweep's or a reproduction's workers) compile a
+structure once between them: the first to need it claims it with a marker file
+(``s_<key>.compiling``, created exclusively, holding its host and process id); the others
+go on with the generic code (``auto``) or wait for it (``always``) until it is on disk,
+then load it. A marker whose process has ended, or older than
+:data:`COMPILING_STALE_SECONDS`, is taken over.
 """
 
 from __future__ import annotations
@@ -39,9 +46,11 @@ import importlib.util
 import inspect
 import math
 import os
+import socket
 import sys
 import textwrap
 import threading
+import time
 import warnings
 from pathlib import Path
 
@@ -71,14 +80,22 @@ _f1 = types.float64[::1]
 RHS_SIGNATURE = types.boolean(types.float64, _f1, _f1, _ro_i, _ro_f, _f1, _f1, _f1)
 RHS_TYPE = types.FunctionType(RHS_SIGNATURE)
 #: a structure gets its own compiled code once its integrations in a process have taken
-#: this much CPU time [s] with the generic code (a study that has run this long is
-#: likely to run much longer: the compilation, about 15 s of CPU for the ``afw`` car with
-#: its ride observers, then pays for itself, the structure's own code taking about 40 %
-#: less time a call), or at its first integration when an earlier process compiled it
-#: (then it only loads)
-SPECIALISE_AFTER_SECONDS = 2.0
+#: this much CPU time [s] with the generic code, about what the compilation costs (15 s
+#: of CPU for the ``afw`` car with its ride observers, 29 s for the full car; its code
+#: then takes about a quarter less time a run): a process that stops right after pays at
+#: most twice what the best choice in hindsight would have, and one that goes on gains
+#: (as do later processes, which load the code); or at its first integration when an
+#: earlier process compiled it (then it only loads). (It was 2 s, set when a structure
+#: compiled in 3-6 s; the reproduction then compiled two structures, for nothing:
+#: docs/decisions.md, stop 61.)
+SPECIALISE_AFTER_SECONDS = 15.0
 #: ``INERTERLAB_SPECIALISE``: ``auto`` (default, as above), ``always`` or ``never``
 _MODE_ENV = "INERTERLAB_SPECIALISE"
+#: a claim to compile a structure (its marker file) older than this [s] is abandoned
+#: (the largest structures compile in about 30 s of CPU; a loaded machine takes longer)
+COMPILING_STALE_SECONDS = 600.0
+#: how often [s] a process that waits for another's compilation looks for it (``always``)
+_WAIT_POLL_SECONDS = 0.2
 
 
 class CompiledRhs(types.WrapperAddressProtocol):
@@ -282,9 +299,66 @@ def _structure_module(itab: np.ndarray, key: str):
     return mod
 
 
-def specialised(itab: np.ndarray) -> CompiledRhs:
-    """The right-hand side compiled for the structure ``itab`` (compiling it, about 15 s
-    of CPU, unless this or an earlier process did)."""
+def _alive(host: str, pid: int) -> bool:
+    """Whether the process ``pid`` on ``host`` may still run (another host's: assumed)."""
+    if host != socket.gethostname():
+        return True
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except OSError:  # it exists (another user's)
+        return True
+    return True
+
+
+def _claim(key: str) -> bool:
+    """Claim the compilation of structure ``key`` for this process: True unless another
+    live process holds a claim younger than :data:`COMPILING_STALE_SECONDS` (its
+    marker file); an abandoned claim is taken over."""
+    marker = _cache_dir() / f"s_{key}.compiling"
+    marker.parent.mkdir(parents=True, exist_ok=True)
+    mine = f"{socket.gethostname()} {os.getpid()}"
+    try:
+        fd = os.open(marker, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o644)
+    except FileExistsError:
+        try:
+            host, pid = marker.read_text().split()
+            age = time.time() - marker.stat().st_mtime
+            if age < COMPILING_STALE_SECONDS and _alive(host, int(pid)):
+                return False
+        except FileNotFoundError:  # released meanwhile: compiled, or given up
+            return not (_cache_dir() / f"s_{key}.done").exists()
+        except ValueError:  # being written this instant
+            return False
+        tmp = marker.with_suffix(f".{os.getpid()}.tmp")  # abandoned: take it over
+        tmp.write_text(mine)
+        os.replace(tmp, marker)
+        return True
+    with os.fdopen(fd, "w") as f:
+        f.write(mine)
+    return True
+
+
+def _release(key: str) -> None:
+    """Remove this process's claim on structure ``key`` (if it still holds it)."""
+    marker = _cache_dir() / f"s_{key}.compiling"
+    try:
+        if marker.read_text() == f"{socket.gethostname()} {os.getpid()}":
+            marker.unlink()
+    except (OSError, ValueError):
+        pass
+
+
+def _on_disk(key: str) -> bool:
+    return (_cache_dir() / f"s_{key}.done").exists()
+
+
+def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
+    """The right-hand side compiled for the structure ``itab``: loaded where this or an
+    earlier process compiled it, else compiled here (about 15 s of CPU). Where another
+    process is compiling it: wait for that (``wait``, up to
+    :data:`COMPILING_STALE_SECONDS`), or return None."""
     k = np.ascontiguousarray(itab, dtype=np.int64).tobytes()
     got = _specialised.get(k)
     if got is None:
@@ -292,8 +366,20 @@ def specialised(itab: np.ndarray) -> CompiledRhs:
             got = _specialised.get(k)
             if got is None:
                 key = structure_key(itab)
-                got = CompiledRhs(_structure_module(itab, key).rhs, True)
-                (_cache_dir() / f"s_{key}.done").touch()
+                claimed = False
+                while not _on_disk(key):
+                    claimed = _claim(key)
+                    if claimed:
+                        break
+                    if not wait:
+                        return None
+                    time.sleep(_WAIT_POLL_SECONDS)
+                try:
+                    got = CompiledRhs(_structure_module(itab, key).rhs, True)
+                    (_cache_dir() / f"s_{key}.done").touch()
+                finally:
+                    if claimed:
+                        _release(key)
                 _specialised[k] = got
     return got
 
@@ -321,8 +407,11 @@ def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
     if mode == "never":
         return generic()
     try:
-        if mode == "always" or _spent.get(k, 0.0) >= SPECIALISE_AFTER_SECONDS:
+        if mode == "always":
             return specialised(itab)
+        if _spent.get(k, 0.0) >= SPECIALISE_AFTER_SECONDS:
+            # compiled here, or loaded once another process has (meanwhile: generic)
+            return specialised(itab, wait=False) or generic()
         if count and k not in _seen:
             _seen.add(k)
             if (_cache_dir() / f"s_{structure_key(itab)}.done").exists():
