@@ -80,15 +80,17 @@ _f1 = types.float64[::1]
 RHS_SIGNATURE = types.boolean(types.float64, _f1, _f1, _ro_i, _ro_f, _f1, _f1, _f1)
 RHS_TYPE = types.FunctionType(RHS_SIGNATURE)
 #: a structure gets its own compiled code once its integrations in a process have taken
-#: this much CPU time [s] with the generic code, about what the compilation costs (15 s
-#: of CPU for the ``afw`` car with its ride observers, 29 s for the full car; its code
-#: then takes about a quarter less time a run): a process that stops right after pays at
-#: most twice what the best choice in hindsight would have, and one that goes on gains
-#: (as do later processes, which load the code); or at its first integration when an
-#: earlier process compiled it (then it only loads). (It was 2 s, set when a structure
-#: compiled in 3-6 s; the reproduction then compiled two structures, for nothing:
-#: docs/decisions.md, stop 61.)
-SPECIALISE_AFTER_SECONDS = 15.0
+#: this much CPU time [s] with the generic code; or at its first integration when an
+#: earlier process compiled it (then it only loads). Measured (docs/decisions.md, stop
+#: 61): a quarter car's structure compiles in 5-6 s of CPU once the generic code is
+#: compiled, a full car's in about 29 s; the structure's own code takes about a quarter
+#: less time on the ``afw`` car's ride run, a third of the time on the full car. So a
+#: quarter car that has run 10 s with the generic code would have saved about 2.5 s,
+#: half its compilation, and the compiled code serves every later process too; a study
+#: shorter than that is not held up by a compilation longer than itself. (It was 2 s,
+#: set when a structure compiled in 3-6 s: a sweep of 3000 points on two workers then
+#: compiled the same structure in both, 12.1 s where 6.6 s do without.)
+SPECIALISE_AFTER_SECONDS = 10.0
 #: ``INERTERLAB_SPECIALISE``: ``auto`` (default, as above), ``always`` or ``never``
 _MODE_ENV = "INERTERLAB_SPECIALISE"
 #: a claim to compile a structure (its marker file) older than this [s] is abandoned
