@@ -177,3 +177,24 @@ def test_always_waits_for_another_process(cache, monkeypatch):
     done.start()
     assert _compiled.rhs_for(sys_.itab).specialised
     assert time.monotonic() - t0 >= 0.45 and made == [key]
+
+
+def test_always_waits_at_most_the_limit(cache, monkeypatch):
+    """A claim that stays (its process alive, nothing on disk): ``always`` waits
+    :data:`_compiled.WAIT_AT_MOST_SECONDS`, then compiles the structure itself; the
+    other process's marker is left as it is."""
+    import os
+    import socket
+    import time
+
+    root, made = cache
+    sys_ = quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0})
+    key = _compiled.structure_key(sys_.itab)
+    root.mkdir(parents=True)
+    marker = root / f"s_{key}.compiling"
+    marker.write_text(f"{socket.gethostname()} {os.getppid()}")
+    monkeypatch.setattr(_compiled, "WAIT_AT_MOST_SECONDS", 0.3)
+    t0 = time.monotonic()
+    assert _compiled.specialised(sys_.itab).specialised
+    assert 0.3 <= time.monotonic() - t0 < 5.0
+    assert made == [key] and marker.exists() and (root / f"s_{key}.done").exists()

@@ -16,7 +16,7 @@ signature :data:`RHS_SIGNATURE`:
   stiffnesses, ...) stays data, so a parameter sweep or a fit reuses the code. The
   module is named by a hash of ``itab`` and of the package's source
   (:func:`inerterlab._numba_cache.package_source_stamp`), and numba caches its machine
-  code next to it: a structure is compiled once per package version (about 15 s of CPU
+  code next to it: a structure is compiled once per package version (5-6 s of CPU
   for the ``afw`` quarter car with its ride observers), and every later process loads
   it (about 10 ms).
 
@@ -98,6 +98,9 @@ _MODE_ENV = "INERTERLAB_SPECIALISE"
 COMPILING_STALE_SECONDS = 600.0
 #: how often [s] a process that waits for another's compilation looks for it (``always``)
 _WAIT_POLL_SECONDS = 0.2
+#: ... and how long [s] it waits before it compiles the structure itself (a full car
+#: compiles in about 30 s of CPU)
+WAIT_AT_MOST_SECONDS = 120.0
 
 
 class CompiledRhs(types.WrapperAddressProtocol):
@@ -358,9 +361,9 @@ def _on_disk(key: str) -> bool:
 
 def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
     """The right-hand side compiled for the structure ``itab``: loaded where this or an
-    earlier process compiled it, else compiled here (about 15 s of CPU). Where another
+    earlier process compiled it, else compiled here (5-30 s of CPU). Where another
     process is compiling it: wait for that (``wait``, up to
-    :data:`COMPILING_STALE_SECONDS`), or return None."""
+    :data:`WAIT_AT_MOST_SECONDS`, then compile it here too), or return None."""
     k = np.ascontiguousarray(itab, dtype=np.int64).tobytes()
     got = _specialised.get(k)
     if got is None:
@@ -369,12 +372,15 @@ def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
             if got is None:
                 key = structure_key(itab)
                 claimed = False
+                since = time.monotonic()
                 while not _on_disk(key):
                     claimed = _claim(key)
                     if claimed:
                         break
                     if not wait:
                         return None
+                    if time.monotonic() - since > WAIT_AT_MOST_SECONDS:
+                        break  # compiled here too (the other claim may be a reused pid's)
                     time.sleep(_WAIT_POLL_SECONDS)
                 try:
                     got = CompiledRhs(_structure_module(itab, key).rhs, True)
