@@ -305,8 +305,10 @@ def _structure_module(itab: np.ndarray, key: str):
 
 
 def _alive(host: str, pid: int) -> bool:
-    """Whether the process ``pid`` on ``host`` may still run (another host's: assumed)."""
-    if host != socket.gethostname():
+    """Whether the process ``pid`` on ``host`` may still run (another host's, or on
+    Windows, where signal 0 is not a probe but a console event: assumed; the claim's age
+    decides there)."""
+    if host != socket.gethostname() or os.name == "nt":
         return True
     try:
         os.kill(pid, 0)
