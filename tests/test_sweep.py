@@ -205,3 +205,28 @@ def test_killed_sweep_resumes_without_recomputing_or_losing_points(tmp_path):
         backend="serial",
     )
     np.testing.assert_array_equal(final.rms_body_acc.values, ref.rms_body_acc.values)
+
+
+def test_processes_first_compile_in_the_calling_process(monkeypatch):
+    """With worker processes, the calling process evaluates one point before it starts
+    them (a first sweep after an install compiles the kernels there once, and the
+    workers inherit them), its result not kept; serially nothing extra is evaluated,
+    and nothing either when no point is left to compute."""
+    import importlib
+
+    sweep_module = importlib.import_module("inerterlab.studies.sweep")
+    calls = []
+    inner = sweep_module._evaluate_points
+
+    def recorded(task):
+        calls.append((os.getpid(), len(task.indices)))
+        return inner(task)
+
+    monkeypatch.setattr(sweep_module, "_evaluate_points", recorded)
+    s = spec()
+    ds = sweep(s, backend="processes", workers=2)
+    assert calls == [(os.getpid(), 1)]  # the chunks ran in the workers
+    assert ds.attrs["points_computed"] == ds.attrs["points"] == int((ds.status == STATUS_OK).sum())
+    calls.clear()
+    sweep(s, backend="serial")
+    assert calls and all(n > 1 for _, n in calls)

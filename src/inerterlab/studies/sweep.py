@@ -21,7 +21,7 @@ import math
 import os
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -640,6 +640,13 @@ def _run_sweep(spec, target, be, chunk_size, store, progress):
     if tasks:
         bar = None
         try:
+            if be.name == "processes" and be.workers > 1:
+                # one point here first, its result not kept: the first sweep after an
+                # install compiles the kernels once, in this process (the command line
+                # says so on a terminal), and the workers, forked from it (or started
+                # after it, loading its cache), inherit them; each had compiled them
+                # itself (two workers: 122 s of CPU for the minute a compilation takes)
+                _evaluate_points(replace(tasks[0], indices=tasks[0].indices[:1]))
             with be:
                 if progress is True:
                     bar, bar_task = _progress_bar(n, done, f"sweep ({be.describe()})")
