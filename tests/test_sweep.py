@@ -213,6 +213,7 @@ def test_processes_first_compile_in_the_calling_process(monkeypatch):
     workers inherit them), its result not kept; serially nothing extra is evaluated,
     and nothing either when no point is left to compute."""
     import importlib
+    import importlib.util
 
     sweep_module = importlib.import_module("inerterlab.studies.sweep")
     calls = []
@@ -230,3 +231,8 @@ def test_processes_first_compile_in_the_calling_process(monkeypatch):
     calls.clear()
     sweep(s, backend="serial")
     assert calls and all(n > 1 for _, n in calls)
+    if importlib.util.find_spec("distributed") is not None:  # a local cluster's workers
+        calls.clear()  # are processes started after the point (they load its cache)
+        ds = sweep(s, backend="dask", workers=2)
+        assert calls == [(os.getpid(), 1)]
+        assert ds.attrs["points_computed"] == ds.attrs["points"]

@@ -640,12 +640,15 @@ def _run_sweep(spec, target, be, chunk_size, store, progress):
     if tasks:
         bar = None
         try:
-            if be.name == "processes" and be.workers > 1:
+            local = be.name == "processes" and be.workers > 1
+            local |= be.name == "dask" and getattr(be, "scheduler", None) is None
+            if local:
                 # one point here first, its result not kept: the first sweep after an
                 # install compiles the kernels once, in this process (the command line
-                # says so on a terminal), and the workers, forked from it (or started
-                # after it, loading its cache), inherit them; each had compiled them
-                # itself (two workers: 122 s of CPU for the minute a compilation takes)
+                # says so on a terminal), and the local workers, forked from it or
+                # started after it (loading its cache), inherit them; each had compiled
+                # them itself (two workers: 122 s of CPU for the minute a compilation
+                # takes). A cluster's workers elsewhere compile their own.
                 _evaluate_points(replace(tasks[0], indices=tasks[0].indices[:1]))
             with be:
                 if progress is True:
