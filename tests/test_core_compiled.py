@@ -28,6 +28,11 @@ def _with(rhs, run):
             sine(0.01, 3.0),
             0.5,
         ),
+        (  # an inerter, no flywheel row: the structure's element law without that branch
+            lambda: quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 200.0}),
+            iso8608("C", 20.0, seed=2),
+            1.0,
+        ),
     ],
 )
 def test_structure_code_equals_generic_code(make, road, T):
@@ -40,6 +45,23 @@ def test_structure_code_equals_generic_code(make, road, T):
     for k in a.outputs:
         assert np.array_equal(a.outputs[k], b.outputs[k], equal_nan=True), k
     assert a.stats == b.stats
+
+
+def test_structure_law_has_the_structure_kinds_only():
+    """A structure's module carries the element law with the branches of its own
+    kinds: no flywheel-row law without such an element (its fall-through never reached),
+    the law kept where there is one; the branches kept are the law's own statements."""
+    import inspect
+
+    from inerterlab.systems import _kernel
+
+    lin, _ = _compiled._law_source(quarter_car("k | (c - b)", {"k": 9e4, "c": 5e3, "b": 2e2}).itab)
+    fly, _ = _compiled._law_source(quarter_car("afw").itab)
+    assert "inertial_law" not in lin and "return (0.0, 0.0)" in lin
+    assert "code == INERTER" in lin and "code == TYRE" not in lin
+    assert "inertial_law(ftab, o, d, v, x, slot, dx, side)" in fly and "INERTER" not in fly
+    whole = inspect.getsource(_kernel._element_law.py_func)
+    assert "inertial_law(ftab, o, d, v, x, slot, dx, side)" in whole and "code == TYRE" in whole
 
 
 def test_structure_key_is_the_structure_not_the_parameters():
