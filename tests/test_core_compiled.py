@@ -6,6 +6,7 @@ lengths) against the adaptive steps at a tight tolerance."""
 import numpy as np
 import pytest
 
+from inerterlab.errors import ParameterError
 from inerterlab.excitation import iso8608, sine
 from inerterlab.systems import _compiled, _integrate, quarter_car, rig
 
@@ -91,6 +92,10 @@ def test_tier_follows_the_setting(monkeypatch):
     monkeypatch.setenv("INERTERLAB_SPECIALISE", "auto")
     _compiled.record(sys_.itab, _compiled.SPECIALISE_AFTER_SECONDS)  # enough work done
     assert _compiled.rhs_for(sys_.itab).specialised
+    monkeypatch.setattr(_compiled, "_specialised", {})
+    monkeypatch.setenv("INERTERLAB_SPECIALISE", "sometimes")  # not guessed: named
+    with pytest.raises(ParameterError, match="INERTERLAB_SPECIALISE.*auto, always or never"):
+        _compiled.rhs_for(sys_.itab)
 
 
 @pytest.mark.parametrize("road", [sine(0.05, 5.0), iso8608("C", 20.0, seed=3)])

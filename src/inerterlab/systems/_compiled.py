@@ -90,7 +90,7 @@ RHS_TYPE = types.FunctionType(RHS_SIGNATURE)
 #: half its compilation, and the compiled code serves every later process too; a study
 #: shorter than that is not held up by a compilation longer than itself. (It was 2 s,
 #: set when a structure compiled in 3-6 s: a sweep of 3000 points on two workers then
-#: compiled the same structure in both, 12.1 s where 6.6 s do without.)
+#: compiled the same structure in both, 11.8 s where 6.5 s do without.)
 SPECIALISE_AFTER_SECONDS = 10.0
 #: ``INERTERLAB_SPECIALISE``: ``auto`` (default, as above), ``always`` or ``never``
 _MODE_ENV = "INERTERLAB_SPECIALISE"
@@ -233,7 +233,8 @@ def _law_source(itab) -> tuple[str, set[str]]:
     law (the last statement) too where it has none (``return 0.0, 0.0`` there, never
     reached). Every branch kept is the law's own statements: the same arithmetic. The
     compiler no longer types and lowers the laws the structure cannot reach (a
-    structure of springs, dampers and inerters compiled in 2.9-3.1 s instead of 5.6 s).
+    structure of springs, dampers and inerters compiles in 2.7-3.0 s instead of 5.2-5.7
+    s).
     Returns the source and the module-level names it reads."""
     fn = _kernel._element_law.py_func
     g = fn.__globals__
@@ -393,7 +394,7 @@ def _claim(key: str) -> bool:
             if age < COMPILING_STALE_SECONDS and _alive(host, int(pid)):
                 return False
         except FileNotFoundError:  # released meanwhile: compiled, or given up
-            return not (_cache_dir() / f"s_{key}.done").exists()
+            return not _done(key).exists()
         except ValueError:  # being written this instant
             return False
         tmp = marker.with_suffix(f".{os.getpid()}.tmp")  # abandoned: take it over
@@ -415,8 +416,9 @@ def _release(key: str) -> None:
         pass
 
 
-def _on_disk(key: str) -> bool:
-    return (_cache_dir() / f"s_{key}.done").exists()
+def _done(key: str) -> Path:
+    """The file that says structure ``key``'s code is compiled and in numba's cache."""
+    return _cache_dir() / f"s_{key}.done"
 
 
 def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
@@ -433,7 +435,7 @@ def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
                 key = structure_key(itab)
                 claimed = False
                 since = time.monotonic()
-                while not _on_disk(key):
+                while not _done(key).exists():
                     claimed = _claim(key)
                     if claimed:
                         break
@@ -444,7 +446,7 @@ def specialised(itab: np.ndarray, wait: bool = True) -> CompiledRhs | None:
                     time.sleep(_WAIT_POLL_SECONDS)
                 try:
                     got = CompiledRhs(_structure_module(itab, key).rhs, True)
-                    (_cache_dir() / f"s_{key}.done").touch()
+                    _done(key).touch()
                 finally:
                     if claimed:
                         _release(key)
@@ -472,6 +474,10 @@ def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
     if got is not None:
         return got
     mode = os.environ.get(_MODE_ENV, "auto")
+    if mode not in ("auto", "always", "never"):
+        from ..errors import ParameterError
+
+        raise ParameterError(_MODE_ENV, mode, "auto, always or never (environment variable)")
     if mode == "never":
         return generic()
     try:
@@ -482,7 +488,7 @@ def rhs_for(itab: np.ndarray, count: bool = True) -> CompiledRhs:
             return specialised(itab, wait=False) or generic()
         if count and k not in _seen:
             _seen.add(k)
-            if (_cache_dir() / f"s_{structure_key(itab)}.done").exists():
+            if _done(structure_key(itab)).exists():
                 return specialised(itab)
     except OSError:  # no writable cache directory: the generic code serves
         _spent[k] = -math.inf
