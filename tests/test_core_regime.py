@@ -88,12 +88,41 @@ def test_presets_on_a_sine_against_scipy(name):
 @pytest.mark.slow
 def test_afw_on_a_random_road_against_scipy():
     car = quarter_car("afw")
-    ex, T = iso8608("C", 20.0, seed=1), 0.5
+    # a rough road driven slowly: segments of 20 ms, long enough for the exact steps
+    # (core.REGIME_SEGMENT_MIN), and the flywheel in and out of saturation
+    ex, T = iso8608("E", 1.0, seed=1), 0.5
     # given sample times: no ride observers, whose filter and sums take adaptive steps
     res = car.simulate(ex, T, rtol=1e-8, times=np.arange(501) / 1000.0)
-    assert res.stats["exact_steps"] > 0
+    assert res.stats["exact_steps"] > 0 and res.stats["events"] > 0
     ref = _reference(car, ex, T, res.time, res.states[0])
     assert _error(res.states, ref) <= 1e-7
+
+
+def test_no_regime_steps_on_a_finely_sampled_road():
+    """A road sampled every few milliseconds (ISO 8608 at 20 m/s: 1 ms) would restart
+    the integrator at every sample to take exact steps, which costs more than they save:
+    ``auto`` then takes the adaptive steps alone, the same run as ``method="adaptive"``
+    to the last bit; on a road of long segments it takes exact steps."""
+    from inerterlab.systems.core import REGIME_SEGMENT_MIN, _regime_pays
+
+    car = quarter_car("afw")
+    ex, T = iso8608("C", 20.0, seed=1), 0.5
+    segs = ex.prepared(T).segments
+    assert T / np.count_nonzero(segs[:, 0] < T) < REGIME_SEGMENT_MIN
+    a = car.simulate(ex, T)  # the ride observers, metrics
+    b = car.simulate(ex, T, method="adaptive")
+    assert a.stats == b.stats and a.stats["exact_steps"] == 0
+    assert a.metrics == b.metrics
+    assert np.array_equal(a.states, b.states)
+    slow = iso8608("E", 1.0, seed=1)  # 20 ms segments
+    assert car.simulate(slow, T).stats["exact_steps"] > 0
+    # the rule: the mean length of the segments that start inside the horizon
+    one = np.array([[0.0, np.inf, 0.0]])
+    assert _regime_pays(one, 10.0)
+    edges = np.arange(0.0, 1.0, 0.01)
+    many = np.c_[edges, edges + 0.01, np.zeros_like(edges)]
+    assert _regime_pays(many, 1.0)  # 100 segments of 10 ms
+    assert not _regime_pays(many, 0.995)  # the same 100 segments within 0.995 s
 
 
 def test_exact_and_adaptive_steps_agree_at_tight_tolerance():
