@@ -63,6 +63,26 @@ def test_flywheel_saturation_against_the_scipy_oracle():
     assert (np.abs(a - b).max(axis=0) / np.abs(b).max(axis=0)).max() < 1e-7
 
 
+def test_flywheel_grazing_its_saturation_speed():
+    """The strut's relative velocity just reaches the flywheel's saturation speed (its
+    peak 1.00007 times it, on the core's run at rtol 1e-11): the flywheel saturates for
+    a moment and leaves saturation within the next step. That return was missed while
+    a switching function started the step after its crossing at 0 (no sign change at
+    the step's end): the element kept the saturated law, 1.9e-2 of a state's peak off
+    the scipy oracle (the independent equations, DOP853 at rtol 1e-11)."""
+    ex, T = sine(0.003212, 2.0), 1.0
+    ref = simulate(quarter_car("afw"), ex, T,
+                   options=SimulationOptions(backend="scipy", rtol=1e-11))  # fmt: skip
+    core = quarter_car("afw")
+    idx = [core.state_names.index(n) for n in ("wheel.x", "wheel.v", "body.x", "body.v")]
+    b = ref.states[:, :4]
+    for method in ("adaptive", "auto"):
+        res = core.simulate(ex, T, rtol=1e-8, method=method)
+        assert res.stats["events"] >= 1
+        a = res.states[:, idx]
+        assert (np.abs(a - b).max(axis=0) / np.abs(b).max(axis=0)).max() < 1e-7
+
+
 def _twin_rattles(lead: float):
     """Two masses of the free-play system of :func:`_rattle`, independent (each on its
     own play over the one base), the second started ``lead`` seconds along its own

@@ -96,6 +96,11 @@ X_MARGIN = 1.1
 # crossings closer than this (a fraction of the step) to the earliest one in a step are
 # one event: their elements switch together at its instant
 SIMULTANEOUS = 1e-9
+# a switching function just past its crossing starts the next step at this value with
+# the sign of its new side (not at 0, as it did: a return across the kink within that
+# step, an adaptive flywheel grazing its saturation speed, was then no sign change and
+# went unseen, and the element kept the other side's law; docs/decisions.md, stop 62)
+PAST_KINK = 1e-150
 
 
 # The helpers the stepping calls per stage, step or event allocate nothing and are
@@ -641,13 +646,14 @@ def _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv):
 @nb.njit(cache=True, inline="always")
 def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
     """Crossings at a step's start: the marked elements take their other side's law
-    there (``road[hs + q]``) and their switching functions start from zero."""
+    there (``road[hs + q]``) and their switching functions start from
+    :data:`PAST_KINK` with the sign of that side."""
     for q in range(ne):
         if flipm[q]:
             road[hs + q] = pastv[q]
     for e in range(2 * ne):
         if swf[e]:
-            sw[e] = 0.0
+            sw[e] = pastv[e // 2] * PAST_KINK
 
 
 @nb.njit(cache=True, inline="always")
@@ -1254,7 +1260,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             for e in range(2 * ne):
                 sw[e] = swn[e]
                 if swf[e]:
-                    sw[e] = 0.0
+                    sw[e] = pastv[e // 2] * PAST_KINK
             flip = redo
             redo = -1
             forced = -1
@@ -1321,7 +1327,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             if forced >= 0:
                 for e in range(2 * ne):
                     if swf[e]:
-                        sw[e] = 0.0  # on the kink: the next step starts past it
+                        sw[e] = pastv[e // 2] * PAST_KINK  # on the kink: the next step starts past it
             forced = -1
         if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
             if thx < 1.0:
@@ -1369,7 +1375,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
                     for e in range(2 * ne):
                         if swf[e]:
-                            sw[e] = 0.0
+                            sw[e] = pastv[e // 2] * PAST_KINK
                     cut = False
                 into = 0 if pastv[flip // 2] < 0.0 else 1
                 flip = -1
@@ -2512,7 +2518,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
             for e in range(2 * ne):
                 if swf[e]:
-                    sw[e] = 0.0  # on the kink: the next step starts past it
+                    sw[e] = pastv[e // 2] * PAST_KINK  # on the kink: the next step starts past it
     if pend >= 0:
         _rk4_output(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, out_o, pend)
     if itab[I_NOB] > 0:  # the peaks at the end
