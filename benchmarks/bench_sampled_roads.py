@@ -82,7 +82,7 @@ def main() -> None:
         cells = {}
         for how in ("auto", "adaptive", "forced"):
             m, st = run(car, ex, how)  # the tables built, the code loaded
-            sec = cpu_median(lambda how=how: run(car, ex, how), args.runs)
+            sec = cpu_median(lambda how=how, ex=ex: run(car, ex, how), args.runs)
             cells[how] = sec
             print(f"  segments {1e3 * dt:4.0f} ms  {how:8s} {1e3 * sec:7.2f} ms  steps "
                   f"{st['steps']:5d} ({st.get('exact_steps', 0):4d} exact)  error "
