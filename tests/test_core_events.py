@@ -132,3 +132,16 @@ def test_simultaneous_contacts_switch_together():
     # 3e-8 (each mass's contacts cut the other's steps; the one mass alone: 5e-9)
     assert np.abs(apart.outputs["one.x"] - _rattle(apart.time)).max() / amp < 1e-7
     assert np.abs(apart.outputs["two.x"] - _rattle(apart.time + lead)).max() / amp < 1e-7
+
+
+def test_a_return_at_the_step_start_is_told_apart():
+    """A switching function that starts a step just past its own crossing (PAST_KINK,
+    its new side's sign) and is found back across within SIMULTANEOUS of the start: the
+    drivers take the first such return at an instant and ignore a second (a sliding
+    mode along the kink); found back later in the step it is a return, located."""
+    from inerterlab.systems._integrate import PAST_KINK, SIMULTANEOUS, _back_at_once
+
+    assert _back_at_once(PAST_KINK, 0.0)
+    assert _back_at_once(-PAST_KINK, SIMULTANEOUS)
+    assert not _back_at_once(PAST_KINK, 1e-6)
+    assert not _back_at_once(1e-3, 0.0)  # not just past a crossing

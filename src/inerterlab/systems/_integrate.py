@@ -657,6 +657,19 @@ def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
 
 
 @nb.njit(cache=True, inline="always")
+def _back_at_once(g0, x):
+    """Whether a crossing located at theta ``x`` of a switching function that started the
+    step at :data:`PAST_KINK` (just past its own crossing) is a return within
+    :data:`SIMULTANEOUS` of the step's start. The drivers take the first such return
+    at an instant (the element goes back to its side before the crossing: a flywheel
+    that only touched its saturation speed), and ignore a second one at the same
+    instant: each side's law then drives the function towards the other (a sliding
+    mode along the kink), and the two sides would take turns there until the step
+    budget ran out; the element keeps its side, as it did before :data:`PAST_KINK`."""
+    return abs(g0) == PAST_KINK and x <= SIMULTANEOUS
+
+
+@nb.njit(cache=True, inline="always")
 def _secant(a, b, ga, gb):
     """The regula falsi point of the bracket [a, b] (values ga, gb of opposite signs), or
     its midpoint where rounding puts the secant's root outside."""
@@ -979,6 +992,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     hmax = ctl[0]
     hfix = ctl[1]
     reject_prev = False
+    again = False  # the last attempt switched elements at its start (_back_at_once)
     # events: the elements' switching functions at t (sw), at the step's end (swn); a
     # step across a sign change is cut at the crossing (forced: the element whose
     # crossing it lands on), so no step integrates across a kink of a force law
@@ -1277,16 +1291,20 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
                                       swx, oit, fzi, cheap, only, ofw)  # fmt: skip
+                    if again and _back_at_once(sw[e], xloc[e]):
+                        xloc[e] = 2.0
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
             h_keep = 0.0
+            again = False
             if forced >= 0:
                 _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # the crossings are at the step's start: the elements take their
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
+                    again = True
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
                                    road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
@@ -2394,6 +2412,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
         if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
             return BALANCE_FAILED, k
     need = False  # k1 is to be evaluated at (t, y)
+    again = False  # the last attempt switched elements at its start (_back_at_once)
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k
@@ -2472,15 +2491,19 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                     xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, k2,
                                           k3, k4, itab, ftab, imp, dy, road, work, stats, yd,
                                           swx, only, ofw)  # fmt: skip
+                    if again and _back_at_once(sw[e], xloc[e]):
+                        xloc[e] = 2.0
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
+            again = False
             if forced >= 0:
                 # the crossings within SIMULTANEOUS of the earliest switch with it
                 _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # at the step's start: the other side's law from there, the step again
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
+                    again = True
                     if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                         return BALANCE_FAILED, k
                     stats[1] += 1
