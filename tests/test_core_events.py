@@ -134,14 +134,22 @@ def test_simultaneous_contacts_switch_together():
     assert np.abs(apart.outputs["two.x"] - _rattle(apart.time + lead)).max() / amp < 1e-7
 
 
-def test_a_return_at_the_step_start_is_told_apart():
-    """A switching function that starts a step just past its own crossing (PAST_KINK,
-    its new side's sign) and is found back across within SIMULTANEOUS of the start: the
-    drivers take the first such return at an instant and ignore a second (a sliding
-    mode along the kink); found back later in the step it is a return, located."""
-    from inerterlab.systems._integrate import PAST_KINK, SIMULTANEOUS, _back_at_once
 
-    assert _back_at_once(PAST_KINK, 0.0)
-    assert _back_at_once(-PAST_KINK, SIMULTANEOUS)
-    assert not _back_at_once(PAST_KINK, 1e-6)
-    assert not _back_at_once(1e-3, 0.0)  # not just past a crossing
+def test_a_return_is_searched_after_the_last_point_of_the_new_sign():
+    """A switching function that started the step just past its crossing (PAST_KINK)
+    and is back across at the step's end: the search halves towards the start until the
+    function still has its new sign there, and brackets the return after that point;
+    a function back across everywhere down to RETURN_LEAST turned back at once (the
+    crossing's rounding, or a sliding mode): the driver then takes no event. (A search
+    from the start stopped in the crossing's rounding: a one-way clutch's rig then
+    switched sides at one instant until its 10^7 steps ran out.)"""
+    from inerterlab.systems._integrate import PAST_KINK, RETURN_LEAST, _return_scan
+
+    g0, g1 = PAST_KINK, -0.3
+    # at x = 0.5 already back (g1's sign): the bracket's end moves there, next x = 0.25
+    assert _return_scan(0.5, -0.1, g0, 0.0, 1.0, g0, g1) == (True, 0.25, 0.0, 0.5, g0, -0.1)
+    # at x = 0.25 still of g0's sign: the bracket [0.25, 0.5] of the return
+    assert _return_scan(0.25, 0.02, g0, 0.0, 0.5, g0, -0.1) == (False, 0.25, 0.25, 0.5, 0.02, -0.1)
+    # the rounding's exact zero moves nothing but x
+    assert _return_scan(0.125, 0.0, g0, 0.0, 0.25, g0, -0.1) == (True, 0.0625, 0.0, 0.25, g0, -0.1)
+    assert 0.5**20 < RETURN_LEAST < 0.5**19  # at most 20 points before giving up

@@ -101,6 +101,14 @@ SIMULTANEOUS = 1e-9
 # step, an adaptive flywheel grazing its saturation speed, was then no sign change and
 # went unseen, and the element kept the other side's law; docs/decisions.md, stop 62)
 PAST_KINK = 1e-150
+# a return is located after the last point where the function still has its new side's
+# sign, found by halving the step towards its start down to this fraction of it; found
+# nowhere, the function turned back at once (the crossing's rounding, or a sliding mode
+# along the kink, each side's law driving it towards the other): not an event, the
+# element keeps its new side (a search from the start itself stopped in the crossing's
+# rounding, and the two sides then took turns at one instant until the step budget ran
+# out)
+RETURN_LEAST = 1e-6
 
 
 # The helpers the stepping calls per stage, step or event allocate nothing and are
@@ -657,16 +665,17 @@ def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
 
 
 @nb.njit(cache=True, inline="always")
-def _back_at_once(g0, x):
-    """Whether a crossing located at theta ``x`` of a switching function that started the
-    step at :data:`PAST_KINK` (just past its own crossing) is a return within
-    :data:`SIMULTANEOUS` of the step's start. The drivers take the first such return
-    at an instant (the element goes back to its side before the crossing: a flywheel
-    that only touched its saturation speed), and ignore a second one at the same
-    instant: each side's law then drives the function towards the other (a sliding
-    mode along the kink), and the two sides would take turns there until the step
-    budget ran out; the element keeps its side, as it did before :data:`PAST_KINK`."""
-    return abs(g0) == PAST_KINK and x <= SIMULTANEOUS
+def _return_scan(x, gx, g0, a, b, ga, gb):
+    """One point x of the search for a return (a switching function that started the
+    step at :data:`PAST_KINK` with g0's sign, back across at the step's end): of g0's
+    sign, it starts the bracket [x, b] (the search goes on by regula falsi); else the
+    return is before it (the bracket's end moves there) and the next point is x / 2.
+    Returns (still scanning, the next x, a, b, ga, gb)."""
+    if gx * g0 > 0.0:
+        return False, x, x, b, gx, gb
+    if gx != 0.0:
+        b, gb = x, gx
+    return True, 0.5 * x, a, b, ga, gb
 
 
 @nb.njit(cache=True, inline="always")
@@ -718,13 +727,18 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     functions that read no element force): each iterate's switching functions from the
     nodes' motion alone (the right-hand side called with ``only`` =
     :data:`._kernel.SWITCHES_ONLY`, equal to the last bit to those of the whole
-    evaluation, as :func:`_rk4_locate` reads them), else from the whole derivative."""
+    evaluation, as :func:`_rk4_locate` reads them), else from the whole derivative. A
+    function that started at :data:`PAST_KINK` (a return) is searched after the last
+    point where it still has g0's sign (:func:`_return_scan`); 2.0 (no event) where it
+    has turned back at once (:data:`RETURN_LEAST`)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
     x = 0.5
-    for _ in range(60):
-        x = _secant(a, b, ga, gb)
+    scan = abs(g0) == PAST_KINK  # a return (see RETURN_LEAST): first a point of g0's sign
+    for _ in range(90):
+        if not scan:
+            x = _secant(a, b, ga, gb)
         _dense(y, yt, K, h, x, yd)
         tx = t + x * h
         if cheap:
@@ -735,6 +749,11 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
                fzi)  # fmt: skip
             _work_switches(ev, yd, road, itab, ftab, work, sw, ofw)
         gx = sw[e]
+        if scan:
+            scan, x, a, b, ga, gb = _return_scan(x, gx, g0, a, b, ga, gb)
+            if x < RETURN_LEAST:
+                return 2.0
+            continue
         if gx == 0.0:
             return x
         a, b, ga, gb, side = _illinois(a, b, ga, gb, x, gx, side)
@@ -992,7 +1011,6 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     hmax = ctl[0]
     hfix = ctl[1]
     reject_prev = False
-    again = False  # the last attempt switched elements at its start (_back_at_once)
     # events: the elements' switching functions at t (sw), at the step's end (swn); a
     # step across a sign change is cut at the crossing (forced: the element whose
     # crossing it lands on), so no step integrates across a kink of a force law
@@ -1291,20 +1309,16 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K, mode, segs, rng,
                                       itab, ftab, imp, road_fixed, dy, road, work, stats, yd,
                                       swx, oit, fzi, cheap, only, ofw)  # fmt: skip
-                    if again and _back_at_once(sw[e], xloc[e]):
-                        xloc[e] = 2.0
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
             h_keep = 0.0
-            again = False
             if forced >= 0:
                 _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # the crossings are at the step's start: the elements take their
                     # other side's law there and the step is tried again from it
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
-                    again = True
                     if not _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy,
                                    road, work, stats, oit, fzi):  # fmt: skip
                         return BALANCE_FAILED, k, h
@@ -2265,16 +2279,25 @@ def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, k1, k2, k3, k4, itab, ft
                 road, work, stats, yd, sw, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
     end (opposite signs), crosses zero on the step's continuous extension
-    (:func:`_rk4_dense`; Illinois regula falsi to 1e-12 in theta, as :func:`_locate`)."""
+    (:func:`_rk4_dense`; Illinois regula falsi to 1e-12 in theta, and a return searched,
+    as :func:`_locate`)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
-    for _ in range(60):
-        x = _secant(a, b, ga, gb)
+    x = 0.5
+    scan = abs(g0) == PAST_KINK  # a return (see RETURN_LEAST): first a point of g0's sign
+    for _ in range(90):
+        if not scan:
+            x = _secant(a, b, ga, gb)
         _rk4_dense(y, k1, k2, k3, k4, h, x, yd)
         _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
                       sw, only, ofw)  # fmt: skip
         gx = sw[e]
+        if scan:
+            scan, x, a, b, ga, gb = _return_scan(x, gx, g0, a, b, ga, gb)
+            if x < RETURN_LEAST:
+                return 2.0
+            continue
         if gx == 0.0:
             return x
         a, b, ga, gb, side = _illinois(a, b, ga, gb, x, gx, side)
@@ -2412,7 +2435,6 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
         if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
             return BALANCE_FAILED, k
     need = False  # k1 is to be evaluated at (t, y)
-    again = False  # the last attempt switched elements at its start (_back_at_once)
     while t < t_end:
         if stats[0] + stats[1] >= max_steps:
             return TOO_MANY_STEPS, k
@@ -2491,19 +2513,15 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                     xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, k2,
                                           k3, k4, itab, ftab, imp, dy, road, work, stats, yd,
                                           swx, only, ofw)  # fmt: skip
-                    if again and _back_at_once(sw[e], xloc[e]):
-                        xloc[e] = 2.0
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
-            again = False
             if forced >= 0:
                 # the crossings within SIMULTANEOUS of the earliest switch with it
                 _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv)
                 if th <= SIMULTANEOUS:
                     # at the step's start: the other side's law from there, the step again
                     _switch_at_start(road, hs, ne, flipm, pastv, sw, swf)
-                    again = True
                     if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                         return BALANCE_FAILED, k
                     stats[1] += 1
