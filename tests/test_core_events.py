@@ -134,7 +134,6 @@ def test_simultaneous_contacts_switch_together():
     assert np.abs(apart.outputs["two.x"] - _rattle(apart.time + lead)).max() / amp < 1e-7
 
 
-
 def test_a_return_is_searched_after_the_last_point_of_the_new_sign():
     """A switching function that started the step just past its crossing (PAST_KINK)
     and is back across at the step's end: the search halves towards the start until the

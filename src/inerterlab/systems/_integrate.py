@@ -659,7 +659,14 @@ def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
     for q in range(ne):
         if flipm[q]:
             road[hs + q] = pastv[q]
-    for e in range(2 * ne):
+    _past_kink(sw, swf, pastv)
+
+
+@nb.njit(cache=True, inline="always")
+def _past_kink(sw, swf, pastv):
+    """The switching functions that switched (``swf``) start the next step just past
+    their kink: :data:`PAST_KINK` with the sign of their element's new side."""
+    for e in range(swf.size):
         if swf[e]:
             sw[e] = pastv[e // 2] * PAST_KINK
 
@@ -1291,8 +1298,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             stats[3] += 1
             for e in range(2 * ne):
                 sw[e] = swn[e]
-                if swf[e]:
-                    sw[e] = pastv[e // 2] * PAST_KINK
+            _past_kink(sw, swf, pastv)
             flip = redo
             redo = -1
             forced = -1
@@ -1357,9 +1363,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 sw[e] = swn[e]
             flip = forced
             if forced >= 0:
-                for e in range(2 * ne):
-                    if swf[e]:
-                        sw[e] = pastv[e // 2] * PAST_KINK  # on the kink: the next step starts past it
+                _past_kink(sw, swf, pastv)  # on the kink: the next step starts past it
             forced = -1
         if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
             if thx < 1.0:
@@ -1405,9 +1409,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                     K[0, i] = dy[i]
                 if cut:  # the switching functions at the crossing, not at the step's end
                     _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
-                    for e in range(2 * ne):
-                        if swf[e]:
-                            sw[e] = pastv[e // 2] * PAST_KINK
+                    _past_kink(sw, swf, pastv)
                     cut = False
                 into = 0 if pastv[flip // 2] < 0.0 else 1
                 flip = -1
@@ -2557,9 +2559,7 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
             if not _rk4_f(ev, segs, i, t, y, itab, ftab, imp, k1, road, work, stats):
                 return BALANCE_FAILED, k
             _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
-            for e in range(2 * ne):
-                if swf[e]:
-                    sw[e] = pastv[e // 2] * PAST_KINK  # on the kink: the next step starts past it
+            _past_kink(sw, swf, pastv)  # on the kink: the next step starts past it
     if pend >= 0:
         _rk4_output(ev, segs, i, t, y, itab, ftab, imp, dy, wo, oroad, out_o, pend)
     if itab[I_NOB] > 0:  # the peaks at the end

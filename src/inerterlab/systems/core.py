@@ -1483,8 +1483,8 @@ def _regime_pays(segs, T: float) -> bool:
     elements' sides and the observers' set-up again at every edge), where without them
     it crosses the edges of a sampled road in one run. Measured on the ``afw`` car with
     its ride observers over 10 s of a class C road resampled at even spacings
-    (docs/decisions.md, stop 62): with the exact steps 48.1, 26.6, 14.5, 9.7, 7.3 ms
-    for segments of 1, 2, 5, 10, 20 ms; without 28.5, 16.1, 12.8, 9.8, 8.7 ms."""
+    (docs/decisions.md, stop 62): with the exact steps 44.4, 24.9, 13.1, 8.8, 6.4 ms
+    for segments of 1, 2, 5, 10, 20 ms; without 25.2, 14.4, 11.2, 8.8, 7.3 ms."""
     n = int(np.count_nonzero(segs[:, 0] < T))
     return n <= 1 or T / n >= REGIME_SEGMENT_MIN
 
