@@ -26,7 +26,7 @@ WRAPPED = {
     "inerterlab.systems._integrate": ["integrate"],
     "inerterlab.systems.core": [
         "_simulate", "_regime_tables", "_regime_system", "_read_rows", "_length_tables",
-        "_expm_lengths", "_taylor_each", "_point_rows", "_exact_plan", "_ride_system",
+        "_expm_lengths", "_step_tables", "_exact_plan", "_ride_system",
         "_laid_out", "_initial",
     ],
     "inerterlab.systems.quarter_car": ["_build"],

@@ -89,7 +89,7 @@ def test_point_rows_equal_the_exponential_at_every_point():
     polynomials of degree 2n - 1."""
     from scipy.linalg import expm
 
-    from inerterlab.systems.core import _gauss_count, _nodes, _point_rows, _points, _taylor_each
+    from inerterlab.systems.core import _gauss_count, _nodes, _points, _step_tables
 
     rng = np.random.default_rng(3)
     n = 6
@@ -104,7 +104,7 @@ def test_point_rows_equal_the_exponential_at_every_point():
         nq = _gauss_count(m)
         assert w.size == x.size == nq == th.size - 2 and abs(w.sum() - 1.0) < 1e-14
         assert abs(w @ x ** (2 * nq - 1) - 1.0 / (2 * nq)) < 1e-14
-        R = _point_rows(S, _taylor_each(M, S, hs), expm(hs[:, None, None] * M[None]), m)
+        R = _step_tables(M, S, hs, m, expm(hs[:, None, None] * M[None]))[2]
         for p, t in enumerate(th):
             for j, h in enumerate(hs):
                 ref = S @ expm(M * t * h)

@@ -1,9 +1,8 @@
 """Model core: the tables of exact steps a new car computes (regime exponentials, the
-observers' Taylor rows, the plan of exact steps) equal, to the last bit, what each
-length computed on its own gives, and the plan kept across cars is the plan."""
+observers' Taylor rows, the plan of exact steps) equal, to the last bit, what their
+definitions give, and the plan kept across cars is the plan."""
 
 import numpy as np
-import pytest
 from scipy.linalg import expm
 
 from inerterlab.excitation import bump, drop
@@ -13,7 +12,7 @@ from inerterlab.systems.core import (
     _exact_plan,
     _exact_plan_of,
     _expm_lengths,
-    _taylor_rows,
+    _step_tables,
 )
 
 
@@ -50,7 +49,7 @@ def test_taylor_rows_of_power_of_two_lengths_equal_their_own_chains():
     q = 1e-11
     hs = np.r_[np.rint(0.01 / 2.0 ** np.arange(7)[::-1] / q) * q, 0.0031, 0.0047]
     hs = np.sort(hs)
-    TR = _taylor_rows(M, S, hs)
+    TR = _step_tables(M, S, hs)[0]
     assert TR.shape[2] == max(_taylor_one(M, S, h).shape[1] for h in hs)
     for j, h in enumerate(hs):
         own = _taylor_one(M, S, h)
@@ -65,25 +64,33 @@ def test_taylor_rows_fall_back_where_scaling_would_leave_the_normal_range():
     M, S = _system(seed=7)
     M[0, 1] = 1e-300
     hs = np.array([0.001, 0.002, 0.004])
-    TR = _taylor_rows(M, S, hs)
+    TR = _step_tables(M, S, hs)[0]
     for j, h in enumerate(hs):
         own = _taylor_one(M, S, h)
         assert np.array_equal(TR[j, :, : own.shape[1]], own)
 
 
-def test_exponentials_of_distinct_lengths_equal_scipy_per_length():
-    """One batched expm over the distinct lengths: each equal to scipy's expm of that
-    length alone (and 0 gives the identity), so the step table and the observers' end
-    rows are what they were when each asked for its own."""
+def test_exponentials_square_up_each_family_of_lengths():
+    """Lengths a power of two apart (a family) take scipy's expm of the shortest, squared
+    up: each member equals that product to the last bit and scipy's expm of its own
+    length to 1e-13 of its size; a length alone in its family is scipy's expm of it, 0
+    the identity; a member's matrix does not depend on which other members are asked
+    for, only on the family's shortest length."""
     M, S = _system(seed=11)
-    hs = np.array([0.00125, 0.0025, 0.005, 0.0031])
-    sub = hs / 8
-    expo = _expm_lengths(M, np.concatenate([0.0 * hs, hs, sub]))
-    for h in np.r_[hs, sub]:
-        assert np.array_equal(expo(np.array([h]))[0], expm(M * h))
-    assert np.array_equal(expo(0.0 * hs), np.broadcast_to(np.eye(8), (4, 8, 8)))
-    with pytest.raises(ValueError, match="not computed"):
-        expo(np.array([0.0042]))
+    h0 = 0.01 / 64
+    fam = h0 * 2.0 ** np.arange(7)
+    hs = np.r_[0.0, fam, 0.0031]
+    E = _expm_lengths(M, hs)
+    assert np.array_equal(E[0], np.eye(8))
+    assert np.array_equal(E[-1], expm(M * 0.0031))
+    P = expm(M * h0)
+    for j, h in enumerate(fam):
+        assert np.array_equal(E[1 + j], P)
+        ref = expm(M * h)
+        assert np.abs(E[1 + j] - ref).max() <= 1e-13 * np.abs(ref).max()
+        P = P @ P
+    some = _expm_lengths(M, fam[[0, 3, 6]])
+    assert np.array_equal(some, E[[1, 4, 7]])
 
 
 def test_plan_of_exact_steps_is_kept_by_content_across_cars():

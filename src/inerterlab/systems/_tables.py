@@ -54,18 +54,37 @@ def taylor_chain(M, S, h, shifts, terms):
 
 
 @nb.njit(cache=True)
-def point_rows(pw, T, kj, out):
-    """out[p, j] = sum_k pw[p, k] T[j, :, k, :] over the first kj[j] terms of length j
-    (the signals' rows at a step's inner points from its Taylor rows, padded ``T`` [j,
-    r, k, q], ``pw`` [p, k] the points' powers): each sum from 0 in the order of k, as
-    numpy's ``einsum("pk,rkq->prq")`` adds them, so the same rows to the last bit."""
-    np_, nj = out.shape[0], out.shape[1]
-    nr, nq = T.shape[1], T.shape[3]
-    for p in range(np_):
-        for j in range(nj):
+def abs_range(a):
+    """(smallest nonzero |a|, largest |a|) over an array (0, 0 where all are zero)."""
+    lo, hi = math.inf, 0.0
+    for v in a.ravel():
+        x = abs(v)
+        if x != 0.0:
+            lo = min(lo, x)
+            hi = max(hi, x)
+    return (0.0, 0.0) if hi == 0.0 else (lo, hi)
+
+
+@nb.njit(cache=True)
+def family_rows(C, kj, shifts, js, pw, TR, R):
+    """The members of one family of lengths h 2^shifts[i] (rows js[i] of the tables) from
+    the chain C of h (:func:`taylor_chain`): their Taylor rows TR[js[i], r, k, :] =
+    C[k, r, :] 2^(shifts[i] k) for k below their count kj[i] (a power of two: exact),
+    and the signals' rows at a step's inner points, R[p, js[i]] = sum_k pw[p, k] TR[js[i],
+    :, k, :] (``pw`` [p, k] the points' powers), each sum from 0 in the order of k. TR is
+    zero past a member's count (given so)."""
+    nr, nq = C.shape[1], C.shape[2]
+    for i in range(js.size):
+        j = js[i]
+        for k in range(kj[i]):
+            e = shifts[i] * k
+            for r in range(nr):
+                for q in range(nq):
+                    TR[j, r, k, q] = math.ldexp(C[k, r, q], e)
+        for p in range(R.shape[0]):
             for r in range(nr):
                 for q in range(nq):
                     acc = 0.0
-                    for k in range(kj[j]):
-                        acc += pw[p, k] * T[j, r, k, q]
-                    out[p, j, r, q] = acc
+                    for k in range(kj[i]):
+                        acc += pw[p, k] * TR[j, r, k, q]
+                    R[p, j, r, q] = acc

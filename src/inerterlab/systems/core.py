@@ -1391,8 +1391,11 @@ def _observer_share(sys) -> float:
     """The part of the longest panel :data:`EXACT_OBSERVER_PANEL` that ``sys``'s
     observers allow: 1, or :data:`EXACT_FOURTH_POWER_SHARE` with a fourth power among
     them."""
-    fourth = any(_kernel_kind(o) == _kernel.OBS_FOURTH for o in sys.observers)
-    return EXACT_FOURTH_POWER_SHARE if fourth else 1.0
+    share = sys.info.get("observer_share")
+    if share is None:
+        fourth = any(_kernel_kind(o) == _kernel.OBS_FOURTH for o in sys.observers)
+        share = sys.info["observer_share"] = EXACT_FOURTH_POWER_SHARE if fourth else 1.0
+    return share
 
 
 def _observer_panel(sys) -> float:
@@ -1677,7 +1680,7 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
     frequencies ws; SR[c] the observed signals' rows ``sx``, ``su`` (over x and u = Gin
     e) at the points theta = :func:`_points` (m)[p] of a step of m panels, over z at its
     start, in the layout of :func:`_point_tables`, and TR[c] their Taylor rows
-    (:func:`_taylor_rows` of z' = M_c z; both empty without observers)."""
+    (:func:`_step_tables` of z' = M_c z; both empty without observers)."""
     A = np.frombuffer(a).reshape(n, n)
     B = np.frombuffer(b).reshape(n, 3)
     Gx = np.frombuffer(gx).reshape(-1, n)
@@ -1722,25 +1725,25 @@ _LENGTH_TABLES: dict = {}
 def _length_tables(M, S, hs, m, n):
     """For the steps of lengths ``hs`` of z' = M z: the first n rows of exp(M h) [j],
     and with observers (m panels, m > 0) the signal rows S at the points of a step
-    (:func:`_point_rows`, [p, j]) and the Taylor rows (:func:`_taylor_rows`). Each
-    length's tables are kept by content (M, S, m, h) for the last
-    :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths (a
-    bump after a drop: the bump's length; the regime levels are shared). Each length is
-    computed on its own in every step (a batched expm computes each matrix alone, a
-    chain of Taylor products is the length's own to the last bit), so the tables do not
-    depend on which lengths were computed together."""
+    (:func:`_step_tables`, [p, j]) and the Taylor rows. Each length's tables are kept by
+    content (M, S, m, h and its family's shortest length, :func:`_families`) for the
+    last :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths
+    (a bump after a drop: the bump's own; the regime levels are shared). A family with
+    a length not kept is computed whole, so each length's tables depend on the length
+    and its family's shortest length only, not on what was kept."""
     mk, sk = M.tobytes(), S.tobytes()
-    keys = [(mk, sk, m, n, h) for h in hs.tolist()]
+    base, _ = _families(hs)
+    keys = [(mk, sk, m, n, h, b) for h, b in zip(hs.tolist(), hs[base].tolist(), strict=True)]
     got = {k: _LENGTH_TABLES[k] for k in keys if k in _LENGTH_TABLES}
     miss = [j for j, k in enumerate(keys) if k not in got]
     if miss:
-        hm = hs[miss]
-        full = _expm_lengths(M, hm)(hm)
-        xe = full[:, :n]
-        tr = _taylor_each(M, S, hm)
-        sr = _point_rows(S, tr, full, m) if m else None
-        for i, j in enumerate(miss):
-            item = (xe[i].copy(), None if sr is None else sr[:, i].copy(), tr[i])
+        new = set(base[miss].tolist())  # the families with a new length
+        sel = np.array([j for j, b in enumerate(base.tolist()) if b in new], np.int64)
+        hm = hs[sel]
+        full = _expm_lengths(M, hm)
+        tr, kj, sr = _step_tables(M, S, hm, m, full)
+        for i, j in enumerate(sel.tolist()):
+            item = (full[i, :n].copy(), None if sr is None else sr[:, i].copy(), tr[i, :, : kj[i]].copy())
             for x in item:
                 if x is not None:
                     x.setflags(write=False)
@@ -1751,48 +1754,56 @@ def _length_tables(M, S, hs, m, n):
     items = [got[k] for k in keys]
     XE = np.array([it[0] for it in items]).reshape(hs.size, n, M.shape[0])
     SR = np.stack([it[1] for it in items], axis=1) if m and items else None
-    return XE, SR, _taylor_padded([it[2] for it in items], S.shape[0], M.shape[0])
+    K = max((it[2].shape[1] for it in items), default=1)
+    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
+    for j, it in enumerate(items):
+        TR[j, :, : it[2].shape[1]] = it[2]
+    return XE, SR, TR
 
 
-def _point_rows(S, taylor, ends, m):
-    """R[p, j] = S exp(M theta_p hs[j]) at the points theta_p = :func:`_points` (m) of a
-    step of length hs[j]: its start S, its nodes the step's Taylor rows summed there
-    (``taylor[j]`` of :func:`_taylor_each`, [r, k, :]: sum_k T[:, k] theta^k, whose terms
-    run to 1e-18 of the largest), its end from the exponential ``ends[j]`` = exp(M
-    hs[j])."""
-    th = _points(m)
-    R = np.empty((th.size, len(taylor), S.shape[0], S.shape[1]))
-    R[0] = S
-    R[-1] = S @ ends
-    if taylor:
-        kj = np.array([T.shape[1] for T in taylor], np.int64)
-        pw = th[1:-1, None] ** np.arange(kj.max())[None]  # [p, k]
-        _tables.point_rows(pw, _taylor_padded(taylor, S.shape[0], S.shape[1]), kj, R[1:-1])
-    return R
+def _families(hs):
+    """Each length's family among ``hs``, the lengths a power of two apart (equal
+    mantissas: the regime levels H, H/2, ...): the index of its shortest member, and the
+    length's shift e (the length is that member's 2^e)."""
+    parts = [math.frexp(h) for h in hs.tolist()]
+    first: dict = {}
+    for j, (mv, e) in enumerate(parts):
+        b = first.get(mv)
+        if b is None or e < parts[b][1]:
+            first[mv] = j
+    base = np.array([first[mv] for mv, _ in parts], np.int64)
+    shift = np.array([e - parts[first[mv]][1] for mv, e in parts], np.int64)
+    return base, shift
 
 
-def _expm_lengths(M, h):
-    """``expo`` with expo(x) = exp(M x_i) stacked for each length x_i of an array of
-    lengths among ``h``: one batched :func:`scipy.linalg.expm` over the distinct nonzero
-    lengths of ``h`` (each matrix of a batch is computed on its own, so a length asked
-    for twice, or by two tables, gets the same matrix as a call of its own would),
-    the identity for 0."""
+def _expm_lengths(M, hs):
+    """exp(M hs[j]) for each length: per family (:func:`_families`), one
+    :func:`scipy.linalg.expm` of its shortest length, squared up to each longer member
+    (exp(2 M x) = exp(M x)^2, the squaring phase of scipy's own scaling and squaring);
+    the identity for 0. Each matrix depends on its length and its family's shortest
+    length only. On the cars' regime systems the squared members are within 5e-15 of a
+    separate expm each, at a seventh of the cost (docs/decisions.md, stop 63)."""
     from scipy.linalg import expm
 
-    uniq = np.unique(h)
-    E = np.empty((uniq.size, M.shape[0], M.shape[0]))
-    nz = uniq != 0.0
-    E[~nz] = np.eye(M.shape[0])
-    if nz.any():
-        E[nz] = expm(uniq[nz][:, None, None] * M[None])
+    base, shift = _families(hs)
+    E = np.empty((hs.size, M.shape[0], M.shape[0]))
+    bs = np.unique(base)
+    nz = bs[hs[bs] != 0.0]
+    E0 = expm(hs[nz][:, None, None] * M[None]) if nz.size else None
+    for b in bs.tolist():
+        js = np.flatnonzero(base == b)
+        if hs[b] == 0.0:
+            E[js] = np.eye(M.shape[0])
+            continue
+        P = E0[int(np.searchsorted(nz, b))]
+        e = 0
+        for j in js[np.argsort(shift[js], kind="stable")].tolist():
+            while e < shift[j]:
+                P = P @ P
+                e += 1
+            E[j] = P
+    return E
 
-    def expo(x):
-        i = np.minimum(np.searchsorted(uniq, x), uniq.size - 1)
-        if not np.array_equal(uniq[i], x):
-            raise ValueError("a length whose exponential was not computed")
-        return E[i]
-
-    return expo
 
 
 def _exact_tables(A, B, sizes):
@@ -1961,68 +1972,70 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
 TAYLOR_TERMS = 60
 
 
-def _taylor_rows(M, S, hs):
-    """TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) of z' = M z
-    from z0 over a step of length hs[j] is sum_k (TR[j, r, k] . z0) theta^k (the peaks
-    inside an exact step, :func:`._integrate._taylor_peak`). The terms run until
-    they fall below 1e-18 of the largest (at most :data:`TAYLOR_TERMS`).
+def _step_tables(M, S, hs, m=0, ends=None):
+    """(TR, kj, R) for steps of lengths ``hs`` of z' = M z and the signal rows S.
 
-    Lengths a power of two apart (equal mantissas: the regime levels H, H/2, ...) share
-    one chain of products, that of the shortest h: the terms of 2^e h are 2^(e k) times
-    its terms to the last bit (scaling by a power of two commutes with rounding in every
-    product and sum, and so with each term's stopping test), unless a product could
-    leave the normal range, where each length runs its own chain."""
-    return _taylor_padded(_taylor_each(M, S, hs), S.shape[0], M.shape[0])
+    TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) from z0 over a
+    step of length hs[j] is sum_k (TR[j, r, k] . z0) theta^k (the peaks inside an exact
+    step, :func:`._integrate._taylor_peak`). Its terms run until two in a row fall below
+    1e-18 of the largest (kj[j] of them, at most :data:`TAYLOR_TERMS`; zeros past).
+
+    Lengths a power of two apart (:func:`_families`) share one chain of products, that
+    of the shortest: the terms of 2^e h are 2^(e k) times its terms to the last bit
+    (scaling by a power of two commutes with rounding in every product and sum, and so
+    with each term's stopping test), unless a product could leave the normal range,
+    where each length runs its own chain.
+
+    With m panels (m > 0) and ``ends`` = exp(M hs[j]): R[p, j] = S exp(M theta_p hs[j])
+    at the points theta = :func:`_points` (m) of a step: its start S, its nodes the
+    Taylor rows summed there, its end S ends[j]; else R is None."""
+    nr, nq = S.shape
+    M = np.ascontiguousarray(M, float)
+    S = np.ascontiguousarray(S, float)
+    chains = []
+    if nr == 0:  # no signals: two (empty) terms each, as the chain's test gives
+        kj = np.full(hs.size, 2, np.int64)
+    else:
+        base, shift = _families(hs)
+        kj = np.empty(hs.size, np.int64)
+        for b in np.unique(base).tolist():
+            js = np.flatnonzero(base == b)
+            sh = shift[js]
+            C, k = _tables.taylor_chain(M, S, float(hs[b]), sh, TAYLOR_TERMS)
+            if sh.max() > 0 and _leaves_normal(C, M, float(hs[b]), int(sh.max())):
+                for j in js.tolist():  # each length its own chain
+                    one = np.zeros(1, np.int64)
+                    Cj, kk = _tables.taylor_chain(M, S, float(hs[j]), one, TAYLOR_TERMS)
+                    kj[j] = kk[0]
+                    chains.append((Cj, kk, one, np.array([j], np.int64)))
+            else:
+                kj[js] = k
+                chains.append((C, k, sh, js))
+    K = int(kj.max(initial=1))
+    TR = np.zeros((hs.size, nr, K, nq))
+    th = _points(m) if m else np.empty(0)
+    pw = th[1:-1, None] ** np.arange(K)[None] if m else np.empty((0, K))
+    R = np.empty((th.size, hs.size, nr, nq)) if m else np.empty((0, hs.size, nr, nq))
+    for C, k, sh, js in chains:
+        _tables.family_rows(C, k, sh, js, pw, TR, R[1:-1])
+    if not m:
+        return TR, kj, None
+    R[0] = S
+    R[-1] = S @ ends
+    return TR, kj, R
 
 
-def _taylor_padded(each, nr: int, nq: int) -> np.ndarray:
-    """The rows of :func:`_taylor_each` of each length ([r, k, :]) as one table [j, r, k,
-    :], zeros past a length's last term."""
-    K = max((T.shape[1] for T in each), default=1)
-    TR = np.zeros((len(each), nr, K, nq))
-    for j, T in enumerate(each):
-        TR[j, :, : T.shape[1]] = T
-    return TR
+def _leaves_normal(C, M, h: float, top: int) -> bool:
+    """Whether a product of the chain C of h, scaled by up to 2^(top k), could leave the
+    normal range of floats."""
+    lo, hi = _tables.abs_range(C)
+    mlo, mhi = _tables.abs_range(M)
+    if hi == 0.0 or mhi == 0.0:
+        return False
+    low = math.log2(lo) + math.log2(mlo * h / TAYLOR_TERMS)
+    high = math.log2(hi) + math.log2(mhi * h) + top * (C.shape[0] + 1)
+    return low < -1000.0 or high > 1000.0
 
-
-def _taylor_each(M, S, hs) -> list:
-    """The rows of :func:`_taylor_rows` of each length, [r, k, :] up to its own last
-    term."""
-    each: list = [None] * hs.size
-    mant, ex = np.frexp(hs)
-    for mv in np.unique(mant):
-        js = np.flatnonzero(mant == mv)
-        j0 = js[np.argmin(ex[js])]
-        got = _taylor_family(M, S, float(hs[j0]), (ex[js] - ex[j0]).tolist())
-        if got is None:
-            got = [_taylor_family(M, S, float(hs[j]), [0])[0] for j in js]
-        for j, T in zip(js, got, strict=True):
-            each[j] = T
-    return each
-
-
-def _taylor_family(M, S, h, shifts):
-    """The rows of :func:`_taylor_rows` ([r, k, :]) for the lengths h 2^e, e in ``shifts``
-    (h first if 0 is among them), from the one chain of h; None where a scaled product
-    could leave the normal range of floats (then call it per length, shifts [0])."""
-    if S.shape[0] == 0:  # no signals: two (empty) terms each, as the chain's test gives
-        return [np.zeros((0, 2, M.shape[0])) for _ in shifts]
-    C, Kj = _tables.taylor_chain(
-        np.ascontiguousarray(M, float), np.ascontiguousarray(S, float), float(h),
-        np.asarray(shifts, np.int64), TAYLOR_TERMS,
-    )  # fmt: skip
-    if max(shifts) > 0:  # every product of the scaled chains in the normal range
-        a = np.abs(C[C != 0.0])
-        mm = np.abs(M[M != 0.0])
-        if a.size and mm.size:
-            low = math.log2(a.min()) + math.log2(mm.min() * h / TAYLOR_TERMS)
-            high = math.log2(a.max()) + math.log2(mm.max() * h) + max(shifts) * (C.shape[0] + 1)
-            if low < -1000.0 or high > 1000.0:
-                return None
-    return [
-        np.ldexp(C[: Kj[i]], (shifts[i] * np.arange(Kj[i]))[:, None, None]).transpose(1, 0, 2)
-        for i in range(len(shifts))
-    ]
 
 
 def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
@@ -2036,14 +2049,17 @@ def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
     return ref
 
 
+@lru_cache(maxsize=32)
 def _points(m: int = 1) -> np.ndarray:
     """theta of the points of an exact step as long as m panels the observers read: 0,
-    the Gauss-Legendre nodes (:func:`_nodes`), 1."""
-    return np.r_[0.0, _nodes(m)[1], 1.0]
+    the Gauss-Legendre nodes (:func:`_nodes`), 1 (read-only: kept per m)."""
+    th = np.concatenate(([0.0], _nodes(m)[1], [1.0]))
+    th.setflags(write=False)
+    return th
 
 
 def _point_tables(A, B, Sx, Su, rows, sizes, m=1):
-    """(:func:`_point_tables_of`, :func:`_taylor_rows` of the signals over v = (z,
+    """(:func:`_point_tables_of`, :func:`_step_tables` of the signals over v = (z,
     X1, X1')), kept for the last few systems, step lengths and panel counts by content
     (a sweep over roads or seeds computes them once)."""
     sx, su = Sx[rows], Su[rows]  # the distinct signals
@@ -2072,14 +2088,13 @@ def _point_tables_of(A, B, sx, su, sizes, m=1):
     + r] the signal r (rows sx, su over z and u; nu of them) at theta =
     :func:`_points` (m)[p] of the step, (Sx z + Su u) there = sum_q SR[j, q, p nu + r]
     v[q] (the layout :func:`._integrate._observe_steps` sums over); TR its Taylor rows
-    (:func:`_taylor_rows` of v' = Mv v, X1'' = 0), which give the nodes' rows."""
+    (:func:`_step_tables` of v' = Mv v, X1'' = 0), which give the nodes' rows."""
     na = A.shape[0]
     Mv = np.zeros((na + 2, na + 2))
     Mv[:na, :na] = A
     Mv[:na, na:] = B[:, :2]
     Mv[na, na + 1] = 1.0
     S = np.hstack([sx, su[:, :2]])
-    each = _taylor_each(Mv, S, sizes)
     Phi, GX, GB = _exact_tables(A, B, sizes)  # exp(Mv h), from the exact tables
     E = np.zeros((sizes.size, na + 2, na + 2))
     E[:, :na, :na] = Phi
@@ -2087,7 +2102,8 @@ def _point_tables_of(A, B, sx, su, sizes, m=1):
     E[:, :na, na + 1] = GB
     E[:, na, na] = E[:, na + 1, na + 1] = 1.0
     E[:, na, na + 1] = sizes
-    return _point_layout(_point_rows(S, each, E, m)), _taylor_padded(each, S.shape[0], na + 2)
+    TR, _, R = _step_tables(Mv, S, sizes, m, E)
+    return _point_layout(R), TR
 
 
 def _point_layout(SR):

@@ -51,11 +51,12 @@ KINDS = {
 }
 #: what :mod:`.core` computes for a system and keeps in its ``info`` (its linear
 #: regimes, their fastest rate, its augmented linear system, its ride observers, the
-#: tables of its exact steps in the regimes; a vehicle's comfort observers'
-#: system, :func:`inerterlab.vehicles.simulation.simulate_vehicle`): the
-#: system with observers computes its own
+#: tables of its exact steps in the regimes and what they read of it, its observers'
+#: panel share; a vehicle's comfort observers' system,
+#: :func:`inerterlab.vehicles.simulation.simulate_vehicle`): the system with observers
+#: computes its own
 _CACHED = ("regime", "regime_rate", "observer_system", "ride_system", "regime_tables", "memo",
-           "comfort_observed")
+           "comfort_observed", "regime_read", "observer_share")
 
 
 def uncached_info(info: dict, **extra) -> dict:
