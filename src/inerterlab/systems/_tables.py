@@ -12,7 +12,7 @@ import numpy as np
 
 @nb.njit(cache=True)
 def taylor_chain(M, S, h, shifts, terms):
-    """The chain of :func:`.core._taylor_family`: C[k] = S (M h)^k / k! for k below the
+    """The chain of :func:`.core._step_tables`: C[k] = S (M h)^k / k! for k below the
     longest family member's count, and each member's count of terms (``shifts``: the
     members' lengths h 2^e; a member stops once two terms in a row, scaled by 2^(e k),
     fall to 1e-18 of its largest; at most ``terms``). The same products in the same
