@@ -1743,7 +1743,8 @@ def _length_tables(M, S, hs, m, n):
         full = _expm_lengths(M, hm)
         tr, kj, sr = _step_tables(M, S, hm, m, full)
         for i, j in enumerate(sel.tolist()):
-            item = (full[i, :n].copy(), None if sr is None else sr[:, i].copy(), tr[i, :, : kj[i]].copy())
+            rows = None if sr is None else sr[:, i].copy()
+            item = (full[i, :n].copy(), rows, tr[i, :, : kj[i]].copy())
             for x in item:
                 if x is not None:
                     x.setflags(write=False)
@@ -1782,7 +1783,7 @@ def _expm_lengths(M, hs):
     (exp(2 M x) = exp(M x)^2, the squaring phase of scipy's own scaling and squaring);
     the identity for 0. Each matrix depends on its length and its family's shortest
     length only. On the cars' regime systems the squared members are within 5e-15 of a
-    separate expm each, at a seventh of the cost (docs/decisions.md, stop 63)."""
+    separate expm each, at a third of the cost (docs/decisions.md, stop 63)."""
     from scipy.linalg import expm
 
     base, shift = _families(hs)
@@ -1803,7 +1804,6 @@ def _expm_lengths(M, hs):
                 e += 1
             E[j] = P
     return E
-
 
 
 def _exact_tables(A, B, sizes):
@@ -2035,7 +2035,6 @@ def _leaves_normal(C, M, h: float, top: int) -> bool:
     low = math.log2(lo) + math.log2(mlo * h / TAYLOR_TERMS)
     high = math.log2(hi) + math.log2(mhi * h) + top * (C.shape[0] + 1)
     return low < -1000.0 or high > 1000.0
-
 
 
 def _signal_refs(rows, nu: int, nsg: int) -> np.ndarray:
