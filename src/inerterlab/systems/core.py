@@ -1732,7 +1732,7 @@ def _length_tables(M, S, hs, m, n):
     a length not kept is computed whole, so each length's tables depend on the length
     and its family's shortest length only, not on what was kept."""
     mk, sk = M.tobytes(), S.tobytes()
-    base, _ = _families(hs)
+    base, shift = _families(hs)
     keys = [(mk, sk, m, n, h, b) for h, b in zip(hs.tolist(), hs[base].tolist(), strict=True)]
     got = {k: _LENGTH_TABLES[k] for k in keys if k in _LENGTH_TABLES}
     miss = [j for j, k in enumerate(keys) if k not in got]
@@ -1740,8 +1740,9 @@ def _length_tables(M, S, hs, m, n):
         new = set(base[miss].tolist())  # the families with a new length
         sel = np.array([j for j, b in enumerate(base.tolist()) if b in new], np.int64)
         hm = hs[sel]
-        full = _expm_lengths(M, hm)
-        tr, kj, sr = _step_tables(M, S, hm, m, full)
+        fam = (np.searchsorted(sel, base[sel]), shift[sel])  # whole families: bases kept
+        full = _expm_lengths(M, hm, fam)
+        tr, kj, sr = _step_tables(M, S, hm, m, full, fam)
         for i, j in enumerate(sel.tolist()):
             rows = None if sr is None else sr[:, i].copy()
             item = (full[i, :n].copy(), rows, tr[i, :, : kj[i]].copy())
@@ -1777,16 +1778,17 @@ def _families(hs):
     return base, shift
 
 
-def _expm_lengths(M, hs):
+def _expm_lengths(M, hs, fam=None):
     """exp(M hs[j]) for each length: per family (:func:`_families`), one
     :func:`scipy.linalg.expm` of its shortest length, squared up to each longer member
     (exp(2 M x) = exp(M x)^2, the squaring phase of scipy's own scaling and squaring);
     the identity for 0. Each matrix depends on its length and its family's shortest
     length only. On the cars' regime systems the squared members are within 5e-15 of a
-    separate expm each, at a third of the cost (docs/decisions.md, stop 63)."""
+    separate expm each, at a third of the cost (docs/decisions.md, stop 63). ``fam``:
+    :func:`_families` of ``hs`` where the caller has it."""
     from scipy.linalg import expm
 
-    base, shift = _families(hs)
+    base, shift = _families(hs) if fam is None else fam
     E = np.empty((hs.size, M.shape[0], M.shape[0]))
     bs = np.unique(base)
     nz = bs[hs[bs] != 0.0]
@@ -1972,7 +1974,7 @@ def _read_rows(sys, Sx, Su) -> tuple[np.ndarray, int]:
 TAYLOR_TERMS = 60
 
 
-def _step_tables(M, S, hs, m=0, ends=None):
+def _step_tables(M, S, hs, m=0, ends=None, fam=None):
     """(TR, kj, R) for steps of lengths ``hs`` of z' = M z and the signal rows S.
 
     TR[j, r, k] = S[r] (M hs[j])^k / k!: the signal S[r] . z(theta h) from z0 over a
@@ -1988,7 +1990,8 @@ def _step_tables(M, S, hs, m=0, ends=None):
 
     With m panels (m > 0) and ``ends`` = exp(M hs[j]): R[p, j] = S exp(M theta_p hs[j])
     at the points theta = :func:`_points` (m) of a step: its start S, its nodes the
-    Taylor rows summed there, its end S ends[j]; else R is None."""
+    Taylor rows summed there, its end S ends[j]; else R is None. ``fam``:
+    :func:`_families` of ``hs`` where the caller has it."""
     nr, nq = S.shape
     M = np.ascontiguousarray(M, float)
     S = np.ascontiguousarray(S, float)
@@ -1996,7 +1999,7 @@ def _step_tables(M, S, hs, m=0, ends=None):
     if nr == 0:  # no signals: two (empty) terms each, as the chain's test gives
         kj = np.full(hs.size, 2, np.int64)
     else:
-        base, shift = _families(hs)
+        base, shift = _families(hs) if fam is None else fam
         kj = np.empty(hs.size, np.int64)
         for b in np.unique(base).tolist():
             js = np.flatnonzero(base == b)
