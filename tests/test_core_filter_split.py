@@ -182,8 +182,13 @@ def test_split_kept_across_cars_of_a_sweep():
                     strict=True):  # fmt: skip
         assert np.array_equal(x, y)
     O._SPLITS.clear()
+    O._SPLITS_BY_TABLES.clear()
     got = filter_split(a.itab, a.ftab, a.n_states)
     assert filter_split(b.itab, b.ftab, b.n_states) is got and len(O._SPLITS) == 1
+    # each car's tables are kept too: a run again finds its split without the key
+    assert len(O._SPLITS_BY_TABLES) == 2
+    assert filter_split(a.itab, a.ftab.copy(), a.n_states) is got
+    assert len(O._SPLITS_BY_TABLES) == 2
     # the Wk quadrature's coefficient: read by the split, so in the key
     K = O._kernel
     it, ft = a.itab, a.ftab.copy()

@@ -2103,7 +2103,9 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
     the exact steps (none by default)."""
     ev = rhs_for(itab)
     ro_itab = _readonly(itab)
-    warm = bool(_integrate.signatures)  # not timed while the integrator compiles
+    # the generic tier's runs are timed (not while the integrator compiles); asking the
+    # dispatcher for its signatures costs about 20 us, so only there
+    warm = not ev.specialised and bool(_integrate.signatures)
     t0 = time.process_time()
     out = _integrate(
         ev, ro_itab, _readonly(ftab), segs, y, x1_before, t_end, rtol, atol,
@@ -2113,7 +2115,7 @@ def integrate(itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, jump_
         _signal_tables(_NO_XOBS if xo is None else xo),
         _split_of(itab, ftab, y.size), (ro_itab, *NO_SPLIT),
     )  # fmt: skip
-    if warm and not ev.specialised:
+    if warm:
         record(itab, time.process_time() - t0)
     return out
 
@@ -2577,12 +2579,12 @@ def integrate_fixed(itab, ftab, segs, y, t_end, h, t_out, out_y, stats, max_step
     ``out_o``: (t_out.size, 3 nn + ne) for the outputs at ``t_out`` (those of
     :func:`outputs_many`), or None."""
     ev = rhs_for(itab)
-    warm = bool(_fixed_rk4.signatures)  # not timed while the driver compiles
+    warm = not ev.specialised and bool(_fixed_rk4.signatures)  # as in integrate
     t0 = time.process_time()
     out = _fixed_rk4(
         ev, _readonly(itab), _readonly(ftab), segs, y, float(t_end), float(h), t_out, out_y,
         stats, int(max_steps), _NO_OUTPUTS if out_o is None else out_o,
     )  # fmt: skip
-    if warm and not ev.specialised:
+    if warm:
         record(itab, time.process_time() - t0)
     return out

@@ -1062,7 +1062,7 @@ def signal(itab, ftab, W, x, k, impulsive=False):
     return acc
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, inline="always")
 def observe(itab, ftab, W, x, dx, impulse):
     """The derivatives of the observer states into ``dx`` from the last
     :func:`evaluate` (its work array ``W``) at the state ``x``. During an impulse flow

@@ -227,22 +227,35 @@ def filter_split(itab, ftab, n: int):
     coefficients of the signals of the ``integral`` observers and of the quadratures
     that read their states (:func:`_filter_coefficients`), so the cars of a sweep,
     which differ in their element values and in the tyre-grip coefficient, share the
-    split of their one Wk filter."""
-    key = (itab.tobytes(), _filter_coefficients(itab, ftab), n)
+    split of their one Wk filter. Looked up first by the whole tables (a system run
+    again: the coefficients' key takes about 40 us to build, the tables' bytes 1 us)."""
+    whole = (itab.tobytes(), ftab.tobytes(), n)
+    got = _SPLITS_BY_TABLES.get(whole)
+    if got is not None:
+        return got
+    key = (whole[0], _filter_coefficients(itab, ftab), n)
     got = _SPLITS.get(key)
     if got is None:
         ro = np.frombuffer(key[0], np.int64)  # read only, as the tables
         out = _split(ro, ftab, n)
         got = (ro, *NO_SPLIT) if out is None else out
-        if len(_SPLITS) >= SPLITS_KEPT:
-            _SPLITS.pop(next(iter(_SPLITS)))
-        _SPLITS[key] = got
+        _keep(_SPLITS, key, got)
+    _keep(_SPLITS_BY_TABLES, whole, got)
     return got
 
 
-#: the splits of :func:`filter_split` kept in a process
+#: the splits of :func:`filter_split` kept in a process (by what they read, and by the
+#: whole tables)
 SPLITS_KEPT = 64
 _SPLITS: dict = {}
+_SPLITS_BY_TABLES: dict = {}
+
+
+def _keep(kept: dict, key, value) -> None:
+    """Keep ``value`` under ``key``, the oldest entry dropped past :data:`SPLITS_KEPT`."""
+    if len(kept) >= SPLITS_KEPT:
+        kept.pop(next(iter(kept)))
+    kept[key] = value
 
 
 def _filter_coefficients(itab, ftab) -> bytes:
