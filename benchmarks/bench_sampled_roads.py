@@ -1,19 +1,18 @@
-"""Exact steps in the linear regimes on sampled roads: when ``auto`` takes them.
+"""Exact steps in the linear regimes on sampled roads, against the adaptive steps alone.
 
 The ``afw`` quarter car (its flywheel saturates: a linear regime, docs/guide/core.md)
 with its ride observers, 10 s of the class C road of ``iso8608("C", 20.0, seed=1)``
-resampled at even spacings (``road_series``: segments of that length). Three ways:
+resampled at even spacings (``road_series``: segments of that length). Two ways:
 
-* ``auto``: the default (since stop 62: exact steps in the regime only where the road's
-  segments are at least ``core.REGIME_SEGMENT_MIN`` = 10 ms long on average);
-* ``adaptive``: ``method="adaptive"``, Dormand-Prince alone (the baseline);
-* ``forced``: exact steps in the regime on every road (``REGIME_SEGMENT_MIN`` set to 0
-  for the run: what ``auto`` did before).
+* ``auto``: the default, exact steps while the flywheel is saturated (since stop 64
+  across the edges of a sampled road: each step ends on the next edge at the latest);
+* ``adaptive``: ``method="adaptive"``, Dormand-Prince alone (the baseline).
 
 Printed per spacing: CPU medians of ``--runs`` runs (the regime tables kept between
-runs, as on one car), steps (of them exact), and the worst relative difference of the
-ride metrics from a run at rtol 1e-11. Then a sweep's case, a new car at every run (the
-changing ratio varied: the regime tables built every time) on the 1 ms road.
+runs, as on one car), steps (of them exact), the worst relative difference of the ride
+metrics from a run at rtol 1e-11, and the ratio adaptive / auto (the speed-up). Then a
+sweep's case, a new car at every run (the changing ratio varied: the regime tables
+built every time) on the 1 ms road.
 
     python benchmarks/bench_sampled_roads.py [--runs 7]
 """
@@ -33,7 +32,6 @@ import numpy as np  # noqa: E402
 from inerterlab import quarter_car  # noqa: E402
 from inerterlab.excitation import iso8608, road_displacement, road_series  # noqa: E402
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics  # noqa: E402
-from inerterlab.systems import core  # noqa: E402
 
 T = 10.0
 KEYS = ("rms_body_acc", "rms_body_acc_wk", "vdv", "peak_body_acc", "peak_deflection")
@@ -50,15 +48,8 @@ def cpu_median(fn, runs: int) -> float:
 
 def run(car, ex, how: str):
     """(metrics, stats) of one run ``how``."""
-    saved = core.REGIME_SEGMENT_MIN
-    if how == "forced":
-        core.REGIME_SEGMENT_MIN = 0.0
-    try:
-        opts = SimulationOptions(method="adaptive" if how == "adaptive" else "auto")
-        res = simulate(car, ex, T, options=opts, output="metrics")
-        return res.metrics(), res.stats
-    finally:
-        core.REGIME_SEGMENT_MIN = saved
+    res = simulate(car, ex, T, options=SimulationOptions(method=how), output="metrics")
+    return res.metrics(), res.stats
 
 
 def worst(m, ref) -> float:
@@ -80,7 +71,7 @@ def main() -> None:
         ref = simulate(car, ex, T, options=SimulationOptions(method="adaptive", rtol=1e-11),
                        output="metrics").metrics()  # fmt: skip
         cells = {}
-        for how in ("auto", "adaptive", "forced"):
+        for how in ("auto", "adaptive"):
             m, st = run(car, ex, how)  # the tables built, the code loaded
             sec = cpu_median(lambda how=how, ex=ex: run(car, ex, how), args.runs)
             cells[how] = sec
@@ -88,27 +79,21 @@ def main() -> None:
                   f"{st['steps']:5d} ({st.get('exact_steps', 0):4d} exact)  error "
                   f"{worst(m, ref):.1e}")  # fmt: skip
         print(f"  segments {1e3 * dt:4.0f} ms  ratio adaptive / auto: "
-              f"{cells['adaptive'] / cells['auto']:.2f}, forced / auto: "
-              f"{cells['forced'] / cells['auto']:.2f}")  # fmt: skip
+              f"{cells['adaptive'] / cells['auto']:.2f}")  # fmt: skip
     # a sweep's case: a new car every run on the 1 ms road (its regime tables built anew)
     ratios = np.linspace(0.05, 0.55, 24)
     cars = [quarter_car("afw", changing_ratio=float(x)) for x in ratios]
     out = {}
-    for how in ("auto", "forced"):
-        saved = core.REGIME_SEGMENT_MIN
-        if how == "forced":
-            core.REGIME_SEGMENT_MIN = 0.0
-        try:
-            simulate_metrics(cars[0], iso, T)
-            c = time.process_time()
-            for car_i in cars[1:]:
-                simulate_metrics(car_i, iso, T)
-            out[how] = (time.process_time() - c) / (len(cars) - 1)
-        finally:
-            core.REGIME_SEGMENT_MIN = saved
+    for how in ("auto", "adaptive"):
+        opts = SimulationOptions(method=how)
+        simulate_metrics(cars[0], iso, T, options=opts)
+        c = time.process_time()
+        for car_i in cars[1:]:
+            simulate_metrics(car_i, iso, T, options=opts)
+        out[how] = (time.process_time() - c) / (len(cars) - 1)
     print(f"new car every run, iso8608 C at 20 m/s (1 ms segments): auto {1e3 * out['auto']:.1f} ms"
-          f", forced {1e3 * out['forced']:.1f} ms a run; ratio forced / auto "
-          f"{out['forced'] / out['auto']:.2f}")  # fmt: skip
+          f", adaptive {1e3 * out['adaptive']:.1f} ms a run; ratio adaptive / auto "
+          f"{out['adaptive'] / out['auto']:.2f}")  # fmt: skip
 
 
 if __name__ == "__main__":

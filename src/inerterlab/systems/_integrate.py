@@ -863,12 +863,14 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
              t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq, ctl,
              xo, fz):  # fmt: skip
     """Integrate from t to t_end (the road segments rng[0] <= i < rng[1]: one, or a run of
-    measured-drive pieces, whose edges the steps end on without a restart: the first
-    stage reuses the last, and the step size carries over; the impulse flow of a road
-    step when mode = 1, of a road velocity jump when mode = 2),
+    measured-drive pieces or of linear segments that join (a sampled road), whose edges
+    the steps end on without a restart: the step size carries over; the impulse flow of
+    a road step when mode = 1, of a road velocity jump when mode = 2),
     writing dense output at t_out[k:] <= t_end (< t_end unless ``last``).
 
-    Exact steps (``XE`` not empty, a segment of class ``xcls[i]`` >= 0): while every
+    Exact steps (``XE`` not empty, segments all of one class ``xcls[i]`` >= 0, one road):
+    each ends on the next edge at the latest and reads its input from the segment it is
+    on (at an edge the next segment's, and the guards' rates with it), while every
     nonlinear element sits in its linear regime (its switching function positive, its
     argument ``XG[c, g] . z`` at least :data:`X_MARGIN` x its threshold ``xthr[g]`` in
     magnitude, at the ends of the step and on the cubic through them) the state goes
@@ -1040,8 +1042,15 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
     # crossing (length h_redo, the element ``redo`` switching at its end)
     redo = -1
     h_redo = 0.0
-    # exact steps in the linear regimes
-    cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 and rng[1] - rng[0] == 1 else -1
+    # exact steps in the linear regimes: on a segment, or on a run of segments of one
+    # class (a sampled road: each step ends on the next edge at the latest, its input
+    # that of the segment it is on)
+    cx = xcls[rng[0]] if mode == 0 and XE.shape[0] > 0 else -1
+    if cx >= 0:
+        for i in range(rng[0], rng[1]):  # (one road: several take no exact steps)
+            if xcls[i] != cx or segs[i, 2] == 3.0:
+                cx = -1
+    si = rng[0]  # the segment of the exact steps
     ng = xthr.size
     xia, xSR, _, xgw, xgx, xcap, xTR, xref = xo
     na = ia.size
@@ -1061,7 +1070,10 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             if inside:
                 for i in range(na):
                     z[i] = y[ia[i]]
-                _x_input(segs, rng[0], t, road, z, na)
+                si = rng[2]  # the segment from t on (at an edge: the next one)
+                while si + 1 < rng[1] and segs[si + 1, 0] <= t:
+                    si += 1
+                _x_input(segs, si, t, road, z, na)
                 inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
             taken = 0
             xn = np.int64(0)  # steps whose observers are pending
@@ -1088,6 +1100,8 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 if t >= t_end:
                     break
                 tb = t_out[k] if k < t_out.size and t_out[k] < t_end else t_end
+                if si + 1 < rng[1] and segs[si + 1, 0] < tb:
+                    tb = segs[si + 1, 0]  # the segment's end
                 gap = tb - t
                 # the step to the break point if its length is in the table, else (or
                 # where it would leave the regime) the longest level that is shorter
@@ -1129,7 +1143,7 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                         yt[i] = acc
                     for i in range(na):
                         z[i] = yt[i]
-                    _x_input(segs, rng[0], tn, road, z, na)
+                    _x_input(segs, si, tn, road, z, na)
                     stay = _x_guards(XG, cx, z, xthr, X_MARGIN, ga1, gd1)
                     for g in range(ng):
                         stay = stay and _x_stays(ga0[g], gd0[g], ga1[g], gd1[g], tn - t,
@@ -1156,10 +1170,23 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
                 stats[0] += 1
                 stats[4] += 1
                 taken += 1
+                if si + 1 < rng[1] and segs[si + 1, 0] <= t:
+                    # on the next segment: its input from here (the road's rate changes
+                    # at the edge; its height and the state do not), and the guards'
+                    # rates with it
+                    while si + 1 < rng[1] and segs[si + 1, 0] <= t:
+                        si += 1
+                    _x_input(segs, si, t, road, z, na)
+                    inside = _x_guards(XG, cx, z, xthr, X_MARGIN, ga0, gd0)
             if xn > 0:  # the observers over the steps taken
                 _observe_steps(itab, y, xn, xh, xj, xvt, xSR[cx], xTR[cx], xgw, xpts, xref, xsv,
                                xrow, xcoef, xhi, xlo, xdone, xacc, xpk, xpp, xnp, out_y)  # fmt: skip
             if taken:  # the Dormand-Prince steps go on from here: their first stage
+                if si != rng[2]:  # on the segment the exact steps reached
+                    rng[2] = si
+                    h_side[0] = 0.0
+                    h_side[1] = 0.0
+                    fresh = -1
                 _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi)
                 for i in range(n):
                     K[0, i] = dy[i]
@@ -1497,18 +1524,15 @@ def _integrate(ev, itab, ftab, segs, y, x1_before, t_end, rtol, atol, imp_unit, 
         # one segment, or a run of measured-drive pieces (kind 2: x, v and a continuous
         # across their edges, so no jump checks and no restarts between them), or a run
         # of linear segments that join in displacement (a sampled road: kind 3, a
-        # vehicle's roads; kind 0, one road, where there are no exact steps in linear
-        # regimes, which take one segment at a time) where no inertance touches a road
-        # (so no impulses at the kinks): the steps end on the edges, where the first
-        # stage is evaluated again on the new rate (the step size carries over, nothing
-        # is set up again)
+        # vehicle's roads; kind 0, one road) where no inertance touches a road (so no
+        # impulses at the kinks): the steps end on the edges, where the first stage is
+        # evaluated again on the new rate (the step size carries over, nothing is set up
+        # again), and exact steps in linear regimes take each segment's input in turn
         e = s + 1
         if segs[s, 2] == 2.0:
             while e < nseg and segs[e, 2] == segs[s, 2] and segs[e, 0] < t_end:
                 e += 1
-        elif (segs[s, 2] == 3.0 or segs[s, 2] == 0.0 and XE.shape[0] == 0) and (
-            vjump_tol == math.inf
-        ):
+        elif (segs[s, 2] == 3.0 or segs[s, 2] == 0.0) and vjump_tol == math.inf:
             while e < nseg and segs[e, 0] < t_end and _joins(segs, e - 1, jump_tol):
                 e += 1
         rng[0] = s

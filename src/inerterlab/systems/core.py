@@ -1062,12 +1062,7 @@ def _simulate(
             ts_walk = walk
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
-    elif (
-        sys.n_states
-        and method == "auto"
-        and _regime_pays(segs, T)
-        and _regime_system(sys) is not None
-    ):
+    elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
         regime = _regime_tables_for(sys, segs, T, ts)
     jump_tol = road.jump_tolerance
     jumps = np.zeros(len(segs))
@@ -1473,23 +1468,6 @@ _NO_REGIME = (
 )  # fmt: skip
 #: at most this many sine frequencies get tables of exact steps in one run
 REGIME_MAX_CLASSES = 4
-#: exact steps in the linear regimes only on roads whose segments over the horizon are
-#: this long [s] on average, or longer (see :func:`_regime_pays`)
-REGIME_SEGMENT_MIN = 0.01
-
-
-def _regime_pays(segs, T: float) -> bool:
-    """Whether ``auto`` takes exact steps in the linear regimes on this road: where its
-    segments over the horizon ``T`` are at least :data:`REGIME_SEGMENT_MIN` long on
-    average. The exact steps read their input from the segment they are on, so the
-    integrator takes each segment as a run of its own (the road's first stage, the
-    elements' sides and the observers' set-up again at every edge), where without them
-    it crosses the edges of a sampled road in one run. Measured on the ``afw`` car with
-    its ride observers over 10 s of a class C road resampled at even spacings
-    (docs/decisions.md, stop 62): with the exact steps 44.4, 24.9, 13.1, 8.8, 6.4 ms
-    for segments of 1, 2, 5, 10, 20 ms; without 25.2, 14.4, 11.2, 8.8, 7.3 ms."""
-    n = int(np.count_nonzero(segs[:, 0] < T))
-    return n <= 1 or T / n >= REGIME_SEGMENT_MIN
 
 
 def _regime_system(sys):
