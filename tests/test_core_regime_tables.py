@@ -132,3 +132,46 @@ def test_regime_tables_read_the_system_once_and_equal_a_fresh_build():
     assert len(a) == len(b) == 8
     for x, y in zip(a[:7] + a[7], b[:7] + b[7], strict=True):
         assert np.array_equal(x, y) and x.dtype == y.dtype
+
+
+def test_point_rows_kept_per_length_in_the_integrators_layout():
+    """The regime tables' point rows, kept per step length already in the layout the
+    integrator sums over ([q, p nu + r]: :func:`core._point_layout`), and their Taylor
+    rows padded to one table, equal those of one :func:`_step_tables` call over all the
+    lengths, laid out afterwards, to the last bit."""
+    from inerterlab.systems import core
+    from inerterlab.systems.core import (
+        _exact_plan,
+        _point_layout,
+        _points,
+        _regime_read,
+        _regime_system,
+        _regime_tables,
+        _ride_system,
+    )
+
+    car = _ride_system(quarter_car("afw", sprung_mass=362.0, changing_ratio=0.35))
+    ts = np.array([10.0])
+    segs = bump(0.05, duration=0.01).prepared(10.0).segments
+    XE, _, keys, _, _, _, _, xo = _regime_tables(car, segs, 10.0, ts,
+                                                 _exact_plan(car, segs, 10.0, ts))  # fmt: skip
+    SR, TR = xo[1], xo[6]
+    n, a, b, gx, gu, sx, su = _regime_read(car, _regime_system(car))[3]
+    A = np.frombuffer(a).reshape(n, n)
+    B = np.frombuffer(b).reshape(n, 3)
+    Sx = np.frombuffer(sx).reshape(-1, n)
+    Su = np.frombuffer(su).reshape(-1, 3)
+    hs = keys * core.EXACT_STEP_QUANTUM * 10.0
+    npts = SR.shape[3] // Sx.shape[0]  # the panels the tables were built for
+    m = next(k for k in range(1, 64) if _points(k).size == npts)
+    M = np.zeros((n + 3, n + 3))  # the class of the road's linear segments (w = 0)
+    M[:n, :n] = A
+    M[:n, n:] = B @ np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]])
+    M[n, n + 1] = 1.0
+    S = np.hstack([Sx, Su @ np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [0.0, 0.0, 0.0]])])
+    full = _expm_lengths(M, hs)
+    tr, kj, R = _step_tables(M, S, hs, m, full)
+    assert np.array_equal(XE[0], full[:, :n])
+    assert np.array_equal(SR[0], _point_layout(R))
+    assert TR.shape[3] == kj.max()
+    assert np.array_equal(TR[0], tr[:, :, : kj.max()])

@@ -1670,7 +1670,9 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
     th = _points(m) if Sx.shape[0] else np.empty(0)
     XE = np.empty((len(ws), hs.size, n, n + 3))
     XG = np.empty((len(ws), 2 * ng, n + 3))
-    SR = np.empty((len(ws), th.size, hs.size, Sx.shape[0], n + 3))
+    # the point rows laid out for the integrator (:func:`_point_layout`) per length as
+    # they are kept, so each is copied once here
+    SR = np.empty((len(ws), hs.size, n + 3, th.size * Sx.shape[0]))
     TR = []
     for c, w in enumerate(ws):
         Gin = np.array([[1.0, 0.0, 1.0], [0.0, 1.0, 0.0], [-w * w, 0.0, 0.0]])  # u = Gin e
@@ -1683,16 +1685,18 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
         XG[c, :ng] = rows
         XG[c, ng:] = rows @ M
         S = np.hstack([Sx, Su @ Gin])
-        XE[c], sr, tr = _length_tables(M, S, hs, m if th.size else 0, n)
-        TR.append(tr)
+        XE[c], items = _length_tables(M, S, hs, m if th.size else 0, n)
         if th.size:
-            SR[c] = sr
+            for j, (sr, _) in enumerate(items):
+                SR[c, j] = sr
+        TR.append([tr for _, tr in items])
     # padded to one table (the integrator passes it read-only, as the exact walk's)
-    K = max((t.shape[2] for t in TR), default=0)
+    K = max(t.shape[1] for trs in TR for t in trs)
     TRs = np.zeros((len(ws), hs.size, Sx.shape[0], K, n + 3))
-    for c, t in enumerate(TR):
-        TRs[c, :, :, : t.shape[2]] = t
-    return XE, XG, _point_layout(SR), TRs
+    for c, trs in enumerate(TR):
+        for j, t in enumerate(trs):
+            TRs[c, j, :, : t.shape[1]] = t
+    return XE, XG, SR, TRs
 
 
 #: the tables of this many (matrix, signals, panels, step length) are kept in a process
@@ -1702,13 +1706,15 @@ _LENGTH_TABLES: dict = {}
 
 def _length_tables(M, S, hs, m, n):
     """For the steps of lengths ``hs`` of z' = M z: the first n rows of exp(M h) [j],
-    and with observers (m panels, m > 0) the signal rows S at the points of a step
-    (:func:`_step_tables`, [p, j]) and the Taylor rows. Each length's tables are kept by
-    content (M, S, m, h and its family's shortest length, :func:`_families`) for the
-    last :data:`LENGTH_TABLES_KEPT`: a new road on a car computes only its new lengths
-    (a bump after a drop: the bump's own; the regime levels are shared). A family with
-    a length not kept is computed whole, so each length's tables depend on the length
-    and its family's shortest length only, not on what was kept."""
+    and per length (with observers, m panels, m > 0) the signal rows S at the points of
+    a step (:func:`_step_tables`) in the integrator's layout (:func:`_point_layout`:
+    [q, p nu + r]; None without) and the Taylor rows ([r, k, q], its own number of
+    terms). Each length's tables are kept by content (M, S, m, h and its family's
+    shortest length, :func:`_families`) for the last :data:`LENGTH_TABLES_KEPT`: a new
+    road on a car computes only its new lengths (a bump after a drop: the bump's own;
+    the regime levels are shared). A family with a length not kept is computed whole, so
+    each length's tables depend on the length and its family's shortest length only,
+    not on what was kept."""
     mk, sk = M.tobytes(), S.tobytes()
     base, shift = _families(hs)
     keys = [(mk, sk, m, n, h, b) for h, b in zip(hs.tolist(), hs[base].tolist(), strict=True)]
@@ -1721,8 +1727,11 @@ def _length_tables(M, S, hs, m, n):
         fam = (np.searchsorted(sel, base[sel]), shift[sel])  # whole families: bases kept
         full = _expm_lengths(M, hm, fam)
         tr, kj, sr = _step_tables(M, S, hm, m, full, fam)
+        N = M.shape[0]
         for i, j in enumerate(sel.tolist()):
-            rows = None if sr is None else sr[:, i].copy()
+            rows = None
+            if sr is not None:  # [q, p nu + r]
+                rows = np.ascontiguousarray(sr[:, i].transpose(2, 0, 1)).reshape(N, -1)
             item = (full[i, :n].copy(), rows, tr[i, :, : kj[i]].copy())
             for x in item:
                 if x is not None:
@@ -1733,12 +1742,7 @@ def _length_tables(M, S, hs, m, n):
             _LENGTH_TABLES[keys[j]] = item
     items = [got[k] for k in keys]
     XE = np.array([it[0] for it in items]).reshape(hs.size, n, M.shape[0])
-    SR = np.stack([it[1] for it in items], axis=1) if m and items else None
-    K = max((it[2].shape[1] for it in items), default=1)
-    TR = np.zeros((hs.size, S.shape[0], K, M.shape[0]))
-    for j, it in enumerate(items):
-        TR[j, :, : it[2].shape[1]] = it[2]
-    return XE, SR, TR
+    return XE, [(it[1], it[2]) for it in items]
 
 
 def _families(hs):
