@@ -113,6 +113,8 @@ def test_right_hand_side_is_compiled_once_for_every_caller(tmp_path):
     counts = _counts(COLD, NUMBA_CACHE_DIR=str(tmp_path / "numba"))
     # the thin wrapper rhs is compiled for both kinds of tables; evaluate under it once
     assert {k: counts.pop(k) for k in ("evaluate", "rhs")} == {"evaluate": 1, "rhs": 2}
+    # the observers' derivatives are inlined at their callers: never compiled on their own
+    assert counts.pop("observe") == 0
     # each helper of the integrator once: a literal argument (0, False, a default) at one
     # call site and a variable at another compiled the whole helper twice (the adaptive
     # driver, 11-14 s of CPU a copy: a cold first run took 116 s, then 91 s)
