@@ -1691,7 +1691,7 @@ def _regime_exponentials(n, a, b, gx, gu, ws, sizes, sx, su, m):
                 SR[c, j] = sr
         TR.append([tr for _, tr in items])
     # padded to one table (the integrator passes it read-only, as the exact walk's)
-    K = max(t.shape[1] for trs in TR for t in trs)
+    K = max((t.shape[1] for trs in TR for t in trs), default=0)  # no class: none
     TRs = np.zeros((len(ws), hs.size, Sx.shape[0], K, n + 3))
     for c, trs in enumerate(TR):
         for j, t in enumerate(trs):
