@@ -114,6 +114,10 @@ RETURN_LEAST = 1e-6
 # The helpers the stepping calls per stage, step or event allocate nothing and are
 # compiled without numba's reference counting (``_nrt=False``): see the note in
 # :mod:`._kernel` (the counting of their array arguments cost more than their work).
+# They take numpy's error model, as the element kernels do: a division by zero gives inf
+# or nan, which an attempt's finiteness test turns into a smaller step or a status,
+# where Python's model tested every division and would raise out of the kernel (on the
+# sine run, 1-2 % of its time; the results equal to the last bit).
 
 
 @nb.njit(cache=True, inline="always")
@@ -169,7 +173,7 @@ def _linear_columns(segs, i):
     return 5 if segs[i, 2] == 0.0 else segs.shape[1]
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _kinked(segs, i, j):
     """Whether the road's rate changes from segment i to segment j (linear segments,
     kinds 0 and 3: any of its roads'; a measured drive's pieces, kind 2, join with
@@ -182,7 +186,7 @@ def _kinked(segs, i, j):
     return False
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _joins(segs, i, jump_tol):
     """Whether the linear segment i + 1 (kind 0 or 3, as segment i) starts where segment
     i ends on every road, to ``jump_tol``: one run of :func:`_advance` then crosses the
@@ -222,7 +226,7 @@ def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, s
     return ok
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit,
             fzi):  # fmt: skip
     """:func:`_f` as a call, for the places that evaluate once per phase (a first
@@ -294,7 +298,7 @@ def fz_scratch(fzi):
     return np.zeros(ns * FZ_ST, np.complex128), np.zeros(1 + ns + nf + 5 * m)
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
     """Set up the filter's accepted step theta in [0, thx] of the attempt (y, ya, K, h):
     per mode (eigenvalue lam, x = lam hs, hs the accepted length) the solution of
@@ -363,7 +367,7 @@ def _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx):
             stf[fn0 + p] = 0.0
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c):
     """The filter's states at theta = th of the step set up by :func:`_fz_begin` into
     their slots of ``out``, which holds the states they read there; ``c``: the point
@@ -416,7 +420,7 @@ def _fz_signal(fzf, fzc, stc, yc, m, ns, r, s, w):
     return acc
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
     """Advance the filter and its quadrature observers over the accepted step theta in
     [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
@@ -516,7 +520,7 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
     _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, np.int64(5))
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
     """A sample at theta = th of the accepted step from y to yt (``out`` holds its other
     states): the filter exactly, its quadratures linear between the step's ends."""
@@ -528,7 +532,7 @@ def _fz_sample(fzi, fzf, fzc, stc, stf, itab, th, y, yt, out):
         out[s] = y[s] + th * (yt[s] - y[s])
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _peak_values(itab, ftab, work, y, out):
     """Each observer's signal at the last evaluation into ``out`` (peaks only; the
     others are left as they are)."""
@@ -539,7 +543,7 @@ def _peak_values(itab, ftab, work, y, out):
             out[q] = signal(itab, ftab, work, y, itab[b + 1])
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
              work, stats, yd, oit, fzi, fzf, fzc, stc, stf, thx):  # fmt: skip
     """Signal of observer q at theta = x of the step (y, yx, K, h), on its continuous
@@ -552,7 +556,7 @@ def _peak_at(ev, q, x, t, h, y, yx, K, mode, segs, rng, itab, ftab, imp, road_fi
     return signal(itab, ftab, work, yd, itab[itab[I_OBS] + OBS_W * q + 1])
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed,
                dy, road, work, stats, yd, p0, pm, p1, oit, fzi, fzf, fzc, stc, stf):  # fmt: skip
     """Raise the running peaks (``OBS_PEAK`` observers, their states in ``yt``) over an
@@ -620,7 +624,7 @@ def _peak_step(ev, stale, t, h, thx, y, yx, yt, K, mode, segs, rng, itab, ftab, 
         p0[q] = p1[q]
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _sides(sw, road, hs):
     """The side of each element's kink (road[hs + e], hs the first held side of
     :func:`._kernel.road_layout`, see :func:`._kernel.evaluate`) from the signs of its
@@ -725,7 +729,7 @@ def _work_switches(ev, y, road, itab, ftab, work, sw, ofw):
     ev(0.0, y, road, itab, ftab, work, sw, ofw)
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw, oit, fzi, cheap, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
@@ -779,7 +783,7 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
 # linear segment), so z' = M z is linear and z(t + h) = exp(M h) z exactly.
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _x_lookup(keys, h, q):
     """Row of the step length h in the sorted integer keys (lengths in units of q), or
     -1."""
@@ -797,7 +801,7 @@ def _x_lookup(keys, h, q):
     return -1
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _x_input(segs, i, t, road, z, n):
     """The input part of z at time t on segment i (see above)."""
     road_at(segs, i, t, road)
@@ -806,7 +810,7 @@ def _x_input(segs, i, t, road, z, n):
     z[n + 2] = segs[i, 3]
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _x_guards(XG, c, z, thr, margin, ga, gd):
     """Each regime's argument (ga) and its rate (gd) at z; True if every argument is at
     least ``margin`` x its threshold in magnitude."""
@@ -825,7 +829,7 @@ def _x_guards(XG, c, z, thr, margin, ga, gd):
     return ok
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _x_stays(a0, d0, a1, d1, h, lim):
     """Whether the cubic Hermite interpolant of an argument (values a0, a1 and rates d0,
     d1 at the ends of a step of length h) keeps one sign and magnitude >= lim over the
@@ -978,7 +982,7 @@ def _advance(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fi
                         xcls, xlev, xq, ctl, xo, fz, npk, scratch)  # fmt: skip
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, road_fixed, rtol,
                  atol, t_out, out_y, k, stats, max_steps, XE, XG, xkeys, xthr, xel, xcls, xlev, xq,
                  ctl, xo, fz, npk, scratch):  # fmt: skip
@@ -1715,7 +1719,7 @@ X_BLOCK = 64
 ROW_RUN = 64
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _taylor_peak(TR, j, r, sgn, VT, i, xs, top, coef):
     """The maximum of sgn x the distinct signal r inside step i between the neighbours
     of its point ``top`` (the step's Taylor series in theta, sum_k (TR[j, r, k] . VT[:, i])
@@ -1766,7 +1770,7 @@ def _taylor_peak(TR, j, r, sgn, VT, i, xs, top, coef):
     return _series(coef, m, x)
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, hi, lo, done, acc,
                    pk, pp, npend, out_y):  # fmt: skip
     """The observers over nst exact steps (of the linear walk, or of a regime between
@@ -1822,7 +1826,7 @@ def _observe_steps(itab, y, nst, H, J, VT, SR, TR, gw, xs, sref, SV, row, coef, 
                   npend, out_y)  # fmt: skip
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _observe_sums(itab, y, nst, H, J, VT, SV, TR, gw, xs, sref, coef, hi, lo, done, acc, pk, pp,
                   npend, out_y):  # fmt: skip
     """The observers over nst exact steps from their signals at the points (``SV``, see
@@ -2201,7 +2205,7 @@ def foh_response(Ad, Bd0, Bd1, C, D, u, out):
         out[i] = acc + D * u[i]
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def linear_outputs(Yt, Ut, C, D, undefined, O):
     """O = C Yt + D Ut at every sample, state- and output-major (one row per state,
     input or output; rows run over the samples), NaN in the rows ``undefined``."""
@@ -2302,7 +2306,7 @@ def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, sta
         _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, k1, k2, k3, k4, itab, ftab, imp, dy,
                 road, work, stats, yd, sw, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
@@ -2334,7 +2338,7 @@ def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, k1, k2, k3, k4, itab, ft
     return b
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _rk4_output(ev, segs, i, tk, y, itab, ftab, imp, dy, W, road, out_o, j):
     """Row j of ``out_o``: the outputs at the sample tk (state ``y``) as
     :func:`_outputs_many` gives them (the road on the segment that holds tk,
@@ -2437,7 +2441,7 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
                           out_o, scratch)  # fmt: skip
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps, out_o,
                    scratch):  # fmt: skip
     """The run of :func:`_fixed_rk4` on the arrays it allocated (``scratch``), compiled
