@@ -1093,7 +1093,7 @@ def observe(itab, ftab, W, x, dx, impulse):
             dx[slot] = a * signal(itab, ftab, W, x, itab[b + 2])
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def peaks(itab, ftab, W, x):
     """Raise each running peak (``OBS_PEAK``) in ``x`` to its signal's value at the
     last :func:`evaluate`."""
@@ -1185,7 +1185,7 @@ def switches(itab, ftab, W, out):
     return count
 
 
-@nb.njit(cache=True, _nrt=False)
+@nb.njit(cache=True, error_model="numpy", _nrt=False)
 def switches_read_forces(itab, ftab):
     """Whether a switching function of the system reads an element force (a one-way
     clutch's torque): then only the whole :func:`evaluate` gives them, else
