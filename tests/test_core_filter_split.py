@@ -80,12 +80,12 @@ def test_filter_step_is_exact_for_the_quartic_input(h, thx):
     _integrate._dense(y, ya, K, h, thx, out)
     itab = _integrate._readonly(sys.itab)
     ftab = _integrate._readonly(sys.ftab)
-    _integrate._fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, out, np.empty(n))
+    _integrate._fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, out)
     # reference: z' = A z + B a(tau), a the derivative of the body velocity's quartic
     A, B, _, _ = wk_state_space()
     B = np.ravel(B)
     hs = thx * h
-    cf = stf[1 + fzi[4] + nf :].reshape(5, m)[:, 0]
+    cf = stf[1 + fzi[4] + nf : 1 + fzi[4] + nf + 5 * m].reshape(5, m)[:, 0]
     M = np.zeros((12, 12))
     M[:8, :8] = A
     for k in range(4):  # a(tau) = sum (k + 1) cf_(k+1) tau^k / hs^(k+1), tau^k as states
@@ -95,6 +95,12 @@ def test_filter_step_is_exact_for_the_quartic_input(h, thx):
     z0 = np.concatenate([y[slots], [1.0, 0.0, 0.0, 0.0]])
     ref = expm(M * hs) @ z0
     assert np.abs(out[slots] - ref[:8]).max() < 1e-11 * np.abs(ref[:8]).max()
+    # the modes' values kept at the middle node (the peaks' midpoint reads them)
+    mid = np.empty(n)
+    _integrate._dense(y, ya, K, h, 0.5 * thx, mid)
+    _integrate._fz_at(fzi, fzf, fzc, stc, stf, 0.5, mid, np.int64(2))
+    ref_mid = (expm(M * 0.5 * hs) @ z0)[:8]
+    assert np.abs(mid[slots] - ref_mid).max() < 1e-11 * np.abs(ref_mid).max()
     # the quadratures (int a_w^2, int a_w^4): five-node Gauss-Legendre sums of their
     # signals read by the generic observer code on the states at each node (the
     # continuous extension, the filter from the matrix exponential)

@@ -273,10 +273,11 @@ def _dense_terms(y, yt, K, h, i):
 #   S (2 nq x ns): the quadratures' signals (two rows each: a product's two factors)
 #   are Re(S W) + R y over the modes' weighted values W and the states they read
 # a step (:func:`_fz_begin`): stc (complex) the modes' coefficients (ns x (FZ_TERMS +
-#   5)), e^(x theta) at the nodes and the end (ns x 6) and the modes' values there,
-#   weights included (ns x 6, by :func:`_fz_step`); stf (float) the accepted
-#   length, the modes' Taylor terms (ns; 0: particular solution), w0 (nf), the quartic's
-#   coefficients (5 x m)
+#   5)), e^(x theta) at the nodes and the end (ns x 6) and the modes' values at the
+#   middle node and the end, weights included (ns x 6, by :func:`_fz_step`); stf
+#   (float) the accepted length, the modes' Taylor terms (ns; 0: particular solution),
+#   w0 (nf), the quartic's coefficients (5 x m), then scratch of :func:`_fz_nodes`: a
+#   signal's polynomial (FZ_TERMS) and two signals at the nodes (2 x 5)
 
 #: |lam h| below which a filter's mode over a step is summed as its Taylor series in the
 #: step's fraction; above it, as a polynomial particular solution plus e^(lam tau) times
@@ -295,7 +296,7 @@ FZ_HEAD = 5  # fzi's header
 def fz_scratch(fzi):
     """(stc, stf): the scratch of one filter step for the tables ``fzi``."""
     nf, m, ns = fzi[0], fzi[1], fzi[4]
-    return np.zeros(ns * FZ_ST, np.complex128), np.zeros(1 + ns + nf + 5 * m)
+    return np.zeros(ns * FZ_ST, np.complex128), np.zeros(1 + ns + nf + 5 * m + FZ_TERMS + 10)
 
 
 @nb.njit(cache=True, error_model="numpy", _nrt=False)
@@ -406,27 +407,78 @@ def _fz_at(fzi, fzf, fzc, stc, stf, th, out, c):
 
 
 @nb.njit(cache=True, inline="always")
-def _fz_signal(fzf, fzc, stc, yc, m, ns, r, s, w):
-    """A quadrature's signal at a node of the filter's step: Re(S W) + R y, its row of
-    R at fzf[r:], of S at fzc[s:], the states it reads in yc[:m] and the modes'
-    weighted values at stc[w], stc[w + 6], ..."""
-    acc = 0.0
-    for j in range(m):
-        acc += fzf[r + j] * yc[j]
+def _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r, s, nd, v):
+    """A quadrature's signal Re(S W) + R y at the five Gauss nodes of the filter's step
+    into stf[v:v + 5] (its row of R at fzf[r:], of S at fzc[s:]): the modes' series and
+    the quartic of the states it reads summed first into one real polynomial in theta
+    (nd coefficients, in stf after the quartic's), evaluated at the nodes, plus the
+    exponential part of each mode summed as a particular solution (its e^(x theta) at
+    the nodes kept in stc by :func:`_fz_step`)."""
+    cf0 = 1 + ns + nf
+    pc = cf0 + 5 * m
+    om0 = nf * m
+    gx0 = om0 + ns
+    ex0 = ns * FZ_W
+    for k in range(5):
+        acc = 0.0
+        for j in range(m):
+            acc += fzf[r + j] * stf[cf0 + k * m + j]
+        stf[pc + k] = acc
+    for k in range(5, nd):
+        stf[pc + k] = 0.0
+    for i in range(5):
+        stf[v + i] = 0.0
     for p in range(ns):
-        a = fzc[s + p]
-        b = stc[w + 6 * p]
-        acc += a.real * b.real - a.imag * b.imag
-    return acc
+        g = fzc[s + p] * fzf[om0 + p]
+        nt = int(stf[1 + p])
+        rr = p * FZ_W
+        for k in range(nt if nt > 0 else 5):
+            a = stc[rr + k]
+            stf[pc + k] += g.real * a.real - g.imag * a.imag
+        if nt == 0:
+            gd = g * stc[rr + 5]
+            b = ex0 + 6 * p
+            for i in range(5):
+                e = stc[b + i]
+                stf[v + i] += gd.real * e.real - gd.imag * e.imag
+    t0, t1, t2, t3, t4 = fzf[gx0], fzf[gx0 + 1], fzf[gx0 + 2], fzf[gx0 + 3], fzf[gx0 + 4]
+    c = stf[pc + nd - 1]
+    a0, a1, a2, a3, a4 = c, c, c, c, c
+    for k in range(nd - 2, -1, -1):  # the five sums side by side
+        c = stf[pc + k]
+        a0 = a0 * t0 + c
+        a1 = a1 * t1 + c
+        a2 = a2 * t2 + c
+        a3 = a3 * t3 + c
+        a4 = a4 * t4 + c
+    stf[v] += a0
+    stf[v + 1] += a1
+    stf[v + 2] += a2
+    stf[v + 3] += a3
+    stf[v + 4] += a4
+
+
+@nb.njit(cache=True, inline="always")
+def _fz_same(fzf, fzc, m, ns, r, s, r1, s1):
+    """Whether a quadrature's signal (rows at fzf[r:], fzc[s:]) is the one at fzf[r1:],
+    fzc[s1:] (a ride's int a_w^2 and int a_w^4 read one signal)."""
+    for j in range(m):
+        if fzf[r + j] != fzf[r1 + j]:
+            return False
+    for p in range(ns):
+        if fzc[s + p] != fzc[s1 + p]:
+            return False
+    return True
 
 
 @nb.njit(cache=True, error_model="numpy", _nrt=False)
-def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
+def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt):
     """Advance the filter and its quadrature observers over the accepted step theta in
     [0, thx] of the attempt (y, ya, K, h), ending at yt (its other states set): the
     filter exactly, the quadratures (their signals over the filter and the states it
-    reads) by the Gauss-Legendre sums on it. (stc, stf) keep the step for values inside
-    it. ``yd``: scratch of the state's size."""
+    reads) by the Gauss-Legendre sums on it (:func:`_fz_nodes`). (stc, stf) keep the
+    step for values inside it; the modes' values at the middle node and the end are
+    kept for the peaks' midpoint and the step's end."""
     nf, m, nq, ns = fzi[0], fzi[1], fzi[2], fzi[4]
     co = FZ_HEAD + nf
     qu = co + m
@@ -434,10 +486,12 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
     gw0 = gx0 + 5
     _fz_begin(fzi, fzf, fzc, stc, stf, y, ya, K, h, thx)
     hs = stf[0]
-    cf0 = 1 + ns + nf
     ex0 = ns * FZ_W
+    nd = 5  # the coefficients of the signals' polynomials
     for p in range(ns):
-        if stf[1 + p] == 0.0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
+        nt = int(stf[1 + p])
+        nd = max(nd, nt)
+        if nt == 0:  # e^(x theta) at the five nodes, symmetric about 1/2, and at 1
             x = stc[p * FZ_W + 6]
             e0 = np.exp(x * fzf[gx0])
             e1 = np.exp(x * fzf[gx0 + 1])
@@ -450,12 +504,10 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
             stc[b + 3] = e5 / e1 if e1 != 0.0 else 0j
             stc[b + 4] = e5 / e0 if e0 != 0.0 else 0j
             stc[b + 5] = e5
-    # the modes at the five nodes and the end, their six sums side by side (one after
-    # another, each waited on its last operation at every term)
+    # the modes at the middle node and the end, the two sums side by side
     om0 = nf * m
     wv0 = ns * (FZ_W + 6)
-    t0, t1, t2, t3, t4 = fzf[gx0], fzf[gx0 + 1], fzf[gx0 + 2], fzf[gx0 + 3], fzf[gx0 + 4]
-    t5 = 1.0
+    t2 = fzf[gx0 + 2]
     for p in range(ns):
         nt = int(stf[1 + p])
         r = p * FZ_W
@@ -464,59 +516,47 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt, yd):
         else:
             top, j0 = 4, 3
         cf = stc[r + top]
-        w0, w1, w2, w3, w4, w5 = cf, cf, cf, cf, cf, cf
+        w2, w5 = cf, cf
         for j in range(j0, -1, -1):
             cf = stc[r + j]
-            w0 = w0 * t0 + cf
-            w1 = w1 * t1 + cf
             w2 = w2 * t2 + cf
-            w3 = w3 * t3 + cf
-            w4 = w4 * t4 + cf
-            w5 = w5 * t5 + cf
+            w5 = w5 + cf
         if nt == 0:
             b = ex0 + 6 * p
             d = stc[r + 5]
-            w0 += stc[b] * d
-            w1 += stc[b + 1] * d
             w2 += stc[b + 2] * d
-            w3 += stc[b + 3] * d
-            w4 += stc[b + 4] * d
             w5 += stc[b + 5] * d
         om = fzf[om0 + p]
         b = wv0 + 6 * p
-        stc[b] = w0 * om
-        stc[b + 1] = w1 * om
         stc[b + 2] = w2 * om
-        stc[b + 3] = w3 * om
-        stc[b + 4] = w4 * om
         stc[b + 5] = w5 * om
     ob = itab[I_OBS]
     r0 = gw0 + 5  # R in fzf, S in fzc
     s0 = ns + 2 * nf * ns + ns * m
+    va = 1 + ns + nf + 5 * m + FZ_TERMS  # the signals at the nodes, in stf
+    vb = va + 5
     for q in range(nq):
-        yt[itab[ob + OBS_W * fzi[qu + q] + 3]] = 0.0
-    for p in range(5):
-        th = fzf[gx0 + p]
-        for j in range(m):  # the states the filter and its quadratures read, into yd
-            acc = stf[cf0 + 4 * m + j]
-            for k in range(3, -1, -1):
-                acc = acc * th + stf[cf0 + k * m + j]
-            yd[j] = acc
-        for q in range(nq):
-            bo = ob + OBS_W * fzi[qu + q]
-            a = _fz_signal(fzf, fzc, stc, yd, m, ns, r0 + 2 * q * m, s0 + 2 * q * ns, wv0 + p)
-            if itab[bo] == OBS_SQUARE:
+        bo = ob + OBS_W * fzi[qu + q]
+        kind = itab[bo]
+        if q == 0 or not _fz_same(fzf, fzc, m, ns, r0 + 2 * q * m, s0 + 2 * q * ns, r0 + 2 * (q - 1) * m,
+                                  s0 + 2 * (q - 1) * ns):  # fmt: skip
+            _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r0 + 2 * q * m, s0 + 2 * q * ns, nd, va)
+        if kind != OBS_SQUARE and kind != OBS_FOURTH:
+            _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r0 + (2 * q + 1) * m, s0 + (2 * q + 1) * ns,
+                      nd, vb)  # fmt: skip
+        acc = 0.0
+        for p in range(5):
+            a = stf[va + p]
+            if kind == OBS_SQUARE:
                 v = a * a
-            elif itab[bo] == OBS_FOURTH:
+            elif kind == OBS_FOURTH:
                 v = a * a
                 v = v * v
             else:
-                v = a * _fz_signal(fzf, fzc, stc, yd, m, ns, r0 + (2 * q + 1) * m,
-                                   s0 + (2 * q + 1) * ns, wv0 + p)  # fmt: skip
-            yt[itab[bo + 3]] += fzf[gw0 + p] * v
-    for q in range(nq):
-        s = itab[ob + OBS_W * fzi[qu + q] + 3]
-        yt[s] = y[s] + hs * yt[s]
+                v = a * stf[vb + p]
+            acc += fzf[gw0 + p] * v
+        slot = itab[bo + 3]
+        yt[slot] = y[slot] + hs * acc
     _fz_at(fzi, fzf, fzc, stc, stf, 1.0, yt, np.int64(5))
 
 
@@ -1398,12 +1438,12 @@ def _advance_run(ev, mode, segs, rng, t, t_end, y, h, last, itab, ftab, imp, roa
             forced = -1
         if err <= 1.0 and nfz > 0:  # the filter over the accepted step, exactly
             if thx < 1.0:
-                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yx, K, hx, thx, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yx, K, hx, thx, yt)
                 for kk in range(kstart, k):  # the samples the cut step wrote
                     _fz_sample(fzi, fzf, fzc, stc, stf, itab, (t_out[kk] - t) / h, y, yt,
                                out_y[kk])  # fmt: skip
             else:
-                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yt, K, h, 1.0, yt, yd)
+                _fz_step(fzi, fzf, fzc, stc, stf, itab, y, yt, K, h, 1.0, yt)
         if err <= 1.0:
             stats[0] += 1
             # dense output on (t, tn] (a step cut at a crossing wrote its own)
