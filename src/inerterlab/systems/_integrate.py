@@ -538,12 +538,11 @@ def _fz_step(fzi, fzf, fzc, stc, stf, itab, y, ya, K, h, thx, yt):
     for q in range(nq):
         bo = ob + OBS_W * fzi[qu + q]
         kind = itab[bo]
-        if q == 0 or not _fz_same(fzf, fzc, m, ns, r0 + 2 * q * m, s0 + 2 * q * ns, r0 + 2 * (q - 1) * m,
-                                  s0 + 2 * (q - 1) * ns):  # fmt: skip
-            _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r0 + 2 * q * m, s0 + 2 * q * ns, nd, va)
-        if kind != OBS_SQUARE and kind != OBS_FOURTH:
-            _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r0 + (2 * q + 1) * m, s0 + (2 * q + 1) * ns,
-                      nd, vb)  # fmt: skip
+        for f in range(1 if kind == OBS_SQUARE or kind == OBS_FOURTH else 2):  # its factors
+            r = r0 + (2 * q + f) * m
+            c = s0 + (2 * q + f) * ns
+            if f == 1 or q == 0 or not _fz_same(fzf, fzc, m, ns, r, c, r - 2 * m, c - 2 * ns):
+                _fz_nodes(fzf, fzc, stc, stf, m, ns, nf, r, c, nd, va + 5 * f)
         acc = 0.0
         for p in range(5):
             a = stf[va + p]
