@@ -11,7 +11,7 @@ from scipy.integrate import solve_ivp
 
 from inerterlab.elements import AdaptiveFlywheelInerter
 from inerterlab.elements.adaptive_flywheel import flywheel_inertance, flywheel_switch
-from inerterlab.excitation import iso8608, sine
+from inerterlab.excitation import bump, drop, iso8608, sine
 from inerterlab.systems import QUARTER_CAR_PRESETS, quarter_car
 from inerterlab.systems._integrate import road_at
 
@@ -239,3 +239,48 @@ def test_regime_tables_kept_per_road_and_bounded():
         car.simulate(sine(0.05, 5.0 + 0.1 * (k + 1)), T)
     assert len(kept) == core.REGIME_TABLES_KEPT
     assert all(v is not first for v in kept.values())
+
+
+@pytest.mark.parametrize(
+    "ex",
+    [drop(), bump(), bump(shape="1-cos"), bump(edge="half-cosine", edge_width=0.005)],
+    ids=["drop", "bump", "1-cos bump", "half-cosine edges"],
+)
+def test_no_regime_steps_where_the_car_decays_freely(ex):
+    """A road that stops driving the car early in the horizon (its last segment a
+    constant rate from before half the horizon): ``auto`` takes no exact steps in the
+    flywheel's regime, so it is the adaptive run to the last bit, and builds no tables;
+    the linear car still takes exact steps throughout."""
+    car = quarter_car("afw")
+    T = 2.0
+    a = car.simulate(ex, T)
+    b = car.simulate(ex, T, method="adaptive")
+    assert a.stats["exact_steps"] == 0
+    assert np.array_equal(a.states, b.states) and a.metrics == b.metrics
+    assert not car.info["ride_system"].info.get("regime_tables")
+    lin = quarter_car("cfw").simulate(ex, T)
+    assert lin.stats["exact_steps"] > 0
+
+
+def test_regime_steps_where_the_road_drives_the_car():
+    """The rule of :func:`core._regime_pays` on the road's last segment: a sine, or a
+    constant rate that starts past half the horizon (a bump late in the horizon, a
+    sampled road), takes exact steps; a bump at its start does not."""
+    from inerterlab.systems.core import REGIME_FREE_DECAY, _regime_pays
+
+    car = quarter_car("afw")
+    T = 1.0
+    late = bump(start=0.6 * T)
+    assert car.simulate(late, T).stats["exact_steps"] > 0
+    assert car.simulate(bump(start=0.1 * T), T).stats["exact_steps"] == 0
+    ride = car.info["ride_system"]
+    for ex, want in ((sine(), True), (iso8608("E", 1.0, seed=1), True), (drop(), False)):
+        segs = np.ascontiguousarray(ex.prepared(T).segments, float)
+        assert _regime_pays(ride, segs, T) is want
+    # the boundary: a last edge just past the fraction drives, at it does not
+    for t_edge, want in (
+        (REGIME_FREE_DECAY * T, False),
+        (np.nextafter(REGIME_FREE_DECAY * T, 1.0), True),
+    ):
+        segs = np.array([[0.0, t_edge, 0.0, 0.0, 0.1], [t_edge, np.inf, 0.0, 0.0, 0.0]])
+        assert _regime_pays(ride, segs, T) is want

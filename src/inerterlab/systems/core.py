@@ -1062,7 +1062,7 @@ def _simulate(
             ts_walk = walk
         if method == "auto" and plan[0].size > EXACT_MAX_STEP_SIZES:
             plan = None
-    elif sys.n_states and method == "auto" and _regime_system(sys) is not None:
+    elif sys.n_states and method == "auto" and _regime_pays(sys, segs, T):
         regime = _regime_tables_for(sys, segs, T, ts)
     jump_tol = road.jump_tolerance
     jumps = np.zeros(len(segs))
@@ -1468,6 +1468,30 @@ _NO_REGIME = (
 )  # fmt: skip
 #: at most this many sine frequencies get tables of exact steps in one run
 REGIME_MAX_CLASSES = 4
+#: ``auto`` takes no exact steps in the linear regimes where the road stops driving the
+#: car within this fraction of the horizon (:func:`_road_drives`)
+REGIME_FREE_DECAY = 0.5
+
+
+def _regime_pays(sys, segs, T) -> bool:
+    """Whether ``auto`` takes exact steps in the linear regimes of ``sys`` on the road
+    ``segs`` over the horizon T: where the system has such regimes, and, where it has a
+    nonlinear element (a regime it leaves), where the road drives it past
+    :data:`REGIME_FREE_DECAY` of the horizon: the road's last segment that starts
+    before T is a sine, a measured drive or several roads, or a constant rate that
+    starts past that fraction (a sampled road's last sample). Otherwise (a drop, a bump,
+    a ramp) the car decays freely over most of the horizon, its flywheel leaves
+    saturation for good in the first transient, and the exact steps there replace a few
+    dozen adaptive steps (0.1-0.3 ms of the `afw` car's 10 s) against 1-2 ms to build
+    their tables for a new car (docs/decisions.md, stop 67). A linear system sits in
+    its regime throughout: exact steps always."""
+    reg = _regime_system(sys)
+    if reg is None:
+        return False
+    if reg[4].size == 0:
+        return True
+    i = max(int(np.searchsorted(segs[:, 0], T, side="left")) - 1, 0)
+    return bool(segs[i, 2] != 0.0 or segs[i, 0] > REGIME_FREE_DECAY * T)
 
 
 def _regime_system(sys):
