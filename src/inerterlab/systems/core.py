@@ -1485,13 +1485,11 @@ def _regime_pays(sys, segs, T) -> bool:
     dozen adaptive steps (0.1-0.3 ms of the `afw` car's 10 s) against 1-2 ms to build
     their tables for a new car (docs/decisions.md, stop 67). A linear system sits in
     its regime throughout: exact steps always."""
-    reg = _regime_system(sys)
-    if reg is None:
-        return False
-    if reg[4].size == 0:
-        return True
-    i = max(int(np.searchsorted(segs[:, 0], T, side="left")) - 1, 0)
-    return bool(segs[i, 2] != 0.0 or segs[i, 0] > REGIME_FREE_DECAY * T)
+    if not sys.linear:  # (the road first: a sweep's drops build no regime system)
+        i = max(int(np.searchsorted(segs[:, 0], T, side="left")) - 1, 0)
+        if segs[i, 2] == 0.0 and segs[i, 0] <= REGIME_FREE_DECAY * T:
+            return False
+    return _regime_system(sys) is not None
 
 
 def _regime_system(sys):
