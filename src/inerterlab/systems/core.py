@@ -1469,7 +1469,7 @@ _NO_REGIME = (
 #: at most this many sine frequencies get tables of exact steps in one run
 REGIME_MAX_CLASSES = 4
 #: ``auto`` takes no exact steps in the linear regimes where the road stops driving the
-#: car within this fraction of the horizon (:func:`_road_drives`)
+#: car within this fraction of the horizon (:func:`_regime_pays`)
 REGIME_FREE_DECAY = 0.5
 
 
