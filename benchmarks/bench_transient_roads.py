@@ -22,6 +22,7 @@ the ratio forced / auto (the speed-up, above 1 where the rule pays).
 from __future__ import annotations
 
 import argparse
+import contextlib
 import os
 import statistics
 import time
@@ -40,6 +41,16 @@ KEYS = ("rms_body_acc", "rms_tyre_grip", "rms_body_acc_wk", "vdv", "peak_body_ac
 RULE = core.REGIME_FREE_DECAY
 
 
+@contextlib.contextmanager
+def regime_steps(forced: bool):
+    """The rule (``forced`` False) or the regime steps on every road, restored after."""
+    core.REGIME_FREE_DECAY = -1.0 if forced else RULE
+    try:
+        yield
+    finally:
+        core.REGIME_FREE_DECAY = RULE
+
+
 _MASSES = iter(340.0 + 1e-3 * i for i in range(10**6))
 
 
@@ -47,28 +58,22 @@ def runs_of(ex, runs: int, fresh: bool, forced: bool) -> float:
     """CPU median of ``runs`` metric runs of the `afw` car on ``ex``; ``fresh``: a new
     car at every run, of a sprung mass no run has had before in this process (the
     process keeps tables by their content: a car met again would find them)."""
-    core.REGIME_FREE_DECAY = -1.0 if forced else RULE
-    try:
-        times = []
-        car = quarter_car("afw", sprung_mass=370.0)
+    times = []
+    car = quarter_car("afw", sprung_mass=370.0)
+    with regime_steps(forced):
         for _ in range(runs + 3):
             if fresh:  # a new car: its regime system and tables are built again
                 car = quarter_car("afw", sprung_mass=next(_MASSES))
             c = time.process_time()
             simulate_metrics(car, ex, T)
             times.append(time.process_time() - c)
-        return statistics.median(times[3:])  # the first runs load the compiled code
-    finally:
-        core.REGIME_FREE_DECAY = RULE
+    return statistics.median(times[3:])  # the first runs load the compiled code
 
 
 def error(car, ex, forced: bool, ref: dict) -> tuple[float, dict]:
-    core.REGIME_FREE_DECAY = -1.0 if forced else RULE
-    try:
+    with regime_steps(forced):
         m = simulate_metrics(car, ex, T)
         stats = simulate(car, ex, T, output="metrics").stats
-    finally:
-        core.REGIME_FREE_DECAY = RULE
     # (a metric that is not finite across a road step is None both ways)
     return max(abs(m[k] - ref[k]) / abs(ref[k]) for k in KEYS if ref[k] is not None), stats
 
