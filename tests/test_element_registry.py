@@ -19,7 +19,9 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from inerterlab.elements import ELEMENTS, ElementBase, Param, element_class, register
+from inerterlab.elements import (
+    ELEMENTS, GAUSSIAN_ROWS, ElementBase, Param, element_class, register,
+)  # fmt: skip
 from inerterlab.elements._base import DAMPER, SPRING
 from inerterlab.excitation import drive_series, sine
 from inerterlab.networks import admittance_at, linearise, parse_network
@@ -159,6 +161,29 @@ def test_element_declares_itself(prefix):
         net = parse_network(text)
         assert net.is_linear and set(net.names) == set(values)
         assert all(v > 0 for v in values.values())
+
+
+@pytest.mark.parametrize("prefix", PREFIXES)
+def test_primitive_has_its_gaussian_linearisation(prefix):
+    """Every primitive's kernel law says how the statistical linearisation treats its
+    rows (GAUSSIAN_ROWS, by code: nothing about an element outside elements/), what
+    the equivalent depends on agrees with the element's role, and a law's equivalent
+    row of a gain has that gain as its slope at rest (the round trip the linearised
+    car relies on)."""
+    cls = ELEMENTS[prefix]
+    if cls.ROLE == "composite":
+        assert cls.code is None
+        return
+    law = GAUSSIAN_ROWS[cls.code]
+    assert law.code == cls.code
+    role = {"elastic": "displacement", "dissipative": "velocity", "inertial": "acceleration"}
+    assert law.argument == role[cls.ROLE]
+    row = cls.from_value(prefix, _example(prefix)).row()
+    if law.keeps_law(row) or law.refusal(row, cls.description) is not None:
+        return
+    for gain in (0.37, 1234.5):
+        eq = law.equivalent_row(row, gain)
+        assert law.gain(eq, 0.0, None) == pytest.approx(gain, rel=1e-12)
 
 
 # --------------------------------------------------- rig: force about rest

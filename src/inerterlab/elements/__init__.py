@@ -17,26 +17,29 @@ import functools
 import re
 
 from ..errors import NetworkError
-from ._base import UNIT_QUANTITY, ElementBase, Param
-from .adaptive_flywheel import AdaptiveFlywheelInerter, inertia_law
+from ._base import UNIT_QUANTITY, ElementBase, GaussianRow, Param
+from .adaptive_flywheel import AdaptiveFlywheelInerter, FlywheelGaussian, inertia_law
 from .asymmetric_damper import AsymmetricDamper
 from .backlash import Backlash
 from .bearing_drag import BearingDrag
 from .bump_stop import BumpStop
-from .damper import Damper
+from .damper import Damper, DamperGaussian
 from .fluid_inerter import FluidInerter
-from .friction import Friction
+from .friction import Friction, FrictionGaussian
 from .gas_spring import GasSpring
 from .hydraulic import HydraulicElement
-from .inerter import Inerter
+from .inerter import Inerter, InerterGaussian
 from .one_way_clutch import OneWayClutch
 from .rectifier import RectifierElement
 from .screw import ScrewElement
 from .screw_backlash import ScrewContact
-from .spring import Spring
+from .spring import Spring, SpringGaussian
+from .tyre import TyreGaussian
 
 __all__ = [
     "ELEMENTS",
+    "GAUSSIAN_ROWS",
+    "GaussianRow",
     "ElementBase",
     "Param",
     "UNIT_QUANTITY",
@@ -61,6 +64,17 @@ __all__ = [
     "OneWayClutch",
     "ScrewContact",
 ]
+
+#: the statistical linearisation of each kernel law's rows, by code (:class:`GaussianRow`;
+#: :mod:`inerterlab.systems.gaussian` reads it): a kernel law not here has no Gaussian
+#: equivalent
+GAUSSIAN_ROWS: dict[int, type[GaussianRow]] = {
+    g.code: g
+    for g in (
+        SpringGaussian, DamperGaussian, FrictionGaussian, InerterGaussian, FlywheelGaussian,
+        TyreGaussian,
+    )
+}  # fmt: skip
 
 ELEMENTS: dict[str, type[ElementBase]] = {
     "k": Spring,

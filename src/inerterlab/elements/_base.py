@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_range, check_physical
 
-__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
+__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "GaussianRow", "NO_GAUSSIAN_EQUIVALENT", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
 
 #: floats per primitive element row in the compiled tables
 NPAR = 18
@@ -52,6 +52,70 @@ UNIT_QUANTITY = {
     "N m s/rad": "rotary damping",
 }
 assert all(PHYSICAL_RANGES[q][2] == u for u, q in UNIT_QUANTITY.items())
+
+
+#: why an element has no Gaussian equivalent when its kernel law gives none (states or
+#: contact rules of its own)
+NO_GAUSSIAN_EQUIVALENT = (
+    "an element without states or contact rules of its own for the statistical "
+    "linearisation (springs, dampers, friction, adaptive inerters); the Monte "
+    "Carlo of the time simulation takes it"
+)
+
+
+class GaussianRow:
+    """The Gaussian-equivalent (statistical) linearisation of the rows of one kernel law
+    (one ``code``), from the law's own compiled force function: what
+    :mod:`inerterlab.systems.gaussian` reads of a primitive element (its registry:
+    :data:`inerterlab.elements.GAUSSIAN_ROWS`). A row that is not linear is linearised
+    about a zero-mean Gaussian ``argument`` (``"displacement"``, ``"velocity"``, or
+    ``"acceleration"`` for an inertance); for an elastic or dissipative law the
+    equivalent is E[x F(x)] / sigma^2 (Stein's lemma) from :meth:`force_law`, the slope at
+    rest for sigma = 0. A kernel law without one has no Gaussian equivalent."""
+
+    #: the kernel code whose rows these are
+    code: ClassVar[int] = -1
+    #: what the equivalent depends on (top minus bottom)
+    argument: ClassVar[str] = ""
+
+    @classmethod
+    def keeps_law(cls, row) -> bool:
+        """Whether the row is linear at every motion (it keeps its law)."""
+        return False
+
+    @classmethod
+    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+        """(the value named, what is expected) where the row has no Gaussian equivalent,
+        else None."""
+        return None
+
+    @classmethod
+    def force_law(cls, row):
+        """(F(x) [N] as a function of the argument, the kinks of the law to split the
+        quadrature at)."""
+        raise NotImplementedError
+
+    @classmethod
+    def slope_at_rest(cls, row) -> float:
+        """dF/dx at rest (the equivalent for sigma = 0)."""
+        raise NotImplementedError
+
+    @classmethod
+    def gain(cls, row, sigma: float, expect) -> float:
+        """The equivalent (k_eq, c_eq or b_eq) under a zero-mean Gaussian argument of
+        standard deviation ``sigma``; ``expect(f, sigma, kinks)`` = E[f(x)]."""
+        if sigma <= 0.0:
+            return float(cls.slope_at_rest(row))
+        law, kinks = cls.force_law(row)
+        return expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
+
+    @classmethod
+    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+        """A row of this law whose linearisation about rest is ``gain``: the one
+        coefficient of a linear row."""
+        out = np.zeros(NPAR)
+        out[0] = gain
+        return out
 
 
 @dataclass(frozen=True)

@@ -22,6 +22,7 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numba as nb
+import numpy as np
 
 from ..errors import ParameterError
 from ..flywheels import FLYWHEEL_PRESETS, INERTIA_LAWS, AdaptiveFlywheel
@@ -29,10 +30,11 @@ from ..flywheels import flywheel as make_flywheel
 from ..slider_dynamics import SliderDynamics, slider_state_derivative
 from ..transmissions import FORCE_LAWS
 from ..transmissions import hydraulic as hydraulic_transmission
-from ._base import FLYWHEEL, ElementBase, Param
+from ._base import FLYWHEEL, NO_GAUSSIAN_EQUIVALENT, NPAR, ElementBase, GaussianRow, Param
 
 __all__ = [
     "AdaptiveFlywheelInerter",
+    "FlywheelGaussian",
     "inertia_law",
     "flywheel_inertance",
     "flywheel_switch",
@@ -131,6 +133,42 @@ def slider_derivative(tab, o, l, ld, v):
         tab[o + 12], tab[o + 13],
     )
     return ldd
+
+
+class FlywheelGaussian(GaussianRow):
+    """The adaptive-flywheel row (force m_e(v) a, laws ``thesis`` and ``momentum``):
+    b_eq = E[m_e(v)] (v and a independent in a stationary response, so E[m_e(v) a^2] /
+    E[a^2] = E[m_e(v)]), the quadrature split at the saturation speed; the equivalent a
+    row of constant inertance b_eq. Sliders with dynamics, a one-way clutch and a ball
+    screw's contact rule (states or contact rules of their own) have none."""
+
+    code = FLYWHEEL
+    argument = "acceleration"
+
+    @classmethod
+    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+        from ._inertial import CLUTCH, GATED
+
+        if row[14] in (CLUTCH, GATED) or row[0] == 2.0:
+            return description, NO_GAUSSIAN_EQUIVALENT
+        return None
+
+    @classmethod
+    def gain(cls, row, sigma: float, expect) -> float:
+        if sigma <= 0.0:
+            return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
+        sat = row[8] / row[1] if row[1] else 0.0  # the saturation's relative speed
+        return expect(lambda v: flywheel_inertance(row, 0, v, 0.0, 0.0)[0], sigma, (sat, -sat))
+
+    @classmethod
+    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+        """No slider term, I_rest = b_eq / r^2."""
+        out = np.zeros(NPAR)
+        out[:] = row
+        out[0] = 0.0
+        out[2] = gain / (row[1] * row[1])
+        out[3] = 0.0
+        return out
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import DAMPER, ElementBase, Param
+from ._base import DAMPER, ElementBase, GaussianRow, Param
 
-__all__ = ["Damper", "damper_force"]
+__all__ = ["Damper", "DamperGaussian", "damper_force"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -23,6 +23,22 @@ def damper_force(tab, o, v):
     a = abs(v)
     c, c2 = tab[o], tab[o + 1]
     return c * v + c2 * v * a, c + 2.0 * c2 * a
+
+
+class DamperGaussian(GaussianRow):
+    """The damper row (quadratic, asymmetric, bearing drag): c_eq on its own law; the
+    equivalent a linear damper row."""
+
+    code = DAMPER
+    argument = "velocity"
+
+    @classmethod
+    def force_law(cls, row):
+        return (lambda v: damper_force(row, 0, v)[0]), ()
+
+    @classmethod
+    def slope_at_rest(cls, row) -> float:
+        return damper_force(row, 0, 0.0)[1]
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -15,10 +15,11 @@ import math
 from dataclasses import dataclass
 
 import numba as nb
+import numpy as np
 
-from ._base import FRICTION, ElementBase, Param
+from ._base import FRICTION, NPAR, ElementBase, GaussianRow, Param
 
-__all__ = ["Friction", "friction_force"]
+__all__ = ["Friction", "FrictionGaussian", "friction_force"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -26,6 +27,29 @@ def friction_force(force, v_eps, v):
     """(F, dF/dv) of the regularised friction at relative velocity v [m/s]."""
     th = math.tanh(v / v_eps)
     return force * th, force / v_eps * (1.0 - th * th)
+
+
+class FrictionGaussian(GaussianRow):
+    """The friction row: c_eq on its own law, the quadrature split at +-v_eps; the
+    equivalent a friction row of the same v_eps whose slope at rest F_c / v_eps is
+    c_eq."""
+
+    code = FRICTION
+    argument = "velocity"
+
+    @classmethod
+    def force_law(cls, row):
+        return (lambda v: friction_force(row[0], row[1], v)[0]), (row[1], -row[1])
+
+    @classmethod
+    def slope_at_rest(cls, row) -> float:
+        return friction_force(row[0], row[1], 0.0)[1]
+
+    @classmethod
+    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+        out = np.zeros(NPAR)
+        out[0], out[1] = gain * row[1], row[1]  # slope at rest F_c / v_eps = c_eq
+        return out
 
 
 @dataclass(frozen=True, kw_only=True)

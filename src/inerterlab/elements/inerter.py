@@ -7,15 +7,26 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import INERTER, ElementBase, Param
+from ._base import INERTER, ElementBase, GaussianRow, Param
 
-__all__ = ["Inerter", "inerter_inertance"]
+__all__ = ["Inerter", "InerterGaussian", "inerter_inertance"]
 
 
 @nb.njit(cache=True, error_model="numpy")
 def inerter_inertance(tab, o):
     """b [kg]: F = b (a_top - a_bottom)."""
     return tab[o]
+
+
+class InerterGaussian(GaussianRow):
+    """The ideal inerter's row: linear, it keeps its law."""
+
+    code = INERTER
+    argument = "acceleration"
+
+    @classmethod
+    def keeps_law(cls, row) -> bool:
+        return True
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import SPRING, ElementBase, Param
+from ._base import SPRING, ElementBase, GaussianRow, Param
 from .bump_stop import BUMP_LAW, bump_force
 from .gas_spring import GAS_LAW, gas_force
 
-__all__ = ["Spring", "spring_force", "spring_slope", "spring_switch"]
+__all__ = ["Spring", "SpringGaussian", "spring_force", "spring_slope", "spring_switch"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -66,6 +66,29 @@ def spring_switch(tab, o, x):
     if tab[o + 2] == BUMP_LAW:
         return x + tab[o + 3] + g
     return abs(x) - g
+
+
+class SpringGaussian(GaussianRow):
+    """The elastic row (springs, backlash, gas springs, bump stops): k_eq on its own law,
+    the quadrature split at a free play's ends and at a bump stop's contact; the
+    equivalent a linear spring row."""
+
+    code = SPRING
+    argument = "displacement"
+
+    @classmethod
+    def force_law(cls, row):
+        if row[2] == BUMP_LAW:
+            kinks = (-(row[3] + row[1]),)  # the contact (spring_switch)
+        elif row[2] != GAS_LAW and row[1] > 0.0:
+            kinks = (row[1], -row[1])  # a free play's ends
+        else:
+            kinks = ()
+        return (lambda y: spring_force(row, 0, y)), kinks
+
+    @classmethod
+    def slope_at_rest(cls, row) -> float:
+        return spring_slope(row, 0, 0.0)
 
 
 @dataclass(frozen=True, kw_only=True)

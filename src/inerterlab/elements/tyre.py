@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import TYRE, ElementBase, Param
+from ._base import TYRE, ElementBase, GaussianRow, Param
 
-__all__ = ["Tyre", "tyre_force", "tyre_switch"]
+__all__ = ["Tyre", "TyreGaussian", "tyre_force", "tyre_switch"]
 
 
 @nb.njit(cache=True, inline="always")
@@ -46,6 +46,29 @@ def tyre_switch(tab, o, x, v):
     if math.isinf(tab[o + 2]):
         return 1.0
     return tab[o + 2] - tab[o] * x - tab[o + 1] * v
+
+
+class TyreGaussian(GaussianRow):
+    """The tyre's row: one that always presses keeps its (linear) law; one that lifts
+    off has no Gaussian equivalent (its lift-off probability is the Gaussian tail of
+    its load)."""
+
+    code = TYRE
+    argument = "displacement"
+
+    @classmethod
+    def keeps_law(cls, row) -> bool:
+        return not math.isfinite(row[2])
+
+    @classmethod
+    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+        if math.isfinite(row[2]):
+            return (
+                "a tyre that lifts off",
+                "a tyre that always presses for the statistical linearisation (its "
+                "lift-off probability is the Gaussian tail of its load)",
+            )
+        return None
 
 
 @dataclass(frozen=True, kw_only=True)

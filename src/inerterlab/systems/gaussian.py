@@ -57,7 +57,7 @@ import math
 
 import numpy as np
 
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE
+from ..elements._base import NO_GAUSSIAN_EQUIVALENT, NPAR
 from ..errors import ParameterError
 from . import _kernel
 from ._kernel import ELEM_W
@@ -95,10 +95,11 @@ def _row(sys, e: int) -> np.ndarray:
     return np.array(ftab[o : o + NPAR], dtype=float)
 
 
-def _argument(code: int) -> str:
-    return "displacement" if code == SPRING else (
-        "velocity" if code in (DAMPER, FRICTION) else "acceleration"
-    )  # fmt: skip
+def _law(sys, e: int):
+    """The statistical linearisation of element ``e``'s kernel law (None: it has none)."""
+    from ..elements import GAUSSIAN_ROWS
+
+    return GAUSSIAN_ROWS.get(sys.elements[e].code)
 
 
 def nonlinear_elements(sys) -> list[tuple[int, str, str]]:
@@ -106,31 +107,20 @@ def nonlinear_elements(sys) -> list[tuple[int, str, str]]:
     linear, the argument its equivalent depends on (``displacement``, ``velocity`` or
     ``acceleration`` for an inertance); ParameterError naming an element that has no
     Gaussian equivalent (module docstring)."""
-    from ..elements._inertial import CLUTCH, GATED
-
     out = []
     for e, (name, el) in enumerate(zip(sys.element_names, sys.elements, strict=True)):
-        code = el.code
+        if el.is_linear:
+            continue
+        law = _law(sys, e)
         row = _row(sys, e)
-        if code == INERTER or el.is_linear:
+        if law is not None and law.keeps_law(row):
             continue
-        if code == TYRE:
-            if math.isfinite(row[2]):
-                raise ParameterError(
-                    name, "a tyre that lifts off",
-                    "a tyre that always presses for the statistical linearisation (its "
-                    "lift-off probability is the Gaussian tail of its load)",
-                )  # fmt: skip
-            continue
-        own = code == FLYWHEEL and (row[14] in (CLUTCH, GATED) or row[0] == 2.0)
-        if code not in (SPRING, DAMPER, FRICTION, FLYWHEEL) or own:
-            raise ParameterError(
-                name, el.description,
-                "an element without states or contact rules of its own for the statistical "
-                "linearisation (springs, dampers, friction, adaptive inerters); the Monte "
-                "Carlo of the time simulation takes it",
-            )  # fmt: skip
-        out.append((e, name, _argument(code)))
+        why = (el.description, NO_GAUSSIAN_EQUIVALENT) if law is None else (
+            law.refusal(row, el.description)
+        )  # fmt: skip
+        if why is not None:
+            raise ParameterError(name, *why)
+        out.append((e, name, law.argument))
     return out
 
 
@@ -138,39 +128,16 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
     """The Gaussian equivalent of element ``e`` of ``sys`` whose argument (see
     :func:`nonlinear_elements`) is zero-mean Gaussian of standard deviation ``sigma``
     [m, m/s; for an inertance the relative velocity's]: k_eq [N/m], c_eq [N s/m] or
-    b_eq [kg] (module docstring). ``sigma`` = 0 gives the slope at rest."""
-    from ..elements.adaptive_flywheel import flywheel_inertance
-    from ..elements.damper import damper_force
-    from ..elements.friction import friction_force
-    from ..elements.spring import spring_force, spring_slope
-
-    code = sys.elements[e].code
+    b_eq [kg] (module docstring), from its kernel law's own
+    (:class:`~inerterlab.elements.GaussianRow`). ``sigma`` = 0 gives the slope at rest."""
+    law = _law(sys, e)
     row = _row(sys, e)
-    if code == FLYWHEEL:
-        if sigma <= 0.0:
-            return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
-        sat = row[8] / row[1] if row[1] else 0.0  # the saturation's relative speed
-        return _expect(lambda v: flywheel_inertance(row, 0, v, 0.0, 0.0)[0], sigma, (sat, -sat))
-    kinks: tuple = ()
-    if code == SPRING:
-        from ..elements.bump_stop import BUMP_LAW
-        from ..elements.gas_spring import GAS_LAW
-
-        if row[2] == BUMP_LAW:
-            kinks = (-(row[3] + row[1]),)  # the contact (spring_switch)
-        elif row[2] != GAS_LAW and row[1] > 0.0:
-            kinks = (row[1], -row[1])  # a free play's ends
-        if sigma <= 0.0:
-            return float(spring_slope(row, 0, 0.0))
-
-        def law(y):
-            return spring_force(row, 0, y)
-    else:
-        if sigma <= 0.0:
-            return float(damper_force(row, 0, 0.0)[1] if code == DAMPER
-                         else friction_force(row[0], row[1], 0.0)[1])  # fmt: skip
-        law, kinks = _velocity_law(sys, e)
-    val = _expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
+    if law is None or law.keeps_law(row):
+        raise ParameterError(
+            sys.element_names[e], sys.elements[e].description,
+            "an element with a Gaussian equivalent (nonlinear_elements)",
+        )  # fmt: skip
+    val = law.gain(row, sigma, _expect)
     if not math.isfinite(val):
         raise ParameterError(
             sys.element_names[e], f"standard deviation {sigma:.4g}",
@@ -183,19 +150,13 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
 def _velocity_law(sys, e: int):
     """The force law F(v) [N] of the dissipative element ``e`` (a damper or friction
     row) and its kinks, from its compiled force function."""
-    from ..elements.damper import damper_force
-    from ..elements.friction import friction_force
-
-    code = sys.elements[e].code
-    row = _row(sys, e)
-    if code == DAMPER:
-        return (lambda v: damper_force(row, 0, v)[0]), ()
-    if code == FRICTION:
-        return (lambda v: friction_force(row[0], row[1], v)[0]), (row[1], -row[1])
-    raise ParameterError(
-        sys.element_names[e], sys.elements[e].description,
-        "a damper or friction (an element whose force depends on its velocity)",
-    )  # fmt: skip
+    law = _law(sys, e)
+    if law is None or law.argument != "velocity":
+        raise ParameterError(
+            sys.element_names[e], sys.elements[e].description,
+            "a damper or friction (an element whose force depends on its velocity)",
+        )  # fmt: skip
+    return law.force_law(_row(sys, e))
 
 
 def mean_force(sys, e: int, sigma: float) -> float:
@@ -210,24 +171,6 @@ def mean_force(sys, e: int, sigma: float) -> float:
     return _expect(law, sigma, kinks)
 
 
-def _equivalent_row(sys, e: int, gain: float) -> np.ndarray:
-    code = sys.elements[e].code
-    old = _row(sys, e)
-    row = np.zeros(NPAR)
-    if code == SPRING:
-        row[0] = gain
-    elif code == DAMPER:
-        row[0] = gain
-    elif code == FRICTION:
-        row[0], row[1] = gain * old[1], old[1]  # slope at rest F_c / v_eps = c_eq
-    else:  # a flywheel row of constant inertance: no slider term, I_rest = b_eq / r^2
-        row[:] = old
-        row[0] = 0.0
-        row[2] = gain / (old[1] * old[1])
-        row[3] = 0.0
-    return row
-
-
 def equivalent_system(sys, gains: dict):
     """``sys`` with element ``e`` replaced, for every ``e`` in ``gains``, by a row of its
     own kernel law whose linearisation about rest is the gain (module docstring); the
@@ -240,7 +183,7 @@ def equivalent_system(sys, gains: dict):
         ft = np.array(ftab, dtype=float, copy=True)
         for e, g in gains.items():
             o = int(itab[eo + ELEM_W * e + 3])
-            ft[o : o + NPAR] = _equivalent_row(sys, e, float(g))
+            ft[o : o + NPAR] = _law(sys, e).equivalent_row(_row(sys, e), float(g))
         ft.setflags(write=False)
         return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))
 
