@@ -20,7 +20,12 @@ import numpy as np
 import pytest
 
 from inerterlab.elements import (
-    ELEMENTS, GAUSSIAN_ROWS, ElementBase, Param, element_class, register,
+    ELEMENTS,
+    GAUSSIAN_ROWS,
+    ElementBase,
+    Param,
+    element_class,
+    register,
 )  # fmt: skip
 from inerterlab.elements._base import DAMPER, SPRING
 from inerterlab.excitation import drive_series, sine
