@@ -21,7 +21,7 @@ import pytest
 
 from inerterlab.elements import (
     ELEMENTS,
-    GAUSSIAN_ROWS,
+    KERNEL_LAWS,
     ElementBase,
     Param,
     element_class,
@@ -171,7 +171,7 @@ def test_element_declares_itself(prefix):
 @pytest.mark.parametrize("prefix", PREFIXES)
 def test_primitive_has_its_gaussian_linearisation(prefix):
     """Every primitive's kernel law says how the statistical linearisation treats its
-    rows (GAUSSIAN_ROWS, by code: nothing about an element outside elements/), what
+    rows (KERNEL_LAWS, by code: nothing about an element outside elements/), what
     the equivalent depends on agrees with the element's role, and a law's equivalent
     row of a gain has that gain as its slope at rest (the round trip the linearised
     car relies on)."""
@@ -179,16 +179,16 @@ def test_primitive_has_its_gaussian_linearisation(prefix):
     if cls.ROLE == "composite":
         assert cls.code is None
         return
-    law = GAUSSIAN_ROWS[cls.code]
+    law = KERNEL_LAWS[cls.code]
     assert law.code == cls.code
     role = {"elastic": "displacement", "dissipative": "velocity", "inertial": "acceleration"}
     assert law.argument == role[cls.ROLE]
     row = cls.from_value(prefix, _example(prefix)).row()
-    if law.keeps_law(row) or law.refusal(row, cls.description) is not None:
+    if law.gaussian_keeps(row) or law.gaussian_refusal(row, cls.description) is not None:
         return
     for gain in (0.37, 1234.5):
-        eq = law.equivalent_row(row, gain)
-        assert law.gain(eq, 0.0, None) == pytest.approx(gain, rel=1e-12)
+        eq = law.gaussian_row(row, gain)
+        assert law.gaussian_gain(eq, 0.0, None) == pytest.approx(gain, rel=1e-12)
 
 
 # --------------------------------------------------- rig: force about rest

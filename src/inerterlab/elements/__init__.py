@@ -17,29 +17,30 @@ import functools
 import re
 
 from ..errors import NetworkError
-from ._base import UNIT_QUANTITY, ElementBase, GaussianRow, Param
-from .adaptive_flywheel import AdaptiveFlywheelInerter, FlywheelGaussian, inertia_law
+from ._base import UNIT_QUANTITY, ElementBase, KernelLaw, Param
+from .adaptive_flywheel import AdaptiveFlywheelInerter, FlywheelLaw, inertia_law
 from .asymmetric_damper import AsymmetricDamper
 from .backlash import Backlash
 from .bearing_drag import BearingDrag
 from .bump_stop import BumpStop
-from .damper import Damper, DamperGaussian
+from .damper import Damper, DamperLaw
 from .fluid_inerter import FluidInerter
-from .friction import Friction, FrictionGaussian
+from .friction import Friction, FrictionLaw
 from .gas_spring import GasSpring
 from .hydraulic import HydraulicElement
-from .inerter import Inerter, InerterGaussian
+from .inerter import Inerter, InerterLaw
 from .one_way_clutch import OneWayClutch
 from .rectifier import RectifierElement
 from .screw import ScrewElement
 from .screw_backlash import ScrewContact
-from .spring import Spring, SpringGaussian
-from .tyre import TyreGaussian
+from .spring import Spring, SpringLaw
+from .tyre import TyreLaw
 
 __all__ = [
     "ELEMENTS",
-    "GAUSSIAN_ROWS",
-    "GaussianRow",
+    "KERNEL_LAWS",
+    "KernelLaw",
+    "kernel_law",
     "ElementBase",
     "Param",
     "UNIT_QUANTITY",
@@ -65,16 +66,18 @@ __all__ = [
     "ScrewContact",
 ]
 
-#: the statistical linearisation of each kernel law's rows, by code (:class:`GaussianRow`;
-#: :mod:`inerterlab.systems.gaussian` reads it): a kernel law not here has no Gaussian
-#: equivalent
-GAUSSIAN_ROWS: dict[int, type[GaussianRow]] = {
-    g.code: g
-    for g in (
-        SpringGaussian, DamperGaussian, FrictionGaussian, InerterGaussian, FlywheelGaussian,
-        TyreGaussian,
-    )
-}  # fmt: skip
+#: every kernel law by code (:class:`KernelLaw`: how it ties the nodes it joins, its
+#: Gaussian equivalent): the system builder, the static balance and the statistical
+#: linearisation read it, never an element's code or class
+KERNEL_LAWS: dict[int, type[KernelLaw]] = {
+    law.code: law for law in (SpringLaw, DamperLaw, FrictionLaw, InerterLaw, FlywheelLaw, TyreLaw)
+}
+
+
+def kernel_law(element: ElementBase) -> type[KernelLaw]:
+    """The kernel law of a primitive element (:data:`KERNEL_LAWS` by its code)."""
+    return KERNEL_LAWS[element.code]
+
 
 ELEMENTS: dict[str, type[ElementBase]] = {
     "k": Spring,

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_range, check_physical
 
-__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "GaussianRow", "NO_GAUSSIAN_EQUIVALENT", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
+__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "KernelLaw", "NO_GAUSSIAN_EQUIVALENT", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
 
 #: floats per primitive element row in the compiled tables
 NPAR = 18
@@ -63,28 +63,63 @@ NO_GAUSSIAN_EQUIVALENT = (
 )
 
 
-class GaussianRow:
-    """The Gaussian-equivalent (statistical) linearisation of the rows of one kernel law
-    (one ``code``), from the law's own compiled force function: what
-    :mod:`inerterlab.systems.gaussian` reads of a primitive element (its registry:
-    :data:`inerterlab.elements.GAUSSIAN_ROWS`). A row that is not linear is linearised
-    about a zero-mean Gaussian ``argument`` (``"displacement"``, ``"velocity"``, or
-    ``"acceleration"`` for an inertance); for an elastic or dissipative law the
-    equivalent is E[x F(x)] / sigma^2 (Stein's lemma) from :meth:`force_law`, the slope at
-    rest for sigma = 0. A kernel law without one has no Gaussian equivalent."""
+class KernelLaw:
+    """What the rest of the package needs to know about one kernel law (one ``code``, a
+    row of :data:`NPAR` floats that the compiled right-hand side evaluates), so that no
+    analysis decides by an element's code or class: registered by code in
+    :data:`inerterlab.elements.KERNEL_LAWS`; every element of that code shares it.
+
+    * how the law ties the nodes it joins, which the system builder
+      (:mod:`inerterlab.systems.core`) and the static balance read: the class flags
+      below;
+    * its Gaussian-equivalent (statistical) linearisation from its own compiled force
+      function, which :mod:`inerterlab.systems.gaussian` reads: a row that is not
+      linear is linearised about a zero-mean Gaussian ``argument``
+      (``"displacement"``, ``"velocity"``, or ``"acceleration"`` for an inertance); for
+      an elastic or dissipative law the equivalent is E[x F(x)] / sigma^2 (Stein's
+      lemma) from :meth:`force_law`, the slope at rest for sigma = 0.
+
+    A new kernel law is its element module (its force function, its branch in the
+    compiled evaluation) with a subclass of this and one line in the registry."""
 
     #: the kernel code whose rows these are
     code: ClassVar[int] = -1
-    #: what the equivalent depends on (top minus bottom)
+    #: what its force depends on, and its Gaussian equivalent (top minus bottom)
     argument: ClassVar[str] = ""
+    #: an inertance times the relative acceleration (an inerter, a flywheel): the nodes
+    #: it joins move with velocity states, and its nominal inertance
+    #: (:meth:`nominal_inertance`) enters the mass matrix
+    inertial: ClassVar[bool] = False
+    #: a force that grows without bound with the relative velocity (a damper): a
+    #: massless node it joins has its velocity from its force balance
+    holds_velocity: ClassVar[bool] = False
+    #: a force bounded in the relative velocity (friction): it cannot hold a massless
+    #: node on its own
+    bounded: ClassVar[bool] = False
+    #: an elastic row whose row[0] is its stiffness at rest (the spring Laplacian of the
+    #: network, the static balance)
+    elastic: ClassVar[bool] = False
+    #: a point contact (a tyre): it joins a wheel (a mass) to the road, carries the load
+    #: at rest, and passes no impulse at a road step
+    contact: ClassVar[bool] = False
 
     @classmethod
-    def keeps_law(cls, row) -> bool:
+    def free_play(cls, row) -> bool:
+        """Whether the row is a spring with free play (its force is zero inside it)."""
+        return False
+
+    @classmethod
+    def nominal_inertance(cls, element) -> float:
+        """The inertance [kg] of an inertial element in the nominal mass matrix."""
+        raise NotImplementedError
+
+    @classmethod
+    def gaussian_keeps(cls, row) -> bool:
         """Whether the row is linear at every motion (it keeps its law)."""
         return False
 
     @classmethod
-    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+    def gaussian_refusal(cls, row, description: str) -> tuple[str, str] | None:
         """(the value named, what is expected) where the row has no Gaussian equivalent,
         else None."""
         return None
@@ -101,7 +136,7 @@ class GaussianRow:
         raise NotImplementedError
 
     @classmethod
-    def gain(cls, row, sigma: float, expect) -> float:
+    def gaussian_gain(cls, row, sigma: float, expect) -> float:
         """The equivalent (k_eq, c_eq or b_eq) under a zero-mean Gaussian argument of
         standard deviation ``sigma``; ``expect(f, sigma, kinks)`` = E[f(x)]."""
         if sigma <= 0.0:
@@ -110,7 +145,7 @@ class GaussianRow:
         return expect(lambda x: x * law(x), sigma, kinks) / (sigma * sigma)
 
     @classmethod
-    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+    def gaussian_row(cls, row, gain: float) -> np.ndarray:
         """A row of this law whose linearisation about rest is ``gain``: the one
         coefficient of a linear row."""
         out = np.zeros(NPAR)

@@ -30,11 +30,11 @@ from ..flywheels import flywheel as make_flywheel
 from ..slider_dynamics import SliderDynamics, slider_state_derivative
 from ..transmissions import FORCE_LAWS
 from ..transmissions import hydraulic as hydraulic_transmission
-from ._base import FLYWHEEL, NO_GAUSSIAN_EQUIVALENT, NPAR, ElementBase, GaussianRow, Param
+from ._base import FLYWHEEL, NO_GAUSSIAN_EQUIVALENT, NPAR, ElementBase, KernelLaw, Param
 
 __all__ = [
     "AdaptiveFlywheelInerter",
-    "FlywheelGaussian",
+    "FlywheelLaw",
     "inertia_law",
     "flywheel_inertance",
     "flywheel_switch",
@@ -135,7 +135,7 @@ def slider_derivative(tab, o, l, ld, v):
     return ldd
 
 
-class FlywheelGaussian(GaussianRow):
+class FlywheelLaw(KernelLaw):
     """The adaptive-flywheel row (force m_e(v) a, laws ``thesis`` and ``momentum``):
     b_eq = E[m_e(v)] (v and a independent in a stationary response, so E[m_e(v) a^2] /
     E[a^2] = E[m_e(v)]), the quadrature split at the saturation speed; the equivalent a
@@ -144,9 +144,15 @@ class FlywheelGaussian(GaussianRow):
 
     code = FLYWHEEL
     argument = "acceleration"
+    inertial = True
 
     @classmethod
-    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+    def nominal_inertance(cls, element) -> float:
+        """Its least inertance (the sliders at rest)."""
+        return element.inertance_min
+
+    @classmethod
+    def gaussian_refusal(cls, row, description: str) -> tuple[str, str] | None:
         from ._inertial import CLUTCH, GATED
 
         if row[14] in (CLUTCH, GATED) or row[0] == 2.0:
@@ -154,14 +160,14 @@ class FlywheelGaussian(GaussianRow):
         return None
 
     @classmethod
-    def gain(cls, row, sigma: float, expect) -> float:
+    def gaussian_gain(cls, row, sigma: float, expect) -> float:
         if sigma <= 0.0:
             return float(flywheel_inertance(row, 0, 0.0, 0.0, 0.0)[0])
         sat = row[8] / row[1] if row[1] else 0.0  # the saturation's relative speed
         return expect(lambda v: flywheel_inertance(row, 0, v, 0.0, 0.0)[0], sigma, (sat, -sat))
 
     @classmethod
-    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+    def gaussian_row(cls, row, gain: float) -> np.ndarray:
         """No slider term, I_rest = b_eq / r^2."""
         out = np.zeros(NPAR)
         out[:] = row

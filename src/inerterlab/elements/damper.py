@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import DAMPER, ElementBase, GaussianRow, Param
+from ._base import DAMPER, ElementBase, KernelLaw, Param
 
-__all__ = ["Damper", "DamperGaussian", "damper_force"]
+__all__ = ["Damper", "DamperLaw", "damper_force"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -25,12 +25,13 @@ def damper_force(tab, o, v):
     return c * v + c2 * v * a, c + 2.0 * c2 * a
 
 
-class DamperGaussian(GaussianRow):
+class DamperLaw(KernelLaw):
     """The damper row (quadratic, asymmetric, bearing drag): c_eq on its own law; the
     equivalent a linear damper row."""
 
     code = DAMPER
     argument = "velocity"
+    holds_velocity = True
 
     @classmethod
     def force_law(cls, row):

@@ -17,9 +17,9 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from ._base import FRICTION, NPAR, ElementBase, GaussianRow, Param
+from ._base import FRICTION, NPAR, ElementBase, KernelLaw, Param
 
-__all__ = ["Friction", "FrictionGaussian", "friction_force"]
+__all__ = ["Friction", "FrictionLaw", "friction_force"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -29,13 +29,14 @@ def friction_force(force, v_eps, v):
     return force * th, force / v_eps * (1.0 - th * th)
 
 
-class FrictionGaussian(GaussianRow):
+class FrictionLaw(KernelLaw):
     """The friction row: c_eq on its own law, the quadrature split at +-v_eps; the
     equivalent a friction row of the same v_eps whose slope at rest F_c / v_eps is
     c_eq."""
 
     code = FRICTION
     argument = "velocity"
+    bounded = True
 
     @classmethod
     def force_law(cls, row):
@@ -46,7 +47,7 @@ class FrictionGaussian(GaussianRow):
         return friction_force(row[0], row[1], 0.0)[1]
 
     @classmethod
-    def equivalent_row(cls, row, gain: float) -> np.ndarray:
+    def gaussian_row(cls, row, gain: float) -> np.ndarray:
         out = np.zeros(NPAR)
         out[0], out[1] = gain * row[1], row[1]  # slope at rest F_c / v_eps = c_eq
         return out

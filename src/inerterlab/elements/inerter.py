@@ -7,9 +7,9 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import INERTER, ElementBase, GaussianRow, Param
+from ._base import INERTER, ElementBase, KernelLaw, Param
 
-__all__ = ["Inerter", "InerterGaussian", "inerter_inertance"]
+__all__ = ["Inerter", "InerterLaw", "inerter_inertance"]
 
 
 @nb.njit(cache=True, error_model="numpy")
@@ -18,14 +18,19 @@ def inerter_inertance(tab, o):
     return tab[o]
 
 
-class InerterGaussian(GaussianRow):
+class InerterLaw(KernelLaw):
     """The ideal inerter's row: linear, it keeps its law."""
 
     code = INERTER
     argument = "acceleration"
+    inertial = True
 
     @classmethod
-    def keeps_law(cls, row) -> bool:
+    def nominal_inertance(cls, element) -> float:
+        return element.inertance
+
+    @classmethod
+    def gaussian_keeps(cls, row) -> bool:
         return True
 
 

@@ -13,11 +13,11 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import SPRING, ElementBase, GaussianRow, Param
+from ._base import SPRING, ElementBase, KernelLaw, Param
 from .bump_stop import BUMP_LAW, bump_force
 from .gas_spring import GAS_LAW, gas_force
 
-__all__ = ["Spring", "SpringGaussian", "spring_force", "spring_slope", "spring_switch"]
+__all__ = ["Spring", "SpringLaw", "spring_force", "spring_slope", "spring_switch"]
 
 
 @nb.njit(cache=True, inline='always')
@@ -68,19 +68,20 @@ def spring_switch(tab, o, x):
     return abs(x) - g
 
 
-class SpringGaussian(GaussianRow):
+class SpringLaw(KernelLaw):
     """The elastic row (springs, backlash, gas springs, bump stops): k_eq on its own law,
     the quadrature split at a free play's ends and at a bump stop's contact; the
     equivalent a linear spring row."""
 
     code = SPRING
     argument = "displacement"
+    elastic = True
 
     @classmethod
     def force_law(cls, row):
         if row[2] == BUMP_LAW:
             kinks = (-(row[3] + row[1]),)  # the contact (spring_switch)
-        elif row[2] != GAS_LAW and row[1] > 0.0:
+        elif cls.free_play(row):
             kinks = (row[1], -row[1])  # a free play's ends
         else:
             kinks = ()
@@ -89,6 +90,10 @@ class SpringGaussian(GaussianRow):
     @classmethod
     def slope_at_rest(cls, row) -> float:
         return spring_slope(row, 0, 0.0)
+
+    @classmethod
+    def free_play(cls, row) -> bool:
+        return row[2] != GAS_LAW and row[2] != BUMP_LAW and row[1] > 0.0
 
 
 @dataclass(frozen=True, kw_only=True)

@@ -20,9 +20,9 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import TYRE, ElementBase, GaussianRow, Param
+from ._base import TYRE, ElementBase, KernelLaw, Param
 
-__all__ = ["Tyre", "TyreGaussian", "tyre_force", "tyre_switch"]
+__all__ = ["Tyre", "TyreLaw", "tyre_force", "tyre_switch"]
 
 
 @nb.njit(cache=True, inline="always")
@@ -48,20 +48,21 @@ def tyre_switch(tab, o, x, v):
     return tab[o + 2] - tab[o] * x - tab[o + 1] * v
 
 
-class TyreGaussian(GaussianRow):
+class TyreLaw(KernelLaw):
     """The tyre's row: one that always presses keeps its (linear) law; one that lifts
     off has no Gaussian equivalent (its lift-off probability is the Gaussian tail of
     its load)."""
 
     code = TYRE
     argument = "displacement"
+    contact = True
 
     @classmethod
-    def keeps_law(cls, row) -> bool:
+    def gaussian_keeps(cls, row) -> bool:
         return not math.isfinite(row[2])
 
     @classmethod
-    def refusal(cls, row, description: str) -> tuple[str, str] | None:
+    def gaussian_refusal(cls, row, description: str) -> tuple[str, str] | None:
         if math.isfinite(row[2]):
             return (
                 "a tyre that lifts off",

@@ -18,8 +18,6 @@ import time
 import numba as nb
 import numpy as np
 
-from ..elements._base import SPRING
-from ..elements.spring import spring_force
 from ._compiled import record, rhs_for
 from ._kernel import (
     ELEM_W,
@@ -38,8 +36,8 @@ from ._kernel import (
     OBS_SQUARE,
     OBS_W,
     ROAD,
-    _dissipative,
     _work_size,
+    end_force,
     observe,
     peaks,
     road_layout_of,
@@ -1728,10 +1726,7 @@ def drive_forces(t_out, Y, segs, itab, ftab, elems, out):
             b = eo + ELEM_W * elems[q]
             xt, vt = _node_xv(itab, itab[b + 1], Y, j, road)
             xb, vb = _node_xv(itab, itab[b + 2], Y, j, road)
-            if itab[b] == SPRING:
-                f = spring_force(ftab, itab[b + 3], xt - xb)
-            else:
-                f, _ = _dissipative(itab[b], ftab, itab[b + 3], vt - vb)
+            f = end_force(itab, ftab, b, xt - xb, vt - vb)
             acc = f if q == 0 else acc + f
         out[j] = acc
 

@@ -177,6 +177,17 @@ def _solve(M, m0, r, r0, n):
 
 
 @nb.njit(cache=True, inline="always")
+def end_force(itab, ftab, b, x, v):
+    """The force [N] of the element whose table entry starts at ``itab[b]``, a spring,
+    damper or friction law (their force reads the relative displacement x and velocity
+    v of its ends alone: a rig's drive forces from the states)."""
+    if itab[b] == SPRING:
+        return spring_force(ftab, itab[b + 3], x)
+    f, _ = _dissipative(itab[b], ftab, itab[b + 3], v)
+    return f
+
+
+@nb.njit(cache=True, inline="always")
 def _dissipative(code, tab, o, v):
     """(F, dF/dv) of a velocity-dependent element at relative velocity v (its parameter
     row from ``tab[o]``)."""

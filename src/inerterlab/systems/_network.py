@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from ..elements import ElementBase
-from ..elements._base import DAMPER, FLYWHEEL, INERTER
+from ..elements import ElementBase, kernel_law
 from ..networks import Element, elements_of, parse_network
 
 __all__ = ["Layout", "elements_of", "parse"]
@@ -25,9 +24,10 @@ def _rank(tree, elements: dict) -> int:
         if exp is not None:
             stext, parts = exp
             return _rank(parse(stext), parts)
-        if el.code in (INERTER, FLYWHEEL):
+        law = kernel_law(el)
+        if law.inertial:
             return 0
-        return 2 if el.code == DAMPER else 4
+        return 2 if law.holds_velocity else 4
     ranks = [_rank(p, elements) for p in tree.parts]
     if tree.op == "|":
         return min(ranks)

@@ -12,7 +12,8 @@ from functools import lru_cache
 import numpy as np
 
 from .._blas import one_blas_thread
-from ..elements._base import DAMPER, FLYWHEEL, FRICTION, INERTER, NPAR, SPRING, TYRE, ElementBase
+from ..elements import kernel_law
+from ..elements._base import NPAR, ElementBase
 from ..errors import ConvergenceError, ParameterError, check_positive
 from ..h2 import resolvent_solve
 from ..networks import NetworkError
@@ -474,7 +475,7 @@ def _floating_components(lay: Layout, types: list, attached: list) -> list[list[
     """Node sets joined by inertances to each other only: no mass, no inertance to a
     terminal (their nominal mass matrix is singular along their common motion)."""
     return _unheld_components(
-        lay, attached, lambda i: types[i] == DYN, lambda el: el.code in (INERTER, FLYWHEEL),
+        lay, attached, lambda i: types[i] == DYN, lambda el: kernel_law(el).inertial,
         lambda el: False,
     )  # fmt: skip
 
@@ -487,7 +488,7 @@ def _floating_damper_components(lay: Layout, types: list, ref: list, attached: l
         c
         for c in _unheld_components(
             lay, attached, lambda i: types[i] == VEL and ref[i] < 0,
-            lambda el: el.code == DAMPER, lambda el: el.code == FRICTION,
+            lambda el: kernel_law(el).holds_velocity, lambda el: kernel_law(el).bounded,
         )  # fmt: skip
         if len(c) > 1
     ]
@@ -509,12 +510,12 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if nd["kind"] in _TYPE:
             types.append(_TYPE[nd["kind"]])
             continue
-        codes = {edges[e][1].code for e in attached[i]}
-        if nd["mass"] > 0 or INERTER in codes or FLYWHEEL in codes:
+        laws = {kernel_law(edges[e][1]) for e in attached[i]}
+        if nd["mass"] > 0 or any(law.inertial for law in laws):
             types.append(DYN)
-        elif DAMPER in codes:
+        elif any(law.holds_velocity for law in laws):
             types.append(VEL)
-        elif FRICTION in codes:
+        elif any(law.bounded for law in laws):
             raise NetworkError(
                 f"ill-posed network: friction with no damper or inertance beside it at "
                 f"{nd['origin'] or nd['name']}: a massless node held by friction and "
@@ -524,7 +525,10 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         else:
             played = [edges[e][0] for e in attached[i] if _nonlinear(edges[e][1])]
             if played:
-                gap = any(edges[e][0] == played[0] and edges[e][1].prefix == "gap" for e in attached[i])
+                gap = any(
+                    edges[e][0] == played[0] and kernel_law(edges[e][1]).free_play(edges[e][1].row())
+                    for e in attached[i]
+                )  # fmt: skip
                 why = (
                     "inside the free play its position is not determined" if gap else
                     "its position would follow from a nonlinear spring balance, which the "
@@ -546,11 +550,11 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             outside = [
                 edges[e][1] for i in comp for e in attached[i] if not {edges[e][2], edges[e][3]} <= cs
             ]
-            codes = {el.code for el in outside}
+            laws = {kernel_law(el) for el in outside}
             where = lay.nodes[r]["origin"] or lay.nodes[r]["name"]
-            if DAMPER in codes:
+            if any(law.holds_velocity for law in laws):
                 types[r] = VEL
-            elif FRICTION in codes:
+            elif any(law.bounded for law in laws):
                 raise NetworkError(
                     f"ill-posed network: friction with no damper beside it at {where}, a "
                     "chain of inerters between massless nodes held by friction and springs. "
@@ -601,24 +605,25 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
 
     L = np.zeros((nn, nn))  # spring Laplacian
     for _, el, t, b in edges:
-        if el.code == SPRING:
+        law = kernel_law(el)
+        if law.elastic:
             k = el.row()[0]  # the kernel row: any element on the spring's law
             L[t, t] += k
             L[b, b] += k
             L[t, b] -= k
             L[b, t] -= k
-        if el.code in (INERTER, FLYWHEEL) and LIN in (types[t], types[b]):
-            me = el.inertance if el.code == INERTER else el.inertance_min
+        if law.inertial and LIN in (types[t], types[b]):
+            me = law.nominal_inertance(el)
             g = _end_vector(lay, types, cls, t) - _end_vector(lay, types, cls, b)
             Md += me * np.outer(g, g)
-        elif el.code in (INERTER, FLYWHEEL):
-            me = el.inertance if el.code == INERTER else el.inertance_min
+        elif law.inertial:
+            me = law.nominal_inertance(el)
             for a_, c_ in ((t, b), (b, t)):
                 if types[a_] in (DYN, REL):
                     Md[cls[a_], cls[a_]] += me
                     if types[c_] in (DYN, REL):
                         Md[cls[a_], cls[c_]] -= me
-        if el.code == DAMPER:
+        if law.holds_velocity:
             w = 1.0
             for a_, c_ in ((t, b), (b, t)):
                 sa, sc = slot(a_), slot(c_)
@@ -739,9 +744,10 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         if not any(types[x] == ROAD for x in ends):
             continue
         other = b if types[t] == ROAD else t
-        if el.code in (INERTER, FLYWHEEL, TYRE) or types[other] == LIN:
+        law = kernel_law(el)
+        if law.inertial or law.contact or types[other] == LIN:
             jump_ok = False
-        elif el.code == DAMPER:
+        elif law.holds_velocity:
             c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
             if c_quad > 0 or not el.is_linear or types[other] != DYN:
                 jump_ok = False
@@ -753,7 +759,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     road_inertances = tuple(
         name
         for name, el, t, b in edges
-        if el.code in (INERTER, FLYWHEEL) and ROAD in (types[t], types[b])
+        if kernel_law(el).inertial and ROAD in (types[t], types[b])
     )
     # velocity jump of each dynamic node per unit road step (nominal inertances; only
     # whether it is zero is used: a body whose velocity jumps has a Dirac acceleration)
@@ -799,7 +805,7 @@ def _check_combinations(lay: Layout, types: list, edges: list) -> None:
                         f"{lay.nodes[m]['name']}, which is not a body coordinate"
                     )
     for name, el, t, b in edges:
-        if el.code == TYRE and not (types[t] == DYN and types[b] == ROAD):
+        if kernel_law(el).contact and not (types[t] == DYN and types[b] == ROAD):
             raise NetworkError(f"the tyre {name} must join a wheel (a mass) to the road")
 
 
@@ -1363,7 +1369,8 @@ def _drive_force_plan(sys) -> tuple[np.ndarray, bool]:
     for e in idx:
         _, el, t, b = sys.info["edges"][e]
         ends_ok = all(sys.node_types[i] in (GROUND, ROAD, DYN) for i in (t, b))
-        direct &= ends_ok and el.code in (SPRING, DAMPER, FRICTION)
+        law = kernel_law(el)
+        direct &= ends_ok and (law.elastic or law.holds_velocity or law.bounded)
     return idx, bool(direct)
 
 

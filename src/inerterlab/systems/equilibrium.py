@@ -38,7 +38,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..elements._base import NPAR, SPRING, TYRE
+from ..elements import KERNEL_LAWS, kernel_law
+from ..elements._base import NPAR
 from ..errors import ConvergenceError, NetworkError, ParameterError, check_positive
 from . import _kernel
 from ._kernel import DYN, ELEM_W, NODE_W, REL, RELV, VEL
@@ -111,7 +112,7 @@ def _structure(sys):
     xstate = [int(itab[no + NODE_W * n + 1]) for n in range(nn)]
     masses = np.array([ftab[fm + n] for n in range(nn)])
     ends = [(int(itab[eo + ELEM_W * e + 1]), int(itab[eo + ELEM_W * e + 2])) for e in range(ne)]
-    codes = [int(itab[eo + ELEM_W * e]) for e in range(ne)]
+    laws = [KERNEL_LAWS[int(itab[eo + ELEM_W * e])] for e in range(ne)]
     # a combination node (a body point) passes a force to its members by its coefficients
     share = {n: [(n, 1.0)] for n in range(nn)}
     for n in range(nn):
@@ -119,7 +120,7 @@ def _structure(sys):
         if types[n] == _kernel.LIN:
             mo, cnt, co = int(itab[b + 1]), int(itab[b + 2]), int(itab[b + 3])
             share[n] = [(int(itab[mo + j]), float(ftab[co + j])) for j in range(cnt)]
-    return nn, ne, types, xstate, masses, ends, codes, share
+    return nn, ne, types, xstate, masses, ends, laws, share
 
 
 def _rebuilt(sys, elements: list):
@@ -137,7 +138,7 @@ def _replaced(sys, elements: list):
             continue
         o = int(itab[eo + ELEM_W * e + 3])
         ft[o : o + NPAR] = new.row()
-        if new.code == SPRING:
+        if kernel_law(new).elastic:
             t, b = int(itab[eo + ELEM_W * e + 1]), int(itab[eo + ELEM_W * e + 2])
             dk = new.row()[0] - old.row()[0]
             L[t, t] += dk
@@ -171,8 +172,8 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
         gravity = float(system.info.get("car", {}).get("gravity", 9.81))
     g = 0.0 if gravity == 0.0 else check_positive("gravity", gravity, "m/s^2")
     st = _solve(system, g, heights, None, max_iterations)
-    x, X, F, springs, ends, codes, scale = (
-        st["x"], st["X"], st["F"], st["springs"], st["ends"], st["codes"], st["scale"]
+    x, X, F, springs, ends, laws, scale = (
+        st["x"], st["X"], st["F"], st["springs"], st["ends"], st["laws"], st["scale"]
     )
     nn = len(X)
     names = system.element_names
@@ -192,7 +193,7 @@ def equilibrium(system, gravity: float | None = None, *, heights=None,
                     f"ranges: {names[e]} ({el.description}) would take {-y:.6g} m of "
                     f"compression carrying {-forces[names[e]]:.6g} N, beyond {what}"
                 )
-        if el.is_linear or codes[e] == TYRE:  # a tyre's law is about its static load
+        if el.is_linear or laws[e].contact:  # a tyre's law is about its static load
             continue
         if hasattr(el, "at_operating_point"):
             new[e] = el.at_operating_point(el.operating_point + y)
@@ -225,8 +226,8 @@ def _solve(system, g: float, heights, loads, max_iterations: int) -> dict:
     displacements ``X``, element forces ``F`` and the bookkeeping :func:`equilibrium`
     reads."""
     itab, ftab = system.tables
-    nn, ne, types, xstate, masses, ends, codes, share = _structure(system)
-    springs = [e for e in range(ne) if codes[e] in (SPRING, TYRE)]  # carry load at rest
+    nn, ne, types, xstate, masses, ends, laws, share = _structure(system)
+    springs = [e for e in range(ne) if laws[e].elastic or laws[e].contact]  # carry load at rest
     sprung = {m for e in springs for n in ends[e] for m, _ in share[n]}
     loads = {int(e): float(f) for e, f in (loads or {}).items()}
     # a massless node that no spring touches (between a damper and an inerter) carries
@@ -321,7 +322,7 @@ def _solve(system, g: float, heights, loads, max_iterations: int) -> dict:
     res = float(np.max(np.abs(R))) if rows else 0.0
     x = base.copy()
     x[unknown] = z
-    return {"x": x, "X": X, "F": F, "springs": springs, "ends": ends, "codes": codes,
+    return {"x": x, "X": X, "F": F, "springs": springs, "ends": ends, "laws": laws,
             "scale": scale, "weight": weight, "residual": res, "iterations": it}  # fmt: skip
 
 

@@ -97,9 +97,9 @@ def _row(sys, e: int) -> np.ndarray:
 
 def _law(sys, e: int):
     """The statistical linearisation of element ``e``'s kernel law (None: it has none)."""
-    from ..elements import GAUSSIAN_ROWS
+    from ..elements import KERNEL_LAWS
 
-    return GAUSSIAN_ROWS.get(sys.elements[e].code)
+    return KERNEL_LAWS.get(sys.elements[e].code)
 
 
 def nonlinear_elements(sys) -> list[tuple[int, str, str]]:
@@ -113,10 +113,10 @@ def nonlinear_elements(sys) -> list[tuple[int, str, str]]:
             continue
         law = _law(sys, e)
         row = _row(sys, e)
-        if law is not None and law.keeps_law(row):
+        if law is not None and law.gaussian_keeps(row):
             continue
         why = (el.description, NO_GAUSSIAN_EQUIVALENT) if law is None else (
-            law.refusal(row, el.description)
+            law.gaussian_refusal(row, el.description)
         )  # fmt: skip
         if why is not None:
             raise ParameterError(name, *why)
@@ -129,15 +129,15 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
     :func:`nonlinear_elements`) is zero-mean Gaussian of standard deviation ``sigma``
     [m, m/s; for an inertance the relative velocity's]: k_eq [N/m], c_eq [N s/m] or
     b_eq [kg] (module docstring), from its kernel law's own
-    (:class:`~inerterlab.elements.GaussianRow`). ``sigma`` = 0 gives the slope at rest."""
+    (:class:`~inerterlab.elements.KernelLaw`). ``sigma`` = 0 gives the slope at rest."""
     law = _law(sys, e)
     row = _row(sys, e)
-    if law is None or law.keeps_law(row):
+    if law is None or law.gaussian_keeps(row):
         raise ParameterError(
             sys.element_names[e], sys.elements[e].description,
             "an element with a Gaussian equivalent (nonlinear_elements)",
         )  # fmt: skip
-    val = law.gain(row, sigma, _expect)
+    val = law.gaussian_gain(row, sigma, _expect)
     if not math.isfinite(val):
         raise ParameterError(
             sys.element_names[e], f"standard deviation {sigma:.4g}",
@@ -183,7 +183,7 @@ def equivalent_system(sys, gains: dict):
         ft = np.array(ftab, dtype=float, copy=True)
         for e, g in gains.items():
             o = int(itab[eo + ELEM_W * e + 3])
-            ft[o : o + NPAR] = _law(sys, e).equivalent_row(_row(sys, e), float(g))
+            ft[o : o + NPAR] = _law(sys, e).gaussian_row(_row(sys, e), float(g))
         ft.setflags(write=False)
         return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))
 

@@ -313,14 +313,14 @@ def _balance(sys, f, a, tracks, axles, speed, harmonics) -> VehicleFrequencyResp
     """The harmonic balance of the core car ``sys`` on the one engine
     (:func:`inerterlab.frequency.frequency_response`, ``sihb``: each point starts from the
     last converged one), every wheel driven through the road pattern."""
-    from ..elements._base import FRICTION
+    from ..elements import kernel_law
     from ..frequency import frequency_response as balance
     from ..frequency.quarter_car import from_core_system
 
     kind = "full" if len(sys.info["body"]) == 3 else "half"
     _check_tracks(kind, tracks)
     for name, el in zip(sys.element_names, sys.elements, strict=True):
-        if el.code == FRICTION:
+        if kernel_law(el).bounded:
             raise ParameterError(
                 name, el.description,
                 "an element the harmonic balance resolves (friction switches within "

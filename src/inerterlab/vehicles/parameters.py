@@ -510,7 +510,7 @@ def corner_device(device, params: dict | None = None) -> CornerDevice:
 
 def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
     """The device of these edges, its direct linear parts and adaptive inerter read off."""
-    from ..elements._base import FLYWHEEL
+    from ..elements import kernel_law
 
     k = c = b = 0.0
     adaptive = None
@@ -524,6 +524,9 @@ def _split(source: str, nodes: tuple, edges: tuple) -> CornerDevice:
                 c += value
             else:
                 b += value
-        elif direct and el.code == FLYWHEEL and el.law in ("thesis", "momentum") and adaptive is None:
+        elif (
+            direct and kernel_law(el).inertial and el.law in ("thesis", "momentum")
+            and adaptive is None
+        ):  # an adaptive flywheel (the linear inerter went above)
             adaptive = el
     return CornerDevice(source, k, c, b, adaptive, edges, nodes)
