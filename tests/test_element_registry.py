@@ -169,12 +169,12 @@ def test_element_declares_itself(prefix):
 
 
 @pytest.mark.parametrize("prefix", PREFIXES)
-def test_primitive_has_its_gaussian_linearisation(prefix):
-    """Every primitive's kernel law says how the statistical linearisation treats its
-    rows (KERNEL_LAWS, by code: nothing about an element outside elements/), what
-    the equivalent depends on agrees with the element's role, and a law's equivalent
-    row of a gain has that gain as its slope at rest (the round trip the linearised
-    car relies on)."""
+def test_primitive_declares_its_kernel_law(prefix):
+    """Every primitive's kernel law (KERNEL_LAWS, by code: what the builder, the static
+    balance and the statistical linearisation read, nothing about an element outside
+    elements/) agrees with the element's role: what its force depends on, how it ties
+    the nodes it joins; and a law's equivalent row of a gain has that gain as its slope
+    at rest (the round trip the linearised car relies on)."""
     cls = ELEMENTS[prefix]
     if cls.ROLE == "composite":
         assert cls.code is None
@@ -183,7 +183,16 @@ def test_primitive_has_its_gaussian_linearisation(prefix):
     assert law.code == cls.code
     role = {"elastic": "displacement", "dissipative": "velocity", "inertial": "acceleration"}
     assert law.argument == role[cls.ROLE]
-    row = cls.from_value(prefix, _example(prefix)).row()
+    ties = {
+        "elastic": law.elastic or law.contact,
+        "dissipative": law.holds_velocity or law.bounded,
+        "inertial": law.inertial,
+    }  # fmt: skip
+    assert ties[cls.ROLE] and sum(ties.values()) == 1
+    el = cls.from_value(prefix, _example(prefix))
+    if law.inertial:
+        assert 0.0 < law.nominal_inertance(el) < math.inf
+    row = el.row()
     if law.gaussian_keeps(row) or law.gaussian_refusal(row, cls.description) is not None:
         return
     for gain in (0.37, 1234.5):

@@ -344,7 +344,7 @@ def _network_values(network, values: dict, axle: str, fail):
     network of springs, linear dampers and inerters is a
     :class:`~inerterlab.vehicles.parameters.NetworkStrut`; any other (devices, adaptive
     flywheels, friction, free play, fluid inerters) a strut whose device is the network."""
-    from ..elements._base import DAMPER, INERTER, SPRING
+    from ..elements import kernel_law
     from ..networks import NetworkError, parse_network
 
     if not isinstance(network, str):
@@ -372,10 +372,11 @@ def _network_values(network, values: dict, axle: str, fail):
             except ParameterError as err:
                 fail(axle, name, f"{value!r}: expected {err.valid} ({cls.description} {first.name})")
             elements[name] = _make_element(cls, {first.name: x}, where, fail)
-    linear = all(
-        el.code in (SPRING, DAMPER, INERTER) and el.is_linear and len(el.PARAMETERS) <= 2
+    linear = all(  # a spring, damper or inerter law (no friction, flywheel or contact)
+        el.code is not None and el.is_linear and len(el.PARAMETERS) <= 2
+        and not (kernel_law(el).bounded or kernel_law(el).contact)
         for el in elements.values()
-    )
+    )  # fmt: skip
     if linear:
         vals = {n: float(el.rest_network()[1].popitem()[1]) for n, el in elements.items()}
         return NetworkStrut(net.text, vals), set(elements)
