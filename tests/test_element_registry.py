@@ -200,6 +200,20 @@ def test_primitive_declares_its_kernel_law(prefix):
         assert law.gaussian_gain(eq, 0.0, None) == pytest.approx(gain, rel=1e-12)
 
 
+def test_an_element_of_no_kernel_law_is_refused_by_name():
+    from inerterlab.elements import kernel_law
+    from inerterlab.errors import ParameterError
+
+    @dataclass(frozen=True, kw_only=True)
+    class Odd(ElementBase):
+        prefix = "odd"
+        description = "an element of no kernel law"
+        code = 99
+
+    with pytest.raises(ParameterError, match="an element of no kernel law"):
+        kernel_law(Odd())
+
+
 # --------------------------------------------------- rig: force about rest
 
 

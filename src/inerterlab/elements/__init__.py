@@ -76,7 +76,16 @@ KERNEL_LAWS: dict[int, type[KernelLaw]] = {
 
 def kernel_law(element: ElementBase) -> type[KernelLaw]:
     """The kernel law of a primitive element (:data:`KERNEL_LAWS` by its code)."""
-    return KERNEL_LAWS[element.code]
+    law = KERNEL_LAWS.get(element.code)
+    if law is None:
+        from ..errors import ParameterError
+
+        raise ParameterError(
+            "code", element.code,
+            f"the code of a kernel law in inerterlab.elements.KERNEL_LAWS ({element.description}: "
+            "a primitive packs its row for one of them; a composite gives its expansion())",
+        )  # fmt: skip
+    return law
 
 
 ELEMENTS: dict[str, type[ElementBase]] = {
