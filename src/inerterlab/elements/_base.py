@@ -19,7 +19,7 @@ import numpy as np
 
 from ..errors import PHYSICAL_RANGES, ParameterError, check_choice, check_in_range, check_physical
 
-__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "KernelLaw", "NO_GAUSSIAN_EQUIVALENT", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
+__all__ = ["Param", "UNIT_QUANTITY", "ElementBase", "KernelLaw", "ForceLaw", "NO_GAUSSIAN_EQUIVALENT", "NPAR", "SPRING", "DAMPER", "INERTER", "FRICTION", "FLYWHEEL", "TYRE"]
 
 #: floats per primitive element row in the compiled tables
 NPAR = 18
@@ -76,8 +76,8 @@ class KernelLaw:
       function, which :mod:`inerterlab.systems.gaussian` reads: a row that is not
       linear is linearised about a zero-mean Gaussian ``argument``
       (``"displacement"``, ``"velocity"``, or ``"acceleration"`` for an inertance); for
-      an elastic or dissipative law the equivalent is E[x F(x)] / sigma^2 (Stein's
-      lemma) from :meth:`force_law`, the slope at rest for sigma = 0.
+      an elastic or dissipative law (:class:`ForceLaw`) the equivalent is E[x F(x)] /
+      sigma^2 (Stein's lemma) from its force function, the slope at rest for sigma = 0.
 
     A new kernel law is its element module (its force function, its branch in the
     compiled evaluation) with a subclass of this and one line in the registry."""
@@ -110,8 +110,9 @@ class KernelLaw:
 
     @classmethod
     def nominal_inertance(cls, element) -> float:
-        """The inertance [kg] of an inertial element in the nominal mass matrix."""
-        raise NotImplementedError
+        """The inertance [kg] the law adds to the nominal mass matrix: 0 unless it is
+        :attr:`inertial`."""
+        return 0.0
 
     @classmethod
     def gaussian_keeps(cls, row) -> bool:
@@ -121,24 +122,23 @@ class KernelLaw:
     @classmethod
     def gaussian_refusal(cls, row, description: str) -> tuple[str, str] | None:
         """(the value named, what is expected) where the row has no Gaussian equivalent,
-        else None."""
+        else None. A law that neither keeps its rows nor refuses them gives
+        ``gaussian_gain(row, sigma, expect)`` and ``gaussian_row(row, gain)`` (as
+        :class:`ForceLaw` does from its force function)."""
         return None
 
-    @classmethod
-    def force_law(cls, row):
-        """(F(x) [N] as a function of the argument, the kinks of the law to split the
-        quadrature at)."""
-        raise NotImplementedError
 
-    @classmethod
-    def slope_at_rest(cls, row) -> float:
-        """dF/dx at rest (the equivalent for sigma = 0)."""
-        raise NotImplementedError
+class ForceLaw(KernelLaw):
+    """A kernel law whose force is a function of one argument (an elastic or a
+    dissipative row): its Gaussian equivalent E[x F(x)] / sigma^2 (Stein's lemma) from
+    :meth:`force_law`, the slope at rest for sigma = 0, and its equivalent row the one
+    coefficient of a linear row. Subclasses give :meth:`force_law` and
+    :meth:`slope_at_rest`."""
 
     @classmethod
     def gaussian_gain(cls, row, sigma: float, expect) -> float:
-        """The equivalent (k_eq, c_eq or b_eq) under a zero-mean Gaussian argument of
-        standard deviation ``sigma``; ``expect(f, sigma, kinks)`` = E[f(x)]."""
+        """The equivalent (k_eq or c_eq) under a zero-mean Gaussian argument of standard
+        deviation ``sigma``; ``expect(f, sigma, kinks)`` = E[f(x)]."""
         if sigma <= 0.0:
             return float(cls.slope_at_rest(row))
         law, kinks = cls.force_law(row)

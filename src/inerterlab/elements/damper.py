@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import DAMPER, ElementBase, KernelLaw, Param
+from ._base import DAMPER, ElementBase, ForceLaw, Param
 
 __all__ = ["Damper", "DamperLaw", "damper_force"]
 
@@ -25,7 +25,7 @@ def damper_force(tab, o, v):
     return c * v + c2 * v * a, c + 2.0 * c2 * a
 
 
-class DamperLaw(KernelLaw):
+class DamperLaw(ForceLaw):
     """The damper row (quadratic, asymmetric, bearing drag): c_eq on its own law; the
     equivalent a linear damper row."""
 

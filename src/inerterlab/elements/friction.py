@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numba as nb
 import numpy as np
 
-from ._base import FRICTION, NPAR, ElementBase, KernelLaw, Param
+from ._base import FRICTION, NPAR, ElementBase, ForceLaw, Param
 
 __all__ = ["Friction", "FrictionLaw", "friction_force"]
 
@@ -29,7 +29,7 @@ def friction_force(force, v_eps, v):
     return force * th, force / v_eps * (1.0 - th * th)
 
 
-class FrictionLaw(KernelLaw):
+class FrictionLaw(ForceLaw):
     """The friction row: c_eq on its own law, the quadrature split at +-v_eps; the
     equivalent a friction row of the same v_eps whose slope at rest F_c / v_eps is
     c_eq."""

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numba as nb
 
-from ._base import SPRING, ElementBase, KernelLaw, Param
+from ._base import SPRING, ElementBase, ForceLaw, Param
 from .bump_stop import BUMP_LAW, bump_force
 from .gas_spring import GAS_LAW, gas_force
 
@@ -68,7 +68,7 @@ def spring_switch(tab, o, x):
     return abs(x) - g
 
 
-class SpringLaw(KernelLaw):
+class SpringLaw(ForceLaw):
     """The elastic row (springs, backlash, gas springs, bump stops): k_eq on its own law,
     the quadrature split at a free play's ends and at a bump stop's contact; the
     equivalent a linear spring row."""

@@ -132,7 +132,10 @@ def gaussian_gains(sys, e: int, sigma: float) -> float:
     (:class:`~inerterlab.elements.KernelLaw`). ``sigma`` = 0 gives the slope at rest."""
     law = _law(sys, e)
     row = _row(sys, e)
-    if law is None or law.gaussian_keeps(row):
+    if (
+        law is None or law.gaussian_keeps(row)
+        or law.gaussian_refusal(row, sys.elements[e].description) is not None
+    ):  # fmt: skip
         raise ParameterError(
             sys.element_names[e], sys.elements[e].description,
             "an element with a Gaussian equivalent (nonlinear_elements)",
