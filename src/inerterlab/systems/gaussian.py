@@ -53,6 +53,7 @@ errs by per cent.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -65,6 +66,7 @@ from .observers import derive, uncached_info
 
 __all__ = [
     "QUADRATURE_RTOL", "nonlinear_elements", "gaussian_gains", "mean_force", "equivalent_system",
+    "argument_rows", "equivalent_gains", "FixedPoint",
 ]
 
 #: relative tolerance of the Gaussian expectations
@@ -178,8 +180,6 @@ def equivalent_system(sys, gains: dict):
     """``sys`` with element ``e`` replaced, for every ``e`` in ``gains``, by a row of its
     own kernel law whose linearisation about rest is the gain (module docstring); the
     elements' objects stay (they name and describe the elements)."""
-    import dataclasses
-
     def make(sys):
         itab, ftab = sys.tables
         eo = int(itab[_kernel.I_ELEM])
@@ -191,3 +191,72 @@ def equivalent_system(sys, gains: dict):
         return dataclasses.replace(sys, ftab=ft, info=uncached_info(sys.info))
 
     return derive(sys, make)
+
+
+def argument_rows(sys, els, ss) -> tuple[np.ndarray, np.ndarray]:
+    """(C, D): the rows of each element of ``els`` (:func:`nonlinear_elements`)'s
+    argument, its relative displacement or velocity (top minus bottom), in the state
+    space ``ss`` = (A, B, C, D) of ``sys``'s core layout
+    (:meth:`~inerterlab.systems.System.linear_state_space`): argument = C x + D u."""
+    from .equilibrium import _structure
+
+    _, _, Cs, Ds = ss
+    ends = _structure(sys)[5]
+    names = list(sys.output_names)
+    rows_c, rows_d = [], []
+    for e, _, arg in els:
+        sfx = ".x" if arg == "displacement" else ".v"
+        t, b = (names.index(sys.node_names[n] + sfx) for n in ends[e])
+        rows_c.append(Cs[t] - Cs[b])
+        rows_d.append(Ds[t] - Ds[b])
+    return np.array(rows_c), np.array(rows_d)
+
+
+@dataclasses.dataclass(frozen=True)
+class FixedPoint:
+    """The Gaussian-equivalent system of :func:`equivalent_gains`: ``gains`` (element
+    index -> k_eq, c_eq or b_eq), the equivalent ``system`` and its ``state_space``, the
+    arguments' RMS ``sigma`` (element name -> m or m/s) at the last iteration,
+    ``iterations`` and whether the gains ``converged``."""
+
+    gains: dict
+    system: object
+    state_space: tuple
+    sigma: dict
+    iterations: int
+    converged: bool
+
+
+def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 200) -> FixedPoint:
+    """The statistical linearisation of ``sys``: every nonlinear element
+    (:func:`nonlinear_elements`) replaced by its Gaussian equivalent
+    (:func:`gaussian_gains`) at the RMS of its argument in the equivalent linear system
+    itself, iterated to a fixed point. ``argument_rms(eq, ss)`` gives those RMS
+    (element name -> m or m/s) of the equivalent system ``eq`` with the state space
+    ``ss`` (the caller's road: a white road velocity by a Lyapunov equation, a band of
+    a road spectrum by a spectral integral). It starts from each law's slope at rest
+    and is damped (the mean of the new and the last gains: a friction's gain falls like
+    1 / sigma, and sigma falls with the gain) until no gain changes by more than ``tol``
+    relative, at most ``max_iter`` times. A linear system is its own equivalent."""
+    from .equilibrium import linearise
+
+    els = nonlinear_elements(sys)
+    if not els:
+        return FixedPoint({}, sys, sys.linear_state_space(), {}, 0, True)
+    gains = {e: gaussian_gains(sys, e, 0.0) for e, _, _ in els}  # the slope at rest
+    converged = False
+    it = 0
+    sigma: dict = {}
+    while it < max_iter:
+        it += 1
+        eq = equivalent_system(sys, gains)
+        sigma = argument_rms(eq, linearise(eq))
+        new = {e: gaussian_gains(sys, e, sigma[name]) for e, name, _ in els}
+        change = max(abs(new[e] - gains[e]) / max(abs(new[e]), 1e-300) for e in gains)
+        if change < tol:
+            gains = new
+            converged = True
+            break
+        gains = {e: 0.5 * (new[e] + gains[e]) for e in gains}
+    eq = equivalent_system(sys, gains)
+    return FixedPoint(gains, eq, linearise(eq), sigma, it, converged)

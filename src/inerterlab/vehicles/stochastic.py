@@ -563,23 +563,14 @@ def _argument_rms(sys, veh, els, ss, fac, freq) -> dict:
     relative velocity for a damper and an inertance) under the road of the input factor
     ``fac`` (:func:`~inerterlab.vehicles.spectral.input_factor`), from the state space
     ``ss`` of the core layout: the spectral integral over ``freq``."""
-    from ..systems.equilibrium import _structure
+    from ..systems.gaussian import argument_rows
     from .spectral import _mean_square
 
-    A, B, C, D = ss
+    A, B = ss[0], ss[1]
     m = sys.info["roads"]
     Br, Bd = B[:, 0 : 3 * m : 3], B[:, 1 : 3 * m : 3]
-    ends = _structure(sys)[5]
-    names = list(sys.output_names)
-    rows = []
-    for e, _, arg in els:
-        sfx = ".x" if arg == "displacement" else ".v"
-        t, b = (names.index(sys.node_names[n] + sfx) for n in ends[e])
-        rows.append((C[t] - C[b], D[t, 0 : 3 * m : 3] - D[b, 0 : 3 * m : 3],
-                     D[t, 1 : 3 * m : 3] - D[b, 1 : 3 * m : 3]))  # fmt: skip
-    Cr = np.array([r[0] for r in rows])
-    Rr = np.array([r[1] for r in rows])
-    Sr = np.array([r[2] for r in rows])
+    Cr, Dg = argument_rows(sys, els, ss)
+    Rr, Sr = Dg[:, 0 : 3 * m : 3], Dg[:, 1 : 3 * m : 3]
     s = 2j * math.pi * np.asarray(freq, dtype=float)
     X = resolvent_solve(A, s, Br[None] + s[:, None, None] * Bd[None])
     # (frequencies, elements, wheels)
@@ -622,8 +613,7 @@ def statistical_linearisation(
     an asymmetric damper) loads the equivalent car: its mean offset is the result's
     ``mean``, and ``rms`` combines it with the random part.
     """
-    from ..systems.equilibrium import linearise
-    from ..systems.gaussian import equivalent_system, gaussian_gains, nonlinear_elements
+    from ..systems.gaussian import equivalent_gains, nonlinear_elements
     from ..systems.vehicle import vehicle as core_vehicle
     from .linear import from_state_space
     from .roads import road_spectrum
@@ -651,35 +641,23 @@ def statistical_linearisation(
         veh = from_state_space(sys, sys.linear_state_space(), False)
         res = spectral_response(veh, road, v, freq=freq)
         return LinearisationResult({}, {}, res, veh, 0, True)
-    gains = {e: gaussian_gains(sys, e, 0.0) for e, _, _ in els}  # the slope at rest
-    fac = None
-    converged = False
-    it = 0
-    sigma: dict = {}
-    while it < max_iter:
-        it += 1
-        eq = equivalent_system(sys, gains)
-        ss = linearise(eq)
+    fac = []  # the road's input factor, from the first equivalent car (the same for all)
+
+    def argument_rms(eq, ss):
         veh = from_state_space(eq, ss, True)
-        if fac is None:
-            fac = input_factor(veh, road, v, freq)
-        sigma = _argument_rms(eq, veh, els, ss, fac, freq)
-        new = {e: gaussian_gains(sys, e, sigma[name]) for e, name, _ in els}
-        change = max(abs(new[e] - gains[e]) / max(abs(new[e]), 1e-300) for e in gains)
-        if change < tol:
-            gains = new
-            converged = True
-            break
-        # damped: a friction's gain falls like 1 / sigma, and sigma falls with the gain
-        gains = {e: 0.5 * (new[e] + gains[e]) for e in gains}
-    eq = equivalent_system(sys, gains)
-    veh = from_state_space(eq, linearise(eq), True)
+        if not fac:
+            fac.append(input_factor(veh, road, v, freq))
+        return _argument_rms(eq, veh, els, ss, fac[0], freq)
+
+    fp = equivalent_gains(sys, argument_rms, tol=tol, max_iter=max_iter)
+    gains, eq, sigma = fp.gains, fp.system, fp.sigma
+    veh = from_state_space(eq, fp.state_space, True)
     res = spectral_response(veh, road, v, freq=freq)
     equivalents = {name: (arg, float(gains[e])) for e, name, arg in els}
     forces, mean = _mean_offset(sys, eq, veh, els, sigma)
     return LinearisationResult(
         equivalents=equivalents, argument_rms=sigma, spectral=res, vehicle=veh,
-        iterations=it, converged=converged, mean=mean, mean_forces=forces,
+        iterations=fp.iterations, converged=fp.converged, mean=mean, mean_forces=forces,
     )  # fmt: skip
 
 
