@@ -15,10 +15,10 @@ propagate = importlib.import_module("inerterlab.identify.propagate")
 
 def _gain(lin, f):
     """|1 + s c^T (s I - A)^-1 B| at one frequency f [Hz], one dense solve (c picks the
-    body's displacement over the road's, X3 - X1 = z1 + z2)."""
+    body's displacement over the road's, X3 - X1: the tyre's deflection and the
+    suspension's)."""
     n = lin.A.shape[0]
-    c = np.zeros(n)
-    c[0] = c[1] = 1.0
+    c = lin.C["tyre_deflection"] + lin.C["suspension_deflection"]
     s = 2j * math.pi * f
     return abs(1.0 + s * (c @ np.linalg.solve(s * np.eye(n) - lin.A, np.asarray(lin.B, float))))
 

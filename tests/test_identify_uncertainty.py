@@ -1,6 +1,7 @@
 """Trustworthy identification: the full parameter covariance of a fit."""
 
 import dataclasses
+import math
 
 import numpy as np
 import pytest
@@ -155,7 +156,12 @@ def test_linearised_device_car_matches_its_simulation_on_a_random_road():
 
     car = quarter_car("device")
     lin = linearised_car(car, road_class="C", speed=20.0)
-    assert lin.info["equivalent_damping"] > car.info["model"].device.damping
+    ((arg, c_f),) = lin.info["equivalents"].values()  # the device's friction
+    assert arg == "velocity"
+    # F tanh(v / v_eps) with v_eps far below sigma: near the sign law's F sqrt(2/pi) / sigma
+    (sigma,) = lin.info["argument_rms"].values()
+    dev = car.info["model"].device
+    assert c_f == pytest.approx(dev.friction * math.sqrt(2.0 / math.pi) / sigma, rel=2e-3)
     sim = ride_metrics(car, iso8608("C", 20.0, seed=2), 30.0, linear=False)
     n = h2_norms_state_space(lin).norms
     s = _road_scale("C", 20.0)
@@ -489,3 +495,39 @@ def test_sandwich_intervals_cover_with_differenced_noise():
     err, se, q, X, _ = _regression_replications(diff_noise, reps, seed=9, tests=tests, n=n)
     acov = np.array([2 * 25.0 + 1.0, -25.0])
     _check_calibrated(err, se, q, _exact_covariance(X, acov, tests, n))
+
+
+@pytest.mark.parametrize("name", ["device", "device-afw", "afw"])
+def test_linearised_car_is_its_own_fixed_point(name):
+    """Each equivalent is its element's Gaussian gain at its argument's RMS, and that RMS
+    is the one of the equivalent car under the class C road's white velocity: the
+    argument's row from the car's outputs, an independent Lyapunov solve (scipy) on
+    the state space the function returns."""
+    from scipy.linalg import solve_continuous_lyapunov
+
+    from inerterlab import quarter_car
+    from inerterlab.identify import linearised_car
+    from inerterlab.identify.propagate import _road_scale
+    from inerterlab.systems.gaussian import gaussian_gains
+
+    car = quarter_car(name)
+    lin = linearised_car(car, road_class="C", speed=20.0)
+    assert lin.info["iterations"] >= 2 and lin.info["equivalents"]
+    P = solve_continuous_lyapunov(lin.A, -np.outer(lin.B, lin.B))
+    names = list(lin.state_names)
+    for el, (arg, g) in lin.info["equivalents"].items():
+        sigma = lin.info["argument_rms"][el]
+        assert g == pytest.approx(gaussian_gains(car, car.element_names.index(el), sigma), rel=1e-8)
+        # the strut's elements sit between the body (or the device's node) and the wheel
+        assert arg in ("velocity", "acceleration")
+    # the flywheel's argument (and the friction's beside it): the relative velocity of
+    # the branch's ends, both states where the branch has a mass of its own
+    if name == "device":  # its branch node is massless: its velocity is not a state
+        return
+    top = "hyd.n3.v" if name == "device-afw" else "body.v"
+    c = np.zeros(len(names))
+    c[names.index(top)] = 1.0
+    c[names.index("wheel.v")] = -1.0
+    s = _road_scale("C", 20.0) * math.sqrt(c @ P @ c)
+    for el in lin.info["argument_rms"]:
+        assert lin.info["argument_rms"][el] == pytest.approx(s, rel=1e-7)

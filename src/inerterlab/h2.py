@@ -54,6 +54,7 @@ __all__ = [
     "wk_polynomials",
     "variance_gradient",
     "resolvent_solve",
+    "white_velocity_input",
 ]
 
 #: the largest complex workspace of one block of frequencies in :func:`resolvent_solve`
@@ -84,6 +85,17 @@ def resolvent_solve(A, s, R) -> np.ndarray:
         S[:, idx, idx] += sb[:, None]
         X[lo : lo + block] = np.linalg.solve(S, R[lo : lo + block])
     return X[:, :, 0] if vec else X
+
+
+def white_velocity_input(A, Bx, Bv) -> np.ndarray:
+    """The input column(s) of x' = A x + Bx z + Bv u when u = z' (the road's velocity,
+    z its height) is the input: with r = x + A^-1 Bx z, r' = A r + (A^-1 Bx + Bv) u. An
+    output C x + Dz z + Dv u reads C r + Dv u where its static part Dz - C A^-1 Bx
+    vanishes (a deflection, a force, an acceleration of a car that follows the road),
+    so white road velocity gives it a finite variance. For a car that the road carries
+    along (every position shifted with z leaves it at rest), r is its positions
+    relative to the road. Any dtype (a complex step gives derivatives)."""
+    return np.linalg.solve(A, Bx) + Bv
 
 
 def gramian(A, B, *, what: str = "H2 norms") -> np.ndarray:

@@ -93,15 +93,6 @@ def device_car(car, params: dict):
     return out
 
 
-@dataclasses.dataclass(frozen=True)
-class _Linear:
-    A: np.ndarray
-    B: np.ndarray
-    C: dict
-    D: dict
-    info: dict
-
-
 def _road_scale(road_class: str, speed: float) -> float:
     from ..excitation import ISO8608_CLASSES, ISO8608_N0
 
@@ -110,111 +101,56 @@ def _road_scale(road_class: str, speed: float) -> float:
     return math.pi * ISO8608_N0 * math.sqrt(2.0 * ISO8608_CLASSES[road_class] * v)
 
 
-def _device_state_space(car, c_eq: float, m_e: float | None) -> _Linear:
-    q = car.parameters
-    kt, ct, k, c, kh = (
-        q.tyre_stiffness,
-        q.tyre_damping,
-        q.stiffness,
-        q.damping,
-        car.device.stiffness,
-    )
-    M, Mt = q.sprung_mass, q.unsprung_mass
-    inerter = m_e is not None
-    n = 6 if inerter else 5
-    # states z1 = X2 - X1, z2 = X3 - X2, V2, V3, x_k (series spring), [u branch velocity]
-    A = np.zeros((n, n))
-    B = np.zeros(n)
-    A[0, 2], B[0] = 1.0, -1.0
-    A[1, 2], A[1, 3] = -1.0, 1.0
-    # unsprung: -K_t z1 - C_t (V2 - w) + K z2 + C (V3 - V2) + k_h x_k
-    A[2, :5] = np.array([-kt, k, -ct - c, c, kh]) / Mt
-    B[2] = ct / Mt
-    A[3, :5] = np.array([0.0, -k, c, -c, -kh]) / M
-    if inerter:
-        A[4, 2], A[4, 3], A[4, 5] = -1.0, 1.0, -1.0  # x_k' = v - u
-        A[5, 4], A[5, 5] = kh / m_e, -c_eq / m_e  # m_e u' = k_h x_k - c_eq u
-        cu = np.zeros(n)
-        cu[5] = 1.0
-    else:
-        A[4, 2], A[4, 3], A[4, 4] = -1.0, 1.0, -kh / c_eq  # x_k' = v - k_h x_k / c_eq
-        cu = np.zeros(n)
-        cu[4] = kh / c_eq
-    grip = kt / q.static_tyre_load
-    e = np.eye(n)
-    C = {
-        "body_acc": A[3].copy(),
-        "tyre_deflection": e[0],
-        "suspension_deflection": e[1],
-        "tyre_grip": grip * e[0],
-        "branch_velocity": cu,
-    }
-    D = {k_: 0.0 for k_ in C}
-    return _Linear(A=A, B=B, C=C, D=D, info={})
-
-
 def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
-    """Linear state space of a quarter car, with the real device linearised.
+    """The linear state space of a quarter car on an ISO 8608 road, its nonlinear
+    elements linearised statistically: a
+    :class:`~inerterlab.suspension.linear.LinearQuarterCar` driven by the road velocity.
 
-    ``traditional`` and ``cfw`` are linear already
-    (:func:`~inerterlab.suspension.linear.linear_quarter_car`). For ``device`` and
-    ``device-afw`` the series spring k_h stays as it is; the branch behind it becomes
-    linear by statistical linearisation on an ISO 8608 road of ``road_class`` at
-    ``speed`` [m/s] (the branch velocity u taken as Gaussian with standard deviation
-    sigma_u):
-
-    * friction F_fh tanh(u / v_eps) -> equivalent damping F_fh sqrt(2/pi) / sigma_u,
-      added to b_ah (the least-squares linear fit of F_fh sgn(u) for Gaussian u; the
-      smoothing v_eps is taken as far below sigma_u);
-    * ``device-afw``: the speed-dependent inertance -> the constant r^2 I(r E|u|),
-      E|u| = sqrt(2/pi) sigma_u (the flywheel at its mean speed; the force laws'
-      extra terms are dropped).
-
-    sigma_u follows from the linear car itself, so the equivalent values are iterated
-    to a fixed point. ``info`` of the result holds them (``equivalent_damping`` [N s/m],
-    ``inertance`` [kg], ``sigma_branch_velocity`` [m/s]).
+    A linear car (``traditional``, ``cfw``) is its own state space. Otherwise every
+    nonlinear element of the car's core system (a device's friction, an adaptive
+    flywheel) is replaced by its Gaussian equivalent from its own law
+    (:mod:`inerterlab.systems.gaussian`: a friction's c_eq = E[v F(v)] / sigma_v^2, a
+    flywheel's b_eq = E[m_e(v)]), its argument's RMS taken in the equivalent car itself
+    on the road of ``road_class`` at ``speed`` [m/s] (ISO 8608, waviness 2: white road
+    velocity of the class's level, no band limits; a Lyapunov equation), iterated to a
+    fixed point (:func:`~inerterlab.systems.gaussian.equivalent_gains`). ``info`` of
+    the result: ``equivalents`` (element name -> (argument, gain [N s/m, kg or N/m])),
+    ``argument_rms`` (element name -> m/s or m) and ``iterations``. ConvergenceError
+    where the gains do not settle; ParameterError naming an element that has no
+    Gaussian equivalent (a tyre that lifts off).
     """
-    car = model_of(car)
-    if car.is_linear:
-        from ..suspension.linear import linear_quarter_car
-
-        lin = linear_quarter_car(car)
-        return _Linear(A=lin.A, B=lin.B, C=dict(lin.C), D=dict(lin.D), info={})
-    if car.suspension not in ("device", "device-afw") or car.tyre_lift_off:
-        raise ParameterError(
-            "car", car.suspension, "traditional, cfw, device or device-afw without tyre lift-off"
-        )
-    from ..h2 import gramian
+    from ..errors import ConvergenceError
+    from ..h2 import gramian, white_velocity_input
+    from ..suspension.linear import road_velocity_form
+    from ..systems.gaussian import argument_rows, equivalent_gains, nonlinear_elements
+    from ..systems.quarter_car import system_of
 
     scale = _road_scale(road_class, speed)
-    b, ff = car.device.damping, car.device.friction
-    inerter = car.suspension == "device-afw"
-    r = car.transmission.ratio if inerter else 0.0
-    m_e = car.inertance if inerter else None
-    c_eq = b
-    sigma = math.nan
-    for _ in range(100):
-        lin = _device_state_space(car, c_eq, m_e)
-        P = gramian(lin.A, lin.B, what="equivalent linearisation")
-        cu = lin.C["branch_velocity"]
-        sigma = scale * math.sqrt(max(float(cu @ P @ cu), 0.0))
-        if sigma <= 0:
-            break
-        c_new = b + ff * math.sqrt(2.0 / math.pi) / sigma
-        m_new = (
-            r * r * float(car.flywheel.inertia(r * sigma * math.sqrt(2.0 / math.pi)))
-            if inerter
-            else None
+    sys = system_of(model_of(car))
+    els = nonlinear_elements(sys)
+
+    def argument_rms(eq, ss):
+        A, B = ss[0], ss[1]
+        Cr, Dr = argument_rows(eq, els, ss)
+        if np.max(np.abs(Dr[:, 1:])) > 1e-12 * (1.0 + float(np.max(np.abs(Cr)))):
+            raise ParameterError("car", "an element driven straight by the road",
+                                 "nonlinear elements inside the suspension")  # fmt: skip
+        P = gramian(A, white_velocity_input(A, B[:, 0], B[:, 1]), what="equivalent linearisation")
+        return {name: scale * math.sqrt(max(float(Cr[j] @ P @ Cr[j]), 0.0))
+                for j, (_, name, _) in enumerate(els)}  # fmt: skip
+
+    fp = equivalent_gains(sys, argument_rms)
+    if not fp.converged:
+        raise ConvergenceError(
+            f"statistical linearisation of the {model_of(car).suspension!r} car: the "
+            f"equivalents did not settle in {fp.iterations} iterations"
         )
-        done = abs(c_new - c_eq) <= 1e-12 * c_new and (
-            not inerter or abs(m_new - m_e) <= 1e-12 * m_new
-        )
-        c_eq, m_e = c_new, m_new
-        if done:
-            break
-    lin = _device_state_space(car, c_eq, m_e)
-    lin.info.update(equivalent_damping=c_eq, inertance=m_e or 0.0, sigma_branch_velocity=sigma)
-    return lin
+    info = {
+        "equivalents": {name: (arg, float(fp.gains[e])) for e, name, arg in els},
+        "argument_rms": dict(fp.sigma),
+        "iterations": fp.iterations,
+    }
+    return road_velocity_form(fp.system, fp.state_space, info)
 
 
 def _body_resonance(lin) -> float:
@@ -227,8 +163,9 @@ def _body_resonance(lin) -> float:
     from ..h2 import resolvent_solve
 
     n = lin.A.shape[0]
-    c = np.zeros(n)
-    c[0] = c[1] = 1.0  # X3 - X1 = z1 + z2
+    # X3 - X1: the tyre's deflection and the suspension's (no feed-through: both are
+    # displacements)
+    c = lin.C["tyre_deflection"] + lin.C["suspension_deflection"]
     B = np.asarray(lin.B, dtype=float)
 
     def gain(f):

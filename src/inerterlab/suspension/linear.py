@@ -1,43 +1,109 @@
-"""State-space form of the linear quarter cars (traditional, cfw) for H2 norms.
+"""A quarter car's linear state space driven by the road velocity, from the model core.
 
-Input: the road velocity w = X1' [m/s]. States: tyre deflection z1 = X2 - X1,
-suspension deflection z2 = X3 - X2, V2, V3 (relative coordinates, so the system is
-asymptotically stable and a Lyapunov equation has a unique solution). Equations (4.1)
-and (4.4) with the inertance b = r^2 I between the masses:
-
-    [M_t + b, -b; -b, M + b] [a2; a3] = [-K_t z1 - C_t (V2 - w) + K z2 + C (V3 - V2);
-                                         -K z2 - C (V3 - V2)]
+Input: the road velocity w = X1' [m/s] (unit white noise for H2 norms). The matrices
+are the core system's own (:meth:`inerterlab.systems.System.linear_state_space`, or a
+linearisation of it), whose inputs are the road's height X1, velocity and
+acceleration. With X1 = w / s the height's column moves into the states
+(:func:`inerterlab.h2.white_velocity_input`): the states are the core's
+(``wheel.x``, ``wheel.v``, ``body.x``, ``body.v`` and the internal nodes of the
+suspension's network, in the order of its ``state_names``) with every position taken
+relative to the road, so the system is asymptotically stable and a Lyapunov equation
+has a unique solution. One set of equations describes the car, the core's; nothing
+here writes them again.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import ConvergenceError, ParameterError
 from .model import QuarterCar, model_of
 
-__all__ = ["LinearQuarterCar", "linear_quarter_car"]
+__all__ = ["LinearQuarterCar", "linear_quarter_car", "road_velocity_form"]
+
+#: the outputs of a :class:`LinearQuarterCar`
+OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection", "tyre_grip")
 
 
 @dataclass(frozen=True)
 class LinearQuarterCar:
     """x' = A x + B w; each output y = C[name] x + D[name] w.
 
-    Outputs: ``body_acc`` [m/s^2], ``tyre_deflection`` [m], ``suspension_deflection``
-    [m], ``tyre_grip`` (K_t (X2 - X1)/((M + M_t) g), (4.20)) [-].
+    Outputs: ``body_acc`` [m/s^2], ``tyre_deflection`` X2 - X1 [m],
+    ``suspension_deflection`` X3 - X2 [m], ``tyre_grip`` (K_t (X2 - X1)/((M + M_t) g),
+    (4.20)) [-]. ``state_names``: the core system's states (positions relative to the
+    road). ``info``: how it was made (for a statistical linearisation, the
+    equivalents; :func:`inerterlab.identify.linearised_car`).
     """
 
     A: np.ndarray
     B: np.ndarray
     C: dict
     D: dict
+    state_names: tuple = ()
+    info: dict = field(default_factory=dict)
+
+
+def road_velocity_form(system, ss, info: dict | None = None) -> LinearQuarterCar:
+    """The :class:`LinearQuarterCar` of the core quarter car ``system`` (a named
+    suspension's, with its description in ``info["model"]``) from its state space
+    ``ss`` = (A, B, C, D) in the core's layout (road height, velocity, acceleration as
+    inputs). ParameterError where an inertance touches the road (the road's
+    acceleration drives the car: no finite response to white velocity)."""
+    from ..h2 import white_velocity_input
+
+    model = model_of(system)
+    A, B, C, D = (np.asarray(m, dtype=float) for m in ss)
+    scale = 1.0 + float(np.max(np.abs(B)))
+    if np.max(np.abs(B[:, 2])) > 1e-12 * scale:
+        raise ParameterError("tyre", "inertance at the road", "no inertance touching the road")
+    Bx, Bv = B[:, 0], B[:, 1]
+    Bw = white_velocity_input(A, Bx, Bv)
+    names = list(system.output_names)
+
+    def row(name):
+        j = names.index(name)
+        return C[j], D[j, 0], D[j, 1]
+
+    (ba, _, bad), (cw, rw, dw), (cr, rr, dr), (cb, rb, db) = (
+        row(n) for n in ("body.a", "wheel.x", "road.x", "body.x")
+    )
+    grip = model.parameters.tyre_stiffness / model.parameters.static_tyre_load
+    rows = {
+        "body_acc": (ba, bad),
+        "tyre_deflection": (cw - cr, dw - dr),
+        "suspension_deflection": (cb - cw, db - dw),
+    }
+    rows["tyre_grip"] = (grip * rows["tyre_deflection"][0], grip * rows["tyre_deflection"][1])
+    static = {
+        "body_acc": row("body.a")[1],  # D's road-height column: Dz
+        "tyre_deflection": rw - rr,
+        "suspension_deflection": rb - rw,
+    }
+    xr = np.linalg.solve(A, Bx)
+    for k, dz in static.items():  # Dz - C A^-1 Bx: zero for a car the road carries along
+        c = rows[k][0]
+        if abs(dz - float(c @ xr)) > 1e-9 * (1.0 + abs(dz) + float(np.abs(c).max())):
+            raise ConvergenceError(
+                f"the quarter car's {k} does not return to rest after a step of the road "
+                f"(static part {dz - float(c @ xr):.3g}): it has no finite variance under "
+                "white road velocity"
+            )
+    return LinearQuarterCar(
+        A=A, B=Bw, C={k: np.array(v[0]) for k, v in rows.items()},
+        D={k: float(v[1]) for k, v in rows.items()},
+        state_names=tuple(system.state_names), info=dict(info or {}),
+    )  # fmt: skip
 
 
 def linear_quarter_car(model: QuarterCar) -> LinearQuarterCar:
     """The linear system of a ``traditional`` or ``cfw`` quarter car (the system
-    :func:`inerterlab.quarter_car` builds, or its description)."""
+    :func:`inerterlab.quarter_car` builds, or its description), driven by the road
+    velocity: the core system's exact state space (:func:`road_velocity_form`)."""
+    from ..systems.quarter_car import system_of
+
     model = model_of(model)
     if not model.is_linear:
         raise ParameterError(
@@ -45,31 +111,5 @@ def linear_quarter_car(model: QuarterCar) -> LinearQuarterCar:
             model.suspension + (" with tyre lift-off" if model.tyre_lift_off else ""),
             "a linear suspension: 'traditional' or 'cfw' without tyre lift-off",
         )
-    q = model.parameters
-    b = model.inertance or 0.0
-    m = np.array([[q.unsprung_mass + b, -b], [-b, q.sprung_mass + b]])
-    # forces on [unsprung, sprung] as rows of (state coefficients | input coefficient)
-    kt, ct, k, c = q.tyre_stiffness, q.tyre_damping, q.stiffness, q.damping
-    fx = np.array([[-kt, k, -ct - c, c], [0.0, -k, c, -c]])
-    fw = np.array([ct, 0.0])
-    minv = np.linalg.inv(m)
-    ax, aw = minv @ fx, minv @ fw
-    A = np.zeros((4, 4))
-    A[0, 2] = 1.0  # z1' = V2 - w
-    A[1, 2], A[1, 3] = -1.0, 1.0  # z2' = V3 - V2
-    A[2:, :] = ax
-    B = np.array([-1.0, 0.0, aw[0], aw[1]])
-    grip = kt / q.static_tyre_load
-    C = {
-        "body_acc": ax[1].copy(),
-        "tyre_deflection": np.array([1.0, 0, 0, 0]),
-        "suspension_deflection": np.array([0, 1.0, 0, 0]),
-        "tyre_grip": np.array([grip, 0, 0, 0]),
-    }
-    D = {
-        "body_acc": float(aw[1]),
-        "tyre_deflection": 0.0,
-        "suspension_deflection": 0.0,
-        "tyre_grip": 0.0,
-    }
-    return LinearQuarterCar(A=A, B=B, C=C, D=D)
+    system = system_of(model)
+    return road_velocity_form(system, system.linear_state_space())

@@ -227,6 +227,14 @@ class FixedPoint:
     converged: bool
 
 
+#: Anderson acceleration of :func:`equivalent_gains`: the iterates it combines, its mixing
+#: and the longest step it takes in the logarithm of a gain (a factor e^4) before it
+#: falls back to the mixing alone
+ANDERSON_MEMORY = 3
+ANDERSON_MIXING = 0.5
+ANDERSON_LONGEST = 4.0
+
+
 def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 200) -> FixedPoint:
     """The statistical linearisation of ``sys``: every nonlinear element
     (:func:`nonlinear_elements`) replaced by its Gaussian equivalent
@@ -234,16 +242,27 @@ def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 2
     itself, iterated to a fixed point. ``argument_rms(eq, ss)`` gives those RMS
     (element name -> m or m/s) of the equivalent system ``eq`` with the state space
     ``ss`` (the caller's road: a white road velocity by a Lyapunov equation, a band of
-    a road spectrum by a spectral integral). It starts from each law's slope at rest
-    and is damped (the mean of the new and the last gains: a friction's gain falls like
-    1 / sigma, and sigma falls with the gain) until no gain changes by more than ``tol``
-    relative, at most ``max_iter`` times. A linear system is its own equivalent."""
+    a road spectrum by a spectral integral).
+
+    The iteration starts from each law's slope at rest and stops where no gain changes
+    by more than ``tol`` relative (at most ``max_iter`` passes), returning the last
+    gains computed. Between passes it works on the logarithms of the gains (a friction's
+    gain goes like 1 / sigma, and sigma like a power of the gain: a straight line
+    there) by Anderson's acceleration: the next iterate is the mixed step (half the way
+    to the new gains, :data:`ANDERSON_MIXING`) corrected by the least-squares
+    combination of the last :data:`ANDERSON_MEMORY` steps that best cancels the
+    residual. Where a gain is not positive, or the step would change a gain by more than
+    e^:data:`ANDERSON_LONGEST`, it takes the mixed step alone (in the gains themselves
+    where one is not positive) and forgets the history. A linear system is its own
+    equivalent."""
     from .equilibrium import linearise
 
     els = nonlinear_elements(sys)
     if not els:
         return FixedPoint({}, sys, sys.linear_state_space(), {}, 0, True)
-    gains = {e: gaussian_gains(sys, e, 0.0) for e, _, _ in els}  # the slope at rest
+    keys = [e for e, _, _ in els]
+    gains = {e: gaussian_gains(sys, e, 0.0) for e in keys}  # the slope at rest
+    hist: list = []  # (log gains, residual in logs) of the last passes
     converged = False
     it = 0
     sigma: dict = {}
@@ -252,11 +271,32 @@ def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 2
         eq = equivalent_system(sys, gains)
         sigma = argument_rms(eq, linearise(eq))
         new = {e: gaussian_gains(sys, e, sigma[name]) for e, name, _ in els}
-        change = max(abs(new[e] - gains[e]) / max(abs(new[e]), 1e-300) for e in gains)
+        change = max(abs(new[e] - gains[e]) / max(abs(new[e]), 1e-300) for e in keys)
         if change < tol:
             gains = new
             converged = True
             break
-        gains = {e: 0.5 * (new[e] + gains[e]) for e in gains}
+        g = np.array([gains[e] for e in keys])
+        gn = np.array([new[e] for e in keys])
+        if np.all(g > 0.0) and np.all(gn > 0.0):
+            x = np.log(g)
+            f = np.log(gn) - x
+            hist = [*hist[-ANDERSON_MEMORY:], (x, f)]
+            step = ANDERSON_MIXING * f
+            if len(hist) > 1:
+                pairs = list(zip(hist[:-1], hist[1:], strict=True))
+                dX = np.array([b[0] - a[0] for a, b in pairs]).T
+                dF = np.array([b[1] - a[1] for a, b in pairs]).T
+                gam = np.linalg.lstsq(dF, f, rcond=None)[0]
+                acc = step - (dX + ANDERSON_MIXING * dF) @ gam
+                if np.all(np.isfinite(acc)) and np.max(np.abs(acc)) <= ANDERSON_LONGEST:
+                    step = acc
+                else:
+                    hist = hist[-1:]
+            gx = np.exp(x + step)
+        else:
+            hist = []
+            gx = 0.5 * (gn + g)
+        gains = {e: float(v) for e, v in zip(keys, gx, strict=True)}
     eq = equivalent_system(sys, gains)
     return FixedPoint(gains, eq, linearise(eq), sigma, it, converged)
