@@ -120,8 +120,8 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
     Gaussian equivalent (a tyre that lifts off).
     """
     from ..errors import ConvergenceError
-    from ..h2 import gramian, white_velocity_input
-    from ..suspension.linear import road_velocity_form
+    from ..h2 import gramian
+    from ..suspension.linear import road_relative, road_velocity_form
     from ..systems.gaussian import argument_rows, equivalent_gains, nonlinear_elements
     from ..systems.quarter_car import system_of
 
@@ -130,12 +130,13 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
     els = nonlinear_elements(sys)
 
     def argument_rms(eq, ss):
-        A, B = ss[0], ss[1]
+        A, B, Ti = road_relative(eq, ss)
         Cr, Dr = argument_rows(eq, els, ss)
-        if np.max(np.abs(Dr[:, 1:])) > 1e-12 * (1.0 + float(np.max(np.abs(Cr)))):
+        if np.max(np.abs(Dr)) > 1e-12 * (1.0 + float(np.max(np.abs(Cr)))):
             raise ParameterError("car", "an element driven straight by the road",
                                  "nonlinear elements inside the suspension")  # fmt: skip
-        P = gramian(A, white_velocity_input(A, B[:, 0], B[:, 1]), what="equivalent linearisation")
+        P = gramian(A, B, what="equivalent linearisation")
+        Cr = Cr @ Ti
         return {name: scale * math.sqrt(max(float(Cr[j] @ P @ Cr[j]), 0.0))
                 for j, (_, name, _) in enumerate(els)}  # fmt: skip
 

@@ -3,12 +3,12 @@
 Input: the road velocity w = X1' [m/s] (unit white noise for H2 norms). The matrices
 are the core system's own (:meth:`inerterlab.systems.System.linear_state_space`, or a
 linearisation of it), whose inputs are the road's height X1, velocity and
-acceleration. With X1 = w / s the height's column moves into the states
-(:func:`inerterlab.h2.white_velocity_input`): the states are the core's
+acceleration. With X1 = w / s the height moves into the states: the states are the core's
 (``wheel.x``, ``wheel.v``, ``body.x``, ``body.v`` and the internal nodes of the
-suspension's network, in the order of its ``state_names``) with every position taken
-relative to the road, so the system is asymptotically stable and a Lyapunov equation
-has a unique solution. One set of equations describes the car, the core's; nothing
+suspension's network, in the order of its ``state_names``) with the wheel's position
+taken relative to the road and every other position relative to the wheel's (so the
+deflections are states, not differences of large motions), then the velocities:
+the system is asymptotically stable and a Lyapunov equation has a unique solution. One set of equations describes the car, the core's; nothing
 here writes them again.
 """
 
@@ -21,7 +21,7 @@ import numpy as np
 from ..errors import ConvergenceError, ParameterError
 from .model import QuarterCar, model_of
 
-__all__ = ["LinearQuarterCar", "linear_quarter_car", "road_velocity_form"]
+__all__ = ["LinearQuarterCar", "linear_quarter_car", "road_relative", "road_velocity_form"]
 
 #: the outputs of a :class:`LinearQuarterCar`
 OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection", "tyre_grip")
@@ -33,8 +33,8 @@ class LinearQuarterCar:
 
     Outputs: ``body_acc`` [m/s^2], ``tyre_deflection`` X2 - X1 [m],
     ``suspension_deflection`` X3 - X2 [m], ``tyre_grip`` (K_t (X2 - X1)/((M + M_t) g),
-    (4.20)) [-]. ``state_names``: the core system's states (positions relative to the
-    road). ``info``: how it was made (for a statistical linearisation, the
+    (4.20)) [-]. ``state_names``: the states (the wheel's position relative to the
+    road, the others relative to the wheel, the velocities absolute). ``info``: how it was made (for a statistical linearisation, the
     equivalents; :func:`inerterlab.identify.linearised_car`).
     """
 
@@ -46,28 +46,61 @@ class LinearQuarterCar:
     info: dict = field(default_factory=dict)
 
 
-def road_velocity_form(system, ss, info: dict | None = None) -> LinearQuarterCar:
-    """The :class:`LinearQuarterCar` of the core quarter car ``system`` (a named
-    suspension's, with its description in ``info["model"]``) from its state space
-    ``ss`` = (A, B, C, D) in the core's layout (road height, velocity, acceleration as
-    inputs). ParameterError where an inertance touches the road (the road's
-    acceleration drives the car: no finite response to white velocity)."""
-    from ..h2 import white_velocity_input
+def _order(st) -> list:
+    """The core's states in the order of :func:`road_relative`: the positions, then the
+    velocities and the other states (each group in the core's order)."""
+    return [i for i, n in enumerate(st) if n.endswith(".x")] + [
+        i for i, n in enumerate(st) if not n.endswith(".x")
+    ]
 
-    model = model_of(system)
-    A, B, C, D = (np.asarray(m, dtype=float) for m in ss)
+
+def road_relative(system, ss):
+    """(A, B, Ti): the state space ``ss`` = (A, B, C, D) of the core quarter car
+    ``system`` (road height, velocity, acceleration as inputs) driven by the road
+    velocity alone, in the states x' of the module docstring (x = Ti x'): the positions
+    first, the wheel's relative to the road and every other relative to the wheel's,
+    then the velocities (absolute) and any other state. An output row c of the core's states reads c @ Ti. The road's
+    height enters only through the positions relative to it: a car that the road
+    carries along (shifting every position by the road's leaves every force as it is:
+    A e + B_z = 0, e the positions' indicator), checked to 1e-9; ParameterError where
+    an inertance touches the road (its acceleration drives the car)."""
+    A, B = (np.asarray(m, dtype=float) for m in ss[:2])
     scale = 1.0 + float(np.max(np.abs(B)))
     if np.max(np.abs(B[:, 2])) > 1e-12 * scale:
         raise ParameterError("tyre", "inertance at the road", "no inertance touching the road")
-    Bx, Bv = B[:, 0], B[:, 1]
-    Bw = white_velocity_input(A, Bx, Bv)
+    st = list(system.state_names)
+    pos = np.array([n.endswith(".x") for n in st], dtype=float)
+    if np.max(np.abs(A @ pos + B[:, 0])) > 1e-9 * scale * (1.0 + float(np.max(np.abs(A)))):
+        raise ConvergenceError(
+            "the quarter car is not carried along by its road (a force depends on an "
+            "absolute position): no stationary response to white road velocity"
+        )
+    order = _order(st)
+    w = st.index("wheel.x")
+    Ti = np.zeros((len(st), len(st)))  # x = Ti x'
+    for j, i in enumerate(order):
+        Ti[i, j] = 1.0
+        if st[i].endswith(".x") and i != w:
+            Ti[i, order.index(w)] = 1.0
+    T = np.linalg.inv(Ti)  # exact: its entries are 0 and +-1
+    # x - e z (positions relative to the road) moves as A (x - e z) + (B_v - e) u
+    return T @ A @ Ti, T @ (B[:, 1] - pos), Ti
+
+
+def road_velocity_form(system, ss, info: dict | None = None) -> LinearQuarterCar:
+    """The :class:`LinearQuarterCar` of the core quarter car ``system`` (a named
+    suspension's, with its description in ``info["model"]``) from its state space
+    ``ss`` = (A, B, C, D) in the core's layout (:func:`road_relative`)."""
+    model = model_of(system)
+    A, Bw, Ti = road_relative(system, ss)
+    C, D = (np.asarray(m, dtype=float) for m in ss[2:])
     names = list(system.output_names)
 
     def row(name):
         j = names.index(name)
-        return C[j], D[j, 0], D[j, 1]
+        return C[j], D[j, 1]
 
-    (ba, _, bad), (cw, rw, dw), (cr, rr, dr), (cb, rb, db) = (
+    (ba, bad), (cw, dw), (cr, dr), (cb, db) = (
         row(n) for n in ("body.a", "wheel.x", "road.x", "body.x")
     )
     grip = model.parameters.tyre_stiffness / model.parameters.static_tyre_load
@@ -77,24 +110,13 @@ def road_velocity_form(system, ss, info: dict | None = None) -> LinearQuarterCar
         "suspension_deflection": (cb - cw, db - dw),
     }
     rows["tyre_grip"] = (grip * rows["tyre_deflection"][0], grip * rows["tyre_deflection"][1])
-    static = {
-        "body_acc": row("body.a")[1],  # D's road-height column: Dz
-        "tyre_deflection": rw - rr,
-        "suspension_deflection": rb - rw,
-    }
-    xr = np.linalg.solve(A, Bx)
-    for k, dz in static.items():  # Dz - C A^-1 Bx: zero for a car the road carries along
-        c = rows[k][0]
-        if abs(dz - float(c @ xr)) > 1e-9 * (1.0 + abs(dz) + float(np.abs(c).max())):
-            raise ConvergenceError(
-                f"the quarter car's {k} does not return to rest after a step of the road "
-                f"(static part {dz - float(c @ xr):.3g}): it has no finite variance under "
-                "white road velocity"
-            )
+    st = list(system.state_names)
+    names_new = tuple(st[i] if (not st[i].endswith(".x") or st[i] == "wheel.x")
+                      else f"{st[i]} - wheel.x" for i in _order(st))  # fmt: skip
     return LinearQuarterCar(
-        A=A, B=Bw, C={k: np.array(v[0]) for k, v in rows.items()},
+        A=A, B=Bw, C={k: v[0] @ Ti for k, v in rows.items()},
         D={k: float(v[1]) for k, v in rows.items()},
-        state_names=tuple(system.state_names), info=dict(info or {}),
+        state_names=names_new, info=dict(info or {}),
     )  # fmt: skip
 
 

@@ -358,11 +358,10 @@ def _h2_system(ss, src, wname, delay=None):
     weighting ``wname``'s states, or alone for None). With r = u/s the road velocity
     u enters as B = A^-1 Br + Bd (the static part G_r(0)/s must vanish, checked by the
     caller). Any dtype: a state space carrying a complex step gives its derivative."""
-    from ..h2 import white_velocity_input
     from ..iso2631 import WEIGHTINGS
 
     A, Br, Bd, Cy, Dr, Dd = ss
-    Bv = white_velocity_input(A, Br, Bd)
+    Bv = np.linalg.solve(A, Br) + Bd
     if wname is None:
         return A, Bv, Cy[src]
     if np.max(np.abs(_step_response(ss, src, delay))) > 1e-9 * (
