@@ -92,13 +92,6 @@ def test_we_values():
     np.testing.assert_allclose(we.magnitude(f), wd.magnitude(2 * f), rtol=2e-3)
 
 
-def test_metrics_wk_agrees():
-    from inerterlab.metrics import wk_weighting
-
-    f = np.logspace(-1, 2.5, 100)
-    np.testing.assert_allclose(iso2631.weighting("Wk").response(f), wk_weighting(f), rtol=1e-12)
-
-
 @pytest.mark.parametrize("method,tol", [("foh", 2e-3), ("bilinear", 2e-2)])
 @pytest.mark.parametrize("name", ["Wk", "Wd", "We"])
 def test_filter_sine_amplitude(name, method, tol):

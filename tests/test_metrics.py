@@ -11,7 +11,6 @@ from inerterlab.metrics import (
     h2_norms,
     rms,
     vibration_dose_value,
-    wk_sections,
     wk_state_space,
     wk_weighting,
 )
@@ -26,19 +25,23 @@ def test_wk_tabulated_factors():
     assert f[np.argmax(g)] == pytest.approx(6.2, abs=0.1)
 
 
-def test_wk_state_space_and_sections_equal_the_transfer_function():
+def test_wk_state_space_equals_the_transfer_function():
+    """The state space against ISO 2631-1's formula, written out again here (the four
+    factors of Annex A with the Wk row of its table)."""
     A, B, C, D = wk_state_space()
     assert D == 0.0
-    secs = wk_sections()
+    w1, w2, w3, w4, w5, w6 = (2 * math.pi * f for f in (0.4, 100.0, 12.5, 12.5, 2.37, 3.35))
+    q4, q5, q6 = 0.63, 0.91, 0.91
     for f in (0.1, 0.5, 2.0, 6.2, 30.0, 150.0):
         s = 2j * math.pi * f
         h_ss = C @ np.linalg.solve(s * np.eye(8) - A, B) + D
-        h_sec = 1.0
-        for w0, a1, c1, c2, d in secs:
-            den = s * s + a1 * s + w0 * w0
-            h_sec *= d + c1 * w0 * w0 / den + c2 * w0 * s / den
-        assert h_ss == pytest.approx(complex(wk_weighting(f)), rel=1e-12)
-        assert h_sec == pytest.approx(complex(wk_weighting(f)), rel=1e-12)
+        hh = 1.0 / (1.0 + math.sqrt(2) * w1 / s + (w1 / s) ** 2)
+        hl = 1.0 / (1.0 + math.sqrt(2) * s / w2 + (s / w2) ** 2)
+        ht = (1.0 + s / w3) / (1.0 + s / (q4 * w4) + (s / w4) ** 2)
+        hs = (1.0 + s / (q5 * w5) + (s / w5) ** 2) / (1.0 + s / (q6 * w6) + (s / w6) ** 2)
+        exact = hh * hl * ht * hs * (w5 / w6) ** 2
+        assert h_ss == pytest.approx(exact, rel=1e-12)
+        assert complex(wk_weighting(f)) == pytest.approx(exact, rel=1e-13)
 
 
 def test_rms_and_vdv_of_a_sine():
@@ -61,11 +64,12 @@ def test_h2_closed_forms_of_spec_10(k, c, b):
     car = quarter_car(kind, stiffness=k, damping=c, **SMITH_WANG, **extra)
     n = h2_norms(car)
     ms, mu = SMITH_WANG["sprung_mass"], SMITH_WANG["unsprung_mass"]
-    assert n["suspension_deflection"] ** 2 == pytest.approx((ms + mu) / (2 * c), rel=1e-9)
+    # 1e-9 before the gramian was balanced (stop 69): up to 5e-9 off with an inerter
+    assert n["suspension_deflection"] ** 2 == pytest.approx((ms + mu) / (2 * c), rel=1e-12)
     if b is None:
         kt = SMITH_WANG["tyre_stiffness"]
         assert n["body_acc"] ** 2 == pytest.approx(
-            (kt * c**2 + (ms + mu) * k**2) / (2 * c * ms**2), rel=1e-9
+            (kt * c**2 + (ms + mu) * k**2) / (2 * c * ms**2), rel=1e-12
         )
 
 

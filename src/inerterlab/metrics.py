@@ -31,10 +31,8 @@ import numpy as np
 from .errors import ParameterError, check_choice, check_positive
 
 __all__ = [
-    "WK_PARAMETERS",
     "wk_weighting",
     "wk_state_space",
-    "wk_sections",
     "weighted_acceleration",
     "rms",
     "vibration_dose_value",
@@ -46,19 +44,6 @@ __all__ = [
     "METRIC_KEYS",
     "METRIC_UNITS",
 ]
-
-#: Wk parameters [Hz] and quality factors (ISO 8041-1, docs/model.md §9)
-WK_PARAMETERS = {
-    "f1": 0.4,
-    "f2": 100.0,
-    "f3": 12.5,
-    "f4": 12.5,
-    "Q4": 0.63,
-    "f5": 2.37,
-    "Q5": 0.91,
-    "f6": 3.35,
-    "Q6": 0.91,
-}
 
 METRIC_KEYS = (
     "rms_body_acc",
@@ -91,84 +76,24 @@ METRIC_UNITS = {
 
 
 def wk_weighting(freq_hz):
-    """Complex Wk weighting at frequency ``freq_hz`` [Hz].
+    """Complex Wk weighting at frequency ``freq_hz`` [Hz]: the ISO 2631-1 formula of
+    :data:`inerterlab.iso2631.WEIGHTINGS` ``["Wk"]`` (its one definition).
 
     Examples
     --------
     >>> [round(float(abs(wk_weighting(f))), 3) for f in (0.5, 1.0)]
     [0.418, 0.482]
     """
-    p = WK_PARAMETERS
-    s = 2j * math.pi * np.asarray(freq_hz, dtype=float)
-    w = {k: 2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6")}
-    hh = 1.0 / (1.0 + math.sqrt(2) * w["f1"] / s + (w["f1"] / s) ** 2)
-    hl = 1.0 / (1.0 + math.sqrt(2) * s / w["f2"] + (s / w["f2"]) ** 2)
-    ht = (1.0 + s / w["f3"]) / (1.0 + s / (p["Q4"] * w["f4"]) + (s / w["f4"]) ** 2)
-    hs = (
-        (1.0 + s / (p["Q5"] * w["f5"]) + (s / w["f5"]) ** 2)
-        / (1.0 + s / (p["Q6"] * w["f6"]) + (s / w["f6"]) ** 2)
-        * (w["f5"] / w["f6"]) ** 2
-    )
-    return hh * hl * ht * hs
+    from .iso2631 import WEIGHTINGS
 
-
-def _biquad(b2: float, b1: float, b0: float, w0: float, a1: float):
-    """(A, B, C, D) of (b2 s^2 + b1 s + b0)/(s^2 + a1 s + w0^2) with states of unit DC gain.
-
-    States q1 = w0^2/(den) u and q2 = q1'/w0, so both have the size of the input.
-    """
-    A = np.array([[0.0, w0], [-w0, -a1]])
-    B = np.array([0.0, w0])
-    beta1, beta0 = b1 - b2 * a1, b0 - b2 * w0 * w0
-    C = np.array([beta0 / w0**2, beta1 / w0])
-    return A, B, C, b2
-
-
-def _series(s1, s2):
-    A1, B1, C1, D1 = s1
-    A2, B2, C2, D2 = s2
-    n1, n2 = A1.shape[0], A2.shape[0]
-    A = np.zeros((n1 + n2, n1 + n2))
-    A[:n1, :n1] = A1
-    A[n1:, :n1] = np.outer(B2, C1)
-    A[n1:, n1:] = A2
-    B = np.concatenate([B1, B2 * D1])
-    C = np.concatenate([D2 * C1, C2])
-    return A, B, C, D2 * D1
-
-
-def _wk_biquads():
-    """(b2, b1, b0, w0, a1) of the four Wk sections: high pass, Hs, Ht, low pass."""
-    p = WK_PARAMETERS
-    w1, w2, w3, w4, w5, w6 = (2 * math.pi * p[k] for k in ("f1", "f2", "f3", "f4", "f5", "f6"))
-    r2 = math.sqrt(2.0)
-    return (
-        (1.0, 0.0, 0.0, w1, r2 * w1),
-        (1.0, w5 / p["Q5"], w5 * w5, w6, w6 / p["Q6"]),  # (w5/w6)^2 factor folded in
-        (0.0, w4 * w4 / w3, w4 * w4, w4, w4 / p["Q4"]),
-        (0.0, 0.0, w2 * w2, w2, r2 * w2),
-    )
-
-
-def wk_sections() -> np.ndarray:
-    """Wk as four cascaded sections, rows (w0, a1, c1, c2, d) [rad/s, rad/s, -, -, -].
-
-    Section states q1' = w0 q2, q2' = w0 (u - q1) - a1 q2; output d u + c1 q1 + c2 q2,
-    which feeds the next section. Used by the compiled backend.
-    """
-    rows = []
-    for b2, b1, b0, w0, a1 in _wk_biquads():
-        _, _, C, D = _biquad(b2, b1, b0, w0, a1)
-        rows.append([w0, a1, C[0], C[1], D])
-    return np.array(rows)
+    return WEIGHTINGS["Wk"].response(freq_hz)
 
 
 def wk_state_space():
-    """Wk as x' = A x + B a, a_w = C x + D a (8 states, D = 0), a cascade of 4 sections.
-
-    Order: high pass, step (Hs), transition (Ht), low pass. Each section's states
-    are scaled to the size of its input, which keeps absolute tolerances meaningful.
-    """
+    """Wk as x' = A x + B a, a_w = C x + D a (8 states, D = 0): the cascade of
+    :meth:`inerterlab.iso2631.Weighting.state_space` (high pass, low pass, a-v
+    transition, upward step; each section's states of the size of its input, which
+    keeps absolute tolerances meaningful), with B and C as vectors."""
     A, B, C, D = _wk_state_space()
     return A.copy(), B.copy(), C.copy(), D
 
@@ -176,9 +101,10 @@ def wk_state_space():
 @functools.lru_cache(maxsize=1)
 def _wk_state_space():
     """:func:`wk_state_space`, built once (every quarter-car run reads it)."""
-    secs = [_biquad(*b) for b in _wk_biquads()]
-    A, B, C, D = _series(_series(_series(secs[0], secs[1]), secs[2]), secs[3])
-    return A, B, C, float(D)
+    from .iso2631 import WEIGHTINGS
+
+    A, B, C, D = WEIGHTINGS["Wk"].state_space()
+    return np.asarray(A, float), np.ravel(B).astype(float), np.ravel(C).astype(float), float(D[0, 0])
 
 
 def weighted_acceleration(time, acceleration):
