@@ -25,13 +25,14 @@ Values computed here (ISO 2631-1 clauses 6 to 8 and 9 for motion sickness):
 Discrete filtering uses the exact discretisation of the analog filter for a signal
 linear between samples (first-order hold, the default) or the bilinear transform, and
 starts from rest: the analog filter's states are zero at the first sample (nothing is
-assumed before it).
-``inerterlab.metrics`` keeps its own Wk (same parameters) for the quarter-car
-backends; ``tests/test_iso2631.py`` checks that the two agree.
+assumed before it). This is the package's one Wk and its one filter of sampled
+signals: ``inerterlab.metrics`` (its Wk weighting, state space and
+``weighted_acceleration``) and the quarter car's ride observers read them from here.
 """
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -187,6 +188,20 @@ class Weighting:
             D = d2 @ D
         return A, B, C, D
 
+    def hold_response(self, signal, dt: float) -> np.ndarray:
+        """Weighted signal of the uniform samples ``signal`` dt [s] apart, linear between
+        them (first-order hold), the filter at rest at the first sample: the exact
+        discretisation x_{i+1} = Ad x_i + Bd0 u_i + Bd1 u_{i+1} of the cascade's state
+        space (:meth:`state_space`), run compiled. The filter of sampled signals of
+        :meth:`filter` (``"foh"``), :func:`inerterlab.metrics.weighted_acceleration` and
+        the quarter car's metrics from samples."""
+        from .systems._integrate import foh_response
+
+        Ad, Bd0, Bd1, C, D = _hold_tables(self, float(dt))
+        out = np.empty(np.size(signal))
+        foh_response(Ad, Bd0, Bd1, C, D, np.ascontiguousarray(signal, float), out)
+        return out
+
     def filter(self, signal, fs: float, method: str = "foh") -> np.ndarray:
         """Weighted signal of ``signal`` sampled at ``fs`` [Hz]; the filter starts from
         rest at the first sample.
@@ -195,15 +210,12 @@ class Weighting:
         starts at its first sample (a step from 0 to x[0] if x[0] != 0), as an analog
         weighting switched on at the first sample would see it; nothing is assumed
         before t = 0. ``"foh"``: exact discretisation of the whole cascade for a signal
-        linear between samples; ``"bilinear"``: the Tustin transform of the whole
-        cascade (the same as per section, without prewarping). Either is run in modal
-        form, one first-order complex recursion per pole, so no high-order polynomial
-        is ever formed, each mode started from the discrete state that is the analog
-        filter at rest: for the first-order hold xi_0 = -G1 x[0] (G1 the hold's ramp
-        term, since the discrete state is x(t_k) - G1 x_k), for Tustin
-        xi_0 = -(h/2) B x[0].
+        linear between samples (:meth:`hold_response`); ``"bilinear"``: the Tustin
+        transform of the whole cascade (the same as per section, without prewarping),
+        run in modal form, one first-order complex recursion per pole, so no
+        high-order polynomial is ever formed, each mode started from the discrete state
+        that is the analog filter at rest, xi_0 = -(h/2) B x[0].
         """
-        from scipy.linalg import expm
         from scipy.signal import lfilter
 
         fs = check_positive("fs", fs, "Hz")
@@ -213,28 +225,18 @@ class Weighting:
             raise ParameterError(
                 "signal", f"array of shape {x.shape}", "a finite 1-D array of >= 2 samples"
             )
+        if method == "foh":
+            return self.hold_response(x, 1.0 / fs)
         A, B, C, D = self.state_space()
         n = A.shape[0]
         h = 1.0 / fs
-        if method == "foh":
-            # x(t_k+1) = Phi x(t_k) + G0 u_k + G1 (u_k+1 - u_k); state xi_k = x(t_k) - G1 u_k
-            E = np.zeros((n + 2, n + 2))
-            E[:n, :n] = A * h
-            E[:n, n : n + 1] = B * h
-            E[n, n + 1] = 1.0
-            F = expm(E)
-            Ad, G0, G1 = F[:n, :n], F[:n, n : n + 1], F[:n, n + 1 :]
-            Bd = G0 - G1 + Ad @ G1
-            Cd, Dd = C, D + C @ G1
-            xi0 = -G1[:, 0] * x[0]
-        else:
-            # Tustin, state xi_k = (I - hA/2) x(t_k) - (h/2) B u_k
-            ima = np.eye(n) - 0.5 * h * A
-            Ad = np.linalg.solve(ima, np.eye(n) + 0.5 * h * A)
-            Bd = np.linalg.solve(ima, h * B)
-            Cd = np.linalg.solve(ima.T, C.T).T
-            Dd = D + 0.5 * C @ Bd
-            xi0 = -0.5 * h * B[:, 0] * x[0]
+        # Tustin, state xi_k = (I - hA/2) x(t_k) - (h/2) B u_k
+        ima = np.eye(n) - 0.5 * h * A
+        Ad = np.linalg.solve(ima, np.eye(n) + 0.5 * h * A)
+        Bd = np.linalg.solve(ima, h * B)
+        Cd = np.linalg.solve(ima.T, C.T).T
+        Dd = D + 0.5 * C @ Bd
+        xi0 = -0.5 * h * B[:, 0] * x[0]
         lam, V = np.linalg.eig(Ad)
         b = np.linalg.solve(V, Bd[:, 0])
         s0 = np.linalg.solve(V, xi0.astype(complex))
@@ -256,6 +258,25 @@ class Weighting:
                 y = y + mode.real
             done[i] = True
         return y
+
+
+@functools.lru_cache(maxsize=32)
+def _hold_tables(w: Weighting, dt: float):
+    """(Ad, Bd0, Bd1, C, D) of :meth:`Weighting.hold_response` for samples dt [s]
+    apart: the exponential of [[A dt, B dt, 0], [0, 0, 1], [0, 0, 0]] (Bd1 its last
+    column, Bd0 its middle one less Bd1), kept for the last few (weighting, dt)."""
+    from scipy.linalg import expm
+
+    A, B, C, D = w.state_space()
+    n = A.shape[0]
+    M = np.zeros((n + 2, n + 2))
+    M[:n, :n] = A * dt
+    M[:n, n] = np.ravel(B) * dt
+    M[n, n + 1] = 1.0
+    E = expm(M)
+    Bd1 = np.ascontiguousarray(E[:n, n + 1])
+    return (np.ascontiguousarray(E[:n, :n]), np.ascontiguousarray(E[:n, n]) - Bd1, Bd1,
+            np.ascontiguousarray(np.ravel(C), dtype=float), float(np.ravel(D)[0]))  # fmt: skip
 
 
 #: ISO 2631-1:1997 Annex A, Table A.1 (parameters of the weighting transfer functions)

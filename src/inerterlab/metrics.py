@@ -108,18 +108,22 @@ def _wk_state_space():
 
 
 def weighted_acceleration(time, acceleration):
-    """Wk-weighted acceleration a_w [m/s^2] of a sampled signal (filter at rest at t0).
-
-    Uses the exact discretisation of the state space for a signal linear between
-    samples (first-order hold), so it converges to the continuous filter.
-    """
-    from scipy.signal import StateSpace, lsim
+    """Wk-weighted acceleration a_w [m/s^2] of a signal sampled at the uniform
+    ``time`` [s], the filter at rest at the first sample and the signal linear between
+    samples (first-order hold: the exact discretisation, so it converges to the
+    continuous filter): :meth:`inerterlab.iso2631.Weighting.hold_response` of Wk.
+    ParameterError where the samples are not evenly spaced (to 1e-9 of the step)."""
+    from .iso2631 import WEIGHTINGS
 
     t = np.asarray(time, float)
     a = np.asarray(acceleration, float)
-    A, B, C, D = wk_state_space()
-    _, y, _ = lsim(StateSpace(A, B[:, None], C[None, :], np.array([[D]])), a, t, interp=True)
-    return np.asarray(y)
+    if t.ndim != 1 or a.shape != t.shape or t.size < 2:
+        raise ParameterError("time", f"shape {t.shape} for {a.shape} samples",
+                             "one time per sample, at least two")  # fmt: skip
+    dt = float(t[1] - t[0])
+    if not dt > 0.0 or np.max(np.abs(np.diff(t) - dt)) > 1e-9 * dt:
+        raise ParameterError("time", "uneven or decreasing samples", "evenly spaced times")
+    return WEIGHTINGS["Wk"].hold_response(a, dt)
 
 
 def _trapz(y, t):

@@ -46,9 +46,9 @@ def figures(result: dict) -> dict:
     from scipy.signal import welch
 
     from .. import excitation as ex
+    from ..metrics import weighted_acceleration
     from ..network_design import pareto_figure, pareto_front
     from ..systems import quarter_car
-    from ..systems.core import weighted_acceleration
     from .scoring import SCORE_RTOL
 
     st = result["settings"]

@@ -934,38 +934,6 @@ class RoadVelocityJumpWarning(UserWarning):
     (docs/model.md, "Networks"), and nothing issues this warning."""
 
 
-@lru_cache(maxsize=16)
-def _wk_foh(dt: float):
-    """The first-order-hold discretisation of the ISO 2631-1 Wk filter
-    (:func:`inerterlab.metrics.wk_state_space`) for samples dt [s] apart."""
-    from scipy.linalg import expm
-
-    from ..metrics import wk_state_space
-
-    A, B, C, D = wk_state_space()
-    n = A.shape[0]
-    M = np.zeros((n + 2, n + 2))
-    M[:n, :n] = A * dt
-    M[:n, n] = B * dt
-    M[n, n + 1] = 1.0
-    E = expm(M)
-    Bd1 = np.ascontiguousarray(E[:n, n + 1])
-    return np.ascontiguousarray(E[:n, :n]), np.ascontiguousarray(E[:n, n]) - Bd1, Bd1, C, D
-
-
-def weighted_acceleration(ts: np.ndarray, acc: np.ndarray) -> np.ndarray:
-    """Wk-weighted acceleration [m/s^2] of the uniform samples ``acc`` [m/s^2] at ``ts``
-    [s], the filter at rest at ts[0] and the signal linear between samples: the same
-    discretisation as :func:`inerterlab.metrics.weighted_acceleration`, compiled."""
-    out = np.empty(ts.size)
-    if ts.size < 2:
-        out[:] = 0.0
-        return out
-    Ad, Bd0, Bd1, C, D = _wk_foh(float(ts[1] - ts[0]))
-    _integrate.foh_response(Ad, Bd0, Bd1, C, float(D), np.ascontiguousarray(acc, float), out)
-    return out
-
-
 @one_blas_thread  # its set-up's small matrices: threads only wait (see _blas)
 def _simulate(
     sys, excitation, horizon, options, x0=None, times=None, ride=None, metrics_only=False
