@@ -531,3 +531,25 @@ def test_linearised_car_is_its_own_fixed_point(name):
     s = _road_scale("C", 20.0) * math.sqrt(c @ P @ c)
     for el in lin.info["argument_rms"]:
         assert lin.info["argument_rms"][el] == pytest.approx(s, rel=1e-7)
+
+
+def test_linearised_car_from_a_nearby_fixed_point():
+    """Started from the equivalents of a car nearby (as a propagation's draws start from
+    the estimate's), the same fixed point in fewer passes; a start that names other
+    elements is refused by name."""
+    from inerterlab import quarter_car
+    from inerterlab.errors import ParameterError
+    from inerterlab.identify import linearised_car
+    from inerterlab.identify.propagate import device_car
+
+    car = quarter_car("device-afw")
+    near = linearised_car(device_car(car, {"damping": 8400.0, "friction": 200.0}))
+    cold = linearised_car(car)
+    warm = linearised_car(car, start=near.info["equivalents"])
+    assert warm.info["iterations"] < cold.info["iterations"]
+    for name, (arg, g) in cold.info["equivalents"].items():
+        assert warm.info["equivalents"][name][0] == arg
+        assert warm.info["equivalents"][name][1] == pytest.approx(g, rel=1e-9)
+    np.testing.assert_allclose(warm.A, cold.A, rtol=1e-9, atol=1e-9 * np.abs(cold.A).max())
+    with pytest.raises(ParameterError, match="start"):
+        linearised_car(car, start={"hyd.fric": 3000.0})

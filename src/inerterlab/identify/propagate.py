@@ -101,7 +101,7 @@ def _road_scale(road_class: str, speed: float) -> float:
     return math.pi * ISO8608_N0 * math.sqrt(2.0 * ISO8608_CLASSES[road_class] * v)
 
 
-def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
+def linearised_car(car, *, road_class: str = "C", speed: float = 20.0, start: dict | None = None):
     """The linear state space of a quarter car on an ISO 8608 road, its nonlinear
     elements linearised statistically: a
     :class:`~inerterlab.suspension.linear.LinearQuarterCar` driven by the road velocity.
@@ -115,7 +115,9 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
     velocity of the class's level, no band limits; a Lyapunov equation), iterated to a
     fixed point (:func:`~inerterlab.systems.gaussian.equivalent_gains`). ``info`` of
     the result: ``equivalents`` (element name -> (argument, gain [N s/m, kg or N/m])),
-    ``argument_rms`` (element name -> m/s or m) and ``iterations``. ConvergenceError
+    ``argument_rms`` (element name -> m/s or m) and ``iterations``. ``start``: the
+    ``equivalents`` of a car of the same structure nearby to start the iteration from
+    (the result is the same fixed point, to its tolerance of 1e-10). ConvergenceError
     where the gains do not settle; ParameterError naming an element that has no
     Gaussian equivalent (a tyre that lifts off).
     """
@@ -140,7 +142,15 @@ def linearised_car(car, *, road_class: str = "C", speed: float = 20.0):
         return {name: scale * math.sqrt(max(float(Cr[j] @ P @ Cr[j]), 0.0))
                 for j, (_, name, _) in enumerate(els)}  # fmt: skip
 
-    fp = equivalent_gains(sys, argument_rms)
+    if start is not None:
+        index = {name: e for e, name, _ in els}
+        unknown = sorted(set(start) - set(index))
+        if unknown or len(start) != len(index):
+            raise ParameterError("start", unknown or sorted(start),
+                                 f"the equivalents of the elements {sorted(index)}")  # fmt: skip
+        start = {index[name]: float(v[1] if isinstance(v, tuple) else v)
+                 for name, v in start.items()}  # fmt: skip
+    fp = equivalent_gains(sys, argument_rms, start=start)
     if not fp.converged:
         raise ConvergenceError(
             f"statistical linearisation of the {model_of(car).suspension!r} car: the "
@@ -196,10 +206,11 @@ def ride_metrics(
     linear: bool = True,
     road_class: str = "C",
     speed: float = 20.0,
+    start: dict | None = None,
 ) -> dict:
     """Ride metrics of one car: the :data:`SIMULATED_METRICS` over ``excitation`` (if
     given; ``None`` where not finite) and, with ``linear``, the :data:`LINEAR_METRICS`
-    of :func:`linearised_car`."""
+    of :func:`linearised_car` (``start``: its equivalents' starting point)."""
     car = model_of(car)
     out = {}
     if excitation is not None:
@@ -211,7 +222,7 @@ def ride_metrics(
     if linear:
         from ..metrics import h2_norms_state_space
 
-        lin = linearised_car(car, road_class=road_class, speed=speed)
+        lin = linearised_car(car, road_class=road_class, speed=speed, start=start)
         norms = h2_norms_state_space(lin, label=car.suspension).norms
         out["h2_body_acc"] = norms["body_acc"]
         out["h2_body_acc_wk"] = norms["body_acc_wk"]
@@ -416,12 +427,18 @@ def propagate(
     if factory is None:
         car = model_of(car)
 
-    def f(theta):
+    def make(theta):
         params = dict(zip(names, (float(x) for x in theta), strict=True))
-        c = factory(params) if factory is not None else device_car(car, params)
-        return ride_metrics(
-            c, excitation, horizon, linear=linear, road_class=road_class, speed=speed
-        )
+        return factory(params) if factory is not None else device_car(car, params)
+
+    # every draw's statistical linearisation starts from the estimate's fixed point (the
+    # same fixed point to 1e-10; a third of the passes from the slope at rest)
+    start = (linearised_car(make(mean), road_class=road_class, speed=speed).info["equivalents"]
+             if linear else None)  # fmt: skip
+
+    def f(theta):
+        return ride_metrics(make(theta), excitation, horizon, linear=linear,
+                            road_class=road_class, speed=speed, start=start)  # fmt: skip
 
     out = propagate_function(f, mean, cov, method=method, n=n, seed=seed, step=step)
     for k, v in out.items():

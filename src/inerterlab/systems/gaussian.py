@@ -235,7 +235,9 @@ ANDERSON_MIXING = 0.5
 ANDERSON_LONGEST = 4.0
 
 
-def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 200) -> FixedPoint:
+def equivalent_gains(
+    sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 200, start: dict | None = None
+) -> FixedPoint:
     """The statistical linearisation of ``sys``: every nonlinear element
     (:func:`nonlinear_elements`) replaced by its Gaussian equivalent
     (:func:`gaussian_gains`) at the RMS of its argument in the equivalent linear system
@@ -244,7 +246,9 @@ def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 2
     ``ss`` (the caller's road: a white road velocity by a Lyapunov equation, a band of
     a road spectrum by a spectral integral).
 
-    The iteration starts from each law's slope at rest and stops where no gain changes
+    The iteration starts from each law's slope at rest (or from ``start``, element index
+    -> gain, where given: the fixed point of a car nearby, as a propagation of
+    uncertainty evaluates many) and stops where no gain changes
     by more than ``tol`` relative (at most ``max_iter`` passes), returning the last
     gains computed. Between passes it works on the logarithms of the gains (a friction's
     gain goes like 1 / sigma, and sigma like a power of the gain: a straight line
@@ -261,7 +265,10 @@ def equivalent_gains(sys, argument_rms, *, tol: float = 1e-10, max_iter: int = 2
     if not els:
         return FixedPoint({}, sys, sys.linear_state_space(), {}, 0, True)
     keys = [e for e, _, _ in els]
-    gains = {e: gaussian_gains(sys, e, 0.0) for e in keys}  # the slope at rest
+    if start is not None and set(start) != set(keys):
+        raise ParameterError("start", sorted(start), f"a gain for each of the elements {keys}")
+    gains = ({e: gaussian_gains(sys, e, 0.0) for e in keys} if start is None  # slope at rest
+             else {e: float(start[e]) for e in keys})  # fmt: skip
     hist: list = []  # (log gains, residual in logs) of the last passes
     converged = False
     it = 0
