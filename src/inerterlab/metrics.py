@@ -104,7 +104,8 @@ def _wk_state_space():
     from .iso2631 import WEIGHTINGS
 
     A, B, C, D = WEIGHTINGS["Wk"].state_space()
-    return np.asarray(A, float), np.ravel(B).astype(float), np.ravel(C).astype(float), float(D[0, 0])
+    b, c = np.ravel(B).astype(float), np.ravel(C).astype(float)
+    return np.asarray(A, float), b, c, float(D[0, 0])
 
 
 def weighted_acceleration(time, acceleration):

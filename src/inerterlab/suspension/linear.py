@@ -3,13 +3,13 @@
 Input: the road velocity w = X1' [m/s] (unit white noise for H2 norms). The matrices
 are the core system's own (:meth:`inerterlab.systems.System.linear_state_space`, or a
 linearisation of it), whose inputs are the road's height X1, velocity and
-acceleration. With X1 = w / s the height moves into the states: the states are the core's
-(``wheel.x``, ``wheel.v``, ``body.x``, ``body.v`` and the internal nodes of the
-suspension's network, in the order of its ``state_names``) with the wheel's position
-taken relative to the road and every other position relative to the wheel's (so the
-deflections are states, not differences of large motions), then the velocities:
-the system is asymptotically stable and a Lyapunov equation has a unique solution. One set of equations describes the car, the core's; nothing
-here writes them again.
+acceleration. With X1 = w / s the height moves into the states: the states are the
+core's (``wheel.x``, ``wheel.v``, ``body.x``, ``body.v`` and the internal nodes of the
+suspension's network) with the positions first, the wheel's relative to the road and
+every other relative to the wheel's (so the deflections are states, not differences of
+large motions), then the velocities: the system is asymptotically stable and a
+Lyapunov equation has a unique solution. One set of equations describes the car, the
+core's; nothing here writes them again.
 """
 
 from __future__ import annotations
@@ -18,14 +18,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import ConvergenceError, ParameterError
+from ..errors import ParameterError
 from .model import QuarterCar, model_of
 
 __all__ = ["LinearQuarterCar", "linear_quarter_car", "road_relative", "road_velocity_form"]
-
-#: the outputs of a :class:`LinearQuarterCar`
-OUTPUTS = ("body_acc", "tyre_deflection", "suspension_deflection", "tyre_grip")
-
 
 @dataclass(frozen=True)
 class LinearQuarterCar:
@@ -34,8 +30,9 @@ class LinearQuarterCar:
     Outputs: ``body_acc`` [m/s^2], ``tyre_deflection`` X2 - X1 [m],
     ``suspension_deflection`` X3 - X2 [m], ``tyre_grip`` (K_t (X2 - X1)/((M + M_t) g),
     (4.20)) [-]. ``state_names``: the states (the wheel's position relative to the
-    road, the others relative to the wheel, the velocities absolute). ``info``: how it was made (for a statistical linearisation, the
-    equivalents; :func:`inerterlab.identify.linearised_car`).
+    road, the others relative to the wheel, the velocities absolute). ``info``: how it
+    was made (for a statistical linearisation, the equivalents;
+    :func:`inerterlab.identify.linearised_car`).
     """
 
     A: np.ndarray
@@ -59,11 +56,12 @@ def road_relative(system, ss):
     ``system`` (road height, velocity, acceleration as inputs) driven by the road
     velocity alone, in the states x' of the module docstring (x = Ti x'): the positions
     first, the wheel's relative to the road and every other relative to the wheel's,
-    then the velocities (absolute) and any other state. An output row c of the core's states reads c @ Ti. The road's
-    height enters only through the positions relative to it: a car that the road
-    carries along (shifting every position by the road's leaves every force as it is:
-    A e + B_z = 0, e the positions' indicator), checked to 1e-9; ParameterError where
-    an inertance touches the road (its acceleration drives the car)."""
+    then the velocities (absolute) and any other state. An output row c of the core's
+    states reads c @ Ti. The road's height enters only through the positions relative
+    to it: a car that the road carries along (shifting every position by the road's
+    leaves every force as it is: A e + B_z = 0, e the positions' indicator), checked to
+    1e-9. ParameterError where an inertance touches the road (its acceleration drives
+    the car) or a force depends on an absolute position."""
     A, B = (np.asarray(m, dtype=float) for m in ss[:2])
     scale = 1.0 + float(np.max(np.abs(B)))
     if np.max(np.abs(B[:, 2])) > 1e-12 * scale:
@@ -71,10 +69,10 @@ def road_relative(system, ss):
     st = list(system.state_names)
     pos = np.array([n.endswith(".x") for n in st], dtype=float)
     if np.max(np.abs(A @ pos + B[:, 0])) > 1e-9 * scale * (1.0 + float(np.max(np.abs(A)))):
-        raise ConvergenceError(
-            "the quarter car is not carried along by its road (a force depends on an "
-            "absolute position): no stationary response to white road velocity"
-        )
+        raise ParameterError(
+            "car", "a force on an absolute position",
+            "a car its road carries along (a stationary response to white road velocity)",
+        )  # fmt: skip
     order = _order(st)
     w = st.index("wheel.x")
     Ti = np.zeros((len(st), len(st)))  # x = Ti x'
