@@ -97,7 +97,7 @@ def gramian(A, B, *, what: str = "H2 norms") -> np.ndarray:
     :func:`scipy.linalg.matrix_balance`, exact in floating point), P = D P_b D. A quarter
     car with its Wk filter spans tyre hop to the filter's 100 Hz: unbalanced, its
     suspension deflection's variance came out up to 5e-9 off its closed form (a 1-ulp
-    change of A moved it that much), balanced about 1e-14 (docs/decisions.md, stop 69)."""
+    change of A moved it that much), balanced below 1e-13 (docs/decisions.md, stop 69)."""
     from scipy.linalg import matrix_balance, solve_continuous_lyapunov
 
     A = np.asarray(A, dtype=float)
