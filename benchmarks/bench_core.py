@@ -10,7 +10,7 @@ Cases:
   :func:`inerterlab.quarter_car`) by ``auto`` (exact steps while the flywheel is
   saturated, Dormand-Prince 5(4) through the transits) and ``adaptive`` (Dormand-Prince
   throughout). Accuracy: each against scipy ``solve_ivp`` DOP853 at rtol 1e-11 on the
-  plain-Python right-hand side (:class:`inerterlab.suspension.reference.ReferenceRHS`, an
+  plain-Python right-hand side (``ReferenceRHS`` of ``tests/_quarter_car_oracle.py``, an
   implementation independent of the core), largest state error relative to the state's
   peak. (Until the specialised quarter-car kernel was deleted, the first line was that
   kernel and the reference its own run at rtol 1e-11.) Then the core's right-hand side
@@ -136,19 +136,20 @@ def main() -> None:
 def afw_cases(runs: int) -> None:
     from scipy.integrate import solve_ivp
 
-    from inerterlab.suspension.reference import ReferenceRHS
+    sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+    import _quarter_car_oracle as oracle
 
     ex, T = sine(), 5.0
     car = quarter_car("afw")  # simulate() runs it with the ride observers
     core = quarter_car("afw")
     idx = [core.state_names.index(n) for n in NAMES]
     model = car.info["model"]  # the suspension's description, for the reference
-    f = ReferenceRHS(model)
+    f = oracle.ReferenceRHS(model)
     f.seg = ex.segments(T)[0]
-    y0 = np.r_[model.initial_state(), np.zeros(13)]
+    y0 = np.r_[oracle.initial_state(model), np.zeros(oracle.N_METRIC_STATES)]
     ts = np.arange(int(round(T * 1000)) + 1) / 1000.0  # the 1 kHz samples
     ref = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-11,
-                    atol=1e-11 * model.state_scales, t_eval=ts).y[:4].T  # fmt: skip
+                    atol=1e-11 * oracle.state_scales(model), t_eval=ts).y[:4].T  # fmt: skip
     opts = SimulationOptions(rtol=1e-8)
     _compiled.specialised(core.itab)  # the structure's own code (compiled or loaded)
     t_sim, t_new, t_dp = _medians(

@@ -3,13 +3,13 @@
 Case (the speed goal of the simulator): ``afw`` quarter car (nylon flywheel, thesis law, M = 370 kg) under
 ``sine`` 0.05 m at 5 Hz, horizon 10 s, all metrics.
 
-* fast: ``simulate_metrics`` on the numba backend (exact matrix-exponential steps while
+* fast: ``simulate_metrics`` on the model core (exact matrix-exponential steps while
   the flywheel is saturated, adaptive Dormand-Prince 5(4) through the transits, metric
   integrals as states, the 100 Hz Wk section advanced exactly), at the default rtol 1e-8
   and, for comparison, at 1e-7; median of many runs after compilation (wall clock, and
   CPU time of this process, which the other load on a shared machine inflates less);
 * baseline: scipy ``solve_ivp`` DOP853 on the plain-Python right-hand side
-  (:class:`inerterlab.suspension.reference.ReferenceRHS`), the same augmented ODE and
+  (``ReferenceRHS`` of the tests' oracle, ``tests/_quarter_car_oracle.py``), the same augmented ODE and
   the same tolerances; median of a few runs;
 * accuracy: both against a scipy DOP853 run at rtol 1e-10 (worst relative error over
   the metrics);
@@ -30,10 +30,14 @@ from __future__ import annotations
 import argparse
 import os
 import statistics
+import sys
 import time
+from pathlib import Path
 
 os.environ.setdefault("NUMBA_NUM_THREADS", "1")
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 
+import _quarter_car_oracle as oracle  # noqa: E402
 from inerterlab import quarter_car  # noqa: E402
 from inerterlab.excitation import sine  # noqa: E402
 from inerterlab.metrics import METRIC_KEYS  # noqa: E402
@@ -70,15 +74,13 @@ def main() -> None:
     car = quarter_car("afw", sprung_mass=370.0)
     ex = sine(0.05, 5.0)
     T = 10.0
-    fast_opts = SimulationOptions(backend="numba", rtol=args.rtol)
-    slow_opts = SimulationOptions(backend="scipy", scipy_method="DOP853", rtol=args.rtol)
-    ref_opts = SimulationOptions(backend="scipy", scipy_method="DOP853", rtol=1e-10)
+    fast_opts = SimulationOptions(rtol=args.rtol)
 
     t0 = time.perf_counter()
     simulate_metrics(car, ex, 0.1, options=fast_opts)
     print(f"first call (compilation or cache load): {time.perf_counter() - t0:.2f} s")
     stats = simulate(car, ex, T, options=fast_opts, output="metrics").stats
-    print(f"fast backend steps: {stats}")
+    print(f"core steps: {stats}")
 
     t_fast, c_fast, m_fast = timed_cpu(
         lambda: simulate_metrics(car, ex, T, options=fast_opts), args.fast_runs
@@ -88,7 +90,7 @@ def main() -> None:
         f"(CPU {1e3 * c_fast:.2f} ms) over {args.fast_runs} runs"
     )
     loose_rtol = 10.0 * args.rtol
-    loose_opts = SimulationOptions(backend="numba", rtol=loose_rtol)
+    loose_opts = SimulationOptions(rtol=loose_rtol)
     loose_stats = simulate(car, ex, T, options=loose_opts, output="metrics").stats
     t_loose, c_loose, m_loose = timed_cpu(
         lambda: simulate_metrics(car, ex, T, options=loose_opts), args.fast_runs
@@ -98,9 +100,11 @@ def main() -> None:
         f"{1e3 * t_loose:.2f} ms "
         f"(CPU {1e3 * c_loose:.2f} ms) over {args.fast_runs} runs; steps {loose_stats}"
     )
-    t_full, m_slow = timed(lambda: simulate_metrics(car, ex, T, options=slow_opts), args.slow_runs)
+    t_full, m_slow = timed(
+        lambda: oracle.simulate_metrics(car, ex, T, rtol=args.rtol), args.slow_runs
+    )
     print(
-        f"scipy backend (solve_ivp DOP853 + peak location in Python), rtol {args.rtol:g}: "
+        f"the tests' scipy oracle (solve_ivp DOP853 + peak location in Python), rtol {args.rtol:g}: "
         f"median {1e3 * t_full:.1f} ms over {args.slow_runs} runs"
     )
     # the named baseline: solve_ivp DOP853 on the same augmented ODE (metric integrals
@@ -108,27 +112,26 @@ def main() -> None:
     import numpy as np
     from scipy.integrate import solve_ivp
 
-    from inerterlab.suspension.reference import ReferenceRHS
-
     model = car.info["model"]  # the suspension's description
 
     def baseline():
-        f = ReferenceRHS(model)
+        f = oracle.ReferenceRHS(model)
         f.seg = ex.segments(T)[0]
-        y0 = np.r_[model.initial_state(), np.zeros(13)]
+        y0 = np.r_[oracle.initial_state(model), np.zeros(oracle.N_METRIC_STATES)]
         return solve_ivp(
-            f, (0.0, T), y0, method="DOP853", rtol=args.rtol, atol=args.rtol * model.state_scales
-        )
+            f, (0.0, T), y0, method="DOP853", rtol=args.rtol,
+            atol=args.rtol * oracle.state_scales(model),
+        )  # fmt: skip
 
     t_slow, c_slow, sol = timed_cpu(baseline, args.slow_runs)
-    rms_base = float(np.sqrt(sol.y[model.n_states, -1] / T))
+    rms_base = float(np.sqrt(sol.y[len(oracle.state_names(model)), -1] / T))
     print(
         f"baseline scipy solve_ivp DOP853, plain-Python RHS, rtol {args.rtol:g}: median "
         f"{1e3 * t_slow:.1f} ms (CPU {1e3 * c_slow:.1f} ms) over {args.slow_runs} runs "
         f"({sol.nfev} RHS calls); "
         f"rms_body_acc {rms_base:.10g} vs fast {m_fast['rms_body_acc']:.10g}"
     )
-    m_ref = simulate_metrics(car, ex, T, options=ref_opts)
+    m_ref = oracle.simulate_metrics(car, ex, T, rtol=1e-10)
     print(
         f"worst relative metric error vs scipy rtol 1e-10: fast {worst(m_fast, m_ref):.2e}, "
         f"fast at rtol {loose_rtol:g} {worst(m_loose, m_ref):.2e}, scipy {worst(m_slow, m_ref):.2e}"
@@ -153,14 +156,14 @@ def main() -> None:
     t_step, c_step, r_step = timed_cpu(
         lambda: core.simulate(ex, T, rtol=args.rtol, times=ts), args.fast_runs
     )
-    f = ReferenceRHS(model)
+    f = oracle.ReferenceRHS(model)
     f.seg = ex.segments(T)[0]
-    y0 = np.r_[model.initial_state(), np.zeros(13)]
+    y0 = np.r_[oracle.initial_state(model), np.zeros(oracle.N_METRIC_STATES)]
     t_fine = np.arange(10001) / 1000.0  # the peaks from 1 kHz (10 Hz meets a 5 Hz sine
-    oracle = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-11,  # in two phases only)
-                       atol=1e-11 * model.state_scales, t_eval=t_fine)  # fmt: skip
+    tight = solve_ivp(f, (0.0, T), y0, method="DOP853", rtol=1e-11,  # in two phases only)
+                      atol=1e-11 * oracle.state_scales(model), t_eval=t_fine)  # fmt: skip
     idx = [core.state_names.index(n) for n in ("wheel.x", "wheel.v", "body.x", "body.v")]
-    ref4 = oracle.y[:4].T
+    ref4 = tight.y[:4].T
     peak = np.abs(ref4).max(axis=0)
     e_step = float((np.abs(r_step.states[:, idx] - ref4[::100]).max(axis=0) / peak).max())
     print(

@@ -1,7 +1,7 @@
 """Where the time of ``bench_simulate.py``'s fast case goes (a profile, not a benchmark).
 
 The case: the ``afw`` quarter car (M = 370 kg), 5 cm 5 Hz sine, 10 s, all metrics
-(``simulate_metrics`` on the numba backend: the model core with the ride observers,
+(``simulate_metrics`` on the model core with the ride observers,
 one sample at the horizon), rtol 1e-8. Printed, CPU time of this process, median of
 ``--runs`` runs after compilation:
 
@@ -70,7 +70,7 @@ def main() -> None:
     car = quarter_car("afw", sprung_mass=370.0)
     ex = sine(0.05, 5.0)
     T = 10.0
-    opts = SimulationOptions(backend="numba", rtol=args.rtol)
+    opts = SimulationOptions(rtol=args.rtol)
     simulate_metrics(car, ex, T, options=opts)  # compile, build the tables
 
     # the integration's arguments, captured from one call

@@ -1,15 +1,15 @@
 """Model core: the named quarter-car suspensions, built by the one ``quarter_car`` as
 networks of the core, equal an independent oracle at tight tolerance (docs/model.md §5,
-§11): the plain-Python equations of :mod:`inerterlab.suspension.reference` integrated by
-scipy's DOP853 (``SimulationOptions(backend="scipy")``)."""
+§11): the plain-Python equations of ``tests/_quarter_car_oracle.py`` integrated by
+scipy's DOP853."""
 
 import numpy as np
 import pytest
 
-from inerterlab import quarter_car, simulate
+import _quarter_car_oracle as oracle
+from inerterlab import quarter_car
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, iso8608, sine
-from inerterlab.simulate import SimulationOptions
 from inerterlab.systems import QUARTER_CAR_PRESETS, SUSPENSIONS
 
 RTOL = 1e-11
@@ -29,8 +29,7 @@ def _compare(car, ex, horizon):
     """Largest difference of the four body and wheel states and of the body
     acceleration, each relative to its peak, between the core and the oracle."""
     res = car.simulate(ex, horizon, rtol=RTOL, method="adaptive", sample_rate=200.0)
-    opts = SimulationOptions(backend="scipy", rtol=RTOL, sample_rate=200.0)
-    ref = simulate(car, ex, horizon, options=opts)
+    ref = oracle.simulate(car, ex, horizon, rtol=RTOL, sample_rate=200.0)
     assert np.array_equal(ref.time, res.time)
     ys, a3 = ref.states, ref.body_acc
     idx = [car.state_names.index(n) for n in CORE_STATES]

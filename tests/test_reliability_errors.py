@@ -88,11 +88,7 @@ CASES = [
     (["simulate", "--input", "/dev/zero", "--horizon", "1"], "/dev/zero"),
     (["simulate", "--input", "{tmp}/dir", "--horizon", "1"], "is a directory"),
     (["optimize-ratio", "--method", "interpolate", "--grid-step", "1e-9"], "--grid-step"),
-    (
-        ["simulate", "--backend", "scipy", "--damping", "1e9", "--horizon", "1"]
-        + ["--time-limit", "2"],
-        "time limit of 2 s",
-    ),
+    (["simulate", "--method", "exact", "--suspension", "afw", "--horizon", "1"], "exact"),
     (["sweep", "{tmp}/ok.toml", "--workers", "99999999999999999999"], "--workers"),
     (["sweep", "{tmp}/list_point.toml", "--workers", "100000"], "list_point"),
     (["reproduce", "--quick", "--workers", "1000000", "--out", "{tmp}/r"], "--workers"),
@@ -204,18 +200,6 @@ def test_reproduce_out_is_not_the_current_directory(tmp_path, capsys, monkeypatc
     rc, _, err = _run(capsys, ["reproduce", "--quick", "--tables", "4.1", "--out", ""])
     assert rc == 2 and "--out" in _one_error_line(err)
     assert list(Path(tmp_path).iterdir()) == []
-
-
-def test_scipy_backend_has_a_step_limit():
-    from inerterlab import quarter_car
-    from inerterlab.errors import ConvergenceError
-    from inerterlab.excitation import sine
-    from inerterlab.simulate import SimulationOptions, simulate
-
-    # 10 steps pass the up-front bound (9: one segment, four per period) but not the run
-    opts = SimulationOptions(backend="scipy", max_steps=10)
-    with pytest.raises(ConvergenceError, match="max_steps=10"):
-        simulate(quarter_car("traditional"), sine(0.01, 2.0), 1.0, options=opts)
 
 
 def test_identify_size_guard_refuses_hours_and_announces_minutes(capsys):

@@ -1,17 +1,17 @@
-"""Quarter-car simulation: the model core against the scipy reference, inputs, results."""
+"""Quarter-car simulation: the model core against the scipy oracle (tests/_quarter_car_oracle.py), inputs, results."""
 
 import math
 
 import numpy as np
 import pytest
 
+import _quarter_car_oracle as oracle
 from inerterlab import quarter_car
 from inerterlab.errors import ParameterError
 from inerterlab.excitation import bump, drop, iso8608, road_series, sine
 from inerterlab.metrics import METRIC_KEYS, h2_norms, series_metrics
 from inerterlab.simulate import SimulationOptions, simulate, simulate_metrics
 
-REF = SimulationOptions(backend="scipy", rtol=1e-10)
 FAST = SimulationOptions()  # numba, default rtol 1e-8
 _REF_CACHE: dict = {}
 
@@ -23,7 +23,7 @@ def _fast():
 def _reference(car, ex, horizon, key):
     """scipy rtol 1e-10 metrics, computed once per case."""
     if key not in _REF_CACHE:
-        _REF_CACHE[key] = simulate_metrics(car, ex, horizon, options=REF)
+        _REF_CACHE[key] = oracle.simulate_metrics(car, ex, horizon, rtol=1e-10)
     return _REF_CACHE[key]
 
 
@@ -52,7 +52,7 @@ def _assert_close(fast, ref, rtol, load=(370.0 + 25.0) * 9.81):
 
 @pytest.mark.parametrize("suspension", SUSPENSIONS)
 @pytest.mark.parametrize("name", list(INPUTS))
-def test_fast_backend_matches_scipy_reference(suspension, name):
+def test_core_matches_the_scipy_oracle(suspension, name):
     car = quarter_car(suspension)
     ex = INPUTS[name]
     horizon = 0.25
@@ -70,7 +70,7 @@ def test_exact_steps_match_tight_scipy_reference(suspension):
     for name, ex in INPUTS.items():
         if name == "series":
             continue  # held past its end: the same segments as "bump" for this purpose
-        ref = simulate_metrics(car, ex, 0.25, options=SimulationOptions(backend="scipy", rtol=1e-12))
+        ref = oracle.simulate_metrics(car, ex, 0.25, rtol=1e-12)
         fast = simulate_metrics(car, ex, 0.25, options=_fast())
         _assert_close(fast, ref, 1e-9)
 
@@ -98,7 +98,7 @@ def test_lift_off_model_matches_reference_and_sets_flag():
 @pytest.mark.slow
 @pytest.mark.parametrize("suspension", SUSPENSIONS)
 @pytest.mark.parametrize("name", ["drop", "bump", "sine"])
-def test_fast_backend_matches_reference_full_horizon(suspension, name):
+def test_core_matches_the_oracle_full_horizon(suspension, name):
     car = quarter_car(suspension, sprung_mass=340)
     ref = _reference(car, INPUTS[name], 3.0, ("full", suspension, name))
     fast = simulate_metrics(car, INPUTS[name], 3.0, options=_fast())
@@ -111,9 +111,7 @@ def test_samples_match_reference():
     car = quarter_car("afw")
     opts = SimulationOptions(rtol=1e-10, sample_rate=2000.0)
     a = simulate(car, sine(), 0.5, options=opts)
-    b = simulate(
-        car, sine(), 0.5, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=2000.0)
-    )
+    b = oracle.simulate(car, sine(), 0.5, rtol=1e-10, sample_rate=2000.0)
     np.testing.assert_allclose(a.states, b.states, rtol=1e-6, atol=1e-9)
     np.testing.assert_allclose(a.body_acc_wk, b.body_acc_wk, rtol=1e-6, atol=1e-6)
 
@@ -123,9 +121,7 @@ def test_every_saturation_crossing_ends_a_step_even_with_long_steps():
     # speed, v passes zero, |v| saturates again) with both ends saturated: the kernel
     # must still see both crossings. Count them on a fine reference series
     car = quarter_car("afw")
-    ref = simulate(
-        car, sine(), 1.0, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=2e4)
-    )
+    ref = oracle.simulate(car, sine(), 1.0, rtol=1e-10, sample_rate=2e4)
     v = ref.states[:, 3] - ref.states[:, 1]
     v_sat = car.info["model"].flywheel.saturation_speed / car.info["model"].transmission.ratio
     sat = np.abs(v) > v_sat
@@ -152,9 +148,7 @@ def test_sparse_samples_match_the_reference(suspension):
     car = quarter_car(suspension)
     opts = SimulationOptions(sample_rate=200.0)
     a = simulate(car, bump(), 0.5, options=opts)
-    b = simulate(
-        car, bump(), 0.5, options=SimulationOptions(backend="scipy", rtol=1e-10, sample_rate=200.0)
-    )
+    b = oracle.simulate(car, bump(), 0.5, rtol=1e-10, sample_rate=200.0)
     np.testing.assert_allclose(a.states, b.states, rtol=1e-6, atol=1e-8)
     np.testing.assert_allclose(a.body_acc_wk, b.body_acc_wk, rtol=1e-6, atol=1e-6)
 
@@ -179,7 +173,7 @@ def test_sampled_series_reproduce_the_integrated_metrics():
 def test_series_backends_agree_on_samples():
     car = quarter_car("device-afw")
     a = simulate(car, bump(), 0.2, options=SimulationOptions(rtol=1e-10))
-    b = simulate(car, bump(), 0.2, options=REF)
+    b = oracle.simulate(car, bump(), 0.2, rtol=1e-10)
     assert a.time.size == 201 and a.time[-1] == pytest.approx(0.2)
     # the wheel and body states (the device's own are laid out differently)
     np.testing.assert_allclose(a.states[:, :4], b.states[:, :4], rtol=1e-6, atol=1e-9)
@@ -248,8 +242,8 @@ def test_result_to_pandas_and_errors():
         m.to_pandas()
     with pytest.raises(ParameterError, match="horizon"):
         simulate(quarter_car("traditional"), drop(), -1.0)
-    with pytest.raises(ParameterError, match="backend"):
-        SimulationOptions(backend="julia")
+    with pytest.raises(ParameterError, match="method"):
+        SimulationOptions(method="julia")
     with pytest.raises(ParameterError, match="excitation"):
         simulate(quarter_car("traditional"), "drop", 1.0)
 

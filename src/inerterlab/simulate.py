@@ -1,20 +1,14 @@
-"""One simulation driver of the named quarter cars over two backends -> :class:`SimulationResult`.
+"""The named quarter cars on a road -> :class:`SimulationResult` (docs/model.md §5).
 
-Backends (docs/model.md §5):
-
-``numba`` (default)
-    The model core (:mod:`inerterlab.systems`): the named suspension as a network of
-    :func:`inerterlab.quarter_car`, integrated by the core's compiled Dormand-Prince
-    5(4) with events at the elements' kinks, the ride metrics carried as observer
-    states (:func:`inerterlab.systems.observers.ride`: the metric integrals, the Wk
-    filter, the peaks located on the continuous extension).
-``scipy``
-    :func:`scipy.integrate.solve_ivp` (``DOP853`` by default) on the plain-Python
-    right-hand side :class:`inerterlab.suspension.reference.ReferenceRHS`, written
-    apart from the core: the oracle the core is tested against.
-
-Both apply the tyre-damper impulse C_t * jump where the road jumps. Absolute
-tolerances are ``atol`` (default ``rtol``) times a typical size of each state.
+The car runs on the model core (:mod:`inerterlab.systems`): the named suspension as a
+network of :func:`inerterlab.quarter_car`, integrated by the core's compiled
+Dormand-Prince 5(4) (or its exact steps where the car is linear) with events at the
+elements' kinks, the ride metrics carried as observer states
+(:func:`inerterlab.systems.observers.ride`: the metric integrals, the Wk filter, the
+peaks located on the continuous extension). The tyre-damper impulse C_t x jump is
+applied where the road jumps. Absolute tolerances are ``atol`` (default ``rtol``) times
+a typical size of each state. The tests hold it against an oracle written apart from
+the core (``tests/_quarter_car_oracle.py``: plain Python under scipy's ``solve_ivp``).
 
 Examples
 --------
@@ -29,27 +23,23 @@ from __future__ import annotations
 
 import math
 import sys
-import time
 import types
-from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from .errors import ConvergenceError, ParameterError, check_choice, check_positive
-from .excitation import ROAD_JUMP_RTOL, Excitation, road_displacement, road_scale
-from .metrics import wk_state_space
+from .errors import ParameterError, check_choice, check_positive
+from .excitation import Excitation
 from .resources import check_memory
-from .suspension.model import N_METRIC_STATES, QuarterCar, model_of
-from .systems.options import BACKENDS, DEFAULT_OPTIONS, SimulationOptions
+from .suspension.model import QuarterCar, model_of
+from .systems.options import DEFAULT_OPTIONS, SimulationOptions
 
 __all__ = [
     "SimulationOptions",
     "SimulationResult",
     "simulate",
     "simulate_metrics",
-    "BACKENDS",
 ]
 
 OUTPUTS = ("series", "metrics")
@@ -88,9 +78,8 @@ class SimulationResult:
     time : ndarray or None
         Sample times [s] (None for ``output="metrics"``).
     states : ndarray or None
-        Physical states at the samples, columns :attr:`state_names` (the core's:
-        ``wheel.x``, ``wheel.v``, ``body.x``, ``body.v``, then the suspension's own;
-        the scipy backend's: ``model.state_names``).
+        Physical states at the samples, columns :attr:`state_names` (``wheel.x``,
+        ``wheel.v``, ``body.x``, ``body.v``, then the suspension's own).
     state_names : tuple
     body_acc, body_acc_wk, road, road_velocity : ndarray or None
         a3 [m/s^2], Wk-weighted a3 [m/s^2], X1 [m], X1' [m/s] at the samples.
@@ -251,7 +240,7 @@ class SimulationResult:
         """Everything that defines this run, flattened for file headers."""
         out = {f"model.{k}": v for k, v in self.model.describe().items()}
         out.update({f"input.{k}": v for k, v in self.excitation.describe().items()})
-        out.update(horizon=self.horizon, backend=self.options.backend, rtol=self.options.rtol)
+        out.update(horizon=self.horizon, rtol=self.options.rtol)
         return out
 
     def plot(self, **kwargs):
@@ -261,7 +250,7 @@ class SimulationResult:
         return plot_simulation(self, **kwargs)
 
 
-# -- backends --------------------------------------------------------------------------
+# -- the run -----------------------------------------------------------------------------
 @dataclass
 class _Run:
     values: dict  # the final values of the ride observers (systems.observers.ride)
@@ -292,7 +281,7 @@ def _sample_times(horizon: float, rate: float) -> np.ndarray:
 _BEFORE_STEP = 1e-9
 
 
-def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
+def _run(model, excitation, horizon, options, want_series) -> _Run:
     from .systems.core import _simulate
     from .systems.quarter_car import system_of
 
@@ -333,145 +322,6 @@ def _run_numba(model, excitation, horizon, options, want_series) -> _Run:
     values = {k: v for k, v in res.observed.items() if k.startswith("ride.")}
     stats = dict(res.stats, segments=len(road.segments))
     return _Run(values=values, samples=samples, stats=stats, jumps=tuple(jumps))
-
-
-def _run_scipy(model, excitation, horizon, options, want_series) -> _Run:
-    from scipy.integrate import solve_ivp
-    from scipy.optimize import minimize_scalar
-
-    from .suspension.reference import ReferenceRHS
-
-    options.warn_ignored("the scipy backend", "method", "max_step", "fixed_step",
-                          "fixed_method")  # fmt: skip
-    f = ReferenceRHS(model)
-    x_prev = excitation.initial_road(horizon)
-    du, ds = excitation.initial_displacements
-    phys = model.initial_state(unsprung=x_prev + du, sprung=x_prev + ds)
-    y = np.concatenate([phys, np.zeros(N_METRIC_STATES)])
-    segs = excitation.segments(horizon)
-    atol = options.atol_factor * model.state_scales
-    peaks = np.full(7, -np.inf)
-    ts = _sample_times(horizon, options.sample_rate) if want_series else np.empty(0)
-    out_y = np.empty((ts.size, y.size))
-    out_a3 = np.empty(ts.size)
-    isamp = 0
-    nsteps = nfev = 0
-    jumps = []
-    tol = ROAD_JUMP_RTOL * road_scale(segs)
-    budget = {"calls": 0, "t": 0.0}
-    max_calls = 16 * options.max_steps
-    deadline = None if options.time_limit is None else time.monotonic() + options.time_limit
-
-    class _OverBudget(Exception):
-        pass
-
-    def rhs(t, yy):
-        # step and time limits: solve_ivp itself has neither
-        budget["calls"] += 1
-        budget["t"] = t
-        if budget["calls"] > max_calls:
-            raise _OverBudget(
-                f"more than max_steps={options.max_steps} steps "
-                f"({max_calls} right-hand-side evaluations)"
-            )
-        if deadline is not None and budget["calls"] % 256 == 0 and time.monotonic() > deadline:
-            raise _OverBudget(f"the time limit of {options.time_limit:g} s was reached")
-        return f(t, yy)
-
-    def q_of(t, yy):
-        a3, aw, z, ft = f.outputs(t, yy)
-        return np.array([a3, -a3, aw, -aw, z, -z, ft])
-
-    for seg in segs:
-        t0, t1 = float(seg[0]), float(min(seg[1], horizon))
-        f.seg = seg
-        xs, _ = f.road(seg, t0)
-        if abs(xs - x_prev) > tol:
-            dv3 = f.apply_jump(y, xs - x_prev)
-            if dv3 != 0.0 and t0 < horizon:
-                jumps.append((t0, float(dv3)))
-        x_prev, _ = f.road(seg, t1)
-        if t1 <= t0:
-            continue
-        try:
-            sol = solve_ivp(
-                rhs,
-                (t0, t1),
-                y,
-                method=options.scipy_method,
-                rtol=options.rtol,
-                atol=atol,
-                dense_output=True,
-            )
-        except _OverBudget as exc:
-            raise ConvergenceError(
-                f"scipy {options.scipy_method} stopped at t = {budget['t']:.6g} s of "
-                f"{horizon:g} s: {exc}; the equations are stiff or the horizon is long "
-                "(try --backend numba, a shorter --horizon, or a larger --time-limit)"
-            ) from None
-        if sol.status != 0:
-            raise ConvergenceError(f"scipy {options.scipy_method} failed: {sol.message}")
-        nsteps += sol.t.size - 1
-        nfev += sol.nfev
-        # peaks: values at step ends and midpoints, then local maxima refined on the
-        # dense output
-        tt = np.concatenate([sol.t, 0.5 * (sol.t[1:] + sol.t[:-1])])
-        order = np.argsort(tt)
-        tt = tt[order]
-        yy = sol.sol(tt)
-        yy[:, 0] = sol.y[:, 0]
-        yy[:, -1] = sol.y[:, -1]
-        qs = np.array([q_of(t, yy[:, i]) for i, t in enumerate(tt)])
-        for j in range(7):
-            col = qs[:, j]
-            top = col.max()
-            peaks[j] = max(peaks[j], top)
-            if col.size < 3:
-                continue
-            interior = np.where((col[1:-1] >= col[:-2]) & (col[1:-1] >= col[2:]))[0] + 1
-            span = max(abs(top), 1e-300)
-            for i in interior:
-                if col[i] < top - 1e-2 * span:
-                    continue
-                res = minimize_scalar(
-                    lambda t, j=j, s=sol.sol: -q_of(t, s(t))[j],
-                    bounds=(tt[i - 1], tt[i + 1]),
-                    method="bounded",
-                    options={"xatol": 1e-13 * max(1.0, t1)},
-                )
-                peaks[j] = max(peaks[j], -res.fun)
-        if want_series:
-            last = t1 >= horizon
-            while isamp < ts.size and (ts[isamp] < t1 or (last and ts[isamp] <= t1)):
-                if ts[isamp] >= t0:
-                    ys = sol.sol(ts[isamp]) if ts[isamp] > t0 else sol.y[:, 0]
-                    out_y[isamp] = ys
-                    out_a3[isamp] = f.outputs(ts[isamp], ys)[0]
-                isamp += 1
-        y = sol.y[:, -1].copy()
-        if t1 >= horizon:
-            break
-    st = {"steps": nsteps, "rejected": None, "rhs_calls": nfev, "segments": len(segs)}
-    samples = None
-    if want_series:
-        n = model.n_states
-        _, _, wc, wd = wk_state_space()
-        x1, v1 = road_displacement(segs, ts)
-        samples = dict(
-            time=ts, states=out_y[:, :n].copy(), state_names=model.state_names, body_acc=out_a3,
-            body_acc_wk=out_y[:, n + 3 : n + 11] @ wc + wd * out_a3, road=x1, road_velocity=v1,
-        )  # fmt: skip
-    I = y[model.n_states :]
-    values = {
-        "ride.i_acc": I[0], "ride.i_grip": I[1], "ride.i_defl": I[2], "ride.i_wk": I[11],
-        "ride.i_wk4": I[12],
-    }  # fmt: skip
-    names = ("acc", "neg_acc", "wk", "neg_wk", "defl", "neg_defl", "tyre")
-    values.update({f"ride.peak_{k}": float(v) for k, v in zip(names, peaks, strict=True)})
-    return _Run(values=values, samples=samples, stats=st, jumps=tuple(jumps))
-
-
-_BACKEND_FUNCS: dict[str, Callable[..., _Run]] = {"numba": _run_numba, "scipy": _run_scipy}
 
 
 #: why a metric is not finite across a road step (the body acceleration holds a Dirac)
@@ -543,7 +393,7 @@ def _check_inputs(model: Any, excitation: Any, horizon: Any, options: Any, outpu
 
 
 def _minimum_steps(excitation: Excitation, horizon: float) -> float:
-    """A lower bound on the integration steps of either backend up to ``horizon``.
+    """A lower bound on the integration steps up to ``horizon``.
 
     Each road segment begun before the horizon starts a step of its own (the road is
     integrated segment by segment), and a sine needs at least four steps per period
@@ -572,9 +422,9 @@ _PILOT_PERIODS = 10
 def _sine_steps(
     model: QuarterCar, excitation: Excitation, horizon: float, options, want_series: bool
 ) -> float:
-    """Steps the numba backend takes for a sine up to ``horizon`` (:func:`sine_steps`)."""
+    """Steps the core takes for a sine up to ``horizon`` (:func:`sine_steps`)."""
     return sine_steps(
-        lambda t: _attempts(_run_numba(model, excitation, t, options, want_series).stats),
+        lambda t: _attempts(_run(model, excitation, t, options, want_series).stats),
         excitation,
         horizon,
     )
@@ -634,17 +484,16 @@ def _check_step_budget(
 ) -> None:
     """Refuse up front a run whose step count must exceed ``options.max_steps``: by a
     lower bound (one step per road segment, four per sine period) and, for a long sine
-    on the numba backend, by a measured estimate (:func:`_sine_steps`)."""
+    by a measured estimate (:func:`_sine_steps`)."""
     from .excitation import ISO8608Road
 
-    if options.backend == "numba":
-        check_sine_steps(
-            lambda t: _attempts(_run_numba(model, excitation, t, options, want_series).stats),
-            excitation,
-            horizon,
-            options.rtol,
-            options.max_steps,
-        )
+    check_sine_steps(
+        lambda t: _attempts(_run(model, excitation, t, options, want_series).stats),
+        excitation,
+        horizon,
+        options.rtol,
+        options.max_steps,
+    )
     need = _minimum_steps(excitation, horizon)
     if need > options.max_steps:
         at = (
@@ -681,7 +530,7 @@ def simulate(
     horizon : float
         T [s], 10 s by default (docs/model.md §5).
     options : SimulationOptions
-        Backend, tolerance, sampling rate.
+        Tolerance, method, sampling rate, step budget.
     output : {"series", "metrics"}
         ``metrics`` skips the sampled time series (faster, for sweeps).
 
@@ -695,7 +544,7 @@ def simulate(
     if want:  # the series' memory first: refused before any step is taken
         _sample_times(T, options.sample_rate)
     _check_step_budget(model, excitation, T, options, want)
-    run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, want)
+    run = _run(model, excitation, T, options, want)
     kw: dict = {}
     if want:
         kw = dict(run.samples)
@@ -724,7 +573,7 @@ def simulate_metrics(
     model = model_of(model)
     T = _check_inputs(model, excitation, horizon, options, "metrics")
     _check_step_budget(model, excitation, T, options, False)
-    run = _BACKEND_FUNCS[options.backend](model, excitation, T, options, False)
+    run = _run(model, excitation, T, options, False)
     return _metrics(model, excitation, run, T)
 
 

@@ -181,12 +181,7 @@ def simulate_command(
     lift_off: Annotated[
         bool, typer.Option("--lift-off", help="Let the tyre leave the road.")
     ] = False,
-    backend: Annotated[str, typer.Option(help="numba (fast) or scipy (reference).")] = "numba",
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
-    time_limit: Annotated[
-        float,
-        typer.Option(help="scipy backend: give up after this many seconds of integration."),
-    ] = 300.0,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     save: Annotated[Path | None, typer.Option(help="Write the time series (.csv or .nc).")] = None,
     plot: Annotated[
@@ -210,7 +205,11 @@ def simulate_command(
         ),
     ] = None,
     method: Annotated[
-        str, typer.Option(help="With --network: auto, adaptive or exact (linear networks).")
+        str,
+        typer.Option(
+            help="auto, adaptive (Dormand-Prince 5(4)) or exact (matrix-exponential steps; "
+            "linear cars only)."
+        ),
     ] = "auto",
 ) -> None:
     """Simulate a quarter car on a road input and print its ride metrics.
@@ -247,9 +246,8 @@ def simulate_command(
     else:
         ex = read_road_csv(input_, speed=speed)
     if network is not None:
-        if lift_off or backend != "numba":
-            bad = "--lift-off" if lift_off else "--backend"
-            raise _PE(bad, True, "not with --network (the model core)")
+        if lift_off:
+            raise _PE("--lift-off", True, "not with --network (a named suspension only)")
         carv = _car_kwargs(
             sprung_mass, unsprung_mass, stiffness, damping, tyre_stiffness, tyre_damping
         )
@@ -260,7 +258,7 @@ def simulate_command(
         )  # fmt: skip
         return
     want_series = save is not None or plot is not None
-    opts = SimulationOptions(backend=backend, rtol=rtol, time_limit=time_limit)
+    opts = SimulationOptions(rtol=rtol, method=method)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RoadTooShortWarning)
         res = simulate(

@@ -38,9 +38,6 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from functools import cached_property
-
-import numpy as np
 
 from ..errors import ParameterError, check_choice, check_positive
 from ..flywheels import AdaptiveFlywheel, constant_flywheel
@@ -63,8 +60,6 @@ SUSPENSIONS = ("traditional", "cfw", "afw", "device", "device-afw")
 LAWS = ("thesis", "momentum", "slider-dynamics")
 CFW_INERTIA = 2.231e-4  # [kg m^2], I_afn,min of ch. 4.2.1, the constant flywheel
 
-#: metric states of the scipy oracle (:mod:`.reference`) after the physical ones
-N_METRIC_STATES = 13  # int a^2, int grip^2, int z^2, 8 Wk filter states, int aw^2, int aw^4
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -161,53 +156,6 @@ class QuarterCar:
         if not self.uses_flywheel:
             return None
         return self.transmission.ratio**2 * self.flywheel.inertia_min
-
-    @cached_property
-    def state_names(self) -> tuple[str, ...]:
-        """Names of the physical states, in order."""
-        names = ["unsprung_disp", "unsprung_vel", "sprung_disp", "sprung_vel"]
-        if self.suspension == "afw" and self.law == "slider-dynamics":
-            names += ["slider_radius", "slider_rate"]
-        if self.suspension == "device":
-            names += ["device_spring_deflection"]
-        if self.suspension == "device-afw":
-            names += ["device_spring_deflection", "branch_velocity"]
-            if self.law == "slider-dynamics":
-                names += ["slider_radius", "slider_rate"]
-        return tuple(names)
-
-    @property
-    def n_states(self) -> int:
-        """Number of physical states."""
-        return len(self.state_names)
-
-    def initial_state(self, unsprung: float = 0.0, sprung: float = 0.0) -> np.ndarray:
-        """Physical state at rest with the given displacements [m]."""
-        y = np.zeros(self.n_states)
-        y[0] = unsprung
-        y[2] = sprung
-        if "slider_radius" in self.state_names:
-            y[self.state_names.index("slider_radius")] = self.flywheel.slider_min
-        return y
-
-    @cached_property
-    def state_scales(self) -> np.ndarray:
-        """Typical magnitude of every state of the scipy oracle (:mod:`.reference`:
-        physical + metric) for absolute tolerances."""
-        s = {
-            "unsprung_disp": 1e-2,
-            "unsprung_vel": 1e-1,
-            "sprung_disp": 1e-2,
-            "sprung_vel": 1e-1,
-            "slider_radius": 1e-3,
-            "slider_rate": 1e-2,
-            "device_spring_deflection": 1e-4,
-            "branch_velocity": 1e-2,
-        }
-        phys = [s[n] for n in self.state_names]
-        # int a^2, int grip^2, int z^2, Wk states (~ acceleration), int aw^2, int aw^4
-        metric = [1e-2, 1e-4, 1e-7] + [1e-1] * 8 + [1e-2, 1e-3]
-        return np.array(phys + metric)
 
     def describe(self) -> dict:
         """Settings as a plain dict (for reports and file headers)."""

@@ -256,7 +256,7 @@ class System:
 
 
 def _options(options, values: dict) -> SimulationOptions:
-    """``options`` with the fields named in ``values`` replaced; the core's own backend."""
+    """``options`` with the fields named in ``values`` replaced."""
     if not isinstance(options, SimulationOptions):
         raise ParameterError("options", options, "a SimulationOptions")
     if values:
@@ -268,12 +268,6 @@ def _options(options, values: dict) -> SimulationOptions:
             options = _replaced(options, items)
         except TypeError:  # a value that is not hashable: the options' own check
             options = dataclasses.replace(options, **values)
-    if options.backend != "numba":
-        raise ParameterError(
-            "backend", options.backend, "'numba' for a core system (the scipy oracle runs "
-            "the named suspensions through inerterlab.simulate)",
-        )  # fmt: skip
-    options.warn_ignored("the model core", "scipy_method", "time_limit")
     return options
 
 

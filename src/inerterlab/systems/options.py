@@ -17,17 +17,15 @@ from dataclasses import dataclass
 
 from ..errors import ParameterError, check_choice, check_positive
 
-__all__ = ["SimulationOptions", "DEFAULT_OPTIONS", "BACKENDS", "METHODS", "SCIPY_METHODS",
-           "FIXED_METHODS", "IgnoredOptionWarning"]  # fmt: skip
+__all__ = ["SimulationOptions", "DEFAULT_OPTIONS", "METHODS", "FIXED_METHODS",
+           "IgnoredOptionWarning"]  # fmt: skip
 
-BACKENDS = ("numba", "scipy")
 METHODS = ("auto", "adaptive", "exact")
-SCIPY_METHODS = ("DOP853", "RK45", "RK23", "Radau", "BDF", "LSODA")
 FIXED_METHODS = ("dopri5", "rk4")
 
 
 class IgnoredOptionWarning(UserWarning):
-    """An option the chosen backend or system does not use."""
+    """An option the chosen system or analysis does not use."""
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -36,10 +34,6 @@ class SimulationOptions:
 
     Parameters
     ----------
-    backend : {"numba", "scipy"}
-        ``numba``: the model core's compiled integrator (every system). ``scipy``:
-        :func:`scipy.integrate.solve_ivp` on the independent plain-Python equations of
-        a named quarter car (the oracle; :func:`inerterlab.simulate.simulate` only).
     rtol : float
         Relative tolerance, in [1e-14, 1e-2].
     atol : float or None
@@ -49,8 +43,6 @@ class SimulationOptions:
         ``adaptive``: Dormand-Prince 5(4) with error control; ``exact``:
         matrix-exponential steps (linear systems on piecewise-linear roads); ``auto``:
         exact where they are cheap, adaptive otherwise.
-    scipy_method : str
-        The ``solve_ivp`` method of the scipy backend (``DOP853``, ``Radau``, ...).
     sample_rate : float
         Output sampling rate [Hz] of the time series.
     max_steps : int
@@ -69,32 +61,24 @@ class SimulationOptions:
         continuous extension and the step taken again to them), for the vehicles of
         :func:`inerterlab.systems.vehicle.simulate` on their sampled roads; needs
         ``fixed_step``.
-    time_limit : float or None
-        scipy backend: give up after this many seconds [s] (the compiled integrator is
-        bounded by ``max_steps``).
     """
 
-    backend: str = "numba"
     rtol: float = 1e-8
     atol: float | None = None
     method: str = "auto"
-    scipy_method: str = "DOP853"
     sample_rate: float = 1000.0
     max_steps: int = 10_000_000
     max_step: float = math.inf
     fixed_step: float | None = None
     fixed_method: str = "dopri5"
-    time_limit: float | None = None
 
     def __post_init__(self) -> None:
-        check_choice("backend", self.backend, BACKENDS)
         r = check_positive("rtol", self.rtol)
         if not 1e-14 <= r <= 1e-2:
             raise ParameterError("rtol", self.rtol, "a relative tolerance in [1e-14, 1e-2]")
         if self.atol is not None:
             check_positive("atol", self.atol)
         check_choice("method", self.method, METHODS)
-        check_choice("scipy_method", self.scipy_method, SCIPY_METHODS)
         check_positive("sample_rate", self.sample_rate, "Hz")
         if isinstance(self.max_steps, bool) or not isinstance(self.max_steps, int) or (
             self.max_steps < 1
@@ -111,8 +95,6 @@ class SimulationOptions:
             raise ParameterError(
                 "fixed_method", self.fixed_method, "'dopri5' unless fixed_step is set [s]"
             )
-        if self.time_limit is not None:
-            check_positive("time_limit", self.time_limit, "s")
 
     @property
     def atol_factor(self) -> float:
