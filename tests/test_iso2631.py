@@ -124,11 +124,11 @@ def test_foh_filter_equals_scipy_lsim():
 
 def test_dose_values_of_a_sine():
     fs, amp = 1000.0, 0.7
-    t = np.arange(int(10 * fs)) / fs  # 10 s, whole periods of 2 Hz
+    t = np.arange(int(10 * fs) + 1) / fs  # 10 s (both ends sampled), whole periods of 2 Hz
     a = amp * np.sin(2 * np.pi * 2.0 * t)
-    assert iso2631.vibration_dose_value(a, fs) == pytest.approx(amp * (3 * 10 / 8) ** 0.25)
-    assert iso2631.motion_sickness_dose_value(a, fs) == pytest.approx(amp * math.sqrt(5.0))
-    assert iso2631.crest_factor(a) == pytest.approx(math.sqrt(2), rel=1e-6)
+    assert iso2631.vibration_dose_value(a, fs) == pytest.approx(amp * (3 * 10 / 8) ** 0.25, rel=1e-12)
+    assert iso2631.motion_sickness_dose_value(a, fs) == pytest.approx(amp * math.sqrt(5.0), rel=1e-12)
+    assert iso2631.crest_factor(a) == pytest.approx(math.sqrt(2), rel=1e-12)
     assert iso2631.mtvv(a, fs) == pytest.approx(amp / math.sqrt(2), rel=1e-3)
 
 

@@ -1,19 +1,13 @@
-"""ISO 2631-1 Wk weighting, RMS helpers and H2 indices (docs/model.md §9, §10)."""
+"""ISO 2631-1 Wk weighting, the metrics of sampled series and H2 indices (docs/model.md §9, §10)."""
 
 import math
 
 import numpy as np
 import pytest
 
-from inerterlab import quarter_car
+from inerterlab import iso2631, quarter_car
 from inerterlab.errors import ParameterError
-from inerterlab.metrics import (
-    h2_norms,
-    rms,
-    vibration_dose_value,
-    wk_state_space,
-    wk_weighting,
-)
+from inerterlab.metrics import h2_norms, series_metrics, wk_state_space, wk_weighting
 
 
 def test_wk_tabulated_factors():
@@ -47,9 +41,39 @@ def test_wk_state_space_equals_the_transfer_function():
 def test_rms_and_vdv_of_a_sine():
     t = np.linspace(0.0, 10.0, 200001)
     x = 2.0 * np.sin(2 * np.pi * 3.0 * t)
-    assert rms(t, x) == pytest.approx(2.0 / math.sqrt(2.0), rel=1e-8)
+    assert iso2631.rms(x) == pytest.approx(2.0 / math.sqrt(2.0), rel=1e-12)
     # int sin^4 over whole periods = 3/8 T
-    assert vibration_dose_value(t, x) == pytest.approx((16 * 3 / 8 * 10.0) ** 0.25, rel=1e-8)
+    assert iso2631.vibration_dose_value(x, 2e4) == pytest.approx((16 * 3 / 8 * 10.0) ** 0.25, rel=1e-12)
+
+
+def test_sampled_statistics_are_exact_over_whole_periods_of_a_short_record():
+    """The trapezoidal rule over the span: exact for a sine sampled over whole periods,
+    however few the samples (the mean of the squares gives sqrt(2/5) for these five)."""
+    x = np.array([0.0, 1.0, 0.0, -1.0, 0.0])
+    assert iso2631.rms(x) == pytest.approx(math.sqrt(0.5), rel=1e-15)
+    assert iso2631.crest_factor(x) == pytest.approx(math.sqrt(2.0), rel=1e-15)
+    n, fs = 9, 8.0  # one period of 1 Hz, 8 intervals: int sin^4 = 3/8, int sin^2 = 1/2
+    s = np.sin(2 * np.pi * np.arange(n) / fs)
+    assert iso2631.vibration_dose_value(s, fs) == pytest.approx((3 / 8) ** 0.25, rel=1e-14)
+    assert iso2631.motion_sickness_dose_value(s, fs) == pytest.approx(math.sqrt(0.5), rel=1e-14)
+
+
+def test_series_metrics_use_the_sampled_statistics_and_refuse_uneven_times():
+    t = np.arange(2001) / 1000.0
+    a = np.sin(2 * np.pi * 2.0 * t)
+    aw = iso2631.weight(a, 1000.0)
+    m = series_metrics(t, a, 0.1 * a, 0.01 * a, weighted_acc=aw)
+    assert m["rms_body_acc"] == iso2631.rms(a)
+    assert m["vdv"] == iso2631.vibration_dose_value(aw, 1000.0)
+    assert m["crest_factor"] == iso2631.crest_factor(aw)
+    t2 = t.copy()
+    t2[5] += 1e-4
+    with pytest.raises(ParameterError, match="time"):
+        series_metrics(t2, a, a, a)
+    with pytest.raises(ParameterError, match="tyre_grip"):
+        series_metrics(t, a, a[:-1], a)
+    with pytest.raises(ParameterError, match="signal"):
+        iso2631.rms([1.0])
 
 
 SMITH_WANG = dict(sprung_mass=250.0, unsprung_mass=35.0, tyre_stiffness=150e3, tyre_damping=0.0)

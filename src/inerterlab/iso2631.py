@@ -22,6 +22,13 @@ Values computed here (ISO 2631-1 clauses 6 to 8 and 9 for motion sickness):
 * the crest factor max|a_w| / a_w and the maximum transient vibration value (running
   RMS with the linear 1 s window, MTVV).
 
+The integrals over a sampled record (the RMS, VDV, MSDV) take the trapezoidal rule over
+its span T = (n - 1)/fs: second order in the sampling interval, and exact for a periodic
+signal over whole periods (the mean of the n squares would be off by about 1/n). These are the package's one set of
+statistics of sampled signals (:func:`inerterlab.metrics.series_metrics` and the design
+studies' vehicle runs use them); the simulations integrate the same quantities as
+observer states instead.
+
 Discrete filtering uses the exact discretisation of the analog filter for a signal
 linear between samples (first-order hold, the default) or the bilinear transform, and
 starts from rest: the analog filter's states are zero at the first sample (nothing is
@@ -47,6 +54,7 @@ __all__ = [
     "weighting",
     "weighting_magnitude",
     "weight",
+    "rms",
     "weighted_rms",
     "vibration_total_value",
     "vibration_dose_value",
@@ -333,10 +341,34 @@ def weight(signal, fs: float, name: str = "Wk", method: str = "foh") -> np.ndarr
     return weighting(name).filter(signal, fs, method)
 
 
+def _integral(values, fs: float) -> float:
+    """int x dt of samples ``values`` at ``fs`` [Hz] by the trapezoidal rule."""
+    x = np.asarray(values, dtype=float)
+    return float((np.sum(x) - 0.5 * (x[0] + x[-1])) / fs)
+
+
+def _samples(signal, name: str = "signal") -> np.ndarray:
+    a = np.asarray(signal, dtype=float)
+    if a.ndim != 1 or a.size < 2:
+        raise ParameterError(name, f"shape {a.shape}", "one-dimensional, at least two samples")
+    return a
+
+
+def rms(signal) -> float:
+    """sqrt(1/T int x^2 dt) of evenly spaced samples over their span T (trapezoidal
+    rule; the sampling rate cancels) [units of the signal].
+
+    >>> rms([0.0, 1.0, 0.0, -1.0, 0.0])  # the samples of sin over a period: sqrt(1/2)
+    0.7071067811865476
+    """
+    a = _samples(signal)
+    return math.sqrt(max(_integral(a * a, 1.0), 0.0) / (a.size - 1))
+
+
 def weighted_rms(signal, fs: float, name: str = "Wk", method: str = "foh") -> float:
-    """a_w = sqrt(mean(a_w(t)^2)) of the weighted signal [units of the signal]."""
-    aw = weight(signal, fs, name, method)
-    return float(np.sqrt(np.mean(aw * aw)))
+    """a_w = sqrt(1/T int a_w(t)^2 dt) of the weighted signal [units of the signal]
+    (:func:`rms` of :func:`weight`)."""
+    return rms(weight(signal, fs, name, method))
 
 
 def vibration_total_value(values: dict, posture: str = "comfort-seat") -> float:
@@ -354,21 +386,23 @@ def vibration_total_value(values: dict, posture: str = "comfort-seat") -> float:
 
 
 def vibration_dose_value(weighted, fs: float) -> float:
-    """VDV = (int a_w^4 dt)^(1/4) [m/s^1.75], rectangle rule on samples at ``fs``."""
-    a = np.asarray(weighted, dtype=float)
-    return float((np.sum(a**4) / fs) ** 0.25)
+    """VDV = (int a_w^4 dt)^(1/4) [m/s^1.75] of samples at ``fs`` [Hz] (trapezoidal rule)."""
+    a = _samples(weighted, "weighted")
+    return max(_integral(a**4, check_positive("fs", fs, "Hz")), 0.0) ** 0.25
 
 
 def motion_sickness_dose_value(weighted_wf, fs: float) -> float:
-    """MSDV = (int a_w^2 dt)^(1/2) [m/s^1.5] of a Wf-weighted vertical acceleration."""
-    a = np.asarray(weighted_wf, dtype=float)
-    return float(math.sqrt(np.sum(a * a) / fs))
+    """MSDV = (int a_w^2 dt)^(1/2) [m/s^1.5] of a Wf-weighted vertical acceleration
+    sampled at ``fs`` [Hz] (trapezoidal rule)."""
+    a = _samples(weighted_wf, "weighted_wf")
+    return math.sqrt(max(_integral(a * a, check_positive("fs", fs, "Hz")), 0.0))
 
 
 def crest_factor(weighted) -> float:
-    """max |a_w| / rms(a_w) [-]."""
-    a = np.asarray(weighted, dtype=float)
-    r = float(np.sqrt(np.mean(a * a)))
+    """max |a_w| / :func:`rms` (a_w) [-] of evenly spaced samples; 0 for a signal
+    that is zero throughout."""
+    a = _samples(weighted, "weighted")
+    r = rms(a)
     return float(np.max(np.abs(a)) / r) if r > 0 else 0.0
 
 

@@ -1,8 +1,9 @@
-"""Ride metrics: RMS values, ISO 2631-1 Wk weighting, VDV, crest factor, H2 indices.
+"""Ride metrics: their keys and units, the Wk weighting of a sampled acceleration, the
+metrics of sampled series, H2 indices.
 
-Pure functions of arrays and models; the simulation backends compute the same
-quantities on the fly (as extra ODE states) and :func:`series_metrics` recomputes
-them from sampled output for cross-checks.
+The simulations compute the metrics on the fly (observer states);
+:func:`series_metrics` recomputes them from sampled output, for user data and
+cross-checks, with the sampled-signal statistics of :mod:`inerterlab.iso2631`.
 
 ISO 2631-1 Wk (docs/model.md §9, parameters of ISO 8041-1), with w_i = 2 pi f_i:
 
@@ -34,9 +35,6 @@ __all__ = [
     "wk_weighting",
     "wk_state_space",
     "weighted_acceleration",
-    "rms",
-    "vibration_dose_value",
-    "crest_factor",
     "h2_norms_state_space",
     "series_metrics",
     "H2Norms",
@@ -108,6 +106,20 @@ def _wk_state_space():
     return np.asarray(A, float), b, c, float(D[0, 0])
 
 
+def _uniform_step(time, samples) -> float:
+    """The step [s] of the evenly spaced ``time``, one per sample of ``samples``;
+    ParameterError otherwise (to 1e-9 of the step)."""
+    t = np.asarray(time, float)
+    a = np.asarray(samples, float)
+    if t.ndim != 1 or a.shape != t.shape or t.size < 2:
+        raise ParameterError("time", f"shape {t.shape} for {a.shape} samples",
+                             "one time per sample, at least two")  # fmt: skip
+    dt = float(t[1] - t[0])
+    if not dt > 0.0 or np.max(np.abs(np.diff(t) - dt)) > 1e-9 * dt:
+        raise ParameterError("time", "uneven or decreasing samples", "evenly spaced times")
+    return dt
+
+
 def weighted_acceleration(time, acceleration):
     """Wk-weighted acceleration a_w [m/s^2] of a signal sampled at the uniform
     ``time`` [s], the filter at rest at the first sample and the signal linear between
@@ -116,63 +128,40 @@ def weighted_acceleration(time, acceleration):
     ParameterError where the samples are not evenly spaced (to 1e-9 of the step)."""
     from .iso2631 import WEIGHTINGS
 
-    t = np.asarray(time, float)
-    a = np.asarray(acceleration, float)
-    if t.ndim != 1 or a.shape != t.shape or t.size < 2:
-        raise ParameterError("time", f"shape {t.shape} for {a.shape} samples",
-                             "one time per sample, at least two")  # fmt: skip
-    dt = float(t[1] - t[0])
-    if not dt > 0.0 or np.max(np.abs(np.diff(t) - dt)) > 1e-9 * dt:
-        raise ParameterError("time", "uneven or decreasing samples", "evenly spaced times")
-    return WEIGHTINGS["Wk"].hold_response(a, dt)
-
-
-def _trapz(y, t):
-    return float(np.sum(0.5 * (y[1:] + y[:-1]) * np.diff(t)))
-
-
-def rms(time, signal) -> float:
-    """sqrt(1/T int_0^T x^2 dt) by the trapezoidal rule ((4.15), (4.21), (4.26))."""
-    t = np.asarray(time, float)
-    x = np.asarray(signal, float)
-    return math.sqrt(_trapz(x * x, t) / (t[-1] - t[0]))
-
-
-def vibration_dose_value(time, weighted_acc) -> float:
-    """VDV = (int a_w^4 dt)^(1/4) [m/s^1.75] (ISO 2631-1)."""
-    a = np.asarray(weighted_acc, float)
-    return _trapz(a**4, np.asarray(time, float)) ** 0.25
-
-
-def crest_factor(weighted_acc, rms_value: float | None = None, time=None) -> float:
-    """max |a_w| / rms(a_w) [-] (ISO 2631-1)."""
-    a = np.asarray(weighted_acc, float)
-    r = rms_value if rms_value is not None else rms(time, a)
-    return float(np.max(np.abs(a)) / r) if r > 0 else 0.0
+    dt = _uniform_step(time, acceleration)
+    return WEIGHTINGS["Wk"].hold_response(np.asarray(acceleration, float), dt)
 
 
 def series_metrics(
     time, body_acc, tyre_grip, deflection, tyre_force=None, weighted_acc=None
 ) -> dict:
-    """The metrics of :data:`METRIC_KEYS` from sampled series (trapezoidal rule).
+    """The metrics of :data:`METRIC_KEYS` from series sampled at the evenly spaced
+    ``time`` [s], by the sampled-signal statistics of :mod:`inerterlab.iso2631`
+    (:func:`~inerterlab.iso2631.rms`, :func:`~inerterlab.iso2631.vibration_dose_value`,
+    :func:`~inerterlab.iso2631.crest_factor`: the trapezoidal rule over the span).
 
     Less accurate than the on-the-fly integrals of the simulation (sampling error);
     meant for user data and cross-checks.
     """
+    from . import iso2631
+
+    dt = _uniform_step(time, body_acc)
+    for name, x in (("tyre_grip", tyre_grip), ("deflection", deflection),
+                    ("weighted_acc", weighted_acc), ("tyre_force", tyre_force)):  # fmt: skip
+        if x is not None and np.shape(x) != np.shape(time):
+            raise ParameterError(name, f"shape {np.shape(x)}", f"one value per time {np.shape(time)}")
     aw = weighted_acceleration(time, body_acc) if weighted_acc is None else np.asarray(weighted_acc)
     out = {
-        "rms_body_acc": rms(time, body_acc),
-        "rms_tyre_grip": rms(time, tyre_grip),
-        "rms_deflection": rms(time, deflection),
-        "rms_body_acc_wk": rms(time, aw),
-        "vdv": vibration_dose_value(time, aw),
+        "rms_body_acc": iso2631.rms(body_acc),
+        "rms_tyre_grip": iso2631.rms(tyre_grip),
+        "rms_deflection": iso2631.rms(deflection),
+        "rms_body_acc_wk": iso2631.rms(aw),
+        "vdv": iso2631.vibration_dose_value(aw, 1.0 / dt),
+        "crest_factor": iso2631.crest_factor(aw),
         "peak_body_acc": float(np.max(np.abs(body_acc))),
         "peak_body_acc_wk": float(np.max(np.abs(aw))),
         "peak_deflection": float(np.max(np.abs(deflection))),
     }
-    out["crest_factor"] = (
-        out["peak_body_acc_wk"] / out["rms_body_acc_wk"] if out["rms_body_acc_wk"] > 0 else 0.0
-    )
     if tyre_force is not None:
         out["min_tyre_force"] = float(np.min(tyre_force))
         out["tyre_lift_off"] = bool(out["min_tyre_force"] <= 0.0)

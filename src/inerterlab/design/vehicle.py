@@ -457,8 +457,8 @@ def simulate_vehicle_candidate(cand: Mapping, car: Mapping, road_class: str, spe
     y = res.outputs
     keep = slice(int(round(WARMUP / DT)), None)
 
-    def rms(x):
-        return float(np.sqrt(np.mean(np.asarray(x)[keep] ** 2)))
+    def rms(x):  # after the warm-up (trapezoidal rule, iso2631.rms)
+        return iso2631.rms(np.asarray(x)[keep])
 
     bw = iso2631.weight(y["bounce_acc"], 1.0 / DT, "Wk")
     seat = "seat_acc" in y
