@@ -57,3 +57,25 @@ def test_few_items_run_in_this_process(tmp_path):
         ReproduceSettings(quick=True, workers=2), ["3.A"], False, tmp_path, on_start=started.append
     )
     assert recs[0]["ok"] and started == ["table 3.A"]  # no worker processes for one item
+
+
+def test_a_cold_cache_keeps_two_workers_off_one_compile_family():
+    """While a task of a family compiles (a cold numba cache), the next worker takes
+    the best task of another family; with none ready, the best task of any."""
+    from inerterlab.report.parallel import COMPILE_FAMILY, family, pick
+
+    assert family("inerterlab.report.ch5") == family("inerterlab.report.ch4_6") == "core"
+    assert family("inerterlab.report.ch7") == "inerterlab.report.ch7"
+
+    def task(order, module, cost):
+        return [cost, order, f"t{order}", None, (), ("items", module), set()]
+
+    ch5 = task(0, "inerterlab.report.ch5", 9.0)
+    ch4 = task(1, "inerterlab.report.ch4_6", 8.0)
+    ch7 = task(2, "inerterlab.report.ch7", 2.0)
+    rank = lambda t: t[0]  # noqa: E731
+    assert pick([ch5, ch4, ch7], rank, set()) is ch5  # warm: the costliest
+    assert pick([ch4, ch7], rank, {"core"}) is ch7  # cold, core compiling: another family
+    assert pick([ch4], rank, {"core"}) is ch4  # nothing else ready: it runs anyway
+    assert pick([ch4, ch7], rank, {"inerterlab.report.ch7"}) is ch4
+    assert set(COMPILE_FAMILY.values()) == {"core"}

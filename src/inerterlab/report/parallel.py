@@ -56,6 +56,13 @@ ITEM_COST_OF = {
 }
 #: chapters whose items share caches that are not memos: computed in one task
 ONE_GROUP = {"inerterlab.report.studies"}
+#: chapters whose tasks compile the same numerical code, the model core's integrator
+#: (about 100 s of one core on a first run); every other chapter is a family of its own
+COMPILE_FAMILY = {
+    "inerterlab.report.ch4_6": "core",
+    "inerterlab.report.ch5": "core",
+    "inerterlab.report.studies": "core",
+}
 #: environment of the workers: one thread each, the processes are the parallelism
 _THREAD_ENV = {
     "OMP_NUM_THREADS": "1",
@@ -71,6 +78,32 @@ def default_workers() -> int:
         return max(1, len(os.sched_getaffinity(0)))
     except (AttributeError, OSError):  # pragma: no cover - not Linux
         return max(1, os.cpu_count() or 1)
+
+
+def family(module: str) -> str:
+    """The compile family of a chapter module (:data:`COMPILE_FAMILY`)."""
+    return COMPILE_FAMILY.get(module, module)
+
+
+def cold_cache() -> bool:
+    """True if numba's cache holds no machine code for the model core's integrator for
+    this source (the first run after an install or a change of the package): the
+    workers would then compile it. False when unsure."""
+    try:
+        from ..systems import _integrate
+
+        return not _integrate._advance_run._cache._cache_file._load_index()
+    except Exception:  # noqa: BLE001 - numba's cache internals: then assume it is warm
+        return False
+
+
+def pick(ready: list, rank, compiling: set):
+    """The task to start from ``ready``: the highest ``rank(task)`` (earliest on a tie),
+    among those whose compile family (``task[5][1]``'s) is not in ``compiling`` if any
+    is: on a cold cache two workers would compile the same code side by side, while one
+    of them can compile another chapter's."""
+    free = [t for t in ready if family(t[5][1]) not in compiling]
+    return max(free or ready, key=lambda t: (rank(t), -t[1]))
 
 
 def _memos(module) -> dict[str, Memo]:
@@ -201,13 +234,24 @@ def run_parallel(
     if tracker is not None:
         tracker.plan([key_of(t) for t in tasks], workers)
 
+    # on a cold numba cache, the families whose code a running task compiles: no second
+    # task of theirs starts while another is ready (:func:`pick`); a family is compiled
+    # (and cached) once one of its tasks has finished
+    cold = cold_cache()
+    compiled: set = set()
+
+    def compiling() -> set:
+        if not cold:
+            return set()
+        return {family(meta[1]) for _, meta, _ in pending.values()} - compiled
+
     def next_task():
         """The ready task (all its pieces done) of highest rank: longest first keeps the
         end of the run from waiting on one long task; None if none is ready."""
         ready = [t for t in tasks if t[6] <= done_pieces]
         if not ready:
             return None
-        best = max(ready, key=lambda t: (rank[id(t)], -t[1]))
+        best = pick(ready, lambda t: rank[id(t)], compiling())
         tasks.remove(best)
         return best
 
@@ -253,6 +297,7 @@ def run_parallel(
             finished, _ = wait(pending, timeout=0.5, return_when=FIRST_COMPLETED)
             for fut in finished:
                 label, meta, started = pending.pop(fut)
+                compiled.add(family(meta[1]))
                 if tracker is not None:
                     tracker.end(meta[3] if meta[0] == "items" else label)
                 if timeline is not None:
