@@ -8,6 +8,7 @@ coefficient; see inerterlab/data/errata.md). These numbers come from an independ
 import numpy as np
 import pytest
 
+import _frequency_oracle as oracle
 from inerterlab.errors import ParameterError
 from inerterlab.frequency import (
     DuffingOscillator,
@@ -111,7 +112,9 @@ def test_three_solutions_and_stability(path7):
         # Floquet multipliers from the time-domain monodromy matrix agree with Hill
         b = eng.basis
         state0 = [X @ b.E[0], 1.2 * (X @ b.E1[0])]
-        mu = floquet_multipliers(DUFFING, 1.2, state0)
+        mu = oracle.floquet_multipliers(DUFFING, 1.2, state0)
+        np.testing.assert_allclose(np.sort(np.abs(floquet_multipliers(DUFFING, 1.2, state0))),
+                                   np.sort(np.abs(mu)), rtol=1e-7)  # fmt: skip
         assert (np.max(np.abs(mu)) > 1.0) == (not expect_stable)
         hill_mu = np.sort(np.abs(np.exp(lam * period)))
         np.testing.assert_allclose(np.sort(np.abs(mu)), hill_mu, rtol=1e-4)

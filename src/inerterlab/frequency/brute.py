@@ -7,18 +7,16 @@ distance of the state to the periodic orbit, from the contraction between succes
 periods, is below ``rtol`` relative to the response size, for two periods running),
 and the half peak-to-peak of the response over those periods is the amplitude.
 
-Two backends:
-
-``numba``
-    Classical Runge-Kutta (RK4) with a fixed step, ``steps_per_period`` per period and
-    at least 400 steps per period of the fastest linear mode (h |s|_max <= 0.016), on
-    the system's own right-hand side (``system.first_order()``): the one period
-    integrator of :mod:`inerterlab.frequency.first_order`. Built-in systems only. Against ``scipy`` at rtol 1e-10 the amplitudes agree to
-    about 1e-6 relative on the chapter-7 system (tests/test_frequency_ch7.py,
-    benchmarks/bench_frequency.py).
-``scipy``
-    ``solve_ivp`` with DOP853 at rtol 1e-10, atol 1e-12 x scale; any system; about
-    one second per frequency point on the chapter-7 system.
+The integrator is classical Runge-Kutta (RK4) with a fixed step, ``steps_per_period``
+per period and at least 400 steps per period of the fastest linear mode
+(h |s|_max <= 0.016), on the system's compiled first-order form
+(``system.first_order()``): the period integrator of
+:mod:`inerterlab.frequency.first_order`, for the built-in systems, the quarter car and a
+:class:`UserSystem` alike. The Floquet multipliers come from the same integrator's
+monodromy matrix. The tests hold both against scipy's DOP853 at rtol 1e-10 on the
+system's numpy residual (``tests/_frequency_oracle.py``): amplitudes to about 1e-6
+relative on the chapter-7 system (tests/test_frequency_ch7.py,
+benchmarks/bench_frequency.py).
 """
 
 from __future__ import annotations
@@ -28,10 +26,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import check_choice
-from .first_order import rk4_period, steady_state_point
+from .first_order import monodromy_multipliers, rk4_period, steady_state_point
 
-__all__ = ["SteadyState", "steady_state", "floquet_multipliers", "acceleration"]
+__all__ = ["SteadyState", "steady_state", "floquet_multipliers"]
 
 
 @dataclass(frozen=True)
@@ -44,15 +41,6 @@ class SteadyState:
     state: np.ndarray
     distance: float
     samples: np.ndarray | None = None
-
-
-def acceleration(system, t: float, omega: float, x, xd) -> np.ndarray:
-    """x'' [m/s^2] solving r(tau, x, x', x'') = 0 (r is affine in x'')."""
-    n = int(system.n_dof)
-    x = np.asarray(x, dtype=float).reshape(n, 1)
-    xd = np.asarray(xd, dtype=float).reshape(n, 1)
-    r0, _, _, ga = system.evaluate(np.array([omega * t]), omega, x, xd, np.zeros((n, 1)))
-    return -np.linalg.solve(np.asarray(ga)[:, :, 0], np.asarray(r0)[:, 0])
 
 
 def _fastest_rate(system, omega: float) -> float:
@@ -76,7 +64,6 @@ def steady_state(
     omega: float,
     *,
     initial_state=None,
-    backend: str = "numba",
     steps_per_period: int = 2000,
     rtol: float = 1e-9,
     max_periods: int = 5000,
@@ -87,15 +74,13 @@ def steady_state(
     Parameters
     ----------
     system
-        A built-in system (both backends) or a :class:`UserSystem` (``scipy`` only).
+        A built-in system, a quarter car's or a :class:`UserSystem`.
     omega : float
         Forcing frequency [rad/s].
     initial_state : array, optional
         [x, x'] at t = 0 (default: rest, thesis (7.5)).
-    backend : {"numba", "scipy"}
-        Fixed-step RK4 (fast) or DOP853 at rtol 1e-10 (slow reference).
     steps_per_period : int
-        Minimum RK4 steps per forcing period (``numba`` backend).
+        Minimum RK4 steps per forcing period.
     rtol : float
         Settling tolerance, relative to the response size.
     max_periods : int
@@ -103,88 +88,31 @@ def steady_state(
     keep_periods : int
         Settled periods the amplitude is taken over (the thesis keeps 2).
     """
-    check_choice("backend", backend, ("numba", "scipy"))
     n = int(system.n_dof)
     y0 = np.zeros(2 * n) if initial_state is None else np.asarray(initial_state, dtype=float)
-    scale = float(getattr(system, "displacement_scale", 1.0))
-    if backend == "numba" and hasattr(system, "first_order"):
-        form = system.first_order()
-        nst = _steps(system, omega, steps_per_period)
-        amp_in = form.input_amplitude
-        y, _, ok, periods, dist, hi, lo = steady_state_point(
-            form, float(omega), amp_in, y0, steps=nst, rtol=rtol, max_periods=max_periods,
-            keep_periods=keep_periods,
-        )  # fmt: skip
-        _, xs = rk4_period(form, float(omega), amp_in, y, nst)
-        return SteadyState(
-            float(0.5 * (hi[0] - lo[0])), bool(ok), int(periods), y, float(dist), xs[0]
-        )
-    return _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scale)
+    form = system.first_order()
+    nst = _steps(system, omega, steps_per_period)
+    amp_in = form.input_amplitude
+    y, _, ok, periods, dist, hi, lo = steady_state_point(
+        form, float(omega), amp_in, y0, steps=nst, rtol=rtol, max_periods=max_periods,
+        keep_periods=keep_periods,
+    )  # fmt: skip
+    _, xs = rk4_period(form, float(omega), amp_in, y, nst)
+    return SteadyState(float(0.5 * (hi[0] - lo[0])), bool(ok), int(periods), y, float(dist), xs[0])
 
 
-def _steady_state_scipy(system, omega, y0, rtol, max_periods, keep_periods, scale):
-    from scipy.integrate import solve_ivp
-
-    n = int(system.n_dof)
-    dof = int(getattr(system, "response_dof", 0))
-    period = 2.0 * math.pi / omega
-
-    def rhs(t, y):
-        return np.concatenate([y[n:], acceleration(system, t, omega, y[:n], y[n:])])
-
-    y = y0.copy()
-    calm, prev, dist = 0, np.inf, np.inf
-    hi, lo = -np.inf, np.inf
-    grid = np.linspace(0.0, period, 4001)
-    xs = None
-    for k in range(max_periods):
-        sol = solve_ivp(
-            rhs, (0.0, period), y, method="DOP853", rtol=1e-10, atol=1e-12 * scale,
-            dense_output=True,
-        )  # fmt: skip
-        xs = sol.sol(grid)[dof]
-        yn = sol.y[:, -1]
-        size = max(np.max(np.abs(xs)), scale)
-        change = max(np.max(np.abs(yn[:n] - y[:n])), np.max(np.abs(yn[n:] - y[n:])) / omega)
-        change /= size
-        rho = change / prev if prev > 0 else 0.0
-        prev = change
-        dist = max(change * rho / (1.0 - rho) if rho < 0.999 else np.inf, change)
-        y = yn
-        if dist < rtol:
-            calm += 1
-        else:
-            calm, hi, lo = 0, -np.inf, np.inf
-        hi, lo = max(hi, xs.max()), min(lo, xs.min())
-        if calm >= keep_periods:
-            return SteadyState(0.5 * (hi - lo), True, k + 1, y, dist, xs[:-1])
-    return SteadyState(0.5 * (hi - lo), False, max_periods, y, dist, xs[:-1])
-
-
-def floquet_multipliers(system, omega: float, state0, *, rtol: float = 1e-11) -> np.ndarray:
+def floquet_multipliers(
+    system, omega: float, state0, *, steps_per_period: int = 4000
+) -> np.ndarray:
     """Floquet multipliers of the periodic orbit through ``state0`` = [x(0), x'(0)].
 
-    The monodromy matrix is the derivative of the one-period map, by central
-    differences of DOP853 integrations (rtol ``rtol``); independent of harmonic balance,
-    so it cross-checks Hill's method.
+    The monodromy matrix is the derivative of the one-period map by central
+    differences, each period integrated by the brute force's RK4 (at least
+    ``steps_per_period`` steps, and 400 per period of the fastest linear mode);
+    independent of the harmonic balance, so it cross-checks Hill's method.
     """
-    from scipy.integrate import solve_ivp
-
-    n = int(system.n_dof)
-    period = 2.0 * math.pi / omega
-
-    def rhs(t, y):
-        return np.concatenate([y[n:], acceleration(system, t, omega, y[:n], y[n:])])
-
-    def flow(y):
-        s = solve_ivp(rhs, (0.0, period), y, method="DOP853", rtol=rtol, atol=rtol * 1e-3)
-        return s.y[:, -1]
-
-    y0 = np.asarray(state0, dtype=float)
-    mono = np.empty((2 * n, 2 * n))
-    for j in range(2 * n):
-        h = 1e-6 * (abs(y0[j]) + 1e-3 * (omega if j >= n else 1.0))
-        e = np.zeros(2 * n)
-        e[j] = h
-        mono[:, j] = (flow(y0 + e) - flow(y0 - e)) / (2 * h)
-    return np.linalg.eigvals(mono)
+    form = system.first_order()
+    return monodromy_multipliers(
+        form, float(omega), form.input_amplitude, np.asarray(state0, dtype=float),
+        steps_per_period=_steps(system, omega, steps_per_period),
+    )  # fmt: skip

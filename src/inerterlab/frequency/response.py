@@ -368,7 +368,6 @@ def frequency_response(
     stability: bool = True,
     rtol: float = 1e-10,
     max_iter: int = 30,
-    backend: str = "numba",
     steps_per_period: int = 2000,
     brute_rtol: float = 1e-9,
     brute_start: str = "rest",
@@ -402,7 +401,7 @@ def frequency_response(
         Newton tolerance on the update, relative to ||X|| + scale.
     max_iter : int
         Newton iterations per point.
-    backend, steps_per_period, brute_rtol, max_periods
+    steps_per_period, brute_rtol, max_periods
         Brute-force settings (see :func:`inerterlab.frequency.brute.steady_state`).
     brute_start : {"rest", "previous"}
         Brute force from rest (thesis (7.5)) or from the last point's end state.
@@ -506,7 +505,7 @@ def frequency_response(
     orders["both"] = orders["down"] + orders["up"]
     if method == "brute":
         settings.update(
-            backend=backend, steps_per_period=steps_per_period, brute_rtol=brute_rtol,
+            steps_per_period=steps_per_period, brute_rtol=brute_rtol,
             brute_start=brute_start, max_periods=max_periods,
         )  # fmt: skip
         passes = orders[direction] if brute_start == "previous" else orders[direction][:1]
@@ -790,7 +789,7 @@ def _brute(system, passes, harmonics, settings):
 
     def solve(w, start):
         s = steady_state(
-            system, w, initial_state=start, backend=settings["backend"],
+            system, w, initial_state=start,
             steps_per_period=settings["steps_per_period"], rtol=settings["brute_rtol"],
             max_periods=settings["max_periods"],
         )  # fmt: skip
