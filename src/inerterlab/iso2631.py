@@ -24,8 +24,8 @@ Values computed here (ISO 2631-1 clauses 6 to 8 and 9 for motion sickness):
 
 The integrals over a sampled record (the RMS, VDV, MSDV) take the trapezoidal rule over
 its span T = (n - 1)/fs: second order in the sampling interval, and exact for a periodic
-signal over whole periods (the mean of the n squares would be off by about 1/n). These are the package's one set of
-statistics of sampled signals (:func:`inerterlab.metrics.series_metrics` and the design
+signal over whole periods (the mean of the n squares would be off by about 1/n). These
+are the package's one set of statistics of sampled signals (:func:`inerterlab.metrics.series_metrics` and the design
 studies' vehicle runs use them); the simulations integrate the same quantities as
 observer states instead.
 

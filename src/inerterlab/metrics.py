@@ -150,7 +150,10 @@ def series_metrics(
                     ("weighted_acc", weighted_acc), ("tyre_force", tyre_force)):  # fmt: skip
         if x is not None and np.shape(x) != np.shape(time):
             raise ParameterError(name, f"shape {np.shape(x)}", f"one value per time {np.shape(time)}")
-    aw = weighted_acceleration(time, body_acc) if weighted_acc is None else np.asarray(weighted_acc)
+    if weighted_acc is None:  # the times checked above: filter at once
+        aw = iso2631.WEIGHTINGS["Wk"].hold_response(np.asarray(body_acc, float), dt)
+    else:
+        aw = np.asarray(weighted_acc, float)
     out = {
         "rms_body_acc": iso2631.rms(body_acc),
         "rms_tyre_grip": iso2631.rms(tyre_grip),
