@@ -64,6 +64,7 @@ os.environ.setdefault("NUMBA_NUM_THREADS", "1")
 
 import numpy as np  # noqa: E402
 
+from inerterlab._provenance import library_versions, source_hash  # noqa: E402
 from inerterlab.devices import device_preset  # noqa: E402
 from inerterlab.identify import (  # noqa: E402
     design_campaign,
@@ -74,7 +75,6 @@ from inerterlab.identify import (  # noqa: E402
 )
 from inerterlab.identify.fit import INTERVALS, default_reversal_window  # noqa: E402
 from inerterlab.io import atomic_write_text  # noqa: E402
-from inerterlab.report.cache import _library_versions, source_hash  # noqa: E402
 from inerterlab.systems import device_network  # noqa: E402
 
 MATRIX = {"hydraulic": "appendix-a1", "screw": "appendix-a2", "rectifier": "appendix-a2"}
@@ -274,7 +274,7 @@ def main(argv=None) -> int:
         settings["design"] = args.design
     args.out.mkdir(parents=True, exist_ok=True)
     sfile = args.out / "settings.json"
-    inputs = {"package_files": source_hash(), "libraries": _library_versions()}
+    inputs = {"package_files": source_hash(), "libraries": library_versions()}
     if sfile.exists():
         old = json.loads(sfile.read_text())
         old_inputs = old.pop("inputs", None) if isinstance(old, dict) else None
@@ -286,8 +286,7 @@ def main(argv=None) -> int:
             return 2
         if old_inputs != inputs:
             changed = (
-                ", ".join(k for k in inputs if (old_inputs or {}).get(k) != inputs[k])
-                or "inputs"
+                ", ".join(k for k in inputs if (old_inputs or {}).get(k) != inputs[k]) or "inputs"
             )
             print(
                 f"{sfile}: results were computed from other inputs ({changed} changed since); "

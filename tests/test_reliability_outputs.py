@@ -123,8 +123,10 @@ def test_cache_round_trip_is_exact_and_rejects_forgeries(tmp_path, monkeypatch):
 
 
 def test_cache_key_covers_the_package_source(monkeypatch):
+    from inerterlab import _provenance
+
     k = cache.cache_key({"quick": True})
-    monkeypatch.setattr(cache, "source_hash", lambda: "something else")
+    monkeypatch.setattr(_provenance, "source_hash", lambda: "something else")
     assert cache.cache_key({"quick": True}) != k
 
 

@@ -12,8 +12,9 @@ one that reads a vehicle file), each run in a forked child capped in memory and 
   metric, a deleted or garbled array description -> "store damaged" naming the array;
 * not ours: a dangling link, someone else's Zarr group, a plain file, a folder with
   other files -> refused, nothing written into it; a link to a store of ours is used;
-* the report cache and the coverage study are keyed on every file of the package
-  (code and data) and the libraries' versions.
+* the report cache, the coverage study and every sweep store are keyed on every file
+  of the package (code and data) and the libraries' versions: a store made by other code
+  is not resumed, and a worker running other code refuses its chunk.
 """
 
 from __future__ import annotations
@@ -201,6 +202,93 @@ def test_the_store_records_the_digest_of_the_vehicle_file(tmp_path):
     assert cfg["inputs"] == {"vehicle": digest}
 
 
+def _zarr_groups(out: Path) -> list[Path]:
+    """Every sweep store at or under ``out`` (a folder whose zarr.json holds our format)."""
+    found = []
+    for meta in sorted([out / "zarr.json", *out.rglob("*/zarr.json")]):
+        if meta.exists() and "inerterlab-sweep" in meta.read_text():
+            found.append(meta.parent)
+    return found
+
+
+def _made_by_other_code(store: Path) -> None:
+    """Rewrite a store's record of its code: another inerterlab's files and numpy."""
+    import zarr
+
+    g = zarr.open_group(str(store), mode="r+")
+    code = dict(g.attrs)["code"]
+    g.attrs["code"] = {**code, "source": "0" * 64,
+                       "libraries": {**code["libraries"], "numpy": "1.0.0"}}  # fmt: skip
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("kind", KINDS)
+def test_a_store_made_by_other_code_is_not_resumed(made, tmp_path, kind):
+    """An upgrade (or an edit of the package) between two runs with the same --out: the
+    finished points are another code's; refused in one line, the store left as it was."""
+    d, out, _ = _copy(made, kind, tmp_path)
+    stores = _zarr_groups(out)
+    assert stores, kind
+    for store in stores:
+        _made_by_other_code(store)
+    before = {p: p.read_bytes() for p in out.rglob("*") if p.is_file()}
+    res = run_capped(_argv(kind, d, out), memory_mb=2500, seconds=240)
+    assert_user_error(res, ".zarr", "other code", "numpy 1.0.0 -> ", "inerterlab's files",
+                      "new --out")  # fmt: skip
+    assert {p: p.read_bytes() for p in out.rglob("*") if p.is_file()} == before
+
+
+def test_the_store_records_its_code_and_refuses_other_code(tmp_path, monkeypatch):
+    import zarr
+
+    from inerterlab import DataFileError, _provenance
+    from inerterlab.studies import load_sweep, sweep
+
+    spec = {"point": "synthetic", "parameters": {"changing_ratio": [0.1, 0.2]}}
+    store = tmp_path / "s.zarr"
+    ds = sweep(spec, store=store, backend="serial")
+    code = _provenance.code_identity()
+    assert dict(zarr.open_group(str(store), mode="r").attrs)["code"] == code
+    assert json.loads(ds.attrs["code"]) == code
+    sweep(spec, store=store, backend="serial")  # the same code: resumed
+    # a store of a version that did not record its code
+    old = tmp_path / "old.zarr"
+    shutil.copytree(store, old)
+    g = zarr.open_group(str(old), mode="r+")
+    del g.attrs["code"]
+    with pytest.raises(DataFileError, match="code that made it is not recorded"):
+        sweep(spec, store=old, backend="serial")
+    # this process's files changed: the store is another code's; reading it still works
+    _provenance._tree_hash.cache_clear()
+    monkeypatch.setattr(_provenance, "source_hash", lambda: "f" * 64)
+    with pytest.raises(DataFileError, match=r"other code \(inerterlab's files [0-9a-f]{12} -> "
+                       r"ffffffffffff\)"):  # fmt: skip
+        sweep(spec, store=store, backend="serial")
+    back = load_sweep(store)
+    assert json.loads(back.attrs["code"]) == code
+    np.testing.assert_array_equal(back.rms_body_acc.values, ds.rms_body_acc.values)
+
+
+def test_a_worker_running_other_code_refuses_its_chunk():
+    from inerterlab import _provenance
+    from inerterlab.studies import sweep_spec
+    from inerterlab.studies.sweep import ChunkTask, CodeChanged, evaluate_chunk
+
+    sp = sweep_spec("synthetic", parameters={"changing_ratio": [0.1, 0.2]})
+    other = _provenance.code_identity()
+    other = {**other, "libraries": {**other["libraries"], "scipy": "0.1"}}
+    task = ChunkTask(sp.point_function, ("changing_ratio",), ((0.1, 0.2),),
+                     tuple(sorted(sp.fixed().items())), (0, 1), 0, (),
+                     json.dumps(other, sort_keys=True))  # fmt: skip
+    with pytest.raises(CodeChanged, match=r"scipy 0\.1 -> "):
+        evaluate_chunk(task)
+    same = json.dumps(_provenance.code_identity(), sort_keys=True)
+    res = evaluate_chunk(ChunkTask(*[getattr(task, f) for f in
+                                     ("point", "names", "values", "fixed", "indices", "chunk",
+                                      "inputs")], same))  # fmt: skip
+    assert list(res.status) == [1, 1], res.reasons
+
+
 # --- damaged ---------------------------------------------------------------------------
 
 
@@ -331,21 +419,22 @@ def test_a_link_to_our_store_is_followed(made, tmp_path, kind):
 
 
 def test_report_cache_key_follows_every_package_file(tmp_path, monkeypatch):
+    from inerterlab import _provenance
     from inerterlab.report import cache
 
     root = tmp_path / "pkg"
     (root / "data").mkdir(parents=True)
     (root / "a.py").write_text("x = 1\n")
     (root / "data" / "thesis.csv").write_text("table,value\n4.3,1.98\n")
-    monkeypatch.setattr(cache, "_ROOT", root)
+    monkeypatch.setattr(_provenance, "_ROOT", root)
     keys = [cache.cache_key({"quick": True})]
     for path, text in ((root / "data" / "thesis.csv", "table,value\n4.3,2.05\n"),
                        (root / "a.py", "x = 2\n")):  # fmt: skip
         path.write_text(text)
-        cache._tree_hash.cache_clear()
+        _provenance._tree_hash.cache_clear()
         keys.append(cache.cache_key({"quick": True}))
     assert len(set(keys)) == 3
-    monkeypatch.setattr(cache, "_library_versions", lambda: {"numpy": "0.0"})
+    monkeypatch.setattr(_provenance, "library_versions", lambda: {"numpy": "0.0"})
     assert cache.cache_key({"quick": True}) != keys[-1]
 
 

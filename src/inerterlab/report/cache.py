@@ -26,11 +26,12 @@ import os
 import re
 from collections.abc import Iterator
 from contextlib import contextmanager
-from functools import lru_cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from .._provenance import code_identity
 
 __all__ = [
     "FORMAT",
@@ -39,7 +40,6 @@ __all__ = [
     "cache_key",
     "dumps_record",
     "loads_record",
-    "source_hash",
 ]
 
 #: format tag written into every cache file
@@ -58,71 +58,11 @@ class Uncacheable(TypeError):
     """A record holds a value this format cannot store exactly (the item is not cached)."""
 
 
-#: the package folder whose files key the cache (a test may point it elsewhere)
-_ROOT = Path(__file__).resolve().parents[1]
-#: libraries whose version is part of the key: they compute or draw the numbers
-_LIBRARIES = ("numpy", "scipy", "numba", "pandas", "matplotlib", "sympy", "xarray")
-
-
-def _package_files(root: Path) -> list[Path]:
-    return sorted(
-        p
-        for p in root.rglob("*")
-        if p.is_file()
-        and "__pycache__" not in p.parts
-        and not p.name.startswith(".")
-        and p.suffix not in (".pyc", ".nbi", ".nbc")
-    )
-
-
-@lru_cache(maxsize=4)
-def _tree_hash(root: Path) -> str:
-    h = hashlib.sha256()
-    for p in _package_files(root):
-        h.update(p.relative_to(root).as_posix().encode() + b"\0")
-        h.update(p.read_bytes() + b"\0")
-    return h.hexdigest()
-
-
-def source_hash() -> str:
-    """SHA-256 of every file of the installed package (path and content): the code and
-    the data files it reads (compiled caches left out)."""
-    return _tree_hash(_ROOT)
-
-
-def _package_version() -> str:
-    import importlib.metadata as md
-
-    try:
-        return md.version("inerterlab")
-    except md.PackageNotFoundError:  # pragma: no cover - running from a source tree
-        return "unknown"
-
-
-def _library_versions() -> dict:
-    import importlib.metadata as md
-
-    out = {}
-    for name in _LIBRARIES:
-        try:
-            out[name] = md.version(name)
-        except md.PackageNotFoundError:
-            out[name] = None
-    return out
-
-
 def cache_key(settings: dict) -> str:
-    """Key of a cache file: settings, package version, the hash of the package's files
-    and the libraries' versions (16 hex digits)."""
-    blob = json.dumps(
-        {
-            "settings": settings,
-            "version": _package_version(),
-            "source": source_hash(),
-            "libraries": _library_versions(),
-        },
-        sort_keys=True,
-    )
+    """Key of a cache file: settings and the code that computes the items (the package
+    version, the hash of the package's files and the libraries' versions:
+    :func:`inerterlab._provenance.code_identity`), 16 hex digits."""
+    blob = json.dumps({"settings": settings, **code_identity()}, sort_keys=True)
     return hashlib.sha256(blob.encode()).hexdigest()[:16]
 
 

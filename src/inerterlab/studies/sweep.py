@@ -10,8 +10,12 @@ store computes only the points whose status is still *missing*.
 Store layout (Zarr v3 group): one float64 array of length N per metric, ``status``
 (int8: 0 missing, 1 ok, 2 failed), ``reason`` (N x 160 UTF-8 bytes, the failure
 message), and the attributes ``config`` (the sweep description), ``config_hash``,
-``chunk_size`` and ``metrics``. :func:`load_sweep` turns it into an
-:class:`xarray.Dataset` with one dimension per swept parameter.
+``code`` (the code that computes the points: :func:`inerterlab._provenance.code_identity`),
+``chunk_size`` and ``metrics``. A store is resumed only by the same description, the same
+input files and the same code: after an edit to the package or an upgrade of a library
+that computes the numbers, its finished points would be another code's, so it is
+refused. :func:`load_sweep` turns it into an :class:`xarray.Dataset` with one dimension
+per swept parameter.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from .._provenance import code_identity, describe_change
 from ..errors import DataFileError, InerterlabError
 from .backends import Backend, make_backend
 from .points import PointFunction
@@ -42,6 +47,7 @@ __all__ = [
     "STATUS_FAILED",
     "evaluate_chunk",
     "InputChanged",
+    "CodeChanged",
     "claim_store_folder",
 ]
 
@@ -79,6 +85,9 @@ class ChunkTask:
     chunk: int
     #: ``(key, path, digest)`` of every input file; checked before and after the chunk
     inputs: tuple[tuple[str, str, str], ...] = ()
+    #: the code the sweep runs (:func:`inerterlab._provenance.code_identity` as JSON); a
+    #: worker running other code (a cluster's, or one started after an edit) refuses it
+    code: str = ""
 
     def params(self, index: int) -> dict:
         out = dict(self.fixed)
@@ -99,6 +108,24 @@ class ChunkResult:
 
 class InputChanged(InerterlabError):
     """An input file of a sweep changed while it ran; nothing of the chunk is stored."""
+
+
+class CodeChanged(InputChanged):
+    """A worker runs other code than the sweep (another inerterlab, its files edited,
+    other library versions); nothing of the chunk is computed."""
+
+
+def _code_text() -> str:
+    return json.dumps(code_identity(), sort_keys=True)
+
+
+def _check_code(task: ChunkTask) -> None:
+    if task.code and task.code != _code_text():
+        raise CodeChanged(
+            "a worker runs other code than the sweep ("
+            f"{describe_change(json.loads(task.code))}); its points would not be the "
+            "sweep's. Run every worker on the same inerterlab and the same libraries"
+        )
 
 
 def _check_inputs(task: ChunkTask) -> None:
@@ -122,7 +149,9 @@ def evaluate_chunk(task: ChunkTask) -> ChunkResult:
     or missing metric is marked failed with the reason, never given a number.
 
     Every input file is checked against its recorded digest before and after: a file
-    changed meanwhile raises :class:`InputChanged` (no result of the chunk is kept)."""
+    changed meanwhile raises :class:`InputChanged` (no result of the chunk is kept). A
+    worker whose code differs from the sweep's raises :class:`CodeChanged` first."""
+    _check_code(task)
     _check_inputs(task)
     res = _evaluate_points(task)
     _check_inputs(task)
@@ -259,6 +288,13 @@ class _ZarrStore:
                 path,
                 f"{what} ({diff}); refusing to resume into it, its results would not be "
                 "those of these inputs. Use a new --out, or move the store aside to start over",
+            )
+        if attrs.get("code") != code_identity():
+            raise DataFileError(
+                path,
+                f"it was made by other code ({describe_change(attrs.get('code'))}); refusing "
+                "to resume into it, its finished points and this code's would mix in one "
+                "result. Use a new --out, or move the store aside to start over",
             )
         self.group = group
         try:
@@ -461,6 +497,7 @@ def _create_store(path: Path, spec: SweepSpec, chunk_size: int, config_hash: str
                     "format": _FORMAT,
                     "config": spec.to_dict(),
                     "config_hash": config_hash,
+                    "code": code_identity(),
                     "chunk_size": int(chunk_size),
                     "metrics": list(metrics),
                     "dims": list(spec.dims),
@@ -488,7 +525,9 @@ def _describe_difference(old: dict, new: dict) -> str:
     for key in sorted(set(oi) | set(ni)):
         if oi.get(key) != ni.get(key):
             was = str(oi.get(key, "not recorded"))[:19]
-            diffs.append(f"inputs: the {key} content differs (stored {was}, now {str(ni.get(key))[:19]})")
+            diffs.append(
+                f"inputs: the {key} content differs (stored {was}, now {str(ni.get(key))[:19]})"
+            )
     for key in ("point", "settings", "weights"):
         if old.get(key) != new.get(key):
             diffs.append(f"{key}: stored {old.get(key)!r}, now {new.get(key)!r}")
@@ -567,9 +606,9 @@ def sweep(
         The sweep (a dict is passed to :func:`~inerterlab.studies.spec.sweep_spec`).
     store : path, optional
         Zarr store written chunk by chunk. If it exists and was made from the same
-        description, only the missing points are computed (resume); if it was made
-        from a different one, :class:`~inerterlab.errors.DataFileError` is raised before
-        any work.
+        description, the same input files and the same code (the package's files and
+        the libraries' versions), only the missing points are computed (resume); else
+        :class:`~inerterlab.errors.DataFileError` is raised before any work.
     backend : {"serial", "processes", "dask"} or Backend, optional
         Default ``processes`` (``dask`` if ``scheduler`` is given).
     workers : int, optional
@@ -634,6 +673,7 @@ def _run_sweep(spec, target, be, chunk_size, store, progress):
             tuple(int(i) for i in missing[chunk_of == c]),
             int(c),
             inputs,
+            _code_text(),
         )
         for c in np.unique(chunk_of)
     ]
@@ -667,12 +707,13 @@ def _run_sweep(spec, target, be, chunk_size, store, progress):
             if bar is not None:
                 bar.stop()
     vals, stat, reasons = target.read()
-    ds = _to_dataset(spec, vals, stat, reasons, store=target.path, backend=be.describe())
+    ds = _to_dataset(spec, vals, stat, reasons, store=target.path, backend=be.describe(),
+                     code=code_identity() if store is not None else None)  # fmt: skip
     ds.attrs["points_computed"] = done - already
     return ds
 
 
-def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend=""):
+def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend="", code=None):
     import xarray as xr
 
     from ..metrics import METRIC_UNITS
@@ -712,6 +753,8 @@ def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend="")
         attrs["weights"] = json.dumps(spec.weights.to_dict())
     if store:
         attrs["store"] = str(store)
+    if code is not None:  # the code that computed a store's points
+        attrs["code"] = json.dumps(code, sort_keys=True)
     if backend:
         attrs["backend"] = backend
     return xr.Dataset(data, coords=coords, attrs=attrs)
@@ -720,7 +763,9 @@ def _to_dataset(spec: SweepSpec, vals, stat, reasons, *, store=None, backend="")
 def load_sweep(store: str | os.PathLike):
     """Read a sweep store (complete or partial) as an :class:`xarray.Dataset`.
 
-    Its inputs are described by the digests it recorded; they are not read again."""
+    Its inputs are described by the digests it recorded; they are not read again. The
+    attribute ``code`` (JSON) names the code that computed its points, whatever code
+    reads it now (only a resume refuses other code's store)."""
     import zarr
 
     path = Path(store)
@@ -759,7 +804,8 @@ def load_sweep(store: str | os.PathLike):
     vals = np.stack([arrays[m] for m in metrics], axis=1)
     reasons = _decode_reasons(arrays["reason"])
     _check_consistent(path, metrics, vals, arrays["status"], reasons)
-    return _to_dataset(spec, vals, arrays["status"], reasons, store=str(path))
+    return _to_dataset(spec, vals, arrays["status"], reasons, store=str(path),
+                       code=attrs.get("code"))  # fmt: skip
 
 
 def save_netcdf(ds, path: str | os.PathLike) -> Path:
