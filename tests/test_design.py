@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -155,6 +156,31 @@ def test_study_resumes_from_its_stores(study):
     assert sum(again["points_computed"].values()) == 0
     assert [r["label"] for r in again["ranking"]] == [r["label"] for r in res["ranking"]]
     assert again["ranking"][0]["expected"] == res["ranking"][0]["expected"]
+
+
+@pytest.mark.slow
+def test_a_changed_setting_recomputes_only_the_stages_it_changes(study, tmp_path):
+    """More scoring roads: the layouts and the devices resume from their stores, the
+    scores and the requirements (which read the roads) are computed into new stores; the
+    old ones are left as they were."""
+    import shutil
+
+    res, out, st = study
+    copy = tmp_path / "out"
+    shutil.copytree(out, copy)
+    before = sorted(p.name for p in (copy / "stores").iterdir())
+    assert all(re.fullmatch(r"[a-z_]+-[0-9a-f]{12}[.]zarr", n) for n in before), before
+    again = run_design(DesignSettings(**{**SMALL, "roads": SMALL["roads"] + 2},
+                                      devices=("screw",)), copy, workers=1)  # fmt: skip
+    done = again["points_computed"]
+    assert done["design-layout"] == 0
+    assert done["design-device-linear"] == 0 and done["design-device"] == 0
+    assert done["design-score"] > 0
+    after = sorted(p.name for p in (copy / "stores").iterdir())
+    assert set(before) < set(after)
+    assert {n.split("-")[0] for n in set(after) - set(before)} <= {"scores", "requirements"}
+    # the first study's scores still resume
+    assert sum(run_design(st, copy, workers=1)["points_computed"].values()) == 0
 
 
 @pytest.mark.slow

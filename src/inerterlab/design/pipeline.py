@@ -6,7 +6,8 @@ linear stage by the vehicle's Lyapunov H2, the scores by vehicle simulations); t
 stages below are the same for both.
 
 Stages (each a sweep of :mod:`inerterlab.design.scoring`, stored under ``<out>/stores``
-keyed on its inputs, so a rerun resumes and a change recomputes):
+as ``<stage>-<key>.zarr``, the key a digest of the stage's sweep and of the code that
+computes it, so a rerun resumes and a change recomputes the stages it changes):
 
 1. every layout of the budget (:func:`inerterlab.networks.enumerate_networks`, bounded
    by :func:`inerterlab.network_design.check_budget`) optimised by the H2 optimiser
@@ -38,6 +39,7 @@ has one (else by ``body_acc``, said in the result's notes).
 
 from __future__ import annotations
 
+import hashlib
 import json
 import math
 import time
@@ -46,6 +48,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .._provenance import code_identity
 from ..errors import DataFileError, ParameterError
 from . import scoring
 from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, SCORE_RTOL, candidate_text
@@ -294,7 +297,7 @@ def check_out_folder(out: Path) -> None:
         )
     from ..studies.sweep import claim_store_folder
 
-    claim_store_folder(out / "stores", _STORES)
+    claim_store_folder(out / "stores", _STORES, keyed=True)
 
 
 # ---------------------------------------------------------------------------------------
@@ -318,15 +321,27 @@ def process_cpu() -> float:
     return t.user + t.system + t.children_user + t.children_system
 
 
+def _stage_store(store: str, spec) -> str:
+    """``<stores>/<stage>-<key>.zarr``: the key is 12 hex digits of SHA-256 over the
+    stage's sweep (its description and input files, :meth:`SweepSpec.config_hash`) and
+    the code that computes it (:func:`inerterlab._provenance.code_identity`). A rerun of
+    the same study resumes each stage; a changed setting, car or code computes the stages
+    it changes into new stores and resumes the others."""
+    key = json.dumps([spec.config_hash(), code_identity()], sort_keys=True)
+    path = Path(store)
+    return str(path.with_name(f"{path.stem}-{hashlib.sha256(key.encode()).hexdigest()[:12]}.zarr"))
+
+
 def _sweep(point, params, settings, store, workers, progress):
-    from ..studies import sweep
+    from ..studies import sweep, sweep_spec
 
     t0 = time.perf_counter()
     c0 = process_cpu()
     backend = "serial" if (workers or 1) <= 1 else "processes"
+    spec = sweep_spec(point, parameters=params, settings=settings)
     ds = sweep(
-        {"point": point, "parameters": params, "settings": settings},
-        store=store,
+        spec,
+        store=None if store is None else _stage_store(store, spec),
         backend=backend,
         workers=workers,
         progress=progress,

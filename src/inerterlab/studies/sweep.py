@@ -367,7 +367,9 @@ def _is_sweep_store(path: Path) -> bool:
     return isinstance(meta, dict) and (meta.get("attributes") or {}).get("format") == _FORMAT
 
 
-def claim_store_folder(path: Path, members: tuple[str, ...] | None = None) -> None:
+def claim_store_folder(
+    path: Path, members: tuple[str, ...] | None = None, keyed: bool = False
+) -> None:
     """The one rule for an ``--out`` a command keeps its stores in; refuses what is not ours.
 
     ``members`` None: ``path`` is itself a sweep store. It may be new, or an existing
@@ -375,7 +377,9 @@ def claim_store_folder(path: Path, members: tuple[str, ...] | None = None) -> No
     well as anything else, since the tool never writes into a folder it did not make.
     ``members`` given: ``path`` is a folder holding exactly these sweep stores (and the
     temporary folders of their creation); it may be new or empty, and any other entry,
-    such as another program's Zarr group, is refused.
+    such as another program's Zarr group, is refused. With ``keyed`` a member ``X.zarr``
+    stands also for ``X-<12 hex digits>.zarr`` (stores named by a digest of their
+    content, as the design study's stages).
     """
     path = Path(path)
     if path.is_symlink() and not path.exists():
@@ -393,15 +397,31 @@ def claim_store_folder(path: Path, members: tuple[str, ...] | None = None) -> No
     temp = re.compile(
         "|".join(re.escape(f".{m}.new-") + r"[A-Za-z0-9_]+" for m in members) or "(?!)"
     )
+    names = re.compile(
+        "|".join(re.escape(m[:-5]) + "-[0-9a-f]{12}[.]zarr" for m in members if m.endswith(".zarr"))
+        if keyed
+        else "(?!)"
+    )
+    if keyed:
+        temp = re.compile(
+            "|".join(
+                re.escape(f".{m[:-5]}-") + r"[0-9a-f]{12}[.]zarr[.]new-[A-Za-z0-9_]+"
+                for m in members
+            )
+            + "|"
+            + temp.pattern
+        )
     for entry in sorted(path.iterdir()):
-        if entry.name in members and entry.is_dir() and _is_sweep_store(entry):
+        ours = entry.name in members or names.fullmatch(entry.name)
+        if ours and entry.is_dir() and _is_sweep_store(entry):
             continue
         if temp.fullmatch(entry.name):
             continue
         raise DataFileError(
             path,
             f"holds {entry.name!r}, which this command did not write (it keeps only "
-            f"{', '.join(members)} there); choose another --out",
+            f"{', '.join(m[:-5] + '-<key>.zarr' if keyed else m for m in members)} there); "
+            "choose another --out",
         )
 
 
