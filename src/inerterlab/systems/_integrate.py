@@ -770,15 +770,18 @@ def _work_switches(ev, y, road, itab, ftab, work, sw, ofw):
 def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, road_fixed, dy, road,
             work, stats, yd, sw, oit, fzi, cheap, only, ofw):  # fmt: skip
     """theta in (0, 1) where switching function e (of :func:`._kernel.switches`), g0 at
-    the step's start and g1 at its end (opposite signs), crosses zero on the continuous
-    extension (Illinois regula falsi to 1e-12 in theta). ``cheap`` (mode 0, switching
-    functions that read no element force): each iterate's switching functions from the
-    nodes' motion alone (the right-hand side called with ``only`` =
-    :data:`._kernel.SWITCHES_ONLY`, equal to the last bit to those of the whole
-    evaluation, as :func:`_rk4_locate` reads them), else from the whole derivative. A
-    function that started at :data:`PAST_KINK` (a return) is searched after the last
-    point where it still has g0's sign (:func:`_return_scan`); 2.0 (no event) where it
-    has turned back at once (:data:`RETURN_LEAST`)."""
+    the step's start and g1 at its end (opposite signs), crosses zero on the step's
+    continuous extension (Illinois regula falsi to 1e-12 in theta). ``K`` holds the
+    step's stages: 7 rows for the embedded pair (:func:`_dense`), 4 for a classical
+    Runge-Kutta step (:func:`_rk4_dense`; :func:`_fixed_rk4` passes the segment it steps
+    on as ``rng`` = (i, i + 1, i), mode 0 and no observer slots left out, which is its
+    own evaluation). ``cheap`` (mode 0, switching functions that read no element force):
+    each iterate's switching functions from the nodes' motion alone (the right-hand side
+    called with ``only`` = :data:`._kernel.SWITCHES_ONLY`, equal to the last bit to those
+    of the whole evaluation), else from the whole derivative. A function that started
+    at :data:`PAST_KINK` (a return) is searched after the last point where it still has
+    g0's sign (:func:`_return_scan`); 2.0 (no event) where it has turned back at once
+    (:data:`RETURN_LEAST`)."""
     a, b = 0.0, 1.0
     ga, gb = g0, g1
     side = 0
@@ -787,7 +790,10 @@ def _locate(ev, e, g0, g1, t, h, y, yt, K, mode, segs, rng, itab, ftab, imp, roa
     for _ in range(90):
         if not scan:
             x = _secant(a, b, ga, gb)
-        _dense(y, yt, K, h, x, yd)
+        if K.shape[0] == 4:
+            _rk4_dense(y, K[0], K[1], K[2], K[3], h, x, yd)
+        else:
+            _dense(y, yt, K, h, x, yd)
         tx = t + x * h
         if cheap:
             _motion_switches(ev, segs, _segment_at(segs, rng, tx), tx, yd, itab, ftab, road, work,
@@ -2325,53 +2331,6 @@ def _rk4_dense(y, k1, k2, k3, k4, h, th, out):
         out[q] = y[q] + h * (b1 * k1[q] + b2 * (k2[q] + k3[q]) + b4 * k4[q])
 
 
-@nb.njit(cache=True, inline="always")
-def _rk4_switches(ev, cheap, segs, i, t, y, itab, ftab, imp, dy, road, work, stats, sw, only,
-                  ofw):  # fmt: skip
-    """The switching functions at (t, y) on segment i into ``sw``: from the nodes'
-    motion alone where they read no element force (``cheap``: one call of the
-    right-hand side with ``only`` = :data:`._kernel.SWITCHES_ONLY`, which writes them into
-    ``sw``, as :func:`._kernel.switches_at`), else from a whole right-hand side (into
-    ``dy``) and :func:`_work_switches`."""
-    if cheap:
-        _motion_switches(ev, segs, i, t, y, itab, ftab, road, work, sw, only)
-    else:
-        _rk4_f(ev, segs, i, t, y, itab, ftab, imp, dy, road, work, stats)
-        _work_switches(ev, y, road, itab, ftab, work, sw, ofw)
-
-
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
-def _rk4_locate(ev, cheap, segs, i, e, g0, g1, t, h, y, k1, k2, k3, k4, itab, ftab, imp, dy,
-                road, work, stats, yd, sw, only, ofw):  # fmt: skip
-    """theta in (0, 1) where switching function e, g0 at the step's start and g1 at its
-    end (opposite signs), crosses zero on the step's continuous extension
-    (:func:`_rk4_dense`; Illinois regula falsi to 1e-12 in theta, and a return searched,
-    as :func:`_locate`)."""
-    a, b = 0.0, 1.0
-    ga, gb = g0, g1
-    side = 0
-    x = 0.5
-    scan = abs(g0) == PAST_KINK  # a return (see RETURN_LEAST): first a point of g0's sign
-    for _ in range(90):
-        if not scan:
-            x = _secant(a, b, ga, gb)
-        _rk4_dense(y, k1, k2, k3, k4, h, x, yd)
-        _rk4_switches(ev, cheap, segs, i, t + x * h, yd, itab, ftab, imp, dy, road, work, stats,
-                      sw, only, ofw)  # fmt: skip
-        gx = sw[e]
-        if scan:
-            scan, x, a, b, ga, gb = _return_scan(x, gx, g0, a, b, ga, gb)
-            if x < RETURN_LEAST:
-                return 2.0
-            continue
-        if gx == 0.0:
-            return x
-        a, b, ga, gb, side = _illinois(a, b, ga, gb, x, gx, side)
-        if b - a <= 1e-12:
-            break
-    return b
-
-
 @nb.njit(cache=True, error_model="numpy", _nrt=False)
 def _rk4_output(ev, segs, i, tk, y, itab, ftab, imp, dy, W, road, out_o, j):
     """Row j of ``out_o``: the outputs at the sample tk (state ``y``) as
@@ -2450,10 +2409,12 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     # the inner stages: _kernel.STAGE as a local array (no outputs into the work array)
     # where no observer reads it
     stg = np.full(2, np.inf) if itab[I_NOB] == 0 else np.empty(0)
-    k1 = np.empty(n)
-    k2 = np.empty(n)
-    k3 = np.empty(n)
-    k4 = np.empty(n)
+    K4 = np.empty((4, n))  # the stages k1..k4, one row each (:func:`_locate` reads them)
+    k1, k2, k3, k4 = K4[0], K4[1], K4[2], K4[3]
+    rng = np.zeros(3, dtype=np.int64)  # the segment stepped on, for _locate
+    mode = np.zeros(1, dtype=np.int64)  # mode 0, from an array: not a literal constant
+    rf = np.zeros(3)  # no fixed road (mode 0)
+    fzi = np.zeros(FZ_HEAD, dtype=np.int64)  # no observer slots left out of the stages
     f1 = np.empty(n)
     ys = np.empty(n)
     yt = np.empty(n)
@@ -2469,8 +2430,8 @@ def _fixed_rk4(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_st
     swf = np.zeros(2 * ne, np.bool_)
     wo = np.empty(work.size)  # the outputs evaluated apart from the stepping
     oroad = np.zeros(road_n)
-    scratch = (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
-               pastv, flipm, swf, wo, oroad, stg)  # fmt: skip
+    scratch = (work, road, imp, only, ofw, K4, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx,
+               xloc, xfl, pastv, flipm, swf, wo, oroad, stg, rng, mode, rf, fzi)  # fmt: skip
     return _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, max_steps,
                           out_o, scratch)  # fmt: skip
 
@@ -2480,8 +2441,8 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                    scratch):  # fmt: skip
     """The run of :func:`_fixed_rk4` on the arrays it allocated (``scratch``), compiled
     without numba's reference counting (it allocates nothing)."""
-    (work, road, imp, only, ofw, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl, pastv,
-     flipm, swf, wo, oroad, stg) = scratch  # fmt: skip
+    (work, road, imp, only, ofw, K4, k1, k2, k3, k4, f1, ys, yt, yd, dy, sw, swn, swx, xloc, xfl,
+     pastv, flipm, swf, wo, oroad, stg, rng, mode, rf, fzi) = scratch  # fmt: skip
     n = y.size
     ne = itab[I_NE]
     nseg = segs.shape[0]
@@ -2573,12 +2534,15 @@ def _fixed_rk4_run(ev, itab, ftab, segs, y, t_end, hfix, t_out, out_y, stats, ma
                 _work_switches(ev, yt, road, itab, ftab, work, swn, ofw)
             th = 2.0
             forced = -1
+            rng[0] = i
+            rng[1] = i + 1
+            rng[2] = i
             for e in range(2 * ne):
                 xloc[e] = 2.0
                 if sw[e] * swn[e] < 0.0:
-                    xloc[e] = _rk4_locate(ev, cheap, segs, i, e, sw[e], swn[e], t, h, y, k1, k2,
-                                          k3, k4, itab, ftab, imp, dy, road, work, stats, yd,
-                                          swx, only, ofw)  # fmt: skip
+                    xloc[e] = _locate(ev, e, sw[e], swn[e], t, h, y, yt, K4, mode[0], segs, rng,
+                                      itab, ftab, imp, rf, dy, road, work, stats, yd, swx, itab,
+                                      fzi, cheap, only, ofw)  # fmt: skip
                     if xloc[e] < th:
                         th = xloc[e]
                         forced = e
