@@ -1287,6 +1287,12 @@ class FirstOrderSystem:
     input_amplitude : float, optional
         The amplitude of the input the system carries itself (the built-in systems);
         None when the caller gives it.
+    on_generic : callable, optional
+        ``on_generic(seconds)``, called by :func:`inerterlab.frequency.frequency_response`
+        with the CPU time of a response computed on the model core's generic code (a
+        core system whose structure's own code is not compiled yet): that time counts
+        towards compiling it, as an integration's does
+        (:func:`inerterlab.systems._compiled.record`).
     """
 
     n_states: int
@@ -1308,6 +1314,7 @@ class FirstOrderSystem:
     nonlinearity_degree: int = 3
     label: str = "first-order system"
     input_amplitude: float | None = None
+    on_generic: object = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.n_states, int | np.integer) or self.n_states < 1:

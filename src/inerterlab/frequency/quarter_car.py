@@ -24,6 +24,7 @@ integration are the same code for one road or several.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -275,11 +276,16 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         raise ParameterError(
             "pattern", None, f"a road pattern (gain, phase, delay) for each of the {roads} roads"
         )
+    on_generic = None
     if pattern is None:
         itab, ftab = system.tables
         # the structure's own code where the time integration would take it, else the
-        # generic code: the same arithmetic (bit for bit)
-        rhs, outfn = _compiled.first_order_for(itab) or (buffered_rhs, buffered_outputs)
+        # generic code: the same arithmetic (bit for bit), whose time then counts towards
+        # compiling the structure (as an integration's does)
+        own = _compiled.first_order_for(itab)
+        rhs, outfn = own or (buffered_rhs, buffered_outputs)
+        if own is None:
+            on_generic = functools.partial(_compiled.record, np.array(itab, dtype=np.int64))
     else:
         itab, ftab = _pattern_tables(system, pattern)
         rhs, outfn = patterned_rhs, patterned_outputs
@@ -323,4 +329,5 @@ def from_core_system(system, pattern=None) -> FirstOrderSystem:
         output_units=units,
         response_state=response,
         label=str(getattr(system, "description", "model-core system")),
+        on_generic=on_generic,
     )

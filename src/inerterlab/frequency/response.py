@@ -26,6 +26,7 @@ method, its stability. A point that fails is marked (``converged`` False,
 from __future__ import annotations
 
 import math
+import time
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -435,8 +436,39 @@ def frequency_response(
     >>> round(fr.resonance("down")["freq_hz"], 1)
     1.2
     """
+    opts = dict(locals())
     check_choice("method", method, METHODS)
-    system, first_order = _resolve_system(system, amplitude)
+    opts["system"], opts["first_order"] = _resolve_system(system, amplitude)
+    on_generic = getattr(opts["system"], "on_generic", None)
+    n0 = _compiled_count(opts["system"])
+    c0 = time.process_time()
+    try:
+        return _respond(**opts)
+    finally:
+        # a response on the generic code counts towards compiling the structure's own,
+        # as an integration's time does; not a call that compiled (or loaded) a kernel
+        if on_generic is not None and _compiled_count(opts["system"]) == n0:
+            on_generic(time.process_time() - c0)
+
+
+def _compiled_count(system) -> int:
+    """How many compiled functions the first-order engine and the system's own hold
+    (a count that grows while a call compiles)."""
+    from .first_order import _TYPED
+
+    n = len(_TYPED)
+    for fn in (getattr(system, "rhs", None), getattr(system, "compiled_outputs", None)):
+        n += len(getattr(fn, "signatures", ()))
+    return n
+
+
+def _respond(
+    system, method, *, first_order, freq_hz, fmin, fmax, df, harmonics, n_samples, direction,
+    stability, rtol, max_iter, steps_per_period, brute_rtol, brute_start, max_periods, step,
+    amplitude, stability_harmonics,
+) -> FrequencyResponse:  # fmt: skip
+    """:func:`frequency_response` of a resolved system (``first_order``: a first-order
+    system, else a second-order one)."""
     if harmonics is None:
         if first_order:
             harmonics = 1 if method == "shb" else FIRST_ORDER_HARMONICS
