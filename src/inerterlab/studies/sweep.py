@@ -87,7 +87,7 @@ class ChunkTask:
     inputs: tuple[tuple[str, str, str], ...] = ()
     #: the code the sweep runs (:func:`inerterlab._provenance.code_identity` as JSON); a
     #: worker running other code (a cluster's, or one started after an edit) refuses it
-    code: str = ""
+    software: str = ""
 
     def params(self, index: int) -> dict:
         out = dict(self.fixed)
@@ -120,10 +120,10 @@ def _code_text() -> str:
 
 
 def _check_code(task: ChunkTask) -> None:
-    if task.code and task.code != _code_text():
+    if task.software and task.software != _code_text():
         raise CodeChanged(
             "a worker runs other code than the sweep ("
-            f"{describe_change(json.loads(task.code))}); its points would not be the "
+            f"{describe_change(json.loads(task.software))}); its points would not be the "
             "sweep's. Run every worker on the same inerterlab and the same libraries"
         )
 
