@@ -394,26 +394,14 @@ def claim_store_folder(
         return
     import re
 
-    temp = re.compile(
-        "|".join(re.escape(f".{m}.new-") + r"[A-Za-z0-9_]+" for m in members) or "(?!)"
-    )
-    names = re.compile(
-        "|".join(re.escape(m[:-5]) + "-[0-9a-f]{12}[.]zarr" for m in members if m.endswith(".zarr"))
-        if keyed
-        else "(?!)"
-    )
-    if keyed:
-        temp = re.compile(
-            "|".join(
-                re.escape(f".{m[:-5]}-") + r"[0-9a-f]{12}[.]zarr[.]new-[A-Za-z0-9_]+"
-                for m in members
-            )
-            + "|"
-            + temp.pattern
-        )
+    # each member's name (with ``keyed``, its stem may carry a digest), and the temporary
+    # folder of its creation
+    stem = "(?:-[0-9a-f]{12})?" if keyed else ""
+    name = "|".join(re.escape(m.removesuffix(".zarr")) + stem + re.escape(".zarr") for m in members)
+    store = re.compile(f"(?:{name})" if members else "(?!)")
+    temp = re.compile(rf"\.(?:{name})\.new-[A-Za-z0-9_]+" if members else "(?!)")
     for entry in sorted(path.iterdir()):
-        ours = entry.name in members or names.fullmatch(entry.name)
-        if ours and entry.is_dir() and _is_sweep_store(entry):
+        if store.fullmatch(entry.name) and entry.is_dir() and _is_sweep_store(entry):
             continue
         if temp.fullmatch(entry.name):
             continue
