@@ -3,6 +3,7 @@ of a quarter car (docs/model.md §5, §7)."""
 
 from __future__ import annotations
 
+from functools import partial
 from pathlib import Path
 from typing import Annotated
 
@@ -147,7 +148,7 @@ def frequency_response_command(
     --amplitude 0.01 --fmin 0.5 --fmax 20 --df 0.1 --json
     """
     from ..errors import check_choice
-    from ..frequency import chapter7_system, frequency_grid, frequency_response
+    from ..frequency import chapter7_system
 
     check_choice("--system", system, SYSTEMS)
     if system != "quarter-car":
@@ -187,49 +188,66 @@ def frequency_response_command(
             car,
         )  # fmt: skip
     flywheel = flywheel or "metal"
-    system = chapter7_system(amplitude, preset=flywheel, law=law)
+    _respond(
+        chapter7_system(amplitude, preset=flywheel, law=law), method, amplitude, fmin, fmax,
+        df, harmonics, samples, direction, no_stability, json_out, csv, plot,
+        extra={"system": "chapter7", "flywheel": flywheel, "law": law},
+        title=f"B = {100 * amplitude:g} cm, {flywheel} flywheel, {law} law",
+        summary=partial(_print_resonances, method=method, amplitude=amplitude),
+        road=False,
+    )  # fmt: skip
+
+
+def _respond(
+    system, method, amplitude, fmin, fmax, df, harmonics, samples, direction, no_stability,
+    json_out, csv, plot, extra, title, summary, car=None, road=True,
+) -> None:  # fmt: skip
+    """The response of ``system`` over the command's grid, written to the JSON, CSV and
+    figure asked for (``title`` on the figure), else summarised on standard output by
+    ``summary(fr)`` (and the car described). ``road``: ``amplitude`` is the road's, given
+    to the response; else the system carries its own forcing of that amplitude."""
+    from ..frequency import frequency_grid, frequency_response
+
     grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
     if grid is not None:
         _note_if_long(grid.size, method, harmonics, direction, not no_stability)
     fr = frequency_response(
-        system,
-        method,
-        freq_hz=grid,
-        fmin=fmin,
-        fmax=fmax,
-        harmonics=harmonics,
-        n_samples=samples,
-        direction=direction,
-        stability=not no_stability,
-    )
+        system, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
+        n_samples=samples, direction=direction, stability=not no_stability,
+        amplitude=amplitude if road else None,
+    )  # fmt: skip
     out = fr.to_dict()
     out["settings"] = {
         k: v for k, v in fr.settings.items() if isinstance(v, str | int | float | bool)
     }
+    out.update(extra)
     out["amplitude_input_m"] = amplitude
-    out["flywheel"] = flywheel
-    out["law"] = law
     out["failed_points"] = int((~fr.converged).sum())
     if csv is not None:
         atomic_write_text(csv, fr.to_pandas().to_csv(index=False), option="--csv")
         out["csv"] = str(csv)
     if plot is not None:
         fig = fr.plot()
-        fig.axes[0].set_title(f"B = {100 * amplitude:g} cm, {flywheel} flywheel, {law} law")
+        fig.axes[0].set_title(title)
         atomic_savefig(fig, plot)
         out["plot"] = str(plot)
     if json_out:
         emit_json(out)
         return
+    summary(fr)
+    if car is not None:
+        print(car.describe())
+
+
+def _print_resonances(fr, method, amplitude) -> None:
+    """The resonance and peak of each scan, the points and the largest residual."""
     rows = []
     for d in dict.fromkeys(fr.direction.tolist()):
         if fr.branch(d).converged.any():
             pk = fr.resonance(d)
-            rows.append(
-                (f"resonance, scan {d} [Hz]", f"{pk['freq_hz']:.4f}"),
-            )
+            rows.append((f"resonance, scan {d} [Hz]", f"{pk['freq_hz']:.4f}"))
             rows.append((f"peak amplitude, scan {d} [m]", f"{pk['amplitude_m']:.6g}"))
-    rows.append(("points (failed)", f"{len(fr)} ({out['failed_points']})"))
+    rows.append(("points (failed)", f"{len(fr)} ({int((~fr.converged).sum())})"))
     rows.append(("max relative residual", f"{fr.residual[fr.converged].max():.2e}"))
     print_table(f"frequency response, {method}, B = {amplitude:g} m", rows)
 
@@ -254,7 +272,6 @@ def _quarter_car(
     direction, no_stability, json_out, csv, plot, network=None, param=None, car=None,
 ):  # fmt: skip
     from ..errors import check_choice
-    from ..frequency import frequency_grid, frequency_response
     from ..frequency.quarter_car import SMOOTH_SUSPENSIONS
     from ..systems import SUSPENSIONS, quarter_car
     from ._common import THESIS_CAR
@@ -265,15 +282,11 @@ def _quarter_car(
         extra_car["car_source"] = car.source
     if network is not None:
         qc = _network_car(network, param, values)
-        grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
-        fr = frequency_response(
-            qc, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
-            n_samples=samples, direction=direction, stability=not no_stability,
-            amplitude=amplitude,
-        )  # fmt: skip
-        label = f"quarter car, {network}"
-        return _report(
-            fr, method, amplitude, json_out, csv, plot, {"network": network, **extra_car}, label,
+        return _respond(
+            qc, method, amplitude, fmin, fmax, df, harmonics, samples, direction,
+            no_stability, json_out, csv, plot, {"system": "quarter-car", "network": network,
+            **extra_car}, f"quarter car, {network}, A = {100 * amplitude:g} cm",
+            partial(_print_points, title=f"quarter car, {network}, {method}, A = {amplitude:g} m"),
             car,
         )  # fmt: skip
     check_choice("--suspension", suspension, SUSPENSIONS)
@@ -293,43 +306,15 @@ def _quarter_car(
     if suspension == "afw":
         kwargs["flywheel"] = flywheel
     qc = quarter_car(suspension, **kwargs).info["model"]
-    grid = frequency_grid(fmin, fmax, df) if method != "continuation" else None
-    fr = frequency_response(
-        qc, method, freq_hz=grid, fmin=fmin, fmax=fmax, harmonics=harmonics,
-        n_samples=samples, direction=direction, stability=not no_stability,
-        amplitude=amplitude,
-    )  # fmt: skip
-    extra = {"suspension": suspension, **extra_car}
+    extra = {"system": "quarter-car", "suspension": suspension, **extra_car}
     if suspension == "afw":
         extra.update(flywheel=flywheel, law=law)
-    return _report(
-        fr, method, amplitude, json_out, csv, plot, extra, f"quarter car, {suspension}", car
-    )
-
-
-def _report(fr, method, amplitude, json_out, csv, plot, extra, label, car=None) -> None:
-    out = fr.to_dict()
-    out["settings"] = {
-        k: v for k, v in fr.settings.items() if isinstance(v, str | int | float | bool)
-    }
-    out["system"] = "quarter-car"
-    out.update(extra)
-    out["amplitude_input_m"] = amplitude
-    out["failed_points"] = int((~fr.converged).sum())
-    if csv is not None:
-        atomic_write_text(csv, fr.to_pandas().to_csv(index=False), option="--csv")
-        out["csv"] = str(csv)
-    if plot is not None:
-        fig = fr.plot()
-        fig.axes[0].set_title(f"{label}, A = {100 * amplitude:g} cm")
-        atomic_savefig(fig, plot)
-        out["plot"] = str(plot)
-    if json_out:
-        emit_json(out)
-        return
-    _print_points(fr, f"{label}, {method}, A = {amplitude:g} m")
-    if car is not None:
-        print(car.describe())
+    return _respond(
+        qc, method, amplitude, fmin, fmax, df, harmonics, samples, direction, no_stability,
+        json_out, csv, plot, extra, f"quarter car, {suspension}, A = {100 * amplitude:g} cm",
+        partial(_print_points, title=f"quarter car, {suspension}, {method}, A = {amplitude:g} m"),
+        car,
+    )  # fmt: skip
 
 
 def _print_points(fr, title) -> None:
