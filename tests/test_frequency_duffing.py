@@ -185,3 +185,32 @@ def test_user_residual_numba_cannot_compile_is_refused():
 
     with pytest.raises(ParameterError, match="residual"):
         frequency_response(UserSystem(residual=residual), "mhb", freq_hz=[0.2], harmonics=3)
+
+
+def test_stability_shared_only_between_one_solution():
+    """Where the down and up scans meet one solution its stability is computed once;
+    on the hysteresis band (two solutions at one frequency) each keeps its own. Every
+    point's multiplier equals the one computed for that point alone."""
+    from inerterlab.frequency.response import SAME_SOLUTION, _same_solution
+
+    fr = frequency_response(DUFFING, "sihb", fmin=0.13, fmax=0.3, df=0.005, harmonics=5)
+    n = len(fr)
+    flat = fr.coefficients.reshape(n, -1)
+    w = 2 * np.pi * fr.freq_hz
+    first = _same_solution(w, flat, fr.converged, SAME_SOLUTION * fr.settings["rtol"])
+    down = np.flatnonzero(fr.direction == "down")[::-1]  # ascending, as the up scan
+    up = np.flatnonzero(fr.direction == "up")
+    np.testing.assert_array_equal(w[down], w[up])
+    gap = np.abs(fr.amplitude_m.data[up] - fr.amplitude_m.data[down])
+    band, one = gap > 0.5, gap < 1e-6
+    assert band.sum() >= 3 and one.sum() >= 10
+    # the down scan is solved first: an up point on its solution takes its stability
+    np.testing.assert_array_equal(first[up[one]], down[one])
+    np.testing.assert_array_equal(first[up[band]], up[band])
+    np.testing.assert_array_equal(first[down], down)
+    eng = make_engine(DUFFING, 5)
+    for i in np.flatnonzero(fr.converged):
+        best, _ = eng.stability(w[i : i + 1], flat[i : i + 1], np.array([True]))
+        np.testing.assert_allclose(fr.max_multiplier.data[i], np.exp(best[0] * 2 * np.pi / w[i]),
+                                   rtol=1e-8)  # fmt: skip
+        assert bool(fr.stable.data[i]) == bool(best[0] < 1e-7 * w[i])

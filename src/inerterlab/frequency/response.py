@@ -613,7 +613,12 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
     known = np.zeros(n, dtype=bool)
     outputs, units = {}, {}
     if stability and n:
-        best, _ = engine.stability(omegas, coeffs, ok, settings.get("stability_harmonics"))
+        first = _same_solution(omegas, C, ok, SAME_SOLUTION * settings.get("rtol", 0.0))
+        one = first == np.arange(n)  # the points whose stability is computed
+        best, _ = engine.stability(
+            omegas[one], coeffs[one], ok[one], settings.get("stability_harmonics")
+        )
+        best = best[np.cumsum(one) - 1][first]
         known = np.isfinite(best)
         stable = known & (best < 1e-7 * omegas)
         mult = np.where(known, np.exp(np.where(known, best, 0.0) * 2 * np.pi / omegas), 0.0)
@@ -639,6 +644,42 @@ def _assemble(engine, system, omegas, coeffs, ok, its, codes, dirs, method, sett
         outputs=outputs,
         output_units=units,
     )
+
+
+#: two converged points at the same frequency are one solution (its stability computed
+#: once) where their coefficients differ by at most this many times the solver's rtol,
+#: relative to the larger of the two (decisions.md, stop 72)
+SAME_SOLUTION = 100.0
+
+
+def _same_solution(omegas, C, ok, tol) -> np.ndarray:
+    """For each point, the first point (itself included) at the same Omega, converged
+    like it, whose coefficients are within ``tol`` of its own relative to the larger
+    norm: where the down and up scans meet one periodic solution."""
+    n = len(omegas)
+    first = np.arange(n)
+    if tol <= 0.0:
+        return first
+    flat = C.reshape(n, -1)
+    norm = np.linalg.norm(flat, axis=1)
+    order = np.lexsort((np.arange(n), omegas))
+    i = 0
+    while i < n:
+        j = i + 1
+        while j < n and omegas[order[j]] == omegas[order[i]]:
+            j += 1
+        group = order[i:j]  # one frequency, in the order the points were solved
+        for q, b in enumerate(group):
+            if not ok[b]:
+                continue
+            for a in group[:q]:
+                if ok[a] and first[a] == a and np.linalg.norm(flat[b] - flat[a]) <= tol * max(
+                    norm[a], norm[b]
+                ):
+                    first[b] = a
+                    break
+        i = j
+    return first
 
 
 def _road_samples(omegas, amplitude, tau):
