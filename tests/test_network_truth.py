@@ -88,6 +88,21 @@ def test_study_gains_survival_and_resume(tmp_path):
     again = network_truth(**kw)
     assert again.dataset.attrs["points_computed"] == 0
     json.dumps(again.to_dict())
+    # another horizon into the same folder: its sweeps are computed into stores of their
+    # own (the first study's stay, and still resume)
+    names = sorted(p.name for p in (tmp_path / "truth").iterdir())
+    assert [n.split("-")[0] for n in names] == ["baseline", "layouts"]
+    other = network_truth(**{**kw, "horizon": 2.0})
+    assert other.dataset.attrs["points_computed"] == 3
+    assert len(list((tmp_path / "truth").iterdir())) == 4
+    g2 = other.gains["rms_body_acc_wk"].sel(layout="series", variant="screw", input="bump")
+    short = {**common, "horizon": 2.0}
+    base2 = truth_point({**short, "layout": "baseline", "variant": "ideal"})
+    screw2 = truth_point({**short, "layout": "series", "variant": "screw"})
+    assert float(g2) == pytest.approx(
+        100 * (1 - screw2["rms_body_acc_wk"] / base2["rms_body_acc_wk"]), rel=1e-12
+    )
+    assert network_truth(**kw).dataset.attrs["points_computed"] == 0
 
 
 @pytest.mark.slow

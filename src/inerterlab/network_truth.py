@@ -318,7 +318,8 @@ def truth_point(params: Mapping[str, Any]) -> dict[str, float]:
 def truth_inputs() -> dict:
     """What a truth point reads besides its parameters: the layouts' network texts, the
     baseline, the fluid inerter's geometry, the devices' identified values and the
-    flywheel: a store of the study is keyed on them (a change is never resumed)."""
+    flywheel: a store of the study is keyed on them (a change is computed into a new
+    store, never resumed into the old one)."""
     import dataclasses
 
     from .devices.models import HydraulicDevice, RectifierDevice, ScrewDevice
@@ -496,6 +497,13 @@ def network_truth(
 ) -> TruthResult:
     """Run the study (see the module docstring) and compute gains and survival.
 
+    ``store``: a folder for the study's sweeps, one Zarr store each
+    (``baseline-<key>.zarr``, ``layouts-<key>.zarr``, ``custom-<key>.zarr``), named by a
+    digest of the sweep and of the code (:func:`inerterlab.studies.sweep.keyed_store`):
+    a rerun resumes them; a changed option, car or code computes the sweeps it changes
+    into new stores and leaves the old ones in place. What a point reads besides its
+    parameters (:func:`truth_inputs`) is part of the key.
+
     ``car``: sprung_mass, unsprung_mass, tyre_stiffness, tyre_damping of the quarter
     car (default the thesis car's; any not given keeps the thesis's value).
 
@@ -505,7 +513,8 @@ def network_truth(
     """
     import xarray as xr
 
-    from .studies import sweep
+    from .studies import sweep, sweep_spec
+    from .studies.sweep import keyed_store
 
     if custom is not None:
         from .networks import parse_network
@@ -542,8 +551,11 @@ def network_truth(
 
         from .studies.sweep import claim_store_folder
 
-        # the same rule as every --out of a sweep: only a folder this study made
-        claim_store_folder(Path(store), ("layouts.zarr", "custom.zarr", "baseline.zarr"))
+        # the same rule as every --out of a sweep: only a folder this study made; each
+        # sweep's store is keyed on the sweep and the code (as a design study's stages)
+        claim_store_folder(
+            Path(store), ("layouts.zarr", "custom.zarr", "baseline.zarr"), keyed=True
+        )
     # the designs first, in this process: worker processes forked from it inherit them
     # instead of each repeating the H2 optimisations
     params = {lay: layout_parameters(LAYOUTS[lay], float(stiffness), c) for lay in layouts}
@@ -551,42 +563,30 @@ def network_truth(
     # the optimised k | c on each input (one point per input, linear: exact steps), here
     # too: it loads the compiled integrator once for the workers forked after it, and
     # the study starts its worker processes once, not a second time for five points
-    base = sweep(
-        {
-            "point": "network-truth",
-            "parameters": {"input": list(inputs)},
-            "settings": {**settings, "layout": "baseline", "variant": "ideal"},
-        },
-        store=None if store is None else f"{store}/baseline.zarr",
-        backend="serial",
+    def at(name, spec):  # the store of one of the study's sweeps
+        return None if store is None else keyed_store(f"{store}/{name}.zarr", spec)
+
+    spec = sweep_spec(
+        "network-truth",
+        parameters={"input": list(inputs)},
+        settings={**settings, "layout": "baseline", "variant": "ideal"},
     )
+    base = sweep(spec, store=at("baseline", spec), backend="serial")
     parts = []
     if layouts:
-        parts.append(
-            sweep(
-                {
-                    "point": "network-truth",
-                    "parameters": {
-                        "layout": list(layouts),
-                        "variant": vlist,
-                        "input": list(inputs),
-                    },
-                    "settings": settings,
-                },
-                store=None if store is None else f"{store}/layouts.zarr",
-                **common,
-            )
+        spec = sweep_spec(
+            "network-truth",
+            parameters={"layout": list(layouts), "variant": vlist, "input": list(inputs)},
+            settings=settings,
         )
+        parts.append(sweep(spec, store=at("layouts", spec), **common))
     if custom is not None:
-        one = sweep(
-            {
-                "point": "network-truth-custom",
-                "parameters": {"variant": vlist, "input": list(inputs)},
-                "settings": {**settings, "network": net.text, "design": custom[1]},
-            },
-            store=None if store is None else f"{store}/custom.zarr",
-            **common,
+        spec = sweep_spec(
+            "network-truth-custom",
+            parameters={"variant": vlist, "input": list(inputs)},
+            settings={**settings, "network": net.text, "design": custom[1]},
         )
+        one = sweep(spec, store=at("custom", spec), **common)
         parts.append(one.expand_dims(layout=["custom"]))
     if not parts:
         raise ParameterError("layout", "none", "at least one layout or a custom network")

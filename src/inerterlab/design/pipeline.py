@@ -39,7 +39,6 @@ has one (else by ``body_acc``, said in the result's notes).
 
 from __future__ import annotations
 
-import hashlib
 import json
 import math
 import time
@@ -48,7 +47,6 @@ from pathlib import Path
 
 import numpy as np
 
-from .._provenance import code_identity
 from ..errors import DataFileError, ParameterError
 from . import scoring
 from .scoring import DEVICES, OBJECTIVE_METRIC, SCORE_METRICS, SCORE_RTOL, candidate_text
@@ -321,19 +319,9 @@ def process_cpu() -> float:
     return t.user + t.system + t.children_user + t.children_system
 
 
-def _stage_store(store: str, spec) -> str:
-    """``<stores>/<stage>-<key>.zarr``: the key is 12 hex digits of SHA-256 over the
-    stage's sweep (its description and input files, :meth:`SweepSpec.config_hash`) and
-    the code that computes it (:func:`inerterlab._provenance.code_identity`). A rerun of
-    the same study resumes each stage; a changed setting, car or code computes the stages
-    it changes into new stores and resumes the others."""
-    key = json.dumps([spec.config_hash(), code_identity()], sort_keys=True)
-    path = Path(store)
-    return str(path.with_name(f"{path.stem}-{hashlib.sha256(key.encode()).hexdigest()[:12]}.zarr"))
-
-
 def _sweep(point, params, settings, store, workers, progress):
     from ..studies import sweep, sweep_spec
+    from ..studies.sweep import keyed_store
 
     t0 = time.perf_counter()
     c0 = process_cpu()
@@ -341,7 +329,7 @@ def _sweep(point, params, settings, store, workers, progress):
     spec = sweep_spec(point, parameters=params, settings=settings)
     ds = sweep(
         spec,
-        store=None if store is None else _stage_store(store, spec),
+        store=None if store is None else keyed_store(store, spec),
         backend=backend,
         workers=workers,
         progress=progress,

@@ -49,6 +49,7 @@ __all__ = [
     "InputChanged",
     "CodeChanged",
     "claim_store_folder",
+    "keyed_store",
 ]
 
 STATUS_MISSING, STATUS_OK, STATUS_FAILED = 0, 1, 2
@@ -411,6 +412,23 @@ def claim_store_folder(
             f"{', '.join(m[:-5] + '-<key>.zarr' if keyed else m for m in members)} there); "
             "choose another --out",
         )
+
+
+def keyed_store(store: str | os.PathLike, spec: SweepSpec | dict) -> Path:
+    """``<folder>/<stem>-<key>.zarr`` for ``store`` = ``<folder>/<stem>.zarr``: the key is
+    12 hex digits of SHA-256 over the sweep (its description and input files,
+    :meth:`SweepSpec.config_hash`) and the code that computes it (:func:`inerterlab.
+    _provenance.code_identity`). A study that keeps one store per sweep under these
+    names resumes each sweep on a rerun, and computes the sweeps a changed setting,
+    input or code changes into new stores beside the others (which it leaves in place);
+    :func:`claim_store_folder` with ``keyed`` accepts them."""
+    import hashlib
+
+    if isinstance(spec, dict):
+        spec = sweep_spec(**spec)
+    key = json.dumps([spec.config_hash(), code_identity()], sort_keys=True)
+    path = Path(store)
+    return path.with_name(f"{path.stem}-{hashlib.sha256(key.encode()).hexdigest()[:12]}.zarr")
 
 
 def _lock_store(path: Path) -> int:
