@@ -1,6 +1,6 @@
 """The command line's notice while the package's numerical code compiles.
 
-A first run after an install compiles for about a minute and would otherwise say
+A first run after an install compiles for one to two minutes and would otherwise say
 nothing. The notice is printed once, only on a terminal, and only where numba really
 compiles (a run that loads the code from the cache prints nothing)."""
 
