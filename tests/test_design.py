@@ -178,9 +178,19 @@ def test_a_changed_setting_recomputes_only_the_stages_it_changes(study, tmp_path
     assert done["design-score"] > 0
     after = sorted(p.name for p in (copy / "stores").iterdir())
     assert set(before) < set(after)
-    assert {n.split("-")[0] for n in set(after) - set(before)} <= {"scores", "requirements"}
-    # the first study's scores still resume
-    assert sum(run_design(st, copy, workers=1)["points_computed"].values()) == 0
+    new = set(after) - set(before)
+    assert {n.split("-")[0] for n in new} <= {"scores", "requirements"}
+    # the result names the first study's stores this one did not read: those of the
+    # stages it computed anew
+    assert again["unread_stores"] == sorted(
+        n for n in before if n.split("-")[0] in {m.split("-")[0] for m in new}
+    )
+    assert again["unread_stores"]
+    # the first study's scores still resume, and it names the second's
+    first = run_design(st, copy, workers=1)
+    assert sum(first["points_computed"].values()) == 0
+    assert first["unread_stores"] == sorted(new)
+    assert run_design(st, out, workers=1)["unread_stores"] == []
 
 
 @pytest.mark.slow

@@ -92,9 +92,11 @@ def test_study_gains_survival_and_resume(tmp_path):
     # own (the first study's stay, and still resume)
     names = sorted(p.name for p in (tmp_path / "truth").iterdir())
     assert [n.split("-")[0] for n in names] == ["baseline", "layouts"]
+    assert again.unread_stores == []
     other = network_truth(**{**kw, "horizon": 2.0})
     assert other.dataset.attrs["points_computed"] == 3
     assert len(list((tmp_path / "truth").iterdir())) == 4
+    assert other.unread_stores == names  # the first study's, left in place
     g2 = other.gains["rms_body_acc_wk"].sel(layout="series", variant="screw", input="bump")
     short = {**common, "horizon": 2.0}
     base2 = truth_point({**short, "layout": "baseline", "variant": "ideal"})
@@ -102,7 +104,11 @@ def test_study_gains_survival_and_resume(tmp_path):
     assert float(g2) == pytest.approx(
         100 * (1 - screw2["rms_body_acc_wk"] / base2["rms_body_acc_wk"]), rel=1e-12
     )
-    assert network_truth(**kw).dataset.attrs["points_computed"] == 0
+    last = network_truth(**kw)
+    assert last.dataset.attrs["points_computed"] == 0
+    assert sorted(set(p.name for p in (tmp_path / "truth").iterdir()) - set(names)) == (
+        last.unread_stores
+    )
 
 
 @pytest.mark.slow

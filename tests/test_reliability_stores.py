@@ -112,7 +112,7 @@ def _copy(made, kind, tmp_path) -> tuple[Path, Path, str]:
 def _numbers(text: str):
     obj = json.loads(text)
     for k in ("store", "backend", "points_computed", "computed_now", "seconds",
-              "points_per_second", "resumed_from"):  # fmt: skip
+              "points_per_second", "resumed_from", "unread_stores"):  # fmt: skip
         obj.pop(k, None)
     return obj
 
@@ -176,6 +176,8 @@ def test_changed_network_texts_are_computed_anew(made, tmp_path):
     again = run_capped(_argv("network truth", d, out), memory_mb=2500, seconds=240)
     assert again.rc == 0, again.err
     assert _numbers(again.out) == _numbers(first)
+    # the edited study's stores are named as not read by this one
+    assert json.loads(again.out)["unread_stores"] == sorted(set(after) - set(before))
 
 
 def test_a_file_edited_while_the_sweep_runs_stops_it(tmp_path):

@@ -444,6 +444,9 @@ class TruthResult:
         and input.
     parameters : dict
         Layout -> the designed element values.
+    unread_stores : list of str
+        The stores in the study's folder it did not read (of earlier options, layouts or
+        code; left in place).
     """
 
     dataset: Any
@@ -452,6 +455,7 @@ class TruthResult:
     parameters: dict
     texts: dict = dataclasses.field(default_factory=dict)
     car: dict = dataclasses.field(default_factory=lambda: dict(THESIS_CAR))
+    unread_stores: list = dataclasses.field(default_factory=list)
 
     def layout_text(self, layout: str) -> str:
         """Network text of a layout (a name of :data:`LAYOUTS` or ``custom``)."""
@@ -477,6 +481,7 @@ class TruthResult:
                 for lay in g.layout.values
             },
             "findings": self.findings(),
+            "unread_stores": list(self.unread_stores),
         }
 
 
@@ -514,7 +519,7 @@ def network_truth(
     import xarray as xr
 
     from .studies import sweep, sweep_spec
-    from .studies.sweep import keyed_store
+    from .studies.sweep import keyed_store, unread_stores
 
     if custom is not None:
         from .networks import parse_network
@@ -563,8 +568,14 @@ def network_truth(
     # the optimised k | c on each input (one point per input, linear: exact steps), here
     # too: it loads the compiled integrator once for the workers forked after it, and
     # the study starts its worker processes once, not a second time for five points
+    read = set()
+
     def at(name, spec):  # the store of one of the study's sweeps
-        return None if store is None else keyed_store(f"{store}/{name}.zarr", spec)
+        if store is None:
+            return None
+        path = keyed_store(f"{store}/{name}.zarr", spec)
+        read.add(path.name)
+        return path
 
     spec = sweep_spec(
         "network-truth",
@@ -605,8 +616,9 @@ def network_truth(
     params["baseline"] = params.pop("baseline")  # last, as the tables show it
     ds = ds.assign(baseline=xr.Dataset({m: base[m] for m in TRUTH_METRICS}).to_array("metric"))
     return TruthResult(
-        dataset=ds, gains=gains, survival=survival, parameters=params, texts=texts, car=c
-    )
+        dataset=ds, gains=gains, survival=survival, parameters=params, texts=texts, car=c,
+        unread_stores=[] if store is None else unread_stores(store, read),
+    )  # fmt: skip
 
 
 def adaptivity_margin(gains) -> Any:

@@ -52,6 +52,19 @@ def atomic_savefig(fig: Any, path: str | os.PathLike, option: str = "--plot") ->
     return Path(path)
 
 
+def unread_note(command: str, folder: Path, names: list[str]) -> str:
+    """The line that names a study's stores it did not read (made with other settings or
+    another version) and their size on disk, for the user to delete if they wish."""
+    size = sum(
+        f.stat().st_size for n in names for f in (Path(folder) / n).rglob("*") if f.is_file()
+    )
+    return (
+        f"{command}: {len(names)} store{'s' if len(names) != 1 else ''} in {folder} "
+        f"({size / 1e6:.1f} MB) not read by this study (made with other settings or "
+        f"another version of inerterlab), left in place for you to delete: {', '.join(names)}"
+    )
+
+
 def print_table(title: str, rows: list[tuple[str, str]]) -> None:
     """Readable two-column table on standard output."""
     from rich.console import Console

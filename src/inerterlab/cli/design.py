@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_write_text, emit_json, seed_option
+from ._common import atomic_write_text, emit_json, seed_option, unread_note
 
 _CAR_DEFAULTS = {
     "sprung_mass": 370.0,
@@ -279,6 +279,8 @@ def design_command(
         "--out",
     )
     atomic_write_text(out / "report.html", render_html(result, figs), "--out")
+    if result["unread_stores"]:
+        say(unread_note("design", out / "stores", result["unread_stores"]))
     if json_out:
         emit_json(result)
         return

@@ -10,6 +10,7 @@ H2-optimal positive-real admittance of a given degree and networks realising it)
 from __future__ import annotations
 
 import math
+import sys
 from pathlib import Path
 from typing import Annotated
 
@@ -29,6 +30,7 @@ from ._common import (
     emit_json,
     print_table,
     seed_option,
+    unread_note,
 )
 
 network_app = typer.Typer(
@@ -778,6 +780,8 @@ def truth_command(
     except SweepInterrupted as exc:
         raise Interrupted(str(exc)) from None
     g = res.gains["rms_body_acc_wk"]
+    if res.unread_stores and not quiet and not json_out:
+        print(unread_note("network truth", out, res.unread_stores), file=sys.stderr)
     if csv is not None:
         frame = g.to_dataframe(name="comfort_gain_percent").reset_index()
         atomic_write_text(csv, frame.to_csv(index=False), "--csv")

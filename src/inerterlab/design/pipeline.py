@@ -304,6 +304,9 @@ def check_out_folder(out: Path) -> None:
 
 #: points computed by the last :func:`run_design` per stage (the rest came from its stores)
 COMPUTED: dict = {}
+#: the names of the stores the last :func:`run_design` read (the others in its folder
+#: are from earlier settings or code: ``unread_stores`` of its result)
+READ: set = set()
 #: wall seconds of each stage of the last :func:`run_design`
 SECONDS: dict = {}
 #: CPU seconds of each stage of the last :func:`run_design`, this process and its
@@ -327,14 +330,17 @@ def _sweep(point, params, settings, store, workers, progress):
     c0 = process_cpu()
     backend = "serial" if (workers or 1) <= 1 else "processes"
     spec = sweep_spec(point, parameters=params, settings=settings)
+    path = None if store is None else keyed_store(store, spec)
     ds = sweep(
         spec,
-        store=None if store is None else keyed_store(store, spec),
+        store=path,
         backend=backend,
         workers=workers,
         progress=progress,
     )
     COMPUTED[point] = int(ds.attrs.get("points_computed", 0))
+    if path is not None:
+        READ.add(path.name)
     SECONDS[point] = time.perf_counter() - t0
     CPU_SECONDS[point] = process_cpu() - c0
     return ds
@@ -355,6 +361,7 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
 
     st.check()
     COMPUTED.clear()
+    READ.clear()
     SECONDS.clear()
     CPU_SECONDS.clear()
     say = say or (lambda text: None)
@@ -673,6 +680,8 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         requirements = _requirements(
             jobs, req_settings, store("requirements.zarr"), workers, progress
         )
+    from ..studies.sweep import unread_stores
+
     result = {
         "settings": st.to_dict(),
         "objective": {
@@ -691,6 +700,8 @@ def run_design(st: DesignSettings, out: Path | None = None, *, workers: int = 1,
         "synthesis": synth,
         "notes": notes,
         "points_computed": dict(COMPUTED),
+        # the stores in OUT/stores this run did not read (earlier settings or code)
+        "unread_stores": [] if stores is None else unread_stores(stores, READ),
         "stage_seconds": dict(SECONDS),
         "stage_cpu_seconds": dict(CPU_SECONDS),
         "seconds": time.perf_counter() - t0,

@@ -50,6 +50,7 @@ __all__ = [
     "CodeChanged",
     "claim_store_folder",
     "keyed_store",
+    "unread_stores",
 ]
 
 STATUS_MISSING, STATUS_OK, STATUS_FAILED = 0, 1, 2
@@ -429,6 +430,21 @@ def keyed_store(store: str | os.PathLike, spec: SweepSpec | dict) -> Path:
     key = json.dumps([spec.config_hash(), code_identity()], sort_keys=True)
     path = Path(store)
     return path.with_name(f"{path.stem}-{hashlib.sha256(key.encode()).hexdigest()[:12]}.zarr")
+
+
+def unread_stores(folder: str | os.PathLike, read) -> list[str]:
+    """The names of the sweep stores in ``folder`` other than those in ``read`` (names),
+    sorted: under :func:`keyed_store` names, the stores of earlier settings or code that
+    a study's rerun does not read. They are left in place (the tool deletes nothing it
+    was not asked to); a study reports them so that a user can delete them."""
+    folder = Path(folder)
+    if not folder.is_dir():
+        return []
+    names = set(read)
+    return sorted(
+        e.name for e in folder.iterdir()
+        if e.name not in names and e.is_dir() and _is_sweep_store(e)
+    )  # fmt: skip
 
 
 def _lock_store(path: Path) -> int:
