@@ -129,11 +129,11 @@ class CompileNotice(_nb_event.Listener):
     """One line on standard error when numba starts compiling the package's code in this
     run (its first run after an install: 67-105 s of one core's time for a quarter car's
     simulation on the development machine, decisions.md stops 68 and 72), during which
-    the command would otherwise say nothing. numba reports a compilation only where its cache has no
-    machine code for the function (``numba:compile`` events): a run that loads the code
-    prints nothing. Only on a terminal: output piped to a file or a program is left as
-    the command writes it. ``stream``: where to write (standard error as it is at the
-    time, by default)."""
+    the command would otherwise say nothing. numba reports a compilation only where its
+    cache has no machine code for the function (``numba:compile`` events): a run that
+    loads the code prints nothing. Only on a terminal: output piped to a file or a
+    program is left as the command writes it. ``stream``: where to write (standard error
+    as it is at the time, by default)."""
 
     def __init__(self, stream=None):
         self.stream = stream
