@@ -415,7 +415,7 @@ def claim_store_folder(
         )
 
 
-def keyed_store(store: str | os.PathLike, spec: SweepSpec | dict) -> Path:
+def keyed_store(store: str | os.PathLike, spec: SweepSpec) -> Path:
     """``<folder>/<stem>-<key>.zarr`` for ``store`` = ``<folder>/<stem>.zarr``: the key is
     12 hex digits of SHA-256 over the sweep (its description and input files,
     :meth:`SweepSpec.config_hash`) and the code that computes it (:func:`inerterlab.
@@ -425,8 +425,6 @@ def keyed_store(store: str | os.PathLike, spec: SweepSpec | dict) -> Path:
     :func:`claim_store_folder` with ``keyed`` accepts them."""
     import hashlib
 
-    if isinstance(spec, dict):
-        spec = sweep_spec(**spec)
     key = json.dumps([spec.config_hash(), code_identity()], sort_keys=True)
     path = Path(store)
     return path.with_name(f"{path.stem}-{hashlib.sha256(key.encode()).hexdigest()[:12]}.zarr")
