@@ -334,3 +334,70 @@ def test_killed_table_run_resumes_from_the_json_cache_byte_for_byte(tmp_path):
     for name in ("4.1.csv", "6.1.csv"):
         assert (out / "tables" / name).read_bytes() == (ref / "tables" / name).read_bytes()
     assert not work.exists()
+
+
+def test_a_new_file_in_a_missing_folder_is_refused_and_no_folder_made(tmp_path):
+    for target, why in (
+        (tmp_path / "no" / "such" / "x.csv", "does not exist"),
+        (tmp_path / "plain.txt" / "x.csv", "usable file path"),  # a file as the folder
+    ):
+        (tmp_path / "plain.txt").write_text("keep")
+        with pytest.raises(ParameterError, match=r"--csv.*" + why) as err:
+            atomic_write_text(target, "x", option="--csv")
+        assert str(target.parent.parent) in str(err.value) or why == "usable file path"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["plain.txt"]
+    assert (tmp_path / "plain.txt").read_text() == "keep"
+    # the package's own working files (not followed through links) get their folder
+    from inerterlab.io import atomic_write_bytes
+
+    atomic_write_bytes(tmp_path / "work" / "a.json", b"{}", follow_links=False)
+    assert (tmp_path / "work" / "a.json").read_bytes() == b"{}"
+
+
+def _leaf_commands():
+    import typer
+
+    from inerterlab.cli import app
+
+    def walk(cmd, name):
+        subs = getattr(cmd, "commands", None)
+        if subs:
+            for n, sub in subs.items():
+                yield from walk(sub, f"{name} {n}".strip())
+        else:
+            yield name, cmd
+
+    return list(walk(typer.main.get_command(app), ""))
+
+
+def test_every_file_output_option_is_checked_as_the_command_line_is_read():
+    checked = []
+    for name, cmd in _leaf_commands():
+        for p in cmd.params:
+            if p.name in ("csv", "plot", "save", "output"):  # the options that name a file
+                cb = p.callback  # (compared by name: another test may reload the CLI)
+                assert (getattr(cb, "__module__", None), getattr(cb, "__qualname__", None)) == (
+                    "inerterlab.cli._common",
+                    "output_file",
+                ), f"{name} --{p.name} is not checked as the command line is read"
+                checked.append(f"{name} --{p.name}")
+    assert len(checked) >= 17, checked  # every such option of today's commands
+
+
+def test_a_mistyped_output_folder_is_refused_before_any_work(tmp_path, capsys, monkeypatch):
+    import inerterlab.simulate as sim
+
+    def no_work(*a, **k):
+        raise AssertionError("the simulation ran before the output path was checked")
+
+    monkeypatch.setattr(sim, "simulate", no_work)
+    missing = tmp_path / "resluts" / "run.csv"
+    for opt in ("--save", "--plot"):
+        rc = main(["simulate", "--suspension", "afw", "--input", "bump", opt, str(missing)])
+        err = capsys.readouterr().err
+        assert rc == 2, err
+        assert err.count("\n") == 1 and opt in err and "does not exist" in err, err
+    rc = main(["vehicle", "generate", "--output", str(missing), "--length", "10"])
+    err = capsys.readouterr().err
+    assert rc == 2 and err.count("\n") == 1 and "--output" in err, err
+    assert sorted(tmp_path.iterdir()) == []

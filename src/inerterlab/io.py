@@ -13,7 +13,8 @@ What is not a regular file is never replaced:
   ``/dev/stdout``, even when it is redirected to a file), is opened and written in place;
 * a symbolic link is followed: the file it points to is written (atomically if it is a
   regular file) and the link itself stays;
-* a directory is refused with a :class:`~inerterlab.errors.ParameterError`.
+* a directory is refused with a :class:`~inerterlab.errors.ParameterError`, and so is a
+  new file in a folder that does not exist (a mistyped folder is not made).
 """
 
 from __future__ import annotations
@@ -62,7 +63,9 @@ def output_target(
 
     ``p`` is the path to write with links followed (``follow_links=False``, for the
     package's own working files, replaces a link instead). Raises ``ParameterError``
-    naming ``option`` for an empty path or a directory.
+    naming ``option`` for an empty path, a directory, or a new file whose folder does not
+    exist (a mistyped folder is refused, never made; the package's own working files,
+    ``follow_links=False``, get their folder made by :func:`atomic_path`).
     """
     from .errors import ParameterError
 
@@ -81,6 +84,11 @@ def output_target(
         raise ParameterError(option, text, f"a usable file path ({e.strerror})") from None
     if st is not None and stat.S_ISDIR(st.st_mode):
         raise ParameterError(option, text, "a file path; it is a directory")
+    if st is None:
+        folder = Path(os.path.abspath(text)).parent
+        if not folder.is_dir():  # a mistyped folder is refused, not made
+            what = "is not a folder" if folder.exists() else "does not exist"
+            raise ParameterError(option, text, f"a file in an existing folder ({folder} {what})")
     real = os.path.realpath(text)
     if st is not None and (
         not stat.S_ISREG(st.st_mode) or _is_system_path(str(text)) or _is_system_path(real)
@@ -129,7 +137,8 @@ def atomic_path(
     """
     kind, p = output_target(path, option, follow_links)
     if kind == "file":
-        p.parent.mkdir(parents=True, exist_ok=True)
+        if not follow_links:  # the package's own working file: its folder is made
+            p.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(dir=p.parent, prefix=f".{p.name}.", suffix=suffix)
     else:
         fd, tmp = tempfile.mkstemp(prefix=".inerterlab-out.", suffix=suffix)

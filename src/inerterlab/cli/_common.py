@@ -86,6 +86,18 @@ def _seed_callback(ctx: Any, param: Any, value: Any) -> Any:
     return check_seed(param.opts[0].lstrip("-"), value)
 
 
+def output_file(ctx: Any, param: Any, value: Any) -> Any:
+    """The check of every option that names a file to write, as the command line is
+    read (before any work): not empty, not a directory, and in a folder that exists
+    (a mistyped folder is refused, never made: :func:`inerterlab.io.output_target`)."""
+    if value is None:
+        return value
+    from ..io import output_target
+
+    output_target(value, param.opts[0])
+    return value
+
+
 def seed_option(help_text: str, *names: str) -> Any:
     """The one definition of every random seed option: an integer 0 ... 2**32 - 1."""
     import typer

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_write_text, emit_json, parse_float, print_table
+from ._common import atomic_write_text, emit_json, output_file, parse_float, print_table
 
 
 def _opt_float(name: str, text: str | None, *, positive: bool = False, nonneg: bool = False):
@@ -60,7 +60,8 @@ def device_force_command(
         bool, typer.Option("--json", help="Print t, force, equivalent_mass as JSON.")
     ] = False,
     csv: Annotated[
-        Path | None, typer.Option(help="Write t, force, equivalent_mass to a CSV file.")
+        Path | None,
+        typer.Option(help="Write t, force, equivalent_mass to a CSV file.", callback=output_file),
     ] = None,
 ) -> None:
     """Force [N] and equivalent mass [kg] of a real device against time [s].

@@ -21,6 +21,7 @@ from ._common import (
     atomic_write_text,
     car_options,
     emit_json,
+    output_file,
     print_table,
 )
 
@@ -117,9 +118,15 @@ def frequency_response_command(
     json_out: Annotated[
         bool, typer.Option("--json", help="Print one JSON object (SI units, Hz).")
     ] = False,
-    csv: Annotated[Path | None, typer.Option(help="Write one row per point to this CSV.")] = None,
+    csv: Annotated[
+        Path | None, typer.Option(help="Write one row per point to this CSV.", callback=output_file)
+    ] = None,
     plot: Annotated[
-        Path | None, typer.Option(help="Write amplitude against frequency to this figure.")
+        Path | None,
+        typer.Option(
+            help="Write amplitude against frequency to this figure.",
+            callback=output_file,
+        ),
     ] = None,
     sprung_mass: CarSprungMass = None,
     unsprung_mass: CarUnsprungMass = None,

@@ -28,6 +28,7 @@ from ._common import (
     atomic_write_text,
     car_options,
     emit_json,
+    output_file,
     print_table,
     seed_option,
     unread_note,
@@ -68,6 +69,7 @@ Plot = Annotated[
         "--plot",
         help="Figure (.png/.pdf/.svg): |H(f)| of the body acceleration against k | c, and "
         "its PSD with and without the Wk weighting.",
+        callback=output_file,
     ),
 ]
 
@@ -625,9 +627,15 @@ def pareto_command(
     tyre_damping: CarTyreDamping = None,
     vehicle: VehicleFile = None,
     axle: Axle = "front",
-    csv: Annotated[Path | None, typer.Option(help="Write the fronts as CSV.")] = None,
-    save: Annotated[Path | None, typer.Option(help="Write the Dataset (.nc).")] = None,
-    plot: Annotated[Path | None, typer.Option(help="Figure of the fronts (.png/.pdf).")] = None,
+    csv: Annotated[
+        Path | None, typer.Option(help="Write the fronts as CSV.", callback=output_file)
+    ] = None,
+    save: Annotated[
+        Path | None, typer.Option(help="Write the Dataset (.nc).", callback=output_file)
+    ] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="Figure of the fronts (.png/.pdf).", callback=output_file)
+    ] = None,
     json_out: Json = False,
 ) -> None:
     """Pareto fronts between H2 norms for a set of networks (epsilon-constraint sweep).
@@ -650,9 +658,9 @@ def pareto_command(
     ds = pareto_front(network, objs, points=points, fixed=fix or None, bounds=bound, **car)
     df = ds.to_dataframe().reset_index().dropna(subset=objs)
     if csv is not None:
-        atomic_write_text(csv, df.to_csv(index=False, float_format="%.10g"))
+        atomic_write_text(csv, df.to_csv(index=False, float_format="%.10g"), "--csv")
     if save is not None:
-        with atomic_path(save, suffix=".nc") as tmp:
+        with atomic_path(save, suffix=".nc", option="--save") as tmp:
             ds.to_netcdf(tmp, engine="scipy")
     if plot is not None:
         atomic_savefig(pareto_figure(ds), plot)
@@ -716,8 +724,12 @@ def truth_command(
     ] = None,
     workers: Annotated[int | None, typer.Option(help="Worker processes.")] = None,
     backend: Annotated[str, typer.Option(help="serial, processes or dask.")] = "processes",
-    csv: Annotated[Path | None, typer.Option(help="Write the comfort gains as CSV.")] = None,
-    plot: Annotated[Path | None, typer.Option(help="Figure of the gains (.png/.pdf).")] = None,
+    csv: Annotated[
+        Path | None, typer.Option(help="Write the comfort gains as CSV.", callback=output_file)
+    ] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="Figure of the gains (.png/.pdf).", callback=output_file)
+    ] = None,
     json_out: Json = False,
     quiet: Annotated[bool, typer.Option(help="No progress bar.")] = False,
     network: Annotated[

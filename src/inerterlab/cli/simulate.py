@@ -21,6 +21,7 @@ from ._common import (
     atomic_savefig,
     atomic_write_text,
     emit_json,
+    output_file,
     print_table,
     seed_option,
 )
@@ -183,9 +184,12 @@ def simulate_command(
     ] = False,
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
-    save: Annotated[Path | None, typer.Option(help="Write the time series (.csv or .nc).")] = None,
+    save: Annotated[
+        Path | None, typer.Option(help="Write the time series (.csv or .nc).", callback=output_file)
+    ] = None,
     plot: Annotated[
-        Path | None, typer.Option(help="Figure of acceleration, deflection, tyre force.")
+        Path | None,
+        typer.Option(help="Figure of acceleration, deflection, tyre force.", callback=output_file),
     ] = None,
     network: Annotated[
         str | None,
@@ -330,7 +334,8 @@ def h2_command(
     plot: Annotated[
         Path | None,
         typer.Option(help="Figure (.png/.pdf): |H(f)| of the body acceleration against k | c, "
-                     "and its PSD with and without the Wk weighting."),
+                     "and its PSD with and without the Wk weighting.",
+                     callback=output_file),
     ] = None,
 ) -> None:  # fmt: skip
     """H2 norms from unit white road velocity (Lyapunov equation, no time stepping).

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import emit_json, print_table, seed_option
+from ._common import emit_json, output_file, print_table, seed_option
 
 _HELP = """Linear half car and full car (SI units: RMS accelerations [m/s^2], pitch and
 roll accelerations [rad/s^2], deflections [m], tyre loads [N]).
@@ -124,7 +124,8 @@ def spectral_command(
         Path | None,
         typer.Option(help="Figure (.png/.pdf): the PSDs of the seat (or bounce) acceleration "
                      "with and without Wk, of the pitch acceleration and of each corner's "
-                     "suspension deflection."),
+                     "suspension deflection.",
+                     callback=output_file),
     ] = None,
 ) -> None:  # fmt: skip
     """RMS of every output on an ISO 8608 road by the spectral method (no time simulation).
@@ -269,8 +270,13 @@ def frequency_response_command(
         int | None, typer.Option(help="Harmonics of the harmonic balance [-] (default 7).")
     ] = None,
     json_out: Annotated[bool, _JSON] = False,
-    csv: Annotated[Path | None, typer.Option(help="Write one row per frequency to this CSV.")] = None,
-    plot: Annotated[Path | None, typer.Option(help="Write the amplitudes to this figure.")] = None,
+    csv: Annotated[
+        Path | None,
+        typer.Option(help="Write one row per frequency to this CSV.", callback=output_file),
+    ] = None,
+    plot: Annotated[
+        Path | None, typer.Option(help="Write the amplitudes to this figure.", callback=output_file)
+    ] = None,
 ) -> None:
     """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
     car on a sine road of amplitude A, and per unit road amplitude, over a log grid of
@@ -397,7 +403,8 @@ def generate_command(
     output: Annotated[
         Path,
         typer.Option(
-            help="File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG)."
+            help="File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG).",
+            callback=output_file,
         ),
     ],
     road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
@@ -430,11 +437,11 @@ def generate_command(
         from ..io import atomic_path
         from ..vehicles.crg import write_crg_tracks
 
-        with atomic_path(output, suffix=".crg") as tmp:
+        with atomic_path(output, suffix=".crg", option="--output") as tmp:
             write_crg_tracks(tmp, x, zl, zr, track, comment=f"ISO 8608 class {road_class}")
     else:
         rows = "\n".join(f"{a:.6f},{b:.9e},{c:.9e}" for a, b, c in zip(x, zl, zr, strict=True))
-        atomic_write_text(output, "distance [m],left [m],right [m]\n" + rows + "\n")
+        atomic_write_text(output, "distance [m],left [m],right [m]\n" + rows + "\n", "--output")
     print(f"wrote {output} ({x.size} samples, rms left {np.std(zl) * 1e3:.3g} mm)")
 
 
