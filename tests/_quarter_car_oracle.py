@@ -28,14 +28,15 @@ from inerterlab.errors import ConvergenceError
 from inerterlab.excitation import ROAD_JUMP_RTOL, road_displacement, road_scale
 from inerterlab.metrics import wk_state_space
 from inerterlab.simulate import (
+    _DIRAC_REASON,
     SimulationResult,
     _check_inputs,
     _metrics,
-    _not_finite,
     _Run,
     _sample_times,
 )
 from inerterlab.suspension.model import QuarterCar, model_of
+from inerterlab.systems.core import listed_steps, tyre_dirac_reason
 from inerterlab.systems.options import SimulationOptions
 
 __all__ = ["ReferenceRHS", "simulate", "simulate_metrics", "state_names", "state_scales",
@@ -443,6 +444,21 @@ def _run(model, excitation, horizon, rtol, atol_factor, method, sample_rate, max
     return _Run(values=values, samples=samples, stats=st, jumps=tuple(jumps))
 
 
+def _not_finite_here(model, excitation, run, horizon: float) -> dict:
+    """The oracle's own decision of which metrics are not finite (the package's words):
+    the body's where its velocity was seen to jump at a road step, the least tyre force
+    where a tyre damper that cannot lift off meets a road step down."""
+    out = {}
+    if run.jumps:
+        why = _DIRAC_REASON.format(jumps=listed_steps(run.jumps, "m/s"))
+        out.update(rms_body_acc=why, peak_body_acc=why)
+    if model.parameters.tyre_damping > 0 and not model.tyre_lift_off:
+        down = [(t, j) for t, j in excitation.prepared(horizon).steps if j < 0 and t < horizon]
+        if down:
+            out["min_tyre_force"] = tyre_dirac_reason(down)
+    return out
+
+
 def simulate(model, excitation, horizon: float = 10.0, *, rtol: float = 1e-8,
              atol: float | None = None, method: str = "DOP853", sample_rate: float = 1000.0,
              output: str = "series", max_steps: int = 10_000_000,
@@ -459,7 +475,7 @@ def simulate(model, excitation, horizon: float = 10.0, *, rtol: float = 1e-8,
     want = output == "series"
     run = _run(model, excitation, T, rtol, options.atol_factor, method, sample_rate, max_steps,
                time_limit, want)  # fmt: skip
-    nf = _not_finite(model, excitation, run, T)
+    nf = _not_finite_here(model, excitation, run, T)
     return SimulationResult(
         model=model, excitation=excitation, horizon=T, options=options,
         values=_metrics(model, excitation, run, T, nf), stats=run.stats,

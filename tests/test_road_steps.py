@@ -202,3 +202,29 @@ def test_sweep_point_keeps_a_not_finite_metric_as_missing_not_failed():
     assert np.isfinite(res.values[0, i]) and np.isnan(res.values[1, i])
     assert res.reasons == ("", "not finite across a road step: rms_body_acc, peak_body_acc")
     assert np.isfinite(res.values[1, pf.metrics.index("rms_body_acc_wk")])
+
+
+def test_min_tyre_force_is_finite_at_a_downward_step_without_tyre_damping():
+    # without a tyre damper nothing pulls the wheel with a Dirac at the step down: the
+    # contact force falls by k_t x step, a finite value; the network path said "not
+    # finite" here while the named suspension gave the value
+    named = simulate(quarter_car("afw", tyre_damping=0.0), bump(), 2.0, output="metrics")
+    net = quarter_car("k | c | afw", {"k": 90000.0, "c": 5000.0}, tyre_damping=0.0)
+    core = net.simulate(bump(), 2.0)
+    for m, nf in ((named.metrics(), named.not_finite), (core.metrics, core.not_finite)):
+        assert "min_tyre_force" not in nf
+        assert np.isfinite(m["min_tyre_force"]) and not m["tyre_lift_off"]
+    # the same car both ways: the same least contact force [N]
+    assert core.metrics["min_tyre_force"] == pytest.approx(
+        named.metrics()["min_tyre_force"], rel=1e-9
+    )
+    # its value is above static load less k_t x step (the spring alone cannot pull more)
+    p = net.info["car"]
+    static = (p["sprung_mass"] + p["unsprung_mass"]) * p["gravity"]
+    assert core.metrics["min_tyre_force"] > static - p["tyre_stiffness"] * 0.05 - 1e-6
+    # with a tyre damper both paths say why, in the same words, and the contact is lost
+    damped = quarter_car("k | c | afw", {"k": 90000.0, "c": 5000.0}).simulate(bump(), 2.0)
+    named_d = simulate(quarter_car("afw"), bump(), 2.0, output="metrics")
+    assert damped.metrics["min_tyre_force"] is None and damped.metrics["tyre_lift_off"]
+    assert damped.not_finite["min_tyre_force"] == named_d.not_finite["min_tyre_force"]
+    assert "-0.05 m at t = 0.01 s" in damped.not_finite["min_tyre_force"]

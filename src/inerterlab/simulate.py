@@ -257,6 +257,7 @@ class _Run:
     samples: dict | None  # time, states, state_names, body_acc, body_acc_wk, road, road_velocity
     stats: dict
     jumps: tuple = ()  # ((time [s], body velocity jump [m/s]), ...) where not zero
+    not_finite: dict = field(default_factory=dict)  # the core's metrics that are not finite
 
 
 #: arrays of this many floats per output sample are kept for a time series (states,
@@ -321,10 +322,14 @@ def _run(model, excitation, horizon, options, want_series) -> _Run:
         )  # fmt: skip
     values = {k: v for k, v in res.observed.items() if k.startswith("ride.")}
     stats = dict(res.stats, segments=len(road.segments))
-    return _Run(values=values, samples=samples, stats=stats, jumps=tuple(jumps))
+    return _Run(
+        values=values, samples=samples, stats=stats, jumps=tuple(jumps),
+        not_finite=dict(res.not_finite),
+    )  # fmt: skip
 
 
-#: why a metric is not finite across a road step (the body acceleration holds a Dirac)
+#: why a metric is not finite across a road step (the body acceleration holds a Dirac),
+#: with the body velocity's jumps measured at the steps
 _DIRAC_REASON = (
     "not finite: the body velocity jumps at a road step ({jumps}), so the body "
     "acceleration holds a Dirac impulse; compare rms_body_acc_wk, vdv, or an "
@@ -332,26 +337,16 @@ _DIRAC_REASON = (
 )
 
 
-def _listed(items, unit: str) -> str:
-    text = ", ".join(f"{v:+.4g} {unit} at t = {t:g} s" for t, v in items[:4])
-    return text + (f", ... ({len(items)} in all)" if len(items) > 4 else "")
+def _not_finite(run: _Run) -> dict:
+    """Metrics that are not finite for this run, with the reason: the model core's
+    decision (:func:`inerterlab.systems.core._simulate`), the body's reason naming the
+    velocity jumps measured here."""
+    from .systems.core import listed_steps
 
-
-def _not_finite(model: QuarterCar, excitation: Excitation, run: _Run, horizon: float) -> dict:
-    """Metrics that are not finite for this run, with the reason."""
-    out = {}
+    out = dict(run.not_finite)
     if run.jumps:
-        why = _DIRAC_REASON.format(jumps=_listed(run.jumps, "m/s"))
-        out.update(rms_body_acc=why, peak_body_acc=why)
-    if model.parameters.tyre_damping > 0 and not model.tyre_lift_off:
-        road = excitation.prepared(horizon)
-        down = [(t, j) for t, j in road.steps if j < 0]
-        if down:
-            out["min_tyre_force"] = (
-                f"not finite: the road steps down ({_listed(down, 'm')}) and the tyre damper "
-                "would pull the wheel with a Dirac impulse C_t x step; model lift-off "
-                "(tyre_lift_off=True, --lift-off) or smooth the edges (bump(edge=...), --edge)"
-            )
+        why = _DIRAC_REASON.format(jumps=listed_steps(run.jumps, "m/s"))
+        out.update({k: why for k in ("rms_body_acc", "peak_body_acc") if k in out})
     return out
 
 
@@ -364,7 +359,7 @@ def _metrics(
     if model.tyre_lift_off:
         out["min_tyre_force"] = max(out["min_tyre_force"], 0.0)  # it cannot pull
     if not_finite is None:
-        not_finite = _not_finite(model, excitation, run, horizon)
+        not_finite = _not_finite(run)
     for key in not_finite:
         out[key] = None
         if key == "min_tyre_force":
@@ -548,7 +543,7 @@ def simulate(
     kw: dict = {}
     if want:
         kw = dict(run.samples)
-    nf = _not_finite(model, excitation, run, T)
+    nf = _not_finite(run)
     return SimulationResult(
         model=model,
         excitation=excitation,

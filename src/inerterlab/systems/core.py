@@ -929,6 +929,23 @@ class RoadVelocityJumpWarning(UserWarning):
 
 
 @one_blas_thread  # its set-up's small matrices: threads only wait (see _blas)
+def listed_steps(items, unit: str) -> str:
+    """Road steps or velocity jumps ((time [s], value), ...) in one line, the first four."""
+    text = ", ".join(f"{v:+.4g} {unit} at t = {t:g} s" for t, v in items[:4])
+    return text + (f", ... ({len(items)} in all)" if len(items) > 4 else "")
+
+
+def tyre_dirac_reason(down) -> str:
+    """Why the minimum tyre force is not finite: a tyre damper that can pull, at the road's
+    steps down ``down`` ((time [s], step [m]), ...). (Lift-off is no remedy to offer: a
+    tyre that can lift off is not integrated across a road step.)"""
+    return (
+        f"not finite: the road steps down ({listed_steps(down, 'm')}) and the tyre damper "
+        "would pull the wheel with a Dirac impulse C_t x step; smooth the edges "
+        "(bump(edge=...), --edge)"
+    )
+
+
 def _simulate(
     sys, excitation, horizon, options, x0=None, times=None, ride=None, metrics_only=False
 ) -> CoreResult:
@@ -1093,13 +1110,13 @@ def _simulate(
                     "smooth the edges (bump(edge=...), --edge)"
                 )
                 not_finite.update(rms_body_acc=why, peak_body_acc=why)
-            if np.any(jumps[hit] < 0):
-                not_finite["min_tyre_force"] = (
-                    "not finite: the road steps down and the tyre damper would pull the "
-                    "wheel with a Dirac impulse C_t x step; smooth the edges"
-                )
+            down = [(float(segs[i, 0]), float(jumps[i])) for i in hit if jumps[i] < 0]
+            if down and sys.info.get("tyre_pulls", True):
+                not_finite["min_tyre_force"] = tyre_dirac_reason(down)
             for k in not_finite:
                 metrics[k] = None
+            if "min_tyre_force" in not_finite:
+                metrics["tyre_lift_off"] = True  # the contact force demanded goes below zero
     steps = tuple((float(segs[i, 0]), float(jumps[i])) for i in hit if segs[i, 0] < T)
     if np.any(vjumps):
         stats["road_velocity_jumps"] = int(np.count_nonzero(vjumps))

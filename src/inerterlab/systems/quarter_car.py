@@ -231,7 +231,11 @@ def _build(text: str, params, car, description: str, info: dict):
         lay.place(tree, body, wheel, els)
         return lay
 
-    return _laid_out("quarter_car", description, make, {"network": text, "car": c, **info})[0]
+    # whether the tyre can pull the wheel with a damper force (a Dirac at a road step down)
+    pulls = c["tyre_damping"] > 0 and not lift_off
+    return _laid_out(
+        "quarter_car", description, make, {"network": text, "car": c, "tyre_pulls": pulls, **info}
+    )[0]
 
 
 @lru_cache(maxsize=64)
