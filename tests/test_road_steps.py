@@ -228,3 +228,15 @@ def test_min_tyre_force_is_finite_at_a_downward_step_without_tyre_damping():
     assert damped.metrics["min_tyre_force"] is None and damped.metrics["tyre_lift_off"]
     assert damped.not_finite["min_tyre_force"] == named_d.not_finite["min_tyre_force"]
     assert "-0.05 m at t = 0.01 s" in damped.not_finite["min_tyre_force"]
+
+
+def test_a_step_with_no_finite_response_names_the_element_on_the_road():
+    # a tyre that can lift off is a contact: a step has no finite response through it
+    from inerterlab.errors import ConvergenceError
+
+    with pytest.raises(ConvergenceError, match=r"through the element 'tyre' \(a contact"):
+        simulate(quarter_car("traditional", tyre_lift_off=True), bump(), 0.5)
+    # and the same car, its edges smoothed as the message says, runs
+    smooth = bump(edge="ramp", edge_width=1e-3)
+    res = simulate(quarter_car("traditional", tyre_lift_off=True), smooth, 0.5, output="metrics")
+    assert res.metrics()["min_tyre_force"] >= 0.0

@@ -733,7 +733,8 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
     # impulse of a unit road step
     imp = np.zeros(len(dyn))
     jump_ok = True
-    for _, el, t, b in edges:
+    blockers = []  # the elements on the road that a step has no finite response through
+    for name, el, t, b in edges:
         ends = (t, b)
         if not any(types[x] == ROAD for x in ends):
             continue
@@ -741,10 +742,18 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
         law = kernel_law(el)
         if law.inertial or law.contact or types[other] == LIN:
             jump_ok = False
+            if law.inertial:
+                why = "an inertance"
+            elif law.contact:
+                why = "a contact that can open"
+            else:
+                why = "an end at a combination node"
+            blockers.append(f"{name!r} ({why})")
         elif law.holds_velocity:
             c_lin, c_quad = el.row()[:2]  # the kernel row: any element on the damper's law
             if c_quad > 0 or not el.is_linear or types[other] != DYN:
                 jump_ok = False
+                blockers.append(f"{name!r} (a damper that is not linear or not on a mass)")
             else:
                 imp[cls[other]] += c_lin
     linear = all(not _nonlinear(el) for _, el, _, _ in edges)
@@ -783,6 +792,7 @@ def build(kind: str, description: str, lay: Layout, info: dict, floating: bool =
             references=ref,
             velocity_jump_per_step=node_jump,
             road_inertances=road_inertances,
+            road_step_blockers=tuple(blockers),
         ),
     )
 
@@ -1248,6 +1258,14 @@ def _ride_system(sys):
     return out
 
 
+def _blockers(sys) -> str:
+    """The elements on the road a road step has no finite response through, in words."""
+    names = sys.info.get("road_step_blockers", ())
+    if not names:  # a system laid out before the list was kept
+        return "an element on the road (an inerter, a damper that is not linear, a contact)"
+    return "the element" + ("s " if len(names) > 1 else " ") + ", ".join(names) + " on the road"
+
+
 def _failure(sys, status: int, max_steps: int) -> ConvergenceError:
     """The error of an adaptive integration that stopped with ``status``."""
     why = {
@@ -1255,8 +1273,7 @@ def _failure(sys, status: int, max_steps: int) -> ConvergenceError:
         _integrate.STEP_TOO_SMALL: "the step size fell below round-off",
         _integrate.NOT_FINITE: "the solution is not finite (unstable parameters?)",
         _integrate.ROAD_STEP: "the road steps, and a step has no finite response "
-        "here (an inerter or quadratic damper on the road, or a rig): smooth the "
-        "edges (bump(edge='ramp', edge_width=...))",
+        f"through {_blockers(sys)}: smooth the edges (bump(edge='ramp', edge_width=...))",
         _integrate.BALANCE_FAILED: "a force balance of the massless nodes could not be solved",
     }[status]
     return ConvergenceError(f"{sys.description}: {why}")
