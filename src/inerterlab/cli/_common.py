@@ -98,6 +98,14 @@ def output_file(ctx: Any, param: Any, value: Any) -> Any:
     return value
 
 
+def output_option(help_text: str, *names: str) -> Any:
+    """The one definition of every option that names a file to write: checked by
+    :func:`output_file` as the command line is read."""
+    import typer
+
+    return typer.Option(*names, help=help_text, callback=output_file)
+
+
 def seed_option(help_text: str, *names: str) -> Any:
     """The one definition of every random seed option: an integer 0 ... 2**32 - 1."""
     import typer

@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_write_text, emit_json, output_file, parse_float, print_table
+from ._common import atomic_write_text, emit_json, output_option, parse_float, print_table
 
 
 def _opt_float(name: str, text: str | None, *, positive: bool = False, nonneg: bool = False):
@@ -61,7 +61,7 @@ def device_force_command(
     ] = False,
     csv: Annotated[
         Path | None,
-        typer.Option(help="Write t, force, equivalent_mass to a CSV file.", callback=output_file),
+        output_option("Write t, force, equivalent_mass to a CSV file."),
     ] = None,
 ) -> None:
     """Force [N] and equivalent mass [kg] of a real device against time [s].

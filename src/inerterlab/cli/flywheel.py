@@ -7,7 +7,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import atomic_savefig, emit_json, output_file, print_table
+from ._common import atomic_savefig, emit_json, output_option, print_table
 
 
 def flywheel_command(
@@ -32,10 +32,7 @@ def flywheel_command(
     ] = False,
     plot: Annotated[
         Path | None,
-        typer.Option(
-            help="Write a figure of inertia and slider position against speed.",
-            callback=output_file,
-        ),
+        output_option("Write a figure of inertia and slider position against speed."),
     ] = None,
 ) -> None:
     """Inertia [kg m^2], changing ratio, saturation speed [rad/s] and equivalent mass [kg].

@@ -21,7 +21,7 @@ from ._common import (
     atomic_write_text,
     car_options,
     emit_json,
-    output_file,
+    output_option,
     print_table,
 )
 
@@ -119,14 +119,11 @@ def frequency_response_command(
         bool, typer.Option("--json", help="Print one JSON object (SI units, Hz).")
     ] = False,
     csv: Annotated[
-        Path | None, typer.Option(help="Write one row per point to this CSV.", callback=output_file)
+        Path | None, output_option("Write one row per point to this CSV.")
     ] = None,
     plot: Annotated[
         Path | None,
-        typer.Option(
-            help="Write amplitude against frequency to this figure.",
-            callback=output_file,
-        ),
+        output_option("Write amplitude against frequency to this figure."),
     ] = None,
     sprung_mass: CarSprungMass = None,
     unsprung_mass: CarUnsprungMass = None,

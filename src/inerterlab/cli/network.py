@@ -28,7 +28,7 @@ from ._common import (
     atomic_write_text,
     car_options,
     emit_json,
-    output_file,
+    output_option,
     print_table,
     seed_option,
     unread_note,
@@ -65,11 +65,10 @@ RoadClass = Annotated[
 Speed = Annotated[float | None, typer.Option("--speed", help="Speed on --road-class [m/s].")]
 Plot = Annotated[
     Path | None,
-    typer.Option(
-        "--plot",
-        help="Figure (.png/.pdf/.svg): |H(f)| of the body acceleration against k | c, and "
+    output_option(
+        "Figure (.png/.pdf/.svg): |H(f)| of the body acceleration against k | c, and "
         "its PSD with and without the Wk weighting.",
-        callback=output_file,
+        "--plot",
     ),
 ]
 
@@ -628,13 +627,13 @@ def pareto_command(
     vehicle: VehicleFile = None,
     axle: Axle = "front",
     csv: Annotated[
-        Path | None, typer.Option(help="Write the fronts as CSV.", callback=output_file)
+        Path | None, output_option("Write the fronts as CSV.")
     ] = None,
     save: Annotated[
-        Path | None, typer.Option(help="Write the Dataset (.nc).", callback=output_file)
+        Path | None, output_option("Write the Dataset (.nc).")
     ] = None,
     plot: Annotated[
-        Path | None, typer.Option(help="Figure of the fronts (.png/.pdf).", callback=output_file)
+        Path | None, output_option("Figure of the fronts (.png/.pdf).")
     ] = None,
     json_out: Json = False,
 ) -> None:
@@ -725,10 +724,10 @@ def truth_command(
     workers: Annotated[int | None, typer.Option(help="Worker processes.")] = None,
     backend: Annotated[str, typer.Option(help="serial, processes or dask.")] = "processes",
     csv: Annotated[
-        Path | None, typer.Option(help="Write the comfort gains as CSV.", callback=output_file)
+        Path | None, output_option("Write the comfort gains as CSV.")
     ] = None,
     plot: Annotated[
-        Path | None, typer.Option(help="Figure of the gains (.png/.pdf).", callback=output_file)
+        Path | None, output_option("Figure of the gains (.png/.pdf).")
     ] = None,
     json_out: Json = False,
     quiet: Annotated[bool, typer.Option(help="No progress bar.")] = False,

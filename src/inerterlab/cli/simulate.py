@@ -21,7 +21,7 @@ from ._common import (
     atomic_savefig,
     atomic_write_text,
     emit_json,
-    output_file,
+    output_option,
     print_table,
     seed_option,
 )
@@ -185,11 +185,11 @@ def simulate_command(
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     save: Annotated[
-        Path | None, typer.Option(help="Write the time series (.csv or .nc).", callback=output_file)
+        Path | None, output_option("Write the time series (.csv or .nc).")
     ] = None,
     plot: Annotated[
         Path | None,
-        typer.Option(help="Figure of acceleration, deflection, tyre force.", callback=output_file),
+        output_option("Figure of acceleration, deflection, tyre force."),
     ] = None,
     network: Annotated[
         str | None,
@@ -333,9 +333,8 @@ def h2_command(
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
     plot: Annotated[
         Path | None,
-        typer.Option(help="Figure (.png/.pdf): |H(f)| of the body acceleration against k | c, "
-                     "and its PSD with and without the Wk weighting.",
-                     callback=output_file),
+        output_option("Figure (.png/.pdf): |H(f)| of the body acceleration against k | c, "
+                      "and its PSD with and without the Wk weighting."),
     ] = None,
 ) -> None:  # fmt: skip
     """H2 norms from unit white road velocity (Lyapunov equation, no time stepping).

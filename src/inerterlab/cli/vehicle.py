@@ -8,7 +8,7 @@ from typing import Annotated
 
 import typer
 
-from ._common import emit_json, output_file, print_table, seed_option
+from ._common import emit_json, output_option, print_table, seed_option
 
 _HELP = """Linear half car and full car (SI units: RMS accelerations [m/s^2], pitch and
 roll accelerations [rad/s^2], deflections [m], tyre loads [N]).
@@ -122,10 +122,9 @@ def spectral_command(
     json_out: Annotated[bool, _JSON] = False,
     plot: Annotated[
         Path | None,
-        typer.Option(help="Figure (.png/.pdf): the PSDs of the seat (or bounce) acceleration "
-                     "with and without Wk, of the pitch acceleration and of each corner's "
-                     "suspension deflection.",
-                     callback=output_file),
+        output_option("Figure (.png/.pdf): the PSDs of the seat (or bounce) acceleration "
+                      "with and without Wk, of the pitch acceleration and of each corner's "
+                      "suspension deflection."),
     ] = None,
 ) -> None:  # fmt: skip
     """RMS of every output on an ISO 8608 road by the spectral method (no time simulation).
@@ -272,10 +271,10 @@ def frequency_response_command(
     json_out: Annotated[bool, _JSON] = False,
     csv: Annotated[
         Path | None,
-        typer.Option(help="Write one row per frequency to this CSV.", callback=output_file),
+        output_option("Write one row per frequency to this CSV."),
     ] = None,
     plot: Annotated[
-        Path | None, typer.Option(help="Write the amplitudes to this figure.", callback=output_file)
+        Path | None, output_option("Write the amplitudes to this figure.")
     ] = None,
 ) -> None:
     """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
@@ -402,9 +401,8 @@ def road_command(
 def generate_command(
     output: Annotated[
         Path,
-        typer.Option(
-            help="File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG).",
-            callback=output_file,
+        output_option(
+            "File to write: .csv (distance [m], left [m], right [m]) or .crg (OpenCRG)."
         ),
     ],
     road_class: Annotated[str, typer.Option(help="ISO 8608 class A-H.")] = "C",
