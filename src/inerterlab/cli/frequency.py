@@ -118,9 +118,7 @@ def frequency_response_command(
     json_out: Annotated[
         bool, typer.Option("--json", help="Print one JSON object (SI units, Hz).")
     ] = False,
-    csv: Annotated[
-        Path | None, output_option("Write one row per point to this CSV.")
-    ] = None,
+    csv: Annotated[Path | None, output_option("Write one row per point to this CSV.")] = None,
     plot: Annotated[
         Path | None,
         output_option("Write amplitude against frequency to this figure."),

@@ -626,15 +626,9 @@ def pareto_command(
     tyre_damping: CarTyreDamping = None,
     vehicle: VehicleFile = None,
     axle: Axle = "front",
-    csv: Annotated[
-        Path | None, output_option("Write the fronts as CSV.")
-    ] = None,
-    save: Annotated[
-        Path | None, output_option("Write the Dataset (.nc).")
-    ] = None,
-    plot: Annotated[
-        Path | None, output_option("Figure of the fronts (.png/.pdf).")
-    ] = None,
+    csv: Annotated[Path | None, output_option("Write the fronts as CSV.")] = None,
+    save: Annotated[Path | None, output_option("Write the Dataset (.nc).")] = None,
+    plot: Annotated[Path | None, output_option("Figure of the fronts (.png/.pdf).")] = None,
     json_out: Json = False,
 ) -> None:
     """Pareto fronts between H2 norms for a set of networks (epsilon-constraint sweep).
@@ -723,12 +717,8 @@ def truth_command(
     ] = None,
     workers: Annotated[int | None, typer.Option(help="Worker processes.")] = None,
     backend: Annotated[str, typer.Option(help="serial, processes or dask.")] = "processes",
-    csv: Annotated[
-        Path | None, output_option("Write the comfort gains as CSV.")
-    ] = None,
-    plot: Annotated[
-        Path | None, output_option("Figure of the gains (.png/.pdf).")
-    ] = None,
+    csv: Annotated[Path | None, output_option("Write the comfort gains as CSV.")] = None,
+    plot: Annotated[Path | None, output_option("Figure of the gains (.png/.pdf).")] = None,
     json_out: Json = False,
     quiet: Annotated[bool, typer.Option(help="No progress bar.")] = False,
     network: Annotated[

@@ -184,9 +184,7 @@ def simulate_command(
     ] = False,
     rtol: Annotated[float, typer.Option(help="Relative tolerance.")] = 1e-8,
     json_out: Annotated[bool, typer.Option("--json", help="Print one JSON object.")] = False,
-    save: Annotated[
-        Path | None, output_option("Write the time series (.csv or .nc).")
-    ] = None,
+    save: Annotated[Path | None, output_option("Write the time series (.csv or .nc).")] = None,
     plot: Annotated[
         Path | None,
         output_option("Figure of acceleration, deflection, tyre force."),

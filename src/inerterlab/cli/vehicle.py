@@ -269,13 +269,8 @@ def frequency_response_command(
         int | None, typer.Option(help="Harmonics of the harmonic balance [-] (default 7).")
     ] = None,
     json_out: Annotated[bool, _JSON] = False,
-    csv: Annotated[
-        Path | None,
-        output_option("Write one row per frequency to this CSV."),
-    ] = None,
-    plot: Annotated[
-        Path | None, output_option("Write the amplitudes to this figure.")
-    ] = None,
+    csv: Annotated[Path | None, output_option("Write one row per frequency to this CSV.")] = None,
+    plot: Annotated[Path | None, output_option("Write the amplitudes to this figure.")] = None,
 ) -> None:
     """Heave [m], pitch [rad], roll [rad] and seat acceleration [m/s^2] amplitudes of the
     car on a sine road of amplitude A, and per unit road amplitude, over a log grid of
