@@ -938,7 +938,6 @@ class RoadVelocityJumpWarning(UserWarning):
     (docs/model.md, "Networks"), and nothing issues this warning."""
 
 
-@one_blas_thread  # its set-up's small matrices: threads only wait (see _blas)
 def listed_steps(items, unit: str) -> str:
     """Road steps or velocity jumps ((time [s], value), ...) in one line, the first four."""
     text = ", ".join(f"{v:+.4g} {unit} at t = {t:g} s" for t, v in items[:4])
@@ -956,6 +955,7 @@ def tyre_dirac_reason(down) -> str:
     )
 
 
+@one_blas_thread  # its set-up's small matrices: threads only wait (see _blas)
 def _simulate(
     sys, excitation, horizon, options, x0=None, times=None, ride=None, metrics_only=False
 ) -> CoreResult:
@@ -1261,7 +1261,7 @@ def _ride_system(sys):
 def _blockers(sys) -> str:
     """The elements on the road a road step has no finite response through, in words."""
     names = sys.info.get("road_step_blockers", ())
-    if not names:  # a system laid out before the list was kept
+    if not names:  # none recorded: say which kinds do it
         return "an element on the road (an inerter, a damper that is not linear, a contact)"
     return "the element" + ("s " if len(names) > 1 else " ") + ", ".join(names) + " on the road"
 
