@@ -127,9 +127,9 @@ COMPILE_NOTICE = (
 
 class CompileNotice(_nb_event.Listener):
     """One line on standard error when numba starts compiling the package's code in this
-    run (its first run after an install: about 48 s of one core's time for a quarter
-    car's simulation, 41 s for a device rig, on the development machine, decisions.md
-    stop 73; 60-105 s before it), during which
+    run (its first run after an install: 58-105 s of one core's time for a quarter car's
+    simulation or a device rig on the development machine, decisions.md stops 68, 72
+    and 73), during which
     the command would otherwise say nothing. numba reports a compilation only where its
     cache has no machine code for the function (``numba:compile`` events): a run that
     loads the code prints nothing. Only on a terminal: output piped to a file or a

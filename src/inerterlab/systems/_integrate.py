@@ -198,7 +198,7 @@ def _joins(segs, i, jump_tol):
     return True
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _f(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, work, stats, oit, fzi):
     """The derivative at (t, y), the observers' included: those of ``oit`` (the
     system's table, or a copy whose observers are those the stages move); the slots the
@@ -233,7 +233,7 @@ def _f_once(ev, mode, segs, rng, t, y, itab, ftab, imp, road_fixed, dy, road, wo
               fzi)  # fmt: skip
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _dense(y, yt, K, h, th, out):
     """The order-4 continuous extension of the step y -> yt at theta = th."""
     th1 = 1.0 - th
@@ -242,7 +242,7 @@ def _dense(y, yt, K, h, th, out):
         out[i] = y[i] + th * (r2 + th1 * (r3 + th * (r4 + th1 * r5)))
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _dense_terms(y, yt, K, h, i):
     """The coefficients (r2, r3, r4, r5) of component ``i``'s order-4 continuous
     extension y + th (r2 + (1 - th) (r3 + th (r4 + (1 - th) r5)))."""
@@ -671,7 +671,7 @@ def _sides(sw, road, hs):
         road[hs + e] = 1.0 if g > 0.0 else (-1.0 if g < 0.0 else road[hs + e])
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv):
     """Mark every switching function whose crossing (theta ``xloc``) lies within
     SIMULTANEOUS of the earliest, ``th``, to switch with it at its instant (two tyres of
@@ -692,7 +692,7 @@ def _simultaneous(xloc, th, sw, ne, swf, flipm, xfl, pastv):
             pastv[q] = 1.0 if sw[e] < 0.0 else -1.0
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
     """Crossings at a step's start: the marked elements take their other side's law
     there (``road[hs + q]``) and their switching functions start from
@@ -703,7 +703,7 @@ def _switch_at_start(road, hs, ne, flipm, pastv, sw, swf):
     _past_kink(sw, swf, pastv)
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _past_kink(sw, swf, pastv):
     """The switching functions that switched (``swf``) start the next step just past
     their kink: :data:`PAST_KINK` with the sign of their element's new side."""
@@ -748,7 +748,7 @@ def _illinois(a, b, ga, gb, x, gx, side):
     return a, x, ga, gx, 1
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _motion_switches(ev, segs, i, t, y, itab, ftab, road, work, sw, only):
     """The switching functions at (t, y) on segment i into ``sw`` from the nodes' motion
     alone: one call of the right-hand side with ``only`` = :data:`._kernel.SWITCHES_ONLY`
@@ -758,7 +758,7 @@ def _motion_switches(ev, segs, i, t, y, itab, ftab, road, work, sw, only):
     ev(t, y, road, itab, ftab, work, sw, only)
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _work_switches(ev, y, road, itab, ftab, work, sw, ofw):
     """:func:`._kernel.switches` of the evaluation the work array holds, into ``sw``, by
     the right-hand side called with ``ofw`` = :data:`._kernel.SWITCHES_OF_WORK` (the same
@@ -1703,7 +1703,7 @@ def _regime_outputs(ev, t_out, Y, segs, itab, ftab, C, D, undefined, Gx, Gu, thr
     return ok
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False)
+@nb.njit(cache=True, inline="always")
 def _node_xv(itab, n, Y, j, road):
     """(x, v) of node n at sample j: the ground, the drive (road), or a node whose
     displacement and velocity are states (the only kinds :func:`drive_forces` reads)."""

@@ -113,22 +113,6 @@ STAGE = np.array([np.inf, np.inf])
 # allocation there, so a function that later needs one fails to compile instead of
 # leaking); their arrays belong to the caller, which keeps them alive across the call.
 
-# Inlining. numba's ``inline="always"`` types and compiles the callee's code again at
-# every call site. The helpers of :func:`evaluate` below that have more than one call
-# site, or are large, are inlined only into a structure's own module
-# (:mod:`._compiled`), where the table is a constant and the inlined code folds; this
-# module's generic code calls them (LLVM inlines what pays). That saves about a quarter
-# of a first run's compilation; a structure's own code runs as fast as before, the
-# generic code (a structure's first seconds in a process) up to about 5 % slower
-# (decisions.md, stop 73).
-
-
-def _inline_in_structures(expr, caller_ir, callee_ir) -> bool:
-    """numba's inlining rule (a cost model) for those helpers: inline where the caller
-    is not in this module."""
-    return caller_ir.func_id.modname != __name__
-
-
 @nb.njit(cache=True, inline="always")
 def road_layout(nroads, ne):
     """The layout of the road vector that :func:`evaluate` reads, the one place it is
@@ -147,7 +131,7 @@ def road_layout_of(itab):
     return road_layout(itab[I_NRD], itab[I_NE])
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _solve(M, m0, r, r0, n):
     """Solve M x = r (n x n, row-major in M from M[m0]; r from r[r0]) in place by Gaussian
     elimination with partial pivoting; x in r. Returns False if M is singular. Offsets,
@@ -212,7 +196,7 @@ def _dissipative(code, tab, o, v):
     return friction_force(tab[o], tab[o + 1], v)
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _pass_on(itab, ftab, W, nn, ia, ir):
     """The forces gathered at each combination node (``W[ia + n]``) passed on to its
     members' rows, by the combination's coefficients."""
@@ -226,7 +210,7 @@ def _pass_on(itab, ftab, W, nn, ia, ir):
                 W[ir + itab[no + NODE_W * itab[mo + j] + 3]] += ftab[co + j] * fn
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _element_law(itab, ftab, b, W, top, bot, iv, x, dx, side):
     """(m_e, f) of the element whose row starts at ``itab[b]``, between nodes ``top``
     and ``bot`` (displacements ``W[node]``, velocities ``W[iv + node]``): its force and
@@ -718,7 +702,7 @@ def evaluate(t, x, road, itab, ftab, W, dx, imp):
     return ok
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir):
     """Every node's acceleration and the nodes' part of the derivative, once the
     dynamic nodes' accelerations (or impulse flows) are in W[ir:ir+nd]."""
@@ -742,7 +726,7 @@ def _accelerations(itab, ftab, W, x, dx, nn, iv, ia, ir):
         _combine(itab, ftab, W, ia, nn)
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _after_solve(itab, ftab, W, x, dx, road, nn, ne, iv, ia, iF, ie, ir, nrel, ok):
     """The end of :func:`evaluate` (no impulse) once the accelerations of the dynamic
     nodes are in W[ir:ir+nd]: every node's acceleration, the derivative, the inertial
@@ -1053,7 +1037,7 @@ def _stamp_combined(itab, ftab, W, top, bot, f, me, im, ir, ia, nd):
                     W[im + r1 * nd + r2] += me * a1 * a2
 
 
-@nb.njit(cache=True, error_model="numpy", _nrt=False, inline=_inline_in_structures)
+@nb.njit(cache=True, inline="always")
 def _relative_unknown(itab, W, ia, nn, nrel):
     """The absolute accelerations of a floating component's nodes are not defined (its
     common motion is massless): NaN, as at every massless node."""
