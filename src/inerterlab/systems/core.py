@@ -1260,9 +1260,7 @@ def _ride_system(sys):
 
 def _blockers(sys) -> str:
     """The elements on the road a road step has no finite response through, in words."""
-    names = sys.info.get("road_step_blockers", ())
-    if not names:  # none recorded: say which kinds do it
-        return "an element on the road (an inerter, a damper that is not linear, a contact)"
+    names = sys.info["road_step_blockers"]  # not empty where a step is refused (build)
     return "the element" + ("s " if len(names) > 1 else " ") + ", ".join(names) + " on the road"
 
 
